@@ -1,0 +1,26 @@
+//! The one error type of the crate; the C status codes are derived from it in `capi`.
+
+use crate::mesh::MeshError;
+use thiserror::Error;
+
+#[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
+pub enum Error {
+    #[error("invalid mesh: {0}")]
+    Mesh(#[from] MeshError),
+    #[error("invalid boundary conditions: {0}")]
+    Bc(String),
+    #[error("ill-posed problem: component {component} has no prescribed vertex{detail}")]
+    IllPosed {
+        component: &'static str,
+        detail: String,
+    },
+    #[error("invalid argument: {0}")]
+    InvalidArgument(String),
+    #[error("multigrid hierarchy could not be built: {0}")]
+    Coarsening(String),
+    #[error("solver diverged: {0}")]
+    Diverged(String),
+}
+
+pub type Result<T, E = Error> = std::result::Result<T, E>;

@@ -1,0 +1,242 @@
+//! Compressed sparse row matrices: the one storage for vertex graphs, operators and transfers.
+//!
+//! Every product is a gather over rows (each output entry owned by one row), so results are
+//! bitwise identical for any thread count. Reductions use fixed-size blocks for the same reason.
+
+use rayon::prelude::*;
+
+/// Rows below this count are processed serially: rayon's overhead dominates on small levels.
+const PAR_ROWS: usize = 4096;
+/// Block length of deterministic reductions; fixed so the summation order never depends on threads.
+const REDUCE_BLOCK: usize = 4096;
+
+/// A square or rectangular CSR matrix with sorted column indices per row.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CsrMatrix {
+    pub nrows: usize,
+    pub ncols: usize,
+    pub row_ptr: Vec<usize>,
+    pub cols: Vec<u32>,
+    pub vals: Vec<f64>,
+}
+
+impl CsrMatrix {
+    /// Builds the sparsity pattern (values zero) from a list of (row, col) pairs; duplicates merge.
+    pub fn from_pattern(nrows: usize, ncols: usize, mut pairs: Vec<(u32, u32)>) -> Self {
+        pairs.sort_unstable();
+        pairs.dedup();
+        let mut row_ptr = vec![0usize; nrows + 1];
+        for &(r, _) in &pairs {
+            row_ptr[r as usize + 1] += 1;
+        }
+        for i in 0..nrows {
+            row_ptr[i + 1] += row_ptr[i];
+        }
+        let cols = pairs.iter().map(|&(_, c)| c).collect::<Vec<_>>();
+        let vals = vec![0.0; cols.len()];
+        CsrMatrix {
+            nrows,
+            ncols,
+            row_ptr,
+            cols,
+            vals,
+        }
+    }
+
+    /// Builds a matrix from (row, col, value) triplets, summing duplicates in a fixed order.
+    pub fn from_triplets(nrows: usize, ncols: usize, mut t: Vec<(u32, u32, f64)>) -> Self {
+        // Stable sort keeps the insertion order of duplicates, so their sum is deterministic.
+        t.sort_by_key(|&(r, c, _)| (r, c));
+        let mut m =
+            CsrMatrix::from_pattern(nrows, ncols, t.iter().map(|&(r, c, _)| (r, c)).collect());
+        for &(r, c, v) in &t {
+            let k = m
+                .find(r as usize, c as usize)
+                .expect("entry is in the pattern built from it");
+            m.vals[k] += v;
+        }
+        m
+    }
+
+    pub fn nnz(&self) -> usize {
+        self.cols.len()
+    }
+
+    pub fn row(&self, i: usize) -> (&[u32], &[f64]) {
+        let r = self.row_ptr[i]..self.row_ptr[i + 1];
+        (&self.cols[r.clone()], &self.vals[r])
+    }
+
+    /// Position of entry (i, j) in `cols`/`vals`, if it is in the pattern.
+    pub fn find(&self, i: usize, j: usize) -> Option<usize> {
+        let (c, _) = self.row(i);
+        c.binary_search(&(j as u32))
+            .ok()
+            .map(|p| self.row_ptr[i] + p)
+    }
+
+    pub fn get(&self, i: usize, j: usize) -> f64 {
+        self.find(i, j).map_or(0.0, |k| self.vals[k])
+    }
+
+    /// y = A x.
+    pub fn mul_vec(&self, x: &[f64], y: &mut [f64]) {
+        assert_eq!(
+            x.len(),
+            self.ncols,
+            "mul_vec: x has {} entries, matrix has {} columns",
+            x.len(),
+            self.ncols
+        );
+        assert_eq!(
+            y.len(),
+            self.nrows,
+            "mul_vec: y has {} entries, matrix has {} rows",
+            y.len(),
+            self.nrows
+        );
+        self.map_rows(y, |i| {
+            let (c, v) = self.row(i);
+            c.iter().zip(v).map(|(&j, &a)| a * x[j as usize]).sum()
+        });
+    }
+
+    /// Fills `out[i] = f(i)` for every row, in parallel when the matrix is large.
+    pub fn map_rows(&self, out: &mut [f64], f: impl Fn(usize) -> f64 + Sync + Send) {
+        par_fill(out, f);
+    }
+
+    /// The transpose, built by a counting sort (serial, done once per hierarchy).
+    pub fn transpose(&self) -> CsrMatrix {
+        let mut row_ptr = vec![0usize; self.ncols + 1];
+        for &c in &self.cols {
+            row_ptr[c as usize + 1] += 1;
+        }
+        for i in 0..self.ncols {
+            row_ptr[i + 1] += row_ptr[i];
+        }
+        let mut next = row_ptr.clone();
+        let mut cols = vec![0u32; self.nnz()];
+        let mut vals = vec![0.0; self.nnz()];
+        for i in 0..self.nrows {
+            let (c, v) = self.row(i);
+            for (&j, &a) in c.iter().zip(v) {
+                let p = next[j as usize];
+                cols[p] = i as u32;
+                vals[p] = a;
+                next[j as usize] += 1;
+            }
+        }
+        CsrMatrix {
+            nrows: self.ncols,
+            ncols: self.nrows,
+            row_ptr,
+            cols,
+            vals,
+        }
+    }
+
+    /// Dense copy, for direct solves of small systems and for tests.
+    pub fn to_dense(&self) -> Vec<Vec<f64>> {
+        let mut d = vec![vec![0.0; self.ncols]; self.nrows];
+        for (i, row) in d.iter_mut().enumerate() {
+            let (c, v) = self.row(i);
+            for (&j, &a) in c.iter().zip(v) {
+                row[j as usize] += a;
+            }
+        }
+        d
+    }
+}
+
+/// `out[i] = f(i)` for all i, in parallel for long vectors. Deterministic: each entry is computed
+/// by one call of `f`, whatever the thread count.
+pub fn par_fill(out: &mut [f64], f: impl Fn(usize) -> f64 + Sync + Send) {
+    if out.len() < PAR_ROWS {
+        out.iter_mut().enumerate().for_each(|(i, o)| *o = f(i));
+    } else {
+        out.par_iter_mut()
+            .enumerate()
+            .with_min_len(1024)
+            .for_each(|(i, o)| *o = f(i));
+    }
+}
+
+/// Sum of `f(i)` for i in 0..n, in blocks of fixed length summed in order: bitwise the same for
+/// any thread count (a plain parallel sum is not).
+pub fn det_sum(n: usize, f: impl Fn(usize) -> f64 + Sync + Send) -> f64 {
+    if n <= REDUCE_BLOCK {
+        return (0..n).map(&f).sum();
+    }
+    let nblocks = n.div_ceil(REDUCE_BLOCK);
+    let partial: Vec<f64> = (0..nblocks)
+        .into_par_iter()
+        .map(|b| {
+            (b * REDUCE_BLOCK..((b + 1) * REDUCE_BLOCK).min(n))
+                .map(&f)
+                .sum()
+        })
+        .collect();
+    partial.iter().sum()
+}
+
+/// Deterministic dot product.
+pub fn dot(a: &[f64], b: &[f64]) -> f64 {
+    det_sum(a.len(), |i| a[i] * b[i])
+}
+
+/// Largest absolute entry (max is order-independent, so a plain parallel reduction is exact).
+pub fn max_abs(a: &[f64]) -> f64 {
+    if a.len() < PAR_ROWS {
+        a.iter().fold(0.0, |m, &x| m.max(x.abs()))
+    } else {
+        a.par_iter().map(|x| x.abs()).reduce(|| 0.0, f64::max)
+    }
+}
+
+/// y += alpha * x.
+pub fn axpy(alpha: f64, x: &[f64], y: &mut [f64]) {
+    if y.len() < PAR_ROWS {
+        y.iter_mut().zip(x).for_each(|(y, &x)| *y += alpha * x);
+    } else {
+        y.par_iter_mut()
+            .zip(x)
+            .with_min_len(1024)
+            .for_each(|(y, &x)| *y += alpha * x);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn triplets_sum_duplicates_and_transpose_roundtrips() {
+        let m = CsrMatrix::from_triplets(
+            2,
+            3,
+            vec![(1, 2, 1.0), (0, 0, 2.0), (1, 2, 0.5), (0, 1, -1.0)],
+        );
+        assert_eq!(m.row_ptr, vec![0, 2, 3]);
+        assert_eq!(m.get(1, 2), 1.5);
+        assert_eq!(m.get(0, 1), -1.0);
+        assert_eq!(m.transpose().transpose(), m);
+        let mut y = vec![0.0; 2];
+        m.mul_vec(&[1.0, 2.0, 3.0], &mut y);
+        assert_eq!(y, vec![0.0, 4.5]);
+    }
+
+    #[test]
+    fn det_sum_matches_serial_blocks() {
+        let n = 3 * REDUCE_BLOCK + 17;
+        let s = det_sum(n, |i| 1.0 / (i as f64 + 1.0));
+        let serial: f64 = (0..n.div_ceil(REDUCE_BLOCK))
+            .map(|b| {
+                (b * REDUCE_BLOCK..((b + 1) * REDUCE_BLOCK).min(n))
+                    .map(|i| 1.0 / (i as f64 + 1.0))
+                    .sum::<f64>()
+            })
+            .sum();
+        assert_eq!(s.to_bits(), serial.to_bits());
+    }
+}
