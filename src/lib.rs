@@ -1,11 +1,41 @@
 //! meshmove: moves the interior of an unstructured mesh when its boundaries move.
 //!
 //! The biharmonic mesh deformation of Helenbrook (2001), beside the Laplacian and spring-analogy
-//! movers, solved by geometric multigrid. See `DESIGN.md` for the discrete equations.
+//! movers, solved by geometric multigrid W-cycles. `DESIGN.md` states the discrete equations.
+//!
+//! ```
+//! use meshmove::{BoundaryConditions, IndexBase, Kind, Mesh, Motion, Options, Solver};
+//! // Two triangles of the unit square plus a centre vertex; the right side moves up by 0.1.
+//! let coords = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0], [0.5, 0.5]];
+//! let cells = [[0u32, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]];
+//! let right = [([1u32, 2], 2)];
+//! let mesh = Mesh::new(&coords, &cells, IndexBase::Zero, &right, None).unwrap();
+//! let mut bcs = BoundaryConditions::new();
+//! bcs.set_kinds(0, Kind::Fixed).set_kinds(2, Kind::Fixed);
+//! let solver = Solver::new(&mesh, &bcs, Options::default()).unwrap();
+//! let mut motion = Motion::zero(mesh.num_vertices());
+//! for v in mesh.patch_vertices(2) { motion.displacement[v as usize].y = 0.1; }
+//! // Corners 1 and 2 are also on patch 0 (FIXED, zero): the later patch id does not win, any
+//! // prescription applies, and the value is read from the displacement array.
+//! let sol = solver.solve(&motion).unwrap();
+//! assert!(sol.report.converged);
+//! assert!(sol.displacement[4].y > 0.0);
+//! ```
 
+pub mod bc;
+pub mod dense;
 pub mod error;
 pub mod mesh;
+pub mod motion;
+pub mod multigrid;
+pub mod operator;
+pub mod solver;
 pub mod sparse;
 
+pub use bc::{BoundaryConditions, InterfaceVariant, Kind, Link};
 pub use error::{Error, Result};
 pub use mesh::{IndexBase, Mesh, MeshError, PatchEdge};
+pub use motion::{Motion, RigidMotion};
+pub use multigrid::solve::{Criterion, Mode, Report, SolveParams};
+pub use operator::Method;
+pub use solver::{Options, Solution, Solver};

@@ -20,6 +20,8 @@ pub enum MeshError {
     },
     #[error("cell {cell} repeats vertex {vertex}")]
     RepeatedVertex { cell: usize, vertex: usize },
+    #[error("vertex {vertex} is not used by any cell")]
+    UnusedVertex { vertex: usize },
     #[error("cell {cell} has zero area ({area:e})")]
     DegenerateCell { cell: usize, area: f64 },
     #[error("edge ({a}, {b}) is shared by {cells} cells; at most two may share an edge")]

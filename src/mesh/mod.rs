@@ -8,7 +8,7 @@ mod error;
 pub mod quality;
 mod refine;
 mod topology;
-mod validate;
+pub(crate) mod validate;
 
 pub use error::MeshError;
 pub use topology::{edge_key, EdgeCells};
@@ -63,6 +63,7 @@ impl Mesh {
     ) -> Result<Mesh, MeshError> {
         let coords = validate::coordinates(coords)?;
         let mut cells = validate::cells(triangles, base, coords.len())?;
+        validate::all_used(&cells, coords.len())?;
         validate::orient(&coords, &mut cells)?;
         let regions = match regions {
             Some(r) if r.len() != cells.len() => {

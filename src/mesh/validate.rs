@@ -75,6 +75,19 @@ pub(super) fn cells<I: Copy + TryInto<i64>>(
         .collect()
 }
 
+/// Every vertex must belong to a cell: a lone vertex has no equation to move it.
+pub(super) fn all_used(cells: &[[u32; 3]], n: usize) -> Result<(), MeshError> {
+    let mut used = vec![false; n];
+    cells
+        .iter()
+        .flatten()
+        .for_each(|&v| used[v as usize] = true);
+    match used.iter().position(|u| !u) {
+        Some(vertex) => Err(MeshError::UnusedVertex { vertex }),
+        None => Ok(()),
+    }
+}
+
 /// Twice the signed area of triangle (a, b, c).
 pub fn twice_signed_area(a: DVec2, b: DVec2, c: DVec2) -> f64 {
     (b - a).perp_dot(c - a)

@@ -1,0 +1,54 @@
+//! A component is determined only if every connected part of the mesh has a prescribed unknown.
+
+use super::{Dofs, P};
+use crate::sparse::CsrMatrix;
+use crate::{Error, Result};
+
+/// Names of the components in messages.
+pub const COMPONENT: [&str; 2] = ["x", "y"];
+
+/// Each component needs a prescribed unknown in every connected part of the mesh, or its
+/// displacement is undetermined (DESIGN §3: an error, not a hang).
+pub fn check_well_posed(k: &CsrMatrix, flags: &[Vec<u8>; 2], dofs: &Dofs) -> Result<()> {
+    let n = dofs.n;
+    let mut comp = vec![u32::MAX; n];
+    let mut parts: Vec<usize> = Vec::new(); // first unknown of each part
+    for s in 0..n {
+        if comp[s] != u32::MAX {
+            continue;
+        }
+        let id = parts.len() as u32;
+        parts.push(s);
+        let mut stack = vec![s];
+        comp[s] = id;
+        while let Some(i) = stack.pop() {
+            for &j in k.row(i).0 {
+                if comp[j as usize] == u32::MAX {
+                    comp[j as usize] = id;
+                    stack.push(j as usize);
+                }
+            }
+        }
+    }
+    for c in 0..2 {
+        let mut has_p = vec![false; parts.len()];
+        for i in 0..n {
+            if flags[c][i] & P != 0 {
+                has_p[comp[i] as usize] = true;
+            }
+        }
+        if let Some(part) = has_p.iter().position(|h| !h) {
+            let v = dofs.dof_vertex[parts[part]];
+            let detail = if parts.len() == 1 {
+                String::new()
+            } else {
+                format!(" in the part of the mesh containing vertex {v}")
+            };
+            return Err(Error::IllPosed {
+                component: COMPONENT[c],
+                detail: format!("{detail}: set a FIXED or CLAMPED patch"),
+            });
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,144 @@
+//! Prescribed boundary motion: per-vertex displacements and rigid motions of patches, and the
+//! increments of a motion split into equal steps (DESIGN §3 last paragraph, §4).
+
+use crate::{Error, Mesh, Result};
+use glam::DVec2;
+
+/// Rotation by `angle` (radians, counter-clockwise) about `center`, then translation.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RigidMotion {
+    pub translation: DVec2,
+    pub angle: f64,
+    pub center: DVec2,
+}
+
+impl RigidMotion {
+    pub fn translation(t: DVec2) -> Self {
+        RigidMotion {
+            translation: t,
+            angle: 0.0,
+            center: DVec2::ZERO,
+        }
+    }
+
+    /// L(x) = (R − I)(x − c) + t.
+    pub fn displacement(&self, x: DVec2) -> DVec2 {
+        let r = x - self.center;
+        DVec2::from_angle(self.angle).rotate(r) - r + self.translation
+    }
+
+    /// Step `step` (0-based) of `steps` equal steps: the angle and translation are ramped, not
+    /// the displacement, so a rotating body keeps its shape half-way (DESIGN §4).
+    pub fn increment(&self, step: usize, steps: usize) -> RigidMotion {
+        let f = 1.0 / steps as f64;
+        RigidMotion {
+            translation: self.translation * f,
+            angle: self.angle * f,
+            center: self.center + self.translation * (step as f64 * f),
+        }
+    }
+}
+
+/// What the boundary does in one solve.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Motion {
+    /// Displacement of every vertex; read only where a component is prescribed.
+    pub displacement: Vec<DVec2>,
+    /// Rigid motions of whole patches; they override `displacement` on their vertices.
+    pub rigid: Vec<(i32, RigidMotion)>,
+}
+
+impl Motion {
+    /// No motion, for a mesh of `nv` vertices.
+    pub fn zero(nv: usize) -> Self {
+        Motion {
+            displacement: vec![DVec2::ZERO; nv],
+            rigid: Vec::new(),
+        }
+    }
+
+    pub fn from_displacement(displacement: Vec<DVec2>) -> Self {
+        Motion {
+            displacement,
+            rigid: Vec::new(),
+        }
+    }
+
+    pub fn with_rigid(mut self, patch: i32, m: RigidMotion) -> Self {
+        self.rigid.push((patch, m));
+        self
+    }
+
+    pub fn check(&self, mesh: &Mesh) -> Result<()> {
+        if self.displacement.len() != mesh.num_vertices() {
+            return Err(Error::InvalidArgument(format!(
+                "displacement has {} entries, the mesh has {} vertices",
+                self.displacement.len(),
+                mesh.num_vertices()
+            )));
+        }
+        if let Some(v) = self.displacement.iter().position(|d| !d.is_finite()) {
+            return Err(Error::InvalidArgument(format!(
+                "displacement of vertex {v} is not finite"
+            )));
+        }
+        let ids = mesh.patch_ids();
+        for (p, m) in &self.rigid {
+            if ids.binary_search(p).is_err() {
+                return Err(Error::InvalidArgument(format!(
+                    "rigid motion of patch {p}, which is not in the mesh"
+                )));
+            }
+            if !(m.translation.is_finite() && m.angle.is_finite() && m.center.is_finite()) {
+                return Err(Error::InvalidArgument(format!(
+                    "rigid motion of patch {p} is not finite"
+                )));
+            }
+        }
+        Ok(())
+    }
+
+    /// Step `step` (0-based) of `steps` equal steps toward this motion.
+    pub fn increment(&self, step: usize, steps: usize) -> Motion {
+        let f = 1.0 / steps as f64;
+        Motion {
+            displacement: self.displacement.iter().map(|&d| d * f).collect(),
+            rigid: self
+                .rigid
+                .iter()
+                .map(|&(p, m)| (p, m.increment(step, steps)))
+                .collect(),
+        }
+    }
+
+    /// Displacement of each vertex with the rigid motions applied on their patches.
+    pub fn vertex_values(&self, mesh: &Mesh) -> Vec<DVec2> {
+        let mut d = self.displacement.clone();
+        for &(p, m) in &self.rigid {
+            for v in mesh.patch_vertices(p) {
+                d[v as usize] = m.displacement(mesh.coords()[v as usize]);
+            }
+        }
+        d
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn stepped_rotation_composes_to_the_whole() {
+        let m = RigidMotion {
+            translation: DVec2::new(1.0, -2.0),
+            angle: 1.2,
+            center: DVec2::new(0.3, 0.1),
+        };
+        let x0 = DVec2::new(2.0, 0.5);
+        let mut x = x0;
+        for i in 0..7 {
+            x += m.increment(i, 7).displacement(x);
+        }
+        assert!((x - (x0 + m.displacement(x0))).length() < 1e-14);
+    }
+}

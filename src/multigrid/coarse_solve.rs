@@ -1,0 +1,91 @@
+//! The coarsest level's solve: dense Cholesky of A on the free unknowns.
+
+use super::smoother::{smooth, Problem, Scratch, Smoother};
+use crate::bc::P;
+use crate::dense::Cholesky;
+use crate::{Error, Result};
+
+/// Above this many free unknowns the coarsest level is smoothed, not factored (only when
+/// coarsening stopped early on an awkward mesh).
+const DENSE_MAX: usize = 1500;
+
+pub enum CoarseSolve {
+    Dense {
+        free: Vec<u32>,
+        chol: Cholesky,
+    },
+    /// A fixed Chebyshev polynomial: linear in b, so still a valid preconditioner.
+    Smoothed,
+    /// No free unknown: the correction is zero.
+    Empty,
+}
+
+impl CoarseSolve {
+    pub fn new(pb: Problem) -> Result<CoarseSolve> {
+        let n = pb.op.n();
+        let free: Vec<u32> = (0..n as u32)
+            .filter(|&i| pb.flags[i as usize] & P == 0)
+            .collect();
+        let m = free.len();
+        if m == 0 {
+            return Ok(CoarseSolve::Empty);
+        }
+        if m > DENSE_MAX {
+            return Ok(CoarseSolve::Smoothed);
+        }
+        let mut a = vec![0.0; m * m];
+        let (mut e, mut y, mut s) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+        for (jj, &j) in free.iter().enumerate() {
+            e[j as usize] = 1.0;
+            pb.op.apply(pb.flags, &e, &mut y, &mut s);
+            e[j as usize] = 0.0;
+            for (ii, &i) in free.iter().enumerate() {
+                a[ii * m + jj] = y[i as usize];
+            }
+        }
+        // Symmetrise the rounding so Cholesky sees an exactly symmetric matrix.
+        for i in 0..m {
+            for j in 0..i {
+                let v = 0.5 * (a[i * m + j] + a[j * m + i]);
+                a[i * m + j] = v;
+                a[j * m + i] = v;
+            }
+        }
+        let chol = Cholesky::new(m, &a).ok_or_else(|| {
+            Error::IllPosed {
+                component: "",
+                detail: " on some part of the mesh (the coarsest multigrid operator is singular: a region without prescribed vertex?)".into(),
+            }
+        })?;
+        Ok(CoarseSolve::Dense { free, chol })
+    }
+
+    /// x ← x + A⁻¹(b − A x).
+    pub fn solve(&self, pb: Problem, b: &[f64], x: &mut [f64], w: &mut Scratch) {
+        match self {
+            CoarseSolve::Empty => {}
+            CoarseSolve::Smoothed => {
+                for _ in 0..4 {
+                    smooth(
+                        pb,
+                        Smoother::Chebyshev {
+                            degree: 25,
+                            lower_ratio: 200.0,
+                        },
+                        b,
+                        x,
+                        w,
+                    );
+                }
+            }
+            CoarseSolve::Dense { free, chol } => {
+                pb.op.residual(pb.flags, b, x, &mut w.r, &mut w.s);
+                let mut rhs: Vec<f64> = free.iter().map(|&i| w.r[i as usize]).collect();
+                chol.solve(&mut rhs);
+                for (&i, v) in free.iter().zip(rhs) {
+                    x[i as usize] += v;
+                }
+            }
+        }
+    }
+}

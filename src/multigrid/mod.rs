@@ -1,0 +1,10 @@
+//! Geometric multigrid (DESIGN §5): coarse meshes built from the user's mesh, linear transfer,
+//! rediscretised operators, Jacobi/Chebyshev smoothing, W-cycles, and the solve to tolerance.
+
+pub mod coarse_solve;
+pub mod coarsen;
+pub mod cycle;
+pub mod hierarchy;
+pub mod smoother;
+pub mod solve;
+pub mod transfer;

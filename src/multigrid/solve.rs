@@ -1,0 +1,218 @@
+//! Solving one component to a tolerance: the paper's stationary W-cycle iteration, or the
+//! W-cycle as a preconditioner for conjugate gradients (the default, DESIGN §5).
+
+use super::cycle::{cycle, CycleParams, Workspace};
+use super::hierarchy::Hierarchy;
+use crate::sparse::{axpy, dot, max_abs};
+
+/// How the solver iterates.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+pub enum Mode {
+    /// Conjugate gradients preconditioned by a W-cycle with Chebyshev smoothing.
+    #[default]
+    Default,
+    /// The paper: stationary W-cycles, Jacobi C = 0.9 (plus one post-sweep, see `CycleParams::paper`).
+    PaperFaithful,
+}
+
+/// When to stop.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+pub enum Criterion {
+    /// ‖b − A x‖₂ / ‖b‖₂ ≤ tol.
+    #[default]
+    RelativeResidual,
+    /// Largest vertex correction of the last cycle ≤ tol × largest prescribed displacement
+    /// (the paper's Fig. 8 measure).
+    MaxCorrection,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SolveParams {
+    pub mode: Mode,
+    pub criterion: Criterion,
+    pub tol: f64,
+    pub max_cycles: usize,
+    /// Chebyshev degree and lower-bound ratio of the default mode's smoother.
+    pub cheb_degree: usize,
+    pub cheb_lower_ratio: f64,
+}
+
+impl Default for SolveParams {
+    fn default() -> Self {
+        SolveParams {
+            mode: Mode::Default,
+            criterion: Criterion::RelativeResidual,
+            tol: 1e-8,
+            max_cycles: 500,
+            cheb_degree: 3,
+            cheb_lower_ratio: 30.0,
+        }
+    }
+}
+
+impl SolveParams {
+    pub fn cycle_params(&self) -> CycleParams {
+        match self.mode {
+            Mode::Default => CycleParams::chebyshev(self.cheb_degree, self.cheb_lower_ratio),
+            Mode::PaperFaithful => CycleParams::paper(),
+        }
+    }
+}
+
+/// What a solve did, per component or combined.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Report {
+    /// W-cycles (stationary mode) or preconditioned CG iterations, each one W-cycle.
+    pub cycles: usize,
+    /// Largest vertex correction of the last cycle.
+    pub max_correction: f64,
+    /// ‖b − A x‖₂ / ‖b‖₂ at the end (0 when b = 0).
+    pub rel_residual: f64,
+    pub converged: bool,
+    pub seconds: f64,
+    /// (max correction, relative residual) after each cycle.
+    pub history: Vec<(f64, f64)>,
+}
+
+impl Report {
+    /// Combines the reports of the two components of one solve.
+    pub fn merge(a: Report, b: Report) -> Report {
+        let n = a.history.len().max(b.history.len());
+        let at =
+            |h: &Vec<(f64, f64)>, i: usize| h.get(i).or(h.last()).copied().unwrap_or((0.0, 0.0));
+        Report {
+            cycles: a.cycles.max(b.cycles),
+            max_correction: a.max_correction.max(b.max_correction),
+            rel_residual: a.rel_residual.max(b.rel_residual),
+            converged: a.converged && b.converged,
+            seconds: a.seconds + b.seconds,
+            history: (0..n)
+                .map(|i| {
+                    let (p, q) = (at(&a.history, i), at(&b.history, i));
+                    (p.0.max(q.0), p.1.max(q.1))
+                })
+                .collect(),
+        }
+    }
+}
+
+fn done(p: &SolveParams, max_corr: f64, rel: f64, scale: f64) -> bool {
+    match p.criterion {
+        Criterion::RelativeResidual => rel <= p.tol,
+        Criterion::MaxCorrection => max_corr <= p.tol * scale,
+    }
+}
+
+/// Solves A x = b for component `c` from the initial guess in `x`. `scale` is the largest
+/// prescribed displacement (for the max-correction criterion).
+pub fn solve(
+    h: &Hierarchy,
+    c: usize,
+    p: &SolveParams,
+    b: &[f64],
+    x: &mut [f64],
+    scale: f64,
+) -> Report {
+    let t0 = std::time::Instant::now();
+    let bnorm = dot(b, b).sqrt();
+    let mut rep = Report::default();
+    if bnorm == 0.0 {
+        x.iter_mut().for_each(|v| *v = 0.0);
+        rep.converged = true;
+        return rep;
+    }
+    let mut ws = Workspace::new(h);
+    match p.mode {
+        Mode::PaperFaithful => stationary(h, c, p, b, x, bnorm, scale, &mut ws, &mut rep),
+        Mode::Default => pcg(h, c, p, b, x, bnorm, scale, &mut ws, &mut rep),
+    }
+    let lev = h.fine();
+    let (mut r, mut s) = (vec![0.0; lev.n()], vec![0.0; lev.n()]);
+    lev.op.residual(&lev.flags[c], b, x, &mut r, &mut s);
+    rep.rel_residual = dot(&r, &r).sqrt() / bnorm;
+    rep.seconds = t0.elapsed().as_secs_f64();
+    rep
+}
+
+/// Diverging when the residual grew this much: stop rather than run to max_cycles.
+const DIVERGED: f64 = 1e8;
+
+#[allow(clippy::too_many_arguments)]
+fn stationary(
+    h: &Hierarchy,
+    c: usize,
+    p: &SolveParams,
+    b: &[f64],
+    x: &mut [f64],
+    bnorm: f64,
+    scale: f64,
+    ws: &mut Workspace,
+    rep: &mut Report,
+) {
+    let cp = p.cycle_params();
+    let lev = h.fine();
+    let (mut r, mut s) = (vec![0.0; lev.n()], vec![0.0; lev.n()]);
+    for k in 1..=p.max_cycles {
+        let mc = cycle(h, c, &cp, b, x, ws);
+        lev.op.residual(&lev.flags[c], b, x, &mut r, &mut s);
+        let rel = dot(&r, &r).sqrt() / bnorm;
+        rep.history.push((mc, rel));
+        rep.cycles = k;
+        rep.max_correction = mc;
+        if done(p, mc, rel, scale) {
+            rep.converged = true;
+            return;
+        }
+        if !rel.is_finite() || rel > DIVERGED {
+            return;
+        }
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+fn pcg(
+    h: &Hierarchy,
+    c: usize,
+    p: &SolveParams,
+    b: &[f64],
+    x: &mut [f64],
+    bnorm: f64,
+    scale: f64,
+    ws: &mut Workspace,
+    rep: &mut Report,
+) {
+    let cp = p.cycle_params();
+    let lev = h.fine();
+    let n = lev.n();
+    let flags = &lev.flags[c];
+    let (mut r, mut s, mut z, mut q) = (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    lev.op.residual(flags, b, x, &mut r, &mut s);
+    cycle(h, c, &cp, &r, &mut z, ws);
+    let mut dir = z.clone();
+    let mut rz = dot(&r, &z);
+    for k in 1..=p.max_cycles {
+        lev.op.apply(flags, &dir, &mut q, &mut s);
+        let pq = dot(&dir, &q);
+        if pq <= 0.0 || !pq.is_finite() {
+            return; // the preconditioned operator is not positive definite: report, not loop
+        }
+        let alpha = rz / pq;
+        axpy(alpha, &dir, x);
+        axpy(-alpha, &q, &mut r);
+        let mc = alpha.abs() * max_abs(&dir);
+        let rel = dot(&r, &r).sqrt() / bnorm;
+        rep.history.push((mc, rel));
+        rep.cycles = k;
+        rep.max_correction = mc;
+        if done(p, mc, rel, scale) {
+            rep.converged = true;
+            return;
+        }
+        z.iter_mut().for_each(|v| *v = 0.0);
+        cycle(h, c, &cp, &r, &mut z, ws);
+        let rz_new = dot(&r, &z);
+        let beta = rz_new / rz;
+        rz = rz_new;
+        dir.iter_mut().zip(&z).for_each(|(d, z)| *d = z + beta * *d);
+    }
+}

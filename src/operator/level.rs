@@ -1,0 +1,134 @@
+//! The operator A of one level and component, applied matrix-free from K and V (DESIGN §3):
+//!
+//! biharmonic:  S_k = (1/V_k) Σ_j K_kj x_j  for k without Z (else 0)      (paper Eq. 5)
+//!              (A x)_i = Σ_k K_ik S_k       for i without P (else 0)      (paper Eq. 6)
+//! Laplacian, spring: (A x)_i = Σ_j K_ij x_j for i without P.
+//!
+//! Vectors live on the unknowns; corrections are zero on P unknowns.
+
+use super::{lumped_mass, spring_stiffness, stiffness, Assembly, Method};
+use crate::bc::{Dofs, P, Z};
+use crate::sparse::{par_fill, CsrMatrix};
+use glam::DVec2;
+
+pub struct LevelOperator {
+    pub method: Method,
+    pub k: CsrMatrix,
+    pub v: Vec<f64>,
+    pub inv_v: Vec<f64>,
+}
+
+impl LevelOperator {
+    pub fn new(
+        method: Method,
+        asm: &Assembly,
+        coords: &[DVec2],
+        cells: &[[u32; 3]],
+        dofs: &Dofs,
+    ) -> Self {
+        let k = match method {
+            Method::Spring => spring_stiffness(asm, coords, cells, dofs),
+            _ => stiffness(asm, coords, cells, dofs),
+        };
+        let v = lumped_mass(coords, cells, dofs);
+        let inv_v = v.iter().map(|&v| 1.0 / v).collect();
+        LevelOperator {
+            method,
+            k,
+            v,
+            inv_v,
+        }
+    }
+
+    pub fn n(&self) -> usize {
+        self.v.len()
+    }
+
+    /// S = M⁻¹ K x on unknowns without Z (Eq. 5 with zero boundary flux), minus an optional
+    /// source `g` (the rigid-motion flux of DESIGN §4).
+    fn source(&self, flags: &[u8], x: &[f64], g: Option<&[f64]>, s: &mut [f64]) {
+        let k = &self.k;
+        par_fill(s, |i| {
+            if flags[i] & Z != 0 {
+                return 0.0;
+            }
+            let (c, v) = k.row(i);
+            let kx: f64 = c.iter().zip(v).map(|(&j, &a)| a * x[j as usize]).sum();
+            (kx - g.map_or(0.0, |g| g[i])) * self.inv_v[i]
+        });
+    }
+
+    /// y = K u on unknowns without P, zero on P.
+    fn k_free_rows(&self, flags: &[u8], u: &[f64], y: &mut [f64]) {
+        let k = &self.k;
+        par_fill(y, |i| {
+            if flags[i] & P != 0 {
+                return 0.0;
+            }
+            let (c, v) = k.row(i);
+            c.iter().zip(v).map(|(&j, &a)| a * u[j as usize]).sum()
+        });
+    }
+
+    /// y = A x. `s` is scratch of length n (it holds S on return for the biharmonic).
+    pub fn apply(&self, flags: &[u8], x: &[f64], y: &mut [f64], s: &mut [f64]) {
+        match self.method {
+            Method::Biharmonic => {
+                self.source(flags, x, None, s);
+                self.k_free_rows(flags, s, y);
+            }
+            _ => self.k_free_rows(flags, x, y),
+        }
+    }
+
+    /// r = b − A x.
+    pub fn residual(&self, flags: &[u8], b: &[f64], x: &[f64], r: &mut [f64], s: &mut [f64]) {
+        self.apply(flags, x, r, s);
+        r.iter_mut().zip(b).for_each(|(r, &b)| *r = b - *r);
+    }
+
+    /// Right-hand side for the unknowns without P, given prescribed values `dp` (zero off P)
+    /// and the optional rigid-motion flux source `g`: b = −A_{U,P} dp (+ the source's share).
+    pub fn rhs(&self, flags: &[u8], dp: &[f64], g: Option<&[f64]>, b: &mut [f64], s: &mut [f64]) {
+        match self.method {
+            Method::Biharmonic => {
+                self.source(flags, dp, g, s);
+                self.k_free_rows(flags, s, b);
+            }
+            _ => self.k_free_rows(flags, dp, b),
+        }
+        b.iter_mut().for_each(|b| *b = -*b);
+    }
+
+    /// 1/D with D the l1 (Gershgorin) row bound of DESIGN §3, zero on P unknowns:
+    /// biharmonic D_i = Σ_{k without Z} |K_ik| (Σ_j |K_kj|) / V_k  (bounds Σ_j |A_ij|, paper Eq. 8),
+    /// Laplacian and spring D_i = Σ_j |K_ij|.
+    pub fn inv_l1_diag(&self, flags: &[u8]) -> Vec<f64> {
+        let k = &self.k;
+        let mut rowabs = vec![0.0; self.n()];
+        par_fill(&mut rowabs, |i| k.row(i).1.iter().map(|a| a.abs()).sum());
+        let mut inv = vec![0.0; self.n()];
+        par_fill(&mut inv, |i| {
+            if flags[i] & P != 0 {
+                return 0.0;
+            }
+            let d = match self.method {
+                Method::Biharmonic => {
+                    let (c, v) = k.row(i);
+                    c.iter()
+                        .zip(v)
+                        .filter(|(&j, _)| flags[j as usize] & Z == 0)
+                        .map(|(&j, &a)| a.abs() * rowabs[j as usize] * self.inv_v[j as usize])
+                        .sum()
+                }
+                _ => rowabs[i],
+            };
+            if d > 0.0 {
+                1.0 / d
+            } else {
+                0.0
+            }
+        });
+        inv
+    }
+}

@@ -1,0 +1,20 @@
+//! The discrete operators of DESIGN §3: stiffness K (cotangent or spring weights), lumped mass
+//! V, and per method the operator A, its right-hand side and its l1 Jacobi bound.
+
+mod level;
+mod stiffness;
+
+pub use level::LevelOperator;
+pub use stiffness::{lumped_mass, spring_stiffness, stiffness, Assembly};
+
+/// Which equation moves the mesh.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+pub enum Method {
+    /// ∇⁴d = 0 in the mixed form −∇²d = S, −∇²S = 0 (the paper's method).
+    #[default]
+    Biharmonic,
+    /// ∇²d = 0.
+    Laplacian,
+    /// Graph Laplacian with edge weights 1/L² (Batina's spring analogy).
+    Spring,
+}

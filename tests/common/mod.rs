@@ -1,0 +1,144 @@
+//! Small meshes for the integration tests, built directly so each test controls its geometry.
+#![allow(dead_code)]
+
+use meshmove::{IndexBase, Mesh};
+
+pub const BOTTOM: i32 = 1;
+pub const RIGHT: i32 = 2;
+pub const TOP: i32 = 3;
+pub const LEFT: i32 = 4;
+pub const INTERFACE: i32 = 5;
+
+/// Grid of (nx+1)(ny+1) vertices on [x0,x1]×[y0,y1]; quads split along one diagonal
+/// ("right" diagonal) or alternately; interior vertices moved by a deterministic jitter of
+/// `jitter` times the spacing, so the mesh is irregular but valid.
+pub struct Grid {
+    pub nx: usize,
+    pub ny: usize,
+    pub x: [f64; 2],
+    pub y: [f64; 2],
+    pub jitter: f64,
+    pub alternate: bool,
+}
+
+impl Grid {
+    pub fn new(nx: usize, ny: usize) -> Self {
+        Grid { nx, ny, x: [0.0, 1.0], y: [0.0, 1.0], jitter: 0.0, alternate: false }
+    }
+    pub fn jitter(mut self, j: f64) -> Self {
+        self.jitter = j;
+        self
+    }
+    pub fn alternate(mut self) -> Self {
+        self.alternate = true;
+        self
+    }
+    pub fn span(mut self, x: [f64; 2], y: [f64; 2]) -> Self {
+        self.x = x;
+        self.y = y;
+        self
+    }
+
+    fn id(&self, i: usize, j: usize) -> u32 {
+        (j * (self.nx + 1) + i) as u32
+    }
+
+    pub fn coords(&self) -> Vec<[f64; 2]> {
+        let (hx, hy) = ((self.x[1] - self.x[0]) / self.nx as f64, (self.y[1] - self.y[0]) / self.ny as f64);
+        let mut c = Vec::new();
+        for j in 0..=self.ny {
+            for i in 0..=self.nx {
+                let mut p = [self.x[0] + i as f64 * hx, self.y[0] + j as f64 * hy];
+                if i > 0 && i < self.nx && j > 0 && j < self.ny {
+                    let h = (i * 7919 + j * 104729) as f64;
+                    p[0] += self.jitter * hx * ((h * 0.618).fract() - 0.5);
+                    p[1] += self.jitter * hy * ((h * 0.414).fract() - 0.5);
+                }
+                c.push(p);
+            }
+        }
+        c
+    }
+
+    pub fn cells(&self) -> Vec<[u32; 3]> {
+        let mut t = Vec::new();
+        for j in 0..self.ny {
+            for i in 0..self.nx {
+                let (a, b, c, d) = (self.id(i, j), self.id(i + 1, j), self.id(i + 1, j + 1), self.id(i, j + 1));
+                if self.alternate && (i + j) % 2 == 1 {
+                    t.push([a, b, d]);
+                    t.push([b, c, d]);
+                } else {
+                    t.push([a, b, c]);
+                    t.push([a, c, d]);
+                }
+            }
+        }
+        t
+    }
+
+    pub fn tagged(&self) -> Vec<([u32; 2], i32)> {
+        let mut e = Vec::new();
+        for i in 0..self.nx {
+            e.push(([self.id(i, 0), self.id(i + 1, 0)], BOTTOM));
+            e.push(([self.id(i, self.ny), self.id(i + 1, self.ny)], TOP));
+        }
+        for j in 0..self.ny {
+            e.push(([self.id(0, j), self.id(0, j + 1)], LEFT));
+            e.push(([self.id(self.nx, j), self.id(self.nx, j + 1)], RIGHT));
+        }
+        e
+    }
+
+    pub fn mesh(&self) -> Mesh {
+        Mesh::new(&self.coords(), &self.cells(), IndexBase::Zero, &self.tagged(), None).unwrap()
+    }
+
+    /// Two regions: rows below `ny/2` region 0, above region 1; the middle row's edges tagged
+    /// INTERFACE (shared vertices).
+    pub fn two_regions(&self) -> Mesh {
+        let mid = self.ny / 2;
+        let regions: Vec<i32> = (0..self.ny).flat_map(|j| vec![i32::from(j >= mid); 2 * self.nx]).collect();
+        let mut tagged = self.tagged();
+        for i in 0..self.nx {
+            tagged.push(([self.id(i, mid), self.id(i + 1, mid)], INTERFACE));
+        }
+        Mesh::new(&self.coords(), &self.cells(), IndexBase::Zero, &tagged, Some(&regions)).unwrap()
+    }
+}
+
+pub const INNER: i32 = 1;
+pub const OUTER: i32 = 2;
+
+/// Annulus r0 ≤ r ≤ r1, `nr` rings of cells, `nt` around, radially graded by `ratio`.
+pub fn annulus(nr: usize, nt: usize, r0: f64, r1: f64, ratio: f64) -> Mesh {
+    let mut radii = vec![0.0];
+    let mut h = 1.0;
+    for _ in 0..nr {
+        radii.push(radii.last().unwrap() + h);
+        h *= ratio;
+    }
+    let total = *radii.last().unwrap();
+    let mut coords = Vec::new();
+    for &s in &radii {
+        let r = r0 + (r1 - r0) * s / total;
+        for k in 0..nt {
+            let a = 2.0 * std::f64::consts::PI * k as f64 / nt as f64;
+            coords.push([r * a.cos(), r * a.sin()]);
+        }
+    }
+    let id = |i: usize, k: usize| (i * nt + k % nt) as u32;
+    let mut cells = Vec::new();
+    for i in 0..nr {
+        for k in 0..nt {
+            cells.push([id(i, k), id(i + 1, k), id(i + 1, k + 1)]);
+            cells.push([id(i, k), id(i + 1, k + 1), id(i, k + 1)]);
+        }
+    }
+    let mut tagged = Vec::new();
+    for k in 0..nt {
+        tagged.push(([id(0, k), id(0, k + 1)], INNER));
+        tagged.push(([id(nr, k), id(nr, k + 1)], OUTER));
+    }
+    Mesh::new(&coords, &cells, IndexBase::Zero, &tagged, None).unwrap()
+}
