@@ -3,6 +3,7 @@
 //! The biharmonic mesh deformation of Helenbrook (2001), beside the Laplacian and spring-analogy
 //! movers, solved by geometric multigrid. See `DESIGN.md` for the discrete equations.
 
+pub mod cases;
 pub mod error;
 pub mod mesh;
 pub mod sparse;
