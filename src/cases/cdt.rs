@@ -191,3 +191,82 @@ fn smoothed(p: &Planar, n_fixed: usize) -> Vec<DVec2> {
         })
         .collect()
 }
+
+/// Deterministic pseudo-random number in [−1/2, 1/2) from two integers (splitmix64).
+fn jitter(i: i64, k: i64, salt: u64) -> f64 {
+    let mut z = (i as u64)
+        .wrapping_mul(0x9E37_79B9_7F4A_7C15)
+        .wrapping_add((k as u64).wrapping_mul(0xC2B2_AE3D_27D4_EB4F))
+        .wrapping_add(salt);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^= z >> 31;
+    (z >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+}
+
+fn segment_distance(p: DVec2, a: DVec2, b: DVec2) -> f64 {
+    let d = b - a;
+    let t = ((p - a).dot(d) / d.length_squared()).clamp(0.0, 1.0);
+    (p - (a + t * d)).length()
+}
+
+/// Meshes the domain bounded by `loops` with uniform edge length about `s`: a hexagonal lattice
+/// of spacing `s` (rows fitted to the bounding box, each point jittered deterministically by up
+/// to `jitter_frac`·s), less the points within `0.6 s` of a boundary segment, triangulated,
+/// then Delaunay-refined to `angle_deg` without splitting boundary segments and smoothed by
+/// `smooth` Laplacian sweeps. Points outside the domain fall in excluded faces and are dropped.
+pub(super) fn mesh_lattice(
+    loops: &[Loop],
+    s: f64,
+    jitter_frac: f64,
+    angle_deg: f64,
+    smooth: usize,
+) -> Planar {
+    let pts = loops.iter().flat_map(|l| l.points.iter().copied());
+    let (lo, hi) = pts.fold(
+        (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+        |(lo, hi), p| (lo.min(p), hi.max(p)),
+    );
+    let rows = (((hi.y - lo.y) / (0.5 * 3f64.sqrt() * s)).round() as i64).max(1);
+    let dy = (hi.y - lo.y) / rows as f64;
+    let cols = ((hi.x - lo.x) / s).ceil() as i64;
+    let segs: Vec<(DVec2, DVec2)> = loops
+        .iter()
+        .flat_map(|l| {
+            let n = l.points.len();
+            (0..n).map(move |i| (l.points[i], l.points[(i + 1) % n]))
+        })
+        .collect();
+    let mut interior = Vec::new();
+    for k in 1..rows {
+        for i in 0..=cols {
+            let x = lo.x + (i as f64 + 0.5 * (k % 2) as f64) * s;
+            let y = lo.y + k as f64 * dy;
+            let p = DVec2::new(
+                x + jitter_frac * s * jitter(i, k, 1),
+                y + jitter_frac * s * jitter(i, k, 2),
+            );
+            if p.x <= lo.x || p.x >= hi.x || p.y <= lo.y || p.y >= hi.y {
+                continue;
+            }
+            if segs
+                .iter()
+                .all(|&(a, b)| segment_distance(p, a, b) >= 0.6 * s)
+            {
+                interior.push(p);
+            }
+        }
+    }
+    let n_fixed: usize = loops.iter().map(|l| l.points.len()).sum();
+    let mut cdt = build(loops, &interior);
+    let excluded = refine(&mut cdt, angle_deg, None);
+    let mut planar = extract(&cdt, &excluded, loops);
+    for sweep in 0..smooth {
+        let pts = smoothed(&planar, n_fixed);
+        let mut cdt = build(loops, &pts[n_fixed..]);
+        let angle = if sweep + 1 == smooth { angle_deg } else { 0.0 };
+        let excluded = refine(&mut cdt, angle, None);
+        planar = extract(&cdt, &excluded, loops);
+    }
+    planar
+}
