@@ -1,0 +1,201 @@
+//! Cylinder cases: a cylinder in a channel, and a cylinder with a structured wall layer.
+
+use super::cdt::{mesh_domain, mesh_lattice, Loop, Planar};
+use super::free_surface::rect_loop;
+use super::meshes::to_mesh;
+use crate::mesh::Mesh;
+use glam::DVec2;
+use std::f64::consts::PI;
+
+/// [`cylinder_channel`]: the four channel walls (y = ±1, x = 0, x = 8).
+pub const CH_WALL: i32 = 1;
+/// [`cylinder_channel`]: the cylinder.
+pub const CH_CYLINDER: i32 = 2;
+
+/// [`boundary_layer_cylinder`]: the far-field rectangle [−10,20]×[−10,10].
+pub const BL_FAR: i32 = 1;
+/// [`boundary_layer_cylinder`]: the cylinder.
+pub const BL_CYLINDER: i32 = 2;
+/// [`boundary_layer_cylinder`]: height of the first wall layer.
+pub const BL_FIRST_HEIGHT: f64 = 0.005;
+/// [`boundary_layer_cylinder`]: ratio of successive layer heights.
+pub const BL_GROWTH: f64 = 1.2;
+/// [`boundary_layer_cylinder`]: number of structured layers.
+pub const BL_LAYERS: usize = 15;
+/// [`boundary_layer_cylinder`]: vertices around the cylinder (and around every layer).
+pub const BL_N_THETA: usize = 128;
+
+/// `n` points on the circle of radius `r` about `c`, counter-clockwise from angle 0.
+fn circle(c: DVec2, r: f64, n: usize) -> Vec<DVec2> {
+    (0..n)
+        .map(|j| {
+            let t = 2.0 * PI * j as f64 / n as f64;
+            c + r * DVec2::new(t.cos(), t.sin())
+        })
+        .collect()
+}
+
+/// [0,8]×[−1,1] minus the cylinder of diameter 1 about (2, 0) (a regular polygon of
+/// 4 round(π / 4h) ≥ 16 vertices), uniform edge length about `h` (n = round(1/h) segments per
+/// unit of wall; jittered hexagonal lattice inside). Patches [`CH_WALL`], [`CH_CYLINDER`].
+/// h = 1/8: 1,171 vertices, 24 on the cylinder, min angle 36°; pass h = 1/12 for ≈ 2,600.
+pub fn cylinder_channel(h: f64) -> Mesh {
+    assert!(h > 0.0 && h <= 0.25, "cylinder_channel: 0 < h <= 1/4");
+    let n = (1.0 / h).round() as usize;
+    let s = 1.0 / n as f64;
+    let outer = rect_loop(
+        [0.0, 8.0, -1.0, 1.0],
+        8 * n,
+        2 * n,
+        [CH_WALL, CH_WALL, CH_WALL, CH_WALL],
+    );
+    let nc = (4 * (PI / (4.0 * s)).round() as usize).max(16);
+    let cyl = Loop {
+        points: circle(DVec2::new(2.0, 0.0), 0.5, nc),
+        patches: vec![CH_CYLINDER; nc],
+    };
+    let p = mesh_lattice(&[outer, cyl], s, 0.2, 30.0, 2);
+    to_mesh(&p, None, "cylinder_channel")
+}
+
+/// Radius of ring `k` of the wall layer (ring 0 is the cylinder, radius 1/2).
+fn ring_radius(k: usize) -> f64 {
+    0.5 + BL_FIRST_HEIGHT * (BL_GROWTH.powi(k as i32) - 1.0) / (BL_GROWTH - 1.0)
+}
+
+/// Domain [−10,20]×[−10,10], cylinder of diameter 1 at the origin (a regular polygon of
+/// [`BL_N_THETA`] vertices). Around it [`BL_LAYERS`] structured layers of quads split into
+/// triangles, the first [`BL_FIRST_HEIGHT`] high, each [`BL_GROWTH`] times the last, all on the
+/// same radial lines; outside the layer, unstructured triangles graded from the layer's
+/// tangential spacing (≈ 0.042) to about 1 at the far boundary. Patches [`BL_FAR`],
+/// [`BL_CYLINDER`]. Vertex order: the unstructured part first (its far boundary, then the
+/// layer's outer ring, then the Steiner points), then the rings 0 (the cylinder), 1, …,
+/// [`BL_LAYERS`] − 1 of [`BL_N_THETA`] vertices each, counter-clockwise from angle 0.
+pub fn boundary_layer_cylinder() -> Mesh {
+    let nt = BL_N_THETA;
+    let nl = BL_LAYERS;
+    let r_out = ring_radius(nl);
+    let far = 1.0;
+    let outer = rect_loop(
+        [-10.0, 20.0, -10.0, 10.0],
+        30,
+        20,
+        [BL_FAR, BL_FAR, BL_FAR, BL_FAR],
+    );
+    let n_outer = outer.points.len();
+    let ring = Loop {
+        points: circle(DVec2::ZERO, r_out, nt),
+        patches: vec![0; nt], // interior edges: untagged
+    };
+    let s0 = 2.0 * PI * r_out / nt as f64;
+    let size = move |p: DVec2| (s0 + 0.2 * (p.length() - r_out).max(0.0)).min(far);
+    let unstructured = mesh_domain(&[outer, ring], &size, 30.0, 0);
+
+    let mut coords = unstructured.coords.clone();
+    let base = coords.len();
+    for k in 0..nl {
+        coords.extend(circle(DVec2::ZERO, ring_radius(k), nt));
+    }
+    let id = |k: usize, j: usize| -> u32 {
+        let j = j % nt;
+        if k == nl {
+            (n_outer + j) as u32
+        } else {
+            (base + k * nt + j) as u32
+        }
+    };
+    let mut tris = unstructured.tris.clone();
+    for k in 0..nl {
+        for j in 0..nt {
+            tris.push([id(k, j), id(k, j + 1), id(k + 1, j + 1)]);
+            tris.push([id(k, j), id(k + 1, j + 1), id(k + 1, j)]);
+        }
+    }
+    let mut tagged = unstructured.tagged.clone();
+    tagged.extend((0..nt).map(|j| ([id(0, j), id(0, j + 1)], BL_CYLINDER)));
+    let p = Planar {
+        coords,
+        tris,
+        tagged,
+    };
+    to_mesh(&p, None, "boundary_layer_cylinder")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::meshes::test_util::*;
+    use super::*;
+
+    #[test]
+    fn cylinder_channel_h8() {
+        let m = cylinder_channel(0.125);
+        let nv = m.num_vertices();
+        let nc = m.patch_vertices(CH_CYLINDER).len();
+        eprintln!(
+            "cylinder_channel(1/8): {nv} vertices, {} cells, {nc} on cylinder, min angle {:.2}",
+            m.num_cells(),
+            min_angle(&m)
+        );
+        assert_eq!(nc, 24);
+        assert_eq!(m.patch_vertices(CH_WALL).len(), 2 * (64 + 16));
+        assert_eq!(m.patch_ids(), vec![1, 2]);
+        assert!((total_area(&m) - (16.0 - polygon_area(nc, 0.5))).abs() < 1e-10);
+        for &v in &m.patch_vertices(CH_CYLINDER) {
+            let d = m.coords()[v as usize] - DVec2::new(2.0, 0.0);
+            assert!((d.length() - 0.5).abs() < 1e-14);
+        }
+        assert!(min_angle(&m) >= 25.0, "min angle {}", min_angle(&m));
+        assert!((1000..=6000).contains(&nv), "{nv} vertices");
+    }
+
+    #[test]
+    fn boundary_layer() {
+        let m = boundary_layer_cylinder();
+        let nv = m.num_vertices();
+        let c = m.coords();
+        let r_out = ring_radius(BL_LAYERS);
+        // Unstructured part: cells with a vertex outside the layer.
+        let unstructured_min = m
+            .cells()
+            .iter()
+            .filter(|t| t.iter().any(|&v| c[v as usize].length() > r_out + 1e-9))
+            .map(|t| {
+                let [a, b, d] = t.map(|v| c[v as usize]);
+                crate::mesh::quality::min_angle_deg(a, b, d)
+            })
+            .fold(180.0, f64::min);
+        eprintln!(
+            "boundary_layer_cylinder: {nv} vertices, {} cells, min angle {:.2} (unstructured {:.2}), layer thickness {:.4}",
+            m.num_cells(),
+            min_angle(&m),
+            unstructured_min,
+            r_out - 0.5
+        );
+        assert!(nv <= 20_000, "{nv} vertices");
+        assert!(nv >= BL_N_THETA * (BL_LAYERS + 1) + 100);
+        assert_eq!(m.patch_ids(), vec![1, 2]);
+        let cyl = m.patch_vertices(BL_CYLINDER);
+        assert_eq!(cyl.len(), BL_N_THETA);
+        assert_eq!(m.patch_vertices(BL_FAR).len(), 100);
+        let hole = polygon_area(BL_N_THETA, 0.5);
+        assert!((total_area(&m) - (600.0 - hole)).abs() < 1e-9);
+        // First layer height: every ring-1 vertex is 0.005 outside the cylinder, radially.
+        let n = m.num_vertices();
+        let ring1 = &c[n - (BL_LAYERS - 1) * BL_N_THETA..n - (BL_LAYERS - 2) * BL_N_THETA];
+        for (j, p) in ring1.iter().enumerate() {
+            assert!(
+                (p.length() - 0.5 - BL_FIRST_HEIGHT).abs() < 1e-9,
+                "ring 1 vertex {j}"
+            );
+        }
+        for &v in &cyl {
+            assert!((c[v as usize].length() - 0.5).abs() < 1e-14);
+        }
+        assert!(
+            unstructured_min >= 20.0,
+            "unstructured min angle {unstructured_min}"
+        );
+        // Wall cells: thin, aspect about (2π·0.5/128)/0.005 ≈ 4.9.
+        assert!(min_angle(&m) > 5.0);
+    }
+}
