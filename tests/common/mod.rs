@@ -23,7 +23,14 @@ pub struct Grid {
 
 impl Grid {
     pub fn new(nx: usize, ny: usize) -> Self {
-        Grid { nx, ny, x: [0.0, 1.0], y: [0.0, 1.0], jitter: 0.0, alternate: false }
+        Grid {
+            nx,
+            ny,
+            x: [0.0, 1.0],
+            y: [0.0, 1.0],
+            jitter: 0.0,
+            alternate: false,
+        }
     }
     pub fn jitter(mut self, j: f64) -> Self {
         self.jitter = j;
@@ -44,7 +51,10 @@ impl Grid {
     }
 
     pub fn coords(&self) -> Vec<[f64; 2]> {
-        let (hx, hy) = ((self.x[1] - self.x[0]) / self.nx as f64, (self.y[1] - self.y[0]) / self.ny as f64);
+        let (hx, hy) = (
+            (self.x[1] - self.x[0]) / self.nx as f64,
+            (self.y[1] - self.y[0]) / self.ny as f64,
+        );
         let mut c = Vec::new();
         for j in 0..=self.ny {
             for i in 0..=self.nx {
@@ -64,7 +74,12 @@ impl Grid {
         let mut t = Vec::new();
         for j in 0..self.ny {
             for i in 0..self.nx {
-                let (a, b, c, d) = (self.id(i, j), self.id(i + 1, j), self.id(i + 1, j + 1), self.id(i, j + 1));
+                let (a, b, c, d) = (
+                    self.id(i, j),
+                    self.id(i + 1, j),
+                    self.id(i + 1, j + 1),
+                    self.id(i, j + 1),
+                );
                 if self.alternate && (i + j) % 2 == 1 {
                     t.push([a, b, d]);
                     t.push([b, c, d]);
@@ -91,19 +106,35 @@ impl Grid {
     }
 
     pub fn mesh(&self) -> Mesh {
-        Mesh::new(&self.coords(), &self.cells(), IndexBase::Zero, &self.tagged(), None).unwrap()
+        Mesh::new(
+            &self.coords(),
+            &self.cells(),
+            IndexBase::Zero,
+            &self.tagged(),
+            None,
+        )
+        .unwrap()
     }
 
     /// Two regions: rows below `ny/2` region 0, above region 1; the middle row's edges tagged
     /// INTERFACE (shared vertices).
     pub fn two_regions(&self) -> Mesh {
         let mid = self.ny / 2;
-        let regions: Vec<i32> = (0..self.ny).flat_map(|j| vec![i32::from(j >= mid); 2 * self.nx]).collect();
+        let regions: Vec<i32> = (0..self.ny)
+            .flat_map(|j| vec![i32::from(j >= mid); 2 * self.nx])
+            .collect();
         let mut tagged = self.tagged();
         for i in 0..self.nx {
             tagged.push(([self.id(i, mid), self.id(i + 1, mid)], INTERFACE));
         }
-        Mesh::new(&self.coords(), &self.cells(), IndexBase::Zero, &tagged, Some(&regions)).unwrap()
+        Mesh::new(
+            &self.coords(),
+            &self.cells(),
+            IndexBase::Zero,
+            &tagged,
+            Some(&regions),
+        )
+        .unwrap()
     }
 }
 
@@ -141,4 +172,86 @@ pub fn annulus(nr: usize, nt: usize, r0: f64, r1: f64, ratio: f64) -> Mesh {
         tagged.push(([id(nr, k), id(nr, k + 1)], OUTER));
     }
     Mesh::new(&coords, &cells, IndexBase::Zero, &tagged, None).unwrap()
+}
+
+use glam::DVec2;
+use meshmove::bc::{P, Z};
+use meshmove::{Method, Solver};
+
+/// A smooth, non-linear boundary displacement field, 1-periodic in x so it suits linked sides
+/// (read only where prescribed).
+pub fn wavy(x: DVec2) -> DVec2 {
+    let w = std::f64::consts::TAU * x.x;
+    DVec2::new(
+        0.02 * w.sin() + 0.01 * x.y * x.y,
+        0.05 * w.cos() + 0.02 * x.y,
+    )
+}
+
+/// Solves the fine-level system of `solver` for component `c` by a dense direct solve,
+/// assembled here from K, V and the flags independently of the matrix-free operator:
+/// biharmonic A = K_UF M_F⁻¹ K_FU and b = −K_UF M_F⁻¹ K_FP d_P; Laplacian/spring A = K_UU.
+/// `d` holds a displacement per unknown with the prescribed values set; returns it solved.
+pub fn direct_solve(solver: &Solver, c: usize, d: &[f64]) -> Vec<f64> {
+    let lev = &solver.hierarchy().levels[0];
+    let n = lev.n();
+    let k = lev.op.k.to_dense();
+    let flags = &lev.flags[c];
+    let u: Vec<usize> = (0..n).filter(|&i| flags[i] & P == 0).collect();
+    let f: Vec<usize> = (0..n).filter(|&i| flags[i] & Z == 0).collect();
+    let m = u.len();
+    let mut a = vec![0.0; m * m];
+    let mut b = vec![0.0; m];
+    let biharmonic = lev.op.method == Method::Biharmonic;
+    // (K_F,: d_P) / V on F, used by the right-hand side.
+    for (ii, &i) in u.iter().enumerate() {
+        if biharmonic {
+            for &kk in &f {
+                if k[i][kk] == 0.0 {
+                    continue;
+                }
+                let w = k[i][kk] / lev.op.v[kk];
+                for (jj, &j) in u.iter().enumerate() {
+                    a[ii * m + jj] += w * k[kk][j];
+                }
+                let kd: f64 = (0..n)
+                    .filter(|&j| flags[j] & P != 0)
+                    .map(|j| k[kk][j] * d[j])
+                    .sum();
+                b[ii] -= w * kd;
+            }
+        } else {
+            for (jj, &j) in u.iter().enumerate() {
+                a[ii * m + jj] = k[i][j];
+            }
+            b[ii] = -(0..n)
+                .filter(|&j| flags[j] & P != 0)
+                .map(|j| k[i][j] * d[j])
+                .sum::<f64>();
+        }
+    }
+    for i in 0..m {
+        for j in 0..i {
+            let v = 0.5 * (a[i * m + j] + a[j * m + i]);
+            a[i * m + j] = v;
+            a[j * m + i] = v;
+        }
+    }
+    let chol = meshmove::dense::Cholesky::new(m, &a).expect("assembled system is SPD");
+    chol.solve(&mut b);
+    let mut out = d.to_vec();
+    for (ii, &i) in u.iter().enumerate() {
+        out[i] = b[ii];
+    }
+    out
+}
+
+/// Per-unknown values of component `c` of a per-vertex field.
+pub fn at_dofs(solver: &Solver, field: &[DVec2], c: usize) -> Vec<f64> {
+    solver.hierarchy().levels[0]
+        .dofs
+        .dof_vertex
+        .iter()
+        .map(|&v| field[v as usize][c])
+        .collect()
 }
