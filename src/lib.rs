@@ -5,6 +5,7 @@
 
 pub mod error;
 pub mod mesh;
+pub mod multigrid;
 pub mod sparse;
 
 pub use error::{Error, Result};
