@@ -621,7 +621,7 @@ pub(crate) mod tests {
     use spade::DelaunayTriangulation;
 
     /// Deterministic pseudo-random numbers in [0, 1).
-    pub(crate) struct Lcg(u64);
+    pub(crate) struct Lcg(pub(crate) u64);
     impl Lcg {
         pub(crate) fn next(&mut self) -> f64 {
             self.0 = self
@@ -819,7 +819,6 @@ pub(crate) mod tests {
     }
 
     /// Polar-structured annulus 0.5 < r < 1: outer circle patch 1, inner circle patch 2.
-    #[allow(dead_code)] // used by the transfer tests
     pub(crate) fn annulus(nr: usize, nt: usize) -> Mesh {
         let mut coords = Vec::new();
         for j in 0..=nr {
