@@ -75,10 +75,10 @@ struct Segment {
 
 /// Why one triangulation attempt failed.
 enum Failure {
-    /// Keep every vertex of this chain and retry.
-    Chain(usize),
-    /// Drop this interior point and retry.
-    Point(u32),
+    /// Keep every vertex of these chains and retry.
+    Chains(Vec<usize>),
+    /// Drop these interior points (outside the coarse domain) and retry.
+    Points(Vec<u32>),
     /// Nothing to fix: stop coarsening at this level.
     Stop,
 }
@@ -116,8 +116,12 @@ pub fn coarsen(
         }
         match triangulate(fine, links, &kept, &segments, &features)? {
             Ok(coarse) => return Ok(Some(coarse)),
-            Err(Failure::Chain(c)) if !keep_all[c] => keep_all[c] = true,
-            Err(Failure::Point(v)) if !banned[v as usize] => banned[v as usize] = true,
+            Err(Failure::Chains(cs)) if cs.iter().any(|&c| !keep_all[c]) => {
+                cs.into_iter().for_each(|c| keep_all[c] = true)
+            }
+            Err(Failure::Points(vs)) if vs.iter().any(|&v| !banned[v as usize]) => {
+                vs.into_iter().for_each(|v| banned[v as usize] = true)
+            }
             Err(_) => return Ok(None),
         }
     }
@@ -381,24 +385,35 @@ fn triangulate(
         coarse_of[v as usize] = i as u32;
     }
     let nc = fine_vertex.len();
+    // Bulk loading keeps the vertex order (and is far faster than inserting one by one).
+    let points: Vec<Point2<f64>> = fine_vertex
+        .iter()
+        .map(|&v| Point2::new(x[v as usize].x, x[v as usize].y))
+        .collect();
     let mut cdt: ConstrainedDelaunayTriangulation<Point2<f64>> =
-        ConstrainedDelaunayTriangulation::new();
-    let mut handles: Vec<FixedVertexHandle> = Vec::with_capacity(nc);
-    let mut coarse_of_handle: Vec<u32> = Vec::with_capacity(nc);
-    for (i, &v) in fine_vertex.iter().enumerate() {
-        let p = x[v as usize];
-        let h = cdt
-            .insert(Point2::new(p.x, p.y))
-            .map_err(|e| Error::Coarsening(format!("vertex {v} at {p}: {e:?}")))?;
-        if cdt.num_vertices() != i + 1 {
-            // Duplicate position: spade merged two vertices.
+        ConstrainedDelaunayTriangulation::try_bulk_load_cdt(points, Vec::new(), |_| {})
+            .map_err(|e| Error::Coarsening(format!("triangulating the kept vertices: {e:?}")))?;
+    if cdt.num_vertices() != nc {
+        // Duplicate positions: spade merged vertices.
+        return Ok(Err(Failure::Stop));
+    }
+    let handles: Vec<FixedVertexHandle> = cdt.fixed_vertices().collect();
+    let mut coarse_of_handle = vec![u32::MAX; nc];
+    for (i, h) in handles.iter().enumerate() {
+        if h.index() >= nc {
             return Ok(Err(Failure::Stop));
         }
-        handles.push(h);
-        if coarse_of_handle.len() <= h.index() {
-            coarse_of_handle.resize(h.index() + 1, u32::MAX);
-        }
         coarse_of_handle[h.index()] = i as u32;
+    }
+    let order_kept = handles.iter().enumerate().all(|(i, h)| {
+        let p = cdt.vertex(*h).position();
+        let q = x[fine_vertex[i] as usize];
+        p.x == q.x && p.y == q.y
+    });
+    if !order_kept {
+        return Err(Error::Coarsening(
+            "the triangulation reordered the vertices".into(),
+        ));
     }
     // Segments in coarse numbering, keyed for lookup.
     let mut seg_of: HashMap<u64, usize> = HashMap::with_capacity(segments.len());
@@ -406,19 +421,26 @@ fn triangulate(
         let (a, b) = (coarse_of[s.a as usize], coarse_of[s.b as usize]);
         seg_of.insert(edge_key(a, b), k);
     }
+    let mut bad_chains = Vec::new();
     for s in segments {
         let (ha, hb) = (
             handles[coarse_of[s.a as usize] as usize],
             handles[coarse_of[s.b as usize] as usize],
         );
         if !cdt.can_add_constraint(ha, hb) {
-            return Ok(Err(Failure::Chain(s.chain)));
+            bad_chains.push(s.chain);
+            continue;
         }
         cdt.try_add_constraint(ha, hb);
         // A kept vertex exactly on the segment splits it: not the segment we asked for.
         if !cdt.exists_constraint(ha, hb) {
-            return Ok(Err(Failure::Chain(s.chain)));
+            bad_chains.push(s.chain);
         }
+    }
+    if !bad_chains.is_empty() {
+        bad_chains.sort_unstable();
+        bad_chains.dedup();
+        return Ok(Err(Failure::Chains(bad_chains)));
     }
     if cdt.num_constraints() != segments.len() {
         return Ok(Err(Failure::Stop));
@@ -499,13 +521,15 @@ fn triangulate(
             used[v as usize] = true;
         }
     }
-    if let Some(i) = (0..nc).find(|&i| !used[i]) {
-        let v = fine_vertex[i];
-        return Ok(Err(if f.on_feature[v as usize] {
-            Failure::Stop
-        } else {
-            Failure::Point(v)
-        }));
+    let unused: Vec<u32> = (0..nc)
+        .filter(|&i| !used[i])
+        .map(|i| fine_vertex[i])
+        .collect();
+    if unused.iter().any(|&v| f.on_feature[v as usize]) {
+        return Ok(Err(Failure::Stop));
+    }
+    if !unused.is_empty() {
+        return Ok(Err(Failure::Points(unused)));
     }
     // Positive areas.
     let (mut lo, mut hi) = (cx[0], cx[0]);
@@ -820,9 +844,14 @@ pub(crate) mod tests {
 
     /// Polar-structured annulus 0.5 < r < 1: outer circle patch 1, inner circle patch 2.
     pub(crate) fn annulus(nr: usize, nt: usize) -> Mesh {
+        annulus_r(0.5, nr, nt)
+    }
+
+    /// Polar-structured annulus r0 < r < 1.
+    fn annulus_r(r0: f64, nr: usize, nt: usize) -> Mesh {
         let mut coords = Vec::new();
         for j in 0..=nr {
-            let r = 0.5 + 0.5 * j as f64 / nr as f64;
+            let r = r0 + (1.0 - r0) * j as f64 / nr as f64;
             for i in 0..nt {
                 let t = 2.0 * std::f64::consts::PI * i as f64 / nt as f64;
                 coords.push([r * t.cos(), r * t.sin()]);
@@ -1086,6 +1115,72 @@ pub(crate) mod tests {
             c.links.len(),
             c.mesh.coords().iter().filter(|p| p.x == 0.0).count()
         );
+    }
+
+    #[test]
+    fn hierarchies_reach_a_few_dozen_vertices() {
+        let meshes = [
+            ("annulus 9x96", annulus(8, 96)),
+            ("annulus 17x160", annulus(16, 160)),
+            // Thin layers at a coarsely resolved curved wall: interior points outside the chords.
+            ("annulus 65x24", annulus(64, 24)),
+            ("cylinder 48", cylinder(48, 1)),
+            ("cylinder 20 refined", cylinder(20, 2).refine_uniform()),
+            ("unstructured 60", unstructured_rect(60, 3)),
+            (
+                "unstructured 25 refined twice",
+                unstructured_rect(25, 4).refine_uniform().refine_uniform(),
+            ),
+            ("two regions 64", two_regions(64)),
+        ];
+        for (name, fine) in &meshes {
+            let counts = hierarchy(fine, &[]);
+            eprintln!("{name}: {counts:?}");
+            assert!(counts.len() >= 3, "{name}: {counts:?}");
+            assert!(*counts.last().unwrap() < 150, "{name}: {counts:?}");
+        }
+    }
+
+    #[test]
+    fn crossing_chords_keep_their_chain() {
+        // Gap 0.02 between circles of 24 vertices, the outer one numbered from a vertex half a
+        // coarse step away: its chords (0.034 deep) would cut through the kept inner vertices, so
+        // the outer circle keeps all of its vertices.
+        let (nr, nt) = (2, 24);
+        let base = annulus_r(0.98, nr, nt);
+        let relabel = |v: u32| {
+            let (j, i) = (v as usize / nt, v as usize % nt);
+            if j == nr {
+                (j * nt + (i + 1) % nt) as u32
+            } else {
+                v
+            }
+        };
+        let mut coords = base.coords_xy();
+        for (v, p) in base.coords_xy().into_iter().enumerate() {
+            coords[relabel(v as u32) as usize] = p;
+        }
+        let cells: Vec<[u32; 3]> = base.cells().iter().map(|t| t.map(relabel)).collect();
+        let tags: Vec<([u32; 2], i32)> = base
+            .patch_edges()
+            .iter()
+            .map(|e| (e.vertices.map(relabel), e.patch))
+            .collect();
+        let fine = Mesh::new(&coords, &cells, IndexBase::Zero, &tags, None).unwrap();
+        let params = CoarsenParams {
+            min_vertices: 10,
+            ..Default::default()
+        };
+        let c = coarsen(&fine, &[], &params).unwrap().unwrap();
+        check(&fine, &c);
+        assert_eq!(c.mesh.patch_vertices(1).len(), 24);
+        assert_eq!(c.mesh.patch_vertices(2).len(), 12);
+        assert_eq!(c.mesh.num_vertices(), 36);
+        // Without the shift the two coarse polygons nest and both halve.
+        let c = coarsen(&base, &[], &params).unwrap().unwrap();
+        check(&base, &c);
+        assert_eq!(c.mesh.patch_vertices(1).len(), 12);
+        assert_eq!(c.mesh.patch_vertices(2).len(), 12);
     }
 
     #[test]
