@@ -236,10 +236,7 @@ impl Features {
                 interior: pe[first].interior,
             }
         };
-        for v in 0..nv {
-            if !forced[v] {
-                continue;
-            }
+        for v in (0..nv).filter(|&v| forced[v]) {
             for &k in incident(v) {
                 if !visited[k] {
                     chains.push(walk(v as u32, k, &mut visited));
@@ -343,11 +340,9 @@ fn select(
     // already selected.
     let g = fine.graph();
     let mut blocked = vec![false; nv];
-    for v in 0..nv {
-        if kept[v] {
-            for &j in g.row(v).0 {
-                blocked[j as usize] = true;
-            }
+    for v in (0..nv).filter(|&v| kept[v]) {
+        for &j in g.row(v).0 {
+            blocked[j as usize] = true;
         }
     }
     for v in 0..nv {
@@ -542,7 +537,10 @@ fn triangulate(
         let [a, b, c] = t.map(|v| cx[v as usize]);
         0.5 * (b - a).perp_dot(c - a)
     };
-    if cells.iter().any(|t| !(area(t) > min_area)) {
+    if cells
+        .iter()
+        .any(|t| area(t).is_nan() || area(t) <= min_area)
+    {
         return Ok(Err(Failure::Stop));
     }
     // Boundary of the triangulation = boundary segments; interface segments have two cells.

@@ -90,7 +90,7 @@ impl<'a> Locator<'a> {
         let ext = (hi - lo).max(DVec2::splat(1e-300));
         let nb = (cells.len() / 2).max(1) as f64;
         let mut h = (ext.x * ext.y / nb).sqrt();
-        if !(h > 0.0) || !h.is_finite() {
+        if h.is_nan() || h <= 0.0 || !h.is_finite() {
             h = ext.x.max(ext.y);
         }
         // Cap the bucket count per direction (thin domains) to keep the grid O(cells).
