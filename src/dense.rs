@@ -56,9 +56,7 @@ mod tests {
         let a = [4.0, 1.0, 0.5, 1.0, 3.0, 0.2, 0.5, 0.2, 2.0];
         let c = Cholesky::new(3, &a).unwrap();
         let x_true = [1.0, -2.0, 0.5];
-        let mut b: Vec<f64> = (0..3)
-            .map(|i| (0..3).map(|j| a[i * 3 + j] * x_true[j]).sum())
-            .collect();
+        let mut b: Vec<f64> = (0..3).map(|i| (0..3).map(|j| a[i * 3 + j] * x_true[j]).sum()).collect();
         c.solve(&mut b);
         for i in 0..3 {
             assert!((b[i] - x_true[i]).abs() < 1e-14);

@@ -11,10 +11,7 @@ pub enum Error {
     #[error("invalid boundary conditions: {0}")]
     Bc(String),
     #[error("ill-posed problem: component {component} has no prescribed vertex{detail}")]
-    IllPosed {
-        component: &'static str,
-        detail: String,
-    },
+    IllPosed { component: &'static str, detail: String },
     #[error("invalid argument: {0}")]
     InvalidArgument(String),
     #[error("multigrid hierarchy could not be built: {0}")]

@@ -14,11 +14,7 @@ pub struct RigidMotion {
 
 impl RigidMotion {
     pub fn translation(t: DVec2) -> Self {
-        RigidMotion {
-            translation: t,
-            angle: 0.0,
-            center: DVec2::ZERO,
-        }
+        RigidMotion { translation: t, angle: 0.0, center: DVec2::ZERO }
     }
 
     /// L(x) = (R − I)(x − c) + t.
@@ -51,17 +47,11 @@ pub struct Motion {
 impl Motion {
     /// No motion, for a mesh of `nv` vertices.
     pub fn zero(nv: usize) -> Self {
-        Motion {
-            displacement: vec![DVec2::ZERO; nv],
-            rigid: Vec::new(),
-        }
+        Motion { displacement: vec![DVec2::ZERO; nv], rigid: Vec::new() }
     }
 
     pub fn from_displacement(displacement: Vec<DVec2>) -> Self {
-        Motion {
-            displacement,
-            rigid: Vec::new(),
-        }
+        Motion { displacement, rigid: Vec::new() }
     }
 
     pub fn with_rigid(mut self, patch: i32, m: RigidMotion) -> Self {
@@ -78,21 +68,15 @@ impl Motion {
             )));
         }
         if let Some(v) = self.displacement.iter().position(|d| !d.is_finite()) {
-            return Err(Error::InvalidArgument(format!(
-                "displacement of vertex {v} is not finite"
-            )));
+            return Err(Error::InvalidArgument(format!("displacement of vertex {v} is not finite")));
         }
         let ids = mesh.patch_ids();
         for (p, m) in &self.rigid {
             if ids.binary_search(p).is_err() {
-                return Err(Error::InvalidArgument(format!(
-                    "rigid motion of patch {p}, which is not in the mesh"
-                )));
+                return Err(Error::InvalidArgument(format!("rigid motion of patch {p}, which is not in the mesh")));
             }
             if !(m.translation.is_finite() && m.angle.is_finite() && m.center.is_finite()) {
-                return Err(Error::InvalidArgument(format!(
-                    "rigid motion of patch {p} is not finite"
-                )));
+                return Err(Error::InvalidArgument(format!("rigid motion of patch {p} is not finite")));
             }
         }
         Ok(())
@@ -103,11 +87,7 @@ impl Motion {
         let f = 1.0 / steps as f64;
         Motion {
             displacement: self.displacement.iter().map(|&d| d * f).collect(),
-            rigid: self
-                .rigid
-                .iter()
-                .map(|&(p, m)| (p, m.increment(step, steps)))
-                .collect(),
+            rigid: self.rigid.iter().map(|&(p, m)| (p, m.increment(step, steps))).collect(),
         }
     }
 
@@ -129,11 +109,7 @@ mod tests {
 
     #[test]
     fn stepped_rotation_composes_to_the_whole() {
-        let m = RigidMotion {
-            translation: DVec2::new(1.0, -2.0),
-            angle: 1.2,
-            center: DVec2::new(0.3, 0.1),
-        };
+        let m = RigidMotion { translation: DVec2::new(1.0, -2.0), angle: 1.2, center: DVec2::new(0.3, 0.1) };
         let x0 = DVec2::new(2.0, 0.5);
         let mut x = x0;
         for i in 0..7 {

@@ -43,7 +43,7 @@ impl Solver {
         if !(p.tol > 0.0 && p.tol.is_finite())
             || p.max_cycles == 0
             || p.cheb_degree == 0
-            || !(p.cheb_lower_ratio > 1.0)
+            || p.cheb_lower_ratio.is_some_and(|r| !(r > 1.0))
         {
             return Err(Error::InvalidArgument(
                 "tolerance must be positive and finite, max cycles and Chebyshev degree at least 1, lower ratio above 1".into(),
@@ -57,9 +57,7 @@ impl Solver {
                 rayon::ThreadPoolBuilder::new()
                     .num_threads(n)
                     .build()
-                    .map_err(|e| {
-                        Error::InvalidArgument(format!("cannot start {n} threads: {e}"))
-                    })?,
+                    .map_err(|e| Error::InvalidArgument(format!("cannot start {n} threads: {e}")))?,
             ),
         };
         let build = || Hierarchy::build(mesh, pairs, bcs, opts.method, &opts.hierarchy);
@@ -67,12 +65,7 @@ impl Solver {
             Some(p) => p.install(build)?,
             None => build()?,
         };
-        Ok(Solver {
-            opts,
-            bcs: bcs.clone(),
-            hierarchy,
-            pool,
-        })
+        Ok(Solver { opts, bcs: bcs.clone(), hierarchy, pool })
     }
 
     fn run<T: Send>(&self, f: impl FnOnce() -> T + Send) -> T {
@@ -105,12 +98,7 @@ impl Solver {
     }
 
     /// Prescribed values (zero off P) and the rigid-motion flux source of component `c`.
-    fn prescribed(
-        &self,
-        motion: &Motion,
-        vals: &[DVec2],
-        c: usize,
-    ) -> Result<(Vec<f64>, Option<Vec<f64>>)> {
+    fn prescribed(&self, motion: &Motion, vals: &[DVec2], c: usize) -> Result<(Vec<f64>, Option<Vec<f64>>)> {
         let lev = self.hierarchy.fine();
         let flags = &lev.flags[c];
         let mut dp = vec![0.0; lev.n()];
@@ -148,37 +136,23 @@ impl Solver {
             if self.bcs.kind(patch, c) != Kind::Clamped {
                 continue;
             }
-            let l: Vec<f64> = lev
-                .dofs
-                .dof_vertex
-                .iter()
-                .map(|&v| m.displacement(x[v as usize])[c])
-                .collect();
+            let l: Vec<f64> = lev.dofs.dof_vertex.iter().map(|&v| m.displacement(x[v as usize])[c]).collect();
             let g = g.get_or_insert_with(|| vec![0.0; lev.n()]);
             for v in lev.mesh.patch_vertices(patch) {
                 let d = lev.dofs.vertex_dof[v as usize] as usize;
                 let (cols, vals) = lev.op.k.row(d);
-                g[d] = cols
-                    .iter()
-                    .zip(vals)
-                    .map(|(&j, &a)| a * l[j as usize])
-                    .sum();
+                g[d] = cols.iter().zip(vals).map(|(&j, &a)| a * l[j as usize]).sum();
             }
         }
         g
     }
 
     fn scale(vals: &[DVec2]) -> f64 {
-        vals.iter()
-            .fold(0.0f64, |m, d| m.max(d.x.abs()).max(d.y.abs()))
+        vals.iter().fold(0.0f64, |m, d| m.max(d.x.abs()).max(d.y.abs()))
     }
 
     fn to_vertices(lev: &Level, d: &[Vec<f64>; 2]) -> Vec<DVec2> {
-        lev.dofs
-            .vertex_dof
-            .iter()
-            .map(|&k| DVec2::new(d[0][k as usize], d[1][k as usize]))
-            .collect()
+        lev.dofs.vertex_dof.iter().map(|&k| DVec2::new(d[0][k as usize], d[1][k as usize])).collect()
     }
 
     /// Solves for the displacement of every vertex, to the tolerance of the options.
@@ -204,13 +178,7 @@ impl Solver {
             lev.op.rhs(flags, &dp, g.as_deref(), &mut b, &mut s);
             let mut x: Vec<f64> = match guess {
                 Some(gv) => (0..lev.n())
-                    .map(|k| {
-                        if flags[k] & P != 0 {
-                            0.0
-                        } else {
-                            gv[lev.dofs.dof_vertex[k] as usize][c]
-                        }
-                    })
+                    .map(|k| if flags[k] & P != 0 { 0.0 } else { gv[lev.dofs.dof_vertex[k] as usize][c] })
                     .collect(),
                 None => vec![0.0; lev.n()],
             };
@@ -227,10 +195,7 @@ impl Solver {
         }
         let ry = reps.pop().expect("two reports");
         let rx = reps.pop().expect("two reports");
-        Ok(Solution {
-            displacement: Self::to_vertices(lev, &d),
-            report: Report::merge(rx, ry),
-        })
+        Ok(Solution { displacement: Self::to_vertices(lev, &d), report: Report::merge(rx, ry) })
     }
 
     /// One multigrid cycle of the solver's mode from `displacement` (read and overwritten): for
@@ -240,7 +205,7 @@ impl Solver {
         motion.check(&lev.mesh)?;
         check_guess(displacement, lev.mesh.num_vertices())?;
         let vals = motion.vertex_values(&lev.mesh);
-        let cp = self.opts.solve.cycle_params();
+        let cp = self.opts.solve.cycle_params(self.opts.method);
         let mut d: [Vec<f64>; 2] = [Vec::new(), Vec::new()];
         let mut reps = Vec::new();
         for c in 0..2 {
@@ -251,13 +216,7 @@ impl Solver {
             let (mut b, mut s, mut r) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
             lev.op.rhs(flags, &dp, g.as_deref(), &mut b, &mut s);
             let mut x: Vec<f64> = (0..n)
-                .map(|k| {
-                    if flags[k] & P != 0 {
-                        0.0
-                    } else {
-                        displacement[lev.dofs.dof_vertex[k] as usize][c]
-                    }
-                })
+                .map(|k| if flags[k] & P != 0 { 0.0 } else { displacement[lev.dofs.dof_vertex[k] as usize][c] })
                 .collect();
             let before = x.clone();
             self.run(|| {
@@ -266,11 +225,7 @@ impl Solver {
             });
             lev.op.residual(flags, &b, &x, &mut r, &mut s);
             let bn = crate::sparse::dot(&b, &b).sqrt();
-            let rel = if bn > 0.0 {
-                crate::sparse::dot(&r, &r).sqrt() / bn
-            } else {
-                0.0
-            };
+            let rel = if bn > 0.0 { crate::sparse::dot(&r, &r).sqrt() / bn } else { 0.0 };
             let change: Vec<f64> = x.iter().zip(&before).map(|(a, b)| a - b).collect();
             let mc = max_abs(&change);
             x.iter_mut().zip(&dp).for_each(|(x, p)| *x += p);
@@ -326,21 +281,13 @@ impl Solver {
     /// mesh. Returns one report per step.
     pub fn move_in_steps(&mut self, motion: &Motion, steps: usize) -> Result<Vec<Report>> {
         if steps == 0 {
-            return Err(Error::InvalidArgument(
-                "step count must be at least 1".into(),
-            ));
+            return Err(Error::InvalidArgument("step count must be at least 1".into()));
         }
         motion.check(self.mesh())?;
         let mut reports = Vec::with_capacity(steps);
         for i in 0..steps {
             let sol = self.solve(&motion.increment(i, steps))?;
-            let moved: Vec<DVec2> = self
-                .mesh()
-                .coords()
-                .iter()
-                .zip(&sol.displacement)
-                .map(|(x, d)| *x + *d)
-                .collect();
+            let moved: Vec<DVec2> = self.mesh().coords().iter().zip(&sol.displacement).map(|(x, d)| *x + *d).collect();
             self.set_reference(moved)?;
             reports.push(sol.report);
         }
@@ -350,12 +297,7 @@ impl Solver {
     /// Quality of the reference mesh moved by `displacement`.
     pub fn quality(&self, displacement: &[DVec2]) -> Quality {
         let m = self.mesh();
-        let moved: Vec<DVec2> = m
-            .coords()
-            .iter()
-            .zip(displacement)
-            .map(|(x, d)| *x + *d)
-            .collect();
+        let moved: Vec<DVec2> = m.coords().iter().zip(displacement).map(|(x, d)| *x + *d).collect();
         quality(m, &moved)
     }
 }
@@ -368,9 +310,7 @@ fn check_guess(g: &[DVec2], nv: usize) -> Result<()> {
         )));
     }
     if let Some(v) = g.iter().position(|d| !d.is_finite()) {
-        return Err(Error::InvalidArgument(format!(
-            "initial displacement of vertex {v} is not finite"
-        )));
+        return Err(Error::InvalidArgument(format!("initial displacement of vertex {v} is not finite")));
     }
     Ok(())
 }

@@ -34,25 +34,16 @@ impl CsrMatrix {
         }
         let cols = pairs.iter().map(|&(_, c)| c).collect::<Vec<_>>();
         let vals = vec![0.0; cols.len()];
-        CsrMatrix {
-            nrows,
-            ncols,
-            row_ptr,
-            cols,
-            vals,
-        }
+        CsrMatrix { nrows, ncols, row_ptr, cols, vals }
     }
 
     /// Builds a matrix from (row, col, value) triplets, summing duplicates in a fixed order.
     pub fn from_triplets(nrows: usize, ncols: usize, mut t: Vec<(u32, u32, f64)>) -> Self {
         // Stable sort keeps the insertion order of duplicates, so their sum is deterministic.
         t.sort_by_key(|&(r, c, _)| (r, c));
-        let mut m =
-            CsrMatrix::from_pattern(nrows, ncols, t.iter().map(|&(r, c, _)| (r, c)).collect());
+        let mut m = CsrMatrix::from_pattern(nrows, ncols, t.iter().map(|&(r, c, _)| (r, c)).collect());
         for &(r, c, v) in &t {
-            let k = m
-                .find(r as usize, c as usize)
-                .expect("entry is in the pattern built from it");
+            let k = m.find(r as usize, c as usize).expect("entry is in the pattern built from it");
             m.vals[k] += v;
         }
         m
@@ -70,9 +61,7 @@ impl CsrMatrix {
     /// Position of entry (i, j) in `cols`/`vals`, if it is in the pattern.
     pub fn find(&self, i: usize, j: usize) -> Option<usize> {
         let (c, _) = self.row(i);
-        c.binary_search(&(j as u32))
-            .ok()
-            .map(|p| self.row_ptr[i] + p)
+        c.binary_search(&(j as u32)).ok().map(|p| self.row_ptr[i] + p)
     }
 
     pub fn get(&self, i: usize, j: usize) -> f64 {
@@ -81,20 +70,8 @@ impl CsrMatrix {
 
     /// y = A x.
     pub fn mul_vec(&self, x: &[f64], y: &mut [f64]) {
-        assert_eq!(
-            x.len(),
-            self.ncols,
-            "mul_vec: x has {} entries, matrix has {} columns",
-            x.len(),
-            self.ncols
-        );
-        assert_eq!(
-            y.len(),
-            self.nrows,
-            "mul_vec: y has {} entries, matrix has {} rows",
-            y.len(),
-            self.nrows
-        );
+        assert_eq!(x.len(), self.ncols, "mul_vec: x has {} entries, matrix has {} columns", x.len(), self.ncols);
+        assert_eq!(y.len(), self.nrows, "mul_vec: y has {} entries, matrix has {} rows", y.len(), self.nrows);
         self.map_rows(y, |i| {
             let (c, v) = self.row(i);
             c.iter().zip(v).map(|(&j, &a)| a * x[j as usize]).sum()
@@ -127,13 +104,7 @@ impl CsrMatrix {
                 next[j as usize] += 1;
             }
         }
-        CsrMatrix {
-            nrows: self.ncols,
-            ncols: self.nrows,
-            row_ptr,
-            cols,
-            vals,
-        }
+        CsrMatrix { nrows: self.ncols, ncols: self.nrows, row_ptr, cols, vals }
     }
 
     /// Dense copy, for direct solves of small systems and for tests.
@@ -155,10 +126,7 @@ pub fn par_fill(out: &mut [f64], f: impl Fn(usize) -> f64 + Sync + Send) {
     if out.len() < PAR_ROWS {
         out.iter_mut().enumerate().for_each(|(i, o)| *o = f(i));
     } else {
-        out.par_iter_mut()
-            .enumerate()
-            .with_min_len(1024)
-            .for_each(|(i, o)| *o = f(i));
+        out.par_iter_mut().enumerate().with_min_len(1024).for_each(|(i, o)| *o = f(i));
     }
 }
 
@@ -171,11 +139,7 @@ pub fn det_sum(n: usize, f: impl Fn(usize) -> f64 + Sync + Send) -> f64 {
     let nblocks = n.div_ceil(REDUCE_BLOCK);
     let partial: Vec<f64> = (0..nblocks)
         .into_par_iter()
-        .map(|b| {
-            (b * REDUCE_BLOCK..((b + 1) * REDUCE_BLOCK).min(n))
-                .map(&f)
-                .sum()
-        })
+        .map(|b| (b * REDUCE_BLOCK..((b + 1) * REDUCE_BLOCK).min(n)).map(&f).sum())
         .collect();
     partial.iter().sum()
 }
@@ -199,10 +163,7 @@ pub fn axpy(alpha: f64, x: &[f64], y: &mut [f64]) {
     if y.len() < PAR_ROWS {
         y.iter_mut().zip(x).for_each(|(y, &x)| *y += alpha * x);
     } else {
-        y.par_iter_mut()
-            .zip(x)
-            .with_min_len(1024)
-            .for_each(|(y, &x)| *y += alpha * x);
+        y.par_iter_mut().zip(x).with_min_len(1024).for_each(|(y, &x)| *y += alpha * x);
     }
 }
 
@@ -212,11 +173,7 @@ mod tests {
 
     #[test]
     fn triplets_sum_duplicates_and_transpose_roundtrips() {
-        let m = CsrMatrix::from_triplets(
-            2,
-            3,
-            vec![(1, 2, 1.0), (0, 0, 2.0), (1, 2, 0.5), (0, 1, -1.0)],
-        );
+        let m = CsrMatrix::from_triplets(2, 3, vec![(1, 2, 1.0), (0, 0, 2.0), (1, 2, 0.5), (0, 1, -1.0)]);
         assert_eq!(m.row_ptr, vec![0, 2, 3]);
         assert_eq!(m.get(1, 2), 1.5);
         assert_eq!(m.get(0, 1), -1.0);
@@ -231,11 +188,7 @@ mod tests {
         let n = 3 * REDUCE_BLOCK + 17;
         let s = det_sum(n, |i| 1.0 / (i as f64 + 1.0));
         let serial: f64 = (0..n.div_ceil(REDUCE_BLOCK))
-            .map(|b| {
-                (b * REDUCE_BLOCK..((b + 1) * REDUCE_BLOCK).min(n))
-                    .map(|i| 1.0 / (i as f64 + 1.0))
-                    .sum::<f64>()
-            })
+            .map(|b| (b * REDUCE_BLOCK..((b + 1) * REDUCE_BLOCK).min(n)).map(|i| 1.0 / (i as f64 + 1.0)).sum::<f64>())
             .sum();
         assert_eq!(s.to_bits(), serial.to_bits());
     }

@@ -4,8 +4,8 @@ mod common;
 use common::*;
 use glam::DVec2;
 use meshmove::{
-    BoundaryConditions, Error, IndexBase, InterfaceVariant, Kind, Link, Mesh, MeshError, Motion,
-    Options, RigidMotion, Solver,
+    BoundaryConditions, Error, IndexBase, InterfaceVariant, Kind, Link, Mesh, MeshError, Motion, Options, RigidMotion,
+    Solver,
 };
 
 const SQ: [[f64; 2]; 4] = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
@@ -25,11 +25,7 @@ fn each_mesh_error_is_named() {
     let z = IndexBase::Zero;
     assert!(matches!(
         mesh_err(&SQ, &[[0, 1, 4], [0, 2, 3]], z, &[], None),
-        MeshError::IndexOutOfRange {
-            cell: 0,
-            index: 4,
-            ..
-        }
+        MeshError::IndexOutOfRange { cell: 0, index: 4, .. }
     ));
     assert!(matches!(
         mesh_err(&SQ, &[[0, 1, -1], [0, 2, 3]], z, &[], None),
@@ -38,11 +34,7 @@ fn each_mesh_error_is_named() {
     // 1-based input: index 0 is out of range, index 4 is fine.
     assert!(matches!(
         mesh_err(&SQ, &[[0, 1, 2]], IndexBase::One, &[], None),
-        MeshError::IndexOutOfRange {
-            index: 0,
-            base: 1,
-            ..
-        }
+        MeshError::IndexOutOfRange { index: 0, base: 1, .. }
     ));
     assert!(Mesh::new(&SQ, &[[1i64, 2, 3], [1, 3, 4]], IndexBase::One, &[], None).is_ok());
     assert!(matches!(
@@ -68,24 +60,14 @@ fn each_mesh_error_is_named() {
     let fan = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0], [2.0, -1.0]];
     assert!(matches!(
         mesh_err(&fan, &[[0, 1, 2], [0, 2, 3], [0, 4, 2]], z, &[], None),
-        MeshError::NonManifoldEdge {
-            a: 0,
-            b: 2,
-            cells: 3
-        }
+        MeshError::NonManifoldEdge { a: 0, b: 2, cells: 3 }
     ));
     assert!(matches!(
         mesh_err(&SQ, &[[0, 1, 2], [0, 2, 3]], z, &[([1, 3], 5)], None),
         MeshError::TaggedEdgeNotAnEdge { edge: 0, .. }
     ));
     assert!(matches!(
-        mesh_err(
-            &SQ,
-            &[[0, 1, 2], [0, 2, 3]],
-            z,
-            &[([0, 1], 5), ([1, 0], 6)],
-            None
-        ),
+        mesh_err(&SQ, &[[0, 1, 2], [0, 2, 3]], z, &[([0, 1], 5), ([1, 0], 6)], None),
         MeshError::TaggedEdgeTwice { .. }
     ));
     assert!(matches!(
@@ -94,15 +76,9 @@ fn each_mesh_error_is_named() {
     ));
     assert!(matches!(
         mesh_err(&SQ, &[[0, 1, 2], [0, 2, 3]], z, &[], Some(&[1])),
-        MeshError::RegionCount {
-            regions: 1,
-            cells: 2
-        }
+        MeshError::RegionCount { regions: 1, cells: 2 }
     ));
-    assert!(matches!(
-        mesh_err(&SQ, &[[0, 1, 2]], z, &[], None),
-        MeshError::UnusedVertex { vertex: 3 }
-    ));
+    assert!(matches!(mesh_err(&SQ, &[[0, 1, 2]], z, &[], None), MeshError::UnusedVertex { vertex: 3 }));
     assert!(matches!(mesh_err(&[], &[], z, &[], None), MeshError::Empty));
     assert!(matches!(mesh_err(&SQ, &[], z, &[], None), MeshError::Empty));
 }
@@ -117,14 +93,7 @@ fn mixed_orientation_is_normalised() {
 
 #[test]
 fn interior_tagged_edge_is_an_interface() {
-    let m = Mesh::new(
-        &SQ,
-        &[[0i64, 1, 2], [0, 2, 3]],
-        IndexBase::Zero,
-        &[([0, 2], 7)],
-        Some(&[0, 1]),
-    )
-    .unwrap();
+    let m = Mesh::new(&SQ, &[[0i64, 1, 2], [0, 2, 3]], IndexBase::Zero, &[([0, 2], 7)], Some(&[0, 1])).unwrap();
     assert!(m.patch_edges().iter().any(|e| e.patch == 7 && e.interior));
 }
 
@@ -144,10 +113,7 @@ fn ill_posed_component_is_an_error_not_a_hang() {
     let mut bcs = BoundaryConditions::new();
     bcs.set_kinds(9, Kind::Free);
     let e = Solver::new(&two, &bcs, Options::default()).err().unwrap();
-    assert!(
-        matches!(&e, Error::IllPosed { detail, .. } if detail.contains("vertex 4")),
-        "{e}"
-    );
+    assert!(matches!(&e, Error::IllPosed { detail, .. } if detail.contains("vertex 4")), "{e}");
 }
 
 #[test]
@@ -155,67 +121,39 @@ fn bad_boundary_conditions_are_named() {
     let mesh = Grid::new(6, 6).mesh();
     let mut bcs = BoundaryConditions::new();
     bcs.set_kinds(42, Kind::Fixed);
-    assert!(
-        matches!(Solver::new(&mesh, &bcs, Options::default()), Err(Error::Bc(m)) if m.contains("patch 42"))
-    );
-    assert!(BoundaryConditions::new()
-        .set_kind(1, 2, Kind::Free)
-        .is_err());
+    assert!(matches!(Solver::new(&mesh, &bcs, Options::default()), Err(Error::Bc(m)) if m.contains("patch 42")));
+    assert!(BoundaryConditions::new().set_kind(1, 2, Kind::Free).is_err());
     // A periodic link whose partner is missing (wrong offset).
     let mut bcs = BoundaryConditions::new();
-    bcs.add_link(Link::ByOffset {
-        a: LEFT,
-        b: RIGHT,
-        offset: DVec2::new(0.9, 0.0),
-        tol: 1e-9,
-    });
-    assert!(
-        matches!(Solver::new(&mesh, &bcs, Options::default()), Err(Error::Bc(m)) if m.contains("no partner"))
-    );
+    bcs.add_link(Link::ByOffset { a: LEFT, b: RIGHT, offset: DVec2::new(0.9, 0.0), tol: 1e-9 });
+    assert!(matches!(Solver::new(&mesh, &bcs, Options::default()), Err(Error::Bc(m)) if m.contains("no partner")));
     let mut bcs = BoundaryConditions::new();
     bcs.add_link(Link::Pairs(vec![[0, 10_000]]));
-    assert!(matches!(
-        Solver::new(&mesh, &bcs, Options::default()),
-        Err(Error::Bc(_))
-    ));
+    assert!(matches!(Solver::new(&mesh, &bcs, Options::default()), Err(Error::Bc(_))));
     // Variant A on a patch that is not interior, and with a free component.
     let mut bcs = BoundaryConditions::new();
     bcs.set_interface(TOP, InterfaceVariant::Separate);
-    assert!(matches!(
-        Solver::new(&mesh, &bcs, Options::default()),
-        Err(Error::Bc(_))
-    ));
+    assert!(matches!(Solver::new(&mesh, &bcs, Options::default()), Err(Error::Bc(_))));
     let two = Grid::new(6, 6).two_regions();
     let mut bcs = BoundaryConditions::new();
-    bcs.set_interface(INTERFACE, InterfaceVariant::Separate)
-        .set_kind(INTERFACE, 1, Kind::Free)
-        .unwrap();
-    assert!(
-        matches!(Solver::new(&two, &bcs, Options::default()), Err(Error::Bc(m)) if m.contains("FREE"))
-    );
+    bcs.set_interface(INTERFACE, InterfaceVariant::Separate).set_kind(INTERFACE, 1, Kind::Free).unwrap();
+    assert!(matches!(Solver::new(&two, &bcs, Options::default()), Err(Error::Bc(m)) if m.contains("FREE")));
 }
 
 #[test]
 fn bad_motions_and_options_are_named() {
     let mesh = Grid::new(6, 6).mesh();
     let s = Solver::new(&mesh, &BoundaryConditions::new(), Options::default()).unwrap();
-    assert!(
-        matches!(s.solve(&Motion::zero(3)), Err(Error::InvalidArgument(m)) if m.contains("3 entries"))
-    );
+    assert!(matches!(s.solve(&Motion::zero(3)), Err(Error::InvalidArgument(m)) if m.contains("3 entries")));
     let mut m = Motion::zero(mesh.num_vertices());
     m.displacement[5].x = f64::NAN;
     assert!(matches!(s.solve(&m), Err(Error::InvalidArgument(m)) if m.contains("vertex 5")));
     let m = Motion::zero(mesh.num_vertices()).with_rigid(99, RigidMotion::translation(DVec2::X));
     assert!(matches!(s.solve(&m), Err(Error::InvalidArgument(m)) if m.contains("patch 99")));
     let mut s2 = Solver::new(&mesh, &BoundaryConditions::new(), Options::default()).unwrap();
-    assert!(s2
-        .move_in_steps(&Motion::zero(mesh.num_vertices()), 0)
-        .is_err());
+    assert!(s2.move_in_steps(&Motion::zero(mesh.num_vertices()), 0).is_err());
     assert!(s2.set_reference(vec![DVec2::ZERO; 2]).is_err());
     let mut o = Options::default();
     o.solve.tol = -1.0;
-    assert!(matches!(
-        Solver::new(&mesh, &BoundaryConditions::new(), o),
-        Err(Error::InvalidArgument(_))
-    ));
+    assert!(matches!(Solver::new(&mesh, &BoundaryConditions::new(), o), Err(Error::InvalidArgument(_))));
 }

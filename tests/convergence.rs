@@ -39,7 +39,14 @@ fn cycle_counts_paper_faithful_and_default() {
             let (b, _) = run(method, mode, Criterion::RelativeResidual);
             assert!(a.converged && b.converged, "{method:?} {mode:?} did not converge: {a:?} {b:?}");
             assert!(levels >= 4, "expected a real hierarchy, got {levels} levels");
-            println!("{:<11} {:<14} {:>7} {:>15} {:>13}", format!("{method:?}"), format!("{mode:?}"), levels, a.cycles, b.cycles);
+            println!(
+                "{:<11} {:<14} {:>7} {:>15} {:>13}",
+                format!("{method:?}"),
+                format!("{mode:?}"),
+                levels,
+                a.cycles,
+                b.cycles
+            );
             counts.insert((method, mode), (a.cycles, b.cycles));
         }
     }
@@ -50,7 +57,8 @@ fn cycle_counts_paper_faithful_and_default() {
     for m in [Method::Biharmonic, Method::Laplacian] {
         assert!(c(m, Mode::Default).1 < c(m, Mode::PaperFaithful).1, "{m:?}: default not faster");
     }
-    let gap_paper = c(Method::Biharmonic, Mode::PaperFaithful).1 as f64 / c(Method::Laplacian, Mode::PaperFaithful).1 as f64;
+    let gap_paper =
+        c(Method::Biharmonic, Mode::PaperFaithful).1 as f64 / c(Method::Laplacian, Mode::PaperFaithful).1 as f64;
     let gap_default = c(Method::Biharmonic, Mode::Default).1 as f64 / c(Method::Laplacian, Mode::Default).1 as f64;
     println!("biharmonic/laplacian cycle ratio: paper-faithful {gap_paper:.2}, default {gap_default:.2}");
     assert!(gap_default < gap_paper);

@@ -4,9 +4,7 @@
 mod common;
 use common::*;
 use glam::DVec2;
-use meshmove::{
-    BoundaryConditions, InterfaceVariant, Kind, Link, Mesh, Method, Motion, Options, Solver,
-};
+use meshmove::{BoundaryConditions, InterfaceVariant, Kind, Link, Mesh, Method, Motion, Options, Solver};
 
 fn configs() -> Vec<(&'static str, Mesh, BoundaryConditions)> {
     let grid = Grid::new(24, 20).jitter(0.35);
@@ -39,33 +37,18 @@ fn configs() -> Vec<(&'static str, Mesh, BoundaryConditions)> {
 
     // The paper's free-surface set-up: x-periodic sides, X clamped and linked, Y free and linked.
     let mut periodic = BoundaryConditions::new();
-    periodic
-        .set_kinds(BOTTOM, Kind::Fixed)
-        .set_kinds(TOP, Kind::Clamped);
+    periodic.set_kinds(BOTTOM, Kind::Fixed).set_kinds(TOP, Kind::Clamped);
     for p in [LEFT, RIGHT] {
-        periodic
-            .set_kind(p, 0, Kind::Clamped)
-            .unwrap()
-            .set_kind(p, 1, Kind::Free)
-            .unwrap();
+        periodic.set_kind(p, 0, Kind::Clamped).unwrap().set_kind(p, 1, Kind::Free).unwrap();
     }
-    periodic.add_link(Link::ByOffset {
-        a: LEFT,
-        b: RIGHT,
-        offset: DVec2::X,
-        tol: 1e-9,
-    });
+    periodic.add_link(Link::ByOffset { a: LEFT, b: RIGHT, offset: DVec2::X, tol: 1e-9 });
     out.push(("periodic", mesh.clone(), periodic));
 
     let two = grid.two_regions();
-    for (name, variant) in [
-        ("interface_A", InterfaceVariant::Separate),
-        ("interface_B", InterfaceVariant::Continuous),
-    ] {
+    for (name, variant) in [("interface_A", InterfaceVariant::Separate), ("interface_B", InterfaceVariant::Continuous)]
+    {
         let mut b = BoundaryConditions::new();
-        b.set_kinds(BOTTOM, Kind::Fixed)
-            .set_kinds(TOP, Kind::Fixed)
-            .set_kinds(INTERFACE, Kind::Clamped);
+        b.set_kinds(BOTTOM, Kind::Fixed).set_kinds(TOP, Kind::Fixed).set_kinds(INTERFACE, Kind::Clamped);
         b.set_kinds(LEFT, Kind::Fixed).set_kinds(RIGHT, Kind::Fixed);
         b.set_interface(INTERFACE, variant);
         out.push((name, two.clone(), b));
@@ -78,30 +61,18 @@ fn multigrid_matches_direct_solve() {
     for (name, mesh, bcs) in configs() {
         let field: Vec<DVec2> = mesh.coords().iter().map(|&x| wavy(x)).collect();
         for method in [Method::Biharmonic, Method::Laplacian, Method::Spring] {
-            let mut o = Options {
-                method,
-                ..Default::default()
-            };
+            let mut o = Options { method, ..Default::default() };
             o.solve.tol = 1e-13;
             let s = Solver::new(&mesh, &bcs, o).unwrap();
-            assert!(
-                s.num_levels() >= 2 || mesh.num_vertices() < 100,
-                "{name}: no coarse level"
-            );
+            assert!(s.num_levels() >= 2 || mesh.num_vertices() < 100, "{name}: no coarse level");
             let sol = s.solve(&Motion::from_displacement(field.clone())).unwrap();
             assert!(sol.report.converged, "{name} {method:?}: {:?}", sol.report);
             for c in 0..2 {
                 let mg = at_dofs(&s, &sol.displacement, c);
                 let direct = direct_solve(&s, c, &mg);
                 let scale = direct.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-                let err = mg
-                    .iter()
-                    .zip(&direct)
-                    .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
-                assert!(
-                    err <= 1e-10 * scale,
-                    "{name} {method:?} component {c}: error {err:e}, scale {scale:e}"
-                );
+                let err = mg.iter().zip(&direct).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+                assert!(err <= 1e-10 * scale, "{name} {method:?} component {c}: error {err:e}, scale {scale:e}");
                 assert!(scale > 1e-3, "{name}: trivial solution");
             }
         }
@@ -121,8 +92,7 @@ fn interface_variants_differ_only_in_coupling() {
     }
     for variant in [InterfaceVariant::Separate, InterfaceVariant::Continuous] {
         let mut b = BoundaryConditions::new();
-        b.set_kinds(INTERFACE, Kind::Clamped)
-            .set_interface(INTERFACE, variant);
+        b.set_kinds(INTERFACE, Kind::Clamped).set_interface(INTERFACE, variant);
         for p in [LEFT, RIGHT] {
             b.set_kind(p, 1, Kind::Free).unwrap(); // the sides slide with the interface
         }

@@ -17,32 +17,19 @@ fn kinds_sets() -> Vec<(&'static str, BoundaryConditions)> {
         all_clamped.set_kinds(p, Kind::Clamped);
     }
     let mut mixed = BoundaryConditions::new();
-    mixed
-        .set_kinds(BOTTOM, Kind::Fixed)
-        .set_kinds(TOP, Kind::Clamped)
-        .set_kinds(LEFT, Kind::Fixed);
+    mixed.set_kinds(BOTTOM, Kind::Fixed).set_kinds(TOP, Kind::Clamped).set_kinds(LEFT, Kind::Fixed);
     mixed.set_kinds(RIGHT, Kind::Free);
-    vec![
-        ("fixed", all_fixed),
-        ("clamped", all_clamped),
-        ("mixed", mixed),
-    ]
+    vec![("fixed", all_fixed), ("clamped", all_clamped), ("mixed", mixed)]
 }
 
 fn solver(mesh: &Mesh, bcs: &BoundaryConditions, method: Method) -> Solver {
-    let mut o = Options {
-        method,
-        ..Default::default()
-    };
+    let mut o = Options { method, ..Default::default() };
     o.solve.tol = 1e-13;
     Solver::new(mesh, bcs, o).unwrap()
 }
 
 fn max_err(a: &[DVec2], f: impl Fn(usize) -> DVec2) -> f64 {
-    a.iter()
-        .enumerate()
-        .map(|(i, d)| (*d - f(i)).abs().max_element())
-        .fold(0.0, f64::max)
+    a.iter().enumerate().map(|(i, d)| (*d - f(i)).abs().max_element()).fold(0.0, f64::max)
 }
 
 #[test]
@@ -52,10 +39,7 @@ fn zero_boundary_motion_gives_exactly_zero() {
         for (name, bcs) in kinds_sets() {
             let s = solver(&mesh, &bcs, method);
             let sol = s.solve(&Motion::zero(mesh.num_vertices())).unwrap();
-            assert!(
-                sol.displacement.iter().all(|d| *d == DVec2::ZERO),
-                "{method:?} {name}"
-            );
+            assert!(sol.displacement.iter().all(|d| *d == DVec2::ZERO), "{method:?} {name}");
             assert_eq!(sol.report.cycles, 0);
         }
     }
@@ -68,9 +52,7 @@ fn uniform_translation_is_reproduced() {
     for method in METHODS {
         for (name, bcs) in kinds_sets() {
             let s = solver(&mesh, &bcs, method);
-            let sol = s
-                .solve(&Motion::from_displacement(vec![t; mesh.num_vertices()]))
-                .unwrap();
+            let sol = s.solve(&Motion::from_displacement(vec![t; mesh.num_vertices()])).unwrap();
             let e = max_err(&sol.displacement, |_| t);
             assert!(e < 1e-12, "{method:?} {name}: error {e:e}");
         }
@@ -80,12 +62,7 @@ fn uniform_translation_is_reproduced() {
 #[test]
 fn linear_field_on_fixed_boundaries_is_exact_for_laplacian_and_biharmonic() {
     let mesh = Grid::new(16, 12).jitter(0.35).mesh();
-    let lin = |x: DVec2| {
-        DVec2::new(
-            0.1 * x.x - 0.05 * x.y + 0.01,
-            0.07 * x.x + 0.12 * x.y - 0.02,
-        )
-    };
+    let lin = |x: DVec2| DVec2::new(0.1 * x.x - 0.05 * x.y + 0.01, 0.07 * x.x + 0.12 * x.y - 0.02);
     let field: Vec<DVec2> = mesh.coords().iter().map(|&x| lin(x)).collect();
     let bcs = &kinds_sets()[0].1;
     for method in [Method::Biharmonic, Method::Laplacian] {
@@ -96,23 +73,14 @@ fn linear_field_on_fixed_boundaries_is_exact_for_laplacian_and_biharmonic() {
     }
     // The spring analogy is not exact for a linear field on an irregular mesh: that is expected.
     let s = solver(&mesh, bcs, Method::Spring);
-    let e = max_err(
-        &s.solve(&Motion::from_displacement(field.clone()))
-            .unwrap()
-            .displacement,
-        |i| field[i],
-    );
+    let e = max_err(&s.solve(&Motion::from_displacement(field.clone())).unwrap().displacement, |i| field[i]);
     assert!(e > 1e-6, "spring unexpectedly exact ({e:e})");
 }
 
 #[test]
 fn rigid_rotation_of_clamped_boundaries_is_exact_with_the_rigid_flux() {
     let mesh = Grid::new(16, 12).jitter(0.35).mesh();
-    let rm = RigidMotion {
-        translation: DVec2::new(0.05, -0.02),
-        angle: 0.3,
-        center: DVec2::new(0.4, 0.6),
-    };
+    let rm = RigidMotion { translation: DVec2::new(0.05, -0.02), angle: 0.3, center: DVec2::new(0.4, 0.6) };
     let bcs = &kinds_sets()[1].1;
     let s = solver(&mesh, bcs, Method::Biharmonic);
     let mut motion = Motion::zero(mesh.num_vertices());

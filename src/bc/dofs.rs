@@ -54,14 +54,7 @@ impl Dofs {
         const NONE: i64 = i64::MIN;
         let key = |v: u32, c: usize| -> (u32, i64) {
             let r = root[v as usize];
-            (
-                r,
-                if split[r as usize] {
-                    mesh.regions()[c] as i64
-                } else {
-                    NONE
-                },
-            )
+            (r, if split[r as usize] { mesh.regions()[c] as i64 } else { NONE })
         };
         let mut keys: Vec<(u32, i64)> = Vec::with_capacity(nv);
         for (c, t) in mesh.cells().iter().enumerate() {
@@ -70,12 +63,8 @@ impl Dofs {
         keys.sort_unstable();
         keys.dedup();
         let index = |k: (u32, i64)| keys.binary_search(&k).expect("key was collected") as u32;
-        let cell_dofs: Vec<[u32; 3]> = mesh
-            .cells()
-            .iter()
-            .enumerate()
-            .map(|(c, t)| t.map(|v| index(key(v, c))))
-            .collect();
+        let cell_dofs: Vec<[u32; 3]> =
+            mesh.cells().iter().enumerate().map(|(c, t)| t.map(|v| index(key(v, c)))).collect();
         let mut vertex_dof = vec![u32::MAX; nv];
         for (t, d) in mesh.cells().iter().zip(&cell_dofs) {
             for k in 0..3 {
@@ -102,22 +91,9 @@ impl Dofs {
             dof_vertices_ptr[i + 1] += dof_vertices_ptr[i];
         }
         let dof_vertices: Vec<u32> = members.iter().map(|&(_, v)| v).collect();
-        let dof_vertex = (0..n)
-            .map(|d| dof_vertices[dof_vertices_ptr[d] as usize])
-            .collect();
-        let dof_region = keys
-            .iter()
-            .map(|&(_, r)| (r != NONE).then_some(r as i32))
-            .collect();
-        Dofs {
-            n,
-            cell_dofs,
-            vertex_dof,
-            dof_vertex,
-            dof_vertices_ptr,
-            dof_vertices,
-            dof_region,
-        }
+        let dof_vertex = (0..n).map(|d| dof_vertices[dof_vertices_ptr[d] as usize]).collect();
+        let dof_region = keys.iter().map(|&(_, r)| (r != NONE).then_some(r as i32)).collect();
+        Dofs { n, cell_dofs, vertex_dof, dof_vertex, dof_vertices_ptr, dof_vertices, dof_region }
     }
 
     pub fn vertices_of(&self, d: usize) -> &[u32] {

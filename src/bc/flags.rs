@@ -9,12 +9,7 @@ pub const Z: u8 = 2;
 /// Flags of every unknown for one component. A vertex takes P if any of its patches prescribes
 /// the component and Z if any of its patches is FIXED for it; an unknown takes the union over
 /// its vertices.
-pub fn component_flags(
-    mesh: &Mesh,
-    dofs: &Dofs,
-    bcs: &BoundaryConditions,
-    component: usize,
-) -> Vec<u8> {
+pub fn component_flags(mesh: &Mesh, dofs: &Dofs, bcs: &BoundaryConditions, component: usize) -> Vec<u8> {
     let mut vflags = vec![0u8; mesh.num_vertices()];
     for e in mesh.patch_edges() {
         let f = match bcs.kind(e.patch, component) {
@@ -26,11 +21,5 @@ pub fn component_flags(
             vflags[v as usize] |= f;
         }
     }
-    (0..dofs.n)
-        .map(|d| {
-            dofs.vertices_of(d)
-                .iter()
-                .fold(0u8, |f, &v| f | vflags[v as usize])
-        })
-        .collect()
+    (0..dofs.n).map(|d| dofs.vertices_of(d).iter().fold(0u8, |f, &v| f | vflags[v as usize])).collect()
 }

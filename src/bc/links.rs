@@ -11,15 +11,11 @@ pub fn resolve_links(mesh: &Mesh, links: &[Link]) -> Result<Vec<[u32; 2]>> {
         match link {
             Link::Pairs(p) => {
                 if let Some(bad) = p.iter().flatten().find(|&&v| v >= nv) {
-                    return Err(Error::Bc(format!(
-                        "link pair names vertex {bad}, the mesh has {nv}"
-                    )));
+                    return Err(Error::Bc(format!("link pair names vertex {bad}, the mesh has {nv}")));
                 }
                 pairs.extend(p.iter().copied());
             }
-            &Link::ByOffset { a, b, offset, tol } => {
-                pairs.extend(by_offset(mesh, a, b, offset, tol)?)
-            }
+            &Link::ByOffset { a, b, offset, tol } => pairs.extend(by_offset(mesh, a, b, offset, tol)?),
         }
     }
     Ok(pairs)
@@ -27,16 +23,11 @@ pub fn resolve_links(mesh: &Mesh, links: &[Link]) -> Result<Vec<[u32; 2]>> {
 
 fn by_offset(mesh: &Mesh, a: i32, b: i32, offset: glam::DVec2, tol: f64) -> Result<Vec<[u32; 2]>> {
     if !(tol >= 0.0 && tol.is_finite() && offset.is_finite()) {
-        return Err(Error::Bc(format!(
-            "link {a} -> {b}: offset and tolerance must be finite, tolerance ≥ 0"
-        )));
+        return Err(Error::Bc(format!("link {a} -> {b}: offset and tolerance must be finite, tolerance ≥ 0")));
     }
     let (va, vb) = (mesh.patch_vertices(a), mesh.patch_vertices(b));
     if va.is_empty() || vb.is_empty() {
-        return Err(Error::Bc(format!(
-            "link {a} -> {b}: patch {} has no vertex",
-            if va.is_empty() { a } else { b }
-        )));
+        return Err(Error::Bc(format!("link {a} -> {b}: patch {} has no vertex", if va.is_empty() { a } else { b })));
     }
     let x = mesh.coords();
     // Patches are boundary curves (O(√N) vertices), so a sorted sweep on x is plenty.
@@ -52,18 +43,16 @@ fn by_offset(mesh: &Mesh, a: i32, b: i32, offset: glam::DVec2, tol: f64) -> Resu
             .enumerate()
             .take_while(|(_, &w)| x[w as usize].x <= target.x + tol)
             .filter(|(_, &w)| x[w as usize].distance(target) <= tol)
-            .min_by(|(_, &p), (_, &q)| {
-                x[p as usize]
-                    .distance(target)
-                    .total_cmp(&x[q as usize].distance(target))
-            });
+            .min_by(|(_, &p), (_, &q)| x[p as usize].distance(target).total_cmp(&x[q as usize].distance(target)));
         match found {
             Some((k, &w)) if !taken[lo + k] => {
                 taken[lo + k] = true;
                 out.push([v, w]);
             }
             Some((_, &w)) => {
-                return Err(Error::Bc(format!("link {a} -> {b}: vertex {w} of patch {b} is the partner of two vertices")))
+                return Err(Error::Bc(format!(
+                    "link {a} -> {b}: vertex {w} of patch {b} is the partner of two vertices"
+                )))
             }
             None => {
                 return Err(Error::Bc(format!(
@@ -75,9 +64,7 @@ fn by_offset(mesh: &Mesh, a: i32, b: i32, offset: glam::DVec2, tol: f64) -> Resu
     }
     if let Some(k) = taken.iter().position(|t| !t) {
         let w = sorted_b[k];
-        return Err(Error::Bc(format!(
-            "link {a} -> {b}: vertex {w} of patch {b} has no partner on patch {a}"
-        )));
+        return Err(Error::Bc(format!("link {a} -> {b}: vertex {w} of patch {b} has no partner on patch {a}")));
     }
     Ok(out)
 }

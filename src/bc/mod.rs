@@ -41,12 +41,7 @@ pub enum InterfaceVariant {
 pub enum Link {
     /// Every vertex `v` of patch `a` is joined to the vertex of patch `b` at `v + offset`
     /// (within `tol`); both patches must be matched completely.
-    ByOffset {
-        a: i32,
-        b: i32,
-        offset: DVec2,
-        tol: f64,
-    },
+    ByOffset { a: i32, b: i32, offset: DVec2, tol: f64 },
     /// Explicit vertex pairs (0-based).
     Pairs(Vec<[u32; 2]>),
 }
@@ -80,9 +75,7 @@ impl BoundaryConditions {
     /// Sets the kind of one component (0 = x, 1 = y) on a patch.
     pub fn set_kind(&mut self, patch: i32, component: usize, kind: Kind) -> Result<&mut Self> {
         if component > 1 {
-            return Err(Error::InvalidArgument(format!(
-                "component {component} does not exist in 2D (0 = x, 1 = y)"
-            )));
+            return Err(Error::InvalidArgument(format!("component {component} does not exist in 2D (0 = x, 1 = y)")));
         }
         self.kinds.entry(patch).or_insert(self.default_kind)[component] = kind;
         Ok(self)
@@ -111,11 +104,7 @@ impl BoundaryConditions {
 
     /// Patches whose shared vertices are split per region (variant A).
     pub fn split_patches(&self) -> Vec<i32> {
-        self.interfaces
-            .iter()
-            .filter(|(_, &v)| v == InterfaceVariant::Separate)
-            .map(|(&p, _)| p)
-            .collect()
+        self.interfaces.iter().filter(|(_, &v)| v == InterfaceVariant::Separate).map(|(&p, _)| p).collect()
     }
 
     /// Checks the conditions against a mesh: named patches exist, split interfaces are interior
@@ -124,20 +113,12 @@ impl BoundaryConditions {
         let ids = mesh.patch_ids();
         for &p in self.kinds.keys().chain(self.interfaces.keys()) {
             if ids.binary_search(&p).is_err() {
-                return Err(Error::Bc(format!(
-                    "patch {p} is not in the mesh (patches: {ids:?})"
-                )));
+                return Err(Error::Bc(format!("patch {p} is not in the mesh (patches: {ids:?})")));
             }
         }
         for p in self.split_patches() {
-            if !mesh
-                .patch_edges()
-                .iter()
-                .any(|e| e.patch == p && e.interior)
-            {
-                return Err(Error::Bc(format!(
-                    "interface patch {p} has no interior edge between two cells"
-                )));
+            if !mesh.patch_edges().iter().any(|e| e.patch == p && e.interior) {
+                return Err(Error::Bc(format!("interface patch {p} has no interior edge between two cells")));
             }
             for c in 0..2 {
                 if self.kind(p, c) == Kind::Free {

@@ -5,9 +5,7 @@
 //! segment is an edge of the output and can be tagged with its patch.
 
 use glam::DVec2;
-use spade::{
-    AngleLimit, ConstrainedDelaunayTriangulation, Point2, RefinementParameters, Triangulation,
-};
+use spade::{AngleLimit, ConstrainedDelaunayTriangulation, Point2, RefinementParameters, Triangulation};
 use std::collections::HashSet;
 
 /// A face is split when larger than this many equilateral triangles of the local size: Delaunay
@@ -99,8 +97,7 @@ fn extract(cdt: &Cdt, excluded: &HashSet<usize>, loops: &[Loop]) -> Planar {
             coords.push(*p);
         }
     }
-    tris.iter_mut()
-        .for_each(|t| *t = t.map(|v| new_index[v as usize]));
+    tris.iter_mut().for_each(|t| *t = t.map(|v| new_index[v as usize]));
     let mut tagged = Vec::new();
     let mut first = 0u32;
     for l in loops {
@@ -110,22 +107,13 @@ fn extract(cdt: &Cdt, excluded: &HashSet<usize>, loops: &[Loop]) -> Planar {
         }
         first += n;
     }
-    Planar {
-        coords,
-        tris,
-        tagged,
-    }
+    Planar { coords, tris, tagged }
 }
 
 /// Meshes the domain bounded by `loops`: Delaunay refinement to `angle_deg`, triangles no larger
 /// than an equilateral one of side `size(centroid)`, then `smooth` sweeps of Laplacian smoothing
 /// of the Steiner points, each followed by a fresh constrained Delaunay triangulation.
-pub(super) fn mesh_domain(
-    loops: &[Loop],
-    size: &dyn Fn(DVec2) -> f64,
-    angle_deg: f64,
-    smooth: usize,
-) -> Planar {
+pub(super) fn mesh_domain(loops: &[Loop], size: &dyn Fn(DVec2) -> f64, angle_deg: f64, smooth: usize) -> Planar {
     let n_fixed: usize = loops.iter().map(|l| l.points.len()).sum();
     let mut cdt = build(loops, &[]);
     // Grade by a size field: Ruppert refinement, then split faces larger than the local target at
@@ -181,15 +169,7 @@ fn smoothed(p: &Planar, n_fixed: usize) -> Vec<DVec2> {
         sum[b] += p.coords[a];
         cnt[b] += 1;
     }
-    (0..n)
-        .map(|i| {
-            if i < n_fixed || cnt[i] == 0 {
-                p.coords[i]
-            } else {
-                sum[i] / cnt[i] as f64
-            }
-        })
-        .collect()
+    (0..n).map(|i| if i < n_fixed || cnt[i] == 0 { p.coords[i] } else { sum[i] / cnt[i] as f64 }).collect()
 }
 
 /// Deterministic pseudo-random number in [−1/2, 1/2) from two integers (splitmix64).
@@ -215,18 +195,10 @@ fn segment_distance(p: DVec2, a: DVec2, b: DVec2) -> f64 {
 /// to `jitter_frac`·s), less the points within `0.6 s` of a boundary segment, triangulated,
 /// then Delaunay-refined to `angle_deg` without splitting boundary segments and smoothed by
 /// `smooth` Laplacian sweeps. Points outside the domain fall in excluded faces and are dropped.
-pub(super) fn mesh_lattice(
-    loops: &[Loop],
-    s: f64,
-    jitter_frac: f64,
-    angle_deg: f64,
-    smooth: usize,
-) -> Planar {
+pub(super) fn mesh_lattice(loops: &[Loop], s: f64, jitter_frac: f64, angle_deg: f64, smooth: usize) -> Planar {
     let pts = loops.iter().flat_map(|l| l.points.iter().copied());
-    let (lo, hi) = pts.fold(
-        (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
-        |(lo, hi), p| (lo.min(p), hi.max(p)),
-    );
+    let (lo, hi) =
+        pts.fold((DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)), |(lo, hi), p| (lo.min(p), hi.max(p)));
     let rows = (((hi.y - lo.y) / (0.5 * 3f64.sqrt() * s)).round() as i64).max(1);
     let dy = (hi.y - lo.y) / rows as f64;
     let cols = ((hi.x - lo.x) / s).ceil() as i64;
@@ -242,17 +214,11 @@ pub(super) fn mesh_lattice(
         for i in 0..=cols {
             let x = lo.x + (i as f64 + 0.5 * (k % 2) as f64) * s;
             let y = lo.y + k as f64 * dy;
-            let p = DVec2::new(
-                x + jitter_frac * s * jitter(i, k, 1),
-                y + jitter_frac * s * jitter(i, k, 2),
-            );
+            let p = DVec2::new(x + jitter_frac * s * jitter(i, k, 1), y + jitter_frac * s * jitter(i, k, 2));
             if p.x <= lo.x || p.x >= hi.x || p.y <= lo.y || p.y >= hi.y {
                 continue;
             }
-            if segs
-                .iter()
-                .all(|&(a, b)| segment_distance(p, a, b) >= 0.6 * s)
-            {
+            if segs.iter().all(|&(a, b)| segment_distance(p, a, b) >= 0.6 * s) {
                 interior.push(p);
             }
         }

@@ -43,17 +43,9 @@ pub fn cylinder_channel(h: f64) -> Mesh {
     assert!(h > 0.0 && h <= 0.25, "cylinder_channel: 0 < h <= 1/4");
     let n = (1.0 / h).round() as usize;
     let s = 1.0 / n as f64;
-    let outer = rect_loop(
-        [0.0, 8.0, -1.0, 1.0],
-        8 * n,
-        2 * n,
-        [CH_WALL, CH_WALL, CH_WALL, CH_WALL],
-    );
+    let outer = rect_loop([0.0, 8.0, -1.0, 1.0], 8 * n, 2 * n, [CH_WALL, CH_WALL, CH_WALL, CH_WALL]);
     let nc = (4 * (PI / (4.0 * s)).round() as usize).max(16);
-    let cyl = Loop {
-        points: circle(DVec2::new(2.0, 0.0), 0.5, nc),
-        patches: vec![CH_CYLINDER; nc],
-    };
+    let cyl = Loop { points: circle(DVec2::new(2.0, 0.0), 0.5, nc), patches: vec![CH_CYLINDER; nc] };
     let p = mesh_lattice(&[outer, cyl], s, 0.2, 30.0, 2);
     to_mesh(&p, None, "cylinder_channel")
 }
@@ -76,12 +68,7 @@ pub fn boundary_layer_cylinder() -> Mesh {
     let nl = BL_LAYERS;
     let r_out = ring_radius(nl);
     let far = 1.0;
-    let outer = rect_loop(
-        [-10.0, 20.0, -10.0, 10.0],
-        30,
-        20,
-        [BL_FAR, BL_FAR, BL_FAR, BL_FAR],
-    );
+    let outer = rect_loop([-10.0, 20.0, -10.0, 10.0], 30, 20, [BL_FAR, BL_FAR, BL_FAR, BL_FAR]);
     let n_outer = outer.points.len();
     let ring = Loop {
         points: circle(DVec2::ZERO, r_out, nt),
@@ -113,11 +100,7 @@ pub fn boundary_layer_cylinder() -> Mesh {
     }
     let mut tagged = unstructured.tagged.clone();
     tagged.extend((0..nt).map(|j| ([id(0, j), id(0, j + 1)], BL_CYLINDER)));
-    let p = Planar {
-        coords,
-        tris,
-        tagged,
-    };
+    let p = Planar { coords, tris, tagged };
     to_mesh(&p, None, "boundary_layer_cylinder")
 }
 
@@ -183,18 +166,12 @@ mod tests {
         let n = m.num_vertices();
         let ring1 = &c[n - (BL_LAYERS - 1) * BL_N_THETA..n - (BL_LAYERS - 2) * BL_N_THETA];
         for (j, p) in ring1.iter().enumerate() {
-            assert!(
-                (p.length() - 0.5 - BL_FIRST_HEIGHT).abs() < 1e-9,
-                "ring 1 vertex {j}"
-            );
+            assert!((p.length() - 0.5 - BL_FIRST_HEIGHT).abs() < 1e-9, "ring 1 vertex {j}");
         }
         for &v in &cyl {
             assert!((c[v as usize].length() - 0.5).abs() < 1e-14);
         }
-        assert!(
-            unstructured_min >= 20.0,
-            "unstructured min angle {unstructured_min}"
-        );
+        assert!(unstructured_min >= 20.0, "unstructured min angle {unstructured_min}");
         // Wall cells: thin, aspect about (2π·0.5/128)/0.005 ≈ 4.9.
         assert!(min_angle(&m) > 5.0);
     }

@@ -27,12 +27,7 @@ pub const IF_TOP: i32 = 5;
 
 /// Counter-clockwise boundary of [x0, x1] × [y0, y1] with `nx`, `ny` equal segments per side;
 /// `patches` = [bottom, right, top, left]. Left and right points share their y exactly.
-pub(super) fn rect_loop(
-    [x0, x1, y0, y1]: [f64; 4],
-    nx: usize,
-    ny: usize,
-    patches: [i32; 4],
-) -> Loop {
+pub(super) fn rect_loop([x0, x1, y0, y1]: [f64; 4], nx: usize, ny: usize, patches: [i32; 4]) -> Loop {
     let mut points = Vec::with_capacity(2 * (nx + ny));
     let mut tags = Vec::with_capacity(2 * (nx + ny));
     for i in 0..nx {
@@ -51,22 +46,14 @@ pub(super) fn rect_loop(
         points.push(DVec2::new(x0, lerp_step(y0, y1, j, ny)));
         tags.push(patches[3]);
     }
-    Loop {
-        points,
-        patches: tags,
-    }
+    Loop { points, patches: tags }
 }
 
 fn free_surface_planar(h: f64) -> Planar {
     assert!(h > 0.0 && h <= 0.5, "free_surface: 0 < h <= 1/2");
     let n = (1.0 / h).round() as usize;
     let s = 1.0 / n as f64;
-    let outer = rect_loop(
-        [0.0, 1.0, -1.0, 0.0],
-        n,
-        n,
-        [FS_BOTTOM, FS_RIGHT, FS_TOP, FS_LEFT],
-    );
+    let outer = rect_loop([0.0, 1.0, -1.0, 0.0], n, n, [FS_BOTTOM, FS_RIGHT, FS_TOP, FS_LEFT]);
     mesh_lattice(&[outer], s, 0.2, 30.0, 2)
 }
 
@@ -100,13 +87,7 @@ pub fn two_region_interface(h: f64) -> Mesh {
     }
     let mut tris = lower.tris.clone();
     // Mirroring reverses orientation; swap two vertices to keep the cells counter-clockwise.
-    tris.extend(lower.tris.iter().map(|t| {
-        [
-            mirror[t[0] as usize],
-            mirror[t[2] as usize],
-            mirror[t[1] as usize],
-        ]
-    }));
+    tris.extend(lower.tris.iter().map(|t| [mirror[t[0] as usize], mirror[t[2] as usize], mirror[t[1] as usize]]));
     let mut regions = vec![0; lower.tris.len()];
     regions.resize(tris.len(), 1);
     let mut tagged = Vec::with_capacity(2 * lower.tagged.len());
@@ -123,11 +104,7 @@ pub fn two_region_interface(h: f64) -> Mesh {
             tagged.push((e.map(|v| mirror[v as usize]), up));
         }
     }
-    let planar = Planar {
-        coords,
-        tris,
-        tagged,
-    };
+    let planar = Planar { coords, tris, tagged };
     to_mesh(&planar, Some(&regions), "two_region_interface")
 }
 
@@ -141,18 +118,9 @@ mod tests {
         let h = 1.0 / 32.0;
         let m = free_surface(h);
         let nv = m.num_vertices();
-        eprintln!(
-            "free_surface(1/32): {nv} vertices, {} cells, min angle {:.2}",
-            m.num_cells(),
-            min_angle(&m)
-        );
+        eprintln!("free_surface(1/32): {nv} vertices, {} cells, min angle {:.2}", m.num_cells(), min_angle(&m));
         let (lmin, lmean, lmax) = edge_lengths(&m);
-        eprintln!(
-            "  edge lengths / h: min {:.3} mean {:.3} max {:.3}",
-            lmin / h,
-            lmean / h,
-            lmax / h
-        );
+        eprintln!("  edge lengths / h: min {:.3} mean {:.3} max {:.3}", lmin / h, lmean / h, lmax / h);
         assert!((1200..=1500).contains(&nv), "{nv} vertices");
         assert!(lmin > 0.5 * h && lmax < 1.6 * h && (lmean / h - 1.0).abs() < 0.15);
         assert!((total_area(&m) - 1.0).abs() < 1e-10);
@@ -161,11 +129,7 @@ mod tests {
             assert_eq!(m.patch_vertices(p).len(), 33, "patch {p}");
         }
         let ys = |p: i32| {
-            let mut y: Vec<f64> = m
-                .patch_vertices(p)
-                .iter()
-                .map(|&v| m.coords()[v as usize].y)
-                .collect();
+            let mut y: Vec<f64> = m.patch_vertices(p).iter().map(|&v| m.coords()[v as usize].y).collect();
             y.sort_by(f64::total_cmp);
             y
         };
@@ -205,11 +169,7 @@ mod tests {
         let key = |p: DVec2| (p.x.to_bits(), p.y.to_bits());
         let set: std::collections::HashSet<_> = m.coords().iter().map(|&p| key(p)).collect();
         for p in lower.coords() {
-            let q = if p.y == 0.0 {
-                *p
-            } else {
-                DVec2::new(p.x, -p.y)
-            };
+            let q = if p.y == 0.0 { *p } else { DVec2::new(p.x, -p.y) };
             assert!(set.contains(&key(q)), "no mirror of {p}");
         }
         let upper: Vec<_> = m.coords()[nl..].to_vec();
@@ -227,17 +187,10 @@ mod tests {
         assert_eq!(m.patch_vertices(IF_INTERFACE).len(), 33);
         assert_eq!(m.patch_vertices(IF_LEFT).len(), 65);
         assert_eq!(m.patch_vertices(IF_RIGHT).len(), 65);
-        let iface: Vec<_> = m
-            .patch_edges()
-            .iter()
-            .filter(|e| e.patch == IF_INTERFACE)
-            .collect();
+        let iface: Vec<_> = m.patch_edges().iter().filter(|e| e.patch == IF_INTERFACE).collect();
         assert_eq!(iface.len(), 32);
         assert!(iface.iter().all(|e| e.interior));
-        assert!(m
-            .patch_edges()
-            .iter()
-            .all(|e| (e.patch == IF_INTERFACE) == e.interior));
+        assert!(m.patch_edges().iter().all(|e| (e.patch == IF_INTERFACE) == e.interior));
         assert!(min_angle(&m) >= 25.0);
     }
 }

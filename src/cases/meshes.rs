@@ -9,12 +9,12 @@ use crate::mesh::{IndexBase, Mesh};
 use glam::DVec2;
 
 pub use super::cylinder::{
-    boundary_layer_cylinder, cylinder_channel, BL_CYLINDER, BL_FAR, BL_FIRST_HEIGHT, BL_GROWTH,
-    BL_LAYERS, BL_N_THETA, CH_CYLINDER, CH_WALL,
+    boundary_layer_cylinder, cylinder_channel, BL_CYLINDER, BL_FAR, BL_FIRST_HEIGHT, BL_GROWTH, BL_LAYERS, BL_N_THETA,
+    CH_CYLINDER, CH_WALL,
 };
 pub use super::free_surface::{
-    free_surface, two_region_interface, FS_BOTTOM, FS_LEFT, FS_RIGHT, FS_TOP, IF_BOTTOM,
-    IF_INTERFACE, IF_LEFT, IF_RIGHT, IF_TOP,
+    free_surface, two_region_interface, FS_BOTTOM, FS_LEFT, FS_RIGHT, FS_TOP, IF_BOTTOM, IF_INTERFACE, IF_LEFT,
+    IF_RIGHT, IF_TOP,
 };
 
 /// [`structured_rectangle`]: the side y = y0.
@@ -92,23 +92,14 @@ pub(super) mod test_util {
         let mut e: Vec<(u32, u32)> = m
             .cells()
             .iter()
-            .flat_map(|t| {
-                [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])].map(|(a, b)| (a.min(b), a.max(b)))
-            })
+            .flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])].map(|(a, b)| (a.min(b), a.max(b))))
             .collect();
         e.sort_unstable();
         e.dedup();
         let c = m.coords();
-        let l: Vec<f64> = e
-            .iter()
-            .map(|&(a, b)| (c[a as usize] - c[b as usize]).length())
-            .collect();
+        let l: Vec<f64> = e.iter().map(|&(a, b)| (c[a as usize] - c[b as usize]).length()).collect();
         let mean = l.iter().sum::<f64>() / l.len() as f64;
-        (
-            l.iter().copied().fold(f64::INFINITY, f64::min),
-            mean,
-            l.iter().copied().fold(0.0, f64::max),
-        )
+        (l.iter().copied().fold(f64::INFINITY, f64::min), mean, l.iter().copied().fold(0.0, f64::max))
     }
 
     /// Area of a regular n-gon inscribed in a circle of radius r.

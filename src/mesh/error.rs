@@ -9,15 +9,8 @@ pub enum MeshError {
     Empty,
     #[error("vertex {vertex} has a non-finite coordinate ({x}, {y})")]
     NonFiniteCoordinate { vertex: usize, x: f64, y: f64 },
-    #[error(
-        "cell {cell} refers to vertex index {index}, outside {base}..{end} (index base {base})"
-    )]
-    IndexOutOfRange {
-        cell: usize,
-        index: i64,
-        base: i64,
-        end: i64,
-    },
+    #[error("cell {cell} refers to vertex index {index}, outside {base}..{end} (index base {base})")]
+    IndexOutOfRange { cell: usize, index: i64, base: i64, end: i64 },
     #[error("cell {cell} repeats vertex {vertex}")]
     RepeatedVertex { cell: usize, vertex: usize },
     #[error("vertex {vertex} is not used by any cell")]
@@ -27,22 +20,11 @@ pub enum MeshError {
     #[error("edge ({a}, {b}) is shared by {cells} cells; at most two may share an edge")]
     NonManifoldEdge { a: usize, b: usize, cells: usize },
     #[error("tagged edge {edge} refers to vertex index {index}, outside {base}..{end}")]
-    TaggedIndexOutOfRange {
-        edge: usize,
-        index: i64,
-        base: i64,
-        end: i64,
-    },
+    TaggedIndexOutOfRange { edge: usize, index: i64, base: i64, end: i64 },
     #[error("tagged edge {edge} ({a}, {b}) is not an edge of any cell")]
     TaggedEdgeNotAnEdge { edge: usize, a: usize, b: usize },
     #[error("tagged edge {edge} ({a}, {b}) is tagged twice, with patches {first} and {second}")]
-    TaggedEdgeTwice {
-        edge: usize,
-        a: usize,
-        b: usize,
-        first: i32,
-        second: i32,
-    },
+    TaggedEdgeTwice { edge: usize, a: usize, b: usize, first: i32, second: i32 },
     #[error("{regions} region ids given for {cells} cells")]
     RegionCount { regions: usize, cells: usize },
     #[error("the mesh has {vertices} vertices; at most {max} are supported")]

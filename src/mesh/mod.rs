@@ -67,10 +67,7 @@ impl Mesh {
         validate::orient(&coords, &mut cells)?;
         let regions = match regions {
             Some(r) if r.len() != cells.len() => {
-                return Err(MeshError::RegionCount {
-                    regions: r.len(),
-                    cells: cells.len(),
-                })
+                return Err(MeshError::RegionCount { regions: r.len(), cells: cells.len() })
             }
             Some(r) => r.to_vec(),
             None => vec![0; cells.len()],
@@ -89,13 +86,7 @@ impl Mesh {
         patch_edges: Vec<PatchEdge>,
     ) -> Mesh {
         let graph = topology::vertex_graph(coords.len(), &cells);
-        Mesh {
-            coords,
-            cells,
-            regions,
-            patch_edges,
-            graph,
-        }
+        Mesh { coords, cells, regions, patch_edges, graph }
     }
 
     pub fn num_vertices(&self) -> usize {
@@ -128,15 +119,8 @@ impl Mesh {
 
     /// The same topology at new vertex positions (a deformed mesh). Positions must be finite.
     pub fn with_coords(&self, coords: Vec<DVec2>) -> Mesh {
-        assert_eq!(
-            coords.len(),
-            self.coords.len(),
-            "with_coords: vertex count changed"
-        );
-        Mesh {
-            coords,
-            ..self.clone()
-        }
+        assert_eq!(coords.len(), self.coords.len(), "with_coords: vertex count changed");
+        Mesh { coords, ..self.clone() }
     }
 
     /// Sorted, deduplicated patch ids present in the mesh.
@@ -149,12 +133,7 @@ impl Mesh {
 
     /// Sorted vertices lying on a patch.
     pub fn patch_vertices(&self, patch: i32) -> Vec<u32> {
-        let mut v: Vec<u32> = self
-            .patch_edges
-            .iter()
-            .filter(|e| e.patch == patch)
-            .flat_map(|e| e.vertices)
-            .collect();
+        let mut v: Vec<u32> = self.patch_edges.iter().filter(|e| e.patch == patch).flat_map(|e| e.vertices).collect();
         v.sort_unstable();
         v.dedup();
         v

@@ -8,13 +8,7 @@ use glam::DVec2;
 pub fn signed_areas(mesh: &Mesh, coords: &[DVec2]) -> Vec<f64> {
     mesh.cells()
         .iter()
-        .map(|t| {
-            0.5 * twice_signed_area(
-                coords[t[0] as usize],
-                coords[t[1] as usize],
-                coords[t[2] as usize],
-            )
-        })
+        .map(|t| 0.5 * twice_signed_area(coords[t[0] as usize], coords[t[1] as usize], coords[t[2] as usize]))
         .collect()
 }
 
@@ -24,10 +18,7 @@ pub fn min_angle_deg(a: DVec2, b: DVec2, c: DVec2) -> f64 {
         return 0.0;
     }
     let ang = |p: DVec2, q: DVec2, r: DVec2| (q - p).angle_to(r - p).abs();
-    ang(a, b, c)
-        .min(ang(b, c, a))
-        .min(ang(c, a, b))
-        .to_degrees()
+    ang(a, b, c).min(ang(b, c, a)).min(ang(c, a, b)).to_degrees()
 }
 
 /// Summary of a deformed mesh against its reference.
@@ -47,12 +38,8 @@ pub struct Quality {
 pub fn quality(mesh: &Mesh, deformed: &[DVec2]) -> Quality {
     let a0 = signed_areas(mesh, mesh.coords());
     let a1 = signed_areas(mesh, deformed);
-    let mut q = Quality {
-        inverted: 0,
-        min_area_ratio: f64::INFINITY,
-        max_area_ratio: f64::NEG_INFINITY,
-        min_angle_deg: 180.0,
-    };
+    let mut q =
+        Quality { inverted: 0, min_area_ratio: f64::INFINITY, max_area_ratio: f64::NEG_INFINITY, min_angle_deg: 180.0 };
     for (c, t) in mesh.cells().iter().enumerate() {
         let r = a1[c] / a0[c];
         q.inverted += usize::from(a1[c] <= 0.0);
@@ -71,23 +58,12 @@ mod tests {
 
     #[test]
     fn right_triangle_numbers() {
-        let m = Mesh::new(
-            &[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]],
-            &[[0u32, 1, 2]],
-            IndexBase::Zero,
-            &[],
-            None,
-        )
-        .unwrap();
+        let m = Mesh::new(&[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]], &[[0u32, 1, 2]], IndexBase::Zero, &[], None).unwrap();
         assert_eq!(signed_areas(&m, m.coords()), vec![0.5]);
         let q = quality(&m, m.coords());
         assert_eq!(q.inverted, 0);
         assert!((q.min_angle_deg - 45.0).abs() < 1e-12);
-        let flipped = vec![
-            DVec2::new(0.0, 0.0),
-            DVec2::new(1.0, 0.0),
-            DVec2::new(0.0, -2.0),
-        ];
+        let flipped = vec![DVec2::new(0.0, 0.0), DVec2::new(1.0, 0.0), DVec2::new(0.0, -2.0)];
         let q = quality(&m, &flipped);
         assert_eq!(q.inverted, 1);
         assert!((q.min_area_ratio + 2.0).abs() < 1e-12);

@@ -5,8 +5,7 @@ use std::collections::HashMap;
 
 pub(super) fn uniform(m: &Mesh) -> Mesh {
     let mut coords = m.coords().to_vec();
-    let mut mid: HashMap<u64, u32> =
-        HashMap::with_capacity(3 * m.num_cells() / 2 + m.num_vertices());
+    let mut mid: HashMap<u64, u32> = HashMap::with_capacity(3 * m.num_cells() / 2 + m.num_vertices());
     let mut midpoint = |a: u32, b: u32, coords: &mut Vec<glam::DVec2>| -> u32 {
         *mid.entry(edge_key(a, b)).or_insert_with(|| {
             coords.push(0.5 * (coords[a as usize] + coords[b as usize]));
@@ -27,14 +26,8 @@ pub(super) fn uniform(m: &Mesh) -> Mesh {
     for e in m.patch_edges() {
         let [a, b] = e.vertices;
         let c = midpoint(a, b, &mut coords);
-        patch_edges.push(PatchEdge {
-            vertices: [a, c],
-            ..*e
-        });
-        patch_edges.push(PatchEdge {
-            vertices: [c, b],
-            ..*e
-        });
+        patch_edges.push(PatchEdge { vertices: [a, c], ..*e });
+        patch_edges.push(PatchEdge { vertices: [c, b], ..*e });
     }
     Mesh::from_parts(coords, cells, regions, patch_edges)
 }

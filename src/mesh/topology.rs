@@ -49,10 +49,7 @@ impl EdgeCells {
 
     pub fn get(&self, a: u32, b: u32) -> Option<[u32; 2]> {
         let k = edge_key(a, b);
-        self.edges
-            .binary_search_by_key(&k, |e| e.0)
-            .ok()
-            .map(|i| self.edges[i].1)
+        self.edges.binary_search_by_key(&k, |e| e.0).ok().map(|i| self.edges[i].1)
     }
 }
 
@@ -75,21 +72,11 @@ pub(super) fn patch_edges(
     let mut tags: HashMap<u64, (usize, i32)> = HashMap::with_capacity(tagged.len());
     for (e, &([a, b], patch)) in tagged.iter().enumerate() {
         if edges.get(a, b).is_none() {
-            return Err(MeshError::TaggedEdgeNotAnEdge {
-                edge: e,
-                a: a as usize,
-                b: b as usize,
-            });
+            return Err(MeshError::TaggedEdgeNotAnEdge { edge: e, a: a as usize, b: b as usize });
         }
         if let Some(&(_, first)) = tags.get(&edge_key(a, b)) {
             if first != patch {
-                return Err(MeshError::TaggedEdgeTwice {
-                    edge: e,
-                    a: a as usize,
-                    b: b as usize,
-                    first,
-                    second: patch,
-                });
+                return Err(MeshError::TaggedEdgeTwice { edge: e, a: a as usize, b: b as usize, first, second: patch });
             }
         }
         tags.insert(edge_key(a, b), (e, patch));
@@ -105,11 +92,7 @@ pub(super) fn patch_edges(
                 interior: false,
             });
         } else if let Some(patch) = tag {
-            out.push(PatchEdge {
-                vertices: [a, b],
-                patch,
-                interior: true,
-            });
+            out.push(PatchEdge { vertices: [a, b], patch, interior: true });
         }
     }
     Ok(out)

@@ -8,10 +8,7 @@ pub(super) fn coordinates(coords: &[[f64; 2]]) -> Result<Vec<DVec2>, MeshError> 
         return Err(MeshError::Empty);
     }
     if coords.len() >= u32::MAX as usize {
-        return Err(MeshError::TooLarge {
-            vertices: coords.len(),
-            max: u32::MAX as usize - 1,
-        });
+        return Err(MeshError::TooLarge { vertices: coords.len(), max: u32::MAX as usize - 1 });
     }
     coords
         .iter()
@@ -59,16 +56,10 @@ pub(super) fn cells<I: Copy + TryInto<i64>>(
                 })?;
             }
             if out[0] == out[1] || out[0] == out[2] {
-                return Err(MeshError::RepeatedVertex {
-                    cell: c,
-                    vertex: out[0] as usize,
-                });
+                return Err(MeshError::RepeatedVertex { cell: c, vertex: out[0] as usize });
             }
             if out[1] == out[2] {
-                return Err(MeshError::RepeatedVertex {
-                    cell: c,
-                    vertex: out[1] as usize,
-                });
+                return Err(MeshError::RepeatedVertex { cell: c, vertex: out[1] as usize });
             }
             Ok(out)
         })
@@ -78,10 +69,7 @@ pub(super) fn cells<I: Copy + TryInto<i64>>(
 /// Every vertex must belong to a cell: a lone vertex has no equation to move it.
 pub(super) fn all_used(cells: &[[u32; 3]], n: usize) -> Result<(), MeshError> {
     let mut used = vec![false; n];
-    cells
-        .iter()
-        .flatten()
-        .for_each(|&v| used[v as usize] = true);
+    cells.iter().flatten().for_each(|&v| used[v as usize] = true);
     match used.iter().position(|u| !u) {
         Some(vertex) => Err(MeshError::UnusedVertex { vertex }),
         None => Ok(()),
@@ -99,15 +87,9 @@ pub(super) fn orient(coords: &[DVec2], cells: &mut [[u32; 3]]) -> Result<(), Mes
         let [a, b, d] = t.map(|v| coords[v as usize]);
         let area2 = twice_signed_area(a, b, d);
         // Relative test: the area against the squared longest edge, so the check is scale-free.
-        let scale = (b - a)
-            .length_squared()
-            .max((d - a).length_squared())
-            .max((d - b).length_squared());
+        let scale = (b - a).length_squared().max((d - a).length_squared()).max((d - b).length_squared());
         if area2.abs() <= 1e-14 * scale || !area2.is_finite() {
-            return Err(MeshError::DegenerateCell {
-                cell: c,
-                area: 0.5 * area2,
-            });
+            return Err(MeshError::DegenerateCell { cell: c, area: 0.5 * area2 });
         }
         if area2 < 0.0 {
             t.swap(1, 2);

@@ -23,9 +23,7 @@ pub enum CoarseSolve {
 impl CoarseSolve {
     pub fn new(pb: Problem) -> Result<CoarseSolve> {
         let n = pb.op.n();
-        let free: Vec<u32> = (0..n as u32)
-            .filter(|&i| pb.flags[i as usize] & P == 0)
-            .collect();
+        let free: Vec<u32> = (0..n as u32).filter(|&i| pb.flags[i as usize] & P == 0).collect();
         let m = free.len();
         if m == 0 {
             return Ok(CoarseSolve::Empty);
@@ -66,16 +64,7 @@ impl CoarseSolve {
             CoarseSolve::Empty => {}
             CoarseSolve::Smoothed => {
                 for _ in 0..4 {
-                    smooth(
-                        pb,
-                        Smoother::Chebyshev {
-                            degree: 25,
-                            lower_ratio: 200.0,
-                        },
-                        b,
-                        x,
-                        w,
-                    );
+                    smooth(pb, Smoother::Chebyshev { degree: 25, lower_ratio: 200.0 }, b, x, w);
                 }
             }
             CoarseSolve::Dense { free, chol } => {

@@ -26,11 +26,7 @@ pub struct CoarsenParams {
 
 impl Default for CoarsenParams {
     fn default() -> Self {
-        CoarsenParams {
-            min_vertices: 40,
-            min_ratio: 1.6,
-            corner_angle_deg: 50.0,
-        }
+        CoarsenParams { min_vertices: 10, min_ratio: 1.6, corner_angle_deg: 50.0 }
     }
 }
 
@@ -88,17 +84,10 @@ enum Failure {
 ///
 /// `Ok(None)` when coarsening is not worthwhile (too few vertices, ratio too small) or the coarse
 /// triangulation could not be made valid; `Err(Error::Coarsening)` only for impossible input.
-pub fn coarsen(
-    fine: &Mesh,
-    links: &[[u32; 2]],
-    params: &CoarsenParams,
-) -> Result<Option<CoarseMesh>> {
+pub fn coarsen(fine: &Mesh, links: &[[u32; 2]], params: &CoarsenParams) -> Result<Option<CoarseMesh>> {
     let nv = fine.num_vertices();
     if let Some(l) = links.iter().find(|l| l.iter().any(|&v| v as usize >= nv)) {
-        return Err(Error::Coarsening(format!(
-            "link [{}, {}] names a vertex beyond {}",
-            l[0], l[1], nv
-        )));
+        return Err(Error::Coarsening(format!("link [{}, {}] names a vertex beyond {}", l[0], l[1], nv)));
     }
     if nv < params.min_vertices || (nv as f64) < params.min_ratio * params.min_vertices as f64 {
         return Ok(None);
@@ -230,11 +219,7 @@ impl Features {
                     None => break,
                 }
             }
-            Chain {
-                verts,
-                patch: pe[first].patch,
-                interior: pe[first].interior,
-            }
+            Chain { verts, patch: pe[first].patch, interior: pe[first].interior }
         };
         for v in (0..nv).filter(|&v| forced[v]) {
             for &k in incident(v) {
@@ -298,28 +283,15 @@ fn select(
             let mut last = ch.verts[0];
             for &v in &ch.verts[1..] {
                 if kept[v as usize] {
-                    segments.push(Segment {
-                        a: last,
-                        b: v,
-                        patch: ch.patch,
-                        interior: ch.interior,
-                        chain: c,
-                    });
+                    segments.push(Segment { a: last, b: v, patch: ch.patch, interior: ch.interior, chain: c });
                     last = v;
                 }
             }
         }
         // Two chains collapsing onto the same segment (or a degenerate one): keep their vertices.
-        let mut keys: Vec<(u64, usize)> = segments
-            .iter()
-            .map(|s| (edge_key(s.a, s.b), s.chain))
-            .collect();
+        let mut keys: Vec<(u64, usize)> = segments.iter().map(|s| (edge_key(s.a, s.b), s.chain)).collect();
         keys.sort_unstable();
-        let mut bad: Vec<usize> = segments
-            .iter()
-            .filter(|s| s.a == s.b)
-            .map(|s| s.chain)
-            .collect();
+        let mut bad: Vec<usize> = segments.iter().filter(|s| s.a == s.b).map(|s| s.chain).collect();
         for w in keys.windows(2) {
             if w[0].0 == w[1].0 {
                 bad.extend([w[0].1, w[1].1]);
@@ -372,19 +344,14 @@ fn triangulate(
     f: &Features,
 ) -> Result<std::result::Result<CoarseMesh, Failure>> {
     let x = fine.coords();
-    let fine_vertex: Vec<u32> = (0..fine.num_vertices() as u32)
-        .filter(|&v| kept[v as usize])
-        .collect();
+    let fine_vertex: Vec<u32> = (0..fine.num_vertices() as u32).filter(|&v| kept[v as usize]).collect();
     let mut coarse_of = vec![u32::MAX; fine.num_vertices()];
     for (i, &v) in fine_vertex.iter().enumerate() {
         coarse_of[v as usize] = i as u32;
     }
     let nc = fine_vertex.len();
     // Bulk loading keeps the vertex order (and is far faster than inserting one by one).
-    let points: Vec<Point2<f64>> = fine_vertex
-        .iter()
-        .map(|&v| Point2::new(x[v as usize].x, x[v as usize].y))
-        .collect();
+    let points: Vec<Point2<f64>> = fine_vertex.iter().map(|&v| Point2::new(x[v as usize].x, x[v as usize].y)).collect();
     let mut cdt: ConstrainedDelaunayTriangulation<Point2<f64>> =
         ConstrainedDelaunayTriangulation::try_bulk_load_cdt(points, Vec::new(), |_| {})
             .map_err(|e| Error::Coarsening(format!("triangulating the kept vertices: {e:?}")))?;
@@ -406,9 +373,7 @@ fn triangulate(
         p.x == q.x && p.y == q.y
     });
     if !order_kept {
-        return Err(Error::Coarsening(
-            "the triangulation reordered the vertices".into(),
-        ));
+        return Err(Error::Coarsening("the triangulation reordered the vertices".into()));
     }
     // Segments in coarse numbering, keyed for lookup.
     let mut seg_of: HashMap<u64, usize> = HashMap::with_capacity(segments.len());
@@ -418,10 +383,7 @@ fn triangulate(
     }
     let mut bad_chains = Vec::new();
     for s in segments {
-        let (ha, hb) = (
-            handles[coarse_of[s.a as usize] as usize],
-            handles[coarse_of[s.b as usize] as usize],
-        );
+        let (ha, hb) = (handles[coarse_of[s.a as usize] as usize], handles[coarse_of[s.b as usize] as usize]);
         if !cdt.can_add_constraint(ha, hb) {
             bad_chains.push(s.chain);
             continue;
@@ -516,10 +478,7 @@ fn triangulate(
             used[v as usize] = true;
         }
     }
-    let unused: Vec<u32> = (0..nc)
-        .filter(|&i| !used[i])
-        .map(|i| fine_vertex[i])
-        .collect();
+    let unused: Vec<u32> = (0..nc).filter(|&i| !used[i]).map(|i| fine_vertex[i]).collect();
     if unused.iter().any(|&v| f.on_feature[v as usize]) {
         return Ok(Err(Failure::Stop));
     }
@@ -537,10 +496,7 @@ fn triangulate(
         let [a, b, c] = t.map(|v| cx[v as usize]);
         0.5 * (b - a).perp_dot(c - a)
     };
-    if cells
-        .iter()
-        .any(|t| area(t).is_nan() || area(t) <= min_area)
-    {
+    if cells.iter().any(|t| area(t).is_nan() || area(t) <= min_area) {
         return Ok(Err(Failure::Stop));
     }
     // Boundary of the triangulation = boundary segments; interface segments have two cells.
@@ -558,11 +514,7 @@ fn triangulate(
             if c1 == u32::MAX {
                 return Ok(Err(Failure::Stop));
             }
-            patch_edges.push(PatchEdge {
-                vertices: [a, b],
-                patch: s.patch,
-                interior: true,
-            });
+            patch_edges.push(PatchEdge { vertices: [a, b], patch: s.patch, interior: true });
         } else {
             if c1 != u32::MAX {
                 return Ok(Err(Failure::Stop));
@@ -629,11 +581,7 @@ fn triangulate(
         .filter(|l| kept[l[0] as usize] && kept[l[1] as usize])
         .map(|l| [coarse_of[l[0] as usize], coarse_of[l[1] as usize]])
         .collect();
-    Ok(Ok(CoarseMesh {
-        mesh: Mesh::from_parts(cx, cells, regions, patch_edges),
-        fine_vertex,
-        links: coarse_links,
-    }))
+    Ok(Ok(CoarseMesh { mesh: Mesh::from_parts(cx, cells, regions, patch_edges), fine_vertex, links: coarse_links }))
 }
 
 #[cfg(test)]
@@ -646,10 +594,7 @@ pub(crate) mod tests {
     pub(crate) struct Lcg(pub(crate) u64);
     impl Lcg {
         pub(crate) fn next(&mut self) -> f64 {
-            self.0 = self
-                .0
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
+            self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
             (self.0 >> 11) as f64 / (1u64 << 53) as f64
         }
     }
@@ -749,14 +694,8 @@ pub(crate) mod tests {
         for p in &pts {
             dt.insert(Point2::new(p[0], p[1])).unwrap();
         }
-        let coords: Vec<[f64; 2]> = dt
-            .vertices()
-            .map(|v| [v.position().x, v.position().y])
-            .collect();
-        let cells: Vec<[u32; 3]> = dt
-            .inner_faces()
-            .map(|f| f.vertices().map(|v| v.fix().index() as u32))
-            .collect();
+        let coords: Vec<[f64; 2]> = dt.vertices().map(|v| [v.position().x, v.position().y]).collect();
+        let cells: Vec<[u32; 3]> = dt.inner_faces().map(|f| f.vertices().map(|v| v.fix().index() as u32)).collect();
         let tags = rect_tags(&coords, &cells, 1.0, 1.0);
         Mesh::new(&coords, &cells, IndexBase::Zero, &tags, None).unwrap()
     }
@@ -802,10 +741,8 @@ pub(crate) mod tests {
         );
         for j in 1..n {
             for i in 1..nx {
-                let p = DVec2::new(
-                    (i as f64 + 0.5 * (rng.next() - 0.5)) * h,
-                    (j as f64 + 0.5 * (rng.next() - 0.5)) * h,
-                );
+                let p =
+                    DVec2::new((i as f64 + 0.5 * (rng.next() - 0.5)) * h, (j as f64 + 0.5 * (rng.next() - 0.5)) * h);
                 if (p - c).length() > r + 0.6 * h {
                     pts.push(p);
                 }
@@ -814,16 +751,12 @@ pub(crate) mod tests {
         let vs: Vec<Point2<f64>> = pts.iter().map(|p| Point2::new(p.x, p.y)).collect();
         let cdt: ConstrainedDelaunayTriangulation<Point2<f64>> =
             ConstrainedDelaunayTriangulation::bulk_load_cdt(vs, segs).unwrap();
-        let coords: Vec<[f64; 2]> = cdt
-            .vertices()
-            .map(|v| [v.position().x, v.position().y])
-            .collect();
+        let coords: Vec<[f64; 2]> = cdt.vertices().map(|v| [v.position().x, v.position().y]).collect();
         let cells: Vec<[u32; 3]> = cdt
             .inner_faces()
             .filter(|f| {
-                let m = f.vertices().iter().fold(DVec2::ZERO, |s, v| {
-                    s + DVec2::new(v.position().x, v.position().y)
-                }) / 3.0;
+                let m =
+                    f.vertices().iter().fold(DVec2::ZERO, |s, v| s + DVec2::new(v.position().x, v.position().y)) / 3.0;
                 (m - c).length() > r
             })
             .map(|f| f.vertices().map(|v| v.fix().index() as u32))
@@ -875,19 +808,9 @@ pub(crate) mod tests {
     pub(crate) fn check(fine: &Mesh, c: &CoarseMesh) -> f64 {
         let m = &c.mesh;
         // Round trip through the validating constructor.
-        let tags: Vec<([u32; 2], i32)> = m
-            .patch_edges()
-            .iter()
-            .map(|e| (e.vertices, e.patch))
-            .collect();
-        let again = Mesh::new(
-            &m.coords_xy(),
-            m.cells(),
-            IndexBase::Zero,
-            &tags,
-            Some(m.regions()),
-        )
-        .expect("coarse mesh validates");
+        let tags: Vec<([u32; 2], i32)> = m.patch_edges().iter().map(|e| (e.vertices, e.patch)).collect();
+        let again = Mesh::new(&m.coords_xy(), m.cells(), IndexBase::Zero, &tags, Some(m.regions()))
+            .expect("coarse mesh validates");
         assert_eq!(again.patch_edges().len(), m.patch_edges().len());
         let areas = crate::mesh::quality::signed_areas(m, m.coords());
         assert!(areas.iter().all(|&a| a > 0.0), "non-positive coarse cell");
@@ -897,10 +820,7 @@ pub(crate) mod tests {
             assert_eq!(m.coords()[i], fine.coords()[v as usize]);
         }
         let mut used = vec![false; m.num_vertices()];
-        m.cells()
-            .iter()
-            .flatten()
-            .for_each(|&v| used[v as usize] = true);
+        m.cells().iter().flatten().for_each(|&v| used[v as usize] = true);
         assert!(used.iter().all(|&u| u), "unused coarse vertex");
         // Boundary edges oriented with the domain on the left; every boundary edge is a patch edge.
         let edges = EdgeCells::build(m.cells()).unwrap();
@@ -923,9 +843,7 @@ pub(crate) mod tests {
     }
 
     fn fine_area(m: &Mesh) -> f64 {
-        crate::mesh::quality::signed_areas(m, m.coords())
-            .iter()
-            .sum()
+        crate::mesh::quality::signed_areas(m, m.coords()).iter().sum()
     }
 
     fn hierarchy(fine: &Mesh, links: &[[u32; 2]]) -> Vec<usize> {
@@ -944,19 +862,14 @@ pub(crate) mod tests {
     #[test]
     fn structured_square_halves_resolution() {
         let fine = rect(32);
-        let c = coarsen(&fine, &[], &CoarsenParams::default())
-            .unwrap()
-            .unwrap();
+        let c = coarsen(&fine, &[], &CoarsenParams::default()).unwrap().unwrap();
         let area = check(&fine, &c);
         assert!((area - 1.0).abs() < 1e-12, "area {area}");
         let ratio = fine.num_vertices() as f64 / c.mesh.num_vertices() as f64;
         assert!((2.5..=5.0).contains(&ratio), "ratio {ratio}");
         // Corners kept.
         for v in [0u32, 32, 33 * 32, 33 * 33 - 1] {
-            assert!(
-                c.fine_vertex.binary_search(&v).is_ok(),
-                "corner {v} dropped"
-            );
+            assert!(c.fine_vertex.binary_search(&v).is_ok(), "corner {v} dropped");
         }
         // Every other boundary vertex: 17 per side.
         for p in 1..=4 {
@@ -984,7 +897,8 @@ pub(crate) mod tests {
         let counts = hierarchy(&rect(64), &[]);
         eprintln!("structured 65x65 levels: {counts:?}");
         assert!(counts.len() >= 4, "{counts:?}");
-        assert!(*counts.last().unwrap() >= 40 && *counts.last().unwrap() < 200);
+        let min = CoarsenParams::default().min_vertices;
+        assert!(*counts.last().unwrap() >= min && *counts.last().unwrap() < 200, "{counts:?}");
         for w in counts.windows(2) {
             assert!(w[0] as f64 >= 1.6 * w[1] as f64);
         }
@@ -996,9 +910,7 @@ pub(crate) mod tests {
         let counts = hierarchy(&fine, &[]);
         eprintln!("unstructured square levels: {counts:?}");
         assert!(counts.len() >= 4, "{counts:?}");
-        let c = coarsen(&fine, &[], &CoarsenParams::default())
-            .unwrap()
-            .unwrap();
+        let c = coarsen(&fine, &[], &CoarsenParams::default()).unwrap().unwrap();
         let area = check(&fine, &c);
         assert!((area - 1.0).abs() < 1e-12);
         let ratio = fine.num_vertices() as f64 / c.mesh.num_vertices() as f64;
@@ -1011,9 +923,7 @@ pub(crate) mod tests {
         let counts = hierarchy(&fine, &[]);
         eprintln!("cylinder levels: {counts:?}");
         assert!(counts.len() >= 3, "{counts:?}");
-        let c = coarsen(&fine, &[], &CoarsenParams::default())
-            .unwrap()
-            .unwrap();
+        let c = coarsen(&fine, &[], &CoarsenParams::default()).unwrap().unwrap();
         let area = check(&fine, &c);
         // The coarse hole is an inscribed polygon with half the vertices: a slightly larger domain.
         let fa = fine_area(&fine);
@@ -1037,9 +947,7 @@ pub(crate) mod tests {
         let fine = two_regions(32);
         let counts = hierarchy(&fine, &[]);
         eprintln!("two-region levels: {counts:?}");
-        let c = coarsen(&fine, &[], &CoarsenParams::default())
-            .unwrap()
-            .unwrap();
+        let c = coarsen(&fine, &[], &CoarsenParams::default()).unwrap().unwrap();
         let area = check(&fine, &c);
         assert!((area - 1.0).abs() < 1e-12);
         let m = &c.mesh;
@@ -1102,17 +1010,12 @@ pub(crate) mod tests {
         assert!(counts.len() >= 3);
         // Odd-length chains with opposite walking directions still pair up through the links.
         let links2: Vec<[u32; 2]> = (0..=16u32).map(|j| [j * 33, (16 - j) * 33 + 32]).collect();
-        let c = coarsen(&fine, &links2, &CoarsenParams::default())
-            .unwrap()
-            .unwrap();
+        let c = coarsen(&fine, &links2, &CoarsenParams::default()).unwrap().unwrap();
         for &[a, b] in &c.links {
             let (p, q) = (c.mesh.coords()[a as usize], c.mesh.coords()[b as usize]);
             assert!(p.x == 0.0 && q.x == 2.0 && (p.y + q.y - 1.0).abs() < 1e-15);
         }
-        assert_eq!(
-            c.links.len(),
-            c.mesh.coords().iter().filter(|p| p.x == 0.0).count()
-        );
+        assert_eq!(c.links.len(), c.mesh.coords().iter().filter(|p| p.x == 0.0).count());
     }
 
     #[test]
@@ -1125,10 +1028,7 @@ pub(crate) mod tests {
             ("cylinder 48", cylinder(48, 1)),
             ("cylinder 20 refined", cylinder(20, 2).refine_uniform()),
             ("unstructured 60", unstructured_rect(60, 3)),
-            (
-                "unstructured 25 refined twice",
-                unstructured_rect(25, 4).refine_uniform().refine_uniform(),
-            ),
+            ("unstructured 25 refined twice", unstructured_rect(25, 4).refine_uniform().refine_uniform()),
             ("two regions 64", two_regions(64)),
         ];
         for (name, fine) in &meshes {
@@ -1159,16 +1059,10 @@ pub(crate) mod tests {
             coords[relabel(v as u32) as usize] = p;
         }
         let cells: Vec<[u32; 3]> = base.cells().iter().map(|t| t.map(relabel)).collect();
-        let tags: Vec<([u32; 2], i32)> = base
-            .patch_edges()
-            .iter()
-            .map(|e| (e.vertices.map(relabel), e.patch))
-            .collect();
+        let tags: Vec<([u32; 2], i32)> =
+            base.patch_edges().iter().map(|e| (e.vertices.map(relabel), e.patch)).collect();
         let fine = Mesh::new(&coords, &cells, IndexBase::Zero, &tags, None).unwrap();
-        let params = CoarsenParams {
-            min_vertices: 10,
-            ..Default::default()
-        };
+        let params = CoarsenParams { min_vertices: 10, ..Default::default() };
         let c = coarsen(&fine, &[], &params).unwrap().unwrap();
         check(&fine, &c);
         assert_eq!(c.mesh.patch_vertices(1).len(), 24);
@@ -1184,12 +1078,8 @@ pub(crate) mod tests {
     #[test]
     fn deterministic() {
         for fine in [cylinder(16, 11), two_regions(24), unstructured_rect(30, 5)] {
-            let a = coarsen(&fine, &[], &CoarsenParams::default())
-                .unwrap()
-                .unwrap();
-            let b = coarsen(&fine, &[], &CoarsenParams::default())
-                .unwrap()
-                .unwrap();
+            let a = coarsen(&fine, &[], &CoarsenParams::default()).unwrap().unwrap();
+            let b = coarsen(&fine, &[], &CoarsenParams::default()).unwrap().unwrap();
             assert_eq!(a.fine_vertex, b.fine_vertex);
             assert_eq!(a.mesh.coords(), b.mesh.coords());
             assert_eq!(a.mesh.cells(), b.mesh.cells());
@@ -1200,17 +1090,9 @@ pub(crate) mod tests {
 
     #[test]
     fn too_small_meshes_are_not_coarsened() {
-        assert!(coarsen(&rect(4), &[], &CoarsenParams::default())
-            .unwrap()
-            .is_none());
-        let strict = CoarsenParams {
-            min_ratio: 10.0,
-            ..Default::default()
-        };
+        assert!(coarsen(&rect(4), &[], &CoarsenParams::default()).unwrap().is_none());
+        let strict = CoarsenParams { min_ratio: 10.0, ..Default::default() };
         assert!(coarsen(&rect(32), &[], &strict).unwrap().is_none());
-        assert!(matches!(
-            coarsen(&rect(8), &[[0, 1000]], &CoarsenParams::default()),
-            Err(Error::Coarsening(_))
-        ));
+        assert!(matches!(coarsen(&rect(8), &[[0, 1000]], &CoarsenParams::default()), Err(Error::Coarsening(_))));
     }
 }

@@ -78,12 +78,7 @@ impl Level {
     }
 
     pub fn problem(&self, c: usize) -> Problem<'_> {
-        Problem {
-            op: &self.op,
-            flags: &self.flags[c],
-            inv_d: &self.inv_d[c],
-            lambda_max: self.lambda_max[c],
-        }
+        Problem { op: &self.op, flags: &self.flags[c], inv_d: &self.inv_d[c], lambda_max: self.lambda_max[c] }
     }
 
     pub fn n(&self) -> usize {
@@ -93,12 +88,7 @@ impl Level {
     /// Positions of the unknowns and the region each should be interpolated from.
     fn dof_points(&self) -> (Vec<DVec2>, Vec<Option<i32>>) {
         let x = self.mesh.coords();
-        let pts = self
-            .dofs
-            .dof_vertex
-            .iter()
-            .map(|&v| x[v as usize])
-            .collect();
+        let pts = self.dofs.dof_vertex.iter().map(|&v| x[v as usize]).collect();
         // A vertex inside one region interpolates from that region's coarse cells only.
         let mut vregion: Vec<Option<Option<i32>>> = vec![None; self.mesh.num_vertices()];
         for (t, &r) in self.mesh.cells().iter().zip(self.mesh.regions()) {
@@ -112,9 +102,7 @@ impl Level {
             }
         }
         let regions = (0..self.dofs.n)
-            .map(|d| {
-                self.dofs.dof_region[d].or(vregion[self.dofs.dof_vertex[d] as usize].flatten())
-            })
+            .map(|d| self.dofs.dof_region[d].or(vregion[self.dofs.dof_vertex[d] as usize].flatten()))
             .collect();
         (pts, regions)
     }
@@ -141,10 +129,7 @@ pub struct HierarchyParams {
 
 impl Default for HierarchyParams {
     fn default() -> Self {
-        HierarchyParams {
-            coarsen: CoarsenParams::default(),
-            max_levels: 20,
-        }
+        HierarchyParams { coarsen: CoarsenParams::default(), max_levels: 20 }
     }
 }
 
@@ -175,11 +160,7 @@ impl Hierarchy {
             let locs = locate(&coarse.mesh, &pts, &regions);
             let prolong = prolongation(fine.n(), &coarse, &locs);
             let restrict = prolong.transpose();
-            levels.last_mut().expect("fine level").down = Some(Transfer {
-                locs,
-                prolong,
-                restrict,
-            });
+            levels.last_mut().expect("fine level").down = Some(Transfer { locs, prolong, restrict });
             levels.push(coarse);
         }
         let mut h = Hierarchy { levels, method };
@@ -189,10 +170,7 @@ impl Hierarchy {
 
     fn build_coarse_solve(&mut self) -> Result<()> {
         let last = self.levels.last_mut().expect("one level at least");
-        let solves = [
-            CoarseSolve::new(last.problem(0))?,
-            CoarseSolve::new(last.problem(1))?,
-        ];
+        let solves = [CoarseSolve::new(last.problem(0))?, CoarseSolve::new(last.problem(1))?];
         last.coarse = Some(solves);
         Ok(())
     }
@@ -207,15 +185,8 @@ impl Hierarchy {
         let mut coords = vec![fine_coords];
         for l in 1..self.levels.len() {
             let prev = &coords[l - 1];
-            let c: Vec<DVec2> = self.levels[l]
-                .parent_vertex
-                .iter()
-                .map(|&v| prev[v as usize])
-                .collect();
-            if signed_areas(&self.levels[l].mesh, &c)
-                .iter()
-                .any(|&a| a <= 0.0)
-            {
+            let c: Vec<DVec2> = self.levels[l].parent_vertex.iter().map(|&v| prev[v as usize]).collect();
+            if signed_areas(&self.levels[l].mesh, &c).iter().any(|&a| a <= 0.0) {
                 return Ok(false);
             }
             coords.push(c);
@@ -223,13 +194,7 @@ impl Hierarchy {
         let method = self.method;
         for (level, c) in self.levels.iter_mut().zip(coords) {
             level.mesh = level.mesh.with_coords(c);
-            level.op = LevelOperator::new(
-                method,
-                &level.asm,
-                level.mesh.coords(),
-                level.mesh.cells(),
-                &level.dofs,
-            );
+            level.op = LevelOperator::new(method, &level.asm, level.mesh.coords(), level.mesh.cells(), &level.dofs);
             level.refresh_bounds();
         }
         for l in 0..self.levels.len() - 1 {
@@ -252,12 +217,7 @@ impl Hierarchy {
         let mut s = String::from("level  unknowns     cells       nnz(K)\n");
         let (mut nsum, mut zsum) = (0usize, 0usize);
         for (l, lev) in self.levels.iter().enumerate() {
-            s += &format!(
-                "{l:>5} {:>9} {:>9} {:>12}\n",
-                lev.n(),
-                lev.mesh.num_cells(),
-                lev.op.k.nnz()
-            );
+            s += &format!("{l:>5} {:>9} {:>9} {:>12}\n", lev.n(), lev.mesh.num_cells(), lev.op.k.nnz());
             nsum += lev.n();
             zsum += lev.op.k.nnz();
         }

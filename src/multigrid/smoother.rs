@@ -22,11 +22,7 @@ pub struct Scratch {
 
 impl Scratch {
     pub fn new(n: usize) -> Self {
-        Scratch {
-            r: vec![0.0; n],
-            s: vec![0.0; n],
-            d: vec![0.0; n],
-        }
+        Scratch { r: vec![0.0; n], s: vec![0.0; n], d: vec![0.0; n] }
     }
 }
 
@@ -43,10 +39,7 @@ pub struct Problem<'a> {
 pub fn smooth(pb: Problem, sm: Smoother, b: &[f64], x: &mut [f64], w: &mut Scratch) -> f64 {
     match sm {
         Smoother::Jacobi { weight } => jacobi(pb, weight, b, x, w),
-        Smoother::Chebyshev {
-            degree,
-            lower_ratio,
-        } => chebyshev(pb, degree, lower_ratio, b, x, w),
+        Smoother::Chebyshev { degree, lower_ratio } => chebyshev(pb, degree, lower_ratio, b, x, w),
     }
 }
 
@@ -59,14 +52,7 @@ fn jacobi(pb: Problem, weight: f64, b: &[f64], x: &mut [f64], w: &mut Scratch) -
 }
 
 /// The three-term Chebyshev recurrence for D⁻¹A x = D⁻¹b (Saad, Alg. 12.1).
-fn chebyshev(
-    pb: Problem,
-    degree: usize,
-    lower_ratio: f64,
-    b: &[f64],
-    x: &mut [f64],
-    w: &mut Scratch,
-) -> f64 {
+fn chebyshev(pb: Problem, degree: usize, lower_ratio: f64, b: &[f64], x: &mut [f64], w: &mut Scratch) -> f64 {
     let upper = pb.lambda_max;
     let lower = upper / lower_ratio;
     let theta = 0.5 * (upper + lower);
@@ -88,9 +74,7 @@ fn chebyshev(
         let (c1, c2) = (rho_new * rho, 2.0 * rho_new / delta);
         let r = &w.r;
         let d = &mut w.d;
-        d.iter_mut()
-            .enumerate()
-            .for_each(|(i, d)| *d = c1 * *d + c2 * pb.inv_d[i] * r[i]);
+        d.iter_mut().enumerate().for_each(|(i, d)| *d = c1 * *d + c2 * pb.inv_d[i] * r[i]);
         rho = rho_new;
     }
     maxc
@@ -101,15 +85,16 @@ fn chebyshev(
 pub fn estimate_lambda_max(op: &LevelOperator, flags: &[u8], inv_d: &[f64]) -> f64 {
     let n = op.n();
     // A fixed, mode-rich start vector: a cheap hash of the index.
-    let mut x: Vec<f64> = (0..n)
-        .map(|i| {
-            if flags[i] & P != 0 {
-                0.0
-            } else {
-                ((i as u64).wrapping_mul(2654435761) % 1000) as f64 / 1000.0 - 0.5
-            }
-        })
-        .collect();
+    let mut x: Vec<f64> =
+        (0..n)
+            .map(|i| {
+                if flags[i] & P != 0 {
+                    0.0
+                } else {
+                    ((i as u64).wrapping_mul(2654435761) % 1000) as f64 / 1000.0 - 0.5
+                }
+            })
+            .collect();
     let (mut y, mut s) = (vec![0.0; n], vec![0.0; n]);
     let mut lambda = 0.0;
     for _ in 0..15 {

@@ -40,19 +40,13 @@ fn distance_to_triangle(a: DVec2, b: DVec2, c: DVec2, p: DVec2) -> f64 {
     if w.iter().all(|&x| x >= 0.0) {
         return 0.0;
     }
-    seg_dist(a, b, p)
-        .min(seg_dist(b, c, p))
-        .min(seg_dist(c, a, p))
+    seg_dist(a, b, p).min(seg_dist(b, c, p)).min(seg_dist(c, a, p))
 }
 
 fn seg_dist(a: DVec2, b: DVec2, p: DVec2) -> f64 {
     let ab = b - a;
     let l2 = ab.length_squared();
-    let t = if l2 > 0.0 {
-        ((p - a).dot(ab) / l2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
+    let t = if l2 > 0.0 { ((p - a).dot(ab) / l2).clamp(0.0, 1.0) } else { 0.0 };
     (a + t * ab - p).length()
 }
 
@@ -221,12 +215,7 @@ impl<'a> Locator<'a> {
                             continue;
                         }
                         let t = cells[c as usize];
-                        let d = distance_to_triangle(
-                            x[t[0] as usize],
-                            x[t[1] as usize],
-                            x[t[2] as usize],
-                            p,
-                        );
+                        let d = distance_to_triangle(x[t[0] as usize], x[t[1] as usize], x[t[2] as usize], p);
                         if nearest.map_or(true, |n| d < n.0 || (d == n.0 && c < n.1)) {
                             nearest = Some((d, c));
                         }
@@ -253,10 +242,7 @@ impl<'a> Locator<'a> {
             }
         }
         let cell = nearest.expect("a mesh has at least one cell").1;
-        Location {
-            cell,
-            weights: self.weights(cell, p),
-        }
+        Location { cell, weights: self.weights(cell, p) }
     }
 }
 
@@ -275,18 +261,9 @@ pub fn locate(coarse: &Mesh, points: &[DVec2], regions: &[Option<i32>]) -> Vec<L
     let loc = Locator::new(coarse);
     let region = |i: usize| regions.get(i).copied().flatten();
     if points.len() < PAR_POINTS {
-        points
-            .iter()
-            .enumerate()
-            .map(|(i, &p)| loc.locate(p, region(i)))
-            .collect()
+        points.iter().enumerate().map(|(i, &p)| loc.locate(p, region(i))).collect()
     } else {
-        points
-            .par_iter()
-            .enumerate()
-            .with_min_len(256)
-            .map(|(i, &p)| loc.locate(p, region(i)))
-            .collect()
+        points.par_iter().enumerate().with_min_len(256).map(|(i, &p)| loc.locate(p, region(i))).collect()
     }
 }
 
@@ -302,19 +279,14 @@ pub fn update_weights(coarse: &Mesh, points: &[DVec2], locs: &mut [Location]) {
     if points.len() < PAR_POINTS {
         locs.iter_mut().zip(points).for_each(f);
     } else {
-        locs.par_iter_mut()
-            .zip(points)
-            .with_min_len(256)
-            .for_each(f);
+        locs.par_iter_mut().zip(points).with_min_len(256).for_each(f);
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::multigrid::coarsen::tests::{
-        annulus, cylinder, rect, two_regions, unstructured_rect, Lcg,
-    };
+    use crate::multigrid::coarsen::tests::{annulus, cylinder, rect, two_regions, unstructured_rect, Lcg};
     use crate::multigrid::coarsen::{coarsen, CoarsenParams};
 
     fn linear(p: DVec2) -> f64 {
@@ -327,9 +299,7 @@ mod tests {
         let (mut err, mut wmin) = (0.0f64, f64::INFINITY);
         for (p, l) in points.iter().zip(locs) {
             let t = coarse.cells()[l.cell as usize];
-            let v: f64 = (0..3)
-                .map(|k| l.weights[k] * linear(coarse.coords()[t[k] as usize]))
-                .sum();
+            let v: f64 = (0..3).map(|k| l.weights[k] * linear(coarse.coords()[t[k] as usize])).sum();
             assert!((l.weights.iter().sum::<f64>() - 1.0).abs() < 1e-14);
             err = err.max((v - linear(*p)).abs());
             wmin = wmin.min(l.weights[0].min(l.weights[1]).min(l.weights[2]));
@@ -341,22 +311,14 @@ mod tests {
     fn linear_functions_reproduced_including_outside_points() {
         // Curved outer boundary: fine vertices on it lie outside the coarse chords.
         let fine = annulus(8, 96);
-        let c = coarsen(&fine, &[], &CoarsenParams::default())
-            .unwrap()
-            .unwrap();
+        let c = coarsen(&fine, &[], &CoarsenParams::default()).unwrap().unwrap();
         let locs = locate(&c.mesh, fine.coords(), &[]);
         let (err, wmin) = linear_error(&c.mesh, fine.coords(), &locs);
         assert!(err < 1e-12, "error {err}");
-        assert!(
-            wmin < -1e-3,
-            "no fine vertex outside the coarse domain ({wmin})"
-        );
+        assert!(wmin < -1e-3, "no fine vertex outside the coarse domain ({wmin})");
         // The outside ones got the nearest cell: extrapolation stays mild.
         assert!(wmin > -0.5, "{wmin}");
-        let outside = locs
-            .iter()
-            .filter(|l| l.weights.iter().any(|&w| w < -1e-12))
-            .count();
+        let outside = locs.iter().filter(|l| l.weights.iter().any(|&w| w < -1e-12)).count();
         assert_eq!(outside, 48, "fine outer vertices between kept ones");
         // Kept vertices are located at themselves (weight one on that vertex).
         for (i, &v) in c.fine_vertex.iter().enumerate() {
@@ -379,9 +341,7 @@ mod tests {
     #[test]
     fn region_restriction_picks_the_side_of_an_interface() {
         let fine = two_regions(32);
-        let c = coarsen(&fine, &[], &CoarsenParams::default())
-            .unwrap()
-            .unwrap();
+        let c = coarsen(&fine, &[], &CoarsenParams::default()).unwrap().unwrap();
         let pts: Vec<DVec2> = (0..=32).map(|i| DVec2::new(i as f64 / 32.0, 0.5)).collect();
         for r in [1, 2] {
             let locs = locate(&c.mesh, &pts, &vec![Some(r); pts.len()]);
@@ -399,35 +359,14 @@ mod tests {
     #[test]
     fn far_points_get_the_nearest_cell() {
         let m = rect(8);
-        let locs = locate(
-            &m,
-            &[
-                DVec2::new(3.0, 3.0),
-                DVec2::new(-1.0, 0.5),
-                DVec2::new(0.5, -1e-9),
-            ],
-            &[],
-        );
-        let has = |l: &Location, p: DVec2| {
-            m.cells()[l.cell as usize]
-                .iter()
-                .any(|&v| m.coords()[v as usize] == p)
-        };
+        let locs = locate(&m, &[DVec2::new(3.0, 3.0), DVec2::new(-1.0, 0.5), DVec2::new(0.5, -1e-9)], &[]);
+        let has = |l: &Location, p: DVec2| m.cells()[l.cell as usize].iter().any(|&v| m.coords()[v as usize] == p);
         assert!(has(&locs[0], DVec2::new(1.0, 1.0)));
         assert!(has(&locs[1], DVec2::new(0.0, 0.5)));
         // Just below the bottom edge: a cell on that edge.
         let t = m.cells()[locs[2].cell as usize];
-        assert_eq!(
-            t.iter()
-                .filter(|&&v| m.coords()[v as usize].y == 0.0)
-                .count(),
-            2
-        );
-        let pts = [
-            DVec2::new(3.0, 3.0),
-            DVec2::new(-1.0, 0.5),
-            DVec2::new(0.5, -1e-9),
-        ];
+        assert_eq!(t.iter().filter(|&&v| m.coords()[v as usize].y == 0.0).count(), 2);
+        let pts = [DVec2::new(3.0, 3.0), DVec2::new(-1.0, 0.5), DVec2::new(0.5, -1e-9)];
         let (err, _) = linear_error(&m, &pts, &locs);
         assert!(err < 1e-12);
     }
@@ -435,25 +374,16 @@ mod tests {
     #[test]
     fn update_weights_follows_moved_mesh() {
         let fine = unstructured_rect(40, 9);
-        let c = coarsen(&fine, &[], &CoarsenParams::default())
-            .unwrap()
-            .unwrap();
+        let c = coarsen(&fine, &[], &CoarsenParams::default()).unwrap().unwrap();
         let mut locs = locate(&c.mesh, fine.coords(), &[]);
         let mut rng = Lcg(1);
-        let moved: Vec<DVec2> = c
-            .mesh
-            .coords()
-            .iter()
-            .map(|p| *p + 0.002 * DVec2::new(rng.next() - 0.5, rng.next() - 0.5))
-            .collect();
+        let moved: Vec<DVec2> =
+            c.mesh.coords().iter().map(|p| *p + 0.002 * DVec2::new(rng.next() - 0.5, rng.next() - 0.5)).collect();
         let moved_mesh = c.mesh.with_coords(moved);
         let fine_moved: Vec<DVec2> = fine.coords().iter().map(|p| *p * 1.01).collect();
         let cells_before: Vec<u32> = locs.iter().map(|l| l.cell).collect();
         update_weights(&moved_mesh, &fine_moved, &mut locs);
-        assert_eq!(
-            cells_before,
-            locs.iter().map(|l| l.cell).collect::<Vec<_>>()
-        );
+        assert_eq!(cells_before, locs.iter().map(|l| l.cell).collect::<Vec<_>>());
         let (err, _) = linear_error(&moved_mesh, &fine_moved, &locs);
         assert!(err < 1e-12);
     }
@@ -462,9 +392,8 @@ mod tests {
     fn parallel_matches_serial() {
         let m = unstructured_rect(30, 2);
         let mut rng = Lcg(5);
-        let pts: Vec<DVec2> = (0..3 * PAR_POINTS)
-            .map(|_| DVec2::new(1.4 * rng.next() - 0.2, 1.4 * rng.next() - 0.2))
-            .collect();
+        let pts: Vec<DVec2> =
+            (0..3 * PAR_POINTS).map(|_| DVec2::new(1.4 * rng.next() - 0.2, 1.4 * rng.next() - 0.2)).collect();
         let par = locate(&m, &pts, &[]);
         let loc = Locator::new(&m);
         for (p, l) in pts.iter().zip(&par) {
@@ -480,18 +409,11 @@ mod tests {
     fn locate_million_points_timing() {
         let fine = rect(1000);
         let t0 = std::time::Instant::now();
-        let c = coarsen(&fine, &[], &CoarsenParams::default())
-            .unwrap()
-            .unwrap();
+        let c = coarsen(&fine, &[], &CoarsenParams::default()).unwrap().unwrap();
         let t1 = std::time::Instant::now();
         let locs = locate(&c.mesh, fine.coords(), &[]);
         let t2 = std::time::Instant::now();
-        eprintln!(
-            "{} fine vertices: coarsen {:.2?}, locate {:.2?}",
-            fine.num_vertices(),
-            t1 - t0,
-            t2 - t1
-        );
+        eprintln!("{} fine vertices: coarsen {:.2?}, locate {:.2?}", fine.num_vertices(), t1 - t0, t2 - t1);
         let (err, _) = linear_error(&c.mesh, fine.coords(), &locs);
         assert!(err < 1e-11);
     }

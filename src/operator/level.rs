@@ -19,25 +19,14 @@ pub struct LevelOperator {
 }
 
 impl LevelOperator {
-    pub fn new(
-        method: Method,
-        asm: &Assembly,
-        coords: &[DVec2],
-        cells: &[[u32; 3]],
-        dofs: &Dofs,
-    ) -> Self {
+    pub fn new(method: Method, asm: &Assembly, coords: &[DVec2], cells: &[[u32; 3]], dofs: &Dofs) -> Self {
         let k = match method {
             Method::Spring => spring_stiffness(asm, coords, cells, dofs),
             _ => stiffness(asm, coords, cells, dofs),
         };
         let v = lumped_mass(coords, cells, dofs);
         let inv_v = v.iter().map(|&v| 1.0 / v).collect();
-        LevelOperator {
-            method,
-            k,
-            v,
-            inv_v,
-        }
+        LevelOperator { method, k, v, inv_v }
     }
 
     pub fn n(&self) -> usize {

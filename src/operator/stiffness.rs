@@ -21,9 +21,7 @@ impl Assembly {
                 pairs.push((b, a));
             }
         }
-        Assembly {
-            pattern: CsrMatrix::from_pattern(dofs.n, dofs.n, pairs),
-        }
+        Assembly { pattern: CsrMatrix::from_pattern(dofs.n, dofs.n, pairs) }
     }
 }
 
@@ -70,12 +68,7 @@ pub fn stiffness(asm: &Assembly, coords: &[DVec2], cells: &[[u32; 3]], dofs: &Do
 
 /// The spring analogy: graph Laplacian with weight 1/L² on every mesh edge. An edge seen from
 /// both its cells, or twice through a link, is one spring.
-pub fn spring_stiffness(
-    asm: &Assembly,
-    coords: &[DVec2],
-    cells: &[[u32; 3]],
-    dofs: &Dofs,
-) -> CsrMatrix {
+pub fn spring_stiffness(asm: &Assembly, coords: &[DVec2], cells: &[[u32; 3]], dofs: &Dofs) -> CsrMatrix {
     let mut k = asm.pattern.clone();
     k.vals.iter_mut().for_each(|v| *v = 0.0);
     let mut seen = vec![false; k.nnz()];

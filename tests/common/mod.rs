@@ -23,14 +23,7 @@ pub struct Grid {
 
 impl Grid {
     pub fn new(nx: usize, ny: usize) -> Self {
-        Grid {
-            nx,
-            ny,
-            x: [0.0, 1.0],
-            y: [0.0, 1.0],
-            jitter: 0.0,
-            alternate: false,
-        }
+        Grid { nx, ny, x: [0.0, 1.0], y: [0.0, 1.0], jitter: 0.0, alternate: false }
     }
     pub fn jitter(mut self, j: f64) -> Self {
         self.jitter = j;
@@ -51,10 +44,7 @@ impl Grid {
     }
 
     pub fn coords(&self) -> Vec<[f64; 2]> {
-        let (hx, hy) = (
-            (self.x[1] - self.x[0]) / self.nx as f64,
-            (self.y[1] - self.y[0]) / self.ny as f64,
-        );
+        let (hx, hy) = ((self.x[1] - self.x[0]) / self.nx as f64, (self.y[1] - self.y[0]) / self.ny as f64);
         let mut c = Vec::new();
         for j in 0..=self.ny {
             for i in 0..=self.nx {
@@ -74,12 +64,7 @@ impl Grid {
         let mut t = Vec::new();
         for j in 0..self.ny {
             for i in 0..self.nx {
-                let (a, b, c, d) = (
-                    self.id(i, j),
-                    self.id(i + 1, j),
-                    self.id(i + 1, j + 1),
-                    self.id(i, j + 1),
-                );
+                let (a, b, c, d) = (self.id(i, j), self.id(i + 1, j), self.id(i + 1, j + 1), self.id(i, j + 1));
                 if self.alternate && (i + j) % 2 == 1 {
                     t.push([a, b, d]);
                     t.push([b, c, d]);
@@ -106,35 +91,19 @@ impl Grid {
     }
 
     pub fn mesh(&self) -> Mesh {
-        Mesh::new(
-            &self.coords(),
-            &self.cells(),
-            IndexBase::Zero,
-            &self.tagged(),
-            None,
-        )
-        .unwrap()
+        Mesh::new(&self.coords(), &self.cells(), IndexBase::Zero, &self.tagged(), None).unwrap()
     }
 
     /// Two regions: rows below `ny/2` region 0, above region 1; the middle row's edges tagged
     /// INTERFACE (shared vertices).
     pub fn two_regions(&self) -> Mesh {
         let mid = self.ny / 2;
-        let regions: Vec<i32> = (0..self.ny)
-            .flat_map(|j| vec![i32::from(j >= mid); 2 * self.nx])
-            .collect();
+        let regions: Vec<i32> = (0..self.ny).flat_map(|j| vec![i32::from(j >= mid); 2 * self.nx]).collect();
         let mut tagged = self.tagged();
         for i in 0..self.nx {
             tagged.push(([self.id(i, mid), self.id(i + 1, mid)], INTERFACE));
         }
-        Mesh::new(
-            &self.coords(),
-            &self.cells(),
-            IndexBase::Zero,
-            &tagged,
-            Some(&regions),
-        )
-        .unwrap()
+        Mesh::new(&self.coords(), &self.cells(), IndexBase::Zero, &tagged, Some(&regions)).unwrap()
     }
 }
 
@@ -182,10 +151,7 @@ use meshmove::{Method, Solver};
 /// (read only where prescribed).
 pub fn wavy(x: DVec2) -> DVec2 {
     let w = std::f64::consts::TAU * x.x;
-    DVec2::new(
-        0.02 * w.sin() + 0.01 * x.y * x.y,
-        0.05 * w.cos() + 0.02 * x.y,
-    )
+    DVec2::new(0.02 * w.sin() + 0.01 * x.y * x.y, 0.05 * w.cos() + 0.02 * x.y)
 }
 
 /// Solves the fine-level system of `solver` for component `c` by a dense direct solve,
@@ -214,20 +180,14 @@ pub fn direct_solve(solver: &Solver, c: usize, d: &[f64]) -> Vec<f64> {
                 for (jj, &j) in u.iter().enumerate() {
                     a[ii * m + jj] += w * k[kk][j];
                 }
-                let kd: f64 = (0..n)
-                    .filter(|&j| flags[j] & P != 0)
-                    .map(|j| k[kk][j] * d[j])
-                    .sum();
+                let kd: f64 = (0..n).filter(|&j| flags[j] & P != 0).map(|j| k[kk][j] * d[j]).sum();
                 b[ii] -= w * kd;
             }
         } else {
             for (jj, &j) in u.iter().enumerate() {
                 a[ii * m + jj] = k[i][j];
             }
-            b[ii] = -(0..n)
-                .filter(|&j| flags[j] & P != 0)
-                .map(|j| k[i][j] * d[j])
-                .sum::<f64>();
+            b[ii] = -(0..n).filter(|&j| flags[j] & P != 0).map(|j| k[i][j] * d[j]).sum::<f64>();
         }
     }
     for i in 0..m {
@@ -248,10 +208,5 @@ pub fn direct_solve(solver: &Solver, c: usize, d: &[f64]) -> Vec<f64> {
 
 /// Per-unknown values of component `c` of a per-vertex field.
 pub fn at_dofs(solver: &Solver, field: &[DVec2], c: usize) -> Vec<f64> {
-    solver.hierarchy().levels[0]
-        .dofs
-        .dof_vertex
-        .iter()
-        .map(|&v| field[v as usize][c])
-        .collect()
+    solver.hierarchy().levels[0].dofs.dof_vertex.iter().map(|&v| field[v as usize][c]).collect()
 }
