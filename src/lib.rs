@@ -40,3 +40,8 @@ pub use motion::{Motion, RigidMotion};
 pub use multigrid::solve::{Criterion, Mode, Report, SolveParams};
 pub use operator::Method;
 pub use solver::{Options, Solution, Solver};
+
+/// The README's example is compiled and run as a doctest.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;
