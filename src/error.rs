@@ -18,6 +18,8 @@ pub enum Error {
     Coarsening(String),
     #[error("solver diverged: {0}")]
     Diverged(String),
+    #[error("mesh file: {0}")]
+    Io(#[from] crate::io::IoError),
 }
 
 pub type Result<T, E = Error> = std::result::Result<T, E>;

@@ -26,6 +26,7 @@ pub mod bc;
 pub mod cases;
 pub mod dense;
 pub mod error;
+pub mod io;
 pub mod mesh;
 pub mod motion;
 pub mod multigrid;

@@ -1,0 +1,478 @@
+//! Tests of the mesh file readers and writers, on Gmsh-made fixtures in `tests/data/`.
+
+use super::*;
+use crate::mesh::Mesh;
+use glam::DVec2;
+use std::path::PathBuf;
+
+fn data(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(name)
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("meshmove-io-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+fn edges_of(m: &Mesh, patch: i32) -> usize {
+    m.patch_edges().iter().filter(|e| e.patch == patch).count()
+}
+
+/// Same topology, patches and regions; coordinates within `tol` (0: bitwise).
+fn assert_same(a: &MshMesh, b: &MshMesh, tol: f64) {
+    let (ma, mb) = (&a.mesh, &b.mesh);
+    assert_eq!(ma.num_vertices(), mb.num_vertices());
+    assert_eq!(ma.cells(), mb.cells());
+    assert_eq!(ma.regions(), mb.regions());
+    assert_eq!(ma.patch_edges(), mb.patch_edges());
+    assert_eq!(a.node_tags, b.node_tags);
+    assert_eq!(a.physical_names, b.physical_names);
+    for (p, q) in ma.coords().iter().zip(mb.coords()) {
+        if tol == 0.0 {
+            assert_eq!(
+                (p.x.to_bits(), p.y.to_bits()),
+                (q.x.to_bits(), q.y.to_bits())
+            );
+        } else {
+            assert!((*p - *q).abs().max_element() <= tol, "{p} vs {q}");
+        }
+    }
+}
+
+#[test]
+fn gmsh_fixtures_22_41_ascii_binary_agree() {
+    let files = [
+        "square_hole_22.msh",
+        "square_hole_22_bin.msh",
+        "square_hole_41.msh",
+        "square_hole_41_bin.msh",
+    ];
+    let meshes: Vec<MshMesh> = files.iter().map(|f| read_msh(&data(f)).unwrap()).collect();
+    let m0 = &meshes[0];
+    assert_eq!(m0.mesh.num_vertices(), 36);
+    assert_eq!(m0.mesh.num_cells(), 48);
+    assert_eq!(m0.mesh.patch_ids(), vec![1, 2, 3]);
+    // Each square side and each quarter circle is meshed with 2 segments at lc = 0.25.
+    assert_eq!(edges_of(&m0.mesh, 1), 8);
+    assert_eq!(edges_of(&m0.mesh, 2), 8);
+    assert_eq!(edges_of(&m0.mesh, 3), 8);
+    assert!(m0.mesh.regions().iter().all(|&r| r == 7));
+    assert_eq!(
+        m0.physical_names,
+        vec![
+            (1, 1, "wall".to_string()),
+            (1, 2, "inout".to_string()),
+            (1, 3, "hole".to_string()),
+            (2, 7, "fluid".to_string()),
+        ]
+    );
+    // The hole: patch 3 vertices at distance 0.2 from (0.5, 0.5).
+    for v in m0.mesh.patch_vertices(3) {
+        let d = (m0.mesh.coords()[v as usize] - DVec2::new(0.5, 0.5)).length();
+        assert!((d - 0.2).abs() < 1e-12, "{d}");
+    }
+    // Gmsh writes ASCII with %.16g, so ASCII and binary agree to rounding only.
+    assert_same(&meshes[0], &meshes[2], 0.0);
+    assert_same(&meshes[1], &meshes[3], 0.0);
+    assert_same(&meshes[0], &meshes[1], 1e-15);
+}
+
+#[test]
+fn gmsh_two_regions_interface_and_unnamed_curve() {
+    // 4.1 written with -save_all: the top curves have no physical group (patch 0), points
+    // (type 15) are in the file; the 2.2 binary omits them. Both read to the same mesh.
+    let a = read_msh(&data("two_regions_41.msh")).unwrap();
+    let b = read_msh(&data("two_regions_22_bin.msh")).unwrap();
+    assert_same(&a, &b, 1e-15);
+    let m = &a.mesh;
+    assert_eq!((m.num_vertices(), m.num_cells()), (56, 86));
+    assert_eq!(m.patch_ids(), vec![0, 4, 5, 9]);
+    let interface: Vec<_> = m.patch_edges().iter().filter(|e| e.patch == 9).collect();
+    assert_eq!(interface.len(), 4);
+    assert!(interface.iter().all(|e| e.interior));
+    assert!(m
+        .patch_vertices(9)
+        .iter()
+        .all(|&v| m.coords()[v as usize].x == 1.0));
+    assert!(m
+        .patch_vertices(0)
+        .iter()
+        .all(|&v| m.coords()[v as usize].y == 1.0));
+    assert_eq!(edges_of(m, 4), 8);
+    assert_eq!(edges_of(m, 0), 8);
+    for (c, &r) in m.cells().iter().zip(m.regions()) {
+        let cx = c.iter().map(|&v| m.coords()[v as usize].x).sum::<f64>() / 3.0;
+        assert_eq!(r, if cx < 1.0 { 1 } else { 2 });
+    }
+    // Node tags: the Gmsh tags of the kept nodes, distinct.
+    let mut t = a.node_tags.clone();
+    t.sort_unstable();
+    t.dedup();
+    assert_eq!(t.len(), 56);
+}
+
+#[test]
+fn write_msh22_round_trip_is_exact() {
+    let src = read_msh(&data("two_regions_41.msh")).unwrap().mesh;
+    // Coordinates with full 53-bit mantissas, and one tiny and one huge offset.
+    let coords: Vec<DVec2> = src
+        .coords()
+        .iter()
+        .enumerate()
+        .map(|(i, p)| *p * std::f64::consts::PI + DVec2::splat(1e-300 * i as f64))
+        .collect();
+    let mesh = src.with_coords(coords);
+    let path = tmp("round.msh");
+    write_msh22(&mesh, &path).unwrap();
+    let back = read_msh(&path).unwrap();
+    assert_eq!(
+        back.node_tags,
+        (1..=mesh.num_vertices()).collect::<Vec<_>>()
+    );
+    let bm = &back.mesh;
+    for (p, q) in mesh.coords().iter().zip(bm.coords()) {
+        assert_eq!(
+            (p.x.to_bits(), p.y.to_bits()),
+            (q.x.to_bits(), q.y.to_bits())
+        );
+    }
+    assert_eq!(bm.cells(), mesh.cells());
+    assert_eq!(bm.regions(), mesh.regions());
+    assert_eq!(bm.patch_edges(), mesh.patch_edges());
+}
+
+fn sample_fields(n: usize, m: usize) -> (Vec<f64>, Vec<DVec2>, Vec<f64>, Vec<i32>) {
+    let s: Vec<f64> = (0..n).map(|i| (i as f64 + 0.1).sqrt() * 1e-7).collect();
+    let v: Vec<DVec2> = (0..n)
+        .map(|i| DVec2::new((i as f64).sin(), -(i as f64 / 3.0)))
+        .collect();
+    let f: Vec<f64> = (0..m).map(|c| 1.0 / (c as f64 + 3.0)).collect();
+    let k: Vec<i32> = (0..m).map(|c| c as i32 * 7 - 40).collect();
+    (s, v, f, k)
+}
+
+#[test]
+fn vtu_round_trip_is_exact() {
+    let mesh = read_msh(&data("square_hole_41_bin.msh")).unwrap().mesh;
+    let (n, m) = (mesh.num_vertices(), mesh.num_cells());
+    let (s, v, f, k) = sample_fields(n, m);
+    let coords: Vec<DVec2> = mesh.coords().iter().map(|p| *p / 3.0).collect();
+    let path = tmp("rt.vtu");
+    write_vtu(
+        &path,
+        &mesh,
+        &coords,
+        &[
+            ("s", PointField::Scalar(&s)),
+            ("v <&>", PointField::Vector(&v)),
+        ],
+        &[("f", CellField::F64(&f)), ("region", CellField::I32(&k))],
+    )
+    .unwrap();
+    let d = read_vtu(&path).unwrap();
+    assert_eq!(d.points.len(), n);
+    for (p, q) in coords.iter().zip(&d.points) {
+        assert_eq!(
+            (p.x.to_bits(), p.y.to_bits()),
+            (q[0].to_bits(), q[1].to_bits())
+        );
+    }
+    assert_eq!(d.cells, mesh.cells());
+    assert_eq!(d.point_data.len(), 2);
+    assert_eq!((d.point_data[0].0.as_str(), d.point_data[0].2), ("s", 1));
+    assert!(d.point_data[0]
+        .1
+        .iter()
+        .zip(&s)
+        .all(|(a, b)| a.to_bits() == b.to_bits()));
+    assert_eq!(
+        (d.point_data[1].0.as_str(), d.point_data[1].2),
+        ("v <&>", 3)
+    );
+    for (i, p) in v.iter().enumerate() {
+        assert_eq!(&d.point_data[1].1[3 * i..3 * i + 3], &[p.x, p.y, 0.0]);
+    }
+    assert_eq!((d.cell_data[0].0.as_str(), d.cell_data[0].2), ("f", 1));
+    assert!(d.cell_data[0]
+        .1
+        .iter()
+        .zip(&f)
+        .all(|(a, b)| a.to_bits() == b.to_bits()));
+    assert_eq!(
+        d.cell_data[1].1,
+        k.iter().map(|&x| x as f64).collect::<Vec<_>>()
+    );
+    let back = d.to_mesh().unwrap();
+    assert_eq!(back.regions(), &k[..]);
+    assert_eq!(back.cells(), mesh.cells());
+}
+
+#[test]
+fn write_deformed_fields() {
+    let mesh = read_msh(&data("square_hole_22.msh")).unwrap().mesh;
+    let n = mesh.num_vertices();
+    // Stretch x by 2 (area ratio 2), then flip one vertex far across to invert some cells.
+    let mut disp: Vec<DVec2> = mesh.coords().iter().map(|p| DVec2::new(p.x, 0.0)).collect();
+    let path = tmp("def.vtu");
+    write_deformed(&path, &mesh, &disp).unwrap();
+    let d = read_vtu(&path).unwrap();
+    let get = |name: &str| d.cell_data.iter().find(|x| x.0 == name).unwrap().1.clone();
+    assert!(get("area_ratio").iter().all(|&r| (r - 2.0).abs() < 1e-12));
+    assert!(get("inverted").iter().all(|&r| r == 0.0));
+    assert!(get("region").iter().all(|&r| r == 7.0));
+    assert!(get("min_angle").iter().all(|&a| a > 0.0 && a < 60.0));
+    for (p, (q, u)) in d.points.iter().zip(mesh.coords().iter().zip(&disp)) {
+        assert_eq!(p[0], q.x + u.x);
+    }
+    let v = mesh.cells()[0][0] as usize;
+    disp[v] = DVec2::new(5.0, 5.0);
+    write_deformed(&path, &mesh, &disp).unwrap();
+    let d = read_vtu(&path).unwrap();
+    let inv = d.cell_data.iter().find(|x| x.0 == "inverted").unwrap();
+    assert!(inv.1.iter().any(|&r| r == 1.0));
+    assert_eq!(d.point_data[0].1.len(), 3 * n);
+    assert!(matches!(
+        write_deformed(&path, &mesh, &disp[1..]),
+        Err(IoError::InvalidArgument(_))
+    ));
+}
+
+// ---- malformed input --------------------------------------------------------------------------
+
+const GOOD22: &str = "$MeshFormat
+2.2 0 8
+$EndMeshFormat
+$Nodes
+4
+10 0 0 0
+20 1 0 0
+30 1 1 0
+40 0 1 0
+$EndNodes
+$Elements
+3
+1 1 2 5 5 10 20
+2 2 2 1 1 10 20 30
+3 2 2 1 1 10 30 40
+$EndElements
+";
+
+fn parse_err(text: &str) -> (usize, String) {
+    match parse_msh(text.as_bytes()) {
+        Err(IoError::Parse { line, message, .. }) => (line, message),
+        other => panic!("expected a Parse error, got {other:?}"),
+    }
+}
+
+#[test]
+fn hand_written_22_reads() {
+    let m = parse_msh(GOOD22.as_bytes()).unwrap();
+    assert_eq!(m.node_tags, vec![10, 20, 30, 40]);
+    assert_eq!(m.mesh.patch_ids(), vec![0, 5]);
+    assert_eq!(edges_of(&m.mesh, 5), 1);
+    assert_eq!(m.mesh.regions(), &[1, 1]);
+}
+
+#[test]
+fn truncated_nodes() {
+    let t = GOOD22.replace("40 0 1 0\n", "");
+    let (line, msg) = parse_err(&t);
+    assert_eq!(line, 9, "{msg}");
+    assert!(msg.contains("$Nodes") && msg.contains("$EndNodes"), "{msg}");
+    // Cut off inside $Nodes, at the end of the file.
+    let t = &GOOD22[..GOOD22.find("30 1 1 0").unwrap()];
+    let (line, msg) = parse_err(t);
+    assert_eq!(line, 7, "{msg}");
+    assert!(
+        msg.contains("end of file") && msg.contains("$Nodes"),
+        "{msg}"
+    );
+}
+
+#[test]
+fn non_number() {
+    let (line, msg) = parse_err(&GOOD22.replace("20 1 0 0", "20 1 x0 0"));
+    assert_eq!(line, 7);
+    assert!(msg.contains("`x0`") && msg.contains("$Nodes"), "{msg}");
+    let (line, msg) = parse_err(&GOOD22.replace("3 2 2 1 1 10 30 40", "3 2 2 1 1 10 30 4.5"));
+    assert_eq!(line, 15);
+    assert!(msg.contains("$Elements"), "{msg}");
+}
+
+#[test]
+fn missing_end_elements() {
+    let (line, msg) = parse_err(&GOOD22.replace("$EndElements\n", ""));
+    assert_eq!(line, 15);
+    assert!(
+        msg.contains("$EndElements") && msg.contains("end of file"),
+        "{msg}"
+    );
+    let t = GOOD22.replace("$EndElements\n", "$NodeData\n$EndNodeData\n");
+    let (line, msg) = parse_err(&t);
+    assert_eq!(line, 16);
+    assert!(msg.contains("`$NodeData`"), "{msg}");
+}
+
+#[test]
+fn wrong_node_count() {
+    let (line, msg) = parse_err(&GOOD22.replace("$Nodes\n4\n", "$Nodes\n3\n"));
+    assert_eq!(line, 9);
+    assert!(msg.contains("$EndNodes") && msg.contains("`40`"), "{msg}");
+    // 4.1: header total disagrees with the blocks.
+    let t41 = std::fs::read_to_string(data("square_hole_41.msh")).unwrap();
+    let t = t41.replacen("$Nodes\n17 36 1 36", "$Nodes\n17 37 1 36", 1);
+    let (line, msg) = parse_err(&t);
+    assert!(msg.contains("announces 37 nodes"), "{msg}");
+    let end_nodes = t.lines().position(|l| l == "$EndNodes").unwrap() + 1;
+    assert_eq!(line, end_nodes - 1);
+}
+
+#[test]
+fn unknown_and_unsupported_version() {
+    let (line, msg) = parse_err(&GOOD22.replace("2.2 0 8", "2.x 0 8"));
+    assert_eq!(line, 2);
+    assert!(
+        msg.contains("$MeshFormat") && msg.contains("`2.x`"),
+        "{msg}"
+    );
+    let (line, _) = parse_err(&GOOD22.replace("2.2 0 8", "7.3 0 8"));
+    assert_eq!(line, 2);
+    assert!(matches!(
+        parse_msh(GOOD22.replace("2.2 0 8", "3.0 0 8").as_bytes()),
+        Err(IoError::Unsupported(m)) if m.contains("3.0")
+    ));
+}
+
+#[test]
+fn element_with_missing_node() {
+    let (line, msg) = parse_err(&GOOD22.replace("2 2 2 1 1 10 20 30", "2 2 2 1 1 10 20 31"));
+    assert_eq!(line, 14);
+    assert!(
+        msg.contains("node 31") && msg.contains("$Elements"),
+        "{msg}"
+    );
+    // 4.1 ASCII from Gmsh, one node tag of the last element changed.
+    let t41 = std::fs::read_to_string(data("square_hole_41.msh")).unwrap();
+    let mut lines: Vec<String> = t41.lines().map(String::from).collect();
+    let end = lines.iter().position(|l| l == "$EndElements").unwrap();
+    lines[end - 1] = lines[end - 1].replacen(' ', " 999 ", 1);
+    let (line, msg) = parse_err(&(lines.join("\n") + "\n"));
+    assert_eq!(line, end);
+    assert!(msg.contains("node 999"), "{msg}");
+}
+
+#[test]
+fn unsupported_element_and_truncated_binary() {
+    let t = GOOD22.replace("3 2 2 1 1 10 30 40", "3 3 2 1 1 10 20 30 40");
+    assert!(matches!(
+        parse_msh(t.as_bytes()),
+        Err(IoError::Unsupported(m)) if m.contains("type 3") && m.contains("quadrangle")
+    ));
+    let b = std::fs::read(data("square_hole_41_bin.msh")).unwrap();
+    let cut = b.windows(9).position(|w| w == b"$Elements").unwrap() + 40;
+    match parse_msh(&b[..cut]) {
+        Err(IoError::Parse {
+            line: 0,
+            offset: Some(o),
+            message,
+        }) => {
+            assert!(o <= cut && message.contains("$Elements"), "{message}")
+        }
+        other => panic!("{other:?}"),
+    }
+    let no_tri = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 1 1 1\n0 1 0 1\n1\n0 0 0\n$EndNodes\n$Elements\n1 1 1 1\n0 1 15 1\n1 1\n$EndElements\n";
+    assert!(matches!(
+        parse_msh(no_tri.as_bytes()),
+        Err(IoError::Unsupported(_))
+    ));
+}
+
+fn vtu_text() -> String {
+    let mesh = parse_msh(GOOD22.as_bytes()).unwrap().mesh;
+    let path = tmp("small.vtu");
+    let s = [1.5, 2.5, 3.5, 4.5];
+    write_vtu(
+        &path,
+        &mesh,
+        mesh.coords(),
+        &[("s", PointField::Scalar(&s))],
+        &[],
+    )
+    .unwrap();
+    std::fs::read_to_string(path).unwrap()
+}
+
+fn vtu_err(text: &str) -> (usize, String) {
+    match parse_vtu(text.as_bytes()) {
+        Err(IoError::Parse { line, message, .. }) => (line, message),
+        other => panic!("expected a Parse error, got {other:?}"),
+    }
+}
+
+#[test]
+fn vtu_missing_points() {
+    let t = vtu_text();
+    let a = t.find("<Points>").unwrap();
+    let b = t.find("</Points>").unwrap() + "</Points>\n".len();
+    let cut = format!("{}{}", &t[..a], &t[b..]);
+    let (line, msg) = vtu_err(&cut);
+    assert!(msg.contains("<Points>"), "{msg}");
+    let piece_end = cut.lines().position(|l| l == "</Piece>").unwrap() + 1;
+    assert_eq!(line, piece_end);
+}
+
+#[test]
+fn vtu_too_few_values() {
+    let t = vtu_text().replace("1.5 2.5 3.5 4.5", "1.5 2.5 3.5");
+    let (line, msg) = vtu_err(&t);
+    let at = t.lines().position(|l| l.contains("Name=\"s\"")).unwrap() + 1;
+    assert_eq!(line, at);
+    assert!(
+        msg.contains("`s`") && msg.contains("expected 4") && msg.contains("found 3"),
+        "{msg}"
+    );
+    let t = vtu_text().replace("1.5 2.5 3.5 4.5", "1.5 2.5 zz 4.5");
+    let (line, msg) = vtu_err(&t);
+    assert_eq!(line, at + 1);
+    assert!(msg.contains("`zz`"), "{msg}");
+    let t = vtu_text().replace(" NumberOfPoints=\"4\"", "");
+    let (_, msg) = vtu_err(&t);
+    assert!(
+        msg.contains("NumberOfPoints") && msg.contains("<Piece>"),
+        "{msg}"
+    );
+}
+
+#[test]
+fn vtu_inline_base64_binary() {
+    // The points of a triangle, Float64, base64 with a UInt32 header, encoded in one run.
+    let pts: Vec<f64> = vec![0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.1, 0.7, 0.0];
+    let mut raw = ((pts.len() * 8) as u32).to_le_bytes().to_vec();
+    pts.iter().for_each(|x| raw.extend(x.to_le_bytes()));
+    use base64::Engine as _;
+    let enc = base64::engine::general_purpose::STANDARD.encode(&raw);
+    let xml = format!(
+        r#"<?xml version="1.0"?>
+<VTKFile type="UnstructuredGrid" version="0.1" byte_order="LittleEndian">
+<UnstructuredGrid><Piece NumberOfPoints="3" NumberOfCells="1">
+<Points><DataArray type="Float64" NumberOfComponents="3" format="binary">{enc}</DataArray></Points>
+<Cells><DataArray type="Int32" Name="connectivity" format="ascii">0 1 2</DataArray>
+<DataArray type="Int32" Name="offsets" format="ascii">3</DataArray>
+<DataArray type="UInt8" Name="types" format="ascii">5</DataArray></Cells>
+</Piece></UnstructuredGrid></VTKFile>"#
+    );
+    let d = parse_vtu(xml.as_bytes()).unwrap();
+    assert_eq!(d.points, vec![[0.0, 0.0], [1.0, 0.0], [0.1, 0.7]]);
+    assert_eq!(d.cells, vec![[0, 1, 2]]);
+    assert_eq!(d.to_mesh().unwrap().num_cells(), 1);
+}
+
+#[test]
+fn io_error_converts_into_crate_error() {
+    let e: crate::Error = read_msh(&data("no_such_file.msh")).unwrap_err().into();
+    assert!(matches!(e, crate::Error::Io(IoError::Io { .. })));
+    assert_eq!(e.clone(), e);
+}

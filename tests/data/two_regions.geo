@@ -1,0 +1,24 @@
+// Two regions sharing an interface line; a curve without a physical group (the outer top).
+lc = 0.3;
+Point(1) = {0, 0, 0, lc};
+Point(2) = {1, 0, 0, lc};
+Point(3) = {2, 0, 0, lc};
+Point(4) = {2, 1, 0, lc};
+Point(5) = {1, 1, 0, lc};
+Point(6) = {0, 1, 0, lc};
+Line(1) = {1, 2};
+Line(2) = {2, 3};
+Line(3) = {3, 4};
+Line(4) = {4, 5};
+Line(5) = {5, 6};
+Line(6) = {6, 1};
+Line(7) = {2, 5};
+Curve Loop(1) = {1, 7, 5, 6};
+Curve Loop(2) = {2, 3, 4, -7};
+Plane Surface(1) = {1};
+Plane Surface(2) = {2};
+Physical Curve("bottom", 4) = {1, 2};
+Physical Curve("interface", 9) = {7};
+Physical Curve("sides", 5) = {3, 6};
+Physical Surface("left", 1) = {1};
+Physical Surface("right", 2) = {2};
