@@ -1,237 +1,11 @@
-//! VTK XML UnstructuredGrid (`.vtu`) writer and reader, for looking at meshes in ParaView.
-//!
-//! Our own writer and reader, with `quick-xml` tokenising, rather than the `vtkio` crate: its
-//! XML support is in a release candidate (0.7.0-rc2; the stable 0.6 line has old dependencies),
-//! its default features pull in three compressors, and its errors do not say which element or
-//! attribute was wrong, which the reader's errors must. What we need is small: one piece of
-//! triangles with Float64 points and a few named arrays.
-//!
-//! The writer writes ASCII (`format="ascii"`) with shortest round-trip float formatting, so
-//! reading back gives the same bits. The reader takes one `<Piece>` of triangles (cell type 5),
-//! with DataArrays in `ascii` or inline `binary` (base64, uncompressed, UInt32 or UInt64 header,
-//! either byte order); `appended` data and compressed files are `Unsupported`.
+//! The `.vtu` reader: one piece of triangles, ascii or inline base64 arrays.
 
-use super::{io_err, line_of, IoError};
-use crate::mesh::quality::{min_angle_deg, signed_areas};
-use crate::mesh::{IndexBase, Mesh};
+use super::VtuData;
+use crate::io::{io_err, line_of, IoError};
 use base64::Engine as _;
-use glam::DVec2;
 use quick_xml::events::{BytesStart, Event};
 use quick_xml::Reader;
-use std::fmt::Write as _;
 use std::path::Path;
-
-/// A field with one value per vertex.
-#[derive(Clone, Copy, Debug)]
-pub enum PointField<'a> {
-    Scalar(&'a [f64]),
-    /// Written with three components, z = 0 (ParaView's vectors are 3D).
-    Vector(&'a [DVec2]),
-}
-
-/// A field with one value per cell.
-#[derive(Clone, Copy, Debug)]
-pub enum CellField<'a> {
-    F64(&'a [f64]),
-    I32(&'a [i32]),
-}
-
-/// What `read_vtu` returns: 2D points (z dropped), triangles, and every named array as `f64`
-/// values with its number of components (tuples stored one after another).
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct VtuData {
-    pub points: Vec<[f64; 2]>,
-    pub cells: Vec<[u32; 3]>,
-    pub point_data: Vec<(String, Vec<f64>, usize)>,
-    pub cell_data: Vec<(String, Vec<f64>, usize)>,
-}
-
-impl VtuData {
-    /// The mesh of these points and cells; regions from a one-component cell array `region` if
-    /// present. A `.vtu` has no boundary patches: every boundary edge is on patch 0.
-    pub fn to_mesh(&self) -> Result<Mesh, IoError> {
-        let regions = match self.cell_data.iter().find(|(n, _, _)| n == "region") {
-            Some((_, v, 1)) => Some(
-                v.iter()
-                    .enumerate()
-                    .map(|(c, &r)| {
-                        if r.fract() == 0.0 && r.abs() <= i32::MAX as f64 {
-                            Ok(r as i32)
-                        } else {
-                            Err(IoError::InvalidArgument(format!(
-                                "cell data `region` of cell {c} is {r}, not an i32"
-                            )))
-                        }
-                    })
-                    .collect::<Result<Vec<i32>, _>>()?,
-            ),
-            Some((_, _, k)) => {
-                return Err(IoError::InvalidArgument(format!(
-                    "cell data `region` has {k} components; 1 expected"
-                )))
-            }
-            None => None,
-        };
-        let tagged: [([u32; 2], i32); 0] = [];
-        Ok(Mesh::new(
-            &self.points,
-            &self.cells,
-            IndexBase::Zero,
-            &tagged,
-            regions.as_deref(),
-        )?)
-    }
-}
-
-// ---- writer -------------------------------------------------------------------------------------
-
-/// Writes `mesh`'s cells at positions `coords` (one per vertex) with the given named fields.
-pub fn write_vtu(
-    path: &Path,
-    mesh: &Mesh,
-    coords: &[DVec2],
-    point_data: &[(&str, PointField)],
-    cell_data: &[(&str, CellField)],
-) -> Result<(), IoError> {
-    let (n, m) = (mesh.num_vertices(), mesh.num_cells());
-    if coords.len() != n {
-        return Err(IoError::InvalidArgument(format!(
-            "write_vtu: {} coordinates for a mesh of {n} vertices",
-            coords.len()
-        )));
-    }
-    let mut s = String::with_capacity(80 * n + 40 * m);
-    s.push_str("<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n<UnstructuredGrid>\n");
-    let _ = writeln!(s, "<Piece NumberOfPoints=\"{n}\" NumberOfCells=\"{m}\">");
-    s.push_str("<PointData>\n");
-    for (name, f) in point_data {
-        let (len, comps) = match f {
-            PointField::Scalar(v) => (v.len(), 1),
-            PointField::Vector(v) => (v.len(), 3),
-        };
-        if len != n {
-            return Err(IoError::InvalidArgument(format!(
-                "write_vtu: point field `{name}` has {len} values for {n} vertices"
-            )));
-        }
-        open_array(&mut s, "Float64", Some(name), comps);
-        match f {
-            PointField::Scalar(v) => v.iter().for_each(|x| push_f64(&mut s, *x)),
-            PointField::Vector(v) => v.iter().for_each(|p| push_xyz(&mut s, *p)),
-        }
-        s.push_str("\n</DataArray>\n");
-    }
-    s.push_str("</PointData>\n<CellData>\n");
-    for (name, f) in cell_data {
-        let len = match f {
-            CellField::F64(v) => v.len(),
-            CellField::I32(v) => v.len(),
-        };
-        if len != m {
-            return Err(IoError::InvalidArgument(format!(
-                "write_vtu: cell field `{name}` has {len} values for {m} cells"
-            )));
-        }
-        match f {
-            CellField::F64(v) => {
-                open_array(&mut s, "Float64", Some(name), 1);
-                v.iter().for_each(|x| push_f64(&mut s, *x));
-            }
-            CellField::I32(v) => {
-                open_array(&mut s, "Int32", Some(name), 1);
-                v.iter().for_each(|x| {
-                    let _ = write!(s, "{x} ");
-                });
-            }
-        }
-        s.push_str("\n</DataArray>\n");
-    }
-    s.push_str("</CellData>\n<Points>\n");
-    open_array(&mut s, "Float64", None, 3);
-    coords.iter().for_each(|p| push_xyz(&mut s, *p));
-    s.push_str("\n</DataArray>\n</Points>\n<Cells>\n");
-    s.push_str("<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n");
-    for c in mesh.cells() {
-        let _ = write!(s, "{} {} {} ", c[0], c[1], c[2]);
-    }
-    s.push_str("\n</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n");
-    for i in 1..=m {
-        let _ = write!(s, "{} ", 3 * i);
-    }
-    s.push_str("\n</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n");
-    s.push_str(&"5 ".repeat(m));
-    s.push_str("\n</DataArray>\n</Cells>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n");
-    std::fs::write(path, s).map_err(io_err(path))
-}
-
-fn open_array(s: &mut String, ty: &str, name: Option<&str>, comps: usize) {
-    let _ = write!(s, "<DataArray type=\"{ty}\"");
-    if let Some(name) = name {
-        let _ = write!(s, " Name=\"{}\"", quick_xml::escape::escape(name));
-    }
-    let _ = writeln!(s, " NumberOfComponents=\"{comps}\" format=\"ascii\">");
-}
-
-/// Shortest representation that parses back to the same `f64` (`{:?}` is Rust's round-trip form).
-fn push_f64(s: &mut String, x: f64) {
-    let _ = write!(s, "{x:?} ");
-}
-
-fn push_xyz(s: &mut String, p: DVec2) {
-    let _ = write!(s, "{:?} {:?} 0 ", p.x, p.y);
-}
-
-/// Writes `reference` moved by `displacement`, with point data `displacement` and cell data
-/// `region` (Int32), `area_ratio` (deformed over reference signed area), `inverted` (1 where the
-/// deformed signed area is not positive) and `min_angle` (degrees, 0 for inverted cells).
-pub fn write_deformed(
-    path: &Path,
-    reference: &Mesh,
-    displacement: &[DVec2],
-) -> Result<(), IoError> {
-    if displacement.len() != reference.num_vertices() {
-        return Err(IoError::InvalidArgument(format!(
-            "write_deformed: {} displacements for a mesh of {} vertices",
-            displacement.len(),
-            reference.num_vertices()
-        )));
-    }
-    let moved: Vec<DVec2> = reference
-        .coords()
-        .iter()
-        .zip(displacement)
-        .map(|(p, d)| *p + *d)
-        .collect();
-    let a0 = signed_areas(reference, reference.coords());
-    let a1 = signed_areas(reference, &moved);
-    let ratio: Vec<f64> = a1.iter().zip(&a0).map(|(a, b)| a / b).collect();
-    let inverted: Vec<i32> = a1.iter().map(|&a| i32::from(a <= 0.0)).collect();
-    let min_angle: Vec<f64> = reference
-        .cells()
-        .iter()
-        .map(|c| {
-            min_angle_deg(
-                moved[c[0] as usize],
-                moved[c[1] as usize],
-                moved[c[2] as usize],
-            )
-        })
-        .collect();
-    write_vtu(
-        path,
-        reference,
-        &moved,
-        &[("displacement", PointField::Vector(displacement))],
-        &[
-            ("region", CellField::I32(reference.regions())),
-            ("area_ratio", CellField::F64(&ratio)),
-            ("inverted", CellField::I32(&inverted)),
-            ("min_angle", CellField::F64(&min_angle)),
-        ],
-    )
-}
-
-// ---- reader -------------------------------------------------------------------------------------
 
 /// Reads a `.vtu` file: one piece of triangles (see the module documentation for the encodings).
 pub fn read_vtu(path: &Path) -> Result<VtuData, IoError> {
@@ -279,11 +53,7 @@ struct Ctx<'a> {
 
 impl Ctx<'_> {
     fn err(&self, at: usize, message: String) -> IoError {
-        IoError::Parse {
-            line: line_of(self.b, at),
-            offset: Some(at),
-            message,
-        }
+        IoError::Parse { line: line_of(self.b, at), offset: Some(at), message }
     }
 }
 
@@ -303,17 +73,9 @@ fn tag_name(e: &BytesStart) -> String {
 }
 
 fn req_usize(e: &BytesStart, name: &str, ctx: &Ctx, at: usize) -> Result<usize, IoError> {
-    let v = attr(e, name, ctx, at)?
-        .ok_or_else(|| ctx.err(at, format!("<{}> has no attribute `{name}`", tag_name(e))))?;
-    v.trim().parse().map_err(|_| {
-        ctx.err(
-            at,
-            format!(
-                "attribute `{name}` of <{}> is `{v}`, not a count",
-                tag_name(e)
-            ),
-        )
-    })
+    let v =
+        attr(e, name, ctx, at)?.ok_or_else(|| ctx.err(at, format!("<{}> has no attribute `{name}`", tag_name(e))))?;
+    v.trim().parse().map_err(|_| ctx.err(at, format!("attribute `{name}` of <{}> is `{v}`, not a count", tag_name(e))))
 }
 
 /// Parses the contents of a `.vtu` file.
@@ -323,11 +85,7 @@ pub fn parse_vtu(bytes: &[u8]) -> Result<VtuData, IoError> {
         offset: Some(e.valid_up_to()),
         message: "the file is not UTF-8 text (appended raw data is not supported)".into(),
     })?;
-    let mut ctx = Ctx {
-        b: bytes,
-        header64: false,
-        big_endian: false,
-    };
+    let mut ctx = Ctx { b: bytes, header64: false, big_endian: false };
     let mut reader = Reader::from_str(text);
     let mut out = VtuData::default();
     let mut counts: Option<(usize, usize)> = None;
@@ -339,9 +97,7 @@ pub fn parse_vtu(bytes: &[u8]) -> Result<VtuData, IoError> {
     let mut piece_end = None;
     loop {
         let at = reader.buffer_position() as usize;
-        let ev = reader
-            .read_event()
-            .map_err(|e| ctx.err(at, format!("malformed XML: {e}")))?;
+        let ev = reader.read_event().map_err(|e| ctx.err(at, format!("malformed XML: {e}")))?;
         match ev {
             Event::Start(ref e) | Event::Empty(ref e) => {
                 let empty = matches!(ev, Event::Empty(_));
@@ -357,19 +113,15 @@ pub fn parse_vtu(bytes: &[u8]) -> Result<VtuData, IoError> {
                         if let Some(c) = attr(e, "compressor", &ctx, at)? {
                             return Err(IoError::Unsupported(format!("compressed data ({c})")));
                         }
-                        ctx.big_endian =
-                            attr(e, "byte_order", &ctx, at)?.as_deref() == Some("BigEndian");
-                        ctx.header64 =
-                            attr(e, "header_type", &ctx, at)?.as_deref() == Some("UInt64");
+                        ctx.big_endian = attr(e, "byte_order", &ctx, at)?.as_deref() == Some("BigEndian");
+                        ctx.header64 = attr(e, "header_type", &ctx, at)?.as_deref() == Some("UInt64");
                     }
                     b"Piece" => {
                         if counts.is_some() {
                             return Err(IoError::Unsupported("more than one <Piece>".into()));
                         }
-                        counts = Some((
-                            req_usize(e, "NumberOfPoints", &ctx, at)?,
-                            req_usize(e, "NumberOfCells", &ctx, at)?,
-                        ));
+                        counts =
+                            Some((req_usize(e, "NumberOfPoints", &ctx, at)?, req_usize(e, "NumberOfCells", &ctx, at)?));
                     }
                     b"PointData" if !empty => section = Section::PointData,
                     b"CellData" if !empty => section = Section::CellData,
@@ -381,17 +133,15 @@ pub fn parse_vtu(bytes: &[u8]) -> Result<VtuData, IoError> {
                             return Err(ctx.err(at, "<DataArray> outside a <Piece>".into()));
                         }
                         let a = Array {
-                            ty: attr(e, "type", &ctx, at)?.ok_or_else(|| {
-                                ctx.err(at, "<DataArray> has no attribute `type`".into())
-                            })?,
+                            ty: attr(e, "type", &ctx, at)?
+                                .ok_or_else(|| ctx.err(at, "<DataArray> has no attribute `type`".into()))?,
                             name: attr(e, "Name", &ctx, at)?,
                             comps: match attr(e, "NumberOfComponents", &ctx, at)? {
                                 None => 1,
                                 Some(_) => req_usize(e, "NumberOfComponents", &ctx, at)?,
                             },
-                            format: attr(e, "format", &ctx, at)?.ok_or_else(|| {
-                                ctx.err(at, "<DataArray> has no attribute `format`".into())
-                            })?,
+                            format: attr(e, "format", &ctx, at)?
+                                .ok_or_else(|| ctx.err(at, "<DataArray> has no attribute `format`".into()))?,
                             at,
                             text_at: reader.buffer_position() as usize,
                             text: String::new(),
@@ -438,23 +188,14 @@ pub fn parse_vtu(bytes: &[u8]) -> Result<VtuData, IoError> {
         return Err(ctx.err(0, "no <VTKFile> element".into()));
     }
     let Some((n, m)) = counts else {
-        return Err(ctx.err(
-            bytes.len(),
-            "no <Piece> element in <UnstructuredGrid>".into(),
-        ));
+        return Err(ctx.err(bytes.len(), "no <Piece> element in <UnstructuredGrid>".into()));
     };
     let end = piece_end.unwrap_or(bytes.len());
     if !seen_points {
         return Err(ctx.err(end, "<Piece> has no <Points> element".into()));
     }
     if out.points.len() != n {
-        return Err(ctx.err(
-            end,
-            format!(
-                "<Points> holds {} points, NumberOfPoints is {n}",
-                out.points.len()
-            ),
-        ));
+        return Err(ctx.err(end, format!("<Points> holds {} points, NumberOfPoints is {n}", out.points.len())));
     }
     out.cells = build_cells(&cells_arrays, n, m, &ctx, end)?;
     Ok(out)
@@ -481,30 +222,32 @@ fn build_cells(
         if v.len() != m {
             return Err(ctx.err(
                 at,
-                format!(
-                    "DataArray `{name}` in <Cells>: expected {m} values (NumberOfCells), found {}",
-                    v.len()
-                ),
+                format!("DataArray `{name}` in <Cells>: expected {m} values (NumberOfCells), found {}", v.len()),
             ));
         }
     }
     if let Some((c, &t)) = types.iter().enumerate().find(|(_, &t)| t != 5.0) {
-        return Err(IoError::Unsupported(format!(
-            "cell {c} has VTK cell type {t}; only triangles (5) are read"
-        )));
+        return Err(IoError::Unsupported(format!("cell {c} has VTK cell type {t}; only triangles (5) are read")));
     }
     for (c, &o) in offsets.iter().enumerate() {
         if o != (3 * (c + 1)) as f64 {
             return Err(ctx.err(
                 off_at,
-                format!("DataArray `offsets` in <Cells>: offset of cell {c} is {o}, expected {} for triangles", 3 * (c + 1)),
+                format!(
+                    "DataArray `offsets` in <Cells>: offset of cell {c} is {o}, expected {} for triangles",
+                    3 * (c + 1)
+                ),
             ));
         }
     }
     if conn.len() != 3 * m {
         return Err(ctx.err(
             conn_at,
-            format!("DataArray `connectivity` in <Cells>: expected {} values (3 per triangle), found {}", 3 * m, conn.len()),
+            format!(
+                "DataArray `connectivity` in <Cells>: expected {} values (3 per triangle), found {}",
+                3 * m,
+                conn.len()
+            ),
         ));
     }
     let mut cells = Vec::with_capacity(m);
@@ -562,22 +305,13 @@ fn finish_array(
     match section {
         Section::Points => {
             if a.comps != 3 {
-                return Err(ctx.err(
-                    a.at,
-                    format!("{label}: NumberOfComponents is {}, 3 expected", a.comps),
-                ));
+                return Err(ctx.err(a.at, format!("{label}: NumberOfComponents is {}, 3 expected", a.comps)));
             }
             out.points = values.chunks_exact(3).map(|p| [p[0], p[1]]).collect();
         }
         Section::PointData | Section::CellData => {
-            let name = a
-                .name
-                .ok_or_else(|| ctx.err(a.at, format!("{label}: no attribute `Name`")))?;
-            let list = if section == Section::PointData {
-                &mut out.point_data
-            } else {
-                &mut out.cell_data
-            };
+            let name = a.name.ok_or_else(|| ctx.err(a.at, format!("{label}: no attribute `Name`")))?;
+            let list = if section == Section::PointData { &mut out.point_data } else { &mut out.cell_data };
             list.push((name, values, a.comps));
         }
         Section::Cells => {
@@ -611,33 +345,21 @@ fn decode(a: &Array, label: &str, ctx: &Ctx) -> Result<Vec<f64>, IoError> {
                 }
                 let tok = &a.text[s..i];
                 let x: f64 = tok.parse().map_err(|_| {
-                    ctx.err(
-                        base + s,
-                        format!("{label}: expected a number of type {}, found `{tok}`", a.ty),
-                    )
+                    ctx.err(base + s, format!("{label}: expected a number of type {}, found `{tok}`", a.ty))
                 })?;
                 v.push(x);
             }
             Ok(v)
         }
         "binary" => decode_base64(a, label, ctx),
-        "appended" => Err(IoError::Unsupported(format!(
-            "{label}: format=\"appended\""
-        ))),
-        f => Err(ctx.err(
-            a.at,
-            format!("{label}: attribute `format` is `{f}`; ascii, binary or appended expected"),
-        )),
+        "appended" => Err(IoError::Unsupported(format!("{label}: format=\"appended\""))),
+        f => Err(ctx.err(a.at, format!("{label}: attribute `format` is `{f}`; ascii, binary or appended expected"))),
     }
 }
 
 fn decode_base64(a: &Array, label: &str, ctx: &Ctx) -> Result<Vec<f64>, IoError> {
     let b64 = base64::engine::general_purpose::STANDARD;
-    let text: String = a
-        .text
-        .chars()
-        .filter(|c| !c.is_ascii_whitespace())
-        .collect();
+    let text: String = a.text.chars().filter(|c| !c.is_ascii_whitespace()).collect();
     let hsize: usize = if ctx.header64 { 8 } else { 4 };
     let bad = |e: base64::DecodeError| ctx.err(a.text_at, format!("{label}: bad base64: {e}"));
     // VTK encodes the header and the data either together or as two base64 runs; a separate
@@ -651,10 +373,7 @@ fn decode_base64(a: &Array, label: &str, ctx: &Ctx) -> Result<Vec<f64>, IoError>
         b64.decode(&text).map_err(bad)?
     };
     if raw.len() < hsize {
-        return Err(ctx.err(
-            a.text_at,
-            format!("{label}: binary data shorter than its header"),
-        ));
+        return Err(ctx.err(a.text_at, format!("{label}: binary data shorter than its header")));
     }
     let hdr = &raw[..hsize];
     let nbytes = match (hsize, ctx.big_endian) {
@@ -665,13 +384,7 @@ fn decode_base64(a: &Array, label: &str, ctx: &Ctx) -> Result<Vec<f64>, IoError>
     } as usize;
     let data = &raw[hsize..];
     if data.len() < nbytes {
-        return Err(ctx.err(
-            a.text_at,
-            format!(
-                "{label}: header announces {nbytes} bytes, {} present",
-                data.len()
-            ),
-        ));
+        return Err(ctx.err(a.text_at, format!("{label}: header announces {nbytes} bytes, {} present", data.len())));
     }
     let data = &data[..nbytes];
     let size = match a.ty.as_str() {
@@ -684,13 +397,7 @@ fn decode_base64(a: &Array, label: &str, ctx: &Ctx) -> Result<Vec<f64>, IoError>
         }
     };
     if nbytes % size != 0 {
-        return Err(ctx.err(
-            a.text_at,
-            format!(
-                "{label}: {nbytes} bytes is not a whole number of {} values",
-                a.ty
-            ),
-        ));
+        return Err(ctx.err(a.text_at, format!("{label}: {nbytes} bytes is not a whole number of {} values", a.ty)));
     }
     let be = ctx.big_endian;
     Ok(data
