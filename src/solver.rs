@@ -137,11 +137,15 @@ impl Solver {
                 continue;
             }
             let l: Vec<f64> = lev.dofs.dof_vertex.iter().map(|&v| m.displacement(x[v as usize])[c]).collect();
+            let mut on_patch = vec![false; lev.mesh.num_vertices()];
+            lev.mesh.patch_vertices(patch).iter().for_each(|&v| on_patch[v as usize] = true);
             let g = g.get_or_insert_with(|| vec![0.0; lev.n()]);
-            for v in lev.mesh.patch_vertices(patch) {
-                let d = lev.dofs.vertex_dof[v as usize] as usize;
-                let (cols, vals) = lev.op.k.row(d);
-                g[d] = cols.iter().zip(vals).map(|(&j, &a)| a * l[j as usize]).sum();
+            // Every unknown of a patch vertex: a vertex split per region has one per side.
+            for (d, g) in g.iter_mut().enumerate() {
+                if lev.dofs.vertices_of(d).iter().any(|&v| on_patch[v as usize]) {
+                    let (cols, vals) = lev.op.k.row(d);
+                    *g = cols.iter().zip(vals).map(|(&j, &a)| a * l[j as usize]).sum();
+                }
             }
         }
         g

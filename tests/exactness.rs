@@ -96,3 +96,23 @@ fn rigid_rotation_of_clamped_boundaries_is_exact_with_the_rigid_flux() {
     let e = max_err(&sol.displacement, |i| rm.displacement(mesh.coords()[i]));
     assert!(e > 1e-4, "plain clamped unexpectedly exact ({e:e})");
 }
+
+#[test]
+fn rigid_motion_is_exact_on_both_sides_of_a_split_interface() {
+    use meshmove::InterfaceVariant;
+    let mesh = Grid::new(12, 12).jitter(0.3).two_regions();
+    let rm = RigidMotion { translation: DVec2::new(-0.03, 0.04), angle: -0.25, center: DVec2::new(0.5, 0.5) };
+    for variant in [InterfaceVariant::Separate, InterfaceVariant::Continuous] {
+        let mut bcs = BoundaryConditions::new();
+        bcs.default_kind = [Kind::Clamped; 2];
+        bcs.set_interface(INTERFACE, variant);
+        let s = solver(&mesh, &bcs, Method::Biharmonic);
+        let mut motion = Motion::zero(mesh.num_vertices());
+        for p in [BOTTOM, RIGHT, TOP, LEFT, INTERFACE] {
+            motion = motion.with_rigid(p, rm);
+        }
+        let sol = s.solve(&motion).unwrap();
+        let e = max_err(&sol.displacement, |i| rm.displacement(mesh.coords()[i]));
+        assert!(e < 1e-12, "{variant:?}: error {e:e}");
+    }
+}
