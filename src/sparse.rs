@@ -120,6 +120,53 @@ impl CsrMatrix {
     }
 }
 
+/// C = A B, row by row (each row of C from one row of A), so it is deterministic and parallel.
+/// Column indices come out sorted.
+pub fn matmul(a: &CsrMatrix, b: &CsrMatrix) -> CsrMatrix {
+    assert_eq!(a.ncols, b.nrows, "matmul: A has {} columns, B has {} rows", a.ncols, b.nrows);
+    let rows: Vec<(Vec<u32>, Vec<f64>)> = (0..a.nrows)
+        .into_par_iter()
+        .with_min_len(256)
+        .map_init(
+            || (vec![usize::MAX; b.ncols], Vec::<u32>::new(), Vec::<f64>::new()),
+            |(slot, cols, vals), i| {
+                cols.clear();
+                vals.clear();
+                let (ac, av) = a.row(i);
+                for (&k, &x) in ac.iter().zip(av) {
+                    let (bc, bv) = b.row(k as usize);
+                    for (&j, &y) in bc.iter().zip(bv) {
+                        let s = &mut slot[j as usize];
+                        if *s == usize::MAX {
+                            *s = cols.len();
+                            cols.push(j);
+                            vals.push(0.0);
+                        }
+                        vals[*s] += x * y;
+                    }
+                }
+                let mut order: Vec<usize> = (0..cols.len()).collect();
+                order.sort_unstable_by_key(|&p| cols[p]);
+                let out = (order.iter().map(|&p| cols[p]).collect(), order.iter().map(|&p| vals[p]).collect());
+                cols.iter().for_each(|&j| slot[j as usize] = usize::MAX);
+                out
+            },
+        )
+        .collect();
+    let mut row_ptr = Vec::with_capacity(a.nrows + 1);
+    row_ptr.push(0);
+    for (c, _) in &rows {
+        row_ptr.push(row_ptr.last().unwrap() + c.len());
+    }
+    let mut cols = Vec::with_capacity(*row_ptr.last().unwrap());
+    let mut vals = Vec::with_capacity(cols.capacity());
+    for (c, v) in rows {
+        cols.extend(c);
+        vals.extend(v);
+    }
+    CsrMatrix { nrows: a.nrows, ncols: b.ncols, row_ptr, cols, vals }
+}
+
 /// `out[i] = f(i)` for all i, in parallel for long vectors. Deterministic: each entry is computed
 /// by one call of `f`, whatever the thread count.
 pub fn par_fill(out: &mut [f64], f: impl Fn(usize) -> f64 + Sync + Send) {

@@ -123,19 +123,23 @@ fn prolongation(n_fine: usize, coarse: &Level, locs: &[Location]) -> CsrMatrix {
 #[derive(Clone, Debug)]
 pub struct HierarchyParams {
     pub coarsen: CoarsenParams,
+    /// Coarse K and V by Galerkin projection (PᵀKP, PᵀV) rather than rediscretised on the
+    /// coarse mesh; see `LevelOperator::galerkin`.
+    pub galerkin: bool,
     /// Stop after this many levels (the paper used six).
     pub max_levels: usize,
 }
 
 impl Default for HierarchyParams {
     fn default() -> Self {
-        HierarchyParams { coarsen: CoarsenParams::default(), max_levels: 20 }
+        HierarchyParams { coarsen: CoarsenParams::default(), galerkin: true, max_levels: 20 }
     }
 }
 
 pub struct Hierarchy {
     pub levels: Vec<Level>,
     pub method: Method,
+    galerkin: bool,
 }
 
 impl Hierarchy {
@@ -155,15 +159,19 @@ impl Hierarchy {
             let Some(cm) = coarsen(&fine.mesh, &fine.pairs, &params.coarsen)? else {
                 break;
             };
-            let coarse = Level::new(cm.mesh, cm.links, cm.fine_vertex, bcs, method);
+            let mut coarse = Level::new(cm.mesh, cm.links, cm.fine_vertex, bcs, method);
             let (pts, regions) = fine.dof_points();
             let locs = locate(&coarse.mesh, &pts, &regions);
             let prolong = prolongation(fine.n(), &coarse, &locs);
             let restrict = prolong.transpose();
+            if params.galerkin {
+                coarse.op = LevelOperator::galerkin(&fine.op, &prolong, &restrict);
+                coarse.refresh_bounds();
+            }
             levels.last_mut().expect("fine level").down = Some(Transfer { locs, prolong, restrict });
             levels.push(coarse);
         }
-        let mut h = Hierarchy { levels, method };
+        let mut h = Hierarchy { levels, method, galerkin: params.galerkin };
         h.build_coarse_solve()?;
         Ok(h)
     }
@@ -192,21 +200,28 @@ impl Hierarchy {
             coords.push(c);
         }
         let method = self.method;
-        for (level, c) in self.levels.iter_mut().zip(coords) {
+        for (l, c) in coords.into_iter().enumerate() {
+            let level = &mut self.levels[l];
             level.mesh = level.mesh.with_coords(c);
-            level.op = LevelOperator::new(method, &level.asm, level.mesh.coords(), level.mesh.cells(), &level.dofs);
-            level.refresh_bounds();
-        }
-        for l in 0..self.levels.len() - 1 {
-            let (pts, _) = self.levels[l].dof_points();
-            let (fine, rest) = self.levels.split_at_mut(l + 1);
-            let (fine, coarse) = (&mut fine[l], &rest[0]);
-            let n_fine = fine.n();
-            let down = fine.down.as_mut().expect("not the coarsest level");
-            update_weights(&coarse.mesh, &pts, &mut down.locs);
-            let prolong = prolongation(n_fine, coarse, &down.locs);
-            down.restrict = prolong.transpose();
-            down.prolong = prolong;
+            if l == 0 || !self.galerkin {
+                level.op = LevelOperator::new(method, &level.asm, level.mesh.coords(), level.mesh.cells(), &level.dofs);
+            }
+            if l > 0 {
+                // The transfer from the level above, then (Galerkin) this level's operator.
+                let (pts, _) = self.levels[l - 1].dof_points();
+                let (upper, rest) = self.levels.split_at_mut(l);
+                let (fine, coarse) = (&mut upper[l - 1], &mut rest[0]);
+                let n_fine = fine.n();
+                let down = fine.down.as_mut().expect("not the coarsest level");
+                update_weights(&coarse.mesh, &pts, &mut down.locs);
+                let prolong = prolongation(n_fine, coarse, &down.locs);
+                down.restrict = prolong.transpose();
+                down.prolong = prolong;
+                if self.galerkin {
+                    coarse.op = LevelOperator::galerkin(&fine.op, &down.prolong, &down.restrict);
+                }
+            }
+            self.levels[l].refresh_bounds();
         }
         self.build_coarse_solve()?;
         Ok(true)

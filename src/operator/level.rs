@@ -6,9 +6,9 @@
 //!
 //! Vectors live on the unknowns; corrections are zero on P unknowns.
 
-use super::{lumped_mass, spring_stiffness, stiffness, Assembly, Method};
+use super::{close_diagonal, lumped_mass, spring_stiffness, stiffness, Assembly, Method};
 use crate::bc::{Dofs, P, Z};
-use crate::sparse::{par_fill, CsrMatrix};
+use crate::sparse::{matmul, par_fill, CsrMatrix};
 use glam::DVec2;
 
 pub struct LevelOperator {
@@ -27,6 +27,24 @@ impl LevelOperator {
         let v = lumped_mass(coords, cells, dofs);
         let inv_v = v.iter().map(|&v| 1.0 / v).collect();
         LevelOperator { method, k, v, inv_v }
+    }
+
+    /// The coarse operator of a multigrid level by Galerkin projection of the fine one's
+    /// second-order parts: K_c = Pᵀ K P and V_c = Pᵀ V (the biharmonic is then K_c V_c⁻¹ K_c).
+    ///
+    /// Rediscretising K on the coarse mesh is consistent only where K does not depend on cell
+    /// size: spring weights (1/L²) and the biharmonic's 1/V do, and across a thin wall layer a
+    /// coarse cell is many fine cells thick, so rediscretised coarse operators came out far too
+    /// soft there and the cycle stalled (boundary-layer cylinder). PᵀKP is the fine operator's
+    /// own energy on coarse functions, whatever the cell sizes; P reproduces constants and
+    /// linear fields, so K_c keeps both in its null space where K does.
+    pub fn galerkin(fine: &LevelOperator, prolong: &CsrMatrix, restrict: &CsrMatrix) -> Self {
+        let mut k = matmul(restrict, &matmul(&fine.k, prolong));
+        close_diagonal(&mut k);
+        let mut v = vec![0.0; restrict.nrows];
+        restrict.mul_vec(&fine.v, &mut v);
+        let inv_v = v.iter().map(|&v| 1.0 / v).collect();
+        LevelOperator { method: fine.method, k, v, inv_v }
     }
 
     pub fn n(&self) -> usize {

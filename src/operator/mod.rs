@@ -5,6 +5,7 @@ mod level;
 mod stiffness;
 
 pub use level::LevelOperator;
+pub(crate) use stiffness::close_diagonal;
 pub use stiffness::{lumped_mass, spring_stiffness, stiffness, Assembly};
 
 /// Which equation moves the mesh.

@@ -26,7 +26,7 @@ impl Assembly {
 }
 
 /// Sets K_ii = −Σ_{j≠i} K_ij, so constants are exactly in the null space of every row.
-fn close_diagonal(k: &mut CsrMatrix) {
+pub(crate) fn close_diagonal(k: &mut CsrMatrix) {
     for i in 0..k.nrows {
         let r = k.row_ptr[i]..k.row_ptr[i + 1];
         let mut s = 0.0;
