@@ -26,10 +26,13 @@ fn main() {
         motion.displacement[v as usize].y = 0.25 * (std::f64::consts::TAU * x).cos();
     }
     for method in [Method::Biharmonic, Method::Laplacian] {
-        for mode in [Mode::Default, Mode::PaperFaithful] {
+        for mode in [Mode::Default] {
             let mut o = Options { method, threads: 2, ..Default::default() };
             o.solve.mode = mode;
             o.solve.cheb_degree = deg;
+            if let Some(r) = args.get(4) {
+                o.solve.cheb_lower_ratio = Some(r.parse().unwrap());
+            }
             let t = Instant::now();
             let s = Solver::new(&mesh, &bcs, o).unwrap();
             let ts = t.elapsed().as_secs_f64();
