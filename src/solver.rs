@@ -39,16 +39,7 @@ use crate::bc::COMPONENT;
 
 impl Solver {
     pub fn new(mesh: &Mesh, bcs: &BoundaryConditions, opts: Options) -> Result<Solver> {
-        let p = &opts.solve;
-        if !(p.tol > 0.0 && p.tol.is_finite())
-            || p.max_cycles == 0
-            || p.cheb_degree == 0
-            || p.cheb_lower_ratio.is_some_and(|r| !(r > 1.0))
-        {
-            return Err(Error::InvalidArgument(
-                "tolerance must be positive and finite, max cycles and Chebyshev degree at least 1, lower ratio above 1".into(),
-            ));
-        }
+        check_solve_params(&opts.solve)?;
         bcs.check(mesh)?;
         let pairs = resolve_links(mesh, &bcs.links)?;
         let pool = match opts.threads {
@@ -82,6 +73,14 @@ impl Solver {
 
     pub fn options(&self) -> &Options {
         &self.opts
+    }
+
+    /// Changes how later solves iterate (mode, criterion, tolerance, Chebyshev settings) without
+    /// rebuilding the hierarchy: the coarse meshes and operators do not depend on them.
+    pub fn set_solve_params(&mut self, p: SolveParams) -> Result<()> {
+        check_solve_params(&p)?;
+        self.opts.solve = p;
+        Ok(())
     }
 
     pub fn num_levels(&self) -> usize {
@@ -304,6 +303,20 @@ impl Solver {
         let moved: Vec<DVec2> = m.coords().iter().zip(displacement).map(|(x, d)| *x + *d).collect();
         quality(m, &moved)
     }
+}
+
+fn check_solve_params(p: &SolveParams) -> Result<()> {
+    if !(p.tol > 0.0 && p.tol.is_finite())
+        || p.max_cycles == 0
+        || p.cheb_degree == Some(0)
+        || p.cheb_lower_ratio.is_some_and(|r| !(r > 1.0))
+    {
+        return Err(Error::InvalidArgument(
+            "tolerance must be positive and finite, max cycles and Chebyshev degree at least 1, lower ratio above 1"
+                .into(),
+        ));
+    }
+    Ok(())
 }
 
 fn check_guess(g: &[DVec2], nv: usize) -> Result<()> {

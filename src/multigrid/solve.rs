@@ -34,10 +34,9 @@ pub struct SolveParams {
     pub criterion: Criterion,
     pub tol: f64,
     pub max_cycles: usize,
-    /// Chebyshev degree of the default mode's smoother.
-    pub cheb_degree: usize,
-    /// Its interval [λmax / ratio, λmax]; None picks per method (biharmonic 10, others 30,
-    /// measured best on the free-surface case at h = 1/32 to 1/128).
+    /// Chebyshev degree of the default mode's smoother; None picks per method.
+    pub cheb_degree: Option<usize>,
+    /// Its interval [λmax / ratio, λmax]; None picks per method.
     pub cheb_lower_ratio: Option<f64>,
 }
 
@@ -48,18 +47,28 @@ impl Default for SolveParams {
             criterion: Criterion::RelativeResidual,
             tol: 1e-8,
             max_cycles: 500,
-            cheb_degree: 3,
+            cheb_degree: None,
             cheb_lower_ratio: None,
         }
     }
 }
 
 impl SolveParams {
+    /// Per-method defaults of the default mode's Chebyshev smoother, measured in one run on the
+    /// boundary-layer cylinder and the free surface at 66k and 266k vertices (CG iterations):
+    /// biharmonic degree 6 on [λmax/20, λmax]: 12, 8, 9 — degree 4 on [λmax/10, λmax] took
+    /// 11 on the free surface but stalled on the thin wall layer (200 iterations, 1.9e-6);
+    /// Laplacian and spring degree 4 on [λmax/6, λmax]: 5, 5, 5 (/30 took 9–21).
+    pub fn cheb_defaults(&self, method: Method) -> (usize, f64) {
+        let (d, r) = if method == Method::Biharmonic { (6, 20.0) } else { (4, 6.0) };
+        (self.cheb_degree.unwrap_or(d), self.cheb_lower_ratio.unwrap_or(r))
+    }
+
     pub fn cycle_params(&self, method: Method) -> CycleParams {
         match self.mode {
             Mode::Default => {
-                let default = if method == Method::Biharmonic { 10.0 } else { 30.0 };
-                CycleParams::chebyshev(self.cheb_degree, self.cheb_lower_ratio.unwrap_or(default))
+                let (degree, ratio) = self.cheb_defaults(method);
+                CycleParams::chebyshev(degree, ratio)
             }
             Mode::PaperFaithful => CycleParams::paper(method),
         }

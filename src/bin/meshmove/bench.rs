@@ -1,0 +1,399 @@
+//! `meshmove bench`: every method, paper-faithful and default mode, against a direct sparse
+//! solve and the legacy Jacobi spring mover, on the free-surface case (DESIGN §7) refined
+//! uniformly from about 16 thousand to 4 million vertices. Writes `DIR/bench.csv`, prints a table.
+
+mod alloc;
+mod direct;
+mod jacobi;
+
+use glam::DVec2;
+use meshmove::bc::P;
+use meshmove::cases::meshes::{free_surface, FS_BOTTOM, FS_LEFT, FS_RIGHT, FS_TOP};
+use meshmove::multigrid::hierarchy::Level;
+use meshmove::{BoundaryConditions, Kind, Link, Mesh, Method, Mode, Motion, Options, SolveParams, Solver};
+use std::fmt::Write as _;
+use std::path::PathBuf;
+use std::time::Instant;
+
+pub const HEADER: &str =
+    "solver,vertices,threads,levels,setup_s,cycle_s,iterations,solve_s,work_units,bytes_per_vertex,rel_residual";
+
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Directory for bench.csv (created if missing).
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Largest mesh: refine while the next mesh has at most this many vertices.
+    #[arg(long, default_value_t = 4_500_000)]
+    pub max_vertices: usize,
+    /// Thread counts, comma separated; the multigrid default modes run at each, the rest
+    /// (paper-faithful modes, direct, Jacobi) at the largest only.
+    #[arg(long, value_delimiter = ',', default_values_t = vec![1, 2])]
+    pub threads: Vec<usize>,
+    /// Direct solves only up to this many vertices (fill grows as N log N in memory, N^1.5 in time).
+    #[arg(long, default_value_t = 1_100_000)]
+    pub direct_max_vertices: usize,
+    /// Time cap of the Jacobi spring mover per size, seconds.
+    #[arg(long, default_value_t = 20.0)]
+    pub jacobi_cap_s: f64,
+    /// Time cap of a paper-faithful solve per size, seconds (it stops at the cycle count that
+    /// fits, and its rel_residual says how far it got).
+    #[arg(long, default_value_t = 40.0)]
+    pub paper_cap_s: f64,
+    /// Relative residual every solver is run to.
+    #[arg(long, default_value_t = 1e-8)]
+    pub tol: f64,
+}
+
+/// One csv row.
+#[derive(Clone, Debug)]
+struct Row {
+    solver: &'static str,
+    vertices: usize,
+    threads: usize,
+    levels: usize,
+    setup_s: f64,
+    cycle_s: f64,
+    iterations: usize,
+    solve_s: f64,
+    work_units: f64,
+    bytes_per_vertex: f64,
+    rel_residual: f64,
+    /// Estimated solve seconds to the tolerance where the run was capped (Jacobi).
+    est_solve_s: Option<f64>,
+}
+
+impl Row {
+    fn csv(&self) -> String {
+        format!(
+            "{},{},{},{},{:.6},{:.6},{},{:.6},{:.1},{:.0},{:.3e}",
+            self.solver,
+            self.vertices,
+            self.threads,
+            self.levels,
+            self.setup_s,
+            self.cycle_s,
+            self.iterations,
+            self.solve_s,
+            self.work_units,
+            self.bytes_per_vertex,
+            self.rel_residual
+        )
+    }
+}
+
+/// The free-surface case: bottom fixed, top clamped and moved by A cos(2πx), periodic sides.
+fn case(mesh: &Mesh) -> (BoundaryConditions, Motion) {
+    let mut bcs = BoundaryConditions::new();
+    bcs.set_kinds(FS_BOTTOM, Kind::Fixed).set_kinds(FS_TOP, Kind::Clamped);
+    for p in [FS_LEFT, FS_RIGHT] {
+        bcs.set_kind(p, 0, Kind::Clamped).expect("component 0").set_kind(p, 1, Kind::Free).expect("component 1");
+    }
+    bcs.add_link(Link::ByOffset { a: FS_LEFT, b: FS_RIGHT, offset: DVec2::X, tol: 1e-9 });
+    let mut motion = Motion::zero(mesh.num_vertices());
+    for v in mesh.patch_vertices(FS_TOP) {
+        let x = mesh.coords()[v as usize].x;
+        motion.displacement[v as usize].y = 0.25 * (std::f64::consts::TAU * x).cos();
+    }
+    (bcs, motion)
+}
+
+/// Base mesh spacing: about 16.8 thousand vertices; each uniform refinement ×4.
+const BASE_H: f64 = 1.0 / 120.0;
+/// The motion is in y: component 1 carries the whole solve (x has a zero right-hand side).
+const COMP: usize = 1;
+
+/// Right-hand side of component `c` (the solver's own, rebuilt for the alternatives).
+fn rhs(lev: &Level, motion: &Motion, c: usize) -> Vec<f64> {
+    let vals = motion.vertex_values(&lev.mesh);
+    let flags = &lev.flags[c];
+    let dp: Vec<f64> =
+        (0..lev.n()).map(|d| if flags[d] & P != 0 { vals[lev.dofs.dof_vertex[d] as usize][c] } else { 0.0 }).collect();
+    let (mut b, mut s) = (vec![0.0; lev.n()], vec![0.0; lev.n()]);
+    lev.op.rhs(flags, &dp, None, &mut b, &mut s);
+    b
+}
+
+fn rel_residual(lev: &Level, c: usize, b: &[f64], x: &[f64]) -> f64 {
+    let (mut r, mut s) = (vec![0.0; lev.n()], vec![0.0; lev.n()]);
+    lev.op.residual(&lev.flags[c], b, x, &mut r, &mut s);
+    meshmove::sparse::dot(&r, &r).sqrt() / meshmove::sparse::dot(b, b).sqrt()
+}
+
+/// Seconds of one fine-level operator application (the work unit), best of a few batches.
+fn op_seconds(lev: &Level, c: usize) -> f64 {
+    let n = lev.n();
+    let x: Vec<f64> = (0..n).map(|i| ((i * 7919) % 1000) as f64 * 1e-3).collect();
+    let (mut y, mut s) = (vec![0.0; n], vec![0.0; n]);
+    let reps = (2_000_000 / n).clamp(3, 200);
+    let mut best = f64::INFINITY;
+    for _ in 0..3 {
+        let t = Instant::now();
+        for _ in 0..reps {
+            lev.op.apply(&lev.flags[c], &x, &mut y, &mut s);
+        }
+        best = best.min(t.elapsed().as_secs_f64() / reps as f64);
+    }
+    best
+}
+
+fn name(method: Method, mode: Mode) -> &'static str {
+    match (method, mode) {
+        (Method::Biharmonic, Mode::Default) => "biharmonic-mg",
+        (Method::Biharmonic, Mode::PaperFaithful) => "biharmonic-mg-paper",
+        (Method::Laplacian, Mode::Default) => "laplacian-mg",
+        (Method::Laplacian, Mode::PaperFaithful) => "laplacian-mg-paper",
+        (Method::Spring, _) => "spring-mg",
+    }
+}
+
+/// Solves once (more when short, keeping the fastest) and returns (seconds, report).
+fn timed_solve(s: &Solver, motion: &Motion) -> Result<(f64, meshmove::Report), String> {
+    let mut best: Option<(f64, meshmove::Report)> = None;
+    let mut total = 0.0;
+    for k in 0..3 {
+        let t = Instant::now();
+        let sol = s.solve(motion).map_err(|e| e.to_string())?;
+        let dt = t.elapsed().as_secs_f64();
+        total += dt;
+        if best.as_ref().map_or(true, |b| dt < b.0) {
+            best = Some((dt, sol.report));
+        }
+        if total > 1.0 || k == 2 {
+            break;
+        }
+    }
+    Ok(best.expect("one solve at least"))
+}
+
+/// All rows of one mesh size at one thread count.
+fn run_size(a: &Args, mesh: &Mesh, threads: usize, all: bool, rows: &mut Vec<Row>) -> Result<(), String> {
+    let nv = mesh.num_vertices();
+    let (bcs, motion) = case(mesh);
+    for method in [Method::Biharmonic, Method::Laplacian, Method::Spring] {
+        let base = alloc::start();
+        let t = Instant::now();
+        let mut solve = SolveParams { tol: a.tol, ..Default::default() };
+        let opts = Options { method, solve, threads: 0, ..Default::default() };
+        let mut solver = Solver::new(mesh, &bcs, opts).map_err(|e| e.to_string())?;
+        let setup_s = t.elapsed().as_secs_f64();
+        let levels = solver.num_levels();
+        let (solve_s, rep) = timed_solve(&solver, &motion)?;
+        let bytes = alloc::peak_above(base) as f64 / nv as f64;
+        let op_s = op_seconds(solver.hierarchy().fine(), COMP);
+        let row = |solver: &'static str, solve_s: f64, iterations: usize, rel: f64, bytes: f64, setup_s: f64| Row {
+            solver,
+            vertices: nv,
+            threads,
+            levels,
+            setup_s,
+            cycle_s: solve_s / iterations.max(1) as f64,
+            iterations,
+            solve_s,
+            work_units: solve_s / op_s,
+            bytes_per_vertex: bytes,
+            rel_residual: rel,
+            est_solve_s: None,
+        };
+        rows.push(row(name(method, Mode::Default), solve_s, rep.cycles, rep.rel_residual, bytes, setup_s));
+        report(rows.last().expect("row"));
+        if !all {
+            continue;
+        }
+        if method != Method::Spring {
+            // Paper-faithful: time one cycle, then allow as many as fit in the cap.
+            solve.mode = Mode::PaperFaithful;
+            solve.max_cycles = 1;
+            solver.set_solve_params(solve).map_err(|e| e.to_string())?;
+            let t = Instant::now();
+            solver.solve(&motion).map_err(|e| e.to_string())?;
+            let one = t.elapsed().as_secs_f64();
+            solve.max_cycles = ((a.paper_cap_s / one) as usize).clamp(1, 5000);
+            solver.set_solve_params(solve).map_err(|e| e.to_string())?;
+            let base = alloc::start();
+            let t = Instant::now();
+            let sol = solver.solve(&motion).map_err(|e| e.to_string())?;
+            let solve_s = t.elapsed().as_secs_f64();
+            let extra = alloc::peak_above(base) as f64 / nv as f64;
+            let r = &sol.report;
+            // Memory: the hierarchy (measured with the default solve) plus what this solve adds.
+            let hier = bytes.max(extra);
+            rows.push(row(name(method, Mode::PaperFaithful), solve_s, r.cycles, r.rel_residual, hier, setup_s));
+            report(rows.last().expect("row"));
+        }
+        let lev = solver.hierarchy().fine();
+        let b = rhs(lev, &motion, COMP);
+        let mut x = vec![0.0; lev.n()];
+        if method == Method::Spring {
+            let base = alloc::start();
+            let j = jacobi::solve(lev, COMP, &b, &mut x, a.tol, a.jacobi_cap_s);
+            // Its own vectors plus the fine K, V, 1/V, 1/D it sweeps with (no hierarchy).
+            let k = &lev.op.k;
+            let fine = k.row_ptr.len() * 8 + k.nnz() * 12 + lev.n() * (3 * 8 + 2);
+            let bytes = (alloc::peak_above(base) + fine) as f64 / nv as f64;
+            rows.push(Row {
+                levels: 1,
+                setup_s: 0.0,
+                est_solve_s: (j.rel_residual > a.tol).then_some(j.est_seconds),
+                ..row("spring-jacobi", j.seconds, j.sweeps, j.rel_residual, bytes, 0.0)
+            });
+            report(rows.last().expect("row"));
+        } else if nv <= a.direct_max_vertices {
+            let base = alloc::start();
+            let d = direct::solve(lev, COMP, &b, &mut x)?;
+            let bytes = alloc::peak_above(base) as f64 / nv as f64;
+            let rel = rel_residual(lev, COMP, &b, &x);
+            let nm = if method == Method::Biharmonic { "biharmonic-direct" } else { "laplacian-direct" };
+            // A moving mesh changes A every step: the factorisation is part of each solve.
+            rows.push(Row { levels: 1, ..row(nm, d.factor_s + d.solve_s, 1, rel, bytes, d.factor_s) });
+            report(rows.last().expect("row"));
+        } else {
+            println!("  (direct {method:?} skipped at {nv} vertices: above --direct-max-vertices)");
+        }
+    }
+    Ok(())
+}
+
+fn report(r: &Row) {
+    eprintln!("  {}", r.csv());
+}
+
+pub fn run(a: &Args) -> Result<(), String> {
+    if a.threads.is_empty() || a.threads.contains(&0) {
+        return Err("--threads needs thread counts of at least 1".into());
+    }
+    std::fs::create_dir_all(&a.out).map_err(|e| format!("{}: {e}", a.out.display()))?;
+    let tmax = *a.threads.iter().max().expect("nonempty");
+    let cpu = std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("model name"))
+                .map(|l| l.split(':').nth(1).unwrap_or("").trim().to_string())
+        })
+        .unwrap_or_else(|| "unknown".into());
+    println!(
+        "meshmove bench: free-surface case, A = 0.25, to a {:e} relative residual; CPU {cpu}, {} cores",
+        a.tol,
+        std::thread::available_parallelism().map_or(0, |n| n.get())
+    );
+    let t_all = Instant::now();
+    let mut rows = Vec::new();
+    let mut mesh = free_surface(BASE_H);
+    if mesh.num_vertices() > a.max_vertices {
+        println!(
+            "note: the smallest mesh has {} vertices, above --max-vertices; running it anyway",
+            mesh.num_vertices()
+        );
+    }
+    loop {
+        let nv = mesh.num_vertices();
+        eprintln!("{nv} vertices");
+        for &t in &a.threads {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(t).build().map_err(|e| e.to_string())?;
+            pool.install(|| run_size(a, &mesh, t, t == tmax, &mut rows))?;
+        }
+        if 4 * nv > a.max_vertices {
+            break;
+        }
+        mesh = mesh.refine_uniform();
+    }
+    let mut csv = String::from(HEADER);
+    csv.push('\n');
+    for r in &rows {
+        csv += &r.csv();
+        csv.push('\n');
+    }
+    let path = a.out.join("bench.csv");
+    std::fs::write(&path, csv).map_err(|e| format!("{}: {e}", path.display()))?;
+    print!("{}", table(&rows));
+    println!(
+        "wall {:.1} s; peak resident set (VmHWM) {:.0} MB; bytes_per_vertex counts allocation by the solver (counting allocator)",
+        t_all.elapsed().as_secs_f64(),
+        alloc::vm_hwm().unwrap_or(0) as f64 / 1e6
+    );
+    println!("wrote {}", path.display());
+    Ok(())
+}
+
+/// The printed table: every row, with its time ratio to our default multigrid solve of the same
+/// system at the same size and thread count.
+fn table(rows: &[Row]) -> String {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "{:<20} {:>8} {:>3} {:>3} {:>8} {:>9} {:>6} {:>9} {:>8} {:>6} {:>9}  {}",
+        "solver",
+        "vertices",
+        "thr",
+        "lev",
+        "setup_s",
+        "cycle_s",
+        "iter",
+        "solve_s",
+        "work_u",
+        "B/vert",
+        "rel_res",
+        "ratio to ours"
+    );
+    for r in rows {
+        let ours = match r.solver {
+            "biharmonic-mg-paper" | "biharmonic-direct" => Some("biharmonic-mg"),
+            "laplacian-mg-paper" | "laplacian-direct" => Some("laplacian-mg"),
+            "spring-jacobi" => Some("spring-mg"),
+            _ => None,
+        };
+        let ratio = ours
+            .and_then(|o| rows.iter().find(|q| q.solver == o && q.vertices == r.vertices && q.threads == r.threads))
+            .map(|o| match r.est_solve_s {
+                Some(e) => format!(">= {:.1}x (capped; est. {:.0}x)", r.solve_s / o.solve_s, e / o.solve_s),
+                None => format!("{:.1}x", r.solve_s / o.solve_s),
+            })
+            .unwrap_or_default();
+        let _ = writeln!(
+            s,
+            "{:<20} {:>8} {:>3} {:>3} {:>8.3} {:>9.5} {:>6} {:>9.3} {:>8.0} {:>6.0} {:>9.1e}  {}",
+            r.solver,
+            r.vertices,
+            r.threads,
+            r.levels,
+            r.setup_s,
+            r.cycle_s,
+            r.iterations,
+            r.solve_s,
+            r.work_units,
+            r.bytes_per_vertex,
+            r.rel_residual,
+            ratio
+        );
+    }
+    // Per size: biharmonic/Laplacian time, seconds per vertex, thread speed-up.
+    let get =
+        |name: &str, nv: usize, t: usize| rows.iter().find(|r| r.solver == name && r.vertices == nv && r.threads == t);
+    let mut sizes: Vec<usize> = rows.iter().map(|r| r.vertices).collect();
+    sizes.dedup();
+    let tmax = rows.iter().map(|r| r.threads).max().unwrap_or(1);
+    let tmin = rows.iter().map(|r| r.threads).min().unwrap_or(1);
+    let _ = writeln!(
+        s,
+        "\n{:>8} {:>14} {:>16} {:>16} {:>22}",
+        "vertices",
+        "bih/lap time",
+        "bih us/vertex",
+        "setup/solve",
+        format!("speed-up {tmin}->{tmax} thr")
+    );
+    for &nv in &sizes {
+        let (Some(b), Some(l)) = (get("biharmonic-mg", nv, tmax), get("laplacian-mg", nv, tmax)) else { continue };
+        let sp = get("biharmonic-mg", nv, tmin).map_or(String::new(), |b1| format!("{:.2}x", b1.solve_s / b.solve_s));
+        let _ = writeln!(
+            s,
+            "{nv:>8} {:>14.2} {:>16.3} {:>16.2} {:>22}",
+            b.solve_s / l.solve_s,
+            1e6 * b.solve_s / nv as f64,
+            b.setup_s / b.solve_s,
+            sp
+        );
+    }
+    s
+}

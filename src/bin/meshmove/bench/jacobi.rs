@@ -1,0 +1,59 @@
+//! The legacy alternative: the spring system by plain l1-Jacobi sweeps, no multigrid, run to the
+//! tolerance or to a time cap. From the asymptotic rate of the last sweeps it also estimates the
+//! sweeps (and seconds) it would need to reach the tolerance.
+
+use meshmove::multigrid::hierarchy::Level;
+use meshmove::sparse::{dot, par_fill};
+
+pub struct Jacobi {
+    pub sweeps: usize,
+    pub seconds: f64,
+    pub rel_residual: f64,
+    /// Estimated seconds to reach the tolerance (equal to `seconds` when it got there).
+    pub est_seconds: f64,
+}
+
+/// Residual norm checked every this many sweeps.
+const CHECK: usize = 50;
+
+pub fn solve(lev: &Level, c: usize, b: &[f64], x: &mut [f64], tol: f64, cap_s: f64) -> Jacobi {
+    let t0 = std::time::Instant::now();
+    let (flags, inv_d) = (&lev.flags[c], &lev.inv_d[c]);
+    let n = lev.n();
+    let (mut r, mut s, mut xn) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    let bn = dot(b, b).sqrt();
+    x.iter_mut().for_each(|v| *v = 0.0);
+    let mut hist: Vec<(usize, f64)> = Vec::new();
+    let mut sweeps = 0;
+    let mut rel;
+    loop {
+        lev.op.residual(flags, b, x, &mut r, &mut s);
+        if sweeps % CHECK == 0 {
+            rel = dot(&r, &r).sqrt() / bn;
+            hist.push((sweeps, rel));
+            if rel <= tol || t0.elapsed().as_secs_f64() >= cap_s {
+                break;
+            }
+        }
+        let (xr, rr) = (&*x, &r);
+        par_fill(&mut xn, |i| xr[i] + inv_d[i] * rr[i]);
+        x.copy_from_slice(&xn);
+        sweeps += 1;
+    }
+    let seconds = t0.elapsed().as_secs_f64();
+    let est_seconds = if rel <= tol || hist.len() < 4 {
+        seconds
+    } else {
+        // Rate per sweep over the second half of the run.
+        let (s1, r1) = hist[hist.len() / 2];
+        let (s2, r2) = *hist.last().expect("history");
+        let rate = (r2 / r1).powf(1.0 / (s2 - s1) as f64);
+        if rate < 1.0 {
+            let more = (tol / r2).ln() / rate.ln();
+            seconds * (sweeps as f64 + more) / sweeps as f64
+        } else {
+            f64::INFINITY
+        }
+    };
+    Jacobi { sweeps, seconds, rel_residual: rel, est_seconds }
+}
