@@ -37,6 +37,8 @@ fn view_for(setup: &CaseSetup, coords: &[DVec2]) -> (View, Option<View>) {
             let c = cyl.iter().map(|&v| coords[v as usize]).sum::<DVec2>() / cyl.len() as f64;
             (View::around(setup.mesh.coords(), 0.0), Some(View::centred(c, 0.75)))
         }
+        // The part of the channel around the cylinder (the rest barely moves).
+        "cylinder_channel" => (View { x0: 0.5, x1: 4.5, y0: -1.02, y1: 1.02 }, None),
         _ => (View::around(coords, 0.01), None),
     }
 }
