@@ -3,17 +3,20 @@
 //! get and why (docs/RESULTS.md has the full table). No case is tuned to pass.
 
 use glam::DVec2;
-use meshmove::bc::P;
-use meshmove::cases::report::{patch_measures, run_case, CaseResult};
+use meshmove::cases::report::{patch_measures, reference_displacement, run_case, run_case_reference, CaseResult};
 use meshmove::cases::setups::{case, interface_case, CaseSetup, Scale};
 use meshmove::mesh::quality::quality;
-use meshmove::{InterfaceVariant, Kind, Method, Options, Solver};
+use meshmove::{InterfaceVariant, Method, Options};
 
 fn run(name: &str, method: Method) -> (CaseSetup, CaseResult) {
     let s = case(name, Scale::Paper).unwrap();
     let r = run_case(&s, method, &Options::default()).unwrap();
     assert!(r.failure.is_none(), "{name} {method:?}: {:?}", r.failure);
     (s, r)
+}
+
+fn b_mesh(name: &str) -> meshmove::Mesh {
+    case(name, Scale::Paper).unwrap().mesh
 }
 
 fn near(x: f64, want: f64, tol: f64) -> bool {
@@ -55,6 +58,12 @@ fn free_surface_ten_steps_all_valid_with_the_quality_gap() {
     // Expected h/h0 variation ≈ 2.4 vs ≈ 0.3. Ours: 2.403 and 0.356.
     assert!(near(l.patch.spacing_variation, 2.4, 0.2), "{}", l.patch.spacing_variation);
     assert!(near(b.patch.spacing_variation, 0.3, 0.1), "{}", b.patch.spacing_variation);
+    // The SPRING: our multigrid stalls after the first step (9 of 10 steps unconverged); the exact
+    // solve of every step is valid too (min area ratio 0.128; multigrid 0.143).
+    let setup = case("free_surface_a0.25_10steps", Scale::Paper).unwrap();
+    let (coords, first) = run_case_reference(&setup, Method::Spring, 1e-10).unwrap();
+    assert_eq!(first, None);
+    assert!(quality(&setup.mesh, &coords).min_area_ratio > 0.1);
 }
 
 #[test]
@@ -104,7 +113,15 @@ fn deforming_interface_both_variants() {
         // † Laplacian valid but min area ratio ≈ 0.04. Ours: 0 inverted, 0.064.
         assert_eq!(l.inverted, 0, "{name}");
         assert!(l.min_area_ratio > 0.0 && l.min_area_ratio < 0.1, "{name}: {}", l.min_area_ratio);
-        // SPRING inverts from step ≈ 11. Ours: from step 9 (A) and 10 (B), 15 cells at the end.
+        // SPRING inverts from step ≈ 11. Ours, exact solve of every step: from step 13, 12 cells
+        // at the end (both variants: for second-order methods the interface is plain Dirichlet).
+        let (coords, first) = run_case_reference(&case(name, Scale::Paper).unwrap(), Method::Spring, 1e-10).unwrap();
+        assert_eq!(quality(&b_mesh(name), &coords).inverted, 12, "{name}");
+        assert_eq!(first, Some(13), "{name}");
+        // Our multigrid does not converge for the SPRING after the first step (14 of 15 steps stop
+        // at 500 iterations, relative residual up to 0.4; RESULTS.md): it inverts earlier, from
+        // step 9 (A) or 10 (B), 15 cells. Recorded so that a solver fix shows up here.
+        assert!(s.reports.iter().filter(|r| !r.converged).count() >= 10, "{name}: spring converges now");
         assert!(s.inverted > 0, "{name}");
         let k = s.first_inverted_step.unwrap();
         assert!((8..=12).contains(&k), "{name}: spring first inverted at step {k}");
@@ -127,63 +144,9 @@ fn cylinder_in_channel() {
     assert!(lo > 0.75 && hi < 1.25, "{lo}..{hi}");
 }
 
-/// The exact discrete solution (Jacobi-preconditioned CG on the same operator, to 1e-11): an
-/// independent check of what the multigrid should have reached.
 fn reference_solve(s: &CaseSetup, method: Method) -> Vec<DVec2> {
-    let solver = Solver::new(&s.mesh, &s.bcs, Options { method, ..Default::default() }).unwrap();
-    let lev = &solver.hierarchy().levels[0];
-    let n = lev.n();
-    let vals = s.motion.vertex_values(&s.mesh);
-    let mut disp = vec![DVec2::ZERO; s.mesh.num_vertices()];
-    for c in 0..2 {
-        let flags = &lev.flags[c];
-        let dp: Vec<f64> =
-            (0..n).map(|d| if flags[d] & P != 0 { vals[lev.dofs.dof_vertex[d] as usize][c] } else { 0.0 }).collect();
-        // The rigid-motion flux source of a CLAMPED patch (DESIGN §4), as the solver builds it.
-        let g = (method == Method::Biharmonic).then(|| {
-            let mut g = vec![0.0; n];
-            let (patch, m) = s.motion.rigid[0];
-            assert_eq!(s.bcs.kind(patch, c), Kind::Clamped);
-            let x = lev.mesh.coords();
-            let l: Vec<f64> = lev.dofs.dof_vertex.iter().map(|&v| m.displacement(x[v as usize])[c]).collect();
-            for v in lev.mesh.patch_vertices(patch) {
-                let d = lev.dofs.vertex_dof[v as usize] as usize;
-                let (cols, vs) = lev.op.k.row(d);
-                g[d] = cols.iter().zip(vs).map(|(&j, &a)| a * l[j as usize]).sum();
-            }
-            g
-        });
-        let (mut b, mut sc) = (vec![0.0; n], vec![0.0; n]);
-        lev.op.rhs(flags, &dp, g.as_deref(), &mut b, &mut sc);
-        let dinv = lev.op.inv_l1_diag(flags);
-        let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
-        let mut x = vec![0.0; n];
-        let mut r = b.clone();
-        let mut z: Vec<f64> = r.iter().zip(&dinv).map(|(a, d)| a * d).collect();
-        let mut p = z.clone();
-        let mut rz = dot(&r, &z);
-        let bn = dot(&b, &b).sqrt();
-        let mut ap = vec![0.0; n];
-        for _ in 0..200_000 {
-            if dot(&r, &r).sqrt() <= 1e-11 * bn {
-                break;
-            }
-            lev.op.apply(flags, &p, &mut ap, &mut sc);
-            let alpha = rz / dot(&p, &ap);
-            x.iter_mut().zip(&p).for_each(|(x, p)| *x += alpha * p);
-            r.iter_mut().zip(&ap).for_each(|(r, a)| *r -= alpha * a);
-            z.iter_mut().zip(r.iter().zip(&dinv)).for_each(|(z, (r, d))| *z = r * d);
-            let rz1 = dot(&r, &z);
-            let beta = rz1 / rz;
-            rz = rz1;
-            p.iter_mut().zip(&z).for_each(|(p, z)| *p = z + beta * *p);
-        }
-        assert!(dot(&r, &r).sqrt() <= 1e-9 * bn, "reference CG did not converge");
-        for (v, &d) in lev.dofs.vertex_dof.iter().enumerate() {
-            disp[v][c] = x[d as usize] + dp[d as usize];
-        }
-    }
-    s.mesh.coords().iter().zip(&disp).map(|(a, b)| *a + *b).collect()
+    let d = reference_displacement(&s.mesh, &s.bcs, &s.motion, method, 1e-11).unwrap();
+    s.mesh.coords().iter().zip(&d).map(|(a, b)| *a + *b).collect()
 }
 
 #[test]

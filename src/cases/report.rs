@@ -210,3 +210,94 @@ pub fn run_case(setup: &CaseSetup, method: Method, opts: &Options) -> Result<Cas
         reports,
     })
 }
+
+/// The exact discrete displacement of one solve, by Jacobi-preconditioned conjugate gradients on
+/// the finest operator alone (no multigrid), to a relative residual of `tol`: an independent
+/// check of what the multigrid should reach. Slow (O(N^1.5) and worse); for tests and diagnosis.
+pub fn reference_displacement(
+    mesh: &Mesh,
+    bcs: &crate::BoundaryConditions,
+    motion: &crate::Motion,
+    method: Method,
+    tol: f64,
+) -> Result<Vec<DVec2>> {
+    use crate::bc::{Kind, P};
+    let solver = Solver::new(mesh, bcs, Options { method, ..Default::default() })?;
+    let lev = &solver.hierarchy().levels[0];
+    let n = lev.n();
+    let vals = motion.vertex_values(mesh);
+    let mut disp = vec![DVec2::ZERO; mesh.num_vertices()];
+    for c in 0..2 {
+        let flags = &lev.flags[c];
+        let dp: Vec<f64> =
+            (0..n).map(|d| if flags[d] & P != 0 { vals[lev.dofs.dof_vertex[d] as usize][c] } else { 0.0 }).collect();
+        // The rigid-motion flux source of a CLAMPED patch (DESIGN §4), as the solver builds it.
+        let mut g: Option<Vec<f64>> = None;
+        if method == Method::Biharmonic {
+            let x = lev.mesh.coords();
+            for &(patch, m) in &motion.rigid {
+                if bcs.kind(patch, c) != Kind::Clamped {
+                    continue;
+                }
+                let l: Vec<f64> = lev.dofs.dof_vertex.iter().map(|&v| m.displacement(x[v as usize])[c]).collect();
+                let g = g.get_or_insert_with(|| vec![0.0; n]);
+                for v in lev.mesh.patch_vertices(patch) {
+                    let d = lev.dofs.vertex_dof[v as usize] as usize;
+                    let (cols, vs) = lev.op.k.row(d);
+                    g[d] = cols.iter().zip(vs).map(|(&j, &a)| a * l[j as usize]).sum();
+                }
+            }
+        }
+        let (mut b, mut sc) = (vec![0.0; n], vec![0.0; n]);
+        lev.op.rhs(flags, &dp, g.as_deref(), &mut b, &mut sc);
+        let dinv = lev.op.inv_l1_diag(flags);
+        let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+        let mut x = vec![0.0; n];
+        let mut r = b.clone();
+        let mut z: Vec<f64> = r.iter().zip(&dinv).map(|(a, d)| a * d).collect();
+        let mut p = z.clone();
+        let mut rz = dot(&r, &z);
+        let bn = dot(&b, &b).sqrt();
+        let mut ap = vec![0.0; n];
+        for _ in 0..50 * n + 1000 {
+            if dot(&r, &r).sqrt() <= tol * bn {
+                break;
+            }
+            lev.op.apply(flags, &p, &mut ap, &mut sc);
+            let alpha = rz / dot(&p, &ap);
+            x.iter_mut().zip(&p).for_each(|(x, p)| *x += alpha * p);
+            r.iter_mut().zip(&ap).for_each(|(r, a)| *r -= alpha * a);
+            z.iter_mut().zip(r.iter().zip(&dinv)).for_each(|(z, (r, d))| *z = r * d);
+            let rz1 = dot(&r, &z);
+            let beta = rz1 / rz;
+            rz = rz1;
+            p.iter_mut().zip(&z).for_each(|(p, z)| *p = z + beta * *p);
+        }
+        let rel = dot(&r, &r).sqrt() / bn.max(f64::MIN_POSITIVE);
+        if bn > 0.0 && rel > 10.0 * tol {
+            return Err(crate::Error::Diverged(format!("reference CG reached only {rel:e}")));
+        }
+        for (v, &d) in lev.dofs.vertex_dof.iter().enumerate() {
+            disp[v][c] = x[d as usize] + dp[d as usize];
+        }
+    }
+    Ok(disp)
+}
+
+/// [`run_case`] with every step solved by [`reference_displacement`] (the mesh re-referenced
+/// after each step as the solver does). Returns the final positions and the first step after
+/// which a cell was inverted.
+pub fn run_case_reference(setup: &CaseSetup, method: Method, tol: f64) -> Result<(Vec<DVec2>, Option<usize>)> {
+    let original = &setup.mesh;
+    let mut current = original.clone();
+    let mut first = None;
+    for i in 0..setup.steps {
+        let d = reference_displacement(&current, &setup.bcs, &setup.motion.increment(i, setup.steps), method, tol)?;
+        let moved: Vec<DVec2> = current.coords().iter().zip(&d).map(|(x, d)| *x + *d).collect();
+        if first.is_none() && quality(original, &moved).inverted > 0 {
+            first = Some(i + 1);
+        }
+        current = current.with_coords(moved);
+    }
+    Ok((current.coords().to_vec(), first))
+}

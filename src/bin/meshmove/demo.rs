@@ -79,6 +79,15 @@ fn convergence(dir: &Path, scale: Scale, width: u32) -> Result<(), String> {
         .map_err(|e| format!("{}: {e}", p.display()))
 }
 
+/// A message above the bar, or on stderr when the bar is hidden (not a terminal).
+fn say(bar: &ProgressBar, m: String) {
+    if bar.is_hidden() {
+        eprintln!("{m}");
+    } else {
+        bar.println(m);
+    }
+}
+
 pub fn run(args: Args) -> Result<ExitCode, String> {
     let dir = &args.out;
     std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
@@ -93,8 +102,19 @@ pub fn run(args: Args) -> Result<ExitCode, String> {
         for method in METHODS {
             bar.set_message(format!("{name} {}", method_name(method)));
             let r = run_case(&setup, method, &Options::default()).map_err(|e| format!("{name}, {method:?}: {e}"))?;
+            let unconverged = r.reports.iter().filter(|x| !x.converged).count();
+            if unconverged > 0 {
+                say(
+                    &bar,
+                    format!(
+                        "note: {name} {}: {unconverged} of {} steps did not reach the tolerance (see docs/RESULTS.md)",
+                        method_name(method),
+                        r.steps
+                    ),
+                );
+            }
             if let Some(f) = &r.failure {
-                bar.println(format!("{name} {}: stopped at {f}", method_name(method)));
+                say(&bar, format!("{name} {}: stopped at {f}", method_name(method)));
             }
             let vtu = dir.join(format!("{name}_{}.vtu", method_name(method)));
             write_deformed(&vtu, &setup.mesh, &r.displacement(&setup.mesh))
