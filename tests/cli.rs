@@ -90,6 +90,20 @@ fn deform_the_example_and_compare() {
     assert!(o.status.success(), "{}", text(&o));
     let o = meshmove(&["compare", out.to_str().unwrap(), out2.to_str().unwrap(), "--tol", "1e-6"]);
     assert!(o.status.success(), "{}", text(&o));
+    // And as the point data `displacement` of the first result (.vtu), on the cylinder only.
+    std::fs::write(d.join("vtu.toml"), cfg.replace("disp.csv", "out.vtu")).unwrap();
+    let out3 = d.join("out3.vtu");
+    let o = meshmove(&[
+        "deform",
+        &example("channel.msh"),
+        "--config",
+        d.join("vtu.toml").to_str().unwrap(),
+        "-o",
+        out3.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let o = meshmove(&["compare", out2.to_str().unwrap(), out3.to_str().unwrap(), "--tol", "1e-9"]);
+    assert!(o.status.success(), "{}", text(&o));
     let o = meshmove(&["compare", out.to_str().unwrap(), out.to_str().unwrap(), "--tol", "0"]);
     assert!(o.status.success(), "{}", text(&o));
     let _ = std::fs::remove_dir_all(&d);
