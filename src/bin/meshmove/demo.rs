@@ -3,7 +3,7 @@
 use crate::plot::{mesh_png, semilog_png, View};
 use glam::DVec2;
 use indicatif::{ProgressBar, ProgressStyle};
-use meshmove::cases::report::{method_name, run_case, CaseResult, METHODS};
+use meshmove::cases::report::{method_name, run_case, run_case_reference, CaseResult, METHODS};
 use meshmove::cases::setups::{case, free_surface_case, CaseSetup, Scale, CASE_NAMES};
 use meshmove::io::write_deformed;
 use meshmove::mesh::quality::signed_areas;
@@ -43,13 +43,13 @@ fn view_for(setup: &CaseSetup, coords: &[DVec2]) -> (View, Option<View>) {
     }
 }
 
-fn picture(dir: &Path, setup: &CaseSetup, r: &CaseResult, width: u32) -> Result<(), String> {
-    let a = signed_areas(&setup.mesh, &r.coords);
+/// One mesh picture, `DIR/{stem}.png`.
+fn picture(dir: &Path, setup: &CaseSetup, coords: &[DVec2], stem: &str, width: u32) -> Result<(), String> {
+    let a = signed_areas(&setup.mesh, coords);
     let inverted: Vec<bool> = a.iter().map(|&x| x <= 0.0).collect();
-    let (view, inset) = view_for(setup, &r.coords);
-    let path = dir.join(format!("{}_{}.png", setup.name, method_name(r.method)));
-    mesh_png(&path, &setup.mesh, &r.coords, &inverted, view, inset, width)
-        .map_err(|e| format!("{}: {e}", path.display()))
+    let (view, inset) = view_for(setup, coords);
+    let path = dir.join(format!("{stem}.png"));
+    mesh_png(&path, &setup.mesh, coords, &inverted, view, inset, width).map_err(|e| format!("{}: {e}", path.display()))
 }
 
 /// Paper Fig. 8: largest vertex correction per W-cycle, paper-faithful mode, free surface A = 0.25.
@@ -119,7 +119,27 @@ pub fn run(args: Args) -> Result<ExitCode, String> {
             let vtu = dir.join(format!("{name}_{}.vtu", method_name(method)));
             write_deformed(&vtu, &setup.mesh, &r.displacement(&setup.mesh))
                 .map_err(|e| format!("{}: {e}", vtu.display()))?;
-            picture(dir, &setup, &r, args.width)?;
+            let stem = format!("{name}_{}", method_name(method));
+            picture(dir, &setup, &r.coords, &stem, args.width)?;
+            if unconverged > 0 {
+                // What the method gives: every step solved exactly (slow, independent of the
+                // multigrid), written beside the multigrid's result as *_exact.{vtu,png}.
+                bar.set_message(format!("{name} {}: exact solve", method_name(method)));
+                match run_case_reference(&setup, method, 1e-10) {
+                    Ok((coords, first)) => {
+                        let inv = signed_areas(&setup.mesh, &coords).iter().filter(|&&a| a <= 0.0).count();
+                        say(&bar, format!(
+                            "      exact solves of every step: {inv} inverted cells{}; written as {stem}_exact.vtu/.png",
+                            first.map(|k| format!(" (first at step {k})")).unwrap_or_default()
+                        ));
+                        let disp: Vec<DVec2> = coords.iter().zip(setup.mesh.coords()).map(|(a, b)| *a - *b).collect();
+                        let vtu = dir.join(format!("{stem}_exact.vtu"));
+                        write_deformed(&vtu, &setup.mesh, &disp).map_err(|e| format!("{}: {e}", vtu.display()))?;
+                        picture(dir, &setup, &coords, &format!("{stem}_exact"), args.width)?;
+                    }
+                    Err(e) => say(&bar, format!("      exact solve failed: {e}")),
+                }
+            }
             csv.push_str(&r.csv_row());
             csv.push('\n');
             bar.inc(1);
