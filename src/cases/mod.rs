@@ -1,6 +1,9 @@
-//! The paper's test cases (DESIGN §7): deterministic mesh generators with named patches.
+//! The paper's test cases (DESIGN §7): deterministic mesh generators with named patches, the
+//! complete set-ups (`setups`) and the measurements of a run (`report`).
 
 mod cdt;
 mod cylinder;
 mod free_surface;
 pub mod meshes;
+pub mod report;
+pub mod setups;

@@ -1,8 +1,15 @@
-//! The `meshmove` command line: `meshmove bench` measures the solvers (more subcommands join it).
-
-use clap::{Parser, Subcommand};
+//! `meshmove`: the paper's cases in one command, the user's own mesh deformed from a TOML case
+//! file, and two `.vtu` files compared. One file per subcommand; `Command` is a plain list of
+//! variants so that more subcommands merge in without touching the others.
 
 mod bench;
+mod compare;
+mod deform;
+mod demo;
+mod plot;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
 
 #[derive(Parser)]
 #[command(name = "meshmove", version, about = "Biharmonic, Laplacian and spring mesh deformation")]
@@ -13,20 +20,29 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
+    /// Run every case of the paper with every method: .vtu meshes, PNG pictures, results.csv.
+    Demo(demo::Args),
+    /// Deform a mesh (.msh or .vtu) as a TOML case file says; writes a .vtu.
+    Deform(deform::Args),
+    /// Exit 0 when the coordinates of two .vtu files agree within a tolerance.
+    Compare(compare::Args),
     /// Cost per solve of every method against a direct solve and plain Jacobi, 16k to 4M vertices.
     Bench(bench::Args),
 }
 
-fn main() -> std::process::ExitCode {
+fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Bench(a) => bench::run(&a),
+        Command::Demo(a) => demo::run(a),
+        Command::Deform(a) => deform::run(a),
+        Command::Compare(a) => compare::run(a),
+        Command::Bench(a) => bench::run(&a).map(|()| ExitCode::SUCCESS).map_err(|e| e.to_string()),
     };
     match result {
-        Ok(()) => std::process::ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("meshmove: {e}");
-            std::process::ExitCode::FAILURE
+        Ok(code) => code,
+        Err(msg) => {
+            eprintln!("meshmove: error: {msg}");
+            ExitCode::FAILURE
         }
     }
 }

@@ -1,0 +1,344 @@
+//! `meshmove deform MESH --config CASE.toml -o OUT.vtu`: the user's own mesh and case.
+//!
+//! The case file (see docs/examples/channel.toml):
+//!
+//! ```toml
+//! method = "biharmonic"        # biharmonic | laplacian | spring
+//! tolerance = 1e-8             # relative residual
+//! threads = 0                  # 0: all cores
+//! steps = 1
+//! [[patch]]                    # a patch by id (integer) or Gmsh physical name (string)
+//! patch = "wall"
+//! kind = "fixed"               # fixed | clamped | free, or [x kind, y kind]
+//! [[link]]                     # periodic: every vertex of a at v + offset on b
+//! a = "left"; b = "right"; offset = [1.0, 0.0]; tol = 1e-9
+//! [[interface]]                # an interior patch between two regions
+//! patch = "interface"; variant = "separate"   # separate (A) | continuous (B)
+//! [[motion]]                   # a rigid motion of a patch ...
+//! patch = "cylinder"; translation = [1.0, 0.0]; rotation_deg = 0.0; center = [2.0, 0.0]
+//! [[motion]]                   # ... or a displacement field (.vtu point data
+//! file = "disp.csv"            # `displacement`, or CSV lines `vertex,dx,dy`, 0-based),
+//! patch = "top"                # optionally only on one patch's vertices
+//! ```
+//!
+//! Exit status: 0 on a valid result, 1 on a bad mesh, case file or failed solve, 2 on usage
+//! errors (clap), 3 when the result has inverted cells (the .vtu is still written).
+
+use glam::DVec2;
+use meshmove::cases::report::{patch_measures, run_case};
+use meshmove::cases::setups::CaseSetup;
+use meshmove::io::{read_msh, read_vtu};
+use meshmove::{BoundaryConditions, InterfaceVariant, Kind, Link, Mesh, Method, Motion, Options, RigidMotion};
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// The mesh: Gmsh .msh (2.2 or 4.1; physical groups are patches) or .vtu.
+    mesh: PathBuf,
+    /// The case file (TOML).
+    #[arg(long)]
+    config: PathBuf,
+    /// Where to write the deformed mesh (.vtu).
+    #[arg(short, long)]
+    output: PathBuf,
+}
+
+#[derive(Deserialize, Debug, Clone)]
+#[serde(untagged)]
+enum PatchRef {
+    Id(i32),
+    Name(String),
+}
+
+#[derive(Deserialize, Debug)]
+#[serde(untagged)]
+enum KindSpec {
+    Both(String),
+    PerComponent([String; 2]),
+}
+
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+struct PatchCfg {
+    patch: PatchRef,
+    kind: KindSpec,
+}
+
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+struct LinkCfg {
+    a: PatchRef,
+    b: PatchRef,
+    offset: [f64; 2],
+    tol: Option<f64>,
+}
+
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+struct InterfaceCfg {
+    patch: PatchRef,
+    variant: String,
+}
+
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+struct MotionCfg {
+    patch: Option<PatchRef>,
+    translation: Option<[f64; 2]>,
+    rotation_deg: Option<f64>,
+    center: Option<[f64; 2]>,
+    file: Option<PathBuf>,
+}
+
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+struct Config {
+    method: Option<String>,
+    tolerance: Option<f64>,
+    threads: Option<usize>,
+    steps: Option<usize>,
+    #[serde(default)]
+    patch: Vec<PatchCfg>,
+    #[serde(default)]
+    link: Vec<LinkCfg>,
+    #[serde(default)]
+    interface: Vec<InterfaceCfg>,
+    #[serde(default)]
+    motion: Vec<MotionCfg>,
+}
+
+struct Patches {
+    ids: Vec<i32>,
+    names: Vec<(i32, String)>,
+}
+
+impl Patches {
+    fn resolve(&self, p: &PatchRef, what: &str) -> Result<i32, String> {
+        let id = match p {
+            PatchRef::Id(i) => *i,
+            PatchRef::Name(n) => match self.names.iter().find(|(_, m)| m == n) {
+                Some((i, _)) => *i,
+                None => {
+                    let known: Vec<&str> = self.names.iter().map(|(_, n)| n.as_str()).collect();
+                    return Err(format!("{what}: no patch named `{n}` in the mesh (named patches: {known:?})"));
+                }
+            },
+        };
+        if self.ids.binary_search(&id).is_err() {
+            return Err(format!("{what}: patch {id} is not in the mesh (patches: {:?})", self.ids));
+        }
+        Ok(id)
+    }
+}
+
+fn kind(s: &str, what: &str) -> Result<Kind, String> {
+    match s.to_ascii_lowercase().as_str() {
+        "fixed" => Ok(Kind::Fixed),
+        "clamped" => Ok(Kind::Clamped),
+        "free" => Ok(Kind::Free),
+        _ => Err(format!("{what}: kind `{s}` is not one of fixed, clamped, free")),
+    }
+}
+
+fn read_mesh(path: &Path) -> Result<(Mesh, Vec<(i32, String)>), String> {
+    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+    match ext.as_str() {
+        "msh" => {
+            let m = read_msh(path).map_err(|e| format!("mesh {}: {e}", path.display()))?;
+            let names = m.physical_names.iter().filter(|(d, _, _)| *d == 1).map(|(_, t, n)| (*t, n.clone())).collect();
+            Ok((m.mesh, names))
+        }
+        "vtu" => {
+            let d = read_vtu(path).map_err(|e| format!("mesh {}: {e}", path.display()))?;
+            let m = d.to_mesh().map_err(|e| format!("mesh {}: {e}", path.display()))?;
+            Ok((m, Vec::new()))
+        }
+        _ => Err(format!("mesh {}: unknown extension (expected .msh or .vtu)", path.display())),
+    }
+}
+
+/// A displacement per vertex from a .vtu (point data `displacement`) or a CSV `vertex,dx,dy`.
+fn read_displacement(path: &Path, nv: usize) -> Result<Vec<Option<DVec2>>, String> {
+    let what = format!("displacement file {}", path.display());
+    let mut out = vec![None; nv];
+    if path.extension().and_then(|e| e.to_str()) == Some("vtu") {
+        let d = read_vtu(path).map_err(|e| format!("{what}: {e}"))?;
+        let (_, v, k) = d
+            .point_data
+            .iter()
+            .find(|(n, _, _)| n == "displacement")
+            .ok_or_else(|| format!("{what}: no point data `displacement`"))?;
+        if *k < 2 || v.len() != nv * k {
+            return Err(format!(
+                "{what}: `displacement` has {} values of {k} components; the mesh has {nv} vertices",
+                v.len()
+            ));
+        }
+        for (i, o) in out.iter_mut().enumerate() {
+            *o = Some(DVec2::new(v[i * k], v[i * k + 1]));
+        }
+        return Ok(out);
+    }
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{what}: {e}"))?;
+    for (ln, line) in text.lines().enumerate() {
+        let line = line.trim();
+        if line.is_empty() || line.starts_with('#') || (ln == 0 && line.starts_with(|c: char| c.is_alphabetic())) {
+            continue;
+        }
+        let f: Vec<&str> = line.split(',').map(str::trim).collect();
+        let bad = || format!("{what}: line {}: expected `vertex,dx,dy`, got `{line}`", ln + 1);
+        if f.len() != 3 {
+            return Err(bad());
+        }
+        let v: usize = f[0].parse().map_err(|_| bad())?;
+        let dx: f64 = f[1].parse().map_err(|_| bad())?;
+        let dy: f64 = f[2].parse().map_err(|_| bad())?;
+        if v >= nv || !dx.is_finite() || !dy.is_finite() {
+            return Err(format!("{what}: line {}: vertex {v} (the mesh has {nv}) or a non-finite value", ln + 1));
+        }
+        out[v] = Some(DVec2::new(dx, dy));
+    }
+    Ok(out)
+}
+
+fn build(args: &Args) -> Result<(CaseSetup, Options), String> {
+    let text = std::fs::read_to_string(&args.config).map_err(|e| format!("config {}: {e}", args.config.display()))?;
+    let cfg: Config = toml::from_str(&text).map_err(|e| format!("config {}: {e}", args.config.display()))?;
+    let base = args.config.parent().unwrap_or(Path::new("."));
+    let (mesh, names) = read_mesh(&args.mesh)?;
+    let patches = Patches { ids: mesh.patch_ids(), names };
+    let method = match cfg.method.as_deref().unwrap_or("biharmonic").to_ascii_lowercase().as_str() {
+        "biharmonic" => Method::Biharmonic,
+        "laplacian" => Method::Laplacian,
+        "spring" => Method::Spring,
+        m => return Err(format!("config: method `{m}` is not one of biharmonic, laplacian, spring")),
+    };
+    let mut opts = Options { method, ..Default::default() };
+    if let Some(t) = cfg.tolerance {
+        if !(t > 0.0 && t.is_finite()) {
+            return Err(format!("config: tolerance must be positive, got {t}"));
+        }
+        opts.solve.tol = t;
+    }
+    opts.threads = cfg.threads.unwrap_or(0);
+    let steps = cfg.steps.unwrap_or(1);
+    if steps == 0 {
+        return Err("config: steps must be at least 1".into());
+    }
+    let mut bcs = BoundaryConditions::new();
+    for (i, p) in cfg.patch.iter().enumerate() {
+        let what = format!("config: [[patch]] {}", i + 1);
+        let id = patches.resolve(&p.patch, &what)?;
+        match &p.kind {
+            KindSpec::Both(k) => {
+                bcs.set_kinds(id, kind(k, &what)?);
+            }
+            KindSpec::PerComponent([kx, ky]) => {
+                bcs.set_kind(id, 0, kind(kx, &what)?).map_err(|e| e.to_string())?;
+                bcs.set_kind(id, 1, kind(ky, &what)?).map_err(|e| e.to_string())?;
+            }
+        }
+    }
+    for (i, l) in cfg.link.iter().enumerate() {
+        let what = format!("config: [[link]] {}", i + 1);
+        let (a, b) = (patches.resolve(&l.a, &what)?, patches.resolve(&l.b, &what)?);
+        bcs.add_link(Link::ByOffset { a, b, offset: DVec2::from(l.offset), tol: l.tol.unwrap_or(1e-9) });
+    }
+    for (i, f) in cfg.interface.iter().enumerate() {
+        let what = format!("config: [[interface]] {}", i + 1);
+        let id = patches.resolve(&f.patch, &what)?;
+        let v = match f.variant.to_ascii_lowercase().as_str() {
+            "separate" | "a" => InterfaceVariant::Separate,
+            "continuous" | "b" => InterfaceVariant::Continuous,
+            v => return Err(format!("{what}: variant `{v}` is not separate (A) or continuous (B)")),
+        };
+        bcs.set_interface(id, v);
+    }
+    let mut motion = Motion::zero(mesh.num_vertices());
+    let mut moved_patch = 0;
+    for (i, m) in cfg.motion.iter().enumerate() {
+        let what = format!("config: [[motion]] {}", i + 1);
+        let patch = m.patch.as_ref().map(|p| patches.resolve(p, &what)).transpose()?;
+        if let Some(p) = patch {
+            if moved_patch == 0 {
+                moved_patch = p;
+            }
+        }
+        let rigid = m.translation.is_some() || m.rotation_deg.is_some();
+        match (&m.file, rigid) {
+            (Some(_), true) => return Err(format!("{what}: give either `file` or a rigid motion, not both")),
+            (None, false) => return Err(format!("{what}: give `translation`/`rotation_deg` or a displacement `file`")),
+            (None, true) => {
+                let p = patch.ok_or_else(|| format!("{what}: a rigid motion needs `patch`"))?;
+                let r = RigidMotion {
+                    translation: DVec2::from(m.translation.unwrap_or([0.0; 2])),
+                    angle: m.rotation_deg.unwrap_or(0.0).to_radians(),
+                    center: DVec2::from(m.center.unwrap_or([0.0; 2])),
+                };
+                motion = motion.with_rigid(p, r);
+            }
+            (Some(f), false) => {
+                let d = read_displacement(&base.join(f), mesh.num_vertices())?;
+                let only = patch.map(|p| mesh.patch_vertices(p));
+                for (v, dv) in d.iter().enumerate() {
+                    if let Some(dv) = dv {
+                        if only.as_ref().map_or(true, |o| o.binary_search(&(v as u32)).is_ok()) {
+                            motion.displacement[v] = *dv;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    bcs.check(&mesh).map_err(|e| format!("config: {e}"))?;
+    let name = args.mesh.file_stem().and_then(|s| s.to_str()).unwrap_or("mesh").to_string();
+    Ok((CaseSetup { name, mesh, bcs, motion, steps, moved_patch, upper_region: None }, opts))
+}
+
+pub fn run(args: Args) -> Result<ExitCode, String> {
+    let (setup, opts) = build(&args)?;
+    let r = run_case(&setup, opts.method, &opts).map_err(|e| e.to_string())?;
+    if let Some(f) = &r.failure {
+        return Err(format!("solve failed: {f}"));
+    }
+    let disp = r.displacement(&setup.mesh);
+    meshmove::io::write_deformed(&args.output, &setup.mesh, &disp)
+        .map_err(|e| format!("{}: {e}", args.output.display()))?;
+    let converged = r.reports.iter().all(|x| x.converged);
+    println!(
+        "mesh            {} ({} vertices, {} cells)",
+        args.mesh.display(),
+        setup.mesh.num_vertices(),
+        setup.mesh.num_cells()
+    );
+    println!(
+        "method          {:?}, {} step(s), {} cycles, {:.3} s{}",
+        opts.method,
+        r.steps,
+        r.cycles,
+        r.seconds,
+        if converged { "" } else { " (NOT converged to the tolerance)" }
+    );
+    println!("inverted cells  {}", r.inverted);
+    println!("min area ratio  {:.4}", r.min_area_ratio);
+    println!("min angle       {:.2} deg", r.min_angle_deg);
+    if setup.moved_patch != 0 {
+        let pm = patch_measures(&setup.mesh, &r.coords, setup.moved_patch, None);
+        println!(
+            "moved patch {}   spacing variation {:.4}, first-cell area ratio {:.4}..{:.4}",
+            setup.moved_patch, pm.spacing_variation, pm.area_ratio.0, pm.area_ratio.1
+        );
+    }
+    println!("wrote           {}", args.output.display());
+    if r.inverted > 0 {
+        eprintln!(
+            "meshmove: error: the deformed mesh has {} inverted cells (written anyway to {})",
+            r.inverted,
+            args.output.display()
+        );
+        return Ok(ExitCode::from(3));
+    }
+    Ok(ExitCode::SUCCESS)
+}

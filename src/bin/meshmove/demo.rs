@@ -1,0 +1,157 @@
+//! `meshmove demo --out DIR [--quick]`: every case of DESIGN §7 with every method.
+
+use crate::plot::{mesh_png, semilog_png, View};
+use glam::DVec2;
+use indicatif::{ProgressBar, ProgressStyle};
+use meshmove::cases::report::{method_name, run_case, run_case_reference, CaseResult, METHODS};
+use meshmove::cases::setups::{case, free_surface_case, CaseSetup, Scale, CASE_NAMES};
+use meshmove::io::write_deformed;
+use meshmove::mesh::quality::signed_areas;
+use meshmove::{Criterion, Method, Mode, Options, Solver};
+use plotters::style::RGBColor;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// Output directory (created if missing).
+    #[arg(long)]
+    out: PathBuf,
+    /// Coarse meshes (h = 1/12 instead of 1/32): a smoke run of a few seconds.
+    #[arg(long)]
+    quick: bool,
+    /// Width of the pictures in pixels.
+    #[arg(long, default_value_t = 800)]
+    width: u32,
+}
+
+pub const BIHARMONIC_COLOUR: RGBColor = RGBColor(31, 119, 180);
+pub const LAPLACIAN_COLOUR: RGBColor = RGBColor(255, 127, 14);
+
+fn view_for(setup: &CaseSetup, coords: &[DVec2]) -> (View, Option<View>) {
+    match setup.name.as_str() {
+        "boundary_layer_cylinder" => {
+            // The inset follows the moved cylinder (its vertices' centroid).
+            let cyl = setup.mesh.patch_vertices(setup.moved_patch);
+            let c = cyl.iter().map(|&v| coords[v as usize]).sum::<DVec2>() / cyl.len() as f64;
+            (View::around(setup.mesh.coords(), 0.0), Some(View::centred(c, 0.75)))
+        }
+        // The part of the channel around the cylinder (the rest barely moves).
+        "cylinder_channel" => (View { x0: 0.5, x1: 4.5, y0: -1.02, y1: 1.02 }, None),
+        _ => (View::around(coords, 0.01), None),
+    }
+}
+
+/// One mesh picture, `DIR/{stem}.png`.
+fn picture(dir: &Path, setup: &CaseSetup, coords: &[DVec2], stem: &str, width: u32) -> Result<(), String> {
+    let a = signed_areas(&setup.mesh, coords);
+    let inverted: Vec<bool> = a.iter().map(|&x| x <= 0.0).collect();
+    let (view, inset) = view_for(setup, coords);
+    let path = dir.join(format!("{stem}.png"));
+    mesh_png(&path, &setup.mesh, coords, &inverted, view, inset, width).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// Paper Fig. 8: largest vertex correction per W-cycle, paper-faithful mode, free surface A = 0.25.
+fn convergence(dir: &Path, scale: Scale, width: u32) -> Result<(), String> {
+    let h = if scale == Scale::Paper { 1.0 / 32.0 } else { 1.0 / 12.0 };
+    let setup = free_surface_case("free_surface_a0.25", h, 0.25, 1);
+    let mut hist = Vec::new();
+    for method in [Method::Biharmonic, Method::Laplacian] {
+        let mut o = Options { method, ..Default::default() };
+        o.solve.mode = Mode::PaperFaithful;
+        o.solve.criterion = Criterion::MaxCorrection;
+        o.solve.tol = 1e-8;
+        o.solve.max_cycles = 400;
+        let s = Solver::new(&setup.mesh, &setup.bcs, o).map_err(|e| e.to_string())?;
+        let sol = s.solve(&setup.motion).map_err(|e| format!("convergence plot, {method:?}: {e}"))?;
+        hist.push(sol.report.history.iter().map(|p| p.0).collect::<Vec<f64>>());
+    }
+    let mut csv = String::from("cycle,biharmonic_max_correction,laplacian_max_correction\n");
+    for k in 0..hist[0].len().max(hist[1].len()) {
+        let f = |h: &Vec<f64>| h.get(k).map(|v| format!("{v:e}")).unwrap_or_default();
+        let _ = writeln!(csv, "{},{},{}", k + 1, f(&hist[0]), f(&hist[1]));
+    }
+    let p = dir.join("convergence.csv");
+    std::fs::write(&p, csv).map_err(|e| format!("{}: {e}", p.display()))?;
+    let p = dir.join("convergence.png");
+    semilog_png(&p, &[(&hist[0], BIHARMONIC_COLOUR), (&hist[1], LAPLACIAN_COLOUR)], width, width * 5 / 8)
+        .map_err(|e| format!("{}: {e}", p.display()))
+}
+
+/// A message above the bar, or on stderr when the bar is hidden (not a terminal).
+fn say(bar: &ProgressBar, m: String) {
+    if bar.is_hidden() {
+        eprintln!("{m}");
+    } else {
+        bar.println(m);
+    }
+}
+
+pub fn run(args: Args) -> Result<ExitCode, String> {
+    let dir = &args.out;
+    std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    let scale = if args.quick { Scale::Quick } else { Scale::Paper };
+    let bar = ProgressBar::new((CASE_NAMES.len() * METHODS.len() + 1) as u64);
+    bar.set_style(
+        ProgressStyle::with_template("{bar:40} {pos}/{len} {elapsed} {msg}").unwrap_or(ProgressStyle::default_bar()),
+    );
+    let mut csv = format!("{}\n", CaseResult::CSV_HEADER);
+    for name in CASE_NAMES {
+        let setup = case(name, scale).ok_or_else(|| format!("unknown case {name}"))?;
+        for method in METHODS {
+            bar.set_message(format!("{name} {}", method_name(method)));
+            let r = run_case(&setup, method, &Options::default()).map_err(|e| format!("{name}, {method:?}: {e}"))?;
+            let unconverged = r.reports.iter().filter(|x| !x.converged).count();
+            if unconverged > 0 {
+                say(
+                    &bar,
+                    format!(
+                        "note: {name} {}: {unconverged} of {} steps did not reach the tolerance (see docs/RESULTS.md)",
+                        method_name(method),
+                        r.steps
+                    ),
+                );
+            }
+            if let Some(f) = &r.failure {
+                say(&bar, format!("{name} {}: stopped at {f}", method_name(method)));
+            }
+            let vtu = dir.join(format!("{name}_{}.vtu", method_name(method)));
+            write_deformed(&vtu, &setup.mesh, &r.displacement(&setup.mesh))
+                .map_err(|e| format!("{}: {e}", vtu.display()))?;
+            let stem = format!("{name}_{}", method_name(method));
+            picture(dir, &setup, &r.coords, &stem, args.width)?;
+            if unconverged > 0 {
+                // What the method gives: every step solved exactly (slow, independent of the
+                // multigrid), written beside the multigrid's result as *_exact.{vtu,png}.
+                bar.set_message(format!("{name} {}: exact solve", method_name(method)));
+                match run_case_reference(&setup, method, 1e-10) {
+                    Ok((coords, first)) => {
+                        let inv = signed_areas(&setup.mesh, &coords).iter().filter(|&&a| a <= 0.0).count();
+                        say(&bar, format!(
+                            "      exact solves of every step: {inv} inverted cells{}; written as {stem}_exact.vtu/.png",
+                            first.map(|k| format!(" (first at step {k})")).unwrap_or_default()
+                        ));
+                        let disp: Vec<DVec2> = coords.iter().zip(setup.mesh.coords()).map(|(a, b)| *a - *b).collect();
+                        let vtu = dir.join(format!("{stem}_exact.vtu"));
+                        write_deformed(&vtu, &setup.mesh, &disp).map_err(|e| format!("{}: {e}", vtu.display()))?;
+                        picture(dir, &setup, &coords, &format!("{stem}_exact"), args.width)?;
+                    }
+                    Err(e) => say(&bar, format!("      exact solve failed: {e}")),
+                }
+            }
+            csv.push_str(&r.csv_row());
+            csv.push('\n');
+            bar.inc(1);
+        }
+    }
+    bar.set_message("convergence plot");
+    convergence(dir, scale, args.width)?;
+    bar.inc(1);
+    bar.finish_and_clear();
+    let p = dir.join("results.csv");
+    std::fs::write(&p, &csv).map_err(|e| format!("{}: {e}", p.display()))?;
+    print!("{csv}");
+    println!("wrote {}", dir.display());
+    Ok(ExitCode::SUCCESS)
+}

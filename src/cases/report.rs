@@ -1,0 +1,303 @@
+//! Running a case with one method and measuring the result against the ORIGINAL mesh
+//! (DESIGN §7's quality measures).
+
+use super::setups::CaseSetup;
+use crate::mesh::quality::{quality, signed_areas};
+use crate::mesh::Mesh;
+use crate::multigrid::solve::Report;
+use crate::operator::Method;
+use crate::solver::{Options, Solver};
+use crate::Result;
+use glam::DVec2;
+use std::collections::HashMap;
+use std::time::Instant;
+
+/// Lower-case method name as in `results.csv`.
+pub fn method_name(m: Method) -> &'static str {
+    match m {
+        Method::Biharmonic => "biharmonic",
+        Method::Laplacian => "laplacian",
+        Method::Spring => "spring",
+    }
+}
+
+/// The three methods, in the CSV's order.
+pub const METHODS: [Method; 3] = [Method::Biharmonic, Method::Laplacian, Method::Spring];
+
+/// Measures along the moved patch of a deformed mesh.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PatchMeasures {
+    /// (max − min)/mean of h/h₀ over the cells touching the patch by an edge (h: the cell's height
+    /// over that edge, deformed; h₀ the same in the original mesh).
+    pub spacing_variation: f64,
+    /// Smallest and largest deformed/original area ratio of those cells.
+    pub area_ratio: (f64, f64),
+    /// Interfaces: mean h/h₀ of the first cells above (region `upper`) over that below.
+    pub spacing_ratio_across: Option<f64>,
+}
+
+/// One row of `results.csv`, plus what the tests and RESULTS.md use besides.
+#[derive(Clone, Debug)]
+pub struct CaseResult {
+    pub case: String,
+    pub method: Method,
+    pub steps: usize,
+    pub inverted: usize,
+    pub min_area_ratio: f64,
+    pub min_angle_deg: f64,
+    pub patch: PatchMeasures,
+    /// W-cycles (CG iterations in the default mode) summed over steps, max over components.
+    pub cycles: usize,
+    /// Wall time of the whole case: hierarchy, every step.
+    pub seconds: f64,
+    /// Interface cases: largest y of a vertex of the upper region.
+    pub max_y_upper: Option<f64>,
+    /// First step (1-based) after which the mesh had an inverted cell, if any.
+    pub first_inverted_step: Option<usize>,
+    /// A step whose solve or re-referencing failed, with the message (the run stops there).
+    pub failure: Option<String>,
+    /// Final positions of every vertex.
+    pub coords: Vec<DVec2>,
+    /// Reports of each step.
+    pub reports: Vec<Report>,
+}
+
+impl CaseResult {
+    /// Displacement from the original mesh.
+    pub fn displacement(&self, original: &Mesh) -> Vec<DVec2> {
+        self.coords.iter().zip(original.coords()).map(|(a, b)| *a - *b).collect()
+    }
+
+    /// The CSV header of [`CaseResult::csv_row`].
+    pub const CSV_HEADER: &'static str =
+        "case,method,steps,inverted,min_area_ratio,min_angle_deg,spacing_variation,cycles,seconds,max_y_upper";
+
+    pub fn csv_row(&self) -> String {
+        format!(
+            "{},{},{},{},{:.6},{:.4},{:.6},{},{:.4},{}",
+            self.case,
+            method_name(self.method),
+            self.steps,
+            self.inverted,
+            self.min_area_ratio,
+            self.min_angle_deg,
+            self.patch.spacing_variation,
+            self.cycles,
+            self.seconds,
+            self.max_y_upper.map(|y| format!("{y:.6}")).unwrap_or_default()
+        )
+    }
+}
+
+/// The cells touching `patch` by an edge, with that edge: (cell, a, b).
+pub fn patch_cells(mesh: &Mesh, patch: i32) -> Vec<(usize, u32, u32)> {
+    let mut by_edge: HashMap<(u32, u32), Vec<usize>> = HashMap::new();
+    for (c, t) in mesh.cells().iter().enumerate() {
+        for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
+            by_edge.entry((a.min(b), a.max(b))).or_default().push(c);
+        }
+    }
+    let mut out = Vec::new();
+    for e in mesh.patch_edges().iter().filter(|e| e.patch == patch) {
+        let [a, b] = e.vertices;
+        for &c in by_edge.get(&(a.min(b), a.max(b))).map(|v| v.as_slice()).unwrap_or(&[]) {
+            out.push((c, a, b));
+        }
+    }
+    out
+}
+
+/// Height of the triangle of signed area `area` over the edge (a, b).
+fn height(area: f64, a: DVec2, b: DVec2) -> f64 {
+    2.0 * area / (b - a).length()
+}
+
+/// The measures of [`PatchMeasures`] for `original` moved to `deformed`.
+pub fn patch_measures(original: &Mesh, deformed: &[DVec2], patch: i32, upper: Option<i32>) -> PatchMeasures {
+    let a0 = signed_areas(original, original.coords());
+    let a1 = signed_areas(original, deformed);
+    let x0 = original.coords();
+    let (mut lo, mut hi, mut sum, mut n) = (f64::INFINITY, f64::NEG_INFINITY, 0.0, 0usize);
+    let (mut rlo, mut rhi) = (f64::INFINITY, f64::NEG_INFINITY);
+    let (mut up, mut nup, mut down, mut ndown) = (0.0, 0usize, 0.0, 0usize);
+    for (c, a, b) in patch_cells(original, patch) {
+        let (a, b) = (a as usize, b as usize);
+        let r = height(a1[c], deformed[a], deformed[b]) / height(a0[c], x0[a], x0[b]);
+        lo = lo.min(r);
+        hi = hi.max(r);
+        sum += r;
+        n += 1;
+        let ar = a1[c] / a0[c];
+        rlo = rlo.min(ar);
+        rhi = rhi.max(ar);
+        if let Some(u) = upper {
+            if original.regions()[c] == u {
+                up += r;
+                nup += 1;
+            } else {
+                down += r;
+                ndown += 1;
+            }
+        }
+    }
+    let mean = sum / n.max(1) as f64;
+    PatchMeasures {
+        spacing_variation: if n == 0 { 0.0 } else { (hi - lo) / mean },
+        area_ratio: (rlo, rhi),
+        spacing_ratio_across: (nup > 0 && ndown > 0).then(|| (up / nup as f64) / (down / ndown as f64)),
+    }
+}
+
+/// Runs `setup` with `method` and `opts` (its method is overridden): `steps` solves, the reference
+/// re-evaluated after each, then measures the final mesh against the original one. A solve that
+/// fails (e.g. a re-reference onto a tangled mesh) ends the run; it is reported in `failure`.
+pub fn run_case(setup: &CaseSetup, method: Method, opts: &Options) -> Result<CaseResult> {
+    let t0 = Instant::now();
+    let opts = Options { method, ..opts.clone() };
+    let original = &setup.mesh;
+    let mut solver = Solver::new(original, &setup.bcs, opts)?;
+    let mut coords = original.coords().to_vec();
+    let mut reports = Vec::new();
+    let mut first_inverted_step = None;
+    let mut failure = None;
+    for i in 0..setup.steps {
+        let sol = match solver.solve(&setup.motion.increment(i, setup.steps)) {
+            Ok(s) => s,
+            Err(e) => {
+                failure = Some(format!("step {}: {e}", i + 1));
+                break;
+            }
+        };
+        coords = solver.mesh().coords().iter().zip(&sol.displacement).map(|(x, d)| *x + *d).collect();
+        reports.push(sol.report);
+        if first_inverted_step.is_none() && quality(original, &coords).inverted > 0 {
+            first_inverted_step = Some(i + 1);
+        }
+        if i + 1 < setup.steps {
+            if let Err(e) = solver.set_reference(coords.clone()) {
+                failure = Some(format!("step {}: new reference: {e}", i + 1));
+                break;
+            }
+        }
+    }
+    let q = quality(original, &coords);
+    let patch = patch_measures(original, &coords, setup.moved_patch, setup.upper_region);
+    let max_y_upper = setup.upper_region.map(|u| {
+        let mut m = f64::NEG_INFINITY;
+        for (c, t) in original.cells().iter().enumerate() {
+            if original.regions()[c] == u {
+                for &v in t {
+                    m = m.max(coords[v as usize].y);
+                }
+            }
+        }
+        m
+    });
+    Ok(CaseResult {
+        case: setup.name.clone(),
+        method,
+        steps: setup.steps,
+        inverted: q.inverted,
+        min_area_ratio: q.min_area_ratio,
+        min_angle_deg: q.min_angle_deg,
+        patch,
+        cycles: reports.iter().map(|r| r.cycles).sum(),
+        seconds: t0.elapsed().as_secs_f64(),
+        max_y_upper,
+        first_inverted_step,
+        failure,
+        coords,
+        reports,
+    })
+}
+
+/// The exact discrete displacement of one solve, by Jacobi-preconditioned conjugate gradients on
+/// the finest operator alone (no multigrid), to a relative residual of `tol`: an independent
+/// check of what the multigrid should reach. Slow (O(N^1.5) and worse); for tests and diagnosis.
+pub fn reference_displacement(
+    mesh: &Mesh,
+    bcs: &crate::BoundaryConditions,
+    motion: &crate::Motion,
+    method: Method,
+    tol: f64,
+) -> Result<Vec<DVec2>> {
+    use crate::bc::{Kind, P};
+    let solver = Solver::new(mesh, bcs, Options { method, ..Default::default() })?;
+    let lev = &solver.hierarchy().levels[0];
+    let n = lev.n();
+    let vals = motion.vertex_values(mesh);
+    let mut disp = vec![DVec2::ZERO; mesh.num_vertices()];
+    for c in 0..2 {
+        let flags = &lev.flags[c];
+        let dp: Vec<f64> =
+            (0..n).map(|d| if flags[d] & P != 0 { vals[lev.dofs.dof_vertex[d] as usize][c] } else { 0.0 }).collect();
+        // The rigid-motion flux source of a CLAMPED patch (DESIGN §4), as the solver builds it.
+        let mut g: Option<Vec<f64>> = None;
+        if method == Method::Biharmonic {
+            let x = lev.mesh.coords();
+            for &(patch, m) in &motion.rigid {
+                if bcs.kind(patch, c) != Kind::Clamped {
+                    continue;
+                }
+                let l: Vec<f64> = lev.dofs.dof_vertex.iter().map(|&v| m.displacement(x[v as usize])[c]).collect();
+                let g = g.get_or_insert_with(|| vec![0.0; n]);
+                for v in lev.mesh.patch_vertices(patch) {
+                    let d = lev.dofs.vertex_dof[v as usize] as usize;
+                    let (cols, vs) = lev.op.k.row(d);
+                    g[d] = cols.iter().zip(vs).map(|(&j, &a)| a * l[j as usize]).sum();
+                }
+            }
+        }
+        let (mut b, mut sc) = (vec![0.0; n], vec![0.0; n]);
+        lev.op.rhs(flags, &dp, g.as_deref(), &mut b, &mut sc);
+        let dinv = lev.op.inv_l1_diag(flags);
+        let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+        let mut x = vec![0.0; n];
+        let mut r = b.clone();
+        let mut z: Vec<f64> = r.iter().zip(&dinv).map(|(a, d)| a * d).collect();
+        let mut p = z.clone();
+        let mut rz = dot(&r, &z);
+        let bn = dot(&b, &b).sqrt();
+        let mut ap = vec![0.0; n];
+        for _ in 0..50 * n + 1000 {
+            if dot(&r, &r).sqrt() <= tol * bn {
+                break;
+            }
+            lev.op.apply(flags, &p, &mut ap, &mut sc);
+            let alpha = rz / dot(&p, &ap);
+            x.iter_mut().zip(&p).for_each(|(x, p)| *x += alpha * p);
+            r.iter_mut().zip(&ap).for_each(|(r, a)| *r -= alpha * a);
+            z.iter_mut().zip(r.iter().zip(&dinv)).for_each(|(z, (r, d))| *z = r * d);
+            let rz1 = dot(&r, &z);
+            let beta = rz1 / rz;
+            rz = rz1;
+            p.iter_mut().zip(&z).for_each(|(p, z)| *p = z + beta * *p);
+        }
+        let rel = dot(&r, &r).sqrt() / bn.max(f64::MIN_POSITIVE);
+        if bn > 0.0 && rel > 10.0 * tol {
+            return Err(crate::Error::Diverged(format!("reference CG reached only {rel:e}")));
+        }
+        for (v, &d) in lev.dofs.vertex_dof.iter().enumerate() {
+            disp[v][c] = x[d as usize] + dp[d as usize];
+        }
+    }
+    Ok(disp)
+}
+
+/// [`run_case`] with every step solved by [`reference_displacement`] (the mesh re-referenced
+/// after each step as the solver does). Returns the final positions and the first step after
+/// which a cell was inverted.
+pub fn run_case_reference(setup: &CaseSetup, method: Method, tol: f64) -> Result<(Vec<DVec2>, Option<usize>)> {
+    let original = &setup.mesh;
+    let mut current = original.clone();
+    let mut first = None;
+    for i in 0..setup.steps {
+        let d = reference_displacement(&current, &setup.bcs, &setup.motion.increment(i, setup.steps), method, tol)?;
+        let moved: Vec<DVec2> = current.coords().iter().zip(&d).map(|(x, d)| *x + *d).collect();
+        if first.is_none() && quality(original, &moved).inverted > 0 {
+            first = Some(i + 1);
+        }
+        current = current.with_coords(moved);
+    }
+    Ok((current.coords().to_vec(), first))
+}

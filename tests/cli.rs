@@ -1,0 +1,172 @@
+//! The `meshmove` binary: demo, deform with the shipped example, bad input, compare.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn meshmove(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_meshmove")).args(args).output().expect("runs meshmove")
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("meshmove-cli-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn example(f: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/examples").join(f).to_str().unwrap().to_string()
+}
+
+fn text(o: &Output) -> String {
+    format!("{}{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr))
+}
+
+#[test]
+fn demo_quick_writes_results_csv_and_pictures() {
+    let d = tmp("demo");
+    let o = meshmove(&["demo", "--quick", "--out", d.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", text(&o));
+    let csv = std::fs::read_to_string(d.join("results.csv")).unwrap();
+    let lines: Vec<&str> = csv.lines().collect();
+    assert_eq!(
+        lines[0],
+        "case,method,steps,inverted,min_area_ratio,min_angle_deg,spacing_variation,cycles,seconds,max_y_upper"
+    );
+    assert_eq!(lines.len(), 28, "{csv}");
+    for l in &lines[1..] {
+        assert_eq!(l.split(',').count(), 10, "{l}");
+    }
+    assert!(lines.iter().any(|l| l.starts_with("boundary_layer_cylinder,spring,")));
+    assert!(lines.iter().any(|l| l.starts_with("deforming_interface_B,biharmonic,15,")));
+    for f in
+        ["convergence.png", "convergence.csv", "free_surface_a0.25_laplacian.png", "cylinder_channel_biharmonic.vtu"]
+    {
+        assert!(d.join(f).is_file(), "{f} missing");
+    }
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+#[test]
+fn deform_the_example_and_compare() {
+    let d = tmp("deform");
+    let out = d.join("out.vtu");
+    let o = meshmove(&[
+        "deform",
+        &example("channel.msh"),
+        "--config",
+        &example("channel.toml"),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(text(&o).contains("inverted cells  0"), "{}", text(&o));
+    let data = meshmove::io::read_vtu(&out).unwrap();
+    assert_eq!(data.points.len(), 319);
+    // The cylinder (centre (2, 0), radius 1/2) moved by 0.5 in x.
+    let on_cyl = data.points.iter().filter(|p| ((p[0] - 2.5).powi(2) + p[1] * p[1]).sqrt() - 0.5 < 1e-9).count();
+    assert!(on_cyl >= 16, "{on_cyl} vertices on the moved cylinder");
+
+    // The same motion as a CSV displacement field (cylinder vertices, by id) gives the same mesh
+    // up to the rigid-flux source (translation: none), so compare agrees to the solver tolerance.
+    let mesh = meshmove::io::read_msh(Path::new(&example("channel.msh"))).unwrap().mesh;
+    let mut csv = String::from("vertex,dx,dy\n");
+    for v in mesh.patch_vertices(2) {
+        csv.push_str(&format!("{v},0.5,0\n"));
+    }
+    std::fs::write(d.join("disp.csv"), csv).unwrap();
+    let cfg = "method = \"biharmonic\"\ntolerance = 1e-12\nsteps = 2\n[[patch]]\npatch = 1\nkind = \"fixed\"\n\
+               [[patch]]\npatch = 2\nkind = \"clamped\"\n[[motion]]\npatch = 2\nfile = \"disp.csv\"\n";
+    std::fs::write(d.join("csv.toml"), cfg).unwrap();
+    let out2 = d.join("out2.vtu");
+    let o = meshmove(&[
+        "deform",
+        &example("channel.msh"),
+        "--config",
+        d.join("csv.toml").to_str().unwrap(),
+        "-o",
+        out2.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let o = meshmove(&["compare", out.to_str().unwrap(), out2.to_str().unwrap(), "--tol", "1e-6"]);
+    assert!(o.status.success(), "{}", text(&o));
+    // And as the point data `displacement` of the first result (.vtu), on the cylinder only.
+    std::fs::write(d.join("vtu.toml"), cfg.replace("disp.csv", "out.vtu")).unwrap();
+    let out3 = d.join("out3.vtu");
+    let o = meshmove(&[
+        "deform",
+        &example("channel.msh"),
+        "--config",
+        d.join("vtu.toml").to_str().unwrap(),
+        "-o",
+        out3.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let o = meshmove(&["compare", out2.to_str().unwrap(), out3.to_str().unwrap(), "--tol", "1e-9"]);
+    assert!(o.status.success(), "{}", text(&o));
+    let o = meshmove(&["compare", out.to_str().unwrap(), out.to_str().unwrap(), "--tol", "0"]);
+    assert!(o.status.success(), "{}", text(&o));
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+#[test]
+fn compare_reports_the_difference() {
+    let d = tmp("compare");
+    let m = meshmove::cases::meshes::structured_rectangle(2, 2, 0.0, 1.0, 0.0, 1.0);
+    let a = d.join("a.vtu");
+    let b = d.join("b.vtu");
+    meshmove::io::write_deformed(&a, &m, &vec![glam::DVec2::ZERO; m.num_vertices()]).unwrap();
+    let mut disp = vec![glam::DVec2::ZERO; m.num_vertices()];
+    disp[4].x = 1e-3;
+    meshmove::io::write_deformed(&b, &m, &disp).unwrap();
+    let o = meshmove(&["compare", a.to_str().unwrap(), b.to_str().unwrap(), "--tol", "1e-4"]);
+    assert!(!o.status.success());
+    assert!(text(&o).contains("max coordinate difference 1.0") && text(&o).contains("point 4"), "{}", text(&o));
+    let o = meshmove(&["compare", a.to_str().unwrap(), b.to_str().unwrap(), "--tol", "1e-2"]);
+    assert!(o.status.success(), "{}", text(&o));
+    let o = meshmove(&["compare", a.to_str().unwrap(), d.join("missing.vtu").to_str().unwrap()]);
+    assert!(!o.status.success());
+    assert!(text(&o).contains("missing.vtu"), "{}", text(&o));
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+#[test]
+fn bad_config_fails_with_a_message_naming_the_problem() {
+    let d = tmp("bad");
+    let mesh = example("channel.msh");
+    let cases = [
+        ("[[patch]]\npatch = \"wal\"\nkind = \"fixed\"\n", "no patch named `wal`"),
+        ("[[patch]]\npatch = 7\nkind = \"fixed\"\n", "patch 7 is not in the mesh"),
+        ("[[patch]]\npatch = 1\nkind = \"glued\"\n", "kind `glued`"),
+        ("method = \"elastic\"\n", "method `elastic`"),
+        ("stepz = 3\n", "unknown field"),
+        ("steps = 0\n", "steps must be at least 1"),
+        ("[[motion]]\npatch = 2\nfile = \"nope.csv\"\n", "nope.csv"),
+        ("method = \n", "config"),
+    ];
+    for (i, (cfg, want)) in cases.iter().enumerate() {
+        let p = d.join(format!("bad{i}.toml"));
+        std::fs::write(&p, cfg).unwrap();
+        let o = meshmove(&["deform", &mesh, "--config", p.to_str().unwrap(), "-o", d.join("o.vtu").to_str().unwrap()]);
+        assert!(!o.status.success(), "{cfg}");
+        assert!(text(&o).contains(want), "{cfg}: {}", text(&o));
+    }
+    // A bad mesh file.
+    let bad = d.join("bad.msh");
+    std::fs::write(&bad, "$MeshFormat\n9.9 0 8\n$EndMeshFormat\n").unwrap();
+    let o = meshmove(&["deform", bad.to_str().unwrap(), "--config", &example("channel.toml"), "-o", "x.vtu"]);
+    assert!(!o.status.success());
+    assert!(text(&o).contains("bad.msh"), "{}", text(&o));
+    // An inverted result: the cylinder pushed through the wall with the Laplacian.
+    let p = d.join("tangle.toml");
+    std::fs::write(
+        &p,
+        "method = \"laplacian\"\n[[patch]]\npatch = \"wall\"\nkind = \"fixed\"\n[[patch]]\npatch = \"cylinder\"\nkind = \"clamped\"\n\
+         [[motion]]\npatch = \"cylinder\"\ntranslation = [0.0, 0.45]\n",
+    )
+    .unwrap();
+    let o = meshmove(&["deform", &mesh, "--config", p.to_str().unwrap(), "-o", d.join("t.vtu").to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(3), "{}", text(&o));
+    assert!(text(&o).contains("inverted cells"), "{}", text(&o));
+    let _ = std::fs::remove_dir_all(&d);
+}
