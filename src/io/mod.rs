@@ -23,18 +23,11 @@ use thiserror::Error;
 #[non_exhaustive]
 pub enum IoError {
     #[error("{}: {source}", path.display())]
-    Io {
-        path: PathBuf,
-        source: std::io::Error,
-    },
+    Io { path: PathBuf, source: std::io::Error },
     /// A malformed file. `line` is 1-based, 0 inside binary data; `offset` is the byte offset in
     /// the file where known. The message names the section or element and what was expected.
     #[error("{}{message}", where_(*line, *offset))]
-    Parse {
-        line: usize,
-        offset: Option<usize>,
-        message: String,
-    },
+    Parse { line: usize, offset: Option<usize>, message: String },
     /// A well-formed file with something this crate does not handle (a format version, an
     /// element type, compressed data, ...).
     #[error("unsupported: {0}")]
@@ -58,19 +51,12 @@ fn where_(line: usize, offset: Option<usize>) -> String {
 impl Clone for IoError {
     fn clone(&self) -> Self {
         match self {
-            IoError::Io { path, source } => IoError::Io {
-                path: path.clone(),
-                source: std::io::Error::new(source.kind(), source.to_string()),
-            },
-            IoError::Parse {
-                line,
-                offset,
-                message,
-            } => IoError::Parse {
-                line: *line,
-                offset: *offset,
-                message: message.clone(),
-            },
+            IoError::Io { path, source } => {
+                IoError::Io { path: path.clone(), source: std::io::Error::new(source.kind(), source.to_string()) }
+            }
+            IoError::Parse { line, offset, message } => {
+                IoError::Parse { line: *line, offset: *offset, message: message.clone() }
+            }
             IoError::Unsupported(s) => IoError::Unsupported(s.clone()),
             IoError::InvalidArgument(s) => IoError::InvalidArgument(s.clone()),
             IoError::Mesh(e) => IoError::Mesh(e.clone()),
@@ -82,21 +68,10 @@ impl PartialEq for IoError {
     fn eq(&self, other: &Self) -> bool {
         use IoError::*;
         match (self, other) {
-            (Io { path: a, source: x }, Io { path: b, source: y }) => {
-                a == b && x.kind() == y.kind()
+            (Io { path: a, source: x }, Io { path: b, source: y }) => a == b && x.kind() == y.kind(),
+            (Parse { line: a, offset: b, message: c }, Parse { line: d, offset: e, message: f }) => {
+                a == d && b == e && c == f
             }
-            (
-                Parse {
-                    line: a,
-                    offset: b,
-                    message: c,
-                },
-                Parse {
-                    line: d,
-                    offset: e,
-                    message: f,
-                },
-            ) => a == d && b == e && c == f,
             (Unsupported(a), Unsupported(b)) => a == b,
             (InvalidArgument(a), InvalidArgument(b)) => a == b,
             (Mesh(a), Mesh(b)) => a == b,
@@ -106,18 +81,12 @@ impl PartialEq for IoError {
 }
 
 pub(crate) fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> IoError + '_ {
-    move |source| IoError::Io {
-        path: path.to_path_buf(),
-        source,
-    }
+    move |source| IoError::Io { path: path.to_path_buf(), source }
 }
 
 /// 1-based line of byte `offset` in `bytes`.
 pub(crate) fn line_of(bytes: &[u8], offset: usize) -> usize {
-    1 + bytes[..offset.min(bytes.len())]
-        .iter()
-        .filter(|&&b| b == b'\n')
-        .count()
+    1 + bytes[..offset.min(bytes.len())].iter().filter(|&&b| b == b'\n').count()
 }
 
 #[cfg(test)]

@@ -120,23 +120,11 @@ impl<'a> Parser<'a> {
 
     fn err_at(&self, offset: usize, message: String) -> IoError {
         // At the end of the file: the last line, not the empty one after its newline.
-        let l = if offset >= self.b.len() && self.b.ends_with(b"\n") {
-            self.b.len() - 1
-        } else {
-            offset
-        };
-        IoError::Parse {
-            line: line_of(self.b, l),
-            offset: Some(offset),
-            message,
-        }
+        let l = if offset >= self.b.len() && self.b.ends_with(b"\n") { self.b.len() - 1 } else { offset };
+        IoError::Parse { line: line_of(self.b, l), offset: Some(offset), message }
     }
     fn err_bin(&self, offset: usize, message: String) -> IoError {
-        IoError::Parse {
-            line: 0,
-            offset: Some(offset),
-            message,
-        }
+        IoError::Parse { line: 0, offset: Some(offset), message }
     }
 
     // ---- ASCII --------------------------------------------------------------------------------
@@ -158,23 +146,17 @@ impl<'a> Parser<'a> {
             return None;
         }
         // Non-UTF-8 bytes in a token are reported by the number parse that follows.
-        Some((
-            std::str::from_utf8(&self.b[start..self.pos]).unwrap_or("\u{fffd}"),
-            start,
-        ))
+        Some((std::str::from_utf8(&self.b[start..self.pos]).unwrap_or("\u{fffd}"), start))
     }
 
     /// The next token parsed as a number; `what` names it in errors ("node tag in $Nodes").
     fn num<T: std::str::FromStr>(&mut self, what: &str) -> Result<T, IoError> {
         match self.token() {
             None => Err(self.err_at(self.b.len(), format!("expected {what}, found end of file"))),
-            Some((t, at)) if t.starts_with('$') => Err(self.err_at(
-                at,
-                format!("expected {what}, found `{t}`: the section ends early"),
-            )),
-            Some((t, at)) => t
-                .parse()
-                .map_err(|_| self.err_at(at, format!("expected {what}, found `{t}`"))),
+            Some((t, at)) if t.starts_with('$') => {
+                Err(self.err_at(at, format!("expected {what}, found `{t}`: the section ends early")))
+            }
+            Some((t, at)) => t.parse().map_err(|_| self.err_at(at, format!("expected {what}, found `{t}`"))),
         }
     }
 
@@ -195,14 +177,8 @@ impl<'a> Parser<'a> {
         let want = format!("$End{section}");
         match self.token() {
             Some((t, _)) if t == want => Ok(()),
-            Some((t, at)) => Err(self.err_at(
-                at,
-                format!("expected `{want}` closing ${section}, found `{t}`"),
-            )),
-            None => Err(self.err_at(
-                self.b.len(),
-                format!("expected `{want}` closing ${section}, found end of file"),
-            )),
+            Some((t, at)) => Err(self.err_at(at, format!("expected `{want}` closing ${section}, found `{t}`"))),
+            None => Err(self.err_at(self.b.len(), format!("expected `{want}` closing ${section}, found end of file"))),
         }
     }
 
@@ -281,9 +257,7 @@ impl<'a> Parser<'a> {
     fn run(mut self) -> Result<MshMesh, IoError> {
         match self.token() {
             Some(("$MeshFormat", _)) => self.mesh_format()?,
-            Some((t, at)) => {
-                return Err(self.err_at(at, format!("expected `$MeshFormat`, found `{t}`")))
-            }
+            Some((t, at)) => return Err(self.err_at(at, format!("expected `$MeshFormat`, found `{t}`"))),
             None => return Err(self.err_at(0, "empty file: expected `$MeshFormat`".into())),
         }
         while let Some((t, at)) = self.token() {
@@ -292,15 +266,8 @@ impl<'a> Parser<'a> {
                 "$Entities" if self.version == Version::V41 => self.entities()?,
                 "$Nodes" => self.nodes_section()?,
                 "$Elements" => self.elements_section()?,
-                _ if t.starts_with('$') && !t.starts_with("$End") => {
-                    self.skip_section(&t[1..], at)?
-                }
-                _ => {
-                    return Err(self.err_at(
-                        at,
-                        format!("expected a section header such as `$Nodes`, found `{t}`"),
-                    ))
-                }
+                _ if t.starts_with('$') && !t.starts_with("$End") => self.skip_section(&t[1..], at)?,
+                _ => return Err(self.err_at(at, format!("expected a section header such as `$Nodes`, found `{t}`"))),
             }
         }
         if !self.seen_nodes {
@@ -313,9 +280,8 @@ impl<'a> Parser<'a> {
     }
 
     fn mesh_format(&mut self) -> Result<(), IoError> {
-        let (v, at) = self.token().ok_or_else(|| {
-            self.err_at(self.b.len(), "expected the version in $MeshFormat".into())
-        })?;
+        let (v, at) =
+            self.token().ok_or_else(|| self.err_at(self.b.len(), "expected the version in $MeshFormat".into()))?;
         self.version = match v {
             "2.2" => Version::V22,
             "4.1" => Version::V41,
@@ -326,10 +292,7 @@ impl<'a> Parser<'a> {
                 )))
             }
             _ => {
-                return Err(self.err_at(
-                    at,
-                    format!("expected a MSH version (2.2 or 4.1) in $MeshFormat, found `{v}`"),
-                ))
+                return Err(self.err_at(at, format!("expected a MSH version (2.2 or 4.1) in $MeshFormat, found `{v}`")))
             }
         };
         let file_type: i32 = self.num("file type (0 ASCII, 1 binary) in $MeshFormat")?;
@@ -353,17 +316,13 @@ impl<'a> Parser<'a> {
                 } else if i32::from_be_bytes(one) == 1 {
                     self.swap = true;
                 } else {
-                    return Err(self.err_bin(
-                        at,
-                        format!("expected the integer 1 in $MeshFormat, found bytes {one:?}"),
-                    ));
+                    return Err(self.err_bin(at, format!("expected the integer 1 in $MeshFormat, found bytes {one:?}")));
                 }
             }
             _ => {
-                return Err(self.err_at(
-                    self.pos,
-                    format!("expected file type 0 or 1 in $MeshFormat, found {file_type}"),
-                ))
+                return Err(
+                    self.err_at(self.pos, format!("expected file type 0 or 1 in $MeshFormat, found {file_type}"))
+                )
             }
         }
         self.expect_end("MeshFormat")
@@ -390,12 +349,7 @@ impl<'a> Parser<'a> {
             let name = rest
                 .strip_prefix('"')
                 .and_then(|r| r.strip_suffix('"'))
-                .ok_or_else(|| {
-                    self.err_at(
-                        at,
-                        format!("expected a quoted name in $PhysicalNames, found `{rest}`"),
-                    )
-                })?;
+                .ok_or_else(|| self.err_at(at, format!("expected a quoted name in $PhysicalNames, found `{rest}`")))?;
             self.physical_names.push((dim, tag, name.to_string()));
         }
         self.expect_end("PhysicalNames")
@@ -407,9 +361,7 @@ impl<'a> Parser<'a> {
         }
         let mut counts = [0usize; 4];
         for (d, c) in counts.iter_mut().enumerate() {
-            *c = self.size41(&format!(
-                "the number of {d}-dimensional entities in $Entities"
-            ))?;
+            *c = self.size41(&format!("the number of {d}-dimensional entities in $Entities"))?;
         }
         for (dim, &count) in counts.iter().enumerate() {
             for _ in 0..count {
@@ -439,11 +391,7 @@ impl<'a> Parser<'a> {
     fn add_node(&mut self, tag: usize, x: f64, y: f64, at: usize) -> Result<(), IoError> {
         if self.node_index.insert(tag, self.nodes.len()).is_some() {
             let msg = format!("node tag {tag} appears twice in $Nodes");
-            return Err(if self.binary {
-                self.err_bin(at, msg)
-            } else {
-                self.err_at(at, msg)
-            });
+            return Err(if self.binary { self.err_bin(at, msg) } else { self.err_at(at, msg) });
         }
         self.nodes.push((tag, [x, y]));
         Ok(())
@@ -512,10 +460,9 @@ impl<'a> Parser<'a> {
                     read += n;
                 }
                 if read != total {
-                    return Err(self.err_at(
-                        self.pos,
-                        format!("$Nodes announces {total} nodes but its blocks hold {read}"),
-                    ));
+                    return Err(
+                        self.err_at(self.pos, format!("$Nodes announces {total} nodes but its blocks hold {read}"))
+                    );
                 }
             }
         }
@@ -523,26 +470,14 @@ impl<'a> Parser<'a> {
     }
 
     /// Records one element; `nodes` are Gmsh node tags. `at` is the element's offset.
-    fn add_element(
-        &mut self,
-        ty: i32,
-        phys: i32,
-        nodes: &[usize],
-        at: usize,
-    ) -> Result<(), IoError> {
+    fn add_element(&mut self, ty: i32, phys: i32, nodes: &[usize], at: usize) -> Result<(), IoError> {
         let mut idx = [0usize; 3];
         for (k, &t) in nodes.iter().enumerate() {
             match self.node_index.get(&t) {
                 Some(&i) => idx[k] = i,
                 None => {
-                    let msg = format!(
-                        "an element of $Elements refers to node {t}, which $Nodes does not define"
-                    );
-                    return Err(if self.binary {
-                        self.err_bin(at, msg)
-                    } else {
-                        self.err_at(at, msg)
-                    });
+                    let msg = format!("an element of $Elements refers to node {t}, which $Nodes does not define");
+                    return Err(if self.binary { self.err_bin(at, msg) } else { self.err_at(at, msg) });
                 }
             }
         }
@@ -610,12 +545,9 @@ impl<'a> Parser<'a> {
             let ntags = self.bin_tag("the number of tags in $Elements")?;
             let nn = nodes_of(ty, at, self)?;
             if count == 0 || read + count > n {
-                return Err(self.err_bin(
-                    at,
-                    format!(
-                        "element block of {count} exceeds the {n} elements $Elements announces"
-                    ),
-                ));
+                return Err(
+                    self.err_bin(at, format!("element block of {count} exceeds the {n} elements $Elements announces"))
+                );
             }
             for _ in 0..count {
                 let at = self.pos;
@@ -671,19 +603,16 @@ impl<'a> Parser<'a> {
             read += n;
         }
         if read != total {
-            return Err(self.err_at(
-                self.pos,
-                format!("$Elements announces {total} elements but its blocks hold {read}"),
-            ));
+            return Err(
+                self.err_at(self.pos, format!("$Elements announces {total} elements but its blocks hold {read}"))
+            );
         }
         Ok(())
     }
 
     fn finish(self) -> Result<MshMesh, IoError> {
         if self.triangles.is_empty() {
-            return Err(IoError::Unsupported(
-                "the file has no triangles (element type 2)".into(),
-            ));
+            return Err(IoError::Unsupported("the file has no triangles (element type 2)".into()));
         }
         let mut new_index = vec![u32::MAX; self.nodes.len()];
         for t in &self.triangles {
@@ -700,11 +629,7 @@ impl<'a> Parser<'a> {
                 node_tags.push(*tag);
             }
         }
-        let cells: Vec<[u32; 3]> = self
-            .triangles
-            .iter()
-            .map(|t| t.map(|v| new_index[v]))
-            .collect();
+        let cells: Vec<[u32; 3]> = self.triangles.iter().map(|t| t.map(|v| new_index[v])).collect();
         let mut tagged = Vec::with_capacity(self.lines.len());
         for ([a, b], p) in &self.lines {
             let (a, b) = (new_index[*a], new_index[*b]);
@@ -715,18 +640,8 @@ impl<'a> Parser<'a> {
             }
             tagged.push(([a, b], *p));
         }
-        let mesh = Mesh::new(
-            &coords,
-            &cells,
-            IndexBase::Zero,
-            &tagged,
-            Some(&self.regions),
-        )?;
-        Ok(MshMesh {
-            mesh,
-            physical_names: self.physical_names,
-            node_tags,
-        })
+        let mesh = Mesh::new(&coords, &cells, IndexBase::Zero, &tagged, Some(&self.regions))?;
+        Ok(MshMesh { mesh, physical_names: self.physical_names, node_tags })
     }
 }
 
@@ -748,11 +663,7 @@ fn nodes_of(ty: i32, at: usize, p: &Parser) -> Result<usize, IoError> {
                 10 => " (9-node quadrangle)",
                 _ => "",
             };
-            let place = if p.binary {
-                format!("byte {at}")
-            } else {
-                format!("line {}", line_of(p.b, at))
-            };
+            let place = if p.binary { format!("byte {at}") } else { format!("line {}", line_of(p.b, at)) };
             Err(IoError::Unsupported(format!(
                 "Gmsh element type {ty}{name} at {place}; only triangles (2), lines (1) and points (15) are read"
             )))

@@ -6,9 +6,7 @@ use glam::DVec2;
 use std::path::PathBuf;
 
 fn data(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data")
-        .join(name)
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data").join(name)
 }
 
 fn tmp(name: &str) -> PathBuf {
@@ -32,10 +30,7 @@ fn assert_same(a: &MshMesh, b: &MshMesh, tol: f64) {
     assert_eq!(a.physical_names, b.physical_names);
     for (p, q) in ma.coords().iter().zip(mb.coords()) {
         if tol == 0.0 {
-            assert_eq!(
-                (p.x.to_bits(), p.y.to_bits()),
-                (q.x.to_bits(), q.y.to_bits())
-            );
+            assert_eq!((p.x.to_bits(), p.y.to_bits()), (q.x.to_bits(), q.y.to_bits()));
         } else {
             assert!((*p - *q).abs().max_element() <= tol, "{p} vs {q}");
         }
@@ -44,12 +39,7 @@ fn assert_same(a: &MshMesh, b: &MshMesh, tol: f64) {
 
 #[test]
 fn gmsh_fixtures_22_41_ascii_binary_agree() {
-    let files = [
-        "square_hole_22.msh",
-        "square_hole_22_bin.msh",
-        "square_hole_41.msh",
-        "square_hole_41_bin.msh",
-    ];
+    let files = ["square_hole_22.msh", "square_hole_22_bin.msh", "square_hole_41.msh", "square_hole_41_bin.msh"];
     let meshes: Vec<MshMesh> = files.iter().map(|f| read_msh(&data(f)).unwrap()).collect();
     let m0 = &meshes[0];
     assert_eq!(m0.mesh.num_vertices(), 36);
@@ -93,14 +83,8 @@ fn gmsh_two_regions_interface_and_unnamed_curve() {
     let interface: Vec<_> = m.patch_edges().iter().filter(|e| e.patch == 9).collect();
     assert_eq!(interface.len(), 4);
     assert!(interface.iter().all(|e| e.interior));
-    assert!(m
-        .patch_vertices(9)
-        .iter()
-        .all(|&v| m.coords()[v as usize].x == 1.0));
-    assert!(m
-        .patch_vertices(0)
-        .iter()
-        .all(|&v| m.coords()[v as usize].y == 1.0));
+    assert!(m.patch_vertices(9).iter().all(|&v| m.coords()[v as usize].x == 1.0));
+    assert!(m.patch_vertices(0).iter().all(|&v| m.coords()[v as usize].y == 1.0));
     assert_eq!(edges_of(m, 4), 8);
     assert_eq!(edges_of(m, 0), 8);
     for (c, &r) in m.cells().iter().zip(m.regions()) {
@@ -128,16 +112,10 @@ fn write_msh22_round_trip_is_exact() {
     let path = tmp("round.msh");
     write_msh22(&mesh, &path).unwrap();
     let back = read_msh(&path).unwrap();
-    assert_eq!(
-        back.node_tags,
-        (1..=mesh.num_vertices()).collect::<Vec<_>>()
-    );
+    assert_eq!(back.node_tags, (1..=mesh.num_vertices()).collect::<Vec<_>>());
     let bm = &back.mesh;
     for (p, q) in mesh.coords().iter().zip(bm.coords()) {
-        assert_eq!(
-            (p.x.to_bits(), p.y.to_bits()),
-            (q.x.to_bits(), q.y.to_bits())
-        );
+        assert_eq!((p.x.to_bits(), p.y.to_bits()), (q.x.to_bits(), q.y.to_bits()));
     }
     assert_eq!(bm.cells(), mesh.cells());
     assert_eq!(bm.regions(), mesh.regions());
@@ -146,9 +124,7 @@ fn write_msh22_round_trip_is_exact() {
 
 fn sample_fields(n: usize, m: usize) -> (Vec<f64>, Vec<DVec2>, Vec<f64>, Vec<i32>) {
     let s: Vec<f64> = (0..n).map(|i| (i as f64 + 0.1).sqrt() * 1e-7).collect();
-    let v: Vec<DVec2> = (0..n)
-        .map(|i| DVec2::new((i as f64).sin(), -(i as f64 / 3.0)))
-        .collect();
+    let v: Vec<DVec2> = (0..n).map(|i| DVec2::new((i as f64).sin(), -(i as f64 / 3.0))).collect();
     let f: Vec<f64> = (0..m).map(|c| 1.0 / (c as f64 + 3.0)).collect();
     let k: Vec<i32> = (0..m).map(|c| c as i32 * 7 - 40).collect();
     (s, v, f, k)
@@ -165,46 +141,26 @@ fn vtu_round_trip_is_exact() {
         &path,
         &mesh,
         &coords,
-        &[
-            ("s", PointField::Scalar(&s)),
-            ("v <&>", PointField::Vector(&v)),
-        ],
+        &[("s", PointField::Scalar(&s)), ("v <&>", PointField::Vector(&v))],
         &[("f", CellField::F64(&f)), ("region", CellField::I32(&k))],
     )
     .unwrap();
     let d = read_vtu(&path).unwrap();
     assert_eq!(d.points.len(), n);
     for (p, q) in coords.iter().zip(&d.points) {
-        assert_eq!(
-            (p.x.to_bits(), p.y.to_bits()),
-            (q[0].to_bits(), q[1].to_bits())
-        );
+        assert_eq!((p.x.to_bits(), p.y.to_bits()), (q[0].to_bits(), q[1].to_bits()));
     }
     assert_eq!(d.cells, mesh.cells());
     assert_eq!(d.point_data.len(), 2);
     assert_eq!((d.point_data[0].0.as_str(), d.point_data[0].2), ("s", 1));
-    assert!(d.point_data[0]
-        .1
-        .iter()
-        .zip(&s)
-        .all(|(a, b)| a.to_bits() == b.to_bits()));
-    assert_eq!(
-        (d.point_data[1].0.as_str(), d.point_data[1].2),
-        ("v <&>", 3)
-    );
+    assert!(d.point_data[0].1.iter().zip(&s).all(|(a, b)| a.to_bits() == b.to_bits()));
+    assert_eq!((d.point_data[1].0.as_str(), d.point_data[1].2), ("v <&>", 3));
     for (i, p) in v.iter().enumerate() {
         assert_eq!(&d.point_data[1].1[3 * i..3 * i + 3], &[p.x, p.y, 0.0]);
     }
     assert_eq!((d.cell_data[0].0.as_str(), d.cell_data[0].2), ("f", 1));
-    assert!(d.cell_data[0]
-        .1
-        .iter()
-        .zip(&f)
-        .all(|(a, b)| a.to_bits() == b.to_bits()));
-    assert_eq!(
-        d.cell_data[1].1,
-        k.iter().map(|&x| x as f64).collect::<Vec<_>>()
-    );
+    assert!(d.cell_data[0].1.iter().zip(&f).all(|(a, b)| a.to_bits() == b.to_bits()));
+    assert_eq!(d.cell_data[1].1, k.iter().map(|&x| x as f64).collect::<Vec<_>>());
     let back = d.to_mesh().unwrap();
     assert_eq!(back.regions(), &k[..]);
     assert_eq!(back.cells(), mesh.cells());
@@ -234,10 +190,7 @@ fn write_deformed_fields() {
     let inv = d.cell_data.iter().find(|x| x.0 == "inverted").unwrap();
     assert!(inv.1.iter().any(|&r| r == 1.0));
     assert_eq!(d.point_data[0].1.len(), 3 * n);
-    assert!(matches!(
-        write_deformed(&path, &mesh, &disp[1..]),
-        Err(IoError::InvalidArgument(_))
-    ));
+    assert!(matches!(write_deformed(&path, &mesh, &disp[1..]), Err(IoError::InvalidArgument(_))));
 }
 
 // ---- malformed input --------------------------------------------------------------------------
@@ -286,10 +239,7 @@ fn truncated_nodes() {
     let t = &GOOD22[..GOOD22.find("30 1 1 0").unwrap()];
     let (line, msg) = parse_err(t);
     assert_eq!(line, 7, "{msg}");
-    assert!(
-        msg.contains("end of file") && msg.contains("$Nodes"),
-        "{msg}"
-    );
+    assert!(msg.contains("end of file") && msg.contains("$Nodes"), "{msg}");
 }
 
 #[test]
@@ -306,10 +256,7 @@ fn non_number() {
 fn missing_end_elements() {
     let (line, msg) = parse_err(&GOOD22.replace("$EndElements\n", ""));
     assert_eq!(line, 15);
-    assert!(
-        msg.contains("$EndElements") && msg.contains("end of file"),
-        "{msg}"
-    );
+    assert!(msg.contains("$EndElements") && msg.contains("end of file"), "{msg}");
     let t = GOOD22.replace("$EndElements\n", "$NodeData\n$EndNodeData\n");
     let (line, msg) = parse_err(&t);
     assert_eq!(line, 16);
@@ -334,10 +281,7 @@ fn wrong_node_count() {
 fn unknown_and_unsupported_version() {
     let (line, msg) = parse_err(&GOOD22.replace("2.2 0 8", "2.x 0 8"));
     assert_eq!(line, 2);
-    assert!(
-        msg.contains("$MeshFormat") && msg.contains("`2.x`"),
-        "{msg}"
-    );
+    assert!(msg.contains("$MeshFormat") && msg.contains("`2.x`"), "{msg}");
     let (line, _) = parse_err(&GOOD22.replace("2.2 0 8", "7.3 0 8"));
     assert_eq!(line, 2);
     assert!(matches!(
@@ -350,10 +294,7 @@ fn unknown_and_unsupported_version() {
 fn element_with_missing_node() {
     let (line, msg) = parse_err(&GOOD22.replace("2 2 2 1 1 10 20 30", "2 2 2 1 1 10 20 31"));
     assert_eq!(line, 14);
-    assert!(
-        msg.contains("node 31") && msg.contains("$Elements"),
-        "{msg}"
-    );
+    assert!(msg.contains("node 31") && msg.contains("$Elements"), "{msg}");
     // 4.1 ASCII from Gmsh, one node tag of the last element changed.
     let t41 = std::fs::read_to_string(data("square_hole_41.msh")).unwrap();
     let mut lines: Vec<String> = t41.lines().map(String::from).collect();
@@ -374,34 +315,20 @@ fn unsupported_element_and_truncated_binary() {
     let b = std::fs::read(data("square_hole_41_bin.msh")).unwrap();
     let cut = b.windows(9).position(|w| w == b"$Elements").unwrap() + 40;
     match parse_msh(&b[..cut]) {
-        Err(IoError::Parse {
-            line: 0,
-            offset: Some(o),
-            message,
-        }) => {
+        Err(IoError::Parse { line: 0, offset: Some(o), message }) => {
             assert!(o <= cut && message.contains("$Elements"), "{message}")
         }
         other => panic!("{other:?}"),
     }
     let no_tri = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 1 1 1\n0 1 0 1\n1\n0 0 0\n$EndNodes\n$Elements\n1 1 1 1\n0 1 15 1\n1 1\n$EndElements\n";
-    assert!(matches!(
-        parse_msh(no_tri.as_bytes()),
-        Err(IoError::Unsupported(_))
-    ));
+    assert!(matches!(parse_msh(no_tri.as_bytes()), Err(IoError::Unsupported(_))));
 }
 
 fn vtu_text() -> String {
     let mesh = parse_msh(GOOD22.as_bytes()).unwrap().mesh;
     let path = tmp("small.vtu");
     let s = [1.5, 2.5, 3.5, 4.5];
-    write_vtu(
-        &path,
-        &mesh,
-        mesh.coords(),
-        &[("s", PointField::Scalar(&s))],
-        &[],
-    )
-    .unwrap();
+    write_vtu(&path, &mesh, mesh.coords(), &[("s", PointField::Scalar(&s))], &[]).unwrap();
     std::fs::read_to_string(path).unwrap()
 }
 
@@ -430,20 +357,14 @@ fn vtu_too_few_values() {
     let (line, msg) = vtu_err(&t);
     let at = t.lines().position(|l| l.contains("Name=\"s\"")).unwrap() + 1;
     assert_eq!(line, at);
-    assert!(
-        msg.contains("`s`") && msg.contains("expected 4") && msg.contains("found 3"),
-        "{msg}"
-    );
+    assert!(msg.contains("`s`") && msg.contains("expected 4") && msg.contains("found 3"), "{msg}");
     let t = vtu_text().replace("1.5 2.5 3.5 4.5", "1.5 2.5 zz 4.5");
     let (line, msg) = vtu_err(&t);
     assert_eq!(line, at + 1);
     assert!(msg.contains("`zz`"), "{msg}");
     let t = vtu_text().replace(" NumberOfPoints=\"4\"", "");
     let (_, msg) = vtu_err(&t);
-    assert!(
-        msg.contains("NumberOfPoints") && msg.contains("<Piece>"),
-        "{msg}"
-    );
+    assert!(msg.contains("NumberOfPoints") && msg.contains("<Piece>"), "{msg}");
 }
 
 #[test]

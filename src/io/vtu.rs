@@ -58,28 +58,18 @@ impl VtuData {
                         if r.fract() == 0.0 && r.abs() <= i32::MAX as f64 {
                             Ok(r as i32)
                         } else {
-                            Err(IoError::InvalidArgument(format!(
-                                "cell data `region` of cell {c} is {r}, not an i32"
-                            )))
+                            Err(IoError::InvalidArgument(format!("cell data `region` of cell {c} is {r}, not an i32")))
                         }
                     })
                     .collect::<Result<Vec<i32>, _>>()?,
             ),
             Some((_, _, k)) => {
-                return Err(IoError::InvalidArgument(format!(
-                    "cell data `region` has {k} components; 1 expected"
-                )))
+                return Err(IoError::InvalidArgument(format!("cell data `region` has {k} components; 1 expected")))
             }
             None => None,
         };
         let tagged: [([u32; 2], i32); 0] = [];
-        Ok(Mesh::new(
-            &self.points,
-            &self.cells,
-            IndexBase::Zero,
-            &tagged,
-            regions.as_deref(),
-        )?)
+        Ok(Mesh::new(&self.points, &self.cells, IndexBase::Zero, &tagged, regions.as_deref())?)
     }
 }
 
@@ -184,11 +174,7 @@ fn push_xyz(s: &mut String, p: DVec2) {
 /// Writes `reference` moved by `displacement`, with point data `displacement` and cell data
 /// `region` (Int32), `area_ratio` (deformed over reference signed area), `inverted` (1 where the
 /// deformed signed area is not positive) and `min_angle` (degrees, 0 for inverted cells).
-pub fn write_deformed(
-    path: &Path,
-    reference: &Mesh,
-    displacement: &[DVec2],
-) -> Result<(), IoError> {
+pub fn write_deformed(path: &Path, reference: &Mesh, displacement: &[DVec2]) -> Result<(), IoError> {
     if displacement.len() != reference.num_vertices() {
         return Err(IoError::InvalidArgument(format!(
             "write_deformed: {} displacements for a mesh of {} vertices",
@@ -196,12 +182,7 @@ pub fn write_deformed(
             reference.num_vertices()
         )));
     }
-    let moved: Vec<DVec2> = reference
-        .coords()
-        .iter()
-        .zip(displacement)
-        .map(|(p, d)| *p + *d)
-        .collect();
+    let moved: Vec<DVec2> = reference.coords().iter().zip(displacement).map(|(p, d)| *p + *d).collect();
     let a0 = signed_areas(reference, reference.coords());
     let a1 = signed_areas(reference, &moved);
     let ratio: Vec<f64> = a1.iter().zip(&a0).map(|(a, b)| a / b).collect();
@@ -209,13 +190,7 @@ pub fn write_deformed(
     let min_angle: Vec<f64> = reference
         .cells()
         .iter()
-        .map(|c| {
-            min_angle_deg(
-                moved[c[0] as usize],
-                moved[c[1] as usize],
-                moved[c[2] as usize],
-            )
-        })
+        .map(|c| min_angle_deg(moved[c[0] as usize], moved[c[1] as usize], moved[c[2] as usize]))
         .collect();
     write_vtu(
         path,
@@ -279,11 +254,7 @@ struct Ctx<'a> {
 
 impl Ctx<'_> {
     fn err(&self, at: usize, message: String) -> IoError {
-        IoError::Parse {
-            line: line_of(self.b, at),
-            offset: Some(at),
-            message,
-        }
+        IoError::Parse { line: line_of(self.b, at), offset: Some(at), message }
     }
 }
 
@@ -303,17 +274,9 @@ fn tag_name(e: &BytesStart) -> String {
 }
 
 fn req_usize(e: &BytesStart, name: &str, ctx: &Ctx, at: usize) -> Result<usize, IoError> {
-    let v = attr(e, name, ctx, at)?
-        .ok_or_else(|| ctx.err(at, format!("<{}> has no attribute `{name}`", tag_name(e))))?;
-    v.trim().parse().map_err(|_| {
-        ctx.err(
-            at,
-            format!(
-                "attribute `{name}` of <{}> is `{v}`, not a count",
-                tag_name(e)
-            ),
-        )
-    })
+    let v =
+        attr(e, name, ctx, at)?.ok_or_else(|| ctx.err(at, format!("<{}> has no attribute `{name}`", tag_name(e))))?;
+    v.trim().parse().map_err(|_| ctx.err(at, format!("attribute `{name}` of <{}> is `{v}`, not a count", tag_name(e))))
 }
 
 /// Parses the contents of a `.vtu` file.
@@ -323,11 +286,7 @@ pub fn parse_vtu(bytes: &[u8]) -> Result<VtuData, IoError> {
         offset: Some(e.valid_up_to()),
         message: "the file is not UTF-8 text (appended raw data is not supported)".into(),
     })?;
-    let mut ctx = Ctx {
-        b: bytes,
-        header64: false,
-        big_endian: false,
-    };
+    let mut ctx = Ctx { b: bytes, header64: false, big_endian: false };
     let mut reader = Reader::from_str(text);
     let mut out = VtuData::default();
     let mut counts: Option<(usize, usize)> = None;
@@ -339,9 +298,7 @@ pub fn parse_vtu(bytes: &[u8]) -> Result<VtuData, IoError> {
     let mut piece_end = None;
     loop {
         let at = reader.buffer_position() as usize;
-        let ev = reader
-            .read_event()
-            .map_err(|e| ctx.err(at, format!("malformed XML: {e}")))?;
+        let ev = reader.read_event().map_err(|e| ctx.err(at, format!("malformed XML: {e}")))?;
         match ev {
             Event::Start(ref e) | Event::Empty(ref e) => {
                 let empty = matches!(ev, Event::Empty(_));
@@ -357,19 +314,15 @@ pub fn parse_vtu(bytes: &[u8]) -> Result<VtuData, IoError> {
                         if let Some(c) = attr(e, "compressor", &ctx, at)? {
                             return Err(IoError::Unsupported(format!("compressed data ({c})")));
                         }
-                        ctx.big_endian =
-                            attr(e, "byte_order", &ctx, at)?.as_deref() == Some("BigEndian");
-                        ctx.header64 =
-                            attr(e, "header_type", &ctx, at)?.as_deref() == Some("UInt64");
+                        ctx.big_endian = attr(e, "byte_order", &ctx, at)?.as_deref() == Some("BigEndian");
+                        ctx.header64 = attr(e, "header_type", &ctx, at)?.as_deref() == Some("UInt64");
                     }
                     b"Piece" => {
                         if counts.is_some() {
                             return Err(IoError::Unsupported("more than one <Piece>".into()));
                         }
-                        counts = Some((
-                            req_usize(e, "NumberOfPoints", &ctx, at)?,
-                            req_usize(e, "NumberOfCells", &ctx, at)?,
-                        ));
+                        counts =
+                            Some((req_usize(e, "NumberOfPoints", &ctx, at)?, req_usize(e, "NumberOfCells", &ctx, at)?));
                     }
                     b"PointData" if !empty => section = Section::PointData,
                     b"CellData" if !empty => section = Section::CellData,
@@ -381,17 +334,15 @@ pub fn parse_vtu(bytes: &[u8]) -> Result<VtuData, IoError> {
                             return Err(ctx.err(at, "<DataArray> outside a <Piece>".into()));
                         }
                         let a = Array {
-                            ty: attr(e, "type", &ctx, at)?.ok_or_else(|| {
-                                ctx.err(at, "<DataArray> has no attribute `type`".into())
-                            })?,
+                            ty: attr(e, "type", &ctx, at)?
+                                .ok_or_else(|| ctx.err(at, "<DataArray> has no attribute `type`".into()))?,
                             name: attr(e, "Name", &ctx, at)?,
                             comps: match attr(e, "NumberOfComponents", &ctx, at)? {
                                 None => 1,
                                 Some(_) => req_usize(e, "NumberOfComponents", &ctx, at)?,
                             },
-                            format: attr(e, "format", &ctx, at)?.ok_or_else(|| {
-                                ctx.err(at, "<DataArray> has no attribute `format`".into())
-                            })?,
+                            format: attr(e, "format", &ctx, at)?
+                                .ok_or_else(|| ctx.err(at, "<DataArray> has no attribute `format`".into()))?,
                             at,
                             text_at: reader.buffer_position() as usize,
                             text: String::new(),
@@ -438,23 +389,14 @@ pub fn parse_vtu(bytes: &[u8]) -> Result<VtuData, IoError> {
         return Err(ctx.err(0, "no <VTKFile> element".into()));
     }
     let Some((n, m)) = counts else {
-        return Err(ctx.err(
-            bytes.len(),
-            "no <Piece> element in <UnstructuredGrid>".into(),
-        ));
+        return Err(ctx.err(bytes.len(), "no <Piece> element in <UnstructuredGrid>".into()));
     };
     let end = piece_end.unwrap_or(bytes.len());
     if !seen_points {
         return Err(ctx.err(end, "<Piece> has no <Points> element".into()));
     }
     if out.points.len() != n {
-        return Err(ctx.err(
-            end,
-            format!(
-                "<Points> holds {} points, NumberOfPoints is {n}",
-                out.points.len()
-            ),
-        ));
+        return Err(ctx.err(end, format!("<Points> holds {} points, NumberOfPoints is {n}", out.points.len())));
     }
     out.cells = build_cells(&cells_arrays, n, m, &ctx, end)?;
     Ok(out)
@@ -481,30 +423,32 @@ fn build_cells(
         if v.len() != m {
             return Err(ctx.err(
                 at,
-                format!(
-                    "DataArray `{name}` in <Cells>: expected {m} values (NumberOfCells), found {}",
-                    v.len()
-                ),
+                format!("DataArray `{name}` in <Cells>: expected {m} values (NumberOfCells), found {}", v.len()),
             ));
         }
     }
     if let Some((c, &t)) = types.iter().enumerate().find(|(_, &t)| t != 5.0) {
-        return Err(IoError::Unsupported(format!(
-            "cell {c} has VTK cell type {t}; only triangles (5) are read"
-        )));
+        return Err(IoError::Unsupported(format!("cell {c} has VTK cell type {t}; only triangles (5) are read")));
     }
     for (c, &o) in offsets.iter().enumerate() {
         if o != (3 * (c + 1)) as f64 {
             return Err(ctx.err(
                 off_at,
-                format!("DataArray `offsets` in <Cells>: offset of cell {c} is {o}, expected {} for triangles", 3 * (c + 1)),
+                format!(
+                    "DataArray `offsets` in <Cells>: offset of cell {c} is {o}, expected {} for triangles",
+                    3 * (c + 1)
+                ),
             ));
         }
     }
     if conn.len() != 3 * m {
         return Err(ctx.err(
             conn_at,
-            format!("DataArray `connectivity` in <Cells>: expected {} values (3 per triangle), found {}", 3 * m, conn.len()),
+            format!(
+                "DataArray `connectivity` in <Cells>: expected {} values (3 per triangle), found {}",
+                3 * m,
+                conn.len()
+            ),
         ));
     }
     let mut cells = Vec::with_capacity(m);
@@ -562,22 +506,13 @@ fn finish_array(
     match section {
         Section::Points => {
             if a.comps != 3 {
-                return Err(ctx.err(
-                    a.at,
-                    format!("{label}: NumberOfComponents is {}, 3 expected", a.comps),
-                ));
+                return Err(ctx.err(a.at, format!("{label}: NumberOfComponents is {}, 3 expected", a.comps)));
             }
             out.points = values.chunks_exact(3).map(|p| [p[0], p[1]]).collect();
         }
         Section::PointData | Section::CellData => {
-            let name = a
-                .name
-                .ok_or_else(|| ctx.err(a.at, format!("{label}: no attribute `Name`")))?;
-            let list = if section == Section::PointData {
-                &mut out.point_data
-            } else {
-                &mut out.cell_data
-            };
+            let name = a.name.ok_or_else(|| ctx.err(a.at, format!("{label}: no attribute `Name`")))?;
+            let list = if section == Section::PointData { &mut out.point_data } else { &mut out.cell_data };
             list.push((name, values, a.comps));
         }
         Section::Cells => {
@@ -611,33 +546,21 @@ fn decode(a: &Array, label: &str, ctx: &Ctx) -> Result<Vec<f64>, IoError> {
                 }
                 let tok = &a.text[s..i];
                 let x: f64 = tok.parse().map_err(|_| {
-                    ctx.err(
-                        base + s,
-                        format!("{label}: expected a number of type {}, found `{tok}`", a.ty),
-                    )
+                    ctx.err(base + s, format!("{label}: expected a number of type {}, found `{tok}`", a.ty))
                 })?;
                 v.push(x);
             }
             Ok(v)
         }
         "binary" => decode_base64(a, label, ctx),
-        "appended" => Err(IoError::Unsupported(format!(
-            "{label}: format=\"appended\""
-        ))),
-        f => Err(ctx.err(
-            a.at,
-            format!("{label}: attribute `format` is `{f}`; ascii, binary or appended expected"),
-        )),
+        "appended" => Err(IoError::Unsupported(format!("{label}: format=\"appended\""))),
+        f => Err(ctx.err(a.at, format!("{label}: attribute `format` is `{f}`; ascii, binary or appended expected"))),
     }
 }
 
 fn decode_base64(a: &Array, label: &str, ctx: &Ctx) -> Result<Vec<f64>, IoError> {
     let b64 = base64::engine::general_purpose::STANDARD;
-    let text: String = a
-        .text
-        .chars()
-        .filter(|c| !c.is_ascii_whitespace())
-        .collect();
+    let text: String = a.text.chars().filter(|c| !c.is_ascii_whitespace()).collect();
     let hsize: usize = if ctx.header64 { 8 } else { 4 };
     let bad = |e: base64::DecodeError| ctx.err(a.text_at, format!("{label}: bad base64: {e}"));
     // VTK encodes the header and the data either together or as two base64 runs; a separate
@@ -651,10 +574,7 @@ fn decode_base64(a: &Array, label: &str, ctx: &Ctx) -> Result<Vec<f64>, IoError>
         b64.decode(&text).map_err(bad)?
     };
     if raw.len() < hsize {
-        return Err(ctx.err(
-            a.text_at,
-            format!("{label}: binary data shorter than its header"),
-        ));
+        return Err(ctx.err(a.text_at, format!("{label}: binary data shorter than its header")));
     }
     let hdr = &raw[..hsize];
     let nbytes = match (hsize, ctx.big_endian) {
@@ -665,13 +585,7 @@ fn decode_base64(a: &Array, label: &str, ctx: &Ctx) -> Result<Vec<f64>, IoError>
     } as usize;
     let data = &raw[hsize..];
     if data.len() < nbytes {
-        return Err(ctx.err(
-            a.text_at,
-            format!(
-                "{label}: header announces {nbytes} bytes, {} present",
-                data.len()
-            ),
-        ));
+        return Err(ctx.err(a.text_at, format!("{label}: header announces {nbytes} bytes, {} present", data.len())));
     }
     let data = &data[..nbytes];
     let size = match a.ty.as_str() {
@@ -684,13 +598,7 @@ fn decode_base64(a: &Array, label: &str, ctx: &Ctx) -> Result<Vec<f64>, IoError>
         }
     };
     if nbytes % size != 0 {
-        return Err(ctx.err(
-            a.text_at,
-            format!(
-                "{label}: {nbytes} bytes is not a whole number of {} values",
-                a.ty
-            ),
-        ));
+        return Err(ctx.err(a.text_at, format!("{label}: {nbytes} bytes is not a whole number of {} values", a.ty)));
     }
     let be = ctx.big_endian;
     Ok(data
