@@ -1,7 +1,28 @@
 #!/usr/bin/env bash
 # Builds everything and runs every test. `.ci/run` runs exactly this.
+#   Rust library and tests, header freshness (tests/header_fresh.rs), CMake build of the C and
+#   Fortran examples into build/, cargo test and ctest (examples vs the Rust reference, the C
+#   bad-input test under valgrind, install + find_package consumer).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
+# cmake, gfortran and valgrind: installed when missing (CI runs as root on Debian/Ubuntu).
+missing=()
+for tool in cmake gfortran valgrind pkg-config; do
+    command -v "$tool" >/dev/null 2>&1 || missing+=("$tool")
+done
+if ((${#missing[@]})); then
+    echo "installing ${missing[*]}"
+    SUDO=""
+    [ "$(id -u)" -ne 0 ] && SUDO="sudo"
+    $SUDO apt-get update -qq
+    $SUDO env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq cmake gfortran valgrind pkg-config >/dev/null
+fi
+
 cargo build --release --all-targets
+# The committed header must match what cbindgen generates from src/capi.
+cargo test --release --test header_fresh
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DMESHMOVE_WITH_CLI=ON
+cmake --build build -j "$(nproc)"
 cargo test --release
+(cd build && ctest --output-on-failure -j "$(nproc)")

@@ -23,6 +23,7 @@
 //! ```
 
 pub mod bc;
+pub mod capi;
 pub mod cases;
 pub mod dense;
 pub mod error;

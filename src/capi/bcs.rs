@@ -1,0 +1,185 @@
+//! `meshmove_bcs`: kinds per patch and component, links, interface variants.
+
+use super::error::CError;
+use super::handles::{self, check_out, count, get_mut, hand_out, slice, Handle};
+use super::status::meshmove_status;
+use super::types;
+use crate::{BoundaryConditions, Link};
+use glam::DVec2;
+
+/// A boundary-condition set: a `meshmove_kind` per patch and component (patches not named are
+/// FIXED), links between patches, interface variants. It is checked against a mesh when a solver
+/// is created, and copied into the solver (it may be freed afterwards).
+pub struct meshmove_bcs {
+    magic: u64,
+    pub(crate) bcs: BoundaryConditions,
+}
+
+impl Handle for meshmove_bcs {
+    const MAGIC: u64 = 0x6263_7362_6373_6263; // "bcsbcsbc"
+    const NAME: &'static str = "meshmove_bcs";
+    fn tag(&self) -> u64 {
+        self.magic
+    }
+    fn set_tag(&mut self, t: u64) {
+        self.magic = t;
+    }
+}
+
+/// Creates an empty boundary-condition set (every patch FIXED in both components).
+///
+/// # Safety
+/// `out` must be writable.
+#[no_mangle]
+pub unsafe extern "C" fn meshmove_bcs_create(out: *mut *mut meshmove_bcs) -> meshmove_status {
+    ffi_body!(meshmove_bcs_create, {
+        check_out(out, "out")?;
+        hand_out(meshmove_bcs { magic: meshmove_bcs::MAGIC, bcs: BoundaryConditions::new() }, out)
+    })
+}
+
+/// Frees a boundary-condition set; NULL is accepted.
+///
+/// # Safety
+/// `bcs` must be NULL or a pointer received from meshmove (checked).
+#[no_mangle]
+pub unsafe extern "C" fn meshmove_bcs_free(bcs: *mut meshmove_bcs) -> meshmove_status {
+    ffi_body!(meshmove_bcs_free, { handles::free(bcs, "bcs") })
+}
+
+/// Sets the `meshmove_kind` of one component (0 = x, 1 = y) on `patch`.
+///
+/// # Safety
+/// `bcs` must be a handle from meshmove (checked).
+#[no_mangle]
+pub unsafe extern "C" fn meshmove_bcs_set_kind(
+    bcs: *mut meshmove_bcs,
+    patch: i32,
+    component: i32,
+    kind: i32,
+) -> meshmove_status {
+    ffi_body!(meshmove_bcs_set_kind, {
+        let b = get_mut(bcs, "bcs")?;
+        let k = types::kind(kind)?;
+        if !(0..=1).contains(&component) {
+            return Err(CError::arg(format!("component {component} does not exist in 2D (0 = x, 1 = y)")));
+        }
+        b.bcs.set_kind(patch, component as usize, k)?;
+        Ok(())
+    })
+}
+
+/// Sets the same `meshmove_kind` for both components on `patch`.
+///
+/// # Safety
+/// `bcs` must be a handle from meshmove (checked).
+#[no_mangle]
+pub unsafe extern "C" fn meshmove_bcs_set_kinds(bcs: *mut meshmove_bcs, patch: i32, kind: i32) -> meshmove_status {
+    ffi_body!(meshmove_bcs_set_kinds, {
+        let b = get_mut(bcs, "bcs")?;
+        let k = types::kind(kind)?;
+        b.bcs.set_kinds(patch, k);
+        Ok(())
+    })
+}
+
+/// Sets the kind of patches never named (both components; default FIXED).
+///
+/// # Safety
+/// `bcs` must be a handle from meshmove (checked).
+#[no_mangle]
+pub unsafe extern "C" fn meshmove_bcs_set_default_kind(bcs: *mut meshmove_bcs, kind: i32) -> meshmove_status {
+    ffi_body!(meshmove_bcs_set_default_kind, {
+        let b = get_mut(bcs, "bcs")?;
+        b.bcs.default_kind = [types::kind(kind)?; 2];
+        Ok(())
+    })
+}
+
+/// Links patch `patch_a` to `patch_b` periodically: every vertex v of `patch_a` is joined to the
+/// vertex of `patch_b` at v + (dx, dy), within `tol` (positive). Both patches must be matched
+/// completely; this is checked when the solver is created (`MESHMOVE_STATUS_INVALID_BCS`).
+///
+/// # Safety
+/// `bcs` must be a handle from meshmove (checked).
+#[no_mangle]
+pub unsafe extern "C" fn meshmove_bcs_link_periodic(
+    bcs: *mut meshmove_bcs,
+    patch_a: i32,
+    patch_b: i32,
+    dx: f64,
+    dy: f64,
+    tol: f64,
+) -> meshmove_status {
+    ffi_body!(meshmove_bcs_link_periodic, {
+        let b = get_mut(bcs, "bcs")?;
+        if !(dx.is_finite() && dy.is_finite()) {
+            return Err(CError::arg(format!("offset ({dx}, {dy}) is not finite")));
+        }
+        if !(tol > 0.0 && tol.is_finite()) {
+            return Err(CError::arg(format!("tol is {tol}; it must be positive and finite")));
+        }
+        if patch_a == patch_b {
+            return Err(CError::arg(format!("a patch ({patch_a}) cannot be linked to itself")));
+        }
+        b.bcs.add_link(Link::ByOffset { a: patch_a, b: patch_b, offset: DVec2::new(dx, dy), tol });
+        Ok(())
+    })
+}
+
+/// Links explicit vertex pairs: `pairs` holds `2 num_pairs` vertex indices in `index_base`
+/// (a0, b0, a1, b1, ...). Linked vertices become one unknown and must be told the same
+/// displacement. Indices beyond the mesh are reported when the solver is created.
+///
+/// # Safety
+/// `bcs` must be a handle from meshmove; `pairs` must hold `2 num_pairs` integers.
+#[no_mangle]
+pub unsafe extern "C" fn meshmove_bcs_link_pairs(
+    bcs: *mut meshmove_bcs,
+    num_pairs: i32,
+    pairs: *const i32,
+    index_base: i32,
+) -> meshmove_status {
+    ffi_body!(meshmove_bcs_link_pairs, {
+        let b = get_mut(bcs, "bcs")?;
+        let base = handles::index_base(index_base)? as i32;
+        let n = count(num_pairs, "num_pairs")?;
+        if n == 0 {
+            return Err(CError::arg("num_pairs is 0; give at least one pair"));
+        }
+        let p = slice(pairs, 2 * n, "pairs")?;
+        let mut out = Vec::with_capacity(n);
+        for (i, c) in p.chunks_exact(2).enumerate() {
+            let conv = |v: i32| {
+                u32::try_from(i64::from(v) - i64::from(base))
+                    .map_err(|_| CError::arg(format!("pair {i} has vertex index {v}, below the index base {base}")))
+            };
+            let (a, z) = (conv(c[0])?, conv(c[1])?);
+            if a == z {
+                return Err(CError::arg(format!("pair {i} links vertex {} to itself", c[0])));
+            }
+            out.push([a, z]);
+        }
+        b.bcs.add_link(Link::Pairs(out));
+        Ok(())
+    })
+}
+
+/// Declares how the internal interface `patch` (tagged interior edges) couples its two regions:
+/// a `meshmove_interface` value.
+///
+/// # Safety
+/// `bcs` must be a handle from meshmove (checked).
+#[no_mangle]
+pub unsafe extern "C" fn meshmove_bcs_set_interface(
+    bcs: *mut meshmove_bcs,
+    patch: i32,
+    variant: i32,
+) -> meshmove_status {
+    ffi_body!(meshmove_bcs_set_interface, {
+        let b = get_mut(bcs, "bcs")?;
+        let v = types::interface(variant)?;
+        b.bcs.set_interface(patch, v);
+        Ok(())
+    })
+}

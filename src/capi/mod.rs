@@ -1,0 +1,32 @@
+//! The C ABI (DESIGN §6): three opaque handles (`meshmove_mesh`, `meshmove_bcs`,
+//! `meshmove_solver`), a status from every call, a thread-local last-error message.
+//!
+//! This module only checks arguments, converts them, calls the Rust API and maps errors; the
+//! mathematics stays in the other modules. `include/meshmove.h` is generated from it by cbindgen
+//! (`tests/header_fresh.rs` fails when the committed header is stale; `MESHMOVE_BLESS=1 cargo
+//! test --test header_fresh` rewrites it) and `include/meshmove.f90` binds it for Fortran.
+//!
+//! Rules every entry point follows: the body runs inside `ffi_body!` (catch_unwind → status,
+//! last error set); every handle is checked against a registry of live handles and its magic
+//! tag; every array pointer is checked for NULL and alignment and comes with an explicit
+//! `int32_t` length that must match; enum arguments are `int32_t` values checked before
+//! conversion (a Rust enum receiving an unknown discriminant would be undefined behaviour).
+#![allow(non_camel_case_types)]
+#![allow(clippy::missing_safety_doc)]
+
+#[macro_use]
+mod macros;
+pub mod bcs;
+pub mod error;
+pub(crate) mod handles;
+pub mod mesh;
+pub mod solver;
+pub mod status;
+pub mod types;
+
+pub use bcs::*;
+pub use error::*;
+pub use mesh::*;
+pub use solver::*;
+pub use status::*;
+pub use types::*;

@@ -1,0 +1,408 @@
+//! `meshmove_solver`: the multigrid hierarchy of one mesh and boundary-condition set, and the
+//! calls a flow code makes every time step.
+
+use super::bcs::meshmove_bcs;
+use super::error::CError;
+use super::handles::{self, check_out, check_xy_out, count, get, get_mut, hand_out, read_xy, write_xy, Handle};
+use super::mesh::meshmove_mesh;
+use super::status::meshmove_status;
+use super::types::{meshmove_options, meshmove_quality, meshmove_report};
+use crate::{Motion, RigidMotion, Solver};
+use glam::DVec2;
+use std::ffi::c_char;
+
+/// A solver: the hierarchy built once for a mesh and boundary conditions, the rigid motions
+/// currently set, and the displacement of the last solve. Not to be used from two threads at
+/// once (different solvers may be used concurrently).
+pub struct meshmove_solver {
+    magic: u64,
+    solver: Solver,
+    rigid: Vec<(i32, RigidMotion)>,
+    last: Vec<DVec2>,
+}
+
+impl Handle for meshmove_solver {
+    const MAGIC: u64 = 0x736f_6c76_6572_736f; // "solverso"
+    const NAME: &'static str = "meshmove_solver";
+    fn tag(&self) -> u64 {
+        self.magic
+    }
+    fn set_tag(&mut self, t: u64) {
+        self.magic = t;
+    }
+}
+
+impl meshmove_solver {
+    fn nv(&self) -> usize {
+        self.solver.mesh().num_vertices()
+    }
+    fn motion(&self, d: Vec<DVec2>) -> Motion {
+        Motion { displacement: d, rigid: self.rigid.clone() }
+    }
+}
+
+unsafe fn report_out(p: *mut meshmove_report, r: &crate::Report) -> Result<(), CError> {
+    if !p.is_null() {
+        handles::write_out(p, meshmove_report::from(r), "report")?;
+    }
+    Ok(())
+}
+
+/// Creates a solver for `mesh` and `bcs` (both copied; they may be freed afterwards) with
+/// `options` (NULL for the defaults). Checks the boundary conditions against the mesh (unknown
+/// patches, links that do not match, ill-posed components) and builds the multigrid hierarchy.
+///
+/// # Safety
+/// `mesh` and `bcs` must be handles from meshmove (checked); `options` NULL or valid; `out` writable.
+#[no_mangle]
+pub unsafe extern "C" fn meshmove_solver_create(
+    mesh: *const meshmove_mesh,
+    bcs: *const meshmove_bcs,
+    options: *const meshmove_options,
+    out: *mut *mut meshmove_solver,
+) -> meshmove_status {
+    ffi_body!(meshmove_solver_create, {
+        check_out(out, "out")?;
+        let m = &get(mesh, "mesh")?.mesh;
+        let b = &get(bcs, "bcs")?.bcs;
+        let o = if options.is_null() {
+            meshmove_options::default()
+        } else {
+            handles::check_aligned(options, "options")?;
+            *options
+        };
+        let solver = Solver::new(m, b, o.to_rust()?)?;
+        let nv = m.num_vertices();
+        hand_out(
+            meshmove_solver { magic: meshmove_solver::MAGIC, solver, rigid: Vec::new(), last: vec![DVec2::ZERO; nv] },
+            out,
+        )
+    })
+}
+
+/// Frees a solver; NULL is accepted.
+///
+/// # Safety
+/// `solver` must be NULL or a pointer received from meshmove (checked).
+#[no_mangle]
+pub unsafe extern "C" fn meshmove_solver_free(solver: *mut meshmove_solver) -> meshmove_status {
+    ffi_body!(meshmove_solver_free, { handles::free(solver, "solver") })
+}
+
+/// Number of vertices of the solver's mesh and of multigrid levels (either pointer may be NULL).
+///
+/// # Safety
+/// Non-NULL pointers must be writable.
+#[no_mangle]
+pub unsafe extern "C" fn meshmove_solver_sizes(
+    solver: *const meshmove_solver,
+    num_vertices: *mut i32,
+    num_levels: *mut i32,
+) -> meshmove_status {
+    ffi_body!(meshmove_solver_sizes, {
+        let s = get(solver, "solver")?;
+        if !num_vertices.is_null() {
+            handles::write_out(num_vertices, s.nv() as i32, "num_vertices")?;
+        }
+        if !num_levels.is_null() {
+            handles::write_out(num_levels, s.solver.num_levels() as i32, "num_levels")?;
+        }
+        Ok(())
+    })
+}
+
+/// Makes `patch` move rigidly in the following solves: rotation by `angle` (radians,
+/// counter-clockwise) about (`cx`, `cy`), then translation by (`tx`, `ty`). Its vertices then
+/// ignore the displacement array; on a CLAMPED patch the held wall spacing rotates with the body.
+/// Setting a patch again replaces its motion.
+///
+/// # Safety
+/// `solver` must be a handle from meshmove (checked).
+#[no_mangle]
+pub unsafe extern "C" fn meshmove_solver_set_rigid_motion(
+    solver: *mut meshmove_solver,
+    patch: i32,
+    tx: f64,
+    ty: f64,
+    angle: f64,
+    cx: f64,
+    cy: f64,
+) -> meshmove_status {
+    ffi_body!(meshmove_solver_set_rigid_motion, {
+        let s = get_mut(solver, "solver")?;
+        if ![tx, ty, angle, cx, cy].iter().all(|v| v.is_finite()) {
+            return Err(CError::arg(format!("rigid motion of patch {patch} is not finite")));
+        }
+        if s.solver.mesh().patch_ids().binary_search(&patch).is_err() {
+            return Err(CError::arg(format!(
+                "patch {patch} is not in the mesh (patches: {:?})",
+                s.solver.mesh().patch_ids()
+            )));
+        }
+        let m = RigidMotion { translation: DVec2::new(tx, ty), angle, center: DVec2::new(cx, cy) };
+        s.rigid.retain(|(p, _)| *p != patch);
+        s.rigid.push((patch, m));
+        Ok(())
+    })
+}
+
+/// Removes every rigid motion.
+///
+/// # Safety
+/// `solver` must be a handle from meshmove (checked).
+#[no_mangle]
+pub unsafe extern "C" fn meshmove_solver_clear_rigid_motions(solver: *mut meshmove_solver) -> meshmove_status {
+    ffi_body!(meshmove_solver_clear_rigid_motions, {
+        get_mut(solver, "solver")?.rigid.clear();
+        Ok(())
+    })
+}
+
+/// Solves for the displacement of every vertex to the options' tolerance.
+///
+/// `prescribed`: `len` = 2 × vertices doubles, read only where a component is prescribed (FIXED
+/// or CLAMPED, not on rigidly moving patches). `guess`: NULL, or an initial displacement of the
+/// same length (e.g. the previous step's). `displacement` receives the result (may be the same
+/// array as `prescribed` or `guess`). `report` may be NULL.
+///
+/// # Safety
+/// Arrays must hold `len` doubles; `solver` must be a handle from meshmove (checked).
+#[no_mangle]
+pub unsafe extern "C" fn meshmove_solver_solve(
+    solver: *mut meshmove_solver,
+    len: i32,
+    prescribed: *const f64,
+    guess: *const f64,
+    displacement: *mut f64,
+    report: *mut meshmove_report,
+) -> meshmove_status {
+    ffi_body!(meshmove_solver_solve, {
+        let s = get_mut(solver, "solver")?;
+        let nv = s.nv();
+        check_xy_out(displacement, len, nv, "displacement")?;
+        let d = read_xy(prescribed, len, nv, "prescribed")?;
+        let g = if guess.is_null() { None } else { Some(read_xy(guess, len, nv, "guess")?) };
+        let sol = s.solver.solve_from(&s.motion(d), g.as_deref())?;
+        report_out(report, &sol.report)?;
+        write_xy(displacement, &sol.displacement);
+        s.last = sol.displacement;
+        Ok(())
+    })
+}
+
+/// Runs exactly one multigrid cycle of the solver's mode, from `displacement` (read and
+/// overwritten, `len` = 2 × vertices), for codes that run a fixed number of cycles per step.
+/// `report` (may be NULL) gives the correction and residual after the cycle.
+///
+/// # Safety
+/// Arrays must hold `len` doubles; `solver` must be a handle from meshmove (checked).
+#[no_mangle]
+pub unsafe extern "C" fn meshmove_solver_cycle(
+    solver: *mut meshmove_solver,
+    len: i32,
+    prescribed: *const f64,
+    displacement: *mut f64,
+    report: *mut meshmove_report,
+) -> meshmove_status {
+    ffi_body!(meshmove_solver_cycle, {
+        let s = get_mut(solver, "solver")?;
+        let nv = s.nv();
+        check_xy_out(displacement, len, nv, "displacement")?;
+        let d = read_xy(prescribed, len, nv, "prescribed")?;
+        let mut x = read_xy(displacement, len, nv, "displacement")?;
+        let r = s.solver.cycle(&s.motion(d), &mut x)?;
+        report_out(report, &r)?;
+        write_xy(displacement, &x);
+        s.last = x;
+        Ok(())
+    })
+}
+
+/// The drop-in call replacing a spring mover: given the boundary displacement (`len` = 2 ×
+/// vertices, read only where prescribed), solves and adds the displacement of every vertex to
+/// `coords` in place; the moved mesh becomes the solver's reference for the next call.
+///
+/// `coords` on entry are the current positions; when they differ from the solver's reference
+/// (the code moved the mesh itself), the reference is first re-evaluated there. `report` and
+/// `quality` (of the moved mesh against the positions on entry) may be NULL. On failure
+/// `coords` is unchanged.
+///
+/// # Safety
+/// Arrays must hold `len` doubles; `solver` must be a handle from meshmove (checked).
+#[no_mangle]
+pub unsafe extern "C" fn meshmove_solver_move(
+    solver: *mut meshmove_solver,
+    len: i32,
+    boundary_displacement: *const f64,
+    coords: *mut f64,
+    report: *mut meshmove_report,
+    quality: *mut meshmove_quality,
+) -> meshmove_status {
+    ffi_body!(meshmove_solver_move, {
+        let s = get_mut(solver, "solver")?;
+        let nv = s.nv();
+        check_xy_out(coords, len, nv, "coords")?;
+        let d = read_xy(boundary_displacement, len, nv, "boundary_displacement")?;
+        let x = read_xy(coords, len, nv, "coords")?;
+        handles::finite_xy(&x, "coords")?;
+        if x.as_slice() != s.solver.mesh().coords() {
+            s.solver.set_reference(x.clone())?;
+        }
+        let sol = s.solver.solve(&s.motion(d))?;
+        let q = s.solver.quality(&sol.displacement);
+        let moved: Vec<DVec2> = x.iter().zip(&sol.displacement).map(|(a, b)| *a + *b).collect();
+        s.solver.set_reference(moved.clone())?;
+        report_out(report, &sol.report)?;
+        if !quality.is_null() {
+            handles::write_out(quality, meshmove_quality::from(q), "quality")?;
+        }
+        write_xy(coords, &moved);
+        s.last = sol.displacement;
+        Ok(())
+    })
+}
+
+/// Moves the boundary to `prescribed` (and the rigid motions) in `steps` equal steps, the
+/// reference re-evaluated after each (the paper's 10- and 15-interval runs); the solver's
+/// reference becomes the moved mesh. `reports`: NULL, or room for `num_reports` ≥ `steps`
+/// reports, one per step.
+///
+/// # Safety
+/// `prescribed` must hold `len` doubles, `reports` `num_reports` structs.
+#[no_mangle]
+pub unsafe extern "C" fn meshmove_solver_move_in_steps(
+    solver: *mut meshmove_solver,
+    len: i32,
+    prescribed: *const f64,
+    steps: i32,
+    num_reports: i32,
+    reports: *mut meshmove_report,
+) -> meshmove_status {
+    ffi_body!(meshmove_solver_move_in_steps, {
+        let s = get_mut(solver, "solver")?;
+        let nv = s.nv();
+        let n = count(steps, "steps")?;
+        if n == 0 {
+            return Err(CError::arg("steps is 0; it must be at least 1"));
+        }
+        let out = if reports.is_null() {
+            None
+        } else {
+            let cap = count(num_reports, "num_reports")?;
+            if cap < n {
+                return Err(CError::arg(format!("num_reports is {cap}; {n} steps need {n} reports")));
+            }
+            Some(handles::slice_mut(reports, n, "reports")?)
+        };
+        let d = read_xy(prescribed, len, nv, "prescribed")?;
+        let before = s.solver.mesh().coords().to_vec();
+        let reps = s.solver.move_in_steps(&s.motion(d), n)?;
+        if let Some(out) = out {
+            for (o, r) in out.iter_mut().zip(&reps) {
+                *o = meshmove_report::from(r);
+            }
+        }
+        s.last = s.solver.mesh().coords().iter().zip(&before).map(|(a, b)| *a - *b).collect();
+        Ok(())
+    })
+}
+
+/// Makes `coords` (`len` = 2 × vertices, finite) the solver's reference mesh: the operators are
+/// re-evaluated there, the coarse topology is kept when it can be.
+///
+/// # Safety
+/// `coords` must hold `len` doubles.
+#[no_mangle]
+pub unsafe extern "C" fn meshmove_solver_set_reference(
+    solver: *mut meshmove_solver,
+    len: i32,
+    coords: *const f64,
+) -> meshmove_status {
+    ffi_body!(meshmove_solver_set_reference, {
+        let s = get_mut(solver, "solver")?;
+        let x = read_xy(coords, len, s.nv(), "coords")?;
+        handles::finite_xy(&x, "coords")?;
+        s.solver.set_reference(x)?;
+        Ok(())
+    })
+}
+
+/// Copies the reference coordinates (after `meshmove_solver_move` or `_move_in_steps`: the moved
+/// mesh) into `coords`, `len` = 2 × vertices.
+///
+/// # Safety
+/// `coords` must hold `len` doubles.
+#[no_mangle]
+pub unsafe extern "C" fn meshmove_solver_get_coords(
+    solver: *const meshmove_solver,
+    len: i32,
+    coords: *mut f64,
+) -> meshmove_status {
+    ffi_body!(meshmove_solver_get_coords, {
+        let s = get(solver, "solver")?;
+        check_xy_out(coords, len, s.nv(), "coords")?;
+        write_xy(coords, s.solver.mesh().coords());
+        Ok(())
+    })
+}
+
+/// Copies the displacement of the last solve, cycle or move (for `_move_in_steps`, the total)
+/// into `displacement`, `len` = 2 × vertices; zero before any.
+///
+/// # Safety
+/// `displacement` must hold `len` doubles.
+#[no_mangle]
+pub unsafe extern "C" fn meshmove_solver_get_displacement(
+    solver: *const meshmove_solver,
+    len: i32,
+    displacement: *mut f64,
+) -> meshmove_status {
+    ffi_body!(meshmove_solver_get_displacement, {
+        let s = get(solver, "solver")?;
+        check_xy_out(displacement, len, s.nv(), "displacement")?;
+        write_xy(displacement, &s.last);
+        Ok(())
+    })
+}
+
+/// Quality of the reference mesh moved by `displacement` (`len` = 2 × vertices): inverted cells,
+/// area ratios, smallest angle.
+///
+/// # Safety
+/// `displacement` must hold `len` doubles; `quality` must be writable.
+#[no_mangle]
+pub unsafe extern "C" fn meshmove_solver_quality(
+    solver: *const meshmove_solver,
+    len: i32,
+    displacement: *const f64,
+    quality: *mut meshmove_quality,
+) -> meshmove_status {
+    ffi_body!(meshmove_solver_quality, {
+        let s = get(solver, "solver")?;
+        if quality.is_null() {
+            return Err(CError::null("quality"));
+        }
+        let d = read_xy(displacement, len, s.nv(), "displacement")?;
+        handles::finite_xy(&d, "displacement")?;
+        handles::write_out(quality, meshmove_quality::from(s.solver.quality(&d)), "quality")
+    })
+}
+
+/// Writes the reference mesh moved by `displacement` (`len` = 2 × vertices; NULL with `len` 0
+/// for the reference itself) as a `.vtu` file (see `meshmove_mesh_write_vtu`).
+///
+/// # Safety
+/// `path` must be a NUL-terminated string; `displacement` must hold `len` doubles.
+#[no_mangle]
+pub unsafe extern "C" fn meshmove_solver_write_vtu(
+    solver: *const meshmove_solver,
+    path: *const c_char,
+    len: i32,
+    displacement: *const f64,
+) -> meshmove_status {
+    ffi_body!(meshmove_solver_write_vtu, {
+        let s = get(solver, "solver")?;
+        let p = handles::path(path, "path")?;
+        super::mesh::write_vtu(s.solver.mesh(), p, len, displacement)
+    })
+}

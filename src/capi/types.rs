@@ -1,0 +1,246 @@
+//! Enumerations, the options struct and the report structs of the C ABI.
+//!
+//! Enum arguments cross the boundary as `int32_t`; the enums below give the named values (fixed,
+//! never renumbered) and are converted with a check.
+
+use super::error::CError;
+use crate::{Criterion, InterfaceVariant, Kind, Method, Mode};
+
+/// Which equation moves the mesh (`meshmove_options.method`).
+#[repr(i32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum meshmove_method {
+    /// The biharmonic (the paper's method; default): boundary spacing can be held.
+    Biharmonic = 0,
+    /// The Laplacian.
+    Laplacian = 1,
+    /// The spring analogy (graph Laplacian, edge weights 1/L²).
+    Spring = 2,
+}
+
+/// How the solver iterates (`meshmove_options.mode`).
+#[repr(i32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum meshmove_mode {
+    /// Conjugate gradients preconditioned by a W-cycle with Chebyshev smoothing (default).
+    Default = 0,
+    /// The paper: stationary W-cycles with one Jacobi sweep, C = 0.9.
+    PaperFaithful = 1,
+}
+
+/// When a solve stops (`meshmove_options.criterion`).
+#[repr(i32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum meshmove_criterion {
+    /// Relative residual ‖b − A x‖ / ‖b‖ ≤ tol (default).
+    RelativeResidual = 0,
+    /// Largest correction of the last cycle ≤ tol × largest prescribed displacement.
+    MaxCorrection = 1,
+}
+
+/// The boundary condition of one displacement component on one patch.
+#[repr(i32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum meshmove_kind {
+    /// Position prescribed, spacing free to change.
+    Fixed = 0,
+    /// Position prescribed and normal spacing held (biharmonic only; as FIXED otherwise).
+    Clamped = 1,
+    /// The vertex moves (zero-flux conditions).
+    Free = 2,
+}
+
+/// How an internal interface patch couples its two regions.
+#[repr(i32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum meshmove_interface {
+    /// Variant A: each side clamped separately (vertices split per region).
+    Separate = 0,
+    /// Variant B: one unknown per interface vertex, continuous coupling.
+    Continuous = 1,
+}
+
+/// Solver options; fill with `meshmove_options_default` and change what you need.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct meshmove_options {
+    /// A `meshmove_method` value.
+    pub method: i32,
+    /// A `meshmove_mode` value.
+    pub mode: i32,
+    /// A `meshmove_criterion` value.
+    pub criterion: i32,
+    /// Worker threads; 0 uses the global pool (all cores). Results do not depend on it.
+    pub threads: i32,
+    /// Tolerance of the criterion (default 1e-8), positive and finite.
+    pub tol: f64,
+    /// Most cycles per solve (default 500), at least 1.
+    pub max_cycles: i32,
+    /// Chebyshev smoother degree of the default mode; 0 picks per method (default 0: biharmonic 6,
+    /// others 4), otherwise at least 1.
+    pub cheb_degree: i32,
+    /// Chebyshev interval ratio λmax/λmin; 0 picks per method (default 0), otherwise above 1.
+    pub cheb_lower_ratio: f64,
+}
+
+/// What a solve did (AMGCL's report struct, with both stopping measures).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct meshmove_report {
+    /// W-cycles (or preconditioned CG iterations, one W-cycle each), larger of the two components.
+    pub cycles: i32,
+    /// Largest vertex correction of the last cycle.
+    pub max_correction: f64,
+    /// Relative residual ‖b − A x‖ / ‖b‖ at the end (0 when nothing moved).
+    pub rel_residual: f64,
+    /// Wall-clock seconds of the solve.
+    pub seconds: f64,
+    /// 1 if both components met the criterion, else 0.
+    pub converged: i32,
+}
+
+/// Quality of a deformed mesh against the solver's reference mesh.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct meshmove_quality {
+    /// Cells whose signed area is not positive.
+    pub inverted: i32,
+    /// Smallest deformed / reference cell area ratio (negative when a cell inverted).
+    pub min_area_ratio: f64,
+    /// Largest deformed / reference cell area ratio.
+    pub max_area_ratio: f64,
+    /// Smallest angle of any cell, degrees.
+    pub min_angle_deg: f64,
+}
+
+impl From<&crate::Report> for meshmove_report {
+    fn from(r: &crate::Report) -> Self {
+        meshmove_report {
+            cycles: r.cycles.min(i32::MAX as usize) as i32,
+            max_correction: r.max_correction,
+            rel_residual: r.rel_residual,
+            seconds: r.seconds,
+            converged: i32::from(r.converged),
+        }
+    }
+}
+
+impl From<crate::mesh::quality::Quality> for meshmove_quality {
+    fn from(q: crate::mesh::quality::Quality) -> Self {
+        meshmove_quality {
+            inverted: q.inverted.min(i32::MAX as usize) as i32,
+            min_area_ratio: q.min_area_ratio,
+            max_area_ratio: q.max_area_ratio,
+            min_angle_deg: q.min_angle_deg,
+        }
+    }
+}
+
+impl Default for meshmove_options {
+    fn default() -> Self {
+        let o = crate::Options::default();
+        meshmove_options {
+            method: meshmove_method::Biharmonic as i32,
+            mode: meshmove_mode::Default as i32,
+            criterion: meshmove_criterion::RelativeResidual as i32,
+            threads: 0,
+            tol: o.solve.tol,
+            max_cycles: o.solve.max_cycles as i32,
+            cheb_degree: o.solve.cheb_degree.map_or(0, |d| d as i32),
+            cheb_lower_ratio: 0.0,
+        }
+    }
+}
+
+pub(crate) fn kind(k: i32) -> Result<Kind, CError> {
+    match k {
+        0 => Ok(Kind::Fixed),
+        1 => Ok(Kind::Clamped),
+        2 => Ok(Kind::Free),
+        _ => Err(CError::arg(format!("kind {k} is not a meshmove_kind (0 FIXED, 1 CLAMPED, 2 FREE)"))),
+    }
+}
+
+pub(crate) fn interface(v: i32) -> Result<InterfaceVariant, CError> {
+    match v {
+        0 => Ok(InterfaceVariant::Separate),
+        1 => Ok(InterfaceVariant::Continuous),
+        _ => Err(CError::arg(format!("interface variant {v} is not a meshmove_interface (0 SEPARATE, 1 CONTINUOUS)"))),
+    }
+}
+
+impl meshmove_options {
+    /// Checked conversion to the Rust options.
+    pub(crate) fn to_rust(&self) -> Result<crate::Options, CError> {
+        let method = match self.method {
+            0 => Method::Biharmonic,
+            1 => Method::Laplacian,
+            2 => Method::Spring,
+            m => {
+                return Err(CError::arg(format!(
+                    "options.method {m} is not a meshmove_method (0 BIHARMONIC, 1 LAPLACIAN, 2 SPRING)"
+                )))
+            }
+        };
+        let mode = match self.mode {
+            0 => Mode::Default,
+            1 => Mode::PaperFaithful,
+            m => {
+                return Err(CError::arg(format!(
+                    "options.mode {m} is not a meshmove_mode (0 DEFAULT, 1 PAPER_FAITHFUL)"
+                )))
+            }
+        };
+        let criterion = match self.criterion {
+            0 => Criterion::RelativeResidual,
+            1 => Criterion::MaxCorrection,
+            c => {
+                return Err(CError::arg(format!(
+                    "options.criterion {c} is not a meshmove_criterion (0 RELATIVE_RESIDUAL, 1 MAX_CORRECTION)"
+                )))
+            }
+        };
+        let pos = |v: i32, what: &str, min: i32| {
+            if v < min {
+                Err(CError::arg(format!("options.{what} is {v}; it must be at least {min}")))
+            } else {
+                Ok(v as usize)
+            }
+        };
+        let threads = pos(self.threads, "threads", 0)?;
+        let max_cycles = pos(self.max_cycles, "max_cycles", 1)?;
+        // 0 picks the per-method default, like cheb_lower_ratio.
+        let cheb_degree = Some(pos(self.cheb_degree, "cheb_degree", 0)?).filter(|&d| d > 0);
+        if !(self.tol > 0.0 && self.tol.is_finite()) {
+            return Err(CError::arg(format!("options.tol is {}; it must be positive and finite", self.tol)));
+        }
+        let ratio = self.cheb_lower_ratio;
+        let cheb_lower_ratio = if ratio == 0.0 {
+            None
+        } else if ratio > 1.0 && ratio.is_finite() {
+            Some(ratio)
+        } else {
+            return Err(CError::arg(format!(
+                "options.cheb_lower_ratio is {ratio}; it must be 0 (per method) or above 1"
+            )));
+        };
+        let mut o = crate::Options { method, threads, ..Default::default() };
+        o.solve.mode = mode;
+        o.solve.criterion = criterion;
+        o.solve.tol = self.tol;
+        o.solve.max_cycles = max_cycles;
+        o.solve.cheb_degree = cheb_degree;
+        o.solve.cheb_lower_ratio = cheb_lower_ratio;
+        Ok(o)
+    }
+}
+
+/// Fills `*options` with the defaults (biharmonic, default mode, relative residual 1e-8, 500
+/// cycles, all cores).
+///
+/// # Safety
+/// `options` must be NULL (an error) or point to a writable `meshmove_options`.
+#[no_mangle]
+pub unsafe extern "C" fn meshmove_options_default(options: *mut meshmove_options) -> super::status::meshmove_status {
+    ffi_body!(meshmove_options_default, { super::handles::write_out(options, meshmove_options::default(), "options") })
+}

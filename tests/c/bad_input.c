@@ -1,0 +1,278 @@
+/* Every C entry point with bad input: NULL handles and arrays, negative and out-of-range counts
+ * and indices, NaN coordinates, degenerate cells, unknown enum values, mismatched links, stale
+ * and foreign handles. Each call must return the expected status and a message that names the
+ * problem. Run under valgrind by ctest: zero errors, nothing definitely lost. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "meshmove.h"
+
+static int failures = 0, checks = 0;
+
+static void expect(int line, meshmove_status got, meshmove_status want, const char *needle) {
+    char msg[1024];
+    size_t needed = 0;
+    meshmove_status s = meshmove_last_error_message(msg, sizeof msg, &needed);
+    checks++;
+    if (got != want) {
+        fprintf(stderr, "line %d: got %s, want %s (%s)\n", line, meshmove_status_name(got), meshmove_status_name(want),
+                msg);
+        failures++;
+        return;
+    }
+    if (s != MESHMOVE_STATUS_OK || needed != strlen(msg) + 1) {
+        fprintf(stderr, "line %d: last_error_message returned %s, needed %zu\n", line, meshmove_status_name(s), needed);
+        failures++;
+    }
+    if (want != MESHMOVE_STATUS_OK && (msg[0] == 0 || (needle && !strstr(msg, needle)))) {
+        fprintf(stderr, "line %d: message \"%s\" does not mention \"%s\"\n", line, msg, needle ? needle : "");
+        failures++;
+    }
+    if (want == MESHMOVE_STATUS_OK && msg[0] != 0) {
+        fprintf(stderr, "line %d: success left message \"%s\"\n", line, msg);
+        failures++;
+    }
+}
+#define EXPECT(call, want, needle) expect(__LINE__, (call), (want), (needle))
+#define OK MESHMOVE_STATUS_OK
+#define NUL MESHMOVE_STATUS_NULL_POINTER
+#define HANDLE MESHMOVE_STATUS_INVALID_HANDLE
+#define ARG MESHMOVE_STATUS_INVALID_ARGUMENT
+
+int main(void) {
+    /* The unit square split into four triangles around its centre; right side is patch 2. */
+    double xy[10] = {0, 0, 1, 0, 1, 1, 0, 1, 0.5, 0.5};
+    int32_t cells[12] = {0, 1, 4, 1, 2, 4, 2, 3, 4, 3, 0, 4};
+    int32_t cells1[12] = {1, 2, 5, 2, 3, 5, 3, 4, 5, 4, 1, 5};
+    int32_t tedge[2] = {1, 2}, tpatch[1] = {2};
+    meshmove_mesh *mesh = NULL, *m2 = NULL;
+    meshmove_bcs *bcs = NULL;
+    meshmove_solver *solver = NULL;
+    double d[10] = {0}, out[10];
+    int32_t n, buf[8];
+    meshmove_report rep;
+    meshmove_quality q;
+    meshmove_options o;
+
+    /* free(NULL) is fine */
+    EXPECT(meshmove_mesh_free(NULL), OK, NULL);
+    EXPECT(meshmove_bcs_free(NULL), OK, NULL);
+    EXPECT(meshmove_solver_free(NULL), OK, NULL);
+    EXPECT(meshmove_version(NULL, NULL, NULL), OK, NULL);
+    EXPECT(meshmove_options_default(NULL), NUL, "options");
+    if (strcmp(meshmove_status_name(4), "MESHMOVE_STATUS_INVALID_MESH") || strcmp(meshmove_status_name(-7), "MESHMOVE_STATUS_UNKNOWN")) {
+        fprintf(stderr, "status names wrong\n");
+        failures++;
+    }
+
+    /* mesh_create */
+    EXPECT(meshmove_mesh_create(5, xy, 4, cells, 0, 1, tedge, tpatch, NULL, NULL), NUL, "out");
+    EXPECT(meshmove_mesh_create(5, NULL, 4, cells, 0, 1, tedge, tpatch, NULL, &mesh), NUL, "coords");
+    EXPECT(meshmove_mesh_create(5, xy, 4, NULL, 0, 1, tedge, tpatch, NULL, &mesh), NUL, "cells");
+    EXPECT(meshmove_mesh_create(5, xy, 4, cells, 0, 1, NULL, tpatch, NULL, &mesh), NUL, "tagged_edges");
+    EXPECT(meshmove_mesh_create(-5, xy, 4, cells, 0, 1, tedge, tpatch, NULL, &mesh), ARG, "num_vertices");
+    EXPECT(meshmove_mesh_create(5, xy, -1, cells, 0, 1, tedge, tpatch, NULL, &mesh), ARG, "num_cells");
+    EXPECT(meshmove_mesh_create(5, xy, 4, cells, 0, -1, tedge, tpatch, NULL, &mesh), ARG, "num_tagged");
+    EXPECT(meshmove_mesh_create(5, xy, 4, cells, 2, 1, tedge, tpatch, NULL, &mesh), ARG, "index base");
+    EXPECT(meshmove_mesh_create(0, xy, 0, cells, 0, 0, NULL, NULL, NULL, &mesh), MESHMOVE_STATUS_INVALID_MESH, "no vertices");
+    EXPECT(meshmove_mesh_create(4, xy, 4, cells, 0, 1, tedge, tpatch, NULL, &mesh), MESHMOVE_STATUS_INVALID_MESH, "vertex index 4");
+    EXPECT(meshmove_mesh_create(5, xy, 4, cells, 1, 1, tedge, tpatch, NULL, &mesh), MESHMOVE_STATUS_INVALID_MESH, "index");
+    xy[8] = NAN;
+    EXPECT(meshmove_mesh_create(5, xy, 4, cells, 0, 1, tedge, tpatch, NULL, &mesh), MESHMOVE_STATUS_INVALID_MESH, "non-finite");
+    xy[8] = 0.5;
+    {
+        double flat[6] = {0, 0, 1, 0, 2, 0};
+        int32_t tri[3] = {0, 1, 2};
+        EXPECT(meshmove_mesh_create(3, flat, 1, tri, 0, 0, NULL, NULL, NULL, &mesh), MESHMOVE_STATUS_INVALID_MESH, "zero area");
+        int32_t rep3[3] = {0, 1, 1};
+        EXPECT(meshmove_mesh_create(3, flat, 1, rep3, 0, 0, NULL, NULL, NULL, &mesh), MESHMOVE_STATUS_INVALID_MESH, "repeats");
+    }
+    {
+        int32_t bad_edge[2] = {0, 2};
+        EXPECT(meshmove_mesh_create(5, xy, 4, cells, 0, 1, bad_edge, tpatch, NULL, &mesh), MESHMOVE_STATUS_INVALID_MESH, "not an edge");
+    }
+    if (mesh != NULL) { fprintf(stderr, "failed create left a handle\n"); failures++; }
+    EXPECT(meshmove_mesh_create(5, xy, 4, cells1, 1, 1, (int32_t[]){2, 3}, tpatch, NULL, &m2), OK, NULL);
+    EXPECT(meshmove_mesh_create(5, xy, 4, cells, 0, 1, tedge, tpatch, NULL, &mesh), OK, NULL);
+
+    /* create_case / read_msh */
+    EXPECT(meshmove_mesh_create_case(NULL, 0.1, &mesh), NUL, "name");
+    EXPECT(meshmove_mesh_create_case("nope", 0.1, &mesh), ARG, "unknown case");
+    EXPECT(meshmove_mesh_create_case("free_surface", -1.0, &mesh), ARG, "h is");
+    EXPECT(meshmove_mesh_create_case("free_surface", NAN, &mesh), ARG, "h is");
+    EXPECT(meshmove_mesh_create_case("cylinder_channel", 0.5, &mesh), ARG, "0.25");
+    EXPECT(meshmove_mesh_read_msh("/nonexistent/x.msh", &mesh), MESHMOVE_STATUS_IO, "nonexistent");
+    EXPECT(meshmove_mesh_read_msh(NULL, &mesh), NUL, "path");
+    /* the failed constructors above nulled `mesh`: recreate */
+    EXPECT(meshmove_mesh_create(5, xy, 4, cells, 0, 1, tedge, tpatch, NULL, &mesh), OK, NULL);
+
+    /* mesh queries */
+    EXPECT(meshmove_mesh_sizes(NULL, &n, &n), NUL, "mesh");
+    EXPECT(meshmove_mesh_sizes(mesh, &n, NULL), OK, NULL);
+    EXPECT(meshmove_mesh_get_coords(mesh, 9, out), ARG, "length 9");
+    EXPECT(meshmove_mesh_get_coords(mesh, -2, out), ARG, "negative");
+    EXPECT(meshmove_mesh_get_coords(mesh, 10, NULL), NUL, "coords");
+    EXPECT(meshmove_mesh_get_coords(mesh, 10, out), OK, NULL);
+    EXPECT(meshmove_mesh_get_cells(mesh, 0, 11, buf), ARG, "len");
+    EXPECT(meshmove_mesh_get_cells(mesh, 3, 12, buf), ARG, "index base");
+    EXPECT(meshmove_mesh_get_regions(mesh, 3, buf), ARG, "len");
+    EXPECT(meshmove_mesh_patch_vertices(mesh, 2, 0, 1, buf, &n), MESHMOVE_STATUS_BUFFER_TOO_SMALL, "capacity");
+    if (n != 2) { fprintf(stderr, "patch 2 count %d\n", n); failures++; }
+    EXPECT(meshmove_mesh_patch_vertices(mesh, 2, 0, 8, buf, NULL), NUL, "count");
+    EXPECT(meshmove_mesh_patch_vertices(mesh, 2, 0, -1, buf, &n), ARG, "capacity");
+    EXPECT(meshmove_mesh_patch_vertices(mesh, 2, 1, 8, buf, &n), OK, NULL);
+    if (n != 2 || buf[0] != 2 || buf[1] != 3) { fprintf(stderr, "patch 2 vertices wrong\n"); failures++; }
+    EXPECT(meshmove_mesh_write_vtu(mesh, NULL, 0, NULL), NUL, "path");
+    EXPECT(meshmove_mesh_write_vtu(mesh, "/nonexistent/dir/x.vtu", 0, NULL), MESHMOVE_STATUS_IO, "nonexistent");
+    EXPECT(meshmove_mesh_write_vtu(mesh, "bad_input_mesh.vtu", 4, d), ARG, "length 4");
+
+    /* bcs */
+    EXPECT(meshmove_bcs_create(NULL), NUL, "out");
+    EXPECT(meshmove_bcs_create(&bcs), OK, NULL);
+    EXPECT(meshmove_bcs_set_kind(NULL, 0, 0, MESHMOVE_KIND_FIXED), NUL, "bcs");
+    EXPECT(meshmove_bcs_set_kind(bcs, 0, 2, MESHMOVE_KIND_FIXED), ARG, "component 2");
+    EXPECT(meshmove_bcs_set_kind(bcs, 0, -1, MESHMOVE_KIND_FIXED), ARG, "component -1");
+    EXPECT(meshmove_bcs_set_kind(bcs, 0, 0, 7), ARG, "kind 7");
+    EXPECT(meshmove_bcs_set_kinds(bcs, 0, -3), ARG, "kind -3");
+    EXPECT(meshmove_bcs_set_default_kind(bcs, 99), ARG, "kind 99");
+    EXPECT(meshmove_bcs_set_interface(bcs, 3, 5), ARG, "interface variant 5");
+    EXPECT(meshmove_bcs_link_periodic(bcs, 1, 1, 1.0, 0.0, 1e-9), ARG, "itself");
+    EXPECT(meshmove_bcs_link_periodic(bcs, 1, 2, NAN, 0.0, 1e-9), ARG, "not finite");
+    EXPECT(meshmove_bcs_link_periodic(bcs, 1, 2, 1.0, 0.0, -1.0), ARG, "tol");
+    EXPECT(meshmove_bcs_link_pairs(bcs, -1, buf, 0), ARG, "num_pairs");
+    EXPECT(meshmove_bcs_link_pairs(bcs, 0, buf, 0), ARG, "num_pairs");
+    EXPECT(meshmove_bcs_link_pairs(bcs, 1, NULL, 0), NUL, "pairs");
+    EXPECT(meshmove_bcs_link_pairs(bcs, 1, (int32_t[]){0, 1}, 1), ARG, "below the index base");
+    EXPECT(meshmove_bcs_link_pairs(bcs, 1, (int32_t[]){1, 1}, 0), ARG, "itself");
+    EXPECT(meshmove_bcs_set_kinds(bcs, 0, MESHMOVE_KIND_FIXED), OK, NULL);
+    EXPECT(meshmove_bcs_set_kinds(bcs, 2, MESHMOVE_KIND_FIXED), OK, NULL);
+
+    /* wrong handle types and unknown patches */
+    EXPECT(meshmove_mesh_sizes((meshmove_mesh *)bcs, &n, &n), HANDLE, "meshmove_bcs handle, not a meshmove_mesh");
+    EXPECT(meshmove_bcs_free((meshmove_bcs *)mesh), HANDLE, "not a meshmove_bcs");
+    EXPECT(meshmove_mesh_sizes((meshmove_mesh *)xy, &n, &n), HANDLE, "not a live");
+
+    /* solver_create */
+    EXPECT(meshmove_solver_create(mesh, bcs, NULL, NULL), NUL, "out");
+    EXPECT(meshmove_solver_create(NULL, bcs, NULL, &solver), NUL, "mesh");
+    EXPECT(meshmove_solver_create(mesh, NULL, NULL, &solver), NUL, "bcs");
+    EXPECT(meshmove_options_default(&o), OK, NULL);
+    o.method = 3;
+    EXPECT(meshmove_solver_create(mesh, bcs, &o, &solver), ARG, "options.method 3");
+    meshmove_options_default(&o), o.mode = -1;
+    EXPECT(meshmove_solver_create(mesh, bcs, &o, &solver), ARG, "options.mode");
+    meshmove_options_default(&o), o.criterion = 2;
+    EXPECT(meshmove_solver_create(mesh, bcs, &o, &solver), ARG, "options.criterion");
+    meshmove_options_default(&o), o.tol = NAN;
+    EXPECT(meshmove_solver_create(mesh, bcs, &o, &solver), ARG, "options.tol");
+    meshmove_options_default(&o), o.threads = -2;
+    EXPECT(meshmove_solver_create(mesh, bcs, &o, &solver), ARG, "options.threads");
+    meshmove_options_default(&o), o.max_cycles = 0;
+    EXPECT(meshmove_solver_create(mesh, bcs, &o, &solver), ARG, "options.max_cycles");
+    meshmove_options_default(&o), o.cheb_lower_ratio = 0.5;
+    EXPECT(meshmove_solver_create(mesh, bcs, &o, &solver), ARG, "cheb_lower_ratio");
+    {
+        meshmove_bcs *b2 = NULL;
+        EXPECT(meshmove_bcs_create(&b2), OK, NULL);
+        EXPECT(meshmove_bcs_set_kinds(b2, 42, MESHMOVE_KIND_FIXED), OK, NULL);
+        EXPECT(meshmove_solver_create(mesh, b2, NULL, &solver), MESHMOVE_STATUS_INVALID_BCS, "patch 42");
+        EXPECT(meshmove_bcs_free(b2), OK, NULL);
+        EXPECT(meshmove_bcs_create(&b2), OK, NULL);
+        EXPECT(meshmove_bcs_set_default_kind(b2, MESHMOVE_KIND_FREE), OK, NULL);
+        EXPECT(meshmove_solver_create(mesh, b2, NULL, &solver), MESHMOVE_STATUS_ILL_POSED, "no prescribed");
+        EXPECT(meshmove_bcs_free(b2), OK, NULL);
+        /* mismatched periodic link: patch 0 (three sides) cannot map onto patch 2 by (1, 0) */
+        EXPECT(meshmove_bcs_create(&b2), OK, NULL);
+        EXPECT(meshmove_bcs_link_periodic(b2, 0, 2, 1.0, 0.0, 1e-9), OK, NULL);
+        EXPECT(meshmove_solver_create(mesh, b2, NULL, &solver), MESHMOVE_STATUS_INVALID_BCS, NULL);
+        EXPECT(meshmove_bcs_free(b2), OK, NULL);
+        /* link pair index beyond the mesh */
+        EXPECT(meshmove_bcs_create(&b2), OK, NULL);
+        EXPECT(meshmove_bcs_link_pairs(b2, 1, (int32_t[]){0, 77}, 0), OK, NULL);
+        EXPECT(meshmove_solver_create(mesh, b2, NULL, &solver), MESHMOVE_STATUS_INVALID_BCS, "77");
+        EXPECT(meshmove_bcs_free(b2), OK, NULL);
+    }
+    EXPECT(meshmove_solver_create(mesh, bcs, NULL, &solver), OK, NULL);
+
+    /* solver calls */
+    EXPECT(meshmove_solver_sizes(NULL, &n, &n), NUL, "solver");
+    EXPECT(meshmove_solver_sizes((meshmove_solver *)mesh, &n, &n), HANDLE, "meshmove_mesh handle");
+    EXPECT(meshmove_solver_set_rigid_motion(solver, 9, 0, 0, 0, 0, 0), ARG, "patch 9");
+    EXPECT(meshmove_solver_set_rigid_motion(solver, 2, NAN, 0, 0, 0, 0), ARG, "not finite");
+    EXPECT(meshmove_solver_clear_rigid_motions(NULL), NUL, "solver");
+    EXPECT(meshmove_solver_solve(solver, 10, NULL, NULL, out, &rep), NUL, "prescribed");
+    EXPECT(meshmove_solver_solve(solver, 10, d, NULL, NULL, &rep), NUL, "displacement");
+    EXPECT(meshmove_solver_solve(solver, 8, d, NULL, out, &rep), ARG, "length 8");
+    EXPECT(meshmove_solver_solve(solver, -10, d, NULL, out, &rep), ARG, "negative");
+    d[5] = NAN;
+    EXPECT(meshmove_solver_solve(solver, 10, d, NULL, out, &rep), ARG, "not finite");
+    d[5] = 0.0;
+    {
+        double g[10] = {0};
+        g[9] = INFINITY;
+        EXPECT(meshmove_solver_solve(solver, 10, d, g, out, &rep), ARG, "not finite");
+    }
+    d[4] = 0.1; /* vertex 2 (right side) moves in x */
+    EXPECT(meshmove_solver_solve(solver, 10, d, NULL, out, &rep), OK, NULL);
+    EXPECT(meshmove_solver_solve(solver, 10, d, NULL, out, NULL), OK, NULL);
+    EXPECT(meshmove_solver_cycle(solver, 10, d, NULL, &rep), NUL, "displacement");
+    EXPECT(meshmove_solver_cycle(solver, 11, d, out, &rep), ARG, "length 11");
+    EXPECT(meshmove_solver_cycle(solver, 10, d, out, &rep), OK, NULL);
+    EXPECT(meshmove_solver_move_in_steps(solver, 10, d, 0, 0, NULL), ARG, "steps is 0");
+    EXPECT(meshmove_solver_move_in_steps(solver, 10, d, -3, 0, NULL), ARG, "steps");
+    EXPECT(meshmove_solver_move_in_steps(solver, 10, d, 2, 1, &rep), ARG, "num_reports");
+    EXPECT(meshmove_solver_move_in_steps(solver, 10, NULL, 2, 0, NULL), NUL, "prescribed");
+    EXPECT(meshmove_solver_quality(solver, 10, d, NULL), NUL, "quality");
+    EXPECT(meshmove_solver_quality(solver, 10, NULL, &q), NUL, "displacement");
+    EXPECT(meshmove_solver_quality(solver, 10, out, &q), OK, NULL);
+    EXPECT(meshmove_solver_get_coords(solver, 3, out), ARG, "length 3");
+    EXPECT(meshmove_solver_get_displacement(solver, 10, NULL), NUL, "displacement");
+    EXPECT(meshmove_solver_set_reference(solver, 10, NULL), NUL, "coords");
+    {
+        double x2[10];
+        memcpy(x2, xy, sizeof x2);
+        x2[3] = NAN;
+        EXPECT(meshmove_solver_set_reference(solver, 10, x2), ARG, "not finite");
+        EXPECT(meshmove_solver_move(solver, 10, d, x2, &rep, &q), ARG, "not finite");
+        memcpy(x2, xy, sizeof x2);
+        EXPECT(meshmove_solver_move(solver, 10, NULL, x2, &rep, &q), NUL, "boundary_displacement");
+        EXPECT(meshmove_solver_move(solver, 10, d, NULL, &rep, &q), NUL, "coords");
+        EXPECT(meshmove_solver_move(solver, 12, d, x2, &rep, &q), ARG, "length 12");
+        EXPECT(meshmove_solver_move(solver, 10, d, x2, &rep, &q), OK, NULL);
+        if (fabs(x2[4] - 1.1) > 1e-15 || q.inverted) { fprintf(stderr, "move did not move vertex 2\n"); failures++; }
+    }
+    EXPECT(meshmove_solver_write_vtu(solver, NULL, 0, NULL), NUL, "path");
+    EXPECT(meshmove_solver_write_vtu(solver, "bad_input_solver.vtu", 10, NULL), NUL, "displacement");
+
+    /* buffers of the last error message */
+    EXPECT(meshmove_solver_write_vtu(solver, NULL, 0, NULL), NUL, "path");
+    {
+        char small[8];
+        size_t needed = 0;
+        meshmove_status s = meshmove_last_error_message(small, sizeof small, &needed);
+        checks++;
+        if (s != MESHMOVE_STATUS_BUFFER_TOO_SMALL || strlen(small) != 7 || needed < 10) {
+            fprintf(stderr, "truncation: %s, \"%s\", needed %zu\n", meshmove_status_name(s), small, needed);
+            failures++;
+        }
+        checks++;
+        if (meshmove_last_error_message(NULL, 4, NULL) != NUL) { fprintf(stderr, "NULL buffer accepted\n"); failures++; }
+        checks++;
+        if (strstr(meshmove_last_error(), "path") == NULL) { fprintf(stderr, "last_error pointer wrong\n"); failures++; }
+    }
+
+    /* stale handles: freed twice, used after free */
+    EXPECT(meshmove_solver_free(solver), OK, NULL);
+    EXPECT(meshmove_solver_free(solver), HANDLE, "not a live");
+    EXPECT(meshmove_solver_solve(solver, 10, d, NULL, out, &rep), HANDLE, "not a live");
+    EXPECT(meshmove_bcs_free(bcs), OK, NULL);
+    EXPECT(meshmove_bcs_set_kinds(bcs, 0, MESHMOVE_KIND_FIXED), HANDLE, "not a live");
+    EXPECT(meshmove_mesh_free(mesh), OK, NULL);
+    EXPECT(meshmove_mesh_free(m2), OK, NULL);
+    EXPECT(meshmove_mesh_get_coords(mesh, 10, out), HANDLE, "not a live");
+    EXPECT(meshmove_mesh_free(mesh), HANDLE, "not a live");
+
+    printf("bad_input: %d checks, %d failures\n", checks, failures);
+    return failures != 0;
+}
