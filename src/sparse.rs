@@ -177,6 +177,15 @@ pub fn par_fill(out: &mut [f64], f: impl Fn(usize) -> f64 + Sync + Send) {
     }
 }
 
+/// `y[i] = f(i, y[i])` for all i, in parallel for long vectors (elementwise, so deterministic).
+pub fn par_update(y: &mut [f64], f: impl Fn(usize, f64) -> f64 + Sync + Send) {
+    if y.len() < PAR_ROWS {
+        y.iter_mut().enumerate().for_each(|(i, v)| *v = f(i, *v));
+    } else {
+        y.par_iter_mut().enumerate().with_min_len(1024).for_each(|(i, v)| *v = f(i, *v));
+    }
+}
+
 /// Sum of `f(i)` for i in 0..n, in blocks of fixed length summed in order: bitwise the same for
 /// any thread count (a plain parallel sum is not).
 pub fn det_sum(n: usize, f: impl Fn(usize) -> f64 + Sync + Send) -> f64 {

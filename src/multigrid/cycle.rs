@@ -6,7 +6,7 @@ use super::hierarchy::Hierarchy;
 use super::smoother::{smooth, Scratch, Smoother};
 use crate::bc::P;
 use crate::operator::Method;
-use crate::sparse::par_fill;
+use crate::sparse::{par_fill, par_update};
 
 /// Shape of one cycle.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -107,7 +107,7 @@ fn level_cycle(
     let mut bc = std::mem::take(&mut ws.levels[l + 1].b);
     let mut xc = std::mem::take(&mut ws.levels[l + 1].x);
     down.restrict.mul_vec(&ws.levels[l].scratch.r, &mut bc);
-    xc.iter_mut().for_each(|v| *v = 0.0);
+    par_update(&mut xc, |_, _| 0.0);
     for _ in 0..p.gamma {
         level_cycle(h, c, p, l + 1, &bc, &mut xc, ws);
     }
@@ -123,7 +123,8 @@ fn level_cycle(
         cols.iter().zip(vals).map(|(&j, &a)| a * xc_ref[j as usize]).sum()
     });
     let wgt = p.coarse_weight;
-    x.iter_mut().zip(t.iter()).for_each(|(x, t)| *x += wgt * t);
+    let t = &*t;
+    par_update(x, |i, x| x + wgt * t[i]);
     ws.levels[l + 1].b = bc;
     ws.levels[l + 1].x = xc;
     for _ in 0..p.post {

@@ -3,7 +3,7 @@
 
 use crate::bc::P;
 use crate::operator::LevelOperator;
-use crate::sparse::{dot, max_abs, par_fill};
+use crate::sparse::{dot, max_abs, par_fill, par_update};
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Smoother {
@@ -47,7 +47,8 @@ fn jacobi(pb: Problem, weight: f64, b: &[f64], x: &mut [f64], w: &mut Scratch) -
     pb.op.residual(pb.flags, b, x, &mut w.r, &mut w.s);
     let r = &w.r;
     par_fill(&mut w.d, |i| weight * pb.inv_d[i] * r[i]);
-    x.iter_mut().zip(&w.d).for_each(|(x, d)| *x += d);
+    let d = &w.d;
+    par_update(x, |i, x| x + d[i]);
     max_abs(&w.d)
 }
 
@@ -64,7 +65,8 @@ fn chebyshev(pb: Problem, degree: usize, lower_ratio: f64, b: &[f64], x: &mut [f
     par_fill(&mut w.d, |i| pb.inv_d[i] * r[i] / theta);
     let mut maxc = 0.0f64;
     for k in 0..degree {
-        x.iter_mut().zip(&w.d).for_each(|(x, d)| *x += d);
+        let d = &w.d;
+        par_update(x, |i, x| x + d[i]);
         maxc = maxc.max(max_abs(&w.d));
         if k + 1 == degree {
             break;
@@ -73,8 +75,7 @@ fn chebyshev(pb: Problem, degree: usize, lower_ratio: f64, b: &[f64], x: &mut [f
         let rho_new = 1.0 / (2.0 * sigma - rho);
         let (c1, c2) = (rho_new * rho, 2.0 * rho_new / delta);
         let r = &w.r;
-        let d = &mut w.d;
-        d.iter_mut().enumerate().for_each(|(i, d)| *d = c1 * *d + c2 * pb.inv_d[i] * r[i]);
+        par_update(&mut w.d, |i, d| c1 * d + c2 * pb.inv_d[i] * r[i]);
         rho = rho_new;
     }
     maxc

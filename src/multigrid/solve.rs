@@ -4,7 +4,7 @@
 use super::cycle::{cycle, CycleParams, Workspace};
 use super::hierarchy::Hierarchy;
 use crate::operator::Method;
-use crate::sparse::{axpy, dot, max_abs};
+use crate::sparse::{axpy, dot, max_abs, par_update};
 
 /// How the solver iterates.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
@@ -216,11 +216,12 @@ fn pcg(
             rep.converged = true;
             return;
         }
-        z.iter_mut().for_each(|v| *v = 0.0);
+        par_update(&mut z, |_, _| 0.0);
         cycle(h, c, &cp, &r, &mut z, ws);
         let rz_new = dot(&r, &z);
         let beta = rz_new / rz;
         rz = rz_new;
-        dir.iter_mut().zip(&z).for_each(|(d, z)| *d = z + beta * *d);
+        let zr = &z;
+        par_update(&mut dir, |i, d| zr[i] + beta * d);
     }
 }

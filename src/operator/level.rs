@@ -8,7 +8,7 @@
 
 use super::{close_diagonal, lumped_mass, spring_stiffness, stiffness, Assembly, Method};
 use crate::bc::{Dofs, P, Z};
-use crate::sparse::{matmul, par_fill, CsrMatrix};
+use crate::sparse::{matmul, par_fill, par_update, CsrMatrix};
 use glam::DVec2;
 
 pub struct LevelOperator {
@@ -91,7 +91,7 @@ impl LevelOperator {
     /// r = b − A x.
     pub fn residual(&self, flags: &[u8], b: &[f64], x: &[f64], r: &mut [f64], s: &mut [f64]) {
         self.apply(flags, x, r, s);
-        r.iter_mut().zip(b).for_each(|(r, &b)| *r = b - *r);
+        par_update(r, |i, ax| b[i] - ax);
     }
 
     /// Right-hand side for the unknowns without P, given prescribed values `dp` (zero off P)
