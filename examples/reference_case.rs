@@ -13,28 +13,18 @@
 
 use glam::DVec2;
 use meshmove::cases::meshes::*;
-use meshmove::{BoundaryConditions, InterfaceVariant, Kind, Link, Motion, Options, Solver};
+use meshmove::{BoundaryConditions, InterfaceVariant, Kind, Motion, Options, Solver};
 use std::f64::consts::PI;
 use std::path::Path;
 use std::process::exit;
 
 /// Free-surface case: h = 1/32, top y-displacement 0.25 cos(2πx), x-periodic sides.
 fn free_surface_case(out: &Path) {
-    let mesh = free_surface(1.0 / 32.0);
-    let mut bcs = BoundaryConditions::new();
-    bcs.set_kinds(FS_BOTTOM, Kind::Fixed).set_kinds(FS_TOP, Kind::Clamped);
-    for p in [FS_LEFT, FS_RIGHT] {
-        bcs.set_kind(p, 0, Kind::Clamped).unwrap().set_kind(p, 1, Kind::Free).unwrap();
-    }
-    bcs.add_link(Link::ByOffset { a: FS_LEFT, b: FS_RIGHT, offset: DVec2::X, tol: 1e-9 });
-    let s = Solver::new(&mesh, &bcs, Options::default()).unwrap();
-    let mut m = Motion::zero(mesh.num_vertices());
-    for v in mesh.patch_vertices(FS_TOP) {
-        let x = mesh.coords()[v as usize].x;
-        m.displacement[v as usize].y = 0.25 * (2.0 * PI * x).cos();
-    }
-    let sol = s.solve(&m).unwrap();
-    meshmove::io::write_deformed(out, &mesh, &sol.displacement).unwrap();
+    let case = meshmove::cases::setups::free_surface_case("free_surface", 1.0 / 32.0, 0.25, 1);
+    let (mesh, m) = (&case.mesh, &case.motion);
+    let s = Solver::new(mesh, &case.bcs, Options::default()).unwrap();
+    let sol = s.solve(m).unwrap();
+    meshmove::io::write_deformed(out, mesh, &sol.displacement).unwrap();
     println!("free_surface: {} cycles, rel residual {:e}", sol.report.cycles, sol.report.rel_residual);
 }
 

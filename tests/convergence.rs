@@ -3,29 +3,17 @@
 //! relative residual, paper-faithful and default mode, both methods. Printed with
 //! `cargo test --release --test convergence -- --nocapture`.
 
-use glam::DVec2;
-use meshmove::cases::meshes::{free_surface, FS_BOTTOM, FS_LEFT, FS_RIGHT, FS_TOP};
-use meshmove::{BoundaryConditions, Criterion, Kind, Link, Method, Mode, Motion, Options, Report, Solver};
+use meshmove::cases::setups::free_surface_case;
+use meshmove::{Criterion, Method, Mode, Options, Report, Solver};
 
 fn run(method: Method, mode: Mode, criterion: Criterion) -> (Report, usize) {
-    let mesh = free_surface(1.0 / 32.0);
-    let mut bcs = BoundaryConditions::new();
-    bcs.set_kinds(FS_BOTTOM, Kind::Fixed).set_kinds(FS_TOP, Kind::Clamped);
-    for p in [FS_LEFT, FS_RIGHT] {
-        bcs.set_kind(p, 0, Kind::Clamped).unwrap().set_kind(p, 1, Kind::Free).unwrap();
-    }
-    bcs.add_link(Link::ByOffset { a: FS_LEFT, b: FS_RIGHT, offset: DVec2::X, tol: 1e-9 });
-    let mut motion = Motion::zero(mesh.num_vertices());
-    for v in mesh.patch_vertices(FS_TOP) {
-        let x = mesh.coords()[v as usize].x;
-        motion.displacement[v as usize].y = 0.25 * (std::f64::consts::TAU * x).cos();
-    }
+    let case = free_surface_case("free_surface_a0.25", 1.0 / 32.0, 0.25, 1);
     let mut o = Options { method, ..Default::default() };
     o.solve.mode = mode;
     o.solve.criterion = criterion;
     o.solve.tol = 1e-8;
-    let s = Solver::new(&mesh, &bcs, o).unwrap();
-    (s.solve(&motion).unwrap().report, s.num_levels())
+    let s = Solver::new(&case.mesh, &case.bcs, o).unwrap();
+    (s.solve(&case.motion).unwrap().report, s.num_levels())
 }
 
 #[test]

@@ -4,8 +4,9 @@
 mod common;
 use common::*;
 use glam::DVec2;
-use meshmove::cases::meshes::{free_surface, FS_BOTTOM, FS_LEFT, FS_RIGHT, FS_TOP};
-use meshmove::{BoundaryConditions, Kind, Link, Method, Mode, Motion, Options, RigidMotion, Solver};
+use meshmove::cases::meshes::{FS_LEFT, FS_RIGHT, FS_TOP};
+use meshmove::cases::setups::free_surface_case;
+use meshmove::{BoundaryConditions, Kind, Method, Mode, Motion, Options, RigidMotion, Solver};
 
 #[test]
 fn rigid_rotation_in_steps_lands_exactly() {
@@ -27,19 +28,8 @@ fn rigid_rotation_in_steps_lands_exactly() {
 }
 
 fn free_surface_setup() -> (meshmove::Mesh, BoundaryConditions, Motion) {
-    let mesh = free_surface(1.0 / 24.0);
-    let mut bcs = BoundaryConditions::new();
-    bcs.set_kinds(FS_BOTTOM, Kind::Fixed).set_kinds(FS_TOP, Kind::Clamped);
-    for p in [FS_LEFT, FS_RIGHT] {
-        bcs.set_kind(p, 0, Kind::Clamped).unwrap().set_kind(p, 1, Kind::Free).unwrap();
-    }
-    bcs.add_link(Link::ByOffset { a: FS_LEFT, b: FS_RIGHT, offset: DVec2::X, tol: 1e-9 });
-    let mut motion = Motion::zero(mesh.num_vertices());
-    for v in mesh.patch_vertices(FS_TOP) {
-        let x = mesh.coords()[v as usize].x;
-        motion.displacement[v as usize].y = 0.25 * (std::f64::consts::TAU * x).cos();
-    }
-    (mesh, bcs, motion)
+    let c = free_surface_case("steps", 1.0 / 24.0, 0.25, 10);
+    (c.mesh, c.bcs, c.motion)
 }
 
 #[test]

@@ -145,6 +145,15 @@ pub fn solve(h: &Hierarchy, c: usize, p: &SolveParams, b: &[f64], x: &mut [f64],
 /// Diverging when the residual grew this much: stop rather than run to max_cycles.
 const DIVERGED: f64 = 1e8;
 
+/// Records cycle `k` in the report; true when the iteration should stop (converged or diverged).
+fn record(rep: &mut Report, p: &SolveParams, scale: f64, k: usize, max_corr: f64, rel: f64) -> bool {
+    rep.history.push((max_corr, rel));
+    rep.cycles = k;
+    rep.max_correction = max_corr;
+    rep.converged = done(p, max_corr, rel, scale);
+    rep.converged || !rel.is_finite() || rel > DIVERGED
+}
+
 #[allow(clippy::too_many_arguments)]
 fn stationary(
     h: &Hierarchy,
@@ -163,15 +172,7 @@ fn stationary(
     for k in 1..=p.max_cycles {
         let mc = cycle(h, c, &cp, b, x, ws);
         lev.op.residual(&lev.flags[c], b, x, &mut r, &mut s);
-        let rel = dot(&r, &r).sqrt() / bnorm;
-        rep.history.push((mc, rel));
-        rep.cycles = k;
-        rep.max_correction = mc;
-        if done(p, mc, rel, scale) {
-            rep.converged = true;
-            return;
-        }
-        if !rel.is_finite() || rel > DIVERGED {
+        if record(rep, p, scale, k, mc, dot(&r, &r).sqrt() / bnorm) {
             return;
         }
     }
@@ -207,13 +208,7 @@ fn pcg(
         let alpha = rz / pq;
         axpy(alpha, &dir, x);
         axpy(-alpha, &q, &mut r);
-        let mc = alpha.abs() * max_abs(&dir);
-        let rel = dot(&r, &r).sqrt() / bnorm;
-        rep.history.push((mc, rel));
-        rep.cycles = k;
-        rep.max_correction = mc;
-        if done(p, mc, rel, scale) {
-            rep.converged = true;
+        if record(rep, p, scale, k, alpha.abs() * max_abs(&dir), dot(&r, &r).sqrt() / bnorm) {
             return;
         }
         par_update(&mut z, |_, _| 0.0);
