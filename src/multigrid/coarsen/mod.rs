@@ -1,0 +1,341 @@
+//! Vertex-removal coarsening (Mavriplis style): keep every other vertex along the feature chains
+//! (boundary and interface patches), a maximal independent set of the interior vertices, and
+//! retriangulate the kept points by a constrained Delaunay triangulation.
+//!
+//! Each coarse vertex is a fine vertex (same position), so transfers only need the location of
+//! fine vertices in coarse cells (`transfer`). About half the resolution per direction survives.
+
+#[cfg(test)]
+pub(crate) mod tests;
+mod triangulate;
+
+use super::transfer::Locator;
+use crate::error::{Error, Result};
+use crate::mesh::{edge_key, EdgeCells, Mesh, PatchEdge};
+use glam::DVec2;
+use spade::handles::FixedVertexHandle;
+use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
+use std::collections::HashMap;
+use triangulate::triangulate;
+
+/// When to stop coarsening and what counts as a corner.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CoarsenParams {
+    /// Stop when the coarse mesh would have fewer vertices than this.
+    pub min_vertices: usize,
+    /// Stop when the fine/coarse vertex ratio would be below this.
+    pub min_ratio: f64,
+    /// A boundary vertex where the boundary turns by more than this (degrees) is always kept.
+    pub corner_angle_deg: f64,
+}
+
+impl Default for CoarsenParams {
+    fn default() -> Self {
+        CoarsenParams { min_vertices: 10, min_ratio: 1.6, corner_angle_deg: 50.0 }
+    }
+}
+
+/// One coarse level.
+#[derive(Clone, Debug)]
+pub struct CoarseMesh {
+    /// The coarse mesh: valid, all cells counter-clockwise with positive area.
+    pub mesh: Mesh,
+    /// Coarse vertex `i` is fine vertex `fine_vertex[i]` (same position); ascending.
+    pub fine_vertex: Vec<u32>,
+    /// The input links whose two vertices were both kept, in coarse numbering.
+    pub links: Vec<[u32; 2]>,
+}
+
+/// Attempts at fixing a failed triangulation (keeping a whole chain, dropping an interior point)
+/// before giving up on this level.
+const MAX_ATTEMPTS: usize = 24;
+
+/// A path of feature edges between two forced vertices, or a closed loop.
+struct Chain {
+    /// n + 1 vertices for n edges; `verts[0] == verts[n]` for a closed chain.
+    verts: Vec<u32>,
+    patch: i32,
+    interior: bool,
+}
+
+impl Chain {
+    fn closed(&self) -> bool {
+        self.verts.first() == self.verts.last()
+    }
+}
+
+/// A coarse feature segment (fine numbering until the coarse numbering exists).
+#[derive(Clone, Copy, Debug)]
+struct Segment {
+    a: u32,
+    b: u32,
+    patch: i32,
+    interior: bool,
+    chain: usize,
+}
+
+/// Why one triangulation attempt failed.
+enum Failure {
+    /// Keep every vertex of these chains and retry.
+    Chains(Vec<usize>),
+    /// Drop these interior points (outside the coarse domain) and retry.
+    Points(Vec<u32>),
+    /// Nothing to fix: stop coarsening at this level.
+    Stop,
+}
+
+/// Coarsens `fine`. `links` are pairs of fine vertices the solver merges (periodic sides); both
+/// or neither vertex of a pair is kept.
+///
+/// `Ok(None)` when coarsening is not worthwhile (too few vertices, ratio too small) or the coarse
+/// triangulation could not be made valid; `Err(Error::Coarsening)` only for impossible input.
+pub fn coarsen(fine: &Mesh, links: &[[u32; 2]], params: &CoarsenParams) -> Result<Option<CoarseMesh>> {
+    let nv = fine.num_vertices();
+    if let Some(l) = links.iter().find(|l| l.iter().any(|&v| v as usize >= nv)) {
+        return Err(Error::Coarsening(format!("link [{}, {}] names a vertex beyond {}", l[0], l[1], nv)));
+    }
+    if nv < params.min_vertices || (nv as f64) < params.min_ratio * params.min_vertices as f64 {
+        return Ok(None);
+    }
+    let features = Features::build(fine, links, params);
+    let mut keep_all = vec![false; features.chains.len()];
+    let mut banned = vec![false; nv];
+    for _ in 0..MAX_ATTEMPTS {
+        let Some((kept, segments)) = select(fine, links, &features, &keep_all, &banned) else {
+            return Ok(None);
+        };
+        let nc = kept.iter().filter(|&&k| k).count();
+        if nc < params.min_vertices || (nv as f64) < params.min_ratio * nc as f64 {
+            return Ok(None);
+        }
+        match triangulate(fine, links, &kept, &segments, &features)? {
+            Ok(coarse) => return Ok(Some(coarse)),
+            Err(Failure::Chains(cs)) if cs.iter().any(|&c| !keep_all[c]) => {
+                cs.into_iter().for_each(|c| keep_all[c] = true)
+            }
+            Err(Failure::Points(vs)) if vs.iter().any(|&v| !banned[v as usize]) => {
+                vs.into_iter().for_each(|v| banned[v as usize] = true)
+            }
+            Err(_) => return Ok(None),
+        }
+    }
+    Ok(None)
+}
+
+/// Feature chains and per-vertex feature data of the fine mesh.
+struct Features {
+    chains: Vec<Chain>,
+    /// Vertex lies on a feature edge.
+    on_feature: Vec<bool>,
+}
+
+impl Features {
+    fn build(fine: &Mesh, links: &[[u32; 2]], params: &CoarsenParams) -> Features {
+        let nv = fine.num_vertices();
+        let pe = fine.patch_edges();
+        let x = fine.coords();
+        // Incident feature edges per vertex (CSR, ascending edge index).
+        let mut ptr = vec![0usize; nv + 1];
+        for e in pe {
+            for &v in &e.vertices {
+                ptr[v as usize + 1] += 1;
+            }
+        }
+        for i in 0..nv {
+            ptr[i + 1] += ptr[i];
+        }
+        let mut next = ptr.clone();
+        let mut inc = vec![0usize; ptr[nv]];
+        for (k, e) in pe.iter().enumerate() {
+            for &v in &e.vertices {
+                inc[next[v as usize]] = k;
+                next[v as usize] += 1;
+            }
+        }
+        let incident = |v: usize| &inc[ptr[v]..ptr[v + 1]];
+        let other = |k: usize, v: u32| {
+            let [a, b] = pe[k].vertices;
+            if a == v {
+                b
+            } else {
+                a
+            }
+        };
+        let cos_corner = params.corner_angle_deg.to_radians().cos();
+        let mut forced = vec![false; nv];
+        let mut on_feature = vec![false; nv];
+        for v in 0..nv {
+            let es = incident(v);
+            if es.is_empty() {
+                continue;
+            }
+            on_feature[v] = true;
+            if es.len() != 2 {
+                forced[v] = true;
+                continue;
+            }
+            let (e1, e2) = (&pe[es[0]], &pe[es[1]]);
+            if e1.patch != e2.patch || e1.interior != e2.interior {
+                forced[v] = true;
+                continue;
+            }
+            let (u, w) = (other(es[0], v as u32), other(es[1], v as u32));
+            let d1 = x[v] - x[u as usize];
+            let d2 = x[w as usize] - x[v];
+            let (l1, l2) = (d1.length(), d2.length());
+            if l1 == 0.0 || l2 == 0.0 || d1.dot(d2) < cos_corner * l1 * l2 {
+                forced[v] = true;
+            }
+        }
+        // A vertex linked to a forced vertex is forced (to a fixed point: links may chain).
+        loop {
+            let mut changed = false;
+            for &[a, b] in links {
+                let f = forced[a as usize] || forced[b as usize];
+                for v in [a, b] {
+                    if f && !forced[v as usize] {
+                        forced[v as usize] = true;
+                        changed = true;
+                    }
+                }
+            }
+            if !changed {
+                break;
+            }
+        }
+        // Walk the chains: paths from forced vertices first, then closed loops.
+        let mut visited = vec![false; pe.len()];
+        let mut chains = Vec::new();
+        let walk = |start: u32, first: usize, visited: &mut Vec<bool>| -> Chain {
+            let mut verts = vec![start];
+            let (mut cur, mut e) = (start, first);
+            loop {
+                visited[e] = true;
+                let nxt = other(e, cur);
+                verts.push(nxt);
+                if forced[nxt as usize] || nxt == start {
+                    break;
+                }
+                match incident(nxt as usize).iter().find(|&&k| !visited[k]) {
+                    Some(&k) => {
+                        cur = nxt;
+                        e = k;
+                    }
+                    None => break,
+                }
+            }
+            Chain { verts, patch: pe[first].patch, interior: pe[first].interior }
+        };
+        for v in (0..nv).filter(|&v| forced[v]) {
+            for &k in incident(v) {
+                if !visited[k] {
+                    chains.push(walk(v as u32, k, &mut visited));
+                }
+            }
+        }
+        for v in 0..nv {
+            // The lowest-index vertex of each remaining loop is met first.
+            if let Some(&k) = incident(v).iter().find(|&&k| !visited[k]) {
+                chains.push(walk(v as u32, k, &mut visited));
+            }
+        }
+        Features { chains, on_feature }
+    }
+}
+
+/// Makes both vertices of every link kept when either is (to a fixed point).
+fn sync_links(links: &[[u32; 2]], kept: &mut [bool]) {
+    loop {
+        let mut changed = false;
+        for &[a, b] in links {
+            if kept[a as usize] != kept[b as usize] {
+                kept[a as usize] = true;
+                kept[b as usize] = true;
+                changed = true;
+            }
+        }
+        if !changed {
+            break;
+        }
+    }
+}
+
+/// Chooses the kept vertices and the coarse feature segments; None when no valid choice exists.
+fn select(
+    fine: &Mesh,
+    links: &[[u32; 2]],
+    f: &Features,
+    keep_all: &[bool],
+    banned: &[bool],
+) -> Option<(Vec<bool>, Vec<Segment>)> {
+    let nv = fine.num_vertices();
+    let mut kept = vec![false; nv];
+    let mut keep_all = keep_all.to_vec();
+    let segments = loop {
+        kept.iter_mut().for_each(|k| *k = false);
+        for (c, ch) in f.chains.iter().enumerate() {
+            let n = ch.verts.len() - 1;
+            let all = keep_all[c] || (ch.closed() && n < 6);
+            for (p, &v) in ch.verts.iter().enumerate() {
+                if all || p == 0 || p == n || (p % 2 == 0 && p + 2 <= n) {
+                    kept[v as usize] = true;
+                }
+            }
+        }
+        sync_links(links, &mut kept);
+        let mut segments = Vec::new();
+        for (c, ch) in f.chains.iter().enumerate() {
+            let mut last = ch.verts[0];
+            for &v in &ch.verts[1..] {
+                if kept[v as usize] {
+                    segments.push(Segment { a: last, b: v, patch: ch.patch, interior: ch.interior, chain: c });
+                    last = v;
+                }
+            }
+        }
+        // Two chains collapsing onto the same segment (or a degenerate one): keep their vertices.
+        let mut keys: Vec<(u64, usize)> = segments.iter().map(|s| (edge_key(s.a, s.b), s.chain)).collect();
+        keys.sort_unstable();
+        let mut bad: Vec<usize> = segments.iter().filter(|s| s.a == s.b).map(|s| s.chain).collect();
+        for w in keys.windows(2) {
+            if w[0].0 == w[1].0 {
+                bad.extend([w[0].1, w[1].1]);
+            }
+        }
+        bad.retain(|&c| !keep_all[c]);
+        if bad.is_empty() {
+            if segments.iter().any(|s| s.a == s.b) || keys.windows(2).any(|w| w[0].0 == w[1].0) {
+                return None;
+            }
+            break segments;
+        }
+        for c in bad {
+            keep_all[c] = true;
+        }
+    };
+    // Interior points: greedy maximal independent set in index order, kept feature vertices
+    // already selected.
+    let g = fine.graph();
+    let mut blocked = vec![false; nv];
+    for v in (0..nv).filter(|&v| kept[v]) {
+        for &j in g.row(v).0 {
+            blocked[j as usize] = true;
+        }
+    }
+    for v in 0..nv {
+        if kept[v] || f.on_feature[v] || blocked[v] || banned[v] {
+            continue;
+        }
+        kept[v] = true;
+        for &j in g.row(v).0 {
+            blocked[j as usize] = true;
+        }
+    }
+    sync_links(links, &mut kept);
+    for v in 0..nv {
+        if banned[v] && !f.on_feature[v] {
+            kept[v] = false;
+        }
+    }
+    Some((kept, segments))
+}

@@ -1,0 +1,252 @@
+//! Retriangulating the kept vertices: constrained Delaunay, inside/outside and regions.
+
+use super::*;
+
+/// Triangulates the kept points with the segments as constraints and builds the coarse mesh.
+pub(super) fn triangulate(
+    fine: &Mesh,
+    links: &[[u32; 2]],
+    kept: &[bool],
+    segments: &[Segment],
+    f: &Features,
+) -> Result<std::result::Result<CoarseMesh, Failure>> {
+    let x = fine.coords();
+    let fine_vertex: Vec<u32> = (0..fine.num_vertices() as u32).filter(|&v| kept[v as usize]).collect();
+    let mut coarse_of = vec![u32::MAX; fine.num_vertices()];
+    for (i, &v) in fine_vertex.iter().enumerate() {
+        coarse_of[v as usize] = i as u32;
+    }
+    let nc = fine_vertex.len();
+    // Bulk loading keeps the vertex order (and is far faster than inserting one by one).
+    let points: Vec<Point2<f64>> = fine_vertex.iter().map(|&v| Point2::new(x[v as usize].x, x[v as usize].y)).collect();
+    let mut cdt: ConstrainedDelaunayTriangulation<Point2<f64>> =
+        ConstrainedDelaunayTriangulation::try_bulk_load_cdt(points, Vec::new(), |_| {})
+            .map_err(|e| Error::Coarsening(format!("triangulating the kept vertices: {e:?}")))?;
+    if cdt.num_vertices() != nc {
+        // Duplicate positions: spade merged vertices.
+        return Ok(Err(Failure::Stop));
+    }
+    let handles: Vec<FixedVertexHandle> = cdt.fixed_vertices().collect();
+    let mut coarse_of_handle = vec![u32::MAX; nc];
+    for (i, h) in handles.iter().enumerate() {
+        if h.index() >= nc {
+            return Ok(Err(Failure::Stop));
+        }
+        coarse_of_handle[h.index()] = i as u32;
+    }
+    let order_kept = handles.iter().enumerate().all(|(i, h)| {
+        let p = cdt.vertex(*h).position();
+        let q = x[fine_vertex[i] as usize];
+        p.x == q.x && p.y == q.y
+    });
+    if !order_kept {
+        return Err(Error::Coarsening("the triangulation reordered the vertices".into()));
+    }
+    // Segments in coarse numbering, keyed for lookup.
+    let mut seg_of: HashMap<u64, usize> = HashMap::with_capacity(segments.len());
+    for (k, s) in segments.iter().enumerate() {
+        let (a, b) = (coarse_of[s.a as usize], coarse_of[s.b as usize]);
+        seg_of.insert(edge_key(a, b), k);
+    }
+    let mut bad_chains = Vec::new();
+    for s in segments {
+        let (ha, hb) = (handles[coarse_of[s.a as usize] as usize], handles[coarse_of[s.b as usize] as usize]);
+        if !cdt.can_add_constraint(ha, hb) {
+            bad_chains.push(s.chain);
+            continue;
+        }
+        cdt.try_add_constraint(ha, hb);
+        // A kept vertex exactly on the segment splits it: not the segment we asked for.
+        if !cdt.exists_constraint(ha, hb) {
+            bad_chains.push(s.chain);
+        }
+    }
+    if !bad_chains.is_empty() {
+        bad_chains.sort_unstable();
+        bad_chains.dedup();
+        return Ok(Err(Failure::Chains(bad_chains)));
+    }
+    if cdt.num_constraints() != segments.len() {
+        return Ok(Err(Failure::Stop));
+    }
+    let cv = |h: FixedVertexHandle| coarse_of_handle[h.index()];
+    let segment_at = |a: u32, b: u32| seg_of.get(&edge_key(a, b)).map(|&k| &segments[k]);
+
+    // Inside/outside by flood fill from the exterior: crossing a boundary segment toggles.
+    let nf = cdt.num_all_faces();
+    let mut inside: Vec<Option<bool>> = vec![None; nf];
+    inside[0] = Some(false);
+    let mut queue: Vec<usize> = Vec::new();
+    let mut head = 0;
+    let toggles = |constraint: bool, a: FixedVertexHandle, b: FixedVertexHandle| -> bool {
+        constraint && segment_at(cv(a), cv(b)).map_or(true, |s| !s.interior)
+    };
+    for fh in cdt.fixed_inner_faces() {
+        let face = cdt.face(fh);
+        for e in face.adjacent_edges() {
+            if e.rev().face().is_outer() {
+                let state = toggles(e.is_constraint_edge(), e.from().fix(), e.to().fix());
+                match inside[fh.index()] {
+                    None => {
+                        inside[fh.index()] = Some(state);
+                        queue.push(fh.index());
+                    }
+                    Some(s) if s != state => return Ok(Err(Failure::Stop)),
+                    _ => {}
+                }
+            }
+        }
+    }
+    let inner: Vec<_> = cdt.fixed_inner_faces().collect();
+    let mut slot = vec![usize::MAX; nf];
+    for (k, fh) in inner.iter().enumerate() {
+        slot[fh.index()] = k;
+    }
+    let face_of = |i: usize| cdt.face(inner[slot[i]]);
+    while head < queue.len() {
+        let fi = queue[head];
+        head += 1;
+        let s = inside[fi].expect("queued faces are classified");
+        for e in face_of(fi).adjacent_edges() {
+            let g = e.rev().face();
+            if g.is_outer() {
+                continue;
+            }
+            let gi = g.fix().index();
+            let state = s ^ toggles(e.is_constraint_edge(), e.from().fix(), e.to().fix());
+            match inside[gi] {
+                None => {
+                    inside[gi] = Some(state);
+                    queue.push(gi);
+                }
+                Some(t) if t != state => return Ok(Err(Failure::Stop)),
+                _ => {}
+            }
+        }
+    }
+
+    // Coarse cells: the inside faces, counter-clockwise (spade's orientation).
+    let mut cells: Vec<[u32; 3]> = Vec::new();
+    for fh in &inner {
+        match inside[fh.index()] {
+            Some(true) => cells.push(cdt.face(*fh).vertices().map(|v| cv(v.fix()))),
+            Some(false) => {}
+            None => return Ok(Err(Failure::Stop)),
+        }
+    }
+    if cells.is_empty() {
+        return Ok(Err(Failure::Stop));
+    }
+    let cx: Vec<DVec2> = fine_vertex.iter().map(|&v| x[v as usize]).collect();
+    // Every kept vertex must be in an inside cell; an interior point outside is dropped.
+    let mut used = vec![false; nc];
+    for t in &cells {
+        for &v in t {
+            used[v as usize] = true;
+        }
+    }
+    let unused: Vec<u32> = (0..nc).filter(|&i| !used[i]).map(|i| fine_vertex[i]).collect();
+    if unused.iter().any(|&v| f.on_feature[v as usize]) {
+        return Ok(Err(Failure::Stop));
+    }
+    if !unused.is_empty() {
+        return Ok(Err(Failure::Points(unused)));
+    }
+    // Positive areas.
+    let (mut lo, mut hi) = (cx[0], cx[0]);
+    for &p in &cx {
+        lo = lo.min(p);
+        hi = hi.max(p);
+    }
+    let min_area = 1e-14 * (hi - lo).length_squared();
+    let area = |t: &[u32; 3]| {
+        let [a, b, c] = t.map(|v| cx[v as usize]);
+        0.5 * (b - a).perp_dot(c - a)
+    };
+    if cells.iter().any(|t| area(t).is_nan() || area(t) <= min_area) {
+        return Ok(Err(Failure::Stop));
+    }
+    // Boundary of the triangulation = boundary segments; interface segments have two cells.
+    let Ok(edges) = EdgeCells::build(&cells) else {
+        return Ok(Err(Failure::Stop));
+    };
+    let mut patch_edges = Vec::with_capacity(segments.len());
+    let mut boundary_segments = 0;
+    for s in segments {
+        let (a, b) = (coarse_of[s.a as usize], coarse_of[s.b as usize]);
+        let Some([c0, c1]) = edges.get(a, b) else {
+            return Ok(Err(Failure::Stop));
+        };
+        if s.interior {
+            if c1 == u32::MAX {
+                return Ok(Err(Failure::Stop));
+            }
+            patch_edges.push(PatchEdge { vertices: [a, b], patch: s.patch, interior: true });
+        } else {
+            if c1 != u32::MAX {
+                return Ok(Err(Failure::Stop));
+            }
+            boundary_segments += 1;
+            let t = cells[c0 as usize];
+            let forward = (0..3).any(|k| t[k] == a && t[(k + 1) % 3] == b);
+            patch_edges.push(PatchEdge {
+                vertices: if forward { [a, b] } else { [b, a] },
+                patch: s.patch,
+                interior: false,
+            });
+        }
+    }
+    let boundary_edges = edges.edges.iter().filter(|e| e.1[1] == u32::MAX).count();
+    if boundary_edges != boundary_segments {
+        return Ok(Err(Failure::Stop));
+    }
+    // Regions: components of inside faces not separated by segments, each given the region of
+    // the fine cell under the centroid of its largest face.
+    let ncell = cells.len();
+    let mut comp = vec![u32::MAX; ncell];
+    let mut regions = vec![0i32; ncell];
+    let locator = Locator::new(fine);
+    let mut stack = Vec::new();
+    for start in 0..ncell {
+        if comp[start] != u32::MAX {
+            continue;
+        }
+        comp[start] = start as u32;
+        stack.push(start);
+        let mut members = Vec::new();
+        while let Some(c) = stack.pop() {
+            members.push(c);
+            let [a, b, d] = cells[c];
+            for (p, q) in [(a, b), (b, d), (d, a)] {
+                if seg_of.contains_key(&edge_key(p, q)) {
+                    continue;
+                }
+                let [c0, c1] = edges.get(p, q).expect("cell edge");
+                let o = if c0 as usize == c { c1 } else { c0 };
+                if o != u32::MAX && comp[o as usize] == u32::MAX {
+                    comp[o as usize] = start as u32;
+                    stack.push(o as usize);
+                }
+            }
+        }
+        members.sort_unstable();
+        let mut big = members[0];
+        for &c in &members {
+            if area(&cells[c]) > area(&cells[big]) {
+                big = c;
+            }
+        }
+        let [a, b, d] = cells[big].map(|v| cx[v as usize]);
+        let fine_cell = locator.locate((a + b + d) / 3.0, None).cell;
+        let r = fine.regions()[fine_cell as usize];
+        for &c in &members {
+            regions[c] = r;
+        }
+    }
+    let coarse_links = links
+        .iter()
+        .filter(|l| kept[l[0] as usize] && kept[l[1] as usize])
+        .map(|l| [coarse_of[l[0] as usize], coarse_of[l[1] as usize]])
+        .collect();
+    Ok(Ok(CoarseMesh { mesh: Mesh::from_parts(cx, cells, regions, patch_edges), fine_vertex, links: coarse_links }))
+}
