@@ -64,7 +64,7 @@ impl CoarseSolve {
             CoarseSolve::Empty => {}
             CoarseSolve::Smoothed => {
                 for _ in 0..4 {
-                    smooth(pb, Smoother::Chebyshev { degree: 25, lower_ratio: 200.0 }, b, x, w);
+                    smooth(pb, Smoother::Chebyshev { degree: 25, lower_ratio: 200.0 }, b, x, w, false);
                 }
             }
             CoarseSolve::Dense { free, chol } => {

@@ -95,7 +95,8 @@ fn level_cycle(
     };
     let mut first = 0.0;
     for k in 0..p.pre {
-        let m = smooth(pb, p.smoother, b, x, &mut ws.levels[l].scratch);
+        // Only the first fine-level sweep's correction is reported (the paper's measure).
+        let m = smooth(pb, p.smoother, b, x, &mut ws.levels[l].scratch, l == 0 && k == 0);
         if k == 0 {
             first = m;
         }
@@ -128,7 +129,7 @@ fn level_cycle(
     ws.levels[l + 1].b = bc;
     ws.levels[l + 1].x = xc;
     for _ in 0..p.post {
-        smooth(pb, p.smoother, b, x, &mut ws.levels[l].scratch);
+        smooth(pb, p.smoother, b, x, &mut ws.levels[l].scratch, false);
     }
     first
 }

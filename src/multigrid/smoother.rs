@@ -35,25 +35,39 @@ pub struct Problem<'a> {
     pub lambda_max: f64,
 }
 
-/// One application of the smoother; returns the largest correction it made.
-pub fn smooth(pb: Problem, sm: Smoother, b: &[f64], x: &mut [f64], w: &mut Scratch) -> f64 {
+/// One application of the smoother. With `measure`, returns the largest correction it made
+/// (an extra pass over the vector, so the hot path asks only where the value is reported);
+/// otherwise 0.
+pub fn smooth(pb: Problem, sm: Smoother, b: &[f64], x: &mut [f64], w: &mut Scratch, measure: bool) -> f64 {
     match sm {
-        Smoother::Jacobi { weight } => jacobi(pb, weight, b, x, w),
-        Smoother::Chebyshev { degree, lower_ratio } => chebyshev(pb, degree, lower_ratio, b, x, w),
+        Smoother::Jacobi { weight } => jacobi(pb, weight, b, x, w, measure),
+        Smoother::Chebyshev { degree, lower_ratio } => chebyshev(pb, degree, lower_ratio, b, x, w, measure),
     }
 }
 
-fn jacobi(pb: Problem, weight: f64, b: &[f64], x: &mut [f64], w: &mut Scratch) -> f64 {
+fn jacobi(pb: Problem, weight: f64, b: &[f64], x: &mut [f64], w: &mut Scratch, measure: bool) -> f64 {
     pb.op.residual(pb.flags, b, x, &mut w.r, &mut w.s);
     let r = &w.r;
     par_fill(&mut w.d, |i| weight * pb.inv_d[i] * r[i]);
     let d = &w.d;
     par_update(x, |i, x| x + d[i]);
-    max_abs(&w.d)
+    if measure {
+        max_abs(&w.d)
+    } else {
+        0.0
+    }
 }
 
 /// The three-term Chebyshev recurrence for D⁻¹A x = D⁻¹b (Saad, Alg. 12.1).
-fn chebyshev(pb: Problem, degree: usize, lower_ratio: f64, b: &[f64], x: &mut [f64], w: &mut Scratch) -> f64 {
+fn chebyshev(
+    pb: Problem,
+    degree: usize,
+    lower_ratio: f64,
+    b: &[f64],
+    x: &mut [f64],
+    w: &mut Scratch,
+    measure: bool,
+) -> f64 {
     let upper = pb.lambda_max;
     let lower = upper / lower_ratio;
     let theta = 0.5 * (upper + lower);
@@ -67,7 +81,9 @@ fn chebyshev(pb: Problem, degree: usize, lower_ratio: f64, b: &[f64], x: &mut [f
     for k in 0..degree {
         let d = &w.d;
         par_update(x, |i, x| x + d[i]);
-        maxc = maxc.max(max_abs(&w.d));
+        if measure {
+            maxc = maxc.max(max_abs(&w.d));
+        }
         if k + 1 == degree {
             break;
         }
