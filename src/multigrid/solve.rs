@@ -130,9 +130,10 @@ pub fn solve(h: &Hierarchy, c: usize, p: &SolveParams, b: &[f64], x: &mut [f64],
         return rep;
     }
     let mut ws = Workspace::new(h);
+    let run = Run { h, c, p, b, bnorm, scale };
     match p.mode {
-        Mode::PaperFaithful => stationary(h, c, p, b, x, bnorm, scale, &mut ws, &mut rep),
-        Mode::Default => pcg(h, c, p, b, x, bnorm, scale, &mut ws, &mut rep),
+        Mode::PaperFaithful => run.stationary(x, &mut ws, &mut rep),
+        Mode::Default => run.pcg(x, &mut ws, &mut rep),
     }
     let lev = h.fine();
     let (mut r, mut s) = (vec![0.0; lev.n()], vec![0.0; lev.n()]);
@@ -145,78 +146,72 @@ pub fn solve(h: &Hierarchy, c: usize, p: &SolveParams, b: &[f64], x: &mut [f64],
 /// Diverging when the residual grew this much: stop rather than run to max_cycles.
 const DIVERGED: f64 = 1e8;
 
-/// Records cycle `k` in the report; true when the iteration should stop (converged or diverged).
-fn record(rep: &mut Report, p: &SolveParams, scale: f64, k: usize, max_corr: f64, rel: f64) -> bool {
-    rep.history.push((max_corr, rel));
-    rep.cycles = k;
-    rep.max_correction = max_corr;
-    rep.converged = done(p, max_corr, rel, scale);
-    rep.converged || !rel.is_finite() || rel > DIVERGED
-}
-
-#[allow(clippy::too_many_arguments)]
-fn stationary(
-    h: &Hierarchy,
+/// What both iterations share: the hierarchy, the component, the parameters and the system.
+struct Run<'a> {
+    h: &'a Hierarchy,
     c: usize,
-    p: &SolveParams,
-    b: &[f64],
-    x: &mut [f64],
+    p: &'a SolveParams,
+    b: &'a [f64],
     bnorm: f64,
     scale: f64,
-    ws: &mut Workspace,
-    rep: &mut Report,
-) {
-    let cp = p.cycle_params(h.method);
-    let lev = h.fine();
-    let (mut r, mut s) = (vec![0.0; lev.n()], vec![0.0; lev.n()]);
-    for k in 1..=p.max_cycles {
-        let mc = cycle(h, c, &cp, b, x, ws);
-        lev.op.residual(&lev.flags[c], b, x, &mut r, &mut s);
-        if record(rep, p, scale, k, mc, dot(&r, &r).sqrt() / bnorm) {
-            return;
+}
+
+impl Run<'_> {
+    /// Records cycle `k` (its largest correction and the residual `r`) in the report; true when
+    /// the iteration should stop (converged or diverged).
+    fn record(&self, rep: &mut Report, k: usize, max_corr: f64, r: &[f64]) -> bool {
+        let rel = dot(r, r).sqrt() / self.bnorm;
+        rep.history.push((max_corr, rel));
+        rep.cycles = k;
+        rep.max_correction = max_corr;
+        rep.converged = done(self.p, max_corr, rel, self.scale);
+        rep.converged || !rel.is_finite() || rel > DIVERGED
+    }
+
+    fn stationary(&self, x: &mut [f64], ws: &mut Workspace, rep: &mut Report) {
+        let Run { h, c, p, b, .. } = *self;
+        let cp = p.cycle_params(h.method);
+        let lev = h.fine();
+        let (mut r, mut s) = (vec![0.0; lev.n()], vec![0.0; lev.n()]);
+        for k in 1..=p.max_cycles {
+            let mc = cycle(h, c, &cp, b, x, ws);
+            lev.op.residual(&lev.flags[c], b, x, &mut r, &mut s);
+            if self.record(rep, k, mc, &r) {
+                return;
+            }
         }
     }
-}
 
-#[allow(clippy::too_many_arguments)]
-fn pcg(
-    h: &Hierarchy,
-    c: usize,
-    p: &SolveParams,
-    b: &[f64],
-    x: &mut [f64],
-    bnorm: f64,
-    scale: f64,
-    ws: &mut Workspace,
-    rep: &mut Report,
-) {
-    let cp = p.cycle_params(h.method);
-    let lev = h.fine();
-    let n = lev.n();
-    let flags = &lev.flags[c];
-    let (mut r, mut s, mut z, mut q) = (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]);
-    lev.op.residual(flags, b, x, &mut r, &mut s);
-    cycle(h, c, &cp, &r, &mut z, ws);
-    let mut dir = z.clone();
-    let mut rz = dot(&r, &z);
-    for k in 1..=p.max_cycles {
-        lev.op.apply(flags, &dir, &mut q, &mut s);
-        let pq = dot(&dir, &q);
-        if pq <= 0.0 || !pq.is_finite() {
-            return; // the preconditioned operator is not positive definite: report, not loop
-        }
-        let alpha = rz / pq;
-        axpy(alpha, &dir, x);
-        axpy(-alpha, &q, &mut r);
-        if record(rep, p, scale, k, alpha.abs() * max_abs(&dir), dot(&r, &r).sqrt() / bnorm) {
-            return;
-        }
-        par_update(&mut z, |_, _| 0.0);
+    fn pcg(&self, x: &mut [f64], ws: &mut Workspace, rep: &mut Report) {
+        let Run { h, c, p, b, .. } = *self;
+        let cp = p.cycle_params(h.method);
+        let lev = h.fine();
+        let n = lev.n();
+        let flags = &lev.flags[c];
+        let (mut r, mut s, mut z, mut q) = (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+        lev.op.residual(flags, b, x, &mut r, &mut s);
         cycle(h, c, &cp, &r, &mut z, ws);
-        let rz_new = dot(&r, &z);
-        let beta = rz_new / rz;
-        rz = rz_new;
-        let zr = &z;
-        par_update(&mut dir, |i, d| zr[i] + beta * d);
+        let mut dir = z.clone();
+        let mut rz = dot(&r, &z);
+        for k in 1..=p.max_cycles {
+            lev.op.apply(flags, &dir, &mut q, &mut s);
+            let pq = dot(&dir, &q);
+            if pq <= 0.0 || !pq.is_finite() {
+                return; // the preconditioned operator is not positive definite: report, not loop
+            }
+            let alpha = rz / pq;
+            axpy(alpha, &dir, x);
+            axpy(-alpha, &q, &mut r);
+            if self.record(rep, k, alpha.abs() * max_abs(&dir), &r) {
+                return;
+            }
+            par_update(&mut z, |_, _| 0.0);
+            cycle(h, c, &cp, &r, &mut z, ws);
+            let rz_new = dot(&r, &z);
+            let beta = rz_new / rz;
+            rz = rz_new;
+            let zr = &z;
+            par_update(&mut dir, |i, d| zr[i] + beta * d);
+        }
     }
 }
