@@ -138,11 +138,15 @@ pub(super) fn mesh_domain(loops: &[Loop], size: &dyn Fn(DVec2) -> f64, angle_deg
         }
     }
     excluded = refine(&mut cdt, angle_deg, None);
-    let mut planar = extract(&cdt, &excluded, loops);
+    smooth_sweeps(extract(&cdt, &excluded, loops), loops, n_fixed, smooth, angle_deg)
+}
+
+/// `smooth` sweeps of Laplacian smoothing, each followed by a fresh constrained triangulation;
+/// the last sweep repairs any face smoothing left below the angle limit.
+fn smooth_sweeps(mut planar: Planar, loops: &[Loop], n_fixed: usize, smooth: usize, angle_deg: f64) -> Planar {
     for sweep in 0..smooth {
         let pts = smoothed(&planar, n_fixed);
         let mut cdt = build(loops, &pts[n_fixed..]);
-        // The last sweep repairs any face smoothing left below the angle limit.
         let angle = if sweep + 1 == smooth { angle_deg } else { 0.0 };
         let excluded = refine(&mut cdt, angle, None);
         planar = extract(&cdt, &excluded, loops);
@@ -226,13 +230,5 @@ pub(super) fn mesh_lattice(loops: &[Loop], s: f64, jitter_frac: f64, angle_deg: 
     let n_fixed: usize = loops.iter().map(|l| l.points.len()).sum();
     let mut cdt = build(loops, &interior);
     let excluded = refine(&mut cdt, angle_deg, None);
-    let mut planar = extract(&cdt, &excluded, loops);
-    for sweep in 0..smooth {
-        let pts = smoothed(&planar, n_fixed);
-        let mut cdt = build(loops, &pts[n_fixed..]);
-        let angle = if sweep + 1 == smooth { angle_deg } else { 0.0 };
-        let excluded = refine(&mut cdt, angle, None);
-        planar = extract(&cdt, &excluded, loops);
-    }
-    planar
+    smooth_sweeps(extract(&cdt, &excluded, loops), loops, n_fixed, smooth, angle_deg)
 }
