@@ -6,6 +6,7 @@ use crate::mesh::quality::{quality, Quality};
 use crate::motion::Motion;
 use crate::multigrid::cycle::{cycle, Workspace};
 use crate::multigrid::hierarchy::{Hierarchy, HierarchyParams, Level};
+use crate::multigrid::smoother::Start;
 use crate::multigrid::solve::{solve, Report, SolveParams};
 use crate::operator::Method;
 use crate::sparse::max_abs;
@@ -150,6 +151,13 @@ impl Solver {
         g
     }
 
+    /// The right-hand side of component `c` (its scratch S freed before the solve starts).
+    fn rhs(lev: &Level, c: usize, dp: &[f64], g: Option<&[f64]>) -> Vec<f64> {
+        let (mut b, mut s) = (vec![0.0; lev.n()], vec![0.0; lev.n()]);
+        lev.op.rhs(&lev.flags[c], dp, g, &mut b, &mut s);
+        b
+    }
+
     fn scale(vals: &[DVec2]) -> f64 {
         vals.iter().fold(0.0f64, |m, d| m.max(d.x.abs()).max(d.y.abs()))
     }
@@ -177,8 +185,9 @@ impl Solver {
         for c in 0..2 {
             let (dp, g) = self.prescribed(motion, &vals, c)?;
             let flags = &lev.flags[c];
-            let (mut b, mut s) = (vec![0.0; lev.n()], vec![0.0; lev.n()]);
-            lev.op.rhs(flags, &dp, g.as_deref(), &mut b, &mut s);
+            let b = Self::rhs(lev, c, &dp, g.as_deref());
+            // Not kept through the solve (memory): the prescribed values are re-read from `vals`.
+            drop((dp, g));
             let mut x: Vec<f64> = match guess {
                 Some(gv) => (0..lev.n())
                     .map(|k| if flags[k] & P != 0 { 0.0 } else { gv[lev.dofs.dof_vertex[k] as usize][c] })
@@ -192,7 +201,12 @@ impl Solver {
                     COMPONENT[c], rep.rel_residual, rep.cycles
                 )));
             }
-            x.iter_mut().zip(&dp).for_each(|(x, p)| *x += p);
+            // The solve leaves P unknowns at zero; they take their prescribed values.
+            for (k, x) in x.iter_mut().enumerate() {
+                if flags[k] & P != 0 {
+                    *x += vals[lev.dofs.vertices_of(k)[0] as usize][c];
+                }
+            }
             d[c] = x;
             reps.push(rep);
         }
@@ -216,15 +230,15 @@ impl Solver {
             let (dp, g) = self.prescribed(motion, &vals, c)?;
             let flags = &lev.flags[c];
             let n = lev.n();
-            let (mut b, mut s, mut r) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
-            lev.op.rhs(flags, &dp, g.as_deref(), &mut b, &mut s);
+            let b = Self::rhs(lev, c, &dp, g.as_deref());
+            let (mut s, mut r) = (vec![0.0; n], vec![0.0; n]);
             let mut x: Vec<f64> = (0..n)
                 .map(|k| if flags[k] & P != 0 { 0.0 } else { displacement[lev.dofs.dof_vertex[k] as usize][c] })
                 .collect();
             let before = x.clone();
             self.run(|| {
                 let mut ws = Workspace::new(&self.hierarchy);
-                cycle(&self.hierarchy, c, &cp, &b, &mut x, &mut ws);
+                cycle(&self.hierarchy, c, &cp, &b, &mut x, Start::Guess, &mut ws);
             });
             lev.op.residual(flags, &b, &x, &mut r, &mut s);
             let bn = crate::sparse::dot(&b, &b).sqrt();

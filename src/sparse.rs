@@ -58,6 +58,13 @@ impl CsrMatrix {
         (&self.cols[r.clone()], &self.vals[r])
     }
 
+    /// Row i times x: Σ_j A_ij x_j, summed in column order.
+    #[inline]
+    pub fn row_dot(&self, i: usize, x: &[f64]) -> f64 {
+        let (c, v) = self.row(i);
+        c.iter().zip(v).map(|(&j, &a)| a * x[j as usize]).sum()
+    }
+
     /// Position of entry (i, j) in `cols`/`vals`, if it is in the pattern.
     pub fn find(&self, i: usize, j: usize) -> Option<usize> {
         let (c, _) = self.row(i);
@@ -72,10 +79,7 @@ impl CsrMatrix {
     pub fn mul_vec(&self, x: &[f64], y: &mut [f64]) {
         assert_eq!(x.len(), self.ncols, "mul_vec: x has {} entries, matrix has {} columns", x.len(), self.ncols);
         assert_eq!(y.len(), self.nrows, "mul_vec: y has {} entries, matrix has {} rows", y.len(), self.nrows);
-        self.map_rows(y, |i| {
-            let (c, v) = self.row(i);
-            c.iter().zip(v).map(|(&j, &a)| a * x[j as usize]).sum()
-        });
+        self.map_rows(y, |i| self.row_dot(i, x));
     }
 
     /// Fills `out[i] = f(i)` for every row, in parallel when the matrix is large.

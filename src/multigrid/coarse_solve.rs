@@ -1,6 +1,6 @@
 //! The coarsest level's solve: dense Cholesky of A on the free unknowns.
 
-use super::smoother::{smooth, Problem, Scratch, Smoother};
+use super::smoother::{smooth, Problem, Scratch, Smoother, Start};
 use crate::bc::P;
 use crate::dense::Cholesky;
 use crate::{Error, Result};
@@ -59,17 +59,27 @@ impl CoarseSolve {
     }
 
     /// x ← x + A⁻¹(b − A x).
-    pub fn solve(&self, pb: Problem, b: &[f64], x: &mut [f64], w: &mut Scratch) {
+    /// x ← x + A⁻¹(b − A x) on the free unknowns; from `Start::Zero`, x = A⁻¹ b.
+    pub fn solve(&self, pb: Problem, b: &[f64], x: &mut [f64], start: Start, w: &mut Scratch) {
+        if start == Start::Zero {
+            x.iter_mut().for_each(|v| *v = 0.0);
+        }
         match self {
             CoarseSolve::Empty => {}
             CoarseSolve::Smoothed => {
                 for _ in 0..4 {
-                    smooth(pb, Smoother::Chebyshev { degree: 25, lower_ratio: 200.0 }, b, x, w, false);
+                    smooth(pb, Smoother::Chebyshev { degree: 25, lower_ratio: 200.0 }, b, x, w, Start::Guess, false);
                 }
             }
             CoarseSolve::Dense { free, chol } => {
-                pb.op.residual(pb.flags, b, x, &mut w.r, &mut w.s);
-                let mut rhs: Vec<f64> = free.iter().map(|&i| w.r[i as usize]).collect();
+                let r: &[f64] = match start {
+                    Start::Zero => b,
+                    Start::Guess => {
+                        pb.op.residual(pb.flags, b, x, &mut w.r, &mut w.s);
+                        &w.r
+                    }
+                };
+                let mut rhs: Vec<f64> = free.iter().map(|&i| r[i as usize]).collect();
                 chol.solve(&mut rhs);
                 for (&i, v) in free.iter().zip(rhs) {
                     x[i as usize] += v;

@@ -1,12 +1,13 @@
 //! The multigrid cycle that walks a hierarchy: γ = 2 gives the paper's W-cycle.
 //!
 //! Work vectors are allocated once per solve (`Workspace`), not per cycle.
+//! Coarse-level visits start from a zero correction (`Start::Zero`) and skip its residual.
 
 use super::hierarchy::Hierarchy;
-use super::smoother::{smooth, Scratch, Smoother};
+use super::smoother::{smooth, Scratch, Smoother, Start};
 use crate::bc::P;
 use crate::operator::Method;
-use crate::sparse::{par_fill, par_update};
+use crate::sparse::par_update;
 
 /// Shape of one cycle.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -46,10 +47,11 @@ impl CycleParams {
     }
 }
 
+/// Vectors of one level's visit. The finest level's right-hand side and iterate are the
+/// caller's, so its `b` and `x` stay empty.
 struct LevelWork {
     b: Vec<f64>,
     x: Vec<f64>,
-    t: Vec<f64>,
     scratch: Scratch,
 }
 
@@ -62,21 +64,38 @@ impl Workspace {
         let levels = h
             .levels
             .iter()
-            .map(|l| {
-                let n = l.n();
-                LevelWork { b: vec![0.0; n], x: vec![0.0; n], t: vec![0.0; n], scratch: Scratch::new(n) }
+            .enumerate()
+            .map(|(l, lev)| {
+                let n = lev.n();
+                let nbx = if l == 0 { 0 } else { n };
+                LevelWork { b: vec![0.0; nbx], x: vec![0.0; nbx], scratch: Scratch::new(n, h.method) }
             })
             .collect();
         Workspace { levels }
     }
+
+    /// The finest level's scratch, free between cycles (for the outer iteration's products).
+    pub fn fine(&mut self) -> &mut Scratch {
+        &mut self.levels[0].scratch
+    }
 }
 
-/// One cycle for component `c` on the finest level: x ← x + B(b − A x). Returns the largest
-/// correction of the first fine-level smoothing sweep (the paper's convergence measure).
-pub fn cycle(h: &Hierarchy, c: usize, p: &CycleParams, b: &[f64], x: &mut [f64], ws: &mut Workspace) -> f64 {
-    level_cycle(h, c, p, 0, b, x, ws)
+/// One cycle for component `c` on the finest level: x ← x + B(b − A x), or x = B b from
+/// `Start::Zero` (x's content ignored). Returns the largest correction of the first fine-level
+/// smoothing sweep (the paper's convergence measure).
+pub fn cycle(
+    h: &Hierarchy,
+    c: usize,
+    p: &CycleParams,
+    b: &[f64],
+    x: &mut [f64],
+    start: Start,
+    ws: &mut Workspace,
+) -> f64 {
+    level_cycle(h, c, p, 0, b, x, start, ws)
 }
 
+#[allow(clippy::too_many_arguments)]
 fn level_cycle(
     h: &Hierarchy,
     c: usize,
@@ -84,52 +103,48 @@ fn level_cycle(
     l: usize,
     b: &[f64],
     x: &mut [f64],
+    start: Start,
     ws: &mut Workspace,
 ) -> f64 {
     let lev = &h.levels[l];
     let pb = lev.problem(c);
     let Some(down) = &lev.down else {
         let solve = &lev.coarse.as_ref().expect("coarsest level has its solve")[c];
-        solve.solve(pb, b, x, &mut ws.levels[l].scratch);
+        solve.solve(pb, b, x, start, &mut ws.levels[l].scratch);
         return 0.0;
     };
     let mut first = 0.0;
+    let mut start = start;
     for k in 0..p.pre {
         // Only the first fine-level sweep's correction is reported (the paper's measure).
-        let m = smooth(pb, p.smoother, b, x, &mut ws.levels[l].scratch, l == 0 && k == 0);
+        let m = smooth(pb, p.smoother, b, x, &mut ws.levels[l].scratch, start, l == 0 && k == 0);
+        start = Start::Guess;
         if k == 0 {
             first = m;
         }
     }
-    {
-        let w = &mut ws.levels[l].scratch;
-        lev.op.residual(pb.flags, b, x, &mut w.r, &mut w.s);
-    }
     let mut bc = std::mem::take(&mut ws.levels[l + 1].b);
     let mut xc = std::mem::take(&mut ws.levels[l + 1].x);
-    down.restrict.mul_vec(&ws.levels[l].scratch.r, &mut bc);
-    par_update(&mut xc, |_, _| 0.0);
-    for _ in 0..p.gamma {
-        level_cycle(h, c, p, l + 1, &bc, &mut xc, ws);
+    if start == Start::Zero {
+        // No pre-smoothing from a zero start: the residual is b itself.
+        x.iter_mut().for_each(|v| *v = 0.0);
+        down.restrict.mul_vec(b, &mut bc);
+    } else {
+        let w = &mut ws.levels[l].scratch;
+        lev.op.residual(pb.flags, b, x, &mut w.r, &mut w.s);
+        down.restrict.mul_vec(&w.r, &mut bc);
     }
-    let t = &mut ws.levels[l].t;
-    let flags = pb.flags;
-    let (prolong, xc_ref) = (&down.prolong, &xc);
-    // Interpolate the correction; prescribed unknowns keep a zero correction.
-    par_fill(t, |i| {
-        if flags[i] & P != 0 {
-            return 0.0;
-        }
-        let (cols, vals) = prolong.row(i);
-        cols.iter().zip(vals).map(|(&j, &a)| a * xc_ref[j as usize]).sum()
-    });
-    let wgt = p.coarse_weight;
-    let t = &*t;
-    par_update(x, |i, x| x + wgt * t[i]);
+    for k in 0..p.gamma {
+        let cstart = if k == 0 { Start::Zero } else { Start::Guess };
+        level_cycle(h, c, p, l + 1, &bc, &mut xc, cstart, ws);
+    }
+    // Add the interpolated correction, fused into one pass; prescribed unknowns keep theirs.
+    let (flags, prolong, xc_ref, wgt) = (pb.flags, &down.prolong, &xc, p.coarse_weight);
+    par_update(x, |i, xv| if flags[i] & P != 0 { xv } else { xv + wgt * prolong.row_dot(i, xc_ref) });
     ws.levels[l + 1].b = bc;
     ws.levels[l + 1].x = xc;
     for _ in 0..p.post {
-        smooth(pb, p.smoother, b, x, &mut ws.levels[l].scratch, false);
+        smooth(pb, p.smoother, b, x, &mut ws.levels[l].scratch, Start::Guess, false);
     }
     first
 }

@@ -3,6 +3,7 @@
 
 use super::cycle::{cycle, CycleParams, Workspace};
 use super::hierarchy::Hierarchy;
+use super::smoother::Start;
 use crate::operator::Method;
 use crate::sparse::{axpy, dot, max_abs, par_update};
 
@@ -136,9 +137,9 @@ pub fn solve(h: &Hierarchy, c: usize, p: &SolveParams, b: &[f64], x: &mut [f64],
         Mode::Default => run.pcg(x, &mut ws, &mut rep),
     }
     let lev = h.fine();
-    let (mut r, mut s) = (vec![0.0; lev.n()], vec![0.0; lev.n()]);
-    lev.op.residual(&lev.flags[c], b, x, &mut r, &mut s);
-    rep.rel_residual = dot(&r, &r).sqrt() / bnorm;
+    let w = ws.fine();
+    lev.op.residual(&lev.flags[c], b, x, &mut w.r, &mut w.s);
+    rep.rel_residual = dot(&w.r, &w.r).sqrt() / bnorm;
     rep.seconds = t0.elapsed().as_secs_f64();
     rep
 }
@@ -172,11 +173,11 @@ impl Run<'_> {
         let Run { h, c, p, b, .. } = *self;
         let cp = p.cycle_params(h.method);
         let lev = h.fine();
-        let (mut r, mut s) = (vec![0.0; lev.n()], vec![0.0; lev.n()]);
         for k in 1..=p.max_cycles {
-            let mc = cycle(h, c, &cp, b, x, ws);
-            lev.op.residual(&lev.flags[c], b, x, &mut r, &mut s);
-            if self.record(rep, k, mc, &r) {
+            let mc = cycle(h, c, &cp, b, x, Start::Guess, ws);
+            let w = ws.fine();
+            lev.op.residual(&lev.flags[c], b, x, &mut w.r, &mut w.s);
+            if self.record(rep, k, mc, &w.r) {
                 return;
             }
         }
@@ -188,13 +189,15 @@ impl Run<'_> {
         let lev = h.fine();
         let n = lev.n();
         let flags = &lev.flags[c];
-        let (mut r, mut s, mut z, mut q) = (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]);
-        lev.op.residual(flags, b, x, &mut r, &mut s);
-        cycle(h, c, &cp, &r, &mut z, ws);
-        let mut dir = z.clone();
-        let mut rz = dot(&r, &z);
+        // Three vectors: the preconditioned residual z shares q's storage (q = A dir is spent
+        // once r is updated), and the products' scratch S is the fine level's, free between
+        // preconditioner applications.
+        let (mut r, mut dir, mut q) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+        lev.op.residual(flags, b, x, &mut r, &mut ws.fine().s);
+        cycle(h, c, &cp, &r, &mut dir, Start::Zero, ws);
+        let mut rz = dot(&r, &dir);
         for k in 1..=p.max_cycles {
-            lev.op.apply(flags, &dir, &mut q, &mut s);
+            lev.op.apply(flags, &dir, &mut q, &mut ws.fine().s);
             let pq = dot(&dir, &q);
             if pq <= 0.0 || !pq.is_finite() {
                 return; // the preconditioned operator is not positive definite: report, not loop
@@ -205,12 +208,12 @@ impl Run<'_> {
             if self.record(rep, k, alpha.abs() * max_abs(&dir), &r) {
                 return;
             }
-            par_update(&mut z, |_, _| 0.0);
-            cycle(h, c, &cp, &r, &mut z, ws);
-            let rz_new = dot(&r, &z);
+            let z = &mut q;
+            cycle(h, c, &cp, &r, z, Start::Zero, ws);
+            let rz_new = dot(&r, z);
             let beta = rz_new / rz;
             rz = rz_new;
-            let zr = &z;
+            let zr = &*z;
             par_update(&mut dir, |i, d| zr[i] + beta * d);
         }
     }

@@ -59,22 +59,14 @@ impl LevelOperator {
             if flags[i] & Z != 0 {
                 return 0.0;
             }
-            let (c, v) = k.row(i);
-            let kx: f64 = c.iter().zip(v).map(|(&j, &a)| a * x[j as usize]).sum();
-            (kx - g.map_or(0.0, |g| g[i])) * self.inv_v[i]
+            (k.row_dot(i, x) - g.map_or(0.0, |g| g[i])) * self.inv_v[i]
         });
     }
 
     /// y = K u on unknowns without P, zero on P.
     fn k_free_rows(&self, flags: &[u8], u: &[f64], y: &mut [f64]) {
         let k = &self.k;
-        par_fill(y, |i| {
-            if flags[i] & P != 0 {
-                return 0.0;
-            }
-            let (c, v) = k.row(i);
-            c.iter().zip(v).map(|(&j, &a)| a * u[j as usize]).sum()
-        });
+        par_fill(y, |i| if flags[i] & P != 0 { 0.0 } else { k.row_dot(i, u) });
     }
 
     /// y = A x. `s` is scratch of length n (it holds S on return for the biharmonic).
@@ -90,8 +82,34 @@ impl LevelOperator {
 
     /// r = b − A x.
     pub fn residual(&self, flags: &[u8], b: &[f64], x: &[f64], r: &mut [f64], s: &mut [f64]) {
-        self.apply(flags, x, r, s);
-        par_update(r, |i, ax| b[i] - ax);
+        self.update_with_residual(flags, b, x, s, r, |_, r, _| r);
+    }
+
+    /// `out_i ← f(i, r_i, out_i)` for every unknown, with r = b − A x formed row by row and never
+    /// stored: one pass over K for the Laplacian and spring, two for the biharmonic (S first).
+    /// The smoothers update their direction this way, which saves the residual vector's
+    /// write and re-read on every sweep (the operator is memory-bound). `out` must not be `x`.
+    pub fn update_with_residual(
+        &self,
+        flags: &[u8],
+        b: &[f64],
+        x: &[f64],
+        s: &mut [f64],
+        out: &mut [f64],
+        f: impl Fn(usize, f64, f64) -> f64 + Sync + Send,
+    ) {
+        let u: &[f64] = match self.method {
+            Method::Biharmonic => {
+                self.source(flags, x, None, s);
+                s
+            }
+            _ => x,
+        };
+        let k = &self.k;
+        par_update(out, |i, o| {
+            let r = if flags[i] & P != 0 { b[i] } else { b[i] - k.row_dot(i, u) };
+            f(i, r, o)
+        });
     }
 
     /// Right-hand side for the unknowns without P, given prescribed values `dp` (zero off P)
