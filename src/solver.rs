@@ -323,6 +323,7 @@ fn check_solve_params(p: &SolveParams) -> Result<()> {
     if !(p.tol > 0.0 && p.tol.is_finite())
         || p.max_cycles == 0
         || p.cheb_degree == Some(0)
+        || p.cheb_coarse_degree == Some(0)
         || p.cheb_lower_ratio.is_some_and(|r| !(r > 1.0))
     {
         return Err(Error::InvalidArgument(

@@ -14,7 +14,10 @@ use crate::sparse::par_update;
 pub struct CycleParams {
     /// Coarse visits per level: 1 = V-cycle, 2 = W-cycle.
     pub gamma: usize,
+    /// The smoother of the finest level.
     pub smoother: Smoother,
+    /// The smoother of every coarser level.
+    pub coarse_smoother: Smoother,
     pub pre: usize,
     pub post: usize,
     /// Scale of the prolongated coarse correction.
@@ -32,14 +35,16 @@ impl CycleParams {
     /// Laplacian's coarse operators do not overshoot; it keeps the full correction.
     pub fn paper(method: Method) -> Self {
         let coarse_weight = if method == Method::Biharmonic { 0.5 } else { 1.0 };
-        CycleParams { gamma: 2, smoother: Smoother::Jacobi { weight: 0.9 }, pre: 1, post: 0, coarse_weight }
+        let smoother = Smoother::Jacobi { weight: 0.9 };
+        CycleParams { gamma: 2, smoother, coarse_smoother: smoother, pre: 1, post: 0, coarse_weight }
     }
 
     /// The preconditioner of the default mode: W-cycle with Chebyshev pre- and post-smoothing.
-    pub fn chebyshev(degree: usize, lower_ratio: f64) -> Self {
+    pub fn chebyshev(degree: usize, coarse_degree: usize, lower_ratio: f64) -> Self {
         CycleParams {
             gamma: 2,
             smoother: Smoother::Chebyshev { degree, lower_ratio },
+            coarse_smoother: Smoother::Chebyshev { degree: coarse_degree, lower_ratio },
             pre: 1,
             post: 1,
             coarse_weight: 1.0,
@@ -113,11 +118,12 @@ fn level_cycle(
         solve.solve(pb, b, x, start, &mut ws.levels[l].scratch);
         return 0.0;
     };
+    let smoother = if l == 0 { p.smoother } else { p.coarse_smoother };
     let mut first = 0.0;
     let mut start = start;
     for k in 0..p.pre {
         // Only the first fine-level sweep's correction is reported (the paper's measure).
-        let m = smooth(pb, p.smoother, b, x, &mut ws.levels[l].scratch, start, l == 0 && k == 0);
+        let m = smooth(pb, smoother, b, x, &mut ws.levels[l].scratch, start, l == 0 && k == 0);
         start = Start::Guess;
         if k == 0 {
             first = m;
@@ -144,7 +150,7 @@ fn level_cycle(
     ws.levels[l + 1].b = bc;
     ws.levels[l + 1].x = xc;
     for _ in 0..p.post {
-        smooth(pb, p.smoother, b, x, &mut ws.levels[l].scratch, Start::Guess, false);
+        smooth(pb, smoother, b, x, &mut ws.levels[l].scratch, Start::Guess, false);
     }
     first
 }
