@@ -1,6 +1,7 @@
 //! Unknowns ("dofs") of a level: linked vertices merged into one, and vertices of a variant-A
 //! interface split into one unknown per region (DESIGN §3, last paragraph; §4).
 
+use super::numbering::reverse_cuthill_mckee;
 use crate::Mesh;
 
 #[derive(Clone, Debug)]
@@ -50,7 +51,7 @@ impl Dofs {
             }
         }
         // Key of a cell corner: (root vertex, region when split). Sorting keys numbers unknowns
-        // in vertex order, deterministically.
+        // in vertex order, deterministically; they are then renumbered for locality.
         const NONE: i64 = i64::MIN;
         let key = |v: u32, c: usize| -> (u32, i64) {
             let r = root[v as usize];
@@ -63,8 +64,16 @@ impl Dofs {
         keys.sort_unstable();
         keys.dedup();
         let index = |k: (u32, i64)| keys.binary_search(&k).expect("key was collected") as u32;
-        let cell_dofs: Vec<[u32; 3]> =
+        let by_vertex: Vec<[u32; 3]> =
             mesh.cells().iter().enumerate().map(|(c, t)| t.map(|v| index(key(v, c)))).collect();
+        // Renumber for locality of the operators' gathers (see `numbering`).
+        let order = reverse_cuthill_mckee(keys.len(), &by_vertex);
+        let mut new_of = vec![0u32; keys.len()];
+        for (new, &old) in order.iter().enumerate() {
+            new_of[old as usize] = new as u32;
+        }
+        let cell_dofs: Vec<[u32; 3]> = by_vertex.iter().map(|t| t.map(|d| new_of[d as usize])).collect();
+        let keys: Vec<(u32, i64)> = order.iter().map(|&old| keys[old as usize]).collect();
         let mut vertex_dof = vec![u32::MAX; nv];
         for (t, d) in mesh.cells().iter().zip(&cell_dofs) {
             for k in 0..3 {

@@ -5,6 +5,7 @@
 mod dofs;
 mod flags;
 mod links;
+mod numbering;
 mod well_posed;
 
 pub use dofs::Dofs;

@@ -12,16 +12,19 @@ pub const COMPONENT: [&str; 2] = ["x", "y"];
 pub fn check_well_posed(k: &CsrMatrix, flags: &[Vec<u8>; 2], dofs: &Dofs) -> Result<()> {
     let n = dofs.n;
     let mut comp = vec![u32::MAX; n];
-    let mut parts: Vec<usize> = Vec::new(); // first unknown of each part
+    // The smallest vertex of each part: messages name vertices in the caller's numbering,
+    // independent of how the solver orders its unknowns.
+    let mut parts: Vec<u32> = Vec::new();
     for s in 0..n {
         if comp[s] != u32::MAX {
             continue;
         }
         let id = parts.len() as u32;
-        parts.push(s);
+        parts.push(dofs.dof_vertex[s]);
         let mut stack = vec![s];
         comp[s] = id;
         while let Some(i) = stack.pop() {
+            parts[id as usize] = parts[id as usize].min(dofs.dof_vertex[i]);
             for &j in k.row(i).0 {
                 if comp[j as usize] == u32::MAX {
                     comp[j as usize] = id;
@@ -37,8 +40,9 @@ pub fn check_well_posed(k: &CsrMatrix, flags: &[Vec<u8>; 2], dofs: &Dofs) -> Res
                 has_p[comp[i] as usize] = true;
             }
         }
-        if let Some(part) = has_p.iter().position(|h| !h) {
-            let v = dofs.dof_vertex[parts[part]];
+        let floating = (0..parts.len()).filter(|&p| !has_p[p]).min_by_key(|&p| parts[p]);
+        if let Some(part) = floating {
+            let v = parts[part];
             let detail = if parts.len() == 1 {
                 String::new()
             } else {
