@@ -10,7 +10,7 @@ use super::smoother::{estimate_lambda_max, Problem};
 use super::transfer::{locate, update_weights, Location};
 use crate::bc::{check_well_posed, component_flags, BoundaryConditions, Dofs};
 use crate::mesh::quality::signed_areas;
-use crate::operator::{Assembly, LevelOperator, Method};
+use crate::operator::{LevelOperator, Method};
 use crate::sparse::CsrMatrix;
 use crate::{Mesh, Result};
 use glam::DVec2;
@@ -28,7 +28,6 @@ pub struct Level {
     pub mesh: Mesh,
     pub pairs: Vec<[u32; 2]>,
     pub dofs: Dofs,
-    asm: Assembly,
     pub op: LevelOperator,
     pub flags: [Vec<u8>; 2],
     pub inv_d: [Vec<f64>; 2],
@@ -50,14 +49,12 @@ impl Level {
         method: Method,
     ) -> Level {
         let dofs = Dofs::build(&mesh, &pairs, &bcs.split_patches());
-        let asm = Assembly::new(&dofs);
         let flags = [0, 1].map(|c| component_flags(&mesh, &dofs, bcs, c));
-        let op = LevelOperator::new(method, &asm, mesh.coords(), mesh.cells(), &dofs);
+        let op = LevelOperator::new(method, mesh.coords(), mesh.cells(), &dofs);
         let mut level = Level {
             mesh,
             pairs,
             dofs,
-            asm,
             op,
             flags,
             inv_d: [Vec::new(), Vec::new()],
@@ -226,12 +223,11 @@ impl Hierarchy {
             }
             coords.push(c);
         }
-        let method = self.method;
         for (l, c) in coords.into_iter().enumerate() {
             let level = &mut self.levels[l];
             level.mesh = level.mesh.with_coords(c);
             if l == 0 || !self.galerkin {
-                level.op = LevelOperator::new(method, &level.asm, level.mesh.coords(), level.mesh.cells(), &level.dofs);
+                level.op.reassemble(level.mesh.coords(), level.mesh.cells(), &level.dofs);
             }
             if l > 0 {
                 // The transfer from the level above, then (Galerkin) this level's operator.

@@ -1,28 +1,23 @@
 //! Assembly of K (cotangent or spring weights) and the lumped mass V on the unknowns.
 //!
-//! The pattern is built once per level; re-evaluating on a moved mesh only refills values, serially in cell order, so sums never depend on thread count.
+//! The pattern is built once per level; re-evaluating on a moved mesh only refills its values,
+//! serially in cell order, so sums never depend on thread count.
 
 use crate::bc::Dofs;
 use crate::sparse::CsrMatrix;
 use glam::DVec2;
 
-/// Sparsity of K on the unknowns (with the diagonal).
-pub struct Assembly {
-    pub pattern: CsrMatrix,
-}
-
-impl Assembly {
-    pub fn new(dofs: &Dofs) -> Assembly {
-        let mut pairs: Vec<(u32, u32)> = (0..dofs.n as u32).map(|i| (i, i)).collect();
-        for d in &dofs.cell_dofs {
-            for k in 0..3 {
-                let (a, b) = (d[k], d[(k + 1) % 3]);
-                pairs.push((a, b));
-                pairs.push((b, a));
-            }
+/// Sparsity of K on the unknowns (with the diagonal), values zero.
+pub fn stiffness_pattern(dofs: &Dofs) -> CsrMatrix {
+    let mut pairs: Vec<(u32, u32)> = (0..dofs.n as u32).map(|i| (i, i)).collect();
+    for d in &dofs.cell_dofs {
+        for k in 0..3 {
+            let (a, b) = (d[k], d[(k + 1) % 3]);
+            pairs.push((a, b));
+            pairs.push((b, a));
         }
-        Assembly { pattern: CsrMatrix::from_pattern(dofs.n, dofs.n, pairs) }
     }
+    CsrMatrix::from_pattern(dofs.n, dofs.n, pairs)
 }
 
 /// Sets K_ii = −Σ_{j≠i} K_ij, so constants are exactly in the null space of every row.
@@ -42,9 +37,9 @@ pub(crate) fn close_diagonal(k: &mut CsrMatrix) {
     }
 }
 
-/// K_ij = ∫∇φ_i·∇φ_j: per triangle, edge ij gets −½ cot of the opposite angle.
-pub fn stiffness(asm: &Assembly, coords: &[DVec2], cells: &[[u32; 3]], dofs: &Dofs) -> CsrMatrix {
-    let mut k = asm.pattern.clone();
+/// K_ij = ∫∇φ_i·∇φ_j: per triangle, edge ij gets −½ cot of the opposite angle. Fills the values
+/// of `k`, whose pattern is `stiffness_pattern(dofs)`.
+pub fn stiffness(k: &mut CsrMatrix, coords: &[DVec2], cells: &[[u32; 3]], dofs: &Dofs) {
     k.vals.iter_mut().for_each(|v| *v = 0.0);
     for (t, d) in cells.iter().zip(&dofs.cell_dofs) {
         let p = t.map(|v| coords[v as usize]);
@@ -62,14 +57,12 @@ pub fn stiffness(asm: &Assembly, coords: &[DVec2], cells: &[[u32; 3]], dofs: &Do
             }
         }
     }
-    close_diagonal(&mut k);
-    k
+    close_diagonal(k);
 }
 
 /// The spring analogy: graph Laplacian with weight 1/L² on every mesh edge. An edge seen from
-/// both its cells, or twice through a link, is one spring.
-pub fn spring_stiffness(asm: &Assembly, coords: &[DVec2], cells: &[[u32; 3]], dofs: &Dofs) -> CsrMatrix {
-    let mut k = asm.pattern.clone();
+/// both its cells, or twice through a link, is one spring. Fills `k` as `stiffness` does.
+pub fn spring_stiffness(k: &mut CsrMatrix, coords: &[DVec2], cells: &[[u32; 3]], dofs: &Dofs) {
     k.vals.iter_mut().for_each(|v| *v = 0.0);
     let mut seen = vec![false; k.nnz()];
     for (t, d) in cells.iter().zip(&dofs.cell_dofs) {
@@ -88,8 +81,7 @@ pub fn spring_stiffness(asm: &Assembly, coords: &[DVec2], cells: &[[u32; 3]], do
             k.vals[q] = -w;
         }
     }
-    close_diagonal(&mut k);
-    k
+    close_diagonal(k);
 }
 
 /// V_i = ⅓ of the area of the triangles around unknown i.
