@@ -17,7 +17,9 @@ use glam::DVec2;
 
 /// Interpolation from the next coarser level and its transpose.
 pub struct Transfer {
-    locs: Vec<Location>,
+    /// The coarse cell each fine unknown interpolates from; its weights are in `prolong` (and
+    /// are recomputed from these cells when the mesh moves).
+    cells: Vec<u32>,
     /// Fine unknowns × coarse unknowns: barycentric weights in the coarse cell.
     pub prolong: CsrMatrix,
     /// Its transpose, stored so restriction is a gather too.
@@ -105,15 +107,29 @@ impl Level {
     }
 }
 
-fn prolongation(n_fine: usize, coarse: &Level, locs: &[Location]) -> CsrMatrix {
-    let mut t = Vec::with_capacity(3 * locs.len());
-    for (i, loc) in locs.iter().enumerate() {
+/// Row i interpolates fine unknown i from the unknowns of its coarse cell with the barycentric
+/// weights: columns ascending, corners sharing an unknown summed in corner order onto zero
+/// (exactly what `CsrMatrix::from_triplets` gives, built row by row without its triplet list).
+fn prolongation(coarse: &Level, locs: &[Location]) -> CsrMatrix {
+    let n = locs.len();
+    let (mut row_ptr, mut cols, mut vals) =
+        (Vec::with_capacity(n + 1), Vec::with_capacity(3 * n), Vec::with_capacity(3 * n));
+    row_ptr.push(0);
+    for loc in locs {
         let cd = coarse.dofs.cell_dofs[loc.cell as usize];
-        for k in 0..3 {
-            t.push((i as u32, cd[k], loc.weights[k]));
+        let mut corners = [0, 1, 2];
+        corners.sort_by_key(|&k| cd[k]);
+        let start = cols.len();
+        for k in corners {
+            if cols.len() == start || cols[cols.len() - 1] != cd[k] {
+                cols.push(cd[k]);
+                vals.push(0.0);
+            }
+            *vals.last_mut().expect("pushed above") += loc.weights[k];
         }
+        row_ptr.push(cols.len());
     }
-    CsrMatrix::from_triplets(n_fine, coarse.n(), t)
+    CsrMatrix { nrows: n, ncols: coarse.n(), row_ptr, cols, vals }
 }
 
 /// How a coarse level's K and V are made.
@@ -186,13 +202,14 @@ impl Hierarchy {
             let mut coarse = Level::new(cm.mesh, cm.links, cm.fine_vertex, bcs, method);
             let (pts, regions) = fine.dof_points();
             let locs = locate(&coarse.mesh, &pts, &regions);
-            let prolong = prolongation(fine.n(), &coarse, &locs);
+            let prolong = prolongation(&coarse, &locs);
             let restrict = prolong.transpose();
             if params.coarse_operator.galerkin(method) {
                 coarse.op = LevelOperator::galerkin(&fine.op, &prolong, &restrict);
                 coarse.refresh_bounds();
             }
-            levels.last_mut().expect("fine level").down = Some(Transfer { locs, prolong, restrict });
+            levels.last_mut().expect("fine level").down =
+                Some(Transfer { cells: locs.iter().map(|l| l.cell).collect(), prolong, restrict });
             levels.push(coarse);
         }
         let mut h = Hierarchy { levels, method, galerkin: params.coarse_operator.galerkin(method) };
@@ -234,10 +251,11 @@ impl Hierarchy {
                 let (pts, _) = self.levels[l - 1].dof_points();
                 let (upper, rest) = self.levels.split_at_mut(l);
                 let (fine, coarse) = (&mut upper[l - 1], &mut rest[0]);
-                let n_fine = fine.n();
                 let down = fine.down.as_mut().expect("not the coarsest level");
-                update_weights(&coarse.mesh, &pts, &mut down.locs);
-                let prolong = prolongation(n_fine, coarse, &down.locs);
+                let mut locs: Vec<Location> =
+                    down.cells.iter().map(|&cell| Location { cell, weights: [0.0; 3] }).collect();
+                update_weights(&coarse.mesh, &pts, &mut locs);
+                let prolong = prolongation(coarse, &locs);
                 down.restrict = prolong.transpose();
                 down.prolong = prolong;
                 if self.galerkin {
