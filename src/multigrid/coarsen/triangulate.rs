@@ -205,7 +205,9 @@ pub(super) fn triangulate(
     let ncell = cells.len();
     let mut comp = vec![u32::MAX; ncell];
     let mut regions = vec![0i32; ncell];
-    let locator = Locator::new(fine);
+    let fine_regions = fine.regions();
+    // With one region there is nothing to look up: skip the point locator over the fine mesh.
+    let locator = fine_regions.iter().any(|&r| r != fine_regions[0]).then(|| Locator::new(fine));
     let mut stack = Vec::new();
     for start in 0..ncell {
         if comp[start] != u32::MAX {
@@ -237,8 +239,8 @@ pub(super) fn triangulate(
             }
         }
         let [a, b, d] = cells[big].map(|v| cx[v as usize]);
-        let fine_cell = locator.locate((a + b + d) / 3.0, None).cell;
-        let r = fine.regions()[fine_cell as usize];
+        let r =
+            locator.as_ref().map_or(fine_regions[0], |l| fine_regions[l.locate((a + b + d) / 3.0, None).cell as usize]);
         for &c in &members {
             regions[c] = r;
         }
