@@ -11,7 +11,7 @@ use super::transfer::{locate, update_weights, Location};
 use crate::bc::{check_well_posed, component_flags, BoundaryConditions, Dofs};
 use crate::mesh::quality::signed_areas;
 use crate::operator::{LevelOperator, Method};
-use crate::sparse::CsrMatrix;
+use crate::sparse::{offset, CsrMatrix};
 use crate::{Mesh, Result};
 use glam::DVec2;
 
@@ -127,7 +127,7 @@ fn prolongation(coarse: &Level, locs: &[Location]) -> CsrMatrix {
             }
             *vals.last_mut().expect("pushed above") += loc.weights[k];
         }
-        row_ptr.push(cols.len());
+        row_ptr.push(offset(cols.len()));
     }
     CsrMatrix { nrows: n, ncols: coarse.n(), row_ptr, cols, vals }
 }

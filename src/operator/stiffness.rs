@@ -23,7 +23,7 @@ pub fn stiffness_pattern(dofs: &Dofs) -> CsrMatrix {
 /// Sets K_ii = −Σ_{j≠i} K_ij, so constants are exactly in the null space of every row.
 pub(crate) fn close_diagonal(k: &mut CsrMatrix) {
     for i in 0..k.nrows {
-        let r = k.row_ptr[i]..k.row_ptr[i + 1];
+        let r = k.row_ptr[i] as usize..k.row_ptr[i + 1] as usize;
         let mut s = 0.0;
         let mut diag = usize::MAX;
         for p in r {
