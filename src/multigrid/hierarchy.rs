@@ -52,7 +52,7 @@ impl Level {
     ) -> Level {
         let dofs = Dofs::build(&mesh, &pairs, &bcs.split_patches());
         let flags = [0, 1].map(|c| component_flags(&mesh, &dofs, bcs, c));
-        let op = LevelOperator::new(method, mesh.coords(), mesh.cells(), &dofs);
+        let op = LevelOperator::new(method, &mesh, &dofs);
         let mut level = Level {
             mesh,
             pairs,
@@ -101,7 +101,7 @@ impl Level {
             }
         }
         let regions = (0..self.dofs.n)
-            .map(|d| self.dofs.dof_region[d].or(vregion[self.dofs.dof_vertex[d] as usize].flatten()))
+            .map(|d| self.dofs.region_of(d).or(vregion[self.dofs.dof_vertex[d] as usize].flatten()))
             .collect();
         (pts, regions)
     }
@@ -116,7 +116,7 @@ fn prolongation(coarse: &Level, locs: &[Location]) -> CsrMatrix {
         (Vec::with_capacity(n + 1), Vec::with_capacity(3 * n), Vec::with_capacity(3 * n));
     row_ptr.push(0);
     for loc in locs {
-        let cd = coarse.dofs.cell_dofs[loc.cell as usize];
+        let cd = coarse.dofs.cell_dofs(&coarse.mesh, loc.cell as usize);
         let mut corners = [0, 1, 2];
         corners.sort_by_key(|&k| cd[k]);
         let start = cols.len();
@@ -244,7 +244,7 @@ impl Hierarchy {
             let level = &mut self.levels[l];
             level.mesh = level.mesh.with_coords(c);
             if l == 0 || !self.galerkin {
-                level.op.reassemble(level.mesh.coords(), level.mesh.cells(), &level.dofs);
+                level.op.reassemble(&level.mesh, &level.dofs);
             }
             if l > 0 {
                 // The transfer from the level above, then (Galerkin) this level's operator.

@@ -9,7 +9,7 @@
 use super::{close_diagonal, lumped_mass, spring_stiffness, stiffness, stiffness_pattern, Method};
 use crate::bc::{Dofs, P, Z};
 use crate::sparse::{matmul, par_fill, par_update, CsrMatrix};
-use glam::DVec2;
+use crate::Mesh;
 
 pub struct LevelOperator {
     pub method: Method,
@@ -19,20 +19,20 @@ pub struct LevelOperator {
 }
 
 impl LevelOperator {
-    pub fn new(method: Method, coords: &[DVec2], cells: &[[u32; 3]], dofs: &Dofs) -> Self {
-        let mut op = LevelOperator { method, k: stiffness_pattern(dofs), v: Vec::new(), inv_v: Vec::new() };
-        op.reassemble(coords, cells, dofs);
+    pub fn new(method: Method, mesh: &Mesh, dofs: &Dofs) -> Self {
+        let mut op = LevelOperator { method, k: stiffness_pattern(mesh, dofs), v: Vec::new(), inv_v: Vec::new() };
+        op.reassemble(mesh, dofs);
         op
     }
 
     /// Re-evaluates K and V at new vertex positions, refilling K's values in place (its pattern
     /// is the topology's, so it is not rebuilt or kept twice). Only for operators from `new`.
-    pub fn reassemble(&mut self, coords: &[DVec2], cells: &[[u32; 3]], dofs: &Dofs) {
+    pub fn reassemble(&mut self, mesh: &Mesh, dofs: &Dofs) {
         match self.method {
-            Method::Spring => spring_stiffness(&mut self.k, coords, cells, dofs),
-            _ => stiffness(&mut self.k, coords, cells, dofs),
+            Method::Spring => spring_stiffness(&mut self.k, mesh, dofs),
+            _ => stiffness(&mut self.k, mesh, dofs),
         }
-        self.v = lumped_mass(coords, cells, dofs);
+        self.v = lumped_mass(mesh, dofs);
         self.inv_v = self.v.iter().map(|&v| 1.0 / v).collect();
     }
 
