@@ -82,7 +82,13 @@ impl Mesh {
         regions: Vec<i32>,
         patch_edges: Vec<PatchEdge>,
     ) -> Mesh {
-        Mesh { coords, cells, regions, patch_edges }
+        let mut m = Mesh { coords, cells, regions, patch_edges };
+        // Multigrid levels keep their meshes for the solver's life: no spare capacity.
+        m.coords.shrink_to_fit();
+        m.cells.shrink_to_fit();
+        m.regions.shrink_to_fit();
+        m.patch_edges.shrink_to_fit();
+        m
     }
 
     pub fn num_vertices(&self) -> usize {

@@ -11,7 +11,9 @@ pub(super) fn triangulate(
     f: &Features,
 ) -> Result<std::result::Result<CoarseMesh, Failure>> {
     let x = fine.coords();
-    let fine_vertex: Vec<u32> = (0..fine.num_vertices() as u32).filter(|&v| kept[v as usize]).collect();
+    // Exact capacities here and for the cells: the coarse level keeps these for the solver's life.
+    let mut fine_vertex: Vec<u32> = Vec::with_capacity(kept.iter().filter(|&&k| k).count());
+    fine_vertex.extend((0..fine.num_vertices() as u32).filter(|&v| kept[v as usize]));
     let mut coarse_of = vec![u32::MAX; fine.num_vertices()];
     for (i, &v) in fine_vertex.iter().enumerate() {
         coarse_of[v as usize] = i as u32;
@@ -126,7 +128,7 @@ pub(super) fn triangulate(
     }
 
     // Coarse cells: the inside faces, counter-clockwise (spade's orientation).
-    let mut cells: Vec<[u32; 3]> = Vec::new();
+    let mut cells: Vec<[u32; 3]> = Vec::with_capacity(inner.len());
     for fh in &inner {
         match inside[fh.index()] {
             Some(true) => cells.push(cdt.face(*fh).vertices().map(|v| cv(v.fix()))),
