@@ -89,6 +89,14 @@ impl CsrMatrix {
 
     /// The transpose, built by a counting sort (serial, done once per hierarchy).
     pub fn transpose(&self) -> CsrMatrix {
+        let (row_ptr, cols, pos) = self.transpose_positions();
+        let vals = pos.iter().map(|&p| self.vals[p as usize]).collect();
+        CsrMatrix { nrows: self.ncols, ncols: self.nrows, row_ptr, cols, vals }
+    }
+
+    /// The pattern of the transpose (row offsets and columns, each row's columns ascending) and,
+    /// per entry, its position in this matrix's `cols`/`vals`.
+    pub fn transpose_positions(&self) -> (Vec<u32>, Vec<u32>, Vec<u32>) {
         let mut row_ptr = vec![0u32; self.ncols + 1];
         for &c in &self.cols {
             row_ptr[c as usize + 1] += 1;
@@ -98,17 +106,17 @@ impl CsrMatrix {
         }
         let mut next = row_ptr.clone();
         let mut cols = vec![0u32; self.nnz()];
-        let mut vals = vec![0.0; self.nnz()];
+        let mut pos = vec![0u32; self.nnz()];
         for i in 0..self.nrows {
-            let (c, v) = self.row(i);
-            for (&j, &a) in c.iter().zip(v) {
-                let p = next[j as usize] as usize;
-                cols[p] = i as u32;
-                vals[p] = a;
-                next[j as usize] += 1;
+            for p in self.row_ptr[i]..self.row_ptr[i + 1] {
+                let j = self.cols[p as usize] as usize;
+                let q = next[j] as usize;
+                cols[q] = i as u32;
+                pos[q] = p;
+                next[j] += 1;
             }
         }
-        CsrMatrix { nrows: self.ncols, ncols: self.nrows, row_ptr, cols, vals }
+        (row_ptr, cols, pos)
     }
 
     /// Dense copy, for direct solves of small systems and for tests.

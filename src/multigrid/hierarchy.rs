@@ -6,6 +6,7 @@
 
 use super::coarse_solve::CoarseSolve;
 use super::coarsen::{coarsen, CoarsenParams};
+use super::restriction::Restriction;
 use super::smoother::{estimate_lambda_max, Problem};
 use super::transfer::{locate, update_weights, Location};
 use crate::bc::{check_well_posed, component_flags, BoundaryConditions, Dofs};
@@ -14,6 +15,7 @@ use crate::operator::{LevelOperator, Method};
 use crate::sparse::{offset, CsrMatrix};
 use crate::{Mesh, Result};
 use glam::DVec2;
+use std::sync::Arc;
 
 /// Interpolation from the next coarser level and its transpose.
 pub struct Transfer {
@@ -21,9 +23,10 @@ pub struct Transfer {
     /// are recomputed from these cells when the mesh moves).
     cells: Vec<u32>,
     /// Fine unknowns × coarse unknowns: barycentric weights in the coarse cell.
-    pub prolong: CsrMatrix,
-    /// Its transpose, stored so restriction is a gather too.
-    pub restrict: CsrMatrix,
+    pub prolong: Arc<CsrMatrix>,
+    /// Its transpose, stored (pattern only, weights read from `prolong`) so restriction is a
+    /// gather too.
+    pub restrict: Restriction,
 }
 
 pub struct Level {
@@ -202,10 +205,10 @@ impl Hierarchy {
             let mut coarse = Level::new(cm.mesh, cm.links, cm.fine_vertex, bcs, method);
             let (pts, regions) = fine.dof_points();
             let locs = locate(&coarse.mesh, &pts, &regions);
-            let prolong = prolongation(&coarse, &locs);
-            let restrict = prolong.transpose();
+            let prolong = Arc::new(prolongation(&coarse, &locs));
+            let restrict = Restriction::new(Arc::clone(&prolong));
             if params.coarse_operator.galerkin(method) {
-                coarse.op = LevelOperator::galerkin(&fine.op, &prolong, &restrict);
+                coarse.op = LevelOperator::galerkin(&fine.op, &prolong, &prolong.transpose());
                 coarse.refresh_bounds();
             }
             levels.last_mut().expect("fine level").down =
@@ -255,11 +258,10 @@ impl Hierarchy {
                 let mut locs: Vec<Location> =
                     down.cells.iter().map(|&cell| Location { cell, weights: [0.0; 3] }).collect();
                 update_weights(&coarse.mesh, &pts, &mut locs);
-                let prolong = prolongation(coarse, &locs);
-                down.restrict = prolong.transpose();
-                down.prolong = prolong;
+                down.prolong = Arc::new(prolongation(coarse, &locs));
+                down.restrict = Restriction::new(Arc::clone(&down.prolong));
                 if self.galerkin {
-                    coarse.op = LevelOperator::galerkin(&fine.op, &down.prolong, &down.restrict);
+                    coarse.op = LevelOperator::galerkin(&fine.op, &down.prolong, &down.prolong.transpose());
                 }
             }
             self.levels[l].refresh_bounds();
