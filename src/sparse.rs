@@ -89,14 +89,13 @@ impl CsrMatrix {
 
     /// The transpose, built by a counting sort (serial, done once per hierarchy).
     pub fn transpose(&self) -> CsrMatrix {
-        let (row_ptr, cols, pos) = self.transpose_positions();
-        let vals = pos.iter().map(|&p| self.vals[p as usize]).collect();
+        let (row_ptr, cols, vals) = self.transpose_map(|p, _| self.vals[p]);
         CsrMatrix { nrows: self.ncols, ncols: self.nrows, row_ptr, cols, vals }
     }
 
     /// The pattern of the transpose (row offsets and columns, each row's columns ascending) and,
-    /// per entry, its position in this matrix's `cols`/`vals`.
-    pub fn transpose_positions(&self) -> (Vec<u32>, Vec<u32>, Vec<u32>) {
+    /// per entry, `f(p, i)` of its position `p` in this matrix's `cols`/`vals` and its row `i` here.
+    pub fn transpose_map<T: Copy + Default>(&self, f: impl Fn(usize, usize) -> T) -> (Vec<u32>, Vec<u32>, Vec<T>) {
         let mut row_ptr = vec![0u32; self.ncols + 1];
         for &c in &self.cols {
             row_ptr[c as usize + 1] += 1;
@@ -106,17 +105,17 @@ impl CsrMatrix {
         }
         let mut next = row_ptr.clone();
         let mut cols = vec![0u32; self.nnz()];
-        let mut pos = vec![0u32; self.nnz()];
+        let mut out = vec![T::default(); self.nnz()];
         for i in 0..self.nrows {
-            for p in self.row_ptr[i]..self.row_ptr[i + 1] {
-                let j = self.cols[p as usize] as usize;
+            for p in self.row_ptr[i] as usize..self.row_ptr[i + 1] as usize {
+                let j = self.cols[p] as usize;
                 let q = next[j] as usize;
                 cols[q] = i as u32;
-                pos[q] = p;
+                out[q] = f(p, i);
                 next[j] += 1;
             }
         }
-        (row_ptr, cols, pos)
+        (row_ptr, cols, out)
     }
 
     /// Dense copy, for direct solves of small systems and for tests.

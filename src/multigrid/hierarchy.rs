@@ -29,6 +29,31 @@ pub struct Transfer {
     pub restrict: Restriction,
 }
 
+impl Transfer {
+    /// Locates the unknowns of `fine` in the cells of `coarse`. Runs with every finer level
+    /// alive, so its temporaries (points, locations) go as soon as they are used.
+    fn new(fine: &Level, coarse: &Level) -> Transfer {
+        let locs = {
+            let (pts, regions) = fine.dof_points();
+            locate(&coarse.mesh, &pts, &regions)
+        };
+        let prolong = Arc::new(prolongation(coarse, &locs));
+        let cells = locs.iter().map(|l| l.cell).collect();
+        drop(locs);
+        let restrict = Restriction::new(Arc::clone(&prolong));
+        Transfer { cells, prolong, restrict }
+    }
+
+    /// New weights in the same coarse cells, for the fine unknowns now at `pts`.
+    fn update(&mut self, pts: &[DVec2], coarse: &Level) {
+        let mut locs: Vec<Location> = self.cells.iter().map(|&cell| Location { cell, weights: [0.0; 3] }).collect();
+        update_weights(&coarse.mesh, pts, &mut locs);
+        self.prolong = Arc::new(prolongation(coarse, &locs));
+        drop(locs);
+        self.restrict = Restriction::new(Arc::clone(&self.prolong));
+    }
+}
+
 pub struct Level {
     pub mesh: Mesh,
     pub pairs: Vec<[u32; 2]>,
@@ -203,16 +228,12 @@ impl Hierarchy {
                 break;
             };
             let mut coarse = Level::new(cm.mesh, cm.links, cm.fine_vertex, bcs, method);
-            let (pts, regions) = fine.dof_points();
-            let locs = locate(&coarse.mesh, &pts, &regions);
-            let prolong = Arc::new(prolongation(&coarse, &locs));
-            let restrict = Restriction::new(Arc::clone(&prolong));
+            let down = Transfer::new(fine, &coarse);
             if params.coarse_operator.galerkin(method) {
-                coarse.op = LevelOperator::galerkin(&fine.op, &prolong, &prolong.transpose());
+                coarse.op = LevelOperator::galerkin(&fine.op, &down.prolong, &down.prolong.transpose());
                 coarse.refresh_bounds();
             }
-            levels.last_mut().expect("fine level").down =
-                Some(Transfer { cells: locs.iter().map(|l| l.cell).collect(), prolong, restrict });
+            levels.last_mut().expect("fine level").down = Some(down);
             levels.push(coarse);
         }
         let mut h = Hierarchy { levels, method, galerkin: params.coarse_operator.galerkin(method) };
@@ -251,15 +272,11 @@ impl Hierarchy {
             }
             if l > 0 {
                 // The transfer from the level above, then (Galerkin) this level's operator.
-                let (pts, _) = self.levels[l - 1].dof_points();
                 let (upper, rest) = self.levels.split_at_mut(l);
                 let (fine, coarse) = (&mut upper[l - 1], &mut rest[0]);
+                let pts = fine.dof_points().0;
                 let down = fine.down.as_mut().expect("not the coarsest level");
-                let mut locs: Vec<Location> =
-                    down.cells.iter().map(|&cell| Location { cell, weights: [0.0; 3] }).collect();
-                update_weights(&coarse.mesh, &pts, &mut locs);
-                down.prolong = Arc::new(prolongation(coarse, &locs));
-                down.restrict = Restriction::new(Arc::clone(&down.prolong));
+                down.update(&pts, coarse);
                 if self.galerkin {
                     coarse.op = LevelOperator::galerkin(&fine.op, &down.prolong, &down.prolong.transpose());
                 }

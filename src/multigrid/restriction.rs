@@ -23,14 +23,10 @@ pub struct Restriction {
 
 impl Restriction {
     pub fn new(prolong: Arc<CsrMatrix>) -> Restriction {
-        let (row_ptr, rows, pos) = prolong.transpose_positions();
-        let slots = rows
-            .iter()
-            .zip(&pos)
-            .map(|(&i, &p)| {
-                u8::try_from(p - prolong.row_ptr[i as usize]).expect("prolongation row of over 255 entries")
-            })
-            .collect();
+        let slot = |p: usize, i: usize| {
+            u8::try_from(p - prolong.row_ptr[i] as usize).expect("prolongation row of over 256 entries")
+        };
+        let (row_ptr, rows, slots) = prolong.transpose_map(slot);
         let rows_of_three = prolong.row_ptr.iter().enumerate().all(|(i, &p)| p as usize == 3 * i);
         Restriction { nrows: prolong.ncols, ncols: prolong.nrows, prolong, row_ptr, rows, slots, rows_of_three }
     }
