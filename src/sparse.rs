@@ -11,11 +11,14 @@ const PAR_ROWS: usize = 4096;
 const REDUCE_BLOCK: usize = 4096;
 
 /// A square or rectangular CSR matrix with sorted column indices per row.
+///
+/// Row offsets are u32 (half the memory of usize on every operator and transfer); constructors
+/// panic, naming the limit, if a matrix would hold 2^32 entries or more.
 #[derive(Clone, Debug, PartialEq)]
 pub struct CsrMatrix {
     pub nrows: usize,
     pub ncols: usize,
-    pub row_ptr: Vec<usize>,
+    pub row_ptr: Vec<u32>,
     pub cols: Vec<u32>,
     pub vals: Vec<f64>,
 }
@@ -25,7 +28,8 @@ impl CsrMatrix {
     pub fn from_pattern(nrows: usize, ncols: usize, mut pairs: Vec<(u32, u32)>) -> Self {
         pairs.sort_unstable();
         pairs.dedup();
-        let mut row_ptr = vec![0usize; nrows + 1];
+        let mut row_ptr = vec![0u32; nrows + 1];
+        offset(pairs.len());
         for &(r, _) in &pairs {
             row_ptr[r as usize + 1] += 1;
         }
@@ -54,7 +58,7 @@ impl CsrMatrix {
     }
 
     pub fn row(&self, i: usize) -> (&[u32], &[f64]) {
-        let r = self.row_ptr[i]..self.row_ptr[i + 1];
+        let r = self.row_ptr[i] as usize..self.row_ptr[i + 1] as usize;
         (&self.cols[r.clone()], &self.vals[r])
     }
 
@@ -68,7 +72,7 @@ impl CsrMatrix {
     /// Position of entry (i, j) in `cols`/`vals`, if it is in the pattern.
     pub fn find(&self, i: usize, j: usize) -> Option<usize> {
         let (c, _) = self.row(i);
-        c.binary_search(&(j as u32)).ok().map(|p| self.row_ptr[i] + p)
+        c.binary_search(&(j as u32)).ok().map(|p| self.row_ptr[i] as usize + p)
     }
 
     pub fn get(&self, i: usize, j: usize) -> f64 {
@@ -89,7 +93,14 @@ impl CsrMatrix {
 
     /// The transpose, built by a counting sort (serial, done once per hierarchy).
     pub fn transpose(&self) -> CsrMatrix {
-        let mut row_ptr = vec![0usize; self.ncols + 1];
+        let (row_ptr, cols, vals) = self.transpose_map(|p, _| self.vals[p]);
+        CsrMatrix { nrows: self.ncols, ncols: self.nrows, row_ptr, cols, vals }
+    }
+
+    /// The pattern of the transpose (row offsets and columns, each row's columns ascending) and,
+    /// per entry, `f(p, i)` of its position `p` in this matrix's `cols`/`vals` and its row `i` here.
+    pub fn transpose_map<T: Copy + Default>(&self, f: impl Fn(usize, usize) -> T) -> (Vec<u32>, Vec<u32>, Vec<T>) {
+        let mut row_ptr = vec![0u32; self.ncols + 1];
         for &c in &self.cols {
             row_ptr[c as usize + 1] += 1;
         }
@@ -98,17 +109,17 @@ impl CsrMatrix {
         }
         let mut next = row_ptr.clone();
         let mut cols = vec![0u32; self.nnz()];
-        let mut vals = vec![0.0; self.nnz()];
+        let mut out = vec![T::default(); self.nnz()];
         for i in 0..self.nrows {
-            let (c, v) = self.row(i);
-            for (&j, &a) in c.iter().zip(v) {
-                let p = next[j as usize];
-                cols[p] = i as u32;
-                vals[p] = a;
-                next[j as usize] += 1;
+            for p in self.row_ptr[i] as usize..self.row_ptr[i + 1] as usize {
+                let j = self.cols[p] as usize;
+                let q = next[j] as usize;
+                cols[q] = i as u32;
+                out[q] = f(p, i);
+                next[j] += 1;
             }
         }
-        CsrMatrix { nrows: self.ncols, ncols: self.nrows, row_ptr, cols, vals }
+        (row_ptr, cols, out)
     }
 
     /// Dense copy, for direct solves of small systems and for tests.
@@ -158,17 +169,24 @@ pub fn matmul(a: &CsrMatrix, b: &CsrMatrix) -> CsrMatrix {
         )
         .collect();
     let mut row_ptr = Vec::with_capacity(a.nrows + 1);
+    let mut nnz = 0;
     row_ptr.push(0);
     for (c, _) in &rows {
-        row_ptr.push(row_ptr.last().unwrap() + c.len());
+        nnz += c.len();
+        row_ptr.push(offset(nnz));
     }
-    let mut cols = Vec::with_capacity(*row_ptr.last().unwrap());
+    let mut cols = Vec::with_capacity(nnz);
     let mut vals = Vec::with_capacity(cols.capacity());
     for (c, v) in rows {
         cols.extend(c);
         vals.extend(v);
     }
     CsrMatrix { nrows: a.nrows, ncols: b.ncols, row_ptr, cols, vals }
+}
+
+/// `n` as a row offset: the entry count of a matrix must stay below 2^32.
+pub(crate) fn offset(n: usize) -> u32 {
+    u32::try_from(n).unwrap_or_else(|_| panic!("sparse matrix with {n} entries: at most 2^32 - 1 are supported"))
 }
 
 /// `out[i] = f(i)` for all i, in parallel for long vectors. Deterministic: each entry is computed

@@ -4,21 +4,26 @@
 use super::numbering::reverse_cuthill_mckee;
 use crate::Mesh;
 
+/// The unknowns of a mesh. Only the vertex maps are stored in full; how cell corners, linked
+/// vertices and split regions map to unknowns is derived from them plus short exception lists
+/// (a level's memory is dominated by per-cell and per-unknown arrays).
 #[derive(Clone, Debug)]
 pub struct Dofs {
     pub n: usize,
-    /// The unknown of each cell corner.
-    pub cell_dofs: Vec<[u32; 3]>,
     /// One unknown of each vertex (for a split vertex, that of its first cell: all its copies
     /// are prescribed alike).
     pub vertex_dof: Vec<u32>,
     /// A vertex of each unknown (the smallest), for its position and flags.
     pub dof_vertex: Vec<u32>,
-    /// Every vertex of each unknown, as CSR (`dof_vertices_ptr`), to gather flags from all.
-    pub dof_vertices_ptr: Vec<u32>,
-    pub dof_vertices: Vec<u32>,
-    /// The region of a split unknown; None when the unknown is not split.
-    pub dof_region: Vec<Option<i32>>,
+    /// Unknowns with more than one vertex (linked vertices), ascending, and their vertices as
+    /// CSR (`shared_ptr`); every other unknown has `dof_vertex` alone.
+    shared_dofs: Vec<u32>,
+    shared_ptr: Vec<u32>,
+    shared_vertices: Vec<u32>,
+    /// (vertex, region, unknown) of every corner at a split vertex, sorted; empty without splits.
+    split_corners: Vec<(u32, i32, u32)>,
+    /// (unknown, region) of every split unknown, ascending.
+    split_regions: Vec<(u32, i32)>,
 }
 
 fn find(parent: &mut [u32], mut v: u32) -> u32 {
@@ -92,20 +97,105 @@ impl Dofs {
         }
         members.sort_unstable();
         members.dedup();
-        let mut dof_vertices_ptr = vec![0u32; n + 1];
-        for &(d, _) in &members {
-            dof_vertices_ptr[d as usize + 1] += 1;
+        // Every unknown comes from a corner, so the groups are the unknowns 0..n in order.
+        let mut dof_vertex = Vec::with_capacity(n);
+        let (mut shared_dofs, mut shared_ptr, mut shared_vertices) = (Vec::new(), vec![0u32], Vec::new());
+        for group in members.chunk_by(|a, b| a.0 == b.0) {
+            dof_vertex.push(group[0].1);
+            if group.len() > 1 {
+                shared_dofs.push(group[0].0);
+                shared_vertices.extend(group.iter().map(|&(_, v)| v));
+                shared_ptr.push(shared_vertices.len() as u32);
+            }
         }
-        for i in 0..n {
-            dof_vertices_ptr[i + 1] += dof_vertices_ptr[i];
+        let mut split_corners: Vec<(u32, i32, u32)> = Vec::new();
+        for (c, (t, d)) in mesh.cells().iter().zip(&cell_dofs).enumerate() {
+            for k in 0..3 {
+                if split[root[t[k] as usize] as usize] {
+                    split_corners.push((t[k], mesh.regions()[c], d[k]));
+                }
+            }
         }
-        let dof_vertices: Vec<u32> = members.iter().map(|&(_, v)| v).collect();
-        let dof_vertex = (0..n).map(|d| dof_vertices[dof_vertices_ptr[d] as usize]).collect();
-        let dof_region = keys.iter().map(|&(_, r)| (r != NONE).then_some(r as i32)).collect();
-        Dofs { n, cell_dofs, vertex_dof, dof_vertex, dof_vertices_ptr, dof_vertices, dof_region }
+        split_corners.sort_unstable();
+        split_corners.dedup();
+        let split_regions =
+            keys.iter().enumerate().filter(|(_, k)| k.1 != NONE).map(|(d, k)| (d as u32, k.1 as i32)).collect();
+        Dofs { n, vertex_dof, dof_vertex, shared_dofs, shared_ptr, shared_vertices, split_corners, split_regions }
     }
 
+    /// Every vertex of unknown `d` (several when linked), to gather flags from all.
     pub fn vertices_of(&self, d: usize) -> &[u32] {
-        &self.dof_vertices[self.dof_vertices_ptr[d] as usize..self.dof_vertices_ptr[d + 1] as usize]
+        match self.shared_dofs.binary_search(&(d as u32)) {
+            Ok(s) => &self.shared_vertices[self.shared_ptr[s] as usize..self.shared_ptr[s + 1] as usize],
+            Err(_) => std::slice::from_ref(&self.dof_vertex[d]),
+        }
+    }
+
+    /// The region of a split unknown; None when the unknown is not split.
+    pub fn region_of(&self, d: usize) -> Option<i32> {
+        let k = self.split_regions.binary_search_by_key(&(d as u32), |&(d, _)| d).ok()?;
+        Some(self.split_regions[k].1)
+    }
+
+    /// The unknown of each corner of cell `c` of `mesh`, the mesh these unknowns were built on.
+    pub fn cell_dofs(&self, mesh: &Mesh, c: usize) -> [u32; 3] {
+        let t = mesh.cells()[c];
+        if self.split_corners.is_empty() {
+            return t.map(|v| self.vertex_dof[v as usize]);
+        }
+        let r = mesh.regions()[c];
+        t.map(|v| match self.split_corners.binary_search_by(|e| (e.0, e.1).cmp(&(v, r))) {
+            Ok(k) => self.split_corners[k].2,
+            Err(_) => self.vertex_dof[v as usize],
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::multigrid::coarsen::tests::two_regions;
+    use std::collections::BTreeMap;
+
+    /// Links (left and right sides) and a split interface: corners with the same key (root
+    /// vertex, region when split) share one unknown, and the derived tables agree with the keys.
+    #[test]
+    fn derived_tables_match_corner_keys() {
+        let m = two_regions(6);
+        let x = m.coords();
+        let pairs: Vec<[u32; 2]> = (0..x.len() as u32)
+            .filter(|&a| x[a as usize].x == 0.0)
+            .map(|a| [a, (0..x.len() as u32).find(|&b| x[b as usize] == x[a as usize] + glam::DVec2::X).unwrap()])
+            .collect();
+        let dofs = Dofs::build(&m, &pairs, &[9]);
+        let root = |v: u32| pairs.iter().find(|p| p[1] == v).map_or(v, |p| p[0]);
+        let split = |v: u32| (x[root(v) as usize].y - 0.5).abs() < 1e-12;
+        let key = |v: u32, c: usize| (root(v), split(v).then(|| m.regions()[c]));
+        let mut members: BTreeMap<(u32, Option<i32>), Vec<u32>> = BTreeMap::new();
+        for (c, t) in m.cells().iter().enumerate() {
+            t.iter().for_each(|&v| members.entry(key(v, c)).or_default().push(v));
+        }
+        assert_eq!(dofs.n, members.len());
+        // Unknowns are numbered for locality, so corners map to keys one-to-one, in some order.
+        let mut key_of: Vec<Option<(u32, Option<i32>)>> = vec![None; dofs.n];
+        for (c, t) in m.cells().iter().enumerate() {
+            let d = dofs.cell_dofs(&m, c);
+            for k in 0..3 {
+                let e = key_of[d[k] as usize].get_or_insert(key(t[k], c));
+                assert_eq!(*e, key(t[k], c), "unknown {} has two keys", d[k]);
+            }
+        }
+        for d in 0..dofs.n {
+            let k = key_of[d].expect("every unknown is a corner's");
+            let vs = members.get_mut(&k).expect("a key of the mesh");
+            vs.sort_unstable();
+            vs.dedup();
+            assert_eq!(dofs.vertices_of(d), &vs[..]);
+            assert_eq!(dofs.dof_vertex[d], vs[0]);
+            assert_eq!(dofs.region_of(d), k.1);
+        }
+        // Both exception tables are exercised: 7 interface vertices × 2 regions; 7 linked rows,
+        // the interface one split in two.
+        assert_eq!((dofs.split_corners.len(), dofs.shared_dofs.len()), (14, 8));
     }
 }

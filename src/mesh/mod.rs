@@ -1,8 +1,8 @@
-//! The mesh: vertices, cells, boundary patches, regions, and the vertex graph (DESIGN §2).
+//! The mesh: vertices, cells, boundary patches and regions (DESIGN §2).
 //!
-//! Cells are triangles today. Everything downstream (operators, multigrid) works on the CSR
-//! vertex graph and on per-cell element contributions, so tetrahedra and mixed cells add a cell
-//! kind here and an element routine in `operator`, not a new data model.
+//! Cells are triangles today. Everything downstream (operators, multigrid) works on per-cell
+//! element contributions and on adjacency derived from the cells, so tetrahedra and mixed cells
+//! add a cell kind here and an element routine in `operator`, not a new data model.
 
 mod error;
 pub mod quality;
@@ -11,9 +11,8 @@ mod topology;
 pub(crate) mod validate;
 
 pub use error::MeshError;
-pub use topology::{edge_key, EdgeCells};
+pub use topology::{edge_key, EdgeCells, VertexCells};
 
-use crate::sparse::CsrMatrix;
 use glam::DVec2;
 
 /// First index of the caller's vertex numbering: C passes 0, Fortran 1.
@@ -41,8 +40,6 @@ pub struct Mesh {
     cells: Vec<[u32; 3]>,
     regions: Vec<i32>,
     patch_edges: Vec<PatchEdge>,
-    /// Vertex adjacency including the diagonal; values unused (the pattern of every operator).
-    graph: CsrMatrix,
 }
 
 /// A tagged edge as the caller gives it: two vertex indices (in the caller's base) and a patch id.
@@ -85,8 +82,13 @@ impl Mesh {
         regions: Vec<i32>,
         patch_edges: Vec<PatchEdge>,
     ) -> Mesh {
-        let graph = topology::vertex_graph(coords.len(), &cells);
-        Mesh { coords, cells, regions, patch_edges, graph }
+        let mut m = Mesh { coords, cells, regions, patch_edges };
+        // Multigrid levels keep their meshes for the solver's life: no spare capacity.
+        m.coords.shrink_to_fit();
+        m.cells.shrink_to_fit();
+        m.regions.shrink_to_fit();
+        m.patch_edges.shrink_to_fit();
+        m
     }
 
     pub fn num_vertices(&self) -> usize {
@@ -107,9 +109,10 @@ impl Mesh {
     pub fn patch_edges(&self) -> &[PatchEdge] {
         &self.patch_edges
     }
-    /// Vertex adjacency with the diagonal, sorted columns: the sparsity of every operator.
-    pub fn graph(&self) -> &CsrMatrix {
-        &self.graph
+    /// The cells around each vertex, computed on demand (meshes are held by every multigrid
+    /// level, so adjacency is not stored with them).
+    pub fn vertex_cells(&self) -> VertexCells {
+        VertexCells::build(self.coords.len(), &self.cells)
     }
 
     /// Coordinates as plain pairs, for callers without glam.

@@ -1,7 +1,6 @@
-//! Edges and the cells beside them, boundary and interface patches, and the vertex graph.
+//! Edges and the cells beside them, boundary and interface patches, and the cells around vertices.
 
 use super::{MeshError, PatchEdge};
-use crate::sparse::CsrMatrix;
 use std::collections::HashMap;
 
 /// Key of an undirected edge: the smaller vertex in the high half.
@@ -98,16 +97,39 @@ pub(super) fn patch_edges(
     Ok(out)
 }
 
-/// Vertex adjacency (with the diagonal) of a triangle mesh.
-pub(super) fn vertex_graph(nv: usize, cells: &[[u32; 3]]) -> CsrMatrix {
-    let mut pairs = Vec::with_capacity(6 * cells.len() + nv);
-    pairs.extend((0..nv as u32).map(|i| (i, i)));
-    for t in cells {
-        for k in 0..3 {
-            let (a, b) = (t[k], t[(k + 1) % 3]);
-            pairs.push((a, b));
-            pairs.push((b, a));
+/// The cells around each vertex (CSR, ascending cell index): a vertex's neighbours are the
+/// vertices of these cells, so this serves as the vertex graph at about half its memory.
+pub struct VertexCells {
+    ptr: Vec<u32>,
+    cells: Vec<u32>,
+}
+
+impl VertexCells {
+    pub fn build(nv: usize, cells: &[[u32; 3]]) -> VertexCells {
+        let total = u32::try_from(3 * cells.len()).expect("vertex-cell incidence: more than 2^32 corners");
+        let mut ptr = vec![0u32; nv + 1];
+        for t in cells {
+            for &v in t {
+                ptr[v as usize + 1] += 1;
+            }
         }
+        for i in 0..nv {
+            ptr[i + 1] += ptr[i];
+        }
+        debug_assert_eq!(ptr[nv], total);
+        let mut next = ptr.clone();
+        let mut inc = vec![0u32; total as usize];
+        for (c, t) in cells.iter().enumerate() {
+            for &v in t {
+                inc[next[v as usize] as usize] = c as u32;
+                next[v as usize] += 1;
+            }
+        }
+        VertexCells { ptr, cells: inc }
     }
-    CsrMatrix::from_pattern(nv, nv, pairs)
+
+    /// The cells having `v` as a corner.
+    pub fn of(&self, v: usize) -> &[u32] {
+        &self.cells[self.ptr[v] as usize..self.ptr[v + 1] as usize]
+    }
 }

@@ -6,29 +6,58 @@
 
 use super::coarse_solve::CoarseSolve;
 use super::coarsen::{coarsen, CoarsenParams};
+use super::restriction::Restriction;
 use super::smoother::{estimate_lambda_max, Problem};
 use super::transfer::{locate, update_weights, Location};
 use crate::bc::{check_well_posed, component_flags, BoundaryConditions, Dofs};
 use crate::mesh::quality::signed_areas;
-use crate::operator::{Assembly, LevelOperator, Method};
-use crate::sparse::CsrMatrix;
+use crate::operator::{LevelOperator, Method};
+use crate::sparse::{offset, CsrMatrix};
 use crate::{Mesh, Result};
 use glam::DVec2;
+use std::sync::Arc;
 
 /// Interpolation from the next coarser level and its transpose.
 pub struct Transfer {
-    locs: Vec<Location>,
+    /// The coarse cell each fine unknown interpolates from; its weights are in `prolong` (and
+    /// are recomputed from these cells when the mesh moves).
+    cells: Vec<u32>,
     /// Fine unknowns × coarse unknowns: barycentric weights in the coarse cell.
-    pub prolong: CsrMatrix,
-    /// Its transpose, stored so restriction is a gather too.
-    pub restrict: CsrMatrix,
+    pub prolong: Arc<CsrMatrix>,
+    /// Its transpose, stored (pattern only, weights read from `prolong`) so restriction is a
+    /// gather too.
+    pub restrict: Restriction,
+}
+
+impl Transfer {
+    /// Locates the unknowns of `fine` in the cells of `coarse`. Runs with every finer level
+    /// alive, so its temporaries (points, locations) go as soon as they are used.
+    fn new(fine: &Level, coarse: &Level) -> Transfer {
+        let locs = {
+            let (pts, regions) = fine.dof_points();
+            locate(&coarse.mesh, &pts, &regions)
+        };
+        let prolong = Arc::new(prolongation(coarse, &locs));
+        let cells = locs.iter().map(|l| l.cell).collect();
+        drop(locs);
+        let restrict = Restriction::new(Arc::clone(&prolong));
+        Transfer { cells, prolong, restrict }
+    }
+
+    /// New weights in the same coarse cells, for the fine unknowns now at `pts`.
+    fn update(&mut self, pts: &[DVec2], coarse: &Level) {
+        let mut locs: Vec<Location> = self.cells.iter().map(|&cell| Location { cell, weights: [0.0; 3] }).collect();
+        update_weights(&coarse.mesh, pts, &mut locs);
+        self.prolong = Arc::new(prolongation(coarse, &locs));
+        drop(locs);
+        self.restrict = Restriction::new(Arc::clone(&self.prolong));
+    }
 }
 
 pub struct Level {
     pub mesh: Mesh,
     pub pairs: Vec<[u32; 2]>,
     pub dofs: Dofs,
-    asm: Assembly,
     pub op: LevelOperator,
     pub flags: [Vec<u8>; 2],
     pub inv_d: [Vec<f64>; 2],
@@ -50,14 +79,12 @@ impl Level {
         method: Method,
     ) -> Level {
         let dofs = Dofs::build(&mesh, &pairs, &bcs.split_patches());
-        let asm = Assembly::new(&dofs);
         let flags = [0, 1].map(|c| component_flags(&mesh, &dofs, bcs, c));
-        let op = LevelOperator::new(method, &asm, mesh.coords(), mesh.cells(), &dofs);
+        let op = LevelOperator::new(method, &mesh, &dofs);
         let mut level = Level {
             mesh,
             pairs,
             dofs,
-            asm,
             op,
             flags,
             inv_d: [Vec::new(), Vec::new()],
@@ -102,21 +129,35 @@ impl Level {
             }
         }
         let regions = (0..self.dofs.n)
-            .map(|d| self.dofs.dof_region[d].or(vregion[self.dofs.dof_vertex[d] as usize].flatten()))
+            .map(|d| self.dofs.region_of(d).or(vregion[self.dofs.dof_vertex[d] as usize].flatten()))
             .collect();
         (pts, regions)
     }
 }
 
-fn prolongation(n_fine: usize, coarse: &Level, locs: &[Location]) -> CsrMatrix {
-    let mut t = Vec::with_capacity(3 * locs.len());
-    for (i, loc) in locs.iter().enumerate() {
-        let cd = coarse.dofs.cell_dofs[loc.cell as usize];
-        for k in 0..3 {
-            t.push((i as u32, cd[k], loc.weights[k]));
+/// Row i interpolates fine unknown i from the unknowns of its coarse cell with the barycentric
+/// weights: columns ascending, corners sharing an unknown summed in corner order onto zero
+/// (exactly what `CsrMatrix::from_triplets` gives, built row by row without its triplet list).
+fn prolongation(coarse: &Level, locs: &[Location]) -> CsrMatrix {
+    let n = locs.len();
+    let (mut row_ptr, mut cols, mut vals) =
+        (Vec::with_capacity(n + 1), Vec::with_capacity(3 * n), Vec::with_capacity(3 * n));
+    row_ptr.push(0);
+    for loc in locs {
+        let cd = coarse.dofs.cell_dofs(&coarse.mesh, loc.cell as usize);
+        let mut corners = [0, 1, 2];
+        corners.sort_by_key(|&k| cd[k]);
+        let start = cols.len();
+        for k in corners {
+            if cols.len() == start || cols[cols.len() - 1] != cd[k] {
+                cols.push(cd[k]);
+                vals.push(0.0);
+            }
+            *vals.last_mut().expect("pushed above") += loc.weights[k];
         }
+        row_ptr.push(offset(cols.len()));
     }
-    CsrMatrix::from_triplets(n_fine, coarse.n(), t)
+    CsrMatrix { nrows: n, ncols: coarse.n(), row_ptr, cols, vals }
 }
 
 /// How a coarse level's K and V are made.
@@ -187,15 +228,12 @@ impl Hierarchy {
                 break;
             };
             let mut coarse = Level::new(cm.mesh, cm.links, cm.fine_vertex, bcs, method);
-            let (pts, regions) = fine.dof_points();
-            let locs = locate(&coarse.mesh, &pts, &regions);
-            let prolong = prolongation(fine.n(), &coarse, &locs);
-            let restrict = prolong.transpose();
+            let down = Transfer::new(fine, &coarse);
             if params.coarse_operator.galerkin(method) {
-                coarse.op = LevelOperator::galerkin(&fine.op, &prolong, &restrict);
+                coarse.op = LevelOperator::galerkin(&fine.op, &down.prolong, &down.prolong.transpose());
                 coarse.refresh_bounds();
             }
-            levels.last_mut().expect("fine level").down = Some(Transfer { locs, prolong, restrict });
+            levels.last_mut().expect("fine level").down = Some(down);
             levels.push(coarse);
         }
         let mut h = Hierarchy { levels, method, galerkin: params.coarse_operator.galerkin(method) };
@@ -226,26 +264,21 @@ impl Hierarchy {
             }
             coords.push(c);
         }
-        let method = self.method;
         for (l, c) in coords.into_iter().enumerate() {
             let level = &mut self.levels[l];
             level.mesh = level.mesh.with_coords(c);
             if l == 0 || !self.galerkin {
-                level.op = LevelOperator::new(method, &level.asm, level.mesh.coords(), level.mesh.cells(), &level.dofs);
+                level.op.reassemble(&level.mesh, &level.dofs);
             }
             if l > 0 {
                 // The transfer from the level above, then (Galerkin) this level's operator.
-                let (pts, _) = self.levels[l - 1].dof_points();
                 let (upper, rest) = self.levels.split_at_mut(l);
                 let (fine, coarse) = (&mut upper[l - 1], &mut rest[0]);
-                let n_fine = fine.n();
+                let pts = fine.dof_points().0;
                 let down = fine.down.as_mut().expect("not the coarsest level");
-                update_weights(&coarse.mesh, &pts, &mut down.locs);
-                let prolong = prolongation(n_fine, coarse, &down.locs);
-                down.restrict = prolong.transpose();
-                down.prolong = prolong;
+                down.update(&pts, coarse);
                 if self.galerkin {
-                    coarse.op = LevelOperator::galerkin(&fine.op, &down.prolong, &down.restrict);
+                    coarse.op = LevelOperator::galerkin(&fine.op, &down.prolong, &down.prolong.transpose());
                 }
             }
             self.levels[l].refresh_bounds();

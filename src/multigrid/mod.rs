@@ -5,6 +5,7 @@ pub mod coarse_solve;
 pub mod coarsen;
 pub mod cycle;
 pub mod hierarchy;
+pub mod restriction;
 pub mod smoother;
 pub mod solve;
 pub mod transfer;

@@ -104,18 +104,17 @@ impl<'a> Locator<'a> {
             bucket_cells: Vec::new(),
             regions: Vec::new(),
         };
-        let ranges: Vec<[usize; 4]> = cells
-            .iter()
-            .map(|t| {
-                let p = t.map(|v| coords[v as usize]);
-                let (a, b) = (p[0].min(p[1]).min(p[2]), p[0].max(p[1]).max(p[2]));
-                let (i0, j0) = loc.bucket_of(a);
-                let (i1, j1) = loc.bucket_of(b);
-                [i0, j0, i1, j1]
-            })
-            .collect();
+        // The buckets a cell's bounding box overlaps; computed in both passes rather than stored
+        // (a list of them would be the largest allocation of a whole coarsening).
+        let range = |t: &[u32; 3]| {
+            let p = t.map(|v| coords[v as usize]);
+            let (a, b) = (p[0].min(p[1]).min(p[2]), p[0].max(p[1]).max(p[2]));
+            let (i0, j0) = loc.bucket_of(a);
+            let (i1, j1) = loc.bucket_of(b);
+            [i0, j0, i1, j1]
+        };
         let mut count = vec![0u32; nx * ny + 1];
-        for r in &ranges {
+        for r in cells.iter().map(range) {
             for j in r[1]..=r[3] {
                 for i in r[0]..=r[2] {
                     count[j * nx + i + 1] += 1;
@@ -127,7 +126,7 @@ impl<'a> Locator<'a> {
         }
         let mut next = count.clone();
         let mut bucket_cells = vec![0u32; count[nx * ny] as usize];
-        for (c, r) in ranges.iter().enumerate() {
+        for (c, r) in cells.iter().map(range).enumerate() {
             for j in r[1]..=r[3] {
                 for i in r[0]..=r[2] {
                     let k = j * nx + i;

@@ -6,10 +6,10 @@
 //!
 //! Vectors live on the unknowns; corrections are zero on P unknowns.
 
-use super::{close_diagonal, lumped_mass, spring_stiffness, stiffness, Assembly, Method};
+use super::{close_diagonal, lumped_mass, spring_stiffness, stiffness, stiffness_pattern, Method};
 use crate::bc::{Dofs, P, Z};
 use crate::sparse::{matmul, par_fill, par_update, CsrMatrix};
-use glam::DVec2;
+use crate::Mesh;
 
 pub struct LevelOperator {
     pub method: Method,
@@ -19,14 +19,21 @@ pub struct LevelOperator {
 }
 
 impl LevelOperator {
-    pub fn new(method: Method, asm: &Assembly, coords: &[DVec2], cells: &[[u32; 3]], dofs: &Dofs) -> Self {
-        let k = match method {
-            Method::Spring => spring_stiffness(asm, coords, cells, dofs),
-            _ => stiffness(asm, coords, cells, dofs),
-        };
-        let v = lumped_mass(coords, cells, dofs);
-        let inv_v = v.iter().map(|&v| 1.0 / v).collect();
-        LevelOperator { method, k, v, inv_v }
+    pub fn new(method: Method, mesh: &Mesh, dofs: &Dofs) -> Self {
+        let mut op = LevelOperator { method, k: stiffness_pattern(mesh, dofs), v: Vec::new(), inv_v: Vec::new() };
+        op.reassemble(mesh, dofs);
+        op
+    }
+
+    /// Re-evaluates K and V at new vertex positions, refilling K's values in place (its pattern
+    /// is the topology's, so it is not rebuilt or kept twice). Only for operators from `new`.
+    pub fn reassemble(&mut self, mesh: &Mesh, dofs: &Dofs) {
+        match self.method {
+            Method::Spring => spring_stiffness(&mut self.k, mesh, dofs),
+            _ => stiffness(&mut self.k, mesh, dofs),
+        }
+        self.v = lumped_mass(mesh, dofs);
+        self.inv_v = self.v.iter().map(|&v| 1.0 / v).collect();
     }
 
     /// The coarse operator of a multigrid level by Galerkin projection of the fine one's

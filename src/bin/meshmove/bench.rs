@@ -235,7 +235,7 @@ fn run_size(a: &Args, mesh: &Mesh, threads: usize, all: bool, rows: &mut Vec<Row
             let j = jacobi::solve(lev, COMP, &b, &mut x, a.tol, cap);
             // Its own vectors plus the fine K, V, 1/V, 1/D it sweeps with (no hierarchy).
             let k = &lev.op.k;
-            let fine = k.row_ptr.len() * 8 + k.nnz() * 12 + lev.n() * (3 * 8 + 2);
+            let fine = std::mem::size_of_val(&k.row_ptr[..]) + k.nnz() * 12 + lev.n() * (3 * 8 + 2);
             let bytes = (alloc::peak_above(base) + fine) as f64 / nv as f64;
             rows.push(Row {
                 levels: 1,

@@ -11,7 +11,7 @@ mod triangulate;
 
 use super::transfer::Locator;
 use crate::error::{Error, Result};
-use crate::mesh::{edge_key, EdgeCells, Mesh, PatchEdge};
+use crate::mesh::{edge_key, EdgeCells, Mesh, PatchEdge, VertexCells};
 use glam::DVec2;
 use spade::handles::FixedVertexHandle;
 use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
@@ -98,10 +98,11 @@ pub fn coarsen(fine: &Mesh, links: &[[u32; 2]], params: &CoarsenParams) -> Resul
         return Ok(None);
     }
     let features = Features::build(fine, links, params);
+    let around = fine.vertex_cells();
     let mut keep_all = vec![false; features.chains.len()];
     let mut banned = vec![false; nv];
     for _ in 0..MAX_ATTEMPTS {
-        let Some((kept, segments)) = select(fine, links, &features, &keep_all, &banned) else {
+        let Some((kept, segments)) = select(fine, &around, links, &features, &keep_all, &banned) else {
             return Ok(None);
         };
         let nc = kept.iter().filter(|&&k| k).count();
@@ -263,6 +264,7 @@ fn sync_links(links: &[[u32; 2]], kept: &mut [bool]) {
 /// Chooses the kept vertices and the coarse feature segments; None when no valid choice exists.
 fn select(
     fine: &Mesh,
+    around: &VertexCells,
     links: &[[u32; 2]],
     f: &Features,
     keep_all: &[bool],
@@ -314,22 +316,23 @@ fn select(
         }
     };
     // Interior points: greedy maximal independent set in index order, kept feature vertices
-    // already selected.
-    let g = fine.graph();
+    // already selected. A vertex's neighbours are the corners of its cells.
+    let cells = fine.cells();
     let mut blocked = vec![false; nv];
-    for v in (0..nv).filter(|&v| kept[v]) {
-        for &j in g.row(v).0 {
-            blocked[j as usize] = true;
+    let block_around = |v: usize, blocked: &mut [bool]| {
+        for &c in around.of(v) {
+            cells[c as usize].iter().for_each(|&j| blocked[j as usize] = true);
         }
+    };
+    for v in (0..nv).filter(|&v| kept[v]) {
+        block_around(v, &mut blocked);
     }
     for v in 0..nv {
         if kept[v] || f.on_feature[v] || blocked[v] || banned[v] {
             continue;
         }
         kept[v] = true;
-        for &j in g.row(v).0 {
-            blocked[j as usize] = true;
-        }
+        block_around(v, &mut blocked);
     }
     sync_links(links, &mut kept);
     for v in 0..nv {

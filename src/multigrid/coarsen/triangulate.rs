@@ -11,7 +11,9 @@ pub(super) fn triangulate(
     f: &Features,
 ) -> Result<std::result::Result<CoarseMesh, Failure>> {
     let x = fine.coords();
-    let fine_vertex: Vec<u32> = (0..fine.num_vertices() as u32).filter(|&v| kept[v as usize]).collect();
+    // Exact capacities here and for the cells: the coarse level keeps these for the solver's life.
+    let mut fine_vertex: Vec<u32> = Vec::with_capacity(kept.iter().filter(|&&k| k).count());
+    fine_vertex.extend((0..fine.num_vertices() as u32).filter(|&v| kept[v as usize]));
     let mut coarse_of = vec![u32::MAX; fine.num_vertices()];
     for (i, &v) in fine_vertex.iter().enumerate() {
         coarse_of[v as usize] = i as u32;
@@ -126,7 +128,7 @@ pub(super) fn triangulate(
     }
 
     // Coarse cells: the inside faces, counter-clockwise (spade's orientation).
-    let mut cells: Vec<[u32; 3]> = Vec::new();
+    let mut cells: Vec<[u32; 3]> = Vec::with_capacity(inner.len());
     for fh in &inner {
         match inside[fh.index()] {
             Some(true) => cells.push(cdt.face(*fh).vertices().map(|v| cv(v.fix()))),
@@ -205,7 +207,9 @@ pub(super) fn triangulate(
     let ncell = cells.len();
     let mut comp = vec![u32::MAX; ncell];
     let mut regions = vec![0i32; ncell];
-    let locator = Locator::new(fine);
+    let fine_regions = fine.regions();
+    // With one region there is nothing to look up: skip the point locator over the fine mesh.
+    let locator = fine_regions.iter().any(|&r| r != fine_regions[0]).then(|| Locator::new(fine));
     let mut stack = Vec::new();
     for start in 0..ncell {
         if comp[start] != u32::MAX {
@@ -237,8 +241,8 @@ pub(super) fn triangulate(
             }
         }
         let [a, b, d] = cells[big].map(|v| cx[v as usize]);
-        let fine_cell = locator.locate((a + b + d) / 3.0, None).cell;
-        let r = fine.regions()[fine_cell as usize];
+        let r =
+            locator.as_ref().map_or(fine_regions[0], |l| fine_regions[l.locate((a + b + d) / 3.0, None).cell as usize]);
         for &c in &members {
             regions[c] = r;
         }

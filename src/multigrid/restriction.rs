@@ -1,0 +1,67 @@
+//! Restriction Pᵀ as a gather over coarse rows (deterministic and parallel, like every product
+//! here) that stores no weights of its own: each entry names its fine row and its slot in that
+//! row of P and reads the weight there. An explicit transpose would hold every weight twice.
+
+use crate::sparse::{par_fill, CsrMatrix};
+use std::sync::Arc;
+
+pub struct Restriction {
+    /// Coarse unknowns.
+    pub nrows: usize,
+    /// Fine unknowns.
+    pub ncols: usize,
+    prolong: Arc<CsrMatrix>,
+    row_ptr: Vec<u32>,
+    /// Fine row of each entry, ascending within a coarse row (as in the explicit transpose).
+    rows: Vec<u32>,
+    /// Where the entry sits within its row of P (prolongation rows have at most three).
+    slots: Vec<u8>,
+    /// Every row of P has three entries (no coarse cell with a repeated unknown), so row i
+    /// starts at 3i: one random read per entry fewer, which halves the cost over `row_ptr`.
+    rows_of_three: bool,
+}
+
+impl Restriction {
+    pub fn new(prolong: Arc<CsrMatrix>) -> Restriction {
+        let slot = |p: usize, i: usize| {
+            u8::try_from(p - prolong.row_ptr[i] as usize).expect("prolongation row of over 256 entries")
+        };
+        let (row_ptr, rows, slots) = prolong.transpose_map(slot);
+        let rows_of_three = prolong.row_ptr.iter().enumerate().all(|(i, &p)| p as usize == 3 * i);
+        Restriction { nrows: prolong.ncols, ncols: prolong.nrows, prolong, row_ptr, rows, slots, rows_of_three }
+    }
+
+    /// y = Pᵀ x, bitwise as `prolong.transpose().mul_vec(x, y)`: same products, same order.
+    pub fn mul_vec(&self, x: &[f64], y: &mut [f64]) {
+        assert_eq!(x.len(), self.ncols, "restrict: x has {} entries, {} fine unknowns", x.len(), self.ncols);
+        assert_eq!(y.len(), self.nrows, "restrict: y has {} entries, {} coarse unknowns", y.len(), self.nrows);
+        let p = &*self.prolong;
+        par_fill(y, |j| {
+            let r = self.row_ptr[j] as usize..self.row_ptr[j + 1] as usize;
+            let start = |i: u32| if self.rows_of_three { 3 * i as usize } else { p.row_ptr[i as usize] as usize };
+            let weight = |i: u32, s: u8| p.vals[start(i) + s as usize];
+            self.rows[r.clone()].iter().zip(&self.slots[r]).map(|(&i, &s)| weight(i, s) * x[i as usize]).sum()
+        });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn matches_the_explicit_transpose_bitwise() {
+        // Rows of varying length (read through row_ptr), then rows of three (at 3i).
+        let ragged =
+            vec![(0, 0, 0.3), (0, 2, 0.7), (1, 1, 1.0), (2, 0, 0.1), (2, 1, 0.2), (2, 2, 0.7), (4, 2, 1.0 / 3.0)];
+        let three = (0..5u32).flat_map(|i| (0..3u32).map(move |j| (i, j, 1.0 / (i + j + 2) as f64))).collect();
+        for t in [ragged, three] {
+            let p = CsrMatrix::from_triplets(5, 3, t);
+            let x = [1.0 / 7.0, -2.5, 3.0e-3, 9.0, 1.0 / 11.0];
+            let (mut want, mut got) = ([0.0; 3], [0.0; 3]);
+            p.transpose().mul_vec(&x, &mut want);
+            Restriction::new(Arc::new(p)).mul_vec(&x, &mut got);
+            assert_eq!(want.map(f64::to_bits), got.map(f64::to_bits));
+        }
+    }
+}
