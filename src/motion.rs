@@ -91,15 +91,19 @@ impl Motion {
         }
     }
 
-    /// Displacement of each vertex with the rigid motions applied on their patches.
-    pub fn vertex_values(&self, mesh: &Mesh) -> Vec<DVec2> {
+    /// Displacement of each vertex with the rigid motions applied on their patches (the
+    /// per-vertex field itself, not a copy, when there are none).
+    pub fn vertex_values(&self, mesh: &Mesh) -> std::borrow::Cow<'_, [DVec2]> {
+        if self.rigid.is_empty() {
+            return std::borrow::Cow::Borrowed(&self.displacement);
+        }
         let mut d = self.displacement.clone();
         for &(p, m) in &self.rigid {
             for v in mesh.patch_vertices(p) {
                 d[v as usize] = m.displacement(mesh.coords()[v as usize]);
             }
         }
-        d
+        std::borrow::Cow::Owned(d)
     }
 }
 

@@ -14,13 +14,13 @@ use crate::Mesh;
 pub struct LevelOperator {
     pub method: Method,
     pub k: CsrMatrix,
-    pub v: Vec<f64>,
+    /// 1/V: only the inverse is kept (the operator multiplies by it; `mass` gives V back).
     pub inv_v: Vec<f64>,
 }
 
 impl LevelOperator {
     pub fn new(method: Method, mesh: &Mesh, dofs: &Dofs) -> Self {
-        let mut op = LevelOperator { method, k: stiffness_pattern(mesh, dofs), v: Vec::new(), inv_v: Vec::new() };
+        let mut op = LevelOperator { method, k: stiffness_pattern(mesh, dofs), inv_v: Vec::new() };
         op.reassemble(mesh, dofs);
         op
     }
@@ -32,8 +32,7 @@ impl LevelOperator {
             Method::Spring => spring_stiffness(&mut self.k, mesh, dofs),
             _ => stiffness(&mut self.k, mesh, dofs),
         }
-        self.v = lumped_mass(mesh, dofs);
-        self.inv_v = self.v.iter().map(|&v| 1.0 / v).collect();
+        self.inv_v = lumped_mass(mesh, dofs).iter().map(|&v| 1.0 / v).collect();
     }
 
     /// The coarse operator of a multigrid level by Galerkin projection of the fine one's
@@ -49,13 +48,18 @@ impl LevelOperator {
         let mut k = matmul(restrict, &matmul(&fine.k, prolong));
         close_diagonal(&mut k);
         let mut v = vec![0.0; restrict.nrows];
-        restrict.mul_vec(&fine.v, &mut v);
+        restrict.mul_vec(&fine.mass(), &mut v);
         let inv_v = v.iter().map(|&v| 1.0 / v).collect();
-        LevelOperator { method: fine.method, k, v, inv_v }
+        LevelOperator { method: fine.method, k, inv_v }
     }
 
     pub fn n(&self) -> usize {
-        self.v.len()
+        self.inv_v.len()
+    }
+
+    /// The lumped mass V, as 1/(1/V).
+    pub fn mass(&self) -> Vec<f64> {
+        self.inv_v.iter().map(|&w| 1.0 / w).collect()
     }
 
     /// S = M⁻¹ K x on unknowns without Z (Eq. 5 with zero boundary flux), minus an optional

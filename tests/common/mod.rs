@@ -176,7 +176,7 @@ pub fn direct_solve(solver: &Solver, c: usize, d: &[f64]) -> Vec<f64> {
                 if k[i][kk] == 0.0 {
                     continue;
                 }
-                let w = k[i][kk] / lev.op.v[kk];
+                let w = k[i][kk] * lev.op.inv_v[kk];
                 for (jj, &j) in u.iter().enumerate() {
                     a[ii * m + jj] += w * k[kk][j];
                 }
