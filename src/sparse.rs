@@ -3,6 +3,9 @@
 //! Every product is a gather over rows (each output entry owned by one row), so results are
 //! bitwise identical for any thread count. Reductions use fixed-size blocks for the same reason.
 
+mod product;
+
+pub use product::{matmul, triple_product};
 use rayon::prelude::*;
 
 /// Rows below this count are processed serially: rayon's overhead dominates on small levels.
@@ -133,55 +136,6 @@ impl CsrMatrix {
         }
         d
     }
-}
-
-/// C = A B, row by row (each row of C from one row of A), so it is deterministic and parallel.
-/// Column indices come out sorted.
-pub fn matmul(a: &CsrMatrix, b: &CsrMatrix) -> CsrMatrix {
-    assert_eq!(a.ncols, b.nrows, "matmul: A has {} columns, B has {} rows", a.ncols, b.nrows);
-    let rows: Vec<(Vec<u32>, Vec<f64>)> = (0..a.nrows)
-        .into_par_iter()
-        .with_min_len(256)
-        .map_init(
-            || (vec![usize::MAX; b.ncols], Vec::<u32>::new(), Vec::<f64>::new()),
-            |(slot, cols, vals), i| {
-                cols.clear();
-                vals.clear();
-                let (ac, av) = a.row(i);
-                for (&k, &x) in ac.iter().zip(av) {
-                    let (bc, bv) = b.row(k as usize);
-                    for (&j, &y) in bc.iter().zip(bv) {
-                        let s = &mut slot[j as usize];
-                        if *s == usize::MAX {
-                            *s = cols.len();
-                            cols.push(j);
-                            vals.push(0.0);
-                        }
-                        vals[*s] += x * y;
-                    }
-                }
-                let mut order: Vec<usize> = (0..cols.len()).collect();
-                order.sort_unstable_by_key(|&p| cols[p]);
-                let out = (order.iter().map(|&p| cols[p]).collect(), order.iter().map(|&p| vals[p]).collect());
-                cols.iter().for_each(|&j| slot[j as usize] = usize::MAX);
-                out
-            },
-        )
-        .collect();
-    let mut row_ptr = Vec::with_capacity(a.nrows + 1);
-    let mut nnz = 0;
-    row_ptr.push(0);
-    for (c, _) in &rows {
-        nnz += c.len();
-        row_ptr.push(offset(nnz));
-    }
-    let mut cols = Vec::with_capacity(nnz);
-    let mut vals = Vec::with_capacity(cols.capacity());
-    for (c, v) in rows {
-        cols.extend(c);
-        vals.extend(v);
-    }
-    CsrMatrix { nrows: a.nrows, ncols: b.ncols, row_ptr, cols, vals }
 }
 
 /// `n` as a row offset: the entry count of a matrix must stay below 2^32.

@@ -8,7 +8,7 @@
 
 use super::{close_diagonal, lumped_mass, spring_stiffness, stiffness, stiffness_pattern, Method};
 use crate::bc::{Dofs, P, Z};
-use crate::sparse::{matmul, par_fill, par_update, CsrMatrix};
+use crate::sparse::{par_fill, par_update, triple_product, CsrMatrix};
 use crate::Mesh;
 
 pub struct LevelOperator {
@@ -45,7 +45,7 @@ impl LevelOperator {
     /// own energy on coarse functions, whatever the cell sizes; P reproduces constants and
     /// linear fields, so K_c keeps both in its null space where K does.
     pub fn galerkin(fine: &LevelOperator, prolong: &CsrMatrix, restrict: &CsrMatrix) -> Self {
-        let mut k = matmul(restrict, &matmul(&fine.k, prolong));
+        let mut k = triple_product(restrict, &fine.k, prolong);
         close_diagonal(&mut k);
         let mut v = vec![0.0; restrict.nrows];
         restrict.mul_vec(&fine.mass(), &mut v);

@@ -1,0 +1,177 @@
+//! Sparse products, row by row (each row of the result from one row of the left factor), so
+//! they are deterministic and parallel like every other operation on `CsrMatrix`.
+
+use super::{offset, CsrMatrix};
+use rayon::prelude::*;
+
+/// Rows per task when filling a product's arrays.
+const PRODUCT_BLOCK: usize = 1024;
+
+/// Sums scaled sparse rows into one row: entries in order of first appearance, each the sum of
+/// its products in the order added; `finish` emits them by ascending column.
+struct RowSum {
+    slot: Vec<usize>,
+    cols: Vec<u32>,
+    vals: Vec<f64>,
+    order: Vec<usize>,
+}
+
+impl RowSum {
+    fn new(ncols: usize) -> Self {
+        RowSum { slot: vec![usize::MAX; ncols], cols: Vec::new(), vals: Vec::new(), order: Vec::new() }
+    }
+
+    /// Adds x times the row (cols, vals).
+    fn add(&mut self, x: f64, (cols, vals): (&[u32], &[f64])) {
+        for (&j, &y) in cols.iter().zip(vals) {
+            let s = &mut self.slot[j as usize];
+            if *s == usize::MAX {
+                *s = self.cols.len();
+                self.cols.push(j);
+                self.vals.push(0.0);
+            }
+            self.vals[*s] += x * y;
+        }
+    }
+
+    /// Adds the columns of a row, for counting only (values are left unset).
+    fn add_pattern(&mut self, cols: &[u32]) {
+        for &j in cols {
+            if self.slot[j as usize] == usize::MAX {
+                self.slot[j as usize] = self.cols.len();
+                self.cols.push(j);
+            }
+        }
+    }
+
+    /// The number of distinct columns added, and starts a new row.
+    fn take_count(&mut self) -> usize {
+        let n = self.cols.len();
+        self.cols.iter().for_each(|&j| self.slot[j as usize] = usize::MAX);
+        self.cols.clear();
+        self.vals.clear();
+        n
+    }
+
+    /// Writes the sum, columns ascending, and starts a new one.
+    fn finish(&mut self, cols: &mut Vec<u32>, vals: &mut Vec<f64>) {
+        let RowSum { slot, cols: c, vals: v, order } = self;
+        order.clear();
+        order.extend(0..c.len());
+        order.sort_unstable_by_key(|&p| c[p]);
+        cols.clear();
+        vals.clear();
+        cols.extend(order.iter().map(|&p| c[p]));
+        vals.extend(order.iter().map(|&p| v[p]));
+        c.iter().for_each(|&j| slot[j as usize] = usize::MAX);
+        c.clear();
+        v.clear();
+    }
+
+    /// Row i of A B.
+    fn product_row(&mut self, a: &CsrMatrix, b: &CsrMatrix, i: usize, cols: &mut Vec<u32>, vals: &mut Vec<f64>) {
+        let (ac, av) = a.row(i);
+        for (&k, &x) in ac.iter().zip(av) {
+            self.add(x, b.row(k as usize));
+        }
+        self.finish(cols, vals);
+    }
+}
+
+/// A matrix whose rows are computed independently (`count(state, i)` entries, written by
+/// `row(state, i, cols, vals)`), so it is deterministic and parallel. Counting first lets the rows
+/// be written in place: no per-row vectors held at once (they took twice the result's memory).
+fn by_rows<S>(
+    nrows: usize,
+    ncols: usize,
+    init: impl Fn() -> S + Sync + Send,
+    count: impl Fn(&mut S, usize) -> usize + Sync + Send,
+    row: impl Fn(&mut S, usize, &mut Vec<u32>, &mut Vec<f64>) + Sync + Send,
+) -> CsrMatrix {
+    // Row lengths, then their running sums.
+    let mut row_ptr = vec![0u32; nrows + 1];
+    row_ptr[1..].par_iter_mut().enumerate().with_min_len(256).for_each_init(&init, |s, (i, len)| {
+        *len = offset(count(s, i));
+    });
+    let mut nnz = 0;
+    for p in &mut row_ptr[1..] {
+        nnz += *p as usize;
+        *p = offset(nnz);
+    }
+    let (mut cols, mut vals) = (vec![0u32; nnz], vec![0.0; nnz]);
+    // Blocks of rows with their disjoint parts of cols and vals.
+    let mut blocks = Vec::with_capacity(nrows.div_ceil(PRODUCT_BLOCK));
+    let (mut c_rest, mut v_rest) = (&mut cols[..], &mut vals[..]);
+    for start in (0..nrows).step_by(PRODUCT_BLOCK) {
+        let end = (start + PRODUCT_BLOCK).min(nrows);
+        let len = (row_ptr[end] - row_ptr[start]) as usize;
+        let (c, c_next) = std::mem::take(&mut c_rest).split_at_mut(len);
+        let (v, v_next) = std::mem::take(&mut v_rest).split_at_mut(len);
+        (c_rest, v_rest) = (c_next, v_next);
+        blocks.push((start..end, c, v));
+    }
+    let init = || (init(), Vec::new(), Vec::new());
+    blocks.into_par_iter().for_each_init(init, |(s, c, v), (rows, out_c, out_v)| {
+        let mut at = 0;
+        for i in rows {
+            row(s, i, c, v);
+            out_c[at..at + c.len()].copy_from_slice(c);
+            out_v[at..at + v.len()].copy_from_slice(v);
+            at += c.len();
+        }
+    });
+    CsrMatrix { nrows, ncols, row_ptr, cols, vals }
+}
+
+/// C = A B, row by row (each row of C from one row of A). Column indices come out sorted.
+pub fn matmul(a: &CsrMatrix, b: &CsrMatrix) -> CsrMatrix {
+    assert_eq!(a.ncols, b.nrows, "matmul: A has {} columns, B has {} rows", a.ncols, b.nrows);
+    let count = |sum: &mut RowSum, i: usize| {
+        a.row(i).0.iter().for_each(|&k| sum.add_pattern(b.row(k as usize).0));
+        sum.take_count()
+    };
+    by_rows(a.nrows, b.ncols, || RowSum::new(b.ncols), count, |sum, i, c, v| sum.product_row(a, b, i, c, v))
+}
+
+/// R K P, bitwise `matmul(r, &matmul(k, p))` but without holding K P (the largest matrix of a
+/// Galerkin hierarchy): each of its rows is recomputed where R uses it.
+pub fn triple_product(r: &CsrMatrix, k: &CsrMatrix, p: &CsrMatrix) -> CsrMatrix {
+    assert_eq!(r.ncols, k.nrows, "triple_product: R has {} columns, K has {} rows", r.ncols, k.nrows);
+    assert_eq!(k.ncols, p.nrows, "triple_product: K has {} columns, P has {} rows", k.ncols, p.nrows);
+    let init = || (RowSum::new(p.ncols), RowSum::new(p.ncols), Vec::new(), Vec::new());
+    let count = |(outer, ..): &mut (RowSum, RowSum, Vec<u32>, Vec<f64>), j: usize| {
+        for &i in r.row(j).0 {
+            k.row(i as usize).0.iter().for_each(|&l| outer.add_pattern(p.row(l as usize).0));
+        }
+        outer.take_count()
+    };
+    by_rows(r.nrows, p.ncols, init, count, |(outer, inner, kp_c, kp_v), j, c, v| {
+        let (rc, rv) = r.row(j);
+        for (&i, &x) in rc.iter().zip(rv) {
+            inner.product_row(k, p, i as usize, kp_c, kp_v);
+            outer.add(x, (kp_c, kp_v));
+        }
+        outer.finish(c, v);
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn triple_product_is_two_products_bitwise() {
+        let m = |nrows: usize, ncols: usize, seed: u32| {
+            let t = (0..nrows as u32)
+                .flat_map(|i| {
+                    (0..3).map(move |k| (i, (i * 7 + k * 5 + seed) % ncols as u32, 1.0 / (i + k + seed) as f64))
+                })
+                .collect();
+            CsrMatrix::from_triplets(nrows, ncols, t)
+        };
+        let (r, k, p) = (m(4, 9, 1), m(9, 9, 2), m(9, 4, 3));
+        let want = matmul(&r, &matmul(&k, &p));
+        assert_eq!(triple_product(&r, &k, &p), want);
+        assert!(want.nnz() > 4);
+    }
+}
