@@ -9,6 +9,8 @@
 //! numbering. Only the solver's unknowns are renumbered: meshes, coarsening and the results the
 //! caller sees keep the caller's vertex numbers.
 
+use crate::mesh::VertexCells;
+
 /// New-to-old order of `n` unknowns connected by the edges of `cells`. Deterministic: ties break
 /// by index.
 pub fn reverse_cuthill_mckee(n: usize, cells: &[[u32; 3]]) -> Vec<u32> {
@@ -67,41 +69,19 @@ pub fn reverse_cuthill_mckee(n: usize, cells: &[[u32; 3]]) -> Vec<u32> {
     order
 }
 
-/// The graph of the cells' edges as CSR without the diagonal: counted, then each short row
-/// sorted and deduplicated (linear in the mesh, no global sort).
+/// The graph of the cells' edges as CSR without the diagonal: each unknown's neighbours are the
+/// other corners of its cells (`VertexCells`, linear in the mesh), sorted and deduplicated.
 fn adjacency(n: usize, cells: &[[u32; 3]]) -> (Vec<u32>, Vec<u32>) {
-    let mut count = vec![0u32; n + 1];
-    for t in cells {
-        for &v in t {
-            count[v as usize + 1] += 2;
-        }
-    }
-    for i in 0..n {
-        count[i + 1] += count[i];
-    }
-    let mut fill = count.clone();
-    let mut raw = vec![0u32; count[n] as usize];
-    for t in cells {
-        for k in 0..3 {
-            let (a, b, c) = (t[k], t[(k + 1) % 3], t[(k + 2) % 3]);
-            for w in [b, c] {
-                raw[fill[a as usize] as usize] = w;
-                fill[a as usize] += 1;
-            }
-        }
-    }
+    let around = VertexCells::build(n, cells);
     let mut ptr = vec![0u32; n + 1];
-    let mut adj = Vec::with_capacity(raw.len() / 2);
+    let mut adj = Vec::with_capacity(3 * cells.len());
+    let mut row: Vec<u32> = Vec::new();
     for v in 0..n {
-        let row = &mut raw[count[v] as usize..count[v + 1] as usize];
+        row.clear();
+        row.extend(around.of(v).iter().flat_map(|&c| cells[c as usize]).filter(|&w| w as usize != v));
         row.sort_unstable();
-        let mut last = u32::MAX;
-        for &w in row.iter() {
-            if w != last && w as usize != v {
-                adj.push(w);
-                last = w;
-            }
-        }
+        row.dedup();
+        adj.extend_from_slice(&row);
         ptr[v + 1] = adj.len() as u32;
     }
     (ptr, adj)
