@@ -78,7 +78,7 @@ fn first_direction(pb: Problem, c: f64, b: &[f64], x: &[f64], w: &mut Scratch, s
 /// x ← x + d (x = d from a zero start).
 fn step(x: &mut [f64], d: &[f64], start: Start) {
     match start {
-        Start::Zero => x.copy_from_slice(d),
+        Start::Zero => par_fill(x, |i| d[i]),
         Start::Guess => par_update(x, |i, x| x + d[i]),
     }
 }
