@@ -338,12 +338,14 @@ typedef struct meshmove_options {
    */
   int32_t max_cycles;
   /*
-   Chebyshev smoother degree of the default mode; 0 picks per method (default 0: biharmonic 6,
-   others 4), otherwise at least 1.
+   Chebyshev smoother degree of the default mode, on every level; 0 picks per method
+   (default 0: biharmonic 6 on the finest level and 4 below, others 3 and 2), otherwise at
+   least 1.
    */
   int32_t cheb_degree;
   /*
-   Chebyshev interval ratio λmax/λmin; 0 picks per method (default 0), otherwise above 1.
+   0 (default): fourth-kind Chebyshev, which needs no interval. Above 1: first-kind
+   Chebyshev on [λmax / cheb_lower_ratio, λmax].
    */
   double cheb_lower_ratio;
 } meshmove_options;

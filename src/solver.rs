@@ -324,10 +324,10 @@ fn check_solve_params(p: &SolveParams) -> Result<()> {
         || p.max_cycles == 0
         || p.cheb_degree == Some(0)
         || p.cheb_coarse_degree == Some(0)
-        || p.cheb_lower_ratio.is_some_and(|r| !(r > 1.0))
+        || p.cheb_lower_ratio.is_some_and(|r| !(r > 1.0 && r.is_finite()))
     {
         return Err(Error::InvalidArgument(
-            "tolerance must be positive and finite, max cycles and Chebyshev degree at least 1, lower ratio above 1"
+            "tolerance must be positive and finite, max cycles and Chebyshev degree at least 1, lower ratio finite and above 1"
                 .into(),
         ));
     }

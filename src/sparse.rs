@@ -60,13 +60,14 @@ impl CsrMatrix {
         self.cols.len()
     }
 
+    #[inline(always)]
     pub fn row(&self, i: usize) -> (&[u32], &[f64]) {
         let r = self.row_ptr[i] as usize..self.row_ptr[i + 1] as usize;
         (&self.cols[r.clone()], &self.vals[r])
     }
 
     /// Row i times x: Σ_j A_ij x_j, summed in column order.
-    #[inline]
+    #[inline(always)]
     pub fn row_dot(&self, i: usize, x: &[f64]) -> f64 {
         let (c, v) = self.row(i);
         c.iter().zip(v).map(|(&j, &a)| a * x[j as usize]).sum()
@@ -159,6 +160,18 @@ pub fn par_update(y: &mut [f64], f: impl Fn(usize, f64) -> f64 + Sync + Send) {
         y.iter_mut().enumerate().for_each(|(i, v)| *v = f(i, *v));
     } else {
         y.par_iter_mut().enumerate().with_min_len(1024).for_each(|(i, v)| *v = f(i, *v));
+    }
+}
+
+/// `(a[i], b[i]) = f(i, a[i], b[i])` for all i: two vectors updated in one pass, in parallel for
+/// long vectors (elementwise, so deterministic).
+pub fn par_update2(a: &mut [f64], b: &mut [f64], f: impl Fn(usize, f64, f64) -> (f64, f64) + Sync + Send) {
+    assert_eq!(a.len(), b.len(), "par_update2: vectors of {} and {} entries", a.len(), b.len());
+    let g = |i: usize, a: &mut f64, b: &mut f64| (*a, *b) = f(i, *a, *b);
+    if a.len() < PAR_ROWS {
+        a.iter_mut().zip(b).enumerate().for_each(|(i, (a, b))| g(i, a, b));
+    } else {
+        a.par_iter_mut().zip(b).enumerate().with_min_len(1024).for_each(|(i, (a, b))| g(i, a, b));
     }
 }
 

@@ -76,10 +76,12 @@ pub struct meshmove_options {
     pub tol: f64,
     /// Most cycles per solve (default 500), at least 1.
     pub max_cycles: i32,
-    /// Chebyshev smoother degree of the default mode; 0 picks per method (default 0: biharmonic 6,
-    /// others 4), otherwise at least 1.
+    /// Chebyshev smoother degree of the default mode, on every level; 0 picks per method
+    /// (default 0: biharmonic 6 on the finest level and 4 below, others 3 and 2), otherwise at
+    /// least 1.
     pub cheb_degree: i32,
-    /// Chebyshev interval ratio λmax/λmin; 0 picks per method (default 0), otherwise above 1.
+    /// 0 (default): fourth-kind Chebyshev, which needs no interval. Above 1: first-kind
+    /// Chebyshev on [λmax / cheb_lower_ratio, λmax].
     pub cheb_lower_ratio: f64,
 }
 
@@ -221,7 +223,7 @@ impl meshmove_options {
             Some(ratio)
         } else {
             return Err(CError::arg(format!(
-                "options.cheb_lower_ratio is {ratio}; it must be 0 (per method) or above 1"
+                "options.cheb_lower_ratio is {ratio}; it must be 0 (fourth kind) or above 1"
             )));
         };
         let mut o = crate::Options { method, threads, ..Default::default() };

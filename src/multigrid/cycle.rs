@@ -39,12 +39,17 @@ impl CycleParams {
         CycleParams { gamma: 2, smoother, coarse_smoother: smoother, pre: 1, post: 0, coarse_weight }
     }
 
-    /// The preconditioner of the default mode: W-cycle with Chebyshev pre- and post-smoothing.
-    pub fn chebyshev(degree: usize, coarse_degree: usize, lower_ratio: f64) -> Self {
+    /// The preconditioner of the default mode: W-cycle with Chebyshev pre- and post-smoothing,
+    /// of the fourth kind, or of the first kind on [λmax / r, λmax] given `lower_ratio` r.
+    pub fn chebyshev(degree: usize, coarse_degree: usize, lower_ratio: Option<f64>) -> Self {
+        let smoother = |degree| match lower_ratio {
+            None => Smoother::Fourth { degree },
+            Some(lower_ratio) => Smoother::Chebyshev { degree, lower_ratio },
+        };
         CycleParams {
             gamma: 2,
-            smoother: Smoother::Chebyshev { degree, lower_ratio },
-            coarse_smoother: Smoother::Chebyshev { degree: coarse_degree, lower_ratio },
+            smoother: smoother(degree),
+            coarse_smoother: smoother(coarse_degree),
             pre: 1,
             post: 1,
             coarse_weight: 1.0,
@@ -61,6 +66,7 @@ impl CycleParams {
             Smoother::Chebyshev { degree, lower_ratio } => {
                 Smoother::Chebyshev { degree: (degree * 8).div_ceil(5), lower_ratio }
             }
+            Smoother::Fourth { degree } => Smoother::Fourth { degree: (degree * 8).div_ceil(5) },
             other => other,
         };
         CycleParams { smoother: up(self.smoother), coarse_smoother: up(self.coarse_smoother), ..*self }

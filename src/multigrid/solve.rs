@@ -35,16 +35,13 @@ pub struct SolveParams {
     pub criterion: Criterion,
     pub tol: f64,
     pub max_cycles: usize,
-    /// Chebyshev degree of the default mode's smoother; None picks per method.
+    /// Chebyshev degree of the default mode's smoother on the finest level; None picks per method.
     pub cheb_degree: Option<usize>,
-    /// Its degree on the coarse levels; None uses the fine level's. Lowering it saves up to a
-    /// quarter of each cycle where the coarse meshes are benign, but the coarse levels carry
-    /// thin wall layers too. Measured (biharmonic, degree 6): coarse degree 3 keeps the free
-    /// surface (75k vertices) at 8 CG iterations and the cylinder at 9, each cycle about a
-    /// quarter cheaper, but the boundary-layer cylinder stalls (unconverged after 100 instead of
-    /// 12; coarse degree 4: 33). So the default is the fine level's degree everywhere.
+    /// Its degree on the coarse levels; None uses `cheb_degree` when that is set, else the
+    /// per-method default (see `cheb_defaults`).
     pub cheb_coarse_degree: Option<usize>,
-    /// Its interval [λmax / ratio, λmax]; None picks per method.
+    /// None (the default): the fourth-kind polynomial, which needs no lower bound. Some(r): the
+    /// classical first-kind polynomial on [λmax / r, λmax], r > 1.
     pub cheb_lower_ratio: Option<f64>,
 }
 
@@ -63,21 +60,32 @@ impl Default for SolveParams {
 }
 
 impl SolveParams {
-    /// Per-method defaults of the default mode's Chebyshev smoother, measured in one run on the
-    /// boundary-layer cylinder and the free surface at 66k and 266k vertices (CG iterations):
-    /// biharmonic degree 6 on [λmax/20, λmax]: 12, 8, 9 — degree 4 on [λmax/10, λmax] took
-    /// 11 on the free surface but stalled on the thin wall layer (200 iterations, 1.9e-6);
-    /// Laplacian and spring degree 4 on [λmax/6, λmax]: 5, 5, 5 (/30 took 9–21).
-    pub fn cheb_defaults(&self, method: Method) -> (usize, f64) {
-        let (d, r) = if method == Method::Biharmonic { (6, 20.0) } else { (4, 6.0) };
-        (self.cheb_degree.unwrap_or(d), self.cheb_lower_ratio.unwrap_or(r))
+    /// Per-method defaults of the default mode's smoother: fourth-kind Chebyshev of degree 6 on
+    /// the finest level and 4 below for the biharmonic, 3 and 2 for the Laplacian and spring.
+    ///
+    /// Measured in one run (CG iterations on the boundary-layer cylinder, the cylinder channel,
+    /// the interface, the free surface at 18.8k and 74.9k vertices; then one solve at 1.06M,
+    /// 1 thread, relative to the old default):
+    /// - biharmonic, first kind on [λmax/20, λmax], degree 6 everywhere (the old default):
+    ///   12, 9, 9, 8, 8; fourth kind 6/4: 16, 9, 9, 8, 8, 0.85× the time. First kind 4/4 on
+    ///   [λmax/10, λmax] stalls on the wall layer (200, unconverged), fourth kind 4/4 takes 20.
+    ///   Lower coarse degrees are cheaper on the free surface but slower on the wall layer
+    ///   (fourth kind 6/3: 19; 6/2: 29).
+    /// - Laplacian, first kind 4/4 on [λmax/6, λmax] (the old default): 5 on every case;
+    ///   fourth kind 3/2: 6, 5, 5, 5, 5, 0.76× the time.
+    pub fn cheb_defaults(&self, method: Method) -> (usize, usize) {
+        let (fine, coarse) = if method == Method::Biharmonic { (6, 4) } else { (3, 2) };
+        match self.cheb_degree {
+            Some(d) => (d, self.cheb_coarse_degree.unwrap_or(d)),
+            None => (fine, self.cheb_coarse_degree.unwrap_or(coarse)),
+        }
     }
 
     pub fn cycle_params(&self, method: Method) -> CycleParams {
         match self.mode {
             Mode::Default => {
-                let (degree, ratio) = self.cheb_defaults(method);
-                CycleParams::chebyshev(degree, self.cheb_coarse_degree.unwrap_or(degree), ratio)
+                let (fine, coarse) = self.cheb_defaults(method);
+                CycleParams::chebyshev(fine, coarse, self.cheb_lower_ratio)
             }
             Mode::PaperFaithful => CycleParams::paper(method),
         }

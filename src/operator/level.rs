@@ -8,7 +8,7 @@
 
 use super::{close_diagonal, lumped_mass, spring_stiffness, stiffness, stiffness_pattern, Method};
 use crate::bc::{Dofs, P, Z};
-use crate::sparse::{par_fill, par_update, triple_product, CsrMatrix};
+use crate::sparse::{par_fill, par_update, par_update2, triple_product, CsrMatrix};
 use crate::Mesh;
 
 pub struct LevelOperator {
@@ -120,6 +120,33 @@ impl LevelOperator {
         par_update(out, |i, o| {
             let r = if flags[i] & P != 0 { b[i] } else { b[i] - k.row_dot(i, u) };
             f(i, r, o)
+        });
+    }
+
+    /// `d_i ← f(i, r_i, d_i)` with r = b − A x as in `update_with_residual`, then x ← x + d: one
+    /// step of a smoother. The biharmonic's second pass reads only S, so it updates x in place
+    /// in the same pass; the second-order operators read x's neighbours there, so they add d in a
+    /// pass of their own.
+    pub fn step_with_residual(
+        &self,
+        flags: &[u8],
+        b: &[f64],
+        x: &mut [f64],
+        s: &mut [f64],
+        d: &mut [f64],
+        f: impl Fn(usize, f64, f64) -> f64 + Sync + Send,
+    ) {
+        if self.method != Method::Biharmonic {
+            self.update_with_residual(flags, b, x, s, d, f);
+            par_update(x, |i, x| x + d[i]);
+            return;
+        }
+        self.source(flags, x, None, s);
+        let (k, s) = (&self.k, &*s);
+        par_update2(x, d, |i, x, d| {
+            let r = if flags[i] & P != 0 { b[i] } else { b[i] - k.row_dot(i, s) };
+            let d = f(i, r, d);
+            (x + d, d)
         });
     }
 
