@@ -28,20 +28,43 @@ pub struct CsrMatrix {
 
 impl CsrMatrix {
     /// Builds the sparsity pattern (values zero) from a list of (row, col) pairs; duplicates merge.
-    pub fn from_pattern(nrows: usize, ncols: usize, mut pairs: Vec<(u32, u32)>) -> Self {
-        pairs.sort_unstable();
-        pairs.dedup();
-        let mut row_ptr = vec![0u32; nrows + 1];
+    /// Bucketed by row, then each short row sorted (a global sort of the pairs was a tenth of a
+    /// setup).
+    pub fn from_pattern(nrows: usize, ncols: usize, pairs: Vec<(u32, u32)>) -> Self {
+        let mut start = vec![0u32; nrows + 1];
         offset(pairs.len());
         for &(r, _) in &pairs {
-            row_ptr[r as usize + 1] += 1;
+            start[r as usize + 1] += 1;
         }
         for i in 0..nrows {
-            row_ptr[i + 1] += row_ptr[i];
+            start[i + 1] += start[i];
         }
-        let cols = pairs.iter().map(|&(_, c)| c).collect::<Vec<_>>();
-        let vals = vec![0.0; cols.len()];
-        CsrMatrix { nrows, ncols, row_ptr, cols, vals }
+        let mut bucket = vec![0u32; pairs.len()];
+        let mut next = start.clone();
+        for &(r, c) in &pairs {
+            bucket[next[r as usize] as usize] = c;
+            next[r as usize] += 1;
+        }
+        drop(pairs);
+        let mut row_ptr = vec![0u32; nrows + 1];
+        let mut len = 0usize;
+        for i in 0..nrows {
+            let (a, b) = (start[i] as usize, start[i + 1] as usize);
+            bucket[a..b].sort_unstable();
+            let mut last = None;
+            for p in a..b {
+                if last != Some(bucket[p]) {
+                    last = Some(bucket[p]);
+                    bucket[len] = bucket[p];
+                    len += 1;
+                }
+            }
+            row_ptr[i + 1] = len as u32;
+        }
+        bucket.truncate(len);
+        bucket.shrink_to_fit();
+        let vals = vec![0.0; len];
+        CsrMatrix { nrows, ncols, row_ptr, cols: bucket, vals }
     }
 
     /// Builds a matrix from (row, col, value) triplets, summing duplicates in a fixed order.

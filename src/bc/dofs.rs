@@ -55,71 +55,110 @@ impl Dofs {
                 }
             }
         }
-        // Key of a cell corner: (root vertex, region when split). Sorting keys numbers unknowns
-        // in vertex order, deterministically; they are then renumbered for locality.
-        const NONE: i64 = i64::MIN;
-        let key = |v: u32, c: usize| -> (u32, i64) {
-            let r = root[v as usize];
-            (r, if split[r as usize] { mesh.regions()[c] as i64 } else { NONE })
-        };
-        let mut keys: Vec<(u32, i64)> = Vec::with_capacity(nv);
+        // Key of a cell corner: (root vertex, region when split). Unknowns are first numbered in
+        // key order (deterministic), then renumbered for locality. Counted per root vertex
+        // rather than sorted: one key per used unsplit root, one per region at a split root (a
+        // sort of every corner's key took a third of a million-vertex setup).
+        let regions = mesh.regions();
+        let mut used = vec![false; nv];
+        let mut split_keys: Vec<(u32, i32)> = Vec::new();
         for (c, t) in mesh.cells().iter().enumerate() {
-            keys.extend(t.iter().map(|&v| key(v, c)));
+            for &v in t {
+                let r = root[v as usize];
+                used[r as usize] = true;
+                if split[r as usize] {
+                    split_keys.push((r, regions[c]));
+                }
+            }
         }
-        keys.sort_unstable();
-        keys.dedup();
-        let index = |k: (u32, i64)| keys.binary_search(&k).expect("key was collected") as u32;
-        let by_vertex: Vec<[u32; 3]> =
-            mesh.cells().iter().enumerate().map(|(c, t)| t.map(|v| index(key(v, c)))).collect();
+        split_keys.sort_unstable();
+        split_keys.dedup();
+        // base[r]: the first key of root r in key order.
+        let mut base = vec![0u32; nv];
+        let mut n = 0usize;
+        let mut s = 0usize;
+        for r in 0..nv {
+            base[r] = n as u32;
+            if split[r] {
+                let e = s + split_keys[s..].partition_point(|k| k.0 as usize == r);
+                n += e - s;
+                s = e;
+            } else if used[r] {
+                n += 1;
+            }
+        }
+        let index = |v: u32, c: usize| -> u32 {
+            let r = root[v as usize];
+            if !split[r as usize] {
+                return base[r as usize];
+            }
+            let first = split_keys.partition_point(|k| k.0 < r);
+            let k = split_keys.binary_search(&(r, regions[c])).expect("key was collected");
+            base[r as usize] + (k - first) as u32
+        };
+        let by_vertex: Vec<[u32; 3]> = mesh.cells().iter().enumerate().map(|(c, t)| t.map(|v| index(v, c))).collect();
         // Renumber for locality of the operators' gathers (see `numbering`).
-        let order = reverse_cuthill_mckee(keys.len(), &by_vertex);
-        let mut new_of = vec![0u32; keys.len()];
+        let order = reverse_cuthill_mckee(n, &by_vertex);
+        let mut new_of = vec![0u32; n];
         for (new, &old) in order.iter().enumerate() {
             new_of[old as usize] = new as u32;
         }
-        let cell_dofs: Vec<[u32; 3]> = by_vertex.iter().map(|t| t.map(|d| new_of[d as usize])).collect();
-        let keys: Vec<(u32, i64)> = order.iter().map(|&old| keys[old as usize]).collect();
+        drop(by_vertex);
+        let cell_dofs = |c: usize, t: &[u32; 3]| t.map(|v| new_of[index(v, c) as usize]);
         let mut vertex_dof = vec![u32::MAX; nv];
-        for (t, d) in mesh.cells().iter().zip(&cell_dofs) {
+        let mut split_corners: Vec<(u32, i32, u32)> = Vec::new();
+        for (c, t) in mesh.cells().iter().enumerate() {
+            let d = cell_dofs(c, t);
             for k in 0..3 {
                 if vertex_dof[t[k] as usize] == u32::MAX {
                     vertex_dof[t[k] as usize] = d[k];
                 }
-            }
-        }
-        let n = keys.len();
-        // Gather the vertices of every unknown (a split vertex belongs to each of its copies).
-        let mut members: Vec<(u32, u32)> = Vec::with_capacity(nv);
-        for (t, d) in mesh.cells().iter().zip(&cell_dofs) {
-            for k in 0..3 {
-                members.push((d[k], t[k]));
-            }
-        }
-        members.sort_unstable();
-        members.dedup();
-        // Every unknown comes from a corner, so the groups are the unknowns 0..n in order.
-        let mut dof_vertex = Vec::with_capacity(n);
-        let (mut shared_dofs, mut shared_ptr, mut shared_vertices) = (Vec::new(), vec![0u32], Vec::new());
-        for group in members.chunk_by(|a, b| a.0 == b.0) {
-            dof_vertex.push(group[0].1);
-            if group.len() > 1 {
-                shared_dofs.push(group[0].0);
-                shared_vertices.extend(group.iter().map(|&(_, v)| v));
-                shared_ptr.push(shared_vertices.len() as u32);
-            }
-        }
-        let mut split_corners: Vec<(u32, i32, u32)> = Vec::new();
-        for (c, (t, d)) in mesh.cells().iter().zip(&cell_dofs).enumerate() {
-            for k in 0..3 {
                 if split[root[t[k] as usize] as usize] {
-                    split_corners.push((t[k], mesh.regions()[c], d[k]));
+                    split_corners.push((t[k], regions[c], d[k]));
                 }
             }
         }
         split_corners.sort_unstable();
         split_corners.dedup();
-        let split_regions =
-            keys.iter().enumerate().filter(|(_, k)| k.1 != NONE).map(|(d, k)| (d as u32, k.1 as i32)).collect();
+        // The vertices of every unknown (a split vertex belongs to each of its copies), grouped
+        // by unknown with a counting sort; each group comes out ascending because vertices are
+        // visited in order (an unknown is either unsplit or split, never both).
+        let mut member_d: Vec<(u32, u32)> = (0..nv as u32)
+            .filter(|&v| vertex_dof[v as usize] != u32::MAX && !split[root[v as usize] as usize])
+            .map(|v| (vertex_dof[v as usize], v))
+            .collect();
+        member_d.extend(split_corners.iter().map(|&(v, _, d)| (d, v)));
+        let mut ptr = vec![0u32; n + 1];
+        member_d.iter().for_each(|&(d, _)| ptr[d as usize + 1] += 1);
+        for d in 0..n {
+            ptr[d + 1] += ptr[d];
+        }
+        let mut members = vec![0u32; member_d.len()];
+        let mut next = ptr.clone();
+        for &(d, v) in &member_d {
+            members[next[d as usize] as usize] = v;
+            next[d as usize] += 1;
+        }
+        drop(member_d);
+        let mut dof_vertex = Vec::with_capacity(n);
+        let (mut shared_dofs, mut shared_ptr, mut shared_vertices) = (Vec::new(), vec![0u32], Vec::new());
+        for d in 0..n {
+            let group = &members[ptr[d] as usize..ptr[d + 1] as usize];
+            dof_vertex.push(group[0]);
+            if group.len() > 1 {
+                shared_dofs.push(d as u32);
+                shared_vertices.extend_from_slice(group);
+                shared_ptr.push(shared_vertices.len() as u32);
+            }
+        }
+        // Split unknowns in key order are split_keys; renumbered, sorted by unknown.
+        let mut split_regions = Vec::with_capacity(split_keys.len());
+        for &(r, reg) in &split_keys {
+            let first = split_keys.partition_point(|k| k.0 < r);
+            let k = split_keys.binary_search(&(r, reg)).expect("a split key");
+            split_regions.push((new_of[(base[r as usize] + (k - first) as u32) as usize], reg));
+        }
+        split_regions.sort_unstable();
         Dofs { n, vertex_dof, dof_vertex, shared_dofs, shared_ptr, shared_vertices, split_corners, split_regions }
     }
 
