@@ -111,11 +111,13 @@ impl Level {
         let bounds = |c: usize| {
             let inv_d = self.op.inv_l1_diag(&self.flags[c]);
             // The l1 bound guarantees λmax(D⁻¹A) ≤ 1. For the second-order operators it is
-            // nearly tight: with the default fourth-kind smoother, the power iteration's
-            // estimate changed no CG iteration count on any case mesh (Laplacian and spring;
-            // the first kind on [λmax/6, λmax] lost one on spring) and cost a tenth of a
-            // Laplacian setup. The biharmonic's bound is looser (with 1: 18 iterations instead
-            // of 16 on the boundary-layer cylinder), so it keeps the estimate.
+            // nearly tight: with the default fourth-kind smoother, dropping the power
+            // iteration changed no CG iteration count on the single-step cases (Laplacian and
+            // spring; the first kind on [λmax/6, λmax] lost one on spring) and added 2–6% over
+            // the multi-step ones (10-step free surface, Laplacian 59 → 62), while the
+            // estimate, redone at every re-evaluated step, costs about 2/3 of a Laplacian solve
+            // (30 products per level). The biharmonic's bound is looser (with 1: 18 iterations
+            // instead of 16 on the boundary-layer cylinder), so it keeps the estimate.
             let lambda_max = if self.op.method == Method::Biharmonic {
                 estimate_lambda_max(&self.op, &self.flags[c], &inv_d)
             } else {
