@@ -2,6 +2,7 @@
 //! interface split into one unknown per region (DESIGN §3, last paragraph; §4).
 
 use super::numbering::reverse_cuthill_mckee;
+use crate::sparse::bucket_by_key;
 use crate::Mesh;
 
 /// The unknowns of a mesh. Only the vertex maps are stored in full; how cell corners, linked
@@ -87,15 +88,16 @@ impl Dofs {
                 n += 1;
             }
         }
-        let index = |v: u32, c: usize| -> u32 {
-            let r = root[v as usize];
+        // The key-order number of (root r, region when split).
+        let key_index = |r: u32, region: i32| -> u32 {
             if !split[r as usize] {
                 return base[r as usize];
             }
             let first = split_keys.partition_point(|k| k.0 < r);
-            let k = split_keys.binary_search(&(r, regions[c])).expect("key was collected");
+            let k = split_keys.binary_search(&(r, region)).expect("key was collected");
             base[r as usize] + (k - first) as u32
         };
+        let index = |v: u32, c: usize| key_index(root[v as usize], regions[c]);
         let by_vertex: Vec<[u32; 3]> = mesh.cells().iter().enumerate().map(|(c, t)| t.map(|v| index(v, c))).collect();
         // Renumber for locality of the operators' gathers (see `numbering`).
         let order = reverse_cuthill_mckee(n, &by_vertex);
@@ -128,17 +130,7 @@ impl Dofs {
             .map(|v| (vertex_dof[v as usize], v))
             .collect();
         member_d.extend(split_corners.iter().map(|&(v, _, d)| (d, v)));
-        let mut ptr = vec![0u32; n + 1];
-        member_d.iter().for_each(|&(d, _)| ptr[d as usize + 1] += 1);
-        for d in 0..n {
-            ptr[d + 1] += ptr[d];
-        }
-        let mut members = vec![0u32; member_d.len()];
-        let mut next = ptr.clone();
-        for &(d, v) in &member_d {
-            members[next[d as usize] as usize] = v;
-            next[d as usize] += 1;
-        }
+        let (ptr, members) = bucket_by_key(n, &member_d);
         drop(member_d);
         let mut dof_vertex = Vec::with_capacity(n);
         let (mut shared_dofs, mut shared_ptr, mut shared_vertices) = (Vec::new(), vec![0u32], Vec::new());
@@ -151,13 +143,9 @@ impl Dofs {
                 shared_ptr.push(shared_vertices.len() as u32);
             }
         }
-        // Split unknowns in key order are split_keys; renumbered, sorted by unknown.
-        let mut split_regions = Vec::with_capacity(split_keys.len());
-        for &(r, reg) in &split_keys {
-            let first = split_keys.partition_point(|k| k.0 < r);
-            let k = split_keys.binary_search(&(r, reg)).expect("a split key");
-            split_regions.push((new_of[(base[r as usize] + (k - first) as u32) as usize], reg));
-        }
+        // The split unknowns are split_keys: renumbered, sorted by unknown.
+        let mut split_regions: Vec<(u32, i32)> =
+            split_keys.iter().map(|&(r, reg)| (new_of[key_index(r, reg) as usize], reg)).collect();
         split_regions.sort_unstable();
         Dofs { n, vertex_dof, dof_vertex, shared_dofs, shared_ptr, shared_vertices, split_corners, split_regions }
     }

@@ -108,8 +108,9 @@ fn measured(measure: bool, d: &[f64]) -> f64 {
     }
 }
 
-/// A polynomial smoother as a two-term recurrence (damped Jacobi is its one-step case): the first step with coefficient `c0`, then
-/// one `next_step` per (c1, c2) pair. Returns the largest correction when `measure` is set.
+/// A polynomial smoother as a two-term recurrence (damped Jacobi is its one-step case): the
+/// first step with coefficient `c0`, then one `next_step` per (c1, c2) pair. Returns the
+/// largest correction when `measure` is set.
 #[allow(clippy::too_many_arguments)]
 fn recurrence(
     pb: Problem,
