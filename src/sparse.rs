@@ -83,6 +83,13 @@ impl CsrMatrix {
         c.iter().zip(v).map(|(&j, &a)| a * x[j as usize]).sum()
     }
 
+    /// Row i times x where x holds entries `base..` only: Σ_j A_ij x[j − base], in column order.
+    #[inline(always)]
+    pub fn row_dot_offset(&self, i: usize, x: &[f64], base: usize) -> f64 {
+        let (c, v) = self.row(i);
+        c.iter().zip(v).map(|(&j, &a)| a * x[j as usize - base]).sum()
+    }
+
     /// Position of entry (i, j) in `cols`/`vals`, if it is in the pattern.
     pub fn find(&self, i: usize, j: usize) -> Option<usize> {
         let (c, _) = self.row(i);

@@ -6,21 +6,27 @@
 //!
 //! Vectors live on the unknowns; corrections are zero on P unknowns.
 
+use super::fused::{FusePlan, Iterate};
 use super::{close_diagonal, lumped_mass, spring_stiffness, stiffness, stiffness_pattern, Method};
 use crate::bc::{Dofs, P, Z};
 use crate::sparse::{par_fill, par_update, par_update2, triple_product, CsrMatrix};
 use crate::Mesh;
 
+#[derive(Clone)]
 pub struct LevelOperator {
     pub method: Method,
     pub k: CsrMatrix,
     /// 1/V: only the inverse is kept (the operator multiplies by it; `mass` gives V back).
     pub inv_v: Vec<f64>,
+    /// The biharmonic's two passes fused on a large level (`fused.rs`); None keeps them apart.
+    pub(super) fuse: Option<FusePlan>,
 }
 
 impl LevelOperator {
     pub fn new(method: Method, mesh: &Mesh, dofs: &Dofs) -> Self {
-        let mut op = LevelOperator { method, k: stiffness_pattern(mesh, dofs), inv_v: Vec::new() };
+        let k = stiffness_pattern(mesh, dofs);
+        let fuse = fuse_plan(method, &k);
+        let mut op = LevelOperator { method, k, inv_v: Vec::new(), fuse };
         op.reassemble(mesh, dofs);
         op
     }
@@ -50,7 +56,8 @@ impl LevelOperator {
         let mut v = vec![0.0; restrict.nrows];
         restrict.mul_vec(&fine.mass(), &mut v);
         let inv_v = v.iter().map(|&v| 1.0 / v).collect();
-        LevelOperator { method: fine.method, k, inv_v }
+        let fuse = fuse_plan(fine.method, &k);
+        LevelOperator { method: fine.method, k, inv_v, fuse }
     }
 
     pub fn n(&self) -> usize {
@@ -80,10 +87,13 @@ impl LevelOperator {
         par_fill(y, |i| if flags[i] & P != 0 { 0.0 } else { k.row_dot(i, u) });
     }
 
-    /// y = A x. `s` is scratch of length n (it holds S on return for the biharmonic).
+    /// y = A x. `s` is scratch of length n.
     pub fn apply(&self, flags: &[u8], x: &[f64], y: &mut [f64], s: &mut [f64]) {
-        match self.method {
-            Method::Biharmonic => {
+        match (self.method, &self.fuse) {
+            (Method::Biharmonic, Some(plan)) => {
+                self.fused_pass(plan, flags, Iterate::Read(x), s, y, |_, t, _| t.unwrap_or(0.0))
+            }
+            (Method::Biharmonic, None) => {
                 self.source(flags, x, None, s);
                 self.k_free_rows(flags, s, y);
             }
@@ -109,6 +119,10 @@ impl LevelOperator {
         out: &mut [f64],
         f: impl Fn(usize, f64, f64) -> f64 + Sync + Send,
     ) {
+        if let (Method::Biharmonic, Some(plan)) = (self.method, &self.fuse) {
+            let g = |i: usize, t: Option<f64>, o| f(i, t.map_or(b[i], |t| b[i] - t), o);
+            return self.fused_pass(plan, flags, Iterate::Read(x), s, out, g);
+        }
         let u: &[f64] = match self.method {
             Method::Biharmonic => {
                 self.source(flags, x, None, s);
@@ -140,6 +154,10 @@ impl LevelOperator {
             self.update_with_residual(flags, b, x, s, d, f);
             par_update(x, |i, x| x + d[i]);
             return;
+        }
+        if let Some(plan) = &self.fuse {
+            let g = |i: usize, t: Option<f64>, d| f(i, t.map_or(b[i], |t| b[i] - t), d);
+            return self.fused_pass(plan, flags, Iterate::Update(x), s, d, g);
         }
         self.source(flags, x, None, s);
         let (k, s) = (&self.k, &*s);
@@ -193,5 +211,14 @@ impl LevelOperator {
             }
         });
         inv
+    }
+}
+
+/// The fused sweep's plan for a biharmonic level large enough to gain from it.
+fn fuse_plan(method: Method, k: &CsrMatrix) -> Option<FusePlan> {
+    if method == Method::Biharmonic {
+        FusePlan::new(k)
+    } else {
+        None
     }
 }
