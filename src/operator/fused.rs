@@ -114,8 +114,8 @@ impl LevelOperator {
     }
 
     /// For every unknown i, `out_i ← f(i, t_i, out_i)` with t_i = (K S)_i, S = M⁻¹ K x, or None
-    /// on P unknowns; with `Iterate::Update` then x_i ← x_i + out_i. `s` (length n) holds S
-    /// afterwards only on the rows each chunk computed itself; callers treat it as scratch.
+    /// on P unknowns; with `Iterate::Update` then x_i ← x_i + out_i. `s` (length n) holds S on
+    /// return (edge rows from phase 1, the rest from phase 2).
     pub(super) fn fused_pass(
         &self,
         plan: &FusePlan,
@@ -127,6 +127,7 @@ impl LevelOperator {
     ) {
         let (bw, bounds) = (plan.bw, &plan.bounds);
         let n = self.n();
+        assert_eq!(bounds.last(), Some(&n), "the fused plan was made for another K");
         let chunks = bounds.len() - 1;
         // Phase 1: S on the first and last bw rows of every chunk, from x as it is now.
         {

@@ -15,6 +15,8 @@ use crate::Mesh;
 #[derive(Clone)]
 pub struct LevelOperator {
     pub method: Method,
+    /// Values may be refilled (`reassemble`); the pattern is fixed, as the fused plan depends
+    /// on its bandwidth (a new pattern means a new operator).
     pub k: CsrMatrix,
     /// 1/V: only the inverse is kept (the operator multiplies by it; `mass` gives V back).
     pub inv_v: Vec<f64>,
