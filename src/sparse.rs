@@ -86,8 +86,14 @@ impl CsrMatrix {
     /// Row i times x where x holds entries `base..` only: Σ_j A_ij x[j − base], in column order.
     #[inline(always)]
     pub fn row_dot_offset(&self, i: usize, x: &[f64], base: usize) -> f64 {
+        self.row_dot_with(i, |j| x[j - base])
+    }
+
+    /// Σ_j A_ij x(j), in column order: `row_dot` for an x read through a function.
+    #[inline(always)]
+    pub fn row_dot_with(&self, i: usize, x: impl Fn(usize) -> f64) -> f64 {
         let (c, v) = self.row(i);
-        c.iter().zip(v).map(|(&j, &a)| a * x[j as usize - base]).sum()
+        c.iter().zip(v).map(|(&j, &a)| a * x(j as usize)).sum()
     }
 
     /// Position of entry (i, j) in `cols`/`vals`, if it is in the pattern.

@@ -17,7 +17,7 @@
 //! chunking or the thread count.
 
 use super::LevelOperator;
-use crate::bc::{P, Z};
+use crate::bc::P;
 use crate::sparse::CsrMatrix;
 use rayon::prelude::*;
 
@@ -101,18 +101,6 @@ fn split<'a>(mut v: &'a mut [f64], bounds: &[usize]) -> Vec<&'a mut [f64]> {
 }
 
 impl LevelOperator {
-    /// S_j = (K x)_j / V_j, or 0 on Z unknowns: the `source` pass's expression for one row (its
-    /// `− 0.0` for an absent rigid-motion flux changes no bit), x's entry m read at `x[m − base]`.
-    #[inline(always)]
-    fn source_row(&self, flags: &[u8], j: usize, x: &[f64], base: usize) -> f64 {
-        if flags[j] & Z != 0 {
-            return 0.0;
-        }
-        let (c, v) = self.k.row(j);
-        let dot: f64 = c.iter().zip(v).map(|(&m, &a)| a * x[m as usize - base]).sum();
-        dot * self.inv_v[j]
-    }
-
     /// For every unknown i, `out_i ← f(i, t_i, out_i)` with t_i = (K S)_i, S = M⁻¹ K x, or None
     /// on P unknowns; with `Iterate::Update` then x_i ← x_i + out_i. `s` (length n) holds S on
     /// return (edge rows from phase 1, the rest from phase 2).
@@ -138,7 +126,7 @@ impl LevelOperator {
             split(s, bounds).into_par_iter().enumerate().for_each(|(c, sc)| {
                 let (a, e) = (bounds[c], bounds[c + 1]);
                 for j in (a..a + bw).chain(e - bw..e) {
-                    sc[j - a] = self.source_row(flags, j, xr, 0);
+                    sc[j - a] = self.source_row(flags, j, xr, 0, None);
                 }
             });
         }
@@ -178,7 +166,7 @@ impl LevelOperator {
                     if need > done {
                         let (xr, base) = xc.read();
                         for j in done..need {
-                            sc[j - a] = self.source_row(flags, j, xr, base);
+                            sc[j - a] = self.source_row(flags, j, xr, base, None);
                         }
                         done = need;
                     }
@@ -188,8 +176,7 @@ impl LevelOperator {
                         } else if i >= a + bw && i + bw < e {
                             Some(self.k.row_dot_offset(i, sc, a))
                         } else {
-                            let (cols, vals) = self.k.row(i);
-                            Some(cols.iter().zip(vals).map(|(&j, &v)| v * s_at(sc, j as usize)).sum())
+                            Some(self.k.row_dot_with(i, |j| s_at(sc, j)))
                         };
                         oc[i - a] = f(i, t, oc[i - a]);
                     }
@@ -208,6 +195,7 @@ impl LevelOperator {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::bc::Z;
     use crate::cases::setups::free_surface_case;
     use crate::{Method, Options, Solver};
 

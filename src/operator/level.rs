@@ -74,13 +74,17 @@ impl LevelOperator {
     /// S = M⁻¹ K x on unknowns without Z (Eq. 5 with zero boundary flux), minus an optional
     /// source `g` (the rigid-motion flux of DESIGN §4).
     fn source(&self, flags: &[u8], x: &[f64], g: Option<&[f64]>, s: &mut [f64]) {
-        let k = &self.k;
-        par_fill(s, |i| {
-            if flags[i] & Z != 0 {
-                return 0.0;
-            }
-            (k.row_dot(i, x) - g.map_or(0.0, |g| g[i])) * self.inv_v[i]
-        });
+        par_fill(s, |i| self.source_row(flags, i, x, 0, g));
+    }
+
+    /// Row j of `source`, with x's entry m read at `x[m − base]` (the fused sweep passes a
+    /// chunk of x).
+    #[inline(always)]
+    pub(super) fn source_row(&self, flags: &[u8], j: usize, x: &[f64], base: usize, g: Option<&[f64]>) -> f64 {
+        if flags[j] & Z != 0 {
+            return 0.0;
+        }
+        (self.k.row_dot_offset(j, x, base) - g.map_or(0.0, |g| g[j])) * self.inv_v[j]
     }
 
     /// y = K u on unknowns without P, zero on P.
@@ -122,8 +126,7 @@ impl LevelOperator {
         f: impl Fn(usize, f64, f64) -> f64 + Sync + Send,
     ) {
         if let (Method::Biharmonic, Some(plan)) = (self.method, &self.fuse) {
-            let g = |i: usize, t: Option<f64>, o| f(i, t.map_or(b[i], |t| b[i] - t), o);
-            return self.fused_pass(plan, flags, Iterate::Read(x), s, out, g);
+            return self.fused_pass(plan, flags, Iterate::Read(x), s, out, with_residual(b, f));
         }
         let u: &[f64] = match self.method {
             Method::Biharmonic => {
@@ -158,8 +161,7 @@ impl LevelOperator {
             return;
         }
         if let Some(plan) = &self.fuse {
-            let g = |i: usize, t: Option<f64>, d| f(i, t.map_or(b[i], |t| b[i] - t), d);
-            return self.fused_pass(plan, flags, Iterate::Update(x), s, d, g);
+            return self.fused_pass(plan, flags, Iterate::Update(x), s, d, with_residual(b, f));
         }
         self.source(flags, x, None, s);
         let (k, s) = (&self.k, &*s);
@@ -223,4 +225,12 @@ fn fuse_plan(method: Method, k: &CsrMatrix) -> Option<FusePlan> {
     } else {
         None
     }
+}
+
+/// The fused sweep's row callback from a residual one: r_i = b_i − (K S)_i, or b_i on P rows.
+fn with_residual<'a>(
+    b: &'a [f64],
+    f: impl Fn(usize, f64, f64) -> f64 + Sync + Send + 'a,
+) -> impl Fn(usize, Option<f64>, f64) -> f64 + Sync + Send + 'a {
+    move |i, t, o| f(i, t.map_or(b[i], |t| b[i] - t), o)
 }
