@@ -76,24 +76,24 @@ impl CsrMatrix {
         (&self.cols[r.clone()], &self.vals[r])
     }
 
-    /// Row i times x: Σ_j A_ij x_j, summed in column order.
+    /// Row i times x: Σ_j A_ij x_j, summed as `row_dot_with` sums.
     #[inline(always)]
     pub fn row_dot(&self, i: usize, x: &[f64]) -> f64 {
-        let (c, v) = self.row(i);
-        c.iter().zip(v).map(|(&j, &a)| a * x[j as usize]).sum()
+        self.row_dot_with(i, |j| x[j])
     }
 
-    /// Row i times x where x holds entries `base..` only: Σ_j A_ij x[j − base], in column order.
+    /// Row i times x where x holds entries `base..` only: Σ_j A_ij x[j − base], summed as `row_dot_with` sums.
     #[inline(always)]
     pub fn row_dot_offset(&self, i: usize, x: &[f64], base: usize) -> f64 {
         self.row_dot_with(i, |j| x[j - base])
     }
 
-    /// Σ_j A_ij x(j), in column order: `row_dot` for an x read through a function.
+    /// Σ_j A_ij x(j), for an x read through a function: the row's products in `pair_sum`'s
+    /// order (every row product of the solver is summed this way).
     #[inline(always)]
     pub fn row_dot_with(&self, i: usize, x: impl Fn(usize) -> f64) -> f64 {
         let (c, v) = self.row(i);
-        c.iter().zip(v).map(|(&j, &a)| a * x(j as usize)).sum()
+        pair_sum(c, v, |j, a| a * x(j as usize))
     }
 
     /// Position of entry (i, j) in `cols`/`vals`, if it is in the pattern.
@@ -182,6 +182,26 @@ pub(crate) fn bucket_by_key(n: usize, pairs: &[(u32, u32)]) -> (Vec<u32>, Vec<u3
     (start, values)
 }
 
+/// Σ_k term(a_k, b_k) as two partial sums, one over the even positions k and one over the odd
+/// ones, each in order, added at the end. One running sum makes every product wait for the
+/// previous addition; two halve that chain, and a K pass (rows of about 7 entries) ran 1.07–1.24×
+/// faster at 16.7k, 266k and 1.06M rows (one process, variants alternating, best of 9). The
+/// order is still fixed per row, so results do not depend on the thread count.
+#[inline(always)]
+pub fn pair_sum<A: Copy, B: Copy>(a: &[A], b: &[B], term: impl Fn(A, B) -> f64) -> f64 {
+    let (a2, b2) = (a.chunks_exact(2), b.chunks_exact(2));
+    let last = a2.remainder().first().zip(b2.remainder().first());
+    let (mut even, mut odd) = (0.0, 0.0);
+    for (a, b) in a2.zip(b2) {
+        even += term(a[0], b[0]);
+        odd += term(a[1], b[1]);
+    }
+    if let Some((&a, &b)) = last {
+        even += term(a, b);
+    }
+    even + odd
+}
+
 /// `n` as a row offset: the entry count of a matrix must stay below 2^32.
 pub(crate) fn offset(n: usize) -> u32 {
     u32::try_from(n).unwrap_or_else(|_| panic!("sparse matrix with {n} entries: at most 2^32 - 1 are supported"))
@@ -258,6 +278,22 @@ pub fn axpy(alpha: f64, x: &[f64], y: &mut [f64]) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn pair_sum_adds_even_and_odd_positions_apart() {
+        let one = |a: f64, b: f64| a * b;
+        // A running sum loses the 1 beside 1e16; the two partial sums keep both.
+        let (a, b) = ([1e16, 1.0, -1e16, 1.0], [1.0; 4]);
+        assert_eq!(pair_sum(&a, &b, one), 2.0);
+        assert_eq!(a.iter().sum::<f64>(), 1.0);
+        // An odd length: the last term joins the even sum before the two are added.
+        assert_eq!(pair_sum(&[1e16, 1.0, -1e16, 1.0, 1.0], &[1.0; 5], one), 3.0);
+        assert_eq!(pair_sum(&[3.0], &[2.0], one), 6.0);
+        assert_eq!(pair_sum::<f64, f64>(&[], &[], one), 0.0);
+        // Rows go through it: row_dot is the same sum.
+        let m = CsrMatrix::from_triplets(1, 4, vec![(0, 0, 1e16), (0, 1, 1.0), (0, 2, -1e16), (0, 3, 1.0)]);
+        assert_eq!(m.row_dot(0, &[1.0; 4]), 2.0);
+    }
 
     #[test]
     fn triplets_sum_duplicates_and_transpose_roundtrips() {

@@ -2,7 +2,7 @@
 //! here) that stores no weights of its own: each entry names its fine row and its slot in that
 //! row of P and reads the weight there. An explicit transpose would hold every weight twice.
 
-use crate::sparse::{par_fill, CsrMatrix};
+use crate::sparse::{pair_sum, par_fill, CsrMatrix};
 use std::sync::Arc;
 
 pub struct Restriction {
@@ -40,7 +40,7 @@ impl Restriction {
             let r = self.row_ptr[j] as usize..self.row_ptr[j + 1] as usize;
             let start = |i: u32| if self.rows_of_three { 3 * i as usize } else { p.row_ptr[i as usize] as usize };
             let weight = |i: u32, s: u8| p.vals[start(i) + s as usize];
-            self.rows[r.clone()].iter().zip(&self.slots[r]).map(|(&i, &s)| weight(i, s) * x[i as usize]).sum()
+            pair_sum(&self.rows[r.clone()], &self.slots[r], |i, s| weight(i, s) * x[i as usize])
         });
     }
 }
