@@ -155,7 +155,6 @@ fn name(method: Method, mode: Mode) -> &'static str {
 /// A default-mode solver built at one thread count, with what its construction and first
 /// solve measured, and its fastest solve so far.
 struct Built {
-    threads: usize,
     solver: Solver,
     setup_s: f64,
     bytes_per_vertex: f64,
@@ -202,7 +201,7 @@ fn build_at_each(
     let nv = mesh.num_vertices();
     pools
         .iter()
-        .map(|(threads, pool)| {
+        .map(|(_, pool)| {
             // Memory: peak growth over construction and the first solve (counted allocation).
             let base = alloc::start();
             pool.install(|| {
@@ -214,7 +213,7 @@ fn build_at_each(
                 let sol = solver.solve(motion).map_err(|e| e.to_string())?;
                 let best = (t.elapsed().as_secs_f64(), sol.report);
                 let bytes_per_vertex = alloc::peak_above(base) as f64 / nv as f64;
-                Ok(Built { threads: *threads, solver, setup_s, bytes_per_vertex, best })
+                Ok(Built { solver, setup_s, bytes_per_vertex, best })
             })
         })
         .collect()
@@ -253,17 +252,17 @@ fn run_size(a: &Args, mesh: &Mesh, pools: &[(usize, rayon::ThreadPool)], rows: &
         let solve = SolveParams { tol: a.tol, ..Default::default() };
         let mut built = build_at_each(mesh, &bcs, &motion, solve, method, pools)?;
         alternate_solves(&mut built, pools, &motion)?;
-        let mut bases = Vec::with_capacity(built.len());
-        for (b, (_, pool)) in built.iter().zip(pools) {
+        let mut last = None;
+        for (b, (threads, pool)) in built.into_iter().zip(pools) {
             let op_s = pool.install(|| op_seconds(b.solver.hierarchy().fine(), COMP));
-            let base = RowBase { vertices: nv, threads: b.threads, levels: b.solver.num_levels(), op_s };
+            let base = RowBase { vertices: nv, threads: *threads, levels: b.solver.num_levels(), op_s };
             let (solve_s, rep) = &b.best;
             let r = rep.rel_residual;
             rows.push(base.row(name(method, Mode::Default), *solve_s, rep.cycles, r, b.bytes_per_vertex, b.setup_s));
             report(rows.last().expect("row"));
-            bases.push(base);
+            last = Some((b, base, pool));
         }
-        let (Some(b), Some(base), Some((_, pool))) = (built.pop(), bases.pop(), pools.last()) else {
+        let Some((b, base, pool)) = last else {
             return Err("no thread count".into());
         };
         pool.install(|| alternatives(a, method, b, &base, &motion, rows))?;
@@ -281,7 +280,7 @@ fn alternatives(
     motion: &Motion,
     rows: &mut Vec<Row>,
 ) -> Result<(), String> {
-    let Built { mut solver, setup_s, bytes_per_vertex: bytes, best: (solve_s, _), .. } = b;
+    let Built { mut solver, setup_s, bytes_per_vertex: bytes, best: (solve_s, _) } = b;
     let nv = base.vertices;
     if method != Method::Spring {
         // Paper-faithful: time one cycle, then allow as many as fit in the cap.
