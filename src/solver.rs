@@ -143,8 +143,7 @@ impl Solver {
             // Every unknown of a patch vertex: a vertex split per region has one per side.
             for (d, g) in g.iter_mut().enumerate() {
                 if lev.dofs.vertices_of(d).iter().any(|&v| on_patch[v as usize]) {
-                    let (cols, vals) = lev.op.k.row(d);
-                    *g = cols.iter().zip(vals).map(|(&j, &a)| a * l[j as usize]).sum();
+                    *g = lev.op.k.row_dot(d, &l);
                 }
             }
         }

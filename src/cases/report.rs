@@ -243,8 +243,7 @@ pub fn reference_displacement(
                 let g = g.get_or_insert_with(|| vec![0.0; n]);
                 for v in lev.mesh.patch_vertices(patch) {
                     let d = lev.dofs.vertex_dof[v as usize] as usize;
-                    let (cols, vs) = lev.op.k.row(d);
-                    g[d] = cols.iter().zip(vs).map(|(&j, &a)| a * l[j as usize]).sum();
+                    g[d] = lev.op.k.row_dot(d, &l);
                 }
             }
         }
