@@ -219,15 +219,21 @@ fn build_at_each(
         .collect()
 }
 
+/// Alternating rounds stop once the solves so far took this long (seconds)...
+const ROUND_BUDGET_S: f64 = 3.0;
+/// ...or after this many solves per thread count.
+const MAX_SOLVES: usize = 9;
+
 /// More solves per thread count, the counts alternating round by round, keeping each count's
 /// fastest: the machines this runs on are shared, and a slow phase of the host then hits every
 /// thread count alike instead of one (the 1→2 thread speed-up is a ratio of these). With the
-/// first solve of `build_at_each`, at least two solves per count, three when the rounds so far
-/// took under two seconds.
+/// first solve of `build_at_each`, at least two solves per count; more while the solves so far
+/// took under `ROUND_BUDGET_S`, up to `MAX_SOLVES`, so the short rows, which a host hiccup of a
+/// few milliseconds moves most, get the most samples at a cost of seconds.
 fn alternate_solves(built: &mut [Built], pools: &[(usize, rayon::ThreadPool)], motion: &Motion) -> Result<(), String> {
     let mut total: f64 = built.iter().map(|b| b.best.0).sum();
-    for round in 0..2 {
-        if round == 1 && total > 2.0 {
+    for round in 1..MAX_SOLVES {
+        if round > 1 && total > ROUND_BUDGET_S {
             break;
         }
         for (b, (_, pool)) in built.iter_mut().zip(pools) {
