@@ -50,3 +50,41 @@ fn bench_writes_csv_with_every_solver() {
     }
     let _ = std::fs::remove_dir_all(&out);
 }
+
+/// A bad option is refused before anything runs: exit status 1, a message naming the option,
+/// and no output directory created.
+#[test]
+fn bench_refuses_bad_options_before_running() {
+    let cases: &[(&[&str], &str)] = &[
+        (&["--tol", "nan"], "--tol"),
+        (&["--tol", "0"], "--tol"),
+        (&["--tol", "1.5"], "--tol"),
+        (&["--jacobi-cap-x", "0"], "--jacobi-cap-x"),
+        (&["--jacobi-cap-x=-3"], "--jacobi-cap-x"),
+        (&["--jacobi-cap-s", "inf"], "--jacobi-cap-s"),
+        (&["--paper-cap-s", "nan"], "--paper-cap-s"),
+        (&["--threads", "0"], "--threads"),
+        (&["--threads", "1,0"], "--threads"),
+        (&["--max-vertices", "0"], "--max-vertices"),
+        (&["--max-vertices", "16000"], "below the smallest bench mesh"),
+    ];
+    for (i, (args, names)) in cases.iter().enumerate() {
+        let out = std::env::temp_dir().join(format!("meshmove-bench-bad-{}-{i}", std::process::id()));
+        let run = Command::new(env!("CARGO_BIN_EXE_meshmove"))
+            .args(["bench", "--out"])
+            .arg(&out)
+            .args(*args)
+            .output()
+            .expect("meshmove runs");
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert_eq!(run.status.code(), Some(1), "{args:?} exits 1: {stderr}");
+        assert!(stderr.contains("error") && stderr.contains(names), "{args:?}: {stderr}");
+        assert!(!out.exists(), "{args:?} created {}", out.display());
+    }
+    // A value clap cannot parse is clap's usage error (exit 2), also before anything runs.
+    let run = Command::new(env!("CARGO_BIN_EXE_meshmove"))
+        .args(["bench", "--out", "unused", "--max-vertices", "-1"])
+        .output()
+        .expect("meshmove runs");
+    assert_eq!(run.status.code(), Some(2));
+}

@@ -345,9 +345,39 @@ fn report(r: &Row) {
     eprintln!("  {}", r.csv());
 }
 
-pub fn run(a: &Args) -> Result<(), String> {
+/// Every option checked before anything runs or is written, so a bad value costs nothing and
+/// names itself (a NaN cap would otherwise stop Jacobi at once and report a ratio of nothing).
+fn check_args(a: &Args) -> Result<(), String> {
     if a.threads.is_empty() || a.threads.contains(&0) {
         return Err("--threads needs thread counts of at least 1".into());
+    }
+    let positive = |name: &str, v: f64| {
+        if v > 0.0 && v.is_finite() {
+            Ok(())
+        } else {
+            Err(format!("{name} must be a positive finite number, got {v}"))
+        }
+    };
+    positive("--jacobi-cap-x", a.jacobi_cap_x)?;
+    positive("--jacobi-cap-s", a.jacobi_cap_s)?;
+    positive("--paper-cap-s", a.paper_cap_s)?;
+    if !(a.tol > 0.0 && a.tol < 1.0) {
+        return Err(format!("--tol must be a relative residual between 0 and 1, got {}", a.tol));
+    }
+    Ok(())
+}
+
+pub fn run(a: &Args) -> Result<(), String> {
+    check_args(a)?;
+    // The smallest mesh is cheap to build; checking against it first keeps a too-small
+    // --max-vertices from writing anything.
+    let mut mesh = free_surface(BASE_H);
+    if mesh.num_vertices() > a.max_vertices {
+        return Err(format!(
+            "--max-vertices {} is below the smallest bench mesh ({} vertices)",
+            a.max_vertices,
+            mesh.num_vertices()
+        ));
     }
     std::fs::create_dir_all(&a.out).map_err(|e| format!("{}: {e}", a.out.display()))?;
     // One pool per thread count, ascending: the alternatives run in the last (largest).
@@ -373,13 +403,6 @@ pub fn run(a: &Args) -> Result<(), String> {
     );
     let t_all = Instant::now();
     let mut rows = Vec::new();
-    let mut mesh = free_surface(BASE_H);
-    if mesh.num_vertices() > a.max_vertices {
-        println!(
-            "note: the smallest mesh has {} vertices, above --max-vertices; running it anyway",
-            mesh.num_vertices()
-        );
-    }
     loop {
         let nv = mesh.num_vertices();
         eprintln!("{nv} vertices");
