@@ -43,19 +43,6 @@ pub fn solve(lev: &Level, c: usize, b: &[f64], x: &mut [f64], tol: f64, cap_s: f
     }
     x.copy_from_slice(&xv);
     let seconds = t0.elapsed().as_secs_f64();
-    let est_seconds = if rel <= tol || hist.len() < 4 {
-        seconds
-    } else {
-        // Rate per sweep over the second half of the run.
-        let (s1, r1) = hist[hist.len() / 2];
-        let (s2, r2) = *hist.last().expect("history");
-        let rate = (r2 / r1).powf(1.0 / (s2 - s1) as f64);
-        if rate < 1.0 {
-            let more = (tol / r2).ln() / rate.ln();
-            seconds * (sweeps as f64 + more) / sweeps as f64
-        } else {
-            f64::INFINITY
-        }
-    };
+    let est_seconds = super::extrapolate::seconds_to_tol(&hist, sweeps, seconds, tol);
     Jacobi { sweeps, seconds, rel_residual: rel, est_seconds }
 }
