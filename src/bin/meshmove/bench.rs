@@ -354,7 +354,8 @@ fn report(r: &Row) {
 }
 
 /// Every option checked before anything runs or is written, so a bad value costs nothing and
-/// names itself (a NaN cap would otherwise stop Jacobi at once and report a ratio of nothing).
+/// names itself. Unchecked, a bad cap would be silently replaced by another: `f64::min` drops
+/// a NaN Jacobi multiple for the absolute cap, and a NaN or zero paper budget becomes 1 cycle.
 fn check_args(a: &Args) -> Result<(), String> {
     if a.threads.is_empty() || a.threads.contains(&0) {
         return Err("--threads needs thread counts of at least 1".into());
