@@ -100,9 +100,9 @@ fn prolongation_is_exact_for_linear_fields_on_every_level() {
         let xc: Vec<f64> = coarse.dofs.dof_vertex.iter().map(|&v| lin(coarse.mesh.coords()[v as usize])).collect();
         let mut xf = vec![0.0; fine.n()];
         fine.down.as_ref().unwrap().prolong.mul_vec(&xc, &mut xf);
-        for d in 0..fine.n() {
+        for (d, &x) in xf.iter().enumerate() {
             let p = fine.mesh.coords()[fine.dofs.dof_vertex[d] as usize];
-            assert!((xf[d] - lin(p)).abs() < 1e-12, "level {l} unknown {d}");
+            assert!((x - lin(p)).abs() < 1e-12, "level {l} unknown {d}");
         }
     }
 }

@@ -212,8 +212,8 @@ mod tests {
                 assert_eq!(*e, key(t[k], c), "unknown {} has two keys", d[k]);
             }
         }
-        for d in 0..dofs.n {
-            let k = key_of[d].expect("every unknown is a corner's");
+        for (d, k) in key_of.iter().enumerate() {
+            let k = k.expect("every unknown is a corner's");
             let vs = members.get_mut(&k).expect("a key of the mesh");
             vs.sort_unstable();
             vs.dedup();

@@ -173,7 +173,7 @@ pub(crate) fn interface(v: i32) -> Result<InterfaceVariant, CError> {
 
 impl meshmove_options {
     /// Checked conversion to the Rust options.
-    pub(crate) fn to_rust(&self) -> Result<crate::Options, CError> {
+    pub(crate) fn to_rust(self) -> Result<crate::Options, CError> {
         let method = match self.method {
             0 => Method::Biharmonic,
             1 => Method::Laplacian,

@@ -188,7 +188,7 @@ fn write_deformed_fields() {
     write_deformed(&path, &mesh, &disp).unwrap();
     let d = read_vtu(&path).unwrap();
     let inv = d.cell_data.iter().find(|x| x.0 == "inverted").unwrap();
-    assert!(inv.1.iter().any(|&r| r == 1.0));
+    assert!(inv.1.contains(&1.0));
     assert_eq!(d.point_data[0].1.len(), 3 * n);
     assert!(matches!(write_deformed(&path, &mesh, &disp[1..]), Err(IoError::InvalidArgument(_))));
 }

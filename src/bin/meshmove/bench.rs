@@ -448,19 +448,8 @@ fn table(rows: &[Row]) -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
-        "{:<20} {:>8} {:>3} {:>3} {:>8} {:>9} {:>6} {:>9} {:>8} {:>6} {:>9}  {}",
-        "solver",
-        "vertices",
-        "thr",
-        "lev",
-        "setup_s",
-        "cycle_s",
-        "iter",
-        "solve_s",
-        "work_u",
-        "B/vert",
-        "rel_res",
-        "ratio to ours"
+        "{:<20} {:>8} {:>3} {:>3} {:>8} {:>9} {:>6} {:>9} {:>8} {:>6} {:>9}  ratio to ours",
+        "solver", "vertices", "thr", "lev", "setup_s", "cycle_s", "iter", "solve_s", "work_u", "B/vert", "rel_res",
     );
     for r in rows {
         let ours = match r.solver {

@@ -14,7 +14,7 @@ pub struct Args {
 }
 
 pub fn run(args: Args) -> Result<ExitCode, String> {
-    if !(args.tol >= 0.0) {
+    if args.tol.is_nan() || args.tol < 0.0 {
         return Err(format!("--tol must be a non-negative number, got {}", args.tol));
     }
     let a = read_vtu(&args.a).map_err(|e| format!("{}: {e}", args.a.display()))?;
