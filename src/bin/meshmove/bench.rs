@@ -309,7 +309,7 @@ fn alternatives(
         let hier = bytes.max(extra);
         // Stopped by the cap: its time is a lower bound, and the table adds the estimate.
         let hist: Vec<(usize, f64)> = r.history.iter().enumerate().map(|(k, &(_, rel))| (k + 1, rel)).collect();
-        let est = seconds_to_tol(&hist, r.cycles, paper_s, a.tol);
+        let est = seconds_to_tol(&hist, paper_s, a.tol);
         rows.push(Row {
             est_solve_s: (r.rel_residual > a.tol).then_some(est),
             ..base.row(name(method, Mode::PaperFaithful), paper_s, r.cycles, r.rel_residual, hier, setup_s)

@@ -43,6 +43,6 @@ pub fn solve(lev: &Level, c: usize, b: &[f64], x: &mut [f64], tol: f64, cap_s: f
     }
     x.copy_from_slice(&xv);
     let seconds = t0.elapsed().as_secs_f64();
-    let est_seconds = super::extrapolate::seconds_to_tol(&hist, sweeps, seconds, tol);
+    let est_seconds = super::extrapolate::seconds_to_tol(&hist, seconds, tol);
     Jacobi { sweeps, seconds, rel_residual: rel, est_seconds }
 }
