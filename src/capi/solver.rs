@@ -298,8 +298,14 @@ pub unsafe extern "C" fn meshmove_solver_move_in_steps(
         let before = s.solver.mesh().coords().to_vec();
         let reps = s.solver.move_in_steps(&s.motion(d), n)?;
         if let Some(out) = out {
-            for (o, r) in out.iter_mut().zip(&reps) {
-                *o = meshmove_report::from(r);
+            for (o, r) in out.iter_mut().zip(reps.iter().filter(|r| r.accepted)) {
+                *o = meshmove_report {
+                    cycles: r.cycles.min(i32::MAX as usize) as i32,
+                    max_correction: 0.0,
+                    rel_residual: r.rel_residual,
+                    seconds: r.seconds,
+                    converged: i32::from(r.converged),
+                };
             }
         }
         s.last = s.solver.mesh().coords().iter().zip(&before).map(|(a, b)| *a - *b).collect();
