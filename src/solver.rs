@@ -211,7 +211,7 @@ impl Solver {
         let mesh = self.mesh();
         motion.check(mesh)?;
         for &(patch, m) in &motion.rigid {
-            for c in 0..2 {
+            for (c, name) in COMPONENT.iter().enumerate() {
                 if self.bcs.kind(patch, c) != Kind::Free {
                     continue;
                 }
@@ -219,9 +219,8 @@ impl Solver {
                     mesh.patch_vertices(patch).iter().any(|&v| m.displacement(mesh.coords()[v as usize])[c] != 0.0);
                 if moves {
                     return Err(Error::InvalidArgument(format!(
-                        "the rigid motion of patch {patch} moves its vertices in {}, which is FREE on that patch: \
-                         make {} FIXED or CLAMPED there, or give that patch no motion",
-                        COMPONENT[c], COMPONENT[c]
+                        "the rigid motion of patch {patch} moves its vertices in {name}, which is FREE on that \
+                         patch: make {name} FIXED or CLAMPED there, or give that patch no motion"
                     )));
                 }
             }
@@ -574,13 +573,14 @@ fn check_converged(rep: &Report, step: Option<(usize, usize)>) -> Result<()> {
 }
 
 fn check_solve_params(p: &SolveParams) -> Result<()> {
-    let degree_ok = |d: Option<usize>| d.is_none_or(|d| (1..=MAX_CHEB_DEGREE).contains(&d));
-    if !(p.tol > 0.0 && p.tol.is_finite())
-        || !(1..=MAX_CYCLES).contains(&p.max_cycles)
-        || !degree_ok(p.cheb_degree)
-        || !degree_ok(p.cheb_coarse_degree)
-        || p.cheb_lower_ratio.is_some_and(|r| !(r > 1.0 && r.is_finite()))
-    {
+    let degree_ok = |d: Option<usize>| d.map_or(true, |d| (1..=MAX_CHEB_DEGREE).contains(&d));
+    let ok = p.tol > 0.0
+        && p.tol.is_finite()
+        && (1..=MAX_CYCLES).contains(&p.max_cycles)
+        && degree_ok(p.cheb_degree)
+        && degree_ok(p.cheb_coarse_degree)
+        && p.cheb_lower_ratio.map_or(true, |r| r > 1.0 && r.is_finite());
+    if !ok {
         return Err(Error::InvalidArgument(format!(
             "tolerance must be positive and finite, max cycles 1 to {MAX_CYCLES}, Chebyshev degree 1 to \
              {MAX_CHEB_DEGREE}, lower ratio finite and above 1"
