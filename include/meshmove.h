@@ -89,6 +89,41 @@
 #define MESHMOVE_CH_CYLINDER 2
 
 /*
+ Most steps of one `meshmove_solver_move_in_steps` call.
+ */
+#define MESHMOVE_MAX_STEPS 1000000
+
+/*
+ Largest `meshmove_options.max_cycles`.
+ */
+#define MESHMOVE_MAX_CYCLES 1000000
+
+/*
+ Largest `meshmove_options.cheb_degree`.
+ */
+#define MESHMOVE_MAX_CHEB_DEGREE 64
+
+/*
+ Largest `meshmove_options.threads` (a fixed bound, the same on every machine).
+ */
+#define MESHMOVE_MAX_THREADS 1024
+
+/*
+ Largest `max_substeps` of `meshmove_solver_set_substepping`.
+ */
+#define MESHMOVE_MAX_SUBSTEPS 1024
+
+/*
+ Most vertices of a mesh (2 × vertices must fit an `int32_t` length).
+ */
+#define MESHMOVE_MAX_VERTICES 1073741823
+
+/*
+ Most cells of a mesh (3 × cells must fit an `int32_t` length).
+ */
+#define MESHMOVE_MAX_CELLS 715827882
+
+/*
  What a meshmove call returned. The values are fixed and never renumbered; new codes are only
  appended. `meshmove_last_error_message` gives the text of the last failure on this thread.
  */
@@ -145,6 +180,27 @@ enum meshmove_status
    An internal error (a Rust panic) was caught; the handle involved may be inconsistent.
    */
   MESHMOVE_STATUS_PANIC = 11,
+  /*
+   A solve did not reach its tolerance within `max_cycles`. `meshmove_solver_solve` still
+   writes the unconverged displacement (the caller decides whether to use it; the report says
+   how far it got); `_move` and `_move_in_steps` leave the coordinates and the solver as
+   before the call.
+   */
+  MESHMOVE_STATUS_NOT_CONVERGED = 12,
+  /*
+   The reference mesh of a step has cells of non-positive area (the message names the first).
+   */
+  MESHMOVE_STATUS_TANGLED = 13,
+  /*
+   The solve converged but the moved mesh has inverted cells: the result IS written and the
+   quality output gives the count. Never reported as plain OK.
+   */
+  MESHMOVE_STATUS_INVERTED = 14,
+  /*
+   The handle is in use by a call on another thread; nothing was done (try again later, or
+   give each thread its own handle).
+   */
+  MESHMOVE_STATUS_BUSY = 15,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
@@ -304,8 +360,9 @@ typedef struct meshmove_mesh meshmove_mesh;
 
 /*
  A solver: the hierarchy built once for a mesh and boundary conditions, the rigid motions
- currently set, and the displacement of the last solve. Not to be used from two threads at
- once (different solvers may be used concurrently).
+ currently set, and the displacement of the last solve. Different solvers may be used
+ concurrently; a call on a solver that another thread is using returns
+ `MESHMOVE_STATUS_BUSY` at once and changes nothing.
  */
 typedef struct meshmove_solver meshmove_solver;
 
@@ -326,7 +383,9 @@ typedef struct meshmove_options {
    */
   int32_t criterion;
   /*
-   Worker threads; 0 uses the global pool (all cores). Results do not depend on it.
+   Worker threads of this solver, 0 ≤ threads ≤ `MESHMOVE_MAX_THREADS`; 0 is one per
+   available core. All of the solver's work runs on them (never on a shared global pool).
+   Results do not depend on it.
    */
   int32_t threads;
   /*
@@ -334,13 +393,13 @@ typedef struct meshmove_options {
    */
   double tol;
   /*
-   Most cycles per solve (default 500), at least 1.
+   Most cycles per solve (default 500), 1 ≤ max_cycles ≤ `MESHMOVE_MAX_CYCLES`.
    */
   int32_t max_cycles;
   /*
    Chebyshev smoother degree of the default mode, on every level; 0 picks per method
-   (default 0: biharmonic 6 on the finest level and 4 below, others 3 and 2), otherwise at
-   least 1.
+   (default 0: biharmonic 6 on the finest level and 4 below, others 3 and 2), otherwise
+   1 ≤ cheb_degree ≤ `MESHMOVE_MAX_CHEB_DEGREE`.
    */
   int32_t cheb_degree;
   /*
@@ -397,6 +456,56 @@ typedef struct meshmove_quality {
    */
   double min_angle_deg;
 } meshmove_quality;
+
+/*
+ What one step (or automatic sub-step) of a move did.
+ */
+typedef struct meshmove_step_report {
+  /*
+   The step, 1-based.
+   */
+  int32_t step;
+  /*
+   The sub-step within the step, 1-based (1 when the step was not split).
+   */
+  int32_t substep;
+  /*
+   Fraction of the whole motion done after this sub-step (1 after the last).
+   */
+  double fraction;
+  /*
+   Cycles of this sub-step's solve.
+   */
+  int32_t cycles;
+  /*
+   Relative residual at the end of this sub-step's solve.
+   */
+  double rel_residual;
+  /*
+   1 if the solve met its tolerance, else 0.
+   */
+  int32_t converged;
+  /*
+   1 if the multigrid hierarchy was rebuilt (a coarse cell would have inverted), else 0.
+   */
+  int32_t rebuilt;
+  /*
+   Inverted cells of the mesh after this sub-step.
+   */
+  int32_t inverted;
+  /*
+   Smallest moved / reference cell area ratio of this sub-step.
+   */
+  double min_volume_ratio;
+  /*
+   Smallest angle of any cell after this sub-step, degrees.
+   */
+  double min_angle_deg;
+  /*
+   Wall-clock seconds of this sub-step.
+   */
+  double seconds;
+} meshmove_step_report;
 
 #ifdef __cplusplus
 extern "C" {
@@ -517,7 +626,8 @@ const char *meshmove_status_name(int32_t status);
 meshmove_status meshmove_version(int32_t *major, int32_t *minor, int32_t *patch);
 
 /*
- Validates and creates a mesh.
+ Validates and creates a mesh (at most `MESHMOVE_MAX_VERTICES` vertices,
+ `MESHMOVE_MAX_CELLS` cells and `MESHMOVE_MAX_VERTICES` tagged edges).
 
  `coords`: `2 num_vertices` doubles (x0, y0, x1, y1, ...). `cells`: `3 num_cells` vertex
  indices in `index_base` (0 for C, 1 for Fortran), either orientation. `tagged_edges`:
@@ -749,10 +859,12 @@ meshmove_status meshmove_solver_move(struct meshmove_solver *solver,
                                      struct meshmove_quality *quality);
 
 /*
- Moves the boundary to `prescribed` (and the rigid motions) in `steps` equal steps, the
- reference re-evaluated after each (the paper's 10- and 15-interval runs); the solver's
- reference becomes the moved mesh. `reports`: NULL, or room for `num_reports` ≥ `steps`
- reports, one per step.
+ Moves the boundary to `prescribed` (and the rigid motions) in `steps` equal steps
+ (1 ≤ `steps` ≤ `MESHMOVE_MAX_STEPS`), the reference re-evaluated after each (the paper's 10-
+ and 15-interval runs); the solver's reference becomes the moved mesh. `reports`: NULL (with
+ `num_reports` 0), or room for `num_reports` step reports: the first min(count, num_reports)
+ are copied (all of them: `meshmove_solver_step_reports`). On failure the solver is as before
+ the call (its step reports say how far the motion got).
 
  # Safety
  `prescribed` must hold `len` doubles, `reports` `num_reports` structs.
@@ -762,7 +874,21 @@ meshmove_status meshmove_solver_move_in_steps(struct meshmove_solver *solver,
                                               const double *prescribed,
                                               int32_t steps,
                                               int32_t num_reports,
-                                              struct meshmove_report *reports);
+                                              struct meshmove_step_report *reports);
+
+/*
+ The step reports of the last `_move_in_steps` call on this solver (one per step or
+ sub-step, kept after a failure too). `*count` receives how many there are; if `capacity` is
+ smaller (e.g. 0 with `reports` NULL, to ask the size), nothing is copied and
+ `MESHMOVE_STATUS_BUFFER_TOO_SMALL` is returned.
+
+ # Safety
+ `reports` must hold `capacity` structs; `count` must be writable.
+ */
+meshmove_status meshmove_solver_step_reports(const struct meshmove_solver *solver,
+                                             int32_t capacity,
+                                             struct meshmove_step_report *reports,
+                                             int32_t *count);
 
 /*
  Makes `coords` (`len` = 2 × vertices, finite) the solver's reference mesh: the operators are
