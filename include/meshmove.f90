@@ -2,10 +2,13 @@
 ! library. Two modules, as nlopt-f and fgsl do:
 !   meshmove_c  raw bind(c) interfaces, one per C function, and named constants for the enums
 !   meshmove    a thin handle layer: derived types holding a private c_ptr, explicit create/free,
-!               1-based indices by default, and an optional `stat` argument on every fallible
-!               routine; when `stat` is absent and the call fails, the routine stops with the
-!               library's message (error stop).
-! Keep in step with meshmove.h (the ctest Fortran examples exercise every binding used here).
+!               1-based indices and components, arrays taken `contiguous` (a section is copied
+!               in and out by the compiler, never passed as a bare address) and checked against
+!               the sizes they are passed with, and optional `stat` and `errmsg` arguments on
+!               every fallible routine; when `stat` is absent and the call fails, the routine
+!               stops with the message (error stop).
+! tests/fortran_interfaces.rs checks the interfaces, bind(c) types and constants against
+! meshmove.h; tests/fortran/bad_sizes.f90 the size checks.
 module meshmove_c
   use, intrinsic :: iso_c_binding
   implicit none (type, external)
