@@ -10,6 +10,19 @@
  * Coordinates and displacements are interleaved (x0, y0, x1, y1, ...) arrays of 2 x vertices
  * doubles; every array comes with its int32_t length, which must match. Enum arguments are
  * int32_t values of the enums below. Every _create has a _free that accepts NULL.
+ *
+ * A call either succeeds or fails with a status that names why, and a failing call leaves every
+ * handle exactly as it was. Outputs are finite or the call fails. Counts and options have upper
+ * bounds (MESHMOVE_MAX_*), checked before anything is allocated.
+ *
+ * Threads: distinct handles may be used on distinct threads at once. A handle in use by one
+ * thread is not waited for: a call on it from another thread returns MESHMOVE_STATUS_BUSY at
+ * once and does nothing (calls that only read a handle may share it). A solver's work runs on
+ * its own options.threads worker threads only, never on a global pool. After fork(), the child
+ * may use inherited handles (the worker threads are rebuilt there). A freed handle is refused
+ * (MESHMOVE_STATUS_INVALID_HANDLE) even after later handles were created: its small slot stays
+ * allocated (a tombstone of under 100 bytes per handle ever created), so addresses are never
+ * reused.
  */
 
 #ifndef MESHMOVE_H
