@@ -148,12 +148,20 @@ pub unsafe extern "C" fn meshmove_bcs_link_pairs(
         let mut out = Vec::with_capacity(n);
         for (i, c) in p.chunks_exact(2).enumerate() {
             let conv = |v: i32| {
-                u32::try_from(i64::from(v) - i64::from(base))
-                    .map_err(|_| CError::arg(format!("pair {i} has vertex index {v}, below the index base {base}")))
+                u32::try_from(i64::from(v) - i64::from(base)).map_err(|_| {
+                    CError::arg(format!(
+                        "pair {} has vertex index {v}, below the index base {base}",
+                        i as i64 + i64::from(base)
+                    ))
+                })
             };
             let (a, z) = (conv(c[0])?, conv(c[1])?);
             if a == z {
-                return Err(CError::arg(format!("pair {i} links vertex {} to itself", c[0])));
+                return Err(CError::arg(format!(
+                    "pair {} links vertex {} to itself",
+                    i as i64 + i64::from(base),
+                    c[0]
+                )));
             }
             out.push([a, z]);
         }

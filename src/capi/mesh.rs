@@ -5,7 +5,7 @@ use super::handles::{self, check_out, count, get, hand_out, path, slice, Handle,
 use super::status::meshmove_status;
 use super::types::bounded;
 use crate::cases::meshes;
-use crate::Mesh;
+use crate::{Mesh, MeshError};
 use glam::DVec2;
 use std::ffi::c_char;
 
@@ -88,9 +88,40 @@ pub unsafe extern "C" fn meshmove_mesh_create(
         let xy: Vec<[f64; 2]> = xy.chunks_exact(2).map(|c| [c[0], c[1]]).collect();
         let tris: Vec<[i32; 3]> = cv.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
         let tagged: Vec<([i32; 2], i32)> = te.chunks_exact(2).zip(tp).map(|(e, &p)| ([e[0], e[1]], p)).collect();
-        let mesh = Mesh::new(&xy, &tris, base, &tagged, reg)?;
+        let mesh = Mesh::new(&xy, &tris, base, &tagged, reg).map_err(|e| in_base(e, index_base))?;
         hand_out(mesh, out)
     })
+}
+
+/// A mesh error in the caller's numbering: cells, vertices and tagged edges counted from `base`
+/// (the mesh's own messages count from 0).
+fn in_base(e: MeshError, base: i32) -> CError {
+    let n = |i: &usize| *i as i64 + i64::from(base);
+    let msg = match &e {
+        MeshError::NonFiniteCoordinate { vertex, x, y } => {
+            format!("vertex {} has a non-finite coordinate ({x}, {y})", n(vertex))
+        }
+        MeshError::IndexOutOfRange { cell, index, base, end } => {
+            format!("cell {} refers to vertex index {index}, outside {base}..{end}", n(cell))
+        }
+        MeshError::RepeatedVertex { cell, vertex } => format!("cell {} repeats vertex {}", n(cell), n(vertex)),
+        MeshError::UnusedVertex { vertex } => format!("vertex {} is not used by any cell", n(vertex)),
+        MeshError::DegenerateCell { cell, area } => format!("cell {} has zero area ({area:e})", n(cell)),
+        MeshError::NonManifoldEdge { a, b, cells } => {
+            format!("edge ({}, {}) is shared by {cells} cells; at most two may share an edge", n(a), n(b))
+        }
+        MeshError::TaggedIndexOutOfRange { edge, index, base, end } => {
+            format!("tagged edge {} refers to vertex index {index}, outside {base}..{end}", n(edge))
+        }
+        MeshError::TaggedEdgeNotAnEdge { edge, a, b } => {
+            format!("tagged edge {} ({}, {}) is not an edge of any cell", n(edge), n(a), n(b))
+        }
+        MeshError::TaggedEdgeTwice { edge, a, b, first, second } => {
+            format!("tagged edge {} ({}, {}) is tagged twice, with patches {first} and {second}", n(edge), n(a), n(b))
+        }
+        _ => return e.into(),
+    };
+    CError::new(meshmove_status::InvalidMesh, format!("invalid mesh: {msg} (numbered from {base}, as given)"))
 }
 
 /// Creates one of the paper's test meshes with edge length about `h`: `"free_surface"`
