@@ -64,6 +64,7 @@ module meshmove_c
     real(c_double) :: rel_residual
     integer(c_int32_t) :: converged, rebuilt, inverted
     real(c_double) :: min_volume_ratio, min_angle_deg, seconds
+    integer(c_int32_t) :: accepted
   end type
 
   interface

@@ -518,6 +518,11 @@ typedef struct meshmove_step_report {
    Wall-clock seconds of this sub-step.
    */
   double seconds;
+  /*
+   1 if the result became the new mesh; 0 if it was rejected (and the step split), or the
+   call failed here.
+   */
+  int32_t accepted;
 } meshmove_step_report;
 
 #ifdef __cplusplus

@@ -164,6 +164,9 @@ pub struct meshmove_step_report {
     pub min_angle_deg: f64,
     /// Wall-clock seconds of this sub-step.
     pub seconds: f64,
+    /// 1 if the result became the new mesh; 0 if it was rejected (and the step split), or the
+    /// call failed here.
+    pub accepted: i32,
 }
 
 /// The per-step reports of a `move_in_steps` of `n` equal steps, from the solve reports.
@@ -179,6 +182,7 @@ pub(crate) fn step_reports(reps: &[crate::Report], n: usize) -> Vec<meshmove_ste
             rel_residual: r.rel_residual,
             converged: i32::from(r.converged),
             seconds: r.seconds,
+            accepted: 1,
             ..Default::default()
         })
         .collect()
