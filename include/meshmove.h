@@ -357,6 +357,33 @@ typedef int32_t meshmove_interface;
 #endif // __cplusplus
 
 /*
+ What each step of a move is solved from (`meshmove_solver_set_reference_mode`).
+ */
+enum meshmove_reference
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : int32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+  /*
+   The mesh of the previous step (default): each step solves for the increment on the
+   moved mesh. Large rotations need it; the mesh depends on the path.
+   */
+  MESHMOVE_REFERENCE_INCREMENTAL = 0,
+  /*
+   The original mesh: each step solves for the total displacement so far, so the mesh
+   depends only on the boundary's position (a periodic motion comes back to its start).
+   */
+  MESHMOVE_REFERENCE_ORIGINAL = 1,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum meshmove_reference meshmove_reference;
+#else
+typedef int32_t meshmove_reference;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
+/*
  A boundary-condition set: a `meshmove_kind` per patch and component (patches not named are
  FIXED), links between patches, interface variants. It is checked against a mesh when a solver
  is created, and copied into the solver (it may be freed afterwards).

@@ -95,6 +95,18 @@ pub enum meshmove_interface {
     Continuous = 1,
 }
 
+/// What each step of a move is solved from (`meshmove_solver_set_reference_mode`).
+#[repr(i32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum meshmove_reference {
+    /// The mesh of the previous step (default): each step solves for the increment on the
+    /// moved mesh. Large rotations need it; the mesh depends on the path.
+    Incremental = 0,
+    /// The original mesh: each step solves for the total displacement so far, so the mesh
+    /// depends only on the boundary's position (a periodic motion comes back to its start).
+    Original = 1,
+}
+
 /// Solver options; fill with `meshmove_options_default` and change what you need.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq)]
