@@ -16,7 +16,8 @@
 //!   compare-and-swap and releases it when it returns (also on an error or a caught panic: the
 //!   guard's `Drop`). Calls that only read a handle share it; a call that changes it (or frees
 //!   it) needs it alone. A call that finds the handle taken returns `MESHMOVE_STATUS_BUSY`
-//!   immediately and changes nothing: it never waits, never races.
+//!   immediately and changes nothing: it never waits, never races. A call that panics while it
+//!   holds a handle alone leaves it poisoned: every later call but `_free` is refused.
 
 use super::error::CError;
 use super::status::meshmove_status;
@@ -29,9 +30,12 @@ use std::ops::{Deref, DerefMut};
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::Mutex;
 
-/// State word values: 0 idle, 1.. that many readers, `WRITER` one writer, `DEAD` freed.
+/// State word values: 0 idle, 1.. that many readers, `WRITER` one writer, `DEAD` freed,
+/// `POISONED` a call that changed the handle panicked (it may be half-changed: only `_free` is
+/// accepted).
 const WRITER: u32 = u32::MAX - 1;
 const DEAD: u32 = u32::MAX;
+const POISONED: u32 = u32::MAX - 2;
 
 /// What a C handle points at: the state word and the payload (`None` once freed).
 pub(crate) struct Slot<T> {
@@ -112,6 +116,22 @@ fn freed<T: Handle>(what: &str) -> CError {
     CError::new(meshmove_status::InvalidHandle, format!("`{what}` is a {} handle that was already freed", T::NAME))
 }
 
+fn poisoned<T: Handle>(what: &str) -> CError {
+    CError::new(
+        meshmove_status::InvalidHandle,
+        format!("`{what}` ({}) was left unusable by an internal error (PANIC) in an earlier call; free it", T::NAME),
+    )
+}
+
+/// The error for a handle whose state word is `now` (not idle).
+fn taken<T: Handle>(now: u32, what: &str) -> CError {
+    match now {
+        DEAD => freed::<T>(what),
+        POISONED => poisoned::<T>(what),
+        _ => busy::<T>(what),
+    }
+}
+
 fn busy<T: Handle>(what: &str) -> CError {
     CError::new(
         meshmove_status::Busy,
@@ -162,7 +182,9 @@ impl<T> DerefMut for Exclusive<'_, T> {
 
 impl<T> Drop for Exclusive<'_, T> {
     fn drop(&mut self) {
-        self.state.store(0, Ordering::Release);
+        // Unwinding from a panic: the payload may be half-changed, so no later call may use it.
+        let next = if std::thread::panicking() { POISONED } else { 0 };
+        self.state.store(next, Ordering::Release);
     }
 }
 
@@ -172,8 +194,7 @@ pub(crate) fn get<'a, T: Handle>(p: *const T, what: &str) -> Result<Shared<'a, T
     let mut cur = s.state.load(Ordering::Relaxed);
     loop {
         match cur {
-            DEAD => return Err(freed::<T>(what)),
-            n if n >= WRITER - 1 => return Err(busy::<T>(what)),
+            n if n >= POISONED - 1 => return Err(taken::<T>(n, what)),
             n => match s.state.compare_exchange_weak(n, n + 1, Ordering::Acquire, Ordering::Relaxed) {
                 Ok(_) => break,
                 Err(now) => cur = now,
@@ -194,7 +215,7 @@ pub(crate) fn get<'a, T: Handle>(p: *const T, what: &str) -> Result<Shared<'a, T
 pub(crate) fn get_mut<'a, T: Handle>(p: *mut T, what: &str) -> Result<Exclusive<'a, T::Payload>, CError> {
     let s = slot(p, what)?;
     if let Err(now) = s.state.compare_exchange(0, WRITER, Ordering::Acquire, Ordering::Relaxed) {
-        return Err(if now == DEAD { freed::<T>(what) } else { busy::<T>(what) });
+        return Err(taken::<T>(now, what));
     }
     // SAFETY: the state word is `WRITER`: this call alone reaches the payload until the guard drops.
     match unsafe { (*s.payload.get()).as_deref_mut() } {
@@ -213,8 +234,12 @@ pub(crate) fn free<T: Handle>(p: *mut T, what: &str) -> Result<(), CError> {
         return Ok(());
     }
     let s = slot(p, what)?;
-    if let Err(now) = s.state.compare_exchange(0, WRITER, Ordering::Acquire, Ordering::Relaxed) {
-        return Err(if now == DEAD { freed::<T>(what) } else { busy::<T>(what) });
+    let idle = |from: u32| s.state.compare_exchange(from, WRITER, Ordering::Acquire, Ordering::Relaxed);
+    if let Err(now) = idle(0) {
+        // A poisoned handle can still be freed.
+        if now != POISONED || idle(POISONED).is_err() {
+            return Err(taken::<T>(now, what));
+        }
     }
     // SAFETY: the state word is `WRITER`: no other call reaches the payload.
     let payload = unsafe { (*s.payload.get()).take() };
@@ -322,4 +347,66 @@ pub(crate) unsafe fn write_out<T>(p: *mut T, v: T, what: &str) -> Result<(), CEr
     check_aligned(p, what)?;
     p.write(v);
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    struct Thing(Slot<Vec<u8>>);
+    impl Handle for Thing {
+        type Payload = Vec<u8>;
+        const NAME: &'static str = "thing";
+        fn slot(&self) -> &Slot<Vec<u8>> {
+            &self.0
+        }
+        fn from_slot(slot: Slot<Vec<u8>>) -> Self {
+            Thing(slot)
+        }
+    }
+
+    fn make() -> *mut Thing {
+        let mut p = std::ptr::null_mut();
+        unsafe { hand_out::<Thing>(vec![1, 2, 3], &mut p).unwrap() };
+        p
+    }
+
+    #[test]
+    fn readers_share_a_writer_is_alone() {
+        let p = make();
+        {
+            let (a, b) = (get(p, "p").unwrap(), get(p, "p").unwrap());
+            assert_eq!(a.len() + b.len(), 6);
+            assert_eq!(get_mut(p, "p").err().unwrap().status, meshmove_status::Busy);
+            assert_eq!(free(p, "p").unwrap_err().status, meshmove_status::Busy);
+        }
+        {
+            let mut w = get_mut(p, "p").unwrap();
+            w.push(4);
+            assert_eq!(get(p, "p").err().unwrap().status, meshmove_status::Busy);
+            assert_eq!(get_mut(p, "p").err().unwrap().status, meshmove_status::Busy);
+        }
+        assert_eq!(get(p, "p").unwrap().len(), 4);
+        free(p, "p").unwrap();
+        let e = get(p, "p").err().unwrap();
+        assert_eq!(e.status, meshmove_status::InvalidHandle);
+        assert!(e.msg.contains("already freed"), "{}", e.msg);
+        assert_eq!(free(p, "p").unwrap_err().status, meshmove_status::InvalidHandle);
+    }
+
+    #[test]
+    fn a_panic_poisons_the_handle_but_free_works() {
+        let p = make();
+        let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            let mut w = get_mut(p, "p").unwrap();
+            w.clear();
+            panic!("half-changed");
+        }));
+        assert!(r.is_err());
+        let e = get(p, "p").err().unwrap();
+        assert!(e.msg.contains("PANIC"), "{}", e.msg);
+        assert_eq!(get_mut(p, "p").err().unwrap().status, meshmove_status::InvalidHandle);
+        free(p, "p").unwrap();
+        assert!(get(p, "p").err().unwrap().msg.contains("already freed"));
+    }
 }

@@ -91,6 +91,16 @@ fn not_converged(r: &crate::Report, what: &str) -> CError {
     )
 }
 
+/// An optional output (NULL allowed), checked before any work so that writing it cannot fail
+/// after the solver changed.
+fn check_opt_out<T>(p: *mut T, what: &str) -> Result<(), CError> {
+    if p.is_null() {
+        Ok(())
+    } else {
+        handles::check_aligned(p, what)
+    }
+}
+
 unsafe fn report_out(p: *mut meshmove_report, r: &crate::Report) -> Result<(), CError> {
     if !p.is_null() {
         handles::write_out(p, meshmove_report::from(r), "report")?;
@@ -229,6 +239,7 @@ pub unsafe extern "C" fn meshmove_solver_solve(
     ffi_body!(meshmove_solver_solve, {
         let mut s = get_mut(solver, "solver")?;
         let nv = s.nv();
+        check_opt_out(report, "report")?;
         check_xy_out(displacement, len, nv, "displacement")?;
         let d = read_xy(prescribed, len, nv, "prescribed")?;
         let g = if guess.is_null() { None } else { Some(read_xy(guess, len, nv, "guess")?) };
@@ -262,6 +273,7 @@ pub unsafe extern "C" fn meshmove_solver_cycle(
     ffi_body!(meshmove_solver_cycle, {
         let mut s = get_mut(solver, "solver")?;
         let nv = s.nv();
+        check_opt_out(report, "report")?;
         check_xy_out(displacement, len, nv, "displacement")?;
         let d = read_xy(prescribed, len, nv, "prescribed")?;
         let mut x = read_xy(displacement, len, nv, "displacement")?;
@@ -298,6 +310,8 @@ pub unsafe extern "C" fn meshmove_solver_move(
     ffi_body!(meshmove_solver_move, {
         let mut s = get_mut(solver, "solver")?;
         let nv = s.nv();
+        check_opt_out(report, "report")?;
+        check_opt_out(quality, "quality")?;
         check_xy_out(coords, len, nv, "coords")?;
         let d = read_xy(boundary_displacement, len, nv, "boundary_displacement")?;
         let x = read_xy(coords, len, nv, "coords")?;
