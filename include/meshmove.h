@@ -615,7 +615,8 @@ meshmove_status meshmove_bcs_link_periodic(struct meshmove_bcs *bcs,
                                            double tol);
 
 /*
- Links explicit vertex pairs: `pairs` holds `2 num_pairs` vertex indices in `index_base`
+ Links explicit vertex pairs (1 ≤ `num_pairs` ≤ `MESHMOVE_MAX_VERTICES`): `pairs` holds
+ `2 num_pairs` vertex indices in `index_base`
  (a0, b0, a1, b1, ...). Linked vertices become one unknown and must be told the same
  displacement. Indices beyond the mesh are reported when the solver is created.
 

@@ -1,7 +1,7 @@
 //! `meshmove_bcs`: kinds per patch and component, links, interface variants.
 
 use super::error::CError;
-use super::handles::{self, check_out, count, get_mut, hand_out, slice, Handle, Slot};
+use super::handles::{self, check_out, get_mut, hand_out, slice, Handle, Slot};
 use super::status::meshmove_status;
 use super::types;
 use crate::{BoundaryConditions, Link};
@@ -124,7 +124,8 @@ pub unsafe extern "C" fn meshmove_bcs_link_periodic(
     })
 }
 
-/// Links explicit vertex pairs: `pairs` holds `2 num_pairs` vertex indices in `index_base`
+/// Links explicit vertex pairs (1 ≤ `num_pairs` ≤ `MESHMOVE_MAX_VERTICES`): `pairs` holds
+/// `2 num_pairs` vertex indices in `index_base`
 /// (a0, b0, a1, b1, ...). Linked vertices become one unknown and must be told the same
 /// displacement. Indices beyond the mesh are reported when the solver is created.
 ///
@@ -140,10 +141,7 @@ pub unsafe extern "C" fn meshmove_bcs_link_pairs(
     ffi_body!(meshmove_bcs_link_pairs, {
         let mut b = get_mut(bcs, "bcs")?;
         let base = handles::index_base(index_base)? as i32;
-        let n = count(num_pairs, "num_pairs")?;
-        if n == 0 {
-            return Err(CError::arg("num_pairs is 0; give at least one pair"));
-        }
+        let n = types::bounded(num_pairs, "num_pairs", 1, crate::limits::MAX_VERTICES)?;
         let p = slice(pairs, 2 * n, "pairs")?;
         let mut out = Vec::with_capacity(n);
         for (i, c) in p.chunks_exact(2).enumerate() {
