@@ -328,16 +328,19 @@ static void test_busy(void) {
     while (!sh.started) sched_yield();
     while (!sh.done) {
         meshmove_status st = meshmove_solver_solve(sh.s, 2 * sh.nv, sh.d, NULL, out, NULL);
-        if (st == MESHMOVE_STATUS_BUSY) {
-            busy_solve++;
-            CHECK(strstr(msg(), "in use") != NULL, "BUSY message");
-        } else if (st != MESHMOVE_STATUS_OK)
+        if (st == MESHMOVE_STATUS_OK) continue; /* the worker was between calls */
+        if (st != MESHMOVE_STATUS_BUSY) {
             other++;
+            continue;
+        }
+        busy_solve++;
+        CHECK(strstr(msg(), "in use") != NULL, "BUSY message");
+        /* the worker is (or just was) inside a call: free must be refused, or done cleanly */
         st = meshmove_solver_free(sh.s);
         if (st == MESHMOVE_STATUS_BUSY)
             busy_free++;
         else if (st == MESHMOVE_STATUS_OK) {
-            freed = 1; /* the worker ran between calls: it must now see INVALID_HANDLE, not crash */
+            freed = 1; /* the worker's later calls must see INVALID_HANDLE, not crash */
             break;
         } else
             other++;
