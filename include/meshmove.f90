@@ -23,7 +23,7 @@ module meshmove_c
     MESHMOVE_STATUS_TANGLED = 13, MESHMOVE_STATUS_INVERTED = 14, MESHMOVE_STATUS_BUSY = 15
   ! upper bounds of counts and options (MESHMOVE_MAX_* in meshmove.h)
   integer(c_int32_t), parameter :: MESHMOVE_MAX_STEPS = 1000000, MESHMOVE_MAX_CYCLES = 1000000, &
-    MESHMOVE_MAX_CHEB_DEGREE = 64, MESHMOVE_MAX_THREADS = 1024, MESHMOVE_MAX_SUBSTEPS = 1024, &
+    MESHMOVE_MAX_CHEB_DEGREE = 64, MESHMOVE_MAX_THREADS = 1024, MESHMOVE_MAX_SUBSTEPS = 1048576, &
     MESHMOVE_MAX_VERTICES = 1073741823, MESHMOVE_MAX_CELLS = 715827882
   ! meshmove_method, meshmove_mode, meshmove_criterion
   integer(c_int32_t), parameter :: MESHMOVE_METHOD_BIHARMONIC = 0, MESHMOVE_METHOD_LAPLACIAN = 1, &
@@ -253,6 +253,17 @@ module meshmove_c
       integer(c_int32_t), value :: capacity
       integer(c_int32_t), intent(out) :: count
     end function
+    integer(c_int32_t) function meshmove_solver_set_substepping(solver, max_substeps, min_volume_ratio) bind(c)
+      import :: c_int32_t, c_ptr, c_double
+      type(c_ptr), value :: solver
+      integer(c_int32_t), value :: max_substeps
+      real(c_double), value :: min_volume_ratio
+    end function
+    integer(c_int32_t) function meshmove_solver_set_reference_mode(solver, mode) bind(c)
+      import :: c_int32_t, c_ptr
+      type(c_ptr), value :: solver
+      integer(c_int32_t), value :: mode
+    end function
     integer(c_int32_t) function meshmove_solver_set_reference(solver, len, coords) bind(c)
       import :: c_int32_t, c_ptr, c_double
       type(c_ptr), value :: solver
@@ -306,7 +317,8 @@ module meshmove
     MESHMOVE_METHOD_LAPLACIAN, MESHMOVE_METHOD_SPRING, MESHMOVE_MODE_DEFAULT, MESHMOVE_MODE_PAPER_FAITHFUL, &
     MESHMOVE_CRITERION_RELATIVE_RESIDUAL, MESHMOVE_CRITERION_MAX_CORRECTION, MESHMOVE_KIND_FIXED, &
     MESHMOVE_KIND_CLAMPED, MESHMOVE_KIND_FREE, MESHMOVE_INTERFACE_SEPARATE, MESHMOVE_INTERFACE_CONTINUOUS, &
-    MESHMOVE_REFERENCE_INCREMENTAL, MESHMOVE_REFERENCE_ORIGINAL, MESHMOVE_FS_BOTTOM, MESHMOVE_FS_RIGHT, MESHMOVE_FS_TOP, MESHMOVE_FS_LEFT, MESHMOVE_IF_BOTTOM, &
+    MESHMOVE_REFERENCE_INCREMENTAL, MESHMOVE_REFERENCE_ORIGINAL, MESHMOVE_FS_BOTTOM, MESHMOVE_FS_RIGHT, &
+    MESHMOVE_FS_TOP, MESHMOVE_FS_LEFT, MESHMOVE_IF_BOTTOM, &
     MESHMOVE_IF_RIGHT, MESHMOVE_IF_INTERFACE, MESHMOVE_IF_LEFT, MESHMOVE_IF_TOP, MESHMOVE_CH_WALL, &
     MESHMOVE_CH_CYLINDER
 
@@ -360,6 +372,8 @@ module meshmove
     procedure :: move_in_steps => solver_move_in_steps
     procedure :: step_reports => solver_step_reports
     procedure :: set_reference => solver_set_reference
+    procedure :: set_substepping => solver_set_substepping
+    procedure :: set_reference_mode => solver_set_reference_mode
     procedure :: coords => solver_coords
     procedure :: displacement => solver_displacement
     procedure :: quality => solver_quality
@@ -884,6 +898,27 @@ contains
     end if
     cap = n
     call mm_check(meshmove_solver_step_reports(self%h, cap, c_loc(reports), n), "solver_step_reports", stat, errmsg)
+  end subroutine
+
+  !> Automatic sub-stepping: a step that would invert a cell, fall below min_volume_ratio or not
+  !> converge is split in halves, down to 1/max_substeps of the step (0 or 1: no splitting).
+  subroutine solver_set_substepping(self, max_substeps, min_volume_ratio, stat, errmsg)
+    class(mm_solver), intent(inout) :: self
+    integer(c_int32_t), intent(in) :: max_substeps
+    real(c_double), intent(in) :: min_volume_ratio
+    integer, intent(out), optional :: stat
+    character(len=:), allocatable, intent(out), optional :: errmsg
+    call mm_check(meshmove_solver_set_substepping(self%h, max_substeps, min_volume_ratio), "solver_set_substepping", &
+      stat, errmsg)
+  end subroutine
+
+  !> What each later step is solved from: MESHMOVE_REFERENCE_INCREMENTAL or _ORIGINAL.
+  subroutine solver_set_reference_mode(self, mode, stat, errmsg)
+    class(mm_solver), intent(inout) :: self
+    integer(c_int32_t), intent(in) :: mode
+    integer, intent(out), optional :: stat
+    character(len=:), allocatable, intent(out), optional :: errmsg
+    call mm_check(meshmove_solver_set_reference_mode(self%h, mode), "solver_set_reference_mode", stat, errmsg)
   end subroutine
 
   !> Makes xy(2, nv) the solver's reference mesh.

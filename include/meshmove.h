@@ -124,7 +124,7 @@
 /*
  Largest `max_substeps` of `meshmove_solver_set_substepping`.
  */
-#define MESHMOVE_MAX_SUBSTEPS 1024
+#define MESHMOVE_MAX_SUBSTEPS 1048576
 
 /*
  Most vertices of a mesh (2 × vertices must fit an `int32_t` length).
@@ -937,6 +937,30 @@ meshmove_status meshmove_solver_step_reports(const struct meshmove_solver *solve
                                              int32_t *count);
 
 /*
+ Automatic sub-stepping of `_move` and `_move_in_steps`: a step whose result would invert a
+ cell, fall below `min_volume_ratio` (moved / reference cell area), or not converge is split in
+ halves, down to 1/`max_substeps` of the step (0 ≤ `max_substeps` ≤ `MESHMOVE_MAX_SUBSTEPS`;
+ 0 or 1: no splitting, the default; 0 ≤ `min_volume_ratio` < 1, default 0). The motion still
+ ends exactly at the prescribed position, or the call fails at the last valid state (the
+ solver as before the call, the step reports saying how far it got).
+
+ # Safety
+ `solver` must be a handle from meshmove (checked).
+ */
+meshmove_status meshmove_solver_set_substepping(struct meshmove_solver *solver,
+                                                int32_t max_substeps,
+                                                double min_volume_ratio);
+
+/*
+ What each later step is solved from: a `meshmove_reference` value. Switching to
+ `MESHMOVE_REFERENCE_ORIGINAL` makes the current mesh the original one.
+
+ # Safety
+ `solver` must be a handle from meshmove (checked).
+ */
+meshmove_status meshmove_solver_set_reference_mode(struct meshmove_solver *solver, int32_t mode);
+
+/*
  Makes `coords` (`len` = 2 × vertices, finite) the solver's reference mesh: the operators are
  re-evaluated there, the coarse topology is kept when it can be.
 
@@ -948,7 +972,7 @@ meshmove_status meshmove_solver_set_reference(struct meshmove_solver *solver,
                                               const double *coords);
 
 /*
- Copies the reference coordinates (after `meshmove_solver_move` or `_move_in_steps`: the moved
+ Copies the current positions (after `meshmove_solver_move` or `_move_in_steps`: the moved
  mesh) into `coords`, `len` = 2 × vertices.
 
  # Safety

@@ -16,8 +16,15 @@ pub enum Error {
     InvalidArgument(String),
     #[error("multigrid hierarchy could not be built: {0}")]
     Coarsening(String),
+    /// The iteration diverged, or conjugate gradients broke down (pᵀAp ≤ 0 or not finite).
     #[error("solver diverged: {0}")]
     Diverged(String),
+    /// A solve stopped at its cycle limit above its tolerance.
+    #[error("not converged: {0}")]
+    NotConverged(String),
+    /// The reference mesh of a step has cells of non-positive area: nothing was solved on it.
+    #[error("tangled reference mesh: {0}")]
+    Tangled(String),
     #[error("mesh file: {0}")]
     Io(#[from] crate::io::IoError),
 }

@@ -45,7 +45,7 @@ pub use mesh::{IndexBase, Mesh, MeshError, PatchEdge};
 pub use motion::{Motion, RigidMotion};
 pub use multigrid::solve::{Criterion, Mode, Report, SolveParams};
 pub use operator::Method;
-pub use solver::{Options, Solution, Solver};
+pub use solver::{Options, ReferenceMode, Solution, Solver, StepReport};
 
 /// The README's example is compiled and run as a doctest.
 #[doc = include_str!("../README.md")]

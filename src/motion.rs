@@ -33,6 +33,31 @@ impl RigidMotion {
             center: self.center + self.translation * (step as f64 * f),
         }
     }
+
+    /// The part of this motion from fraction `a` to fraction `b` of it (0 ≤ a < b ≤ 1), applied
+    /// to the body where fraction `a` left it: angle and translation ramped, the centre carried
+    /// along by the translation done so far. `between(0, 1)` is the motion itself, bitwise.
+    pub fn between(&self, a: f64, b: f64) -> RigidMotion {
+        RigidMotion {
+            translation: self.translation * (b - a),
+            angle: self.angle * (b - a),
+            center: self.center + self.translation * a,
+        }
+    }
+
+    /// This motion followed by `next`, as one rigid motion about this motion's centre. Angles add
+    /// up (a rotation past 360° keeps its angle), so a sum of increments ramps as a whole.
+    pub fn then(&self, next: &RigidMotion) -> RigidMotion {
+        let r2 = DVec2::from_angle(next.angle);
+        let c1 = self.center;
+        let translation = r2.rotate(c1 + self.translation - next.center) + next.center + next.translation - c1;
+        RigidMotion { translation, angle: self.angle + next.angle, center: c1 }
+    }
+
+    /// True when the motion moves nothing.
+    pub fn is_identity(&self) -> bool {
+        self.angle == 0.0 && self.translation == DVec2::ZERO
+    }
 }
 
 /// What the boundary does in one solve.
@@ -71,7 +96,12 @@ impl Motion {
             return Err(Error::InvalidArgument(format!("displacement of vertex {v} is not finite")));
         }
         let ids = mesh.patch_ids();
-        for (p, m) in &self.rigid {
+        for (k, (p, m)) in self.rigid.iter().enumerate() {
+            if self.rigid[..k].iter().any(|(q, _)| q == p) {
+                return Err(Error::InvalidArgument(format!(
+                    "patch {p} is given two rigid motions: give one (compose them first)"
+                )));
+            }
             if ids.binary_search(p).is_err() {
                 return Err(Error::InvalidArgument(format!("rigid motion of patch {p}, which is not in the mesh")));
             }
@@ -80,6 +110,32 @@ impl Motion {
             }
         }
         Ok(())
+    }
+
+    /// The part of this motion from fraction `a` to fraction `b` of it (see
+    /// [`RigidMotion::between`]); displacements are scaled by `b − a`.
+    pub fn between(&self, a: f64, b: f64) -> Motion {
+        if a == 0.0 && b == 1.0 {
+            return self.clone();
+        }
+        Motion {
+            displacement: self.displacement.iter().map(|&d| d * (b - a)).collect(),
+            rigid: self.rigid.iter().map(|&(p, m)| (p, m.between(a, b))).collect(),
+        }
+    }
+
+    /// This motion followed by `next` (displacements added, rigid motions of a patch composed):
+    /// the total motion of a sequence of increments, for solves from the original mesh.
+    pub fn then(&self, next: &Motion) -> Motion {
+        let displacement = self.displacement.iter().zip(&next.displacement).map(|(a, b)| *a + *b).collect();
+        let mut rigid = self.rigid.clone();
+        for &(p, m) in &next.rigid {
+            match rigid.iter_mut().find(|(q, _)| *q == p) {
+                Some((_, r)) => *r = r.then(&m),
+                None => rigid.push((p, m)),
+            }
+        }
+        Motion { displacement, rigid }
     }
 
     /// Step `step` (0-based) of `steps` equal steps toward this motion.
@@ -120,5 +176,19 @@ mod tests {
             x += m.increment(i, 7).displacement(x);
         }
         assert!((x - (x0 + m.displacement(x0))).length() < 1e-14);
+    }
+
+    #[test]
+    fn composed_increments_are_the_whole_motion() {
+        let m = RigidMotion { translation: DVec2::new(0.4, -0.1), angle: 7.5, center: DVec2::new(1.0, 2.0) };
+        let mut total = m.between(0.0, 0.25);
+        for (a, b) in [(0.25, 0.5), (0.5, 0.75), (0.75, 1.0)] {
+            total = total.then(&m.between(a, b));
+        }
+        assert!((total.angle - m.angle).abs() < 1e-14);
+        for x in [DVec2::new(0.3, 0.2), DVec2::new(-2.0, 5.0)] {
+            assert!((total.displacement(x) - m.displacement(x)).length() < 1e-13);
+        }
+        assert_eq!(m.between(0.0, 1.0), m);
     }
 }

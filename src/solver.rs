@@ -1,8 +1,14 @@
 //! The solver a flow code holds for the life of its mesh: hierarchy built once, then each time
 //! step a motion in and displacements out.
+//!
+//! What a call guarantees: a result is returned only when every component reached the tolerance
+//! (`Error::NotConverged` otherwise; [`Solver::solve_report`] hands back an unconverged result for
+//! callers who want to decide themselves), a conjugate-gradient breakdown is `Error::Diverged`,
+//! a reference mesh with a cell of non-positive area is `Error::Tangled` before anything is
+//! solved on it, and a call that fails leaves the solver exactly as it was.
 
 use crate::bc::{resolve_links, BoundaryConditions, Kind, P};
-use crate::mesh::quality::{quality, Quality};
+use crate::mesh::quality::{inverted_cells, quality, Quality};
 use crate::motion::Motion;
 use crate::multigrid::cycle::{cycle, Workspace};
 use crate::multigrid::hierarchy::{Hierarchy, HierarchyParams, Level};
@@ -12,6 +18,34 @@ use crate::operator::Method;
 use crate::sparse::max_abs;
 use crate::{Error, Mesh, Result};
 use glam::DVec2;
+use std::time::Instant;
+
+mod steps;
+
+pub use steps::StepReport;
+
+/// Most Chebyshev degree accepted (degree 6 is the biharmonic's default; the cost of a cycle
+/// grows linearly with it).
+pub const MAX_CHEB_DEGREE: usize = 64;
+/// Most cycles per solve accepted.
+pub const MAX_CYCLES: usize = 1_000_000;
+/// Most steps of one `move_in_steps` call accepted.
+pub const MAX_STEPS: usize = 1_000_000;
+/// Most sub-steps one step may be split into.
+pub const MAX_SUBSTEPS: usize = 1 << 20;
+
+/// What every step is solved from.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum ReferenceMode {
+    /// The mesh of the previous step (DESIGN §3's multi-step motion): each step solves for the
+    /// increment on the moved mesh. Large rotations need it; the mesh depends on the path.
+    #[default]
+    Incremental,
+    /// The original mesh: each step solves for the total displacement of the motion so far, so
+    /// the mesh depends only on the boundary's position (a periodic motion comes back to its
+    /// start). Valid while the total motion is small enough for one step to stay valid.
+    Original,
+}
 
 #[derive(Clone, Debug, Default)]
 pub struct Options {
@@ -20,6 +54,14 @@ pub struct Options {
     /// Worker threads; 0 uses rayon's global pool.
     pub threads: usize,
     pub hierarchy: HierarchyParams,
+    /// Automatic sub-stepping: a step whose result would invert a cell, fall below
+    /// `min_volume_ratio`, or not converge is split in halves, up to this many sub-steps per step.
+    /// 0 or 1: no splitting.
+    pub max_substeps: usize,
+    /// Smallest deformed/reference cell area ratio a sub-stepped step accepts (0: any valid cell).
+    pub min_volume_ratio: f64,
+    /// What each step is solved from.
+    pub reference: ReferenceMode,
 }
 
 /// Displacements of every vertex and how the solve went.
@@ -27,6 +69,15 @@ pub struct Options {
 pub struct Solution {
     pub displacement: Vec<DVec2>,
     pub report: Report,
+    /// The moved mesh against the mesh the displacement starts from.
+    pub quality: Quality,
+}
+
+/// The state a failed mutating call restores.
+struct Undo {
+    coords: Vec<DVec2>,
+    /// The hierarchy as it was before the first rebuild of the call.
+    hierarchy: Option<Hierarchy>,
 }
 
 pub struct Solver {
@@ -34,14 +85,22 @@ pub struct Solver {
     bcs: BoundaryConditions,
     hierarchy: Hierarchy,
     pool: Option<rayon::ThreadPool>,
+    /// `ReferenceMode::Original`: the motion done so far (the sum of the increments) and the
+    /// positions it gave; the hierarchy stays on the original mesh.
+    total: Option<(Motion, Vec<DVec2>)>,
+    /// The sub-steps of the last `advance` or `move_in_steps` call.
+    steps: Vec<StepReport>,
+    /// The last valid mesh the last `advance` or `move_in_steps` call reached.
+    last_valid: Vec<DVec2>,
 }
 
 use crate::bc::COMPONENT;
 
 impl Solver {
     pub fn new(mesh: &Mesh, bcs: &BoundaryConditions, opts: Options) -> Result<Solver> {
-        check_solve_params(&opts.solve)?;
+        check_options(&opts)?;
         bcs.check(mesh)?;
+        check_not_tangled(mesh, mesh.coords())?;
         let pairs = resolve_links(mesh, &bcs.links)?;
         let pool = match opts.threads {
             0 => None,
@@ -57,9 +116,12 @@ impl Solver {
             Some(p) => p.install(build)?,
             None => build()?,
         };
-        Ok(Solver { opts, bcs: bcs.clone(), hierarchy, pool })
+        let last_valid = mesh.coords().to_vec();
+        Ok(Solver { opts, bcs: bcs.clone(), hierarchy, pool, total: None, steps: Vec::new(), last_valid })
     }
 
+    /// Runs `f` on the solver's threads: every part of a call's work, so the thread count set
+    /// in the options bounds all of it.
     fn run<T: Send>(&self, f: impl FnOnce() -> T + Send) -> T {
         match &self.pool {
             Some(p) => p.install(f),
@@ -70,6 +132,15 @@ impl Solver {
     /// The reference mesh (the mesh at the start of the step).
     pub fn mesh(&self) -> &Mesh {
         &self.hierarchy.fine().mesh
+    }
+
+    /// The positions after the last step: the reference mesh, or in `ReferenceMode::Original`
+    /// the original mesh moved by the motion so far.
+    pub fn current_coords(&self) -> &[DVec2] {
+        match &self.total {
+            Some((_, x)) => x,
+            None => self.mesh().coords(),
+        }
     }
 
     pub fn options(&self) -> &Options {
@@ -84,6 +155,31 @@ impl Solver {
         Ok(())
     }
 
+    /// Changes the options that need no new hierarchy (iteration, sub-stepping, reference mode);
+    /// method, threads and hierarchy parameters must stay as the solver was built. Switching to
+    /// `ReferenceMode::Original` makes the current mesh the original one.
+    pub fn set_options(&mut self, opts: Options) -> Result<()> {
+        check_options(&opts)?;
+        if opts.method != self.opts.method
+            || opts.threads != self.opts.threads
+            || format!("{:?}", opts.hierarchy) != format!("{:?}", self.opts.hierarchy)
+        {
+            return Err(Error::InvalidArgument(
+                "method, threads and hierarchy parameters are fixed when the solver is made: make a new solver".into(),
+            ));
+        }
+        if opts.reference != self.opts.reference {
+            let x = self.current_coords().to_vec();
+            if opts.reference == ReferenceMode::Incremental {
+                self.set_reference(x)?;
+            } else {
+                self.total = None;
+            }
+        }
+        self.opts = opts;
+        Ok(())
+    }
+
     pub fn num_levels(&self) -> usize {
         self.hierarchy.levels.len()
     }
@@ -95,6 +191,42 @@ impl Solver {
 
     pub fn hierarchy(&self) -> &Hierarchy {
         &self.hierarchy
+    }
+
+    /// The sub-steps of the last [`Solver::advance`] or [`Solver::move_in_steps`] call, also when
+    /// it failed.
+    pub fn step_reports(&self) -> &[StepReport] {
+        &self.steps
+    }
+
+    /// The last valid mesh the last [`Solver::advance`] or [`Solver::move_in_steps`] call reached
+    /// (its result on success; on failure how far it got, while the solver itself is restored).
+    pub fn last_valid_coords(&self) -> &[DVec2] {
+        &self.last_valid
+    }
+
+    /// A prescribed motion must fit the mesh and move only what it can: one rigid motion per
+    /// patch, none moving a component that is FREE on its patch (it would be silently dropped).
+    pub fn check_motion(&self, motion: &Motion) -> Result<()> {
+        let mesh = self.mesh();
+        motion.check(mesh)?;
+        for &(patch, m) in &motion.rigid {
+            for c in 0..2 {
+                if self.bcs.kind(patch, c) != Kind::Free {
+                    continue;
+                }
+                let moves =
+                    mesh.patch_vertices(patch).iter().any(|&v| m.displacement(mesh.coords()[v as usize])[c] != 0.0);
+                if moves {
+                    return Err(Error::InvalidArgument(format!(
+                        "the rigid motion of patch {patch} moves its vertices in {}, which is FREE on that patch: \
+                         make {} FIXED or CLAMPED there, or give that patch no motion",
+                        COMPONENT[c], COMPONENT[c]
+                    )));
+                }
+            }
+        }
+        Ok(())
     }
 
     /// Prescribed values (zero off P) and the rigid-motion flux source of component `c`.
@@ -120,41 +252,22 @@ impl Solver {
             }
             dp[d] = v0;
         }
-        Ok((dp, self.rigid_flux(motion, c)))
-    }
-
-    /// DESIGN §4: on a CLAMPED patch moving rigidly, S_b = (1/V_b) Σ_j K_bj (d_j − L_j); the
-    /// K L part is returned here as a source, so the held spacing rotates with the body.
-    fn rigid_flux(&self, motion: &Motion, c: usize) -> Option<Vec<f64>> {
-        let lev = self.hierarchy.fine();
-        if lev.op.method != Method::Biharmonic {
-            return None;
-        }
-        let mut g: Option<Vec<f64>> = None;
-        let x = lev.mesh.coords();
-        for &(patch, m) in &motion.rigid {
-            if self.bcs.kind(patch, c) != Kind::Clamped {
-                continue;
-            }
-            let l: Vec<f64> = lev.dofs.dof_vertex.iter().map(|&v| m.displacement(x[v as usize])[c]).collect();
-            let mut on_patch = vec![false; lev.mesh.num_vertices()];
-            lev.mesh.patch_vertices(patch).iter().for_each(|&v| on_patch[v as usize] = true);
-            let g = g.get_or_insert_with(|| vec![0.0; lev.n()]);
-            // Every unknown of a patch vertex: a vertex split per region has one per side.
-            for (d, g) in g.iter_mut().enumerate() {
-                if lev.dofs.vertices_of(d).iter().any(|&v| on_patch[v as usize]) {
-                    *g = lev.op.k.row_dot(d, &l);
-                }
-            }
-        }
-        g
+        Ok((dp, rigid_flux(&self.hierarchy, &self.bcs, motion, c)))
     }
 
     /// The right-hand side of component `c` (its scratch S freed before the solve starts).
-    fn rhs(lev: &Level, c: usize, dp: &[f64], g: Option<&[f64]>) -> Vec<f64> {
+    fn rhs(lev: &Level, c: usize, dp: &[f64], g: Option<&[f64]>) -> Result<Vec<f64>> {
         let (mut b, mut s) = (vec![0.0; lev.n()], vec![0.0; lev.n()]);
         lev.op.rhs(&lev.flags[c], dp, g, &mut b, &mut s);
-        b
+        if let Some(i) = b.iter().position(|v| !v.is_finite()) {
+            let big = dp.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            return Err(Error::InvalidArgument(format!(
+                "the prescribed {} displacements (largest {big:e}) overflow the operator (right-hand side not \
+                 finite at unknown {i}): displacements must be of the order of the mesh",
+                COMPONENT[c]
+            )));
+        }
+        Ok(b)
     }
 
     fn scale(vals: &[DVec2]) -> f64 {
@@ -172,11 +285,24 @@ impl Solver {
 
     /// As `solve`, starting from a guess (e.g. the previous time step's displacement).
     pub fn solve_from(&self, motion: &Motion, guess: Option<&[DVec2]>) -> Result<Solution> {
+        let sol = self.solve_report(motion, guess)?;
+        check_converged(&sol.report, None)?;
+        Ok(sol)
+    }
+
+    /// As `solve_from`, but a solve that stops above its tolerance is returned (with
+    /// `report.converged == false`) for the caller to judge. Breakdowns and bad input are errors.
+    pub fn solve_report(&self, motion: &Motion, guess: Option<&[DVec2]>) -> Result<Solution> {
+        self.check_motion(motion)?;
         let lev = self.hierarchy.fine();
-        motion.check(&lev.mesh)?;
         if let Some(g) = guess {
             check_guess(g, lev.mesh.num_vertices())?;
         }
+        self.run(|| self.solve_inner(motion, guess))
+    }
+
+    fn solve_inner(&self, motion: &Motion, guess: Option<&[DVec2]>) -> Result<Solution> {
+        let lev = self.hierarchy.fine();
         let vals = motion.vertex_values(&lev.mesh);
         let scale = Self::scale(&vals);
         let mut d: [Vec<f64>; 2] = [Vec::new(), Vec::new()];
@@ -184,7 +310,7 @@ impl Solver {
         for c in 0..2 {
             let (dp, g) = self.prescribed(motion, &vals, c)?;
             let flags = &lev.flags[c];
-            let b = Self::rhs(lev, c, &dp, g.as_deref());
+            let b = Self::rhs(lev, c, &dp, g.as_deref())?;
             // Not kept through the solve (memory): the prescribed values are re-read from `vals`.
             drop((dp, g));
             let mut x: Vec<f64> = match guess {
@@ -193,7 +319,14 @@ impl Solver {
                     .collect(),
                 None => vec![0.0; lev.n()],
             };
-            let rep = self.run(|| solve(&self.hierarchy, c, &self.opts.solve, &b, &mut x, scale));
+            let rep = solve(&self.hierarchy, c, &self.opts.solve, &b, &mut x, scale);
+            if let Some(k) = rep.breakdown {
+                return Err(Error::Diverged(format!(
+                    "component {}: conjugate gradients broke down at iteration {k} (pᵀAp not positive): the \
+                     operator is not positive definite on this reference mesh",
+                    COMPONENT[c]
+                )));
+            }
             if !rep.rel_residual.is_finite() || rep.rel_residual > 1.0 {
                 return Err(Error::Diverged(format!(
                     "component {} residual {:e} after {} cycles",
@@ -211,39 +344,59 @@ impl Solver {
         }
         let ry = reps.pop().expect("two reports");
         let rx = reps.pop().expect("two reports");
-        Ok(Solution { displacement: Self::to_vertices(lev, &d), report: Report::merge(rx, ry) })
+        let displacement = Self::to_vertices(lev, &d);
+        if let Some(v) = displacement.iter().position(|d| !d.is_finite()) {
+            return Err(Error::Diverged(format!("the displacement of vertex {v} is not finite")));
+        }
+        let quality = moved_quality(&lev.mesh, &displacement);
+        Ok(Solution { displacement, report: Report::merge(rx, ry), quality })
     }
 
     /// One multigrid cycle of the solver's mode from `displacement` (read and overwritten): for
     /// codes that run a fixed number of cycles per time step.
     pub fn cycle(&self, motion: &Motion, displacement: &mut [DVec2]) -> Result<Report> {
+        self.check_motion(motion)?;
+        check_guess(displacement, self.mesh().num_vertices())?;
+        let (out, rep) = self.run(|| self.cycle_inner(motion, displacement))?;
+        if let Some(v) = out.iter().position(|d| !d.is_finite()) {
+            return Err(Error::Diverged(format!("the cycle's displacement of vertex {v} is not finite")));
+        }
+        displacement.copy_from_slice(&out);
+        Ok(rep)
+    }
+
+    fn cycle_inner(&self, motion: &Motion, displacement: &[DVec2]) -> Result<(Vec<DVec2>, Report)> {
         let lev = self.hierarchy.fine();
-        motion.check(&lev.mesh)?;
-        check_guess(displacement, lev.mesh.num_vertices())?;
         let vals = motion.vertex_values(&lev.mesh);
         let cp = self.opts.solve.cycle_params(self.opts.method);
         let mut d: [Vec<f64>; 2] = [Vec::new(), Vec::new()];
         let mut reps = Vec::new();
         for c in 0..2 {
-            let t0 = std::time::Instant::now();
+            let t0 = Instant::now();
             let (dp, g) = self.prescribed(motion, &vals, c)?;
             let flags = &lev.flags[c];
             let n = lev.n();
-            let b = Self::rhs(lev, c, &dp, g.as_deref());
+            let b = Self::rhs(lev, c, &dp, g.as_deref())?;
             let (mut s, mut r) = (vec![0.0; n], vec![0.0; n]);
             let mut x: Vec<f64> = (0..n)
                 .map(|k| if flags[k] & P != 0 { 0.0 } else { displacement[lev.dofs.dof_vertex[k] as usize][c] })
                 .collect();
             let before = x.clone();
-            self.run(|| {
-                let mut ws = Workspace::new(&self.hierarchy);
-                cycle(&self.hierarchy, c, &cp, &b, &mut x, Start::Guess, &mut ws);
-            });
+            let mut ws = Workspace::new(&self.hierarchy);
+            cycle(&self.hierarchy, c, &cp, &b, &mut x, Start::Guess, &mut ws);
             lev.op.residual(flags, &b, &x, &mut r, &mut s);
             let bn = crate::sparse::dot(&b, &b).sqrt();
-            let rel = if bn > 0.0 { crate::sparse::dot(&r, &r).sqrt() / bn } else { 0.0 };
+            let rn = crate::sparse::dot(&r, &r).sqrt();
+            // A zero right-hand side has nothing to reduce: its relative residual is its norm.
+            let rel = if bn > 0.0 { rn / bn } else { rn };
             let change: Vec<f64> = x.iter().zip(&before).map(|(a, b)| a - b).collect();
             let mc = max_abs(&change);
+            if !rel.is_finite() || !mc.is_finite() {
+                return Err(Error::Diverged(format!(
+                    "component {}: the cycle gave a non-finite residual or correction",
+                    COMPONENT[c]
+                )));
+            }
             x.iter_mut().zip(&dp).for_each(|(x, p)| *x += p);
             d[c] = x;
             let secs = t0.elapsed().as_secs_f64();
@@ -252,83 +405,200 @@ impl Solver {
                 max_correction: mc,
                 rel_residual: rel,
                 converged: false,
+                breakdown: None,
                 seconds: secs,
                 history: vec![(mc, rel)],
             });
         }
         let ry = reps.pop().expect("two reports");
         let rx = reps.pop().expect("two reports");
-        let out = Self::to_vertices(lev, &d);
-        displacement.copy_from_slice(&out);
-        Ok(Report::merge(rx, ry))
+        Ok((Self::to_vertices(lev, &d), Report::merge(rx, ry)))
     }
 
     /// Makes `coords` the new reference mesh: K and V re-evaluated on every level, the coarse
-    /// topology kept (rebuilt only if a coarse cell would invert).
+    /// topology kept (rebuilt only if a coarse cell would invert). Positions with a cell of
+    /// non-positive area are `Error::Tangled`; on any error the solver is unchanged.
     pub fn set_reference(&mut self, coords: Vec<DVec2>) -> Result<()> {
-        if coords.len() != self.mesh().num_vertices() || coords.iter().any(|p| !p.is_finite()) {
-            return Err(Error::InvalidArgument(format!(
-                "new reference needs {} finite positions, got {}",
-                self.mesh().num_vertices(),
-                coords.len()
-            )));
+        self.check_reference(&coords)?;
+        let mut undo = self.undo();
+        let r = self.set_reference_inner(coords, &mut undo);
+        if r.is_err() {
+            self.restore(undo);
         }
+        r
+    }
+
+    /// Finite positions, one per vertex, no cell of non-positive area.
+    fn check_reference(&self, coords: &[DVec2]) -> Result<()> {
+        let nv = self.hierarchy.fine().mesh.num_vertices();
+        if coords.len() != nv {
+            return Err(Error::InvalidArgument(format!("new reference needs {nv} positions, got {}", coords.len())));
+        }
+        if let Some(v) = coords.iter().position(|p| !p.is_finite()) {
+            return Err(Error::InvalidArgument(format!("new reference: vertex {v} is not finite")));
+        }
+        check_not_tangled(&self.hierarchy.fine().mesh, coords)
+    }
+
+    fn undo(&self) -> Undo {
+        Undo { coords: self.hierarchy.fine().mesh.coords().to_vec(), hierarchy: None }
+    }
+
+    /// Puts the solver back to the state `undo` recorded: the hierarchy it had (moved back to
+    /// its positions, which recomputes every value bitwise as it was).
+    fn restore(&mut self, undo: Undo) {
+        if let Some(h) = undo.hierarchy {
+            self.hierarchy = h;
+        }
+        if self.hierarchy.fine().mesh.coords() != undo.coords.as_slice() {
+            let hierarchy = &mut self.hierarchy;
+            let moved = match &self.pool {
+                Some(p) => p.install(|| hierarchy.move_to(undo.coords)),
+                None => hierarchy.move_to(undo.coords),
+            };
+            // The same topology at positions it had before: every coarse cell was valid there.
+            debug_assert!(matches!(moved, Ok(true)), "moving back to a previous reference failed: {moved:?}");
+        }
+    }
+
+    fn set_reference_inner(&mut self, coords: Vec<DVec2>, undo: &mut Undo) -> Result<()> {
         let hierarchy = &mut self.hierarchy;
-        let pool = &self.pool;
-        let kept = match pool {
+        let kept = match &self.pool {
             Some(p) => p.install(|| hierarchy.move_to(coords.clone()))?,
             None => hierarchy.move_to(coords.clone())?,
         };
         if !kept {
-            let mesh = self.hierarchy.fine().mesh.with_coords(coords);
-            let pairs = self.hierarchy.fine().pairs.clone();
-            let (bcs, method, hp) = (&self.bcs, self.opts.method, &self.opts.hierarchy);
-            let build = || Hierarchy::build(&mesh, pairs, bcs, method, hp);
-            self.hierarchy = match &self.pool {
-                Some(p) => p.install(build)?,
-                None => build()?,
-            };
+            self.rebuild(coords, undo)?;
+        }
+        Ok(())
+    }
+
+    /// A new hierarchy built from `coords`, the old one kept in `undo` (the first time).
+    fn rebuild(&mut self, coords: Vec<DVec2>, undo: &mut Undo) -> Result<()> {
+        let mesh = self.hierarchy.fine().mesh.with_coords(coords);
+        let pairs = self.hierarchy.fine().pairs.clone();
+        let (bcs, method, hp) = (&self.bcs, self.opts.method, &self.opts.hierarchy);
+        let built = self.run(|| Hierarchy::build(&mesh, pairs, bcs, method, hp))?;
+        let old = std::mem::replace(&mut self.hierarchy, built);
+        if undo.hierarchy.is_none() {
+            undo.hierarchy = Some(old);
         }
         Ok(())
     }
 
     /// Moves the boundary to `motion` in `steps` equal steps, the reference re-evaluated after
-    /// each (the paper's 10- and 15-interval runs). The solver's reference becomes the moved
-    /// mesh. Returns one report per step.
-    pub fn move_in_steps(&mut self, motion: &Motion, steps: usize) -> Result<Vec<Report>> {
-        if steps == 0 {
-            return Err(Error::InvalidArgument("step count must be at least 1".into()));
+    /// each (the paper's 10- and 15-interval runs), with the sub-stepping of the options. The
+    /// solver's reference becomes the moved mesh. Returns one report per sub-step (also kept in
+    /// [`Solver::step_reports`]); on failure the solver is as before the call.
+    pub fn move_in_steps(&mut self, motion: &Motion, steps: usize) -> Result<Vec<StepReport>> {
+        if steps == 0 || steps > MAX_STEPS {
+            return Err(Error::InvalidArgument(format!("step count is {steps}; it must be 1 to {MAX_STEPS}")));
         }
-        motion.check(self.mesh())?;
-        let mut reports = Vec::with_capacity(steps);
-        for i in 0..steps {
-            let sol = self.solve(&motion.increment(i, steps))?;
-            let moved: Vec<DVec2> = self.mesh().coords().iter().zip(&sol.displacement).map(|(x, d)| *x + *d).collect();
-            self.set_reference(moved)?;
-            reports.push(sol.report);
-        }
-        Ok(reports)
+        self.check_motion(motion)?;
+        steps::move_in_steps(self, motion, steps)?;
+        Ok(self.steps.clone())
+    }
+
+    /// The drop-in call of a time step: moves the mesh by `increment` (the boundary motion since
+    /// the last call) from the current positions, with the sub-stepping of the options, and makes
+    /// the result the current mesh. Returns the displacement from the positions before the call;
+    /// a result with inverted cells is returned (its `quality` says so), never silently.
+    pub fn advance(&mut self, increment: &Motion) -> Result<Solution> {
+        self.check_motion(increment)?;
+        steps::advance(self, increment)
     }
 
     /// Quality of the reference mesh moved by `displacement`.
     pub fn quality(&self, displacement: &[DVec2]) -> Quality {
-        let m = self.mesh();
-        let moved: Vec<DVec2> = m.coords().iter().zip(displacement).map(|(x, d)| *x + *d).collect();
-        quality(m, &moved)
+        moved_quality(self.mesh(), displacement)
     }
 }
 
+/// `Error::Tangled` naming the first cells of non-positive area of `mesh`'s topology at `coords`.
+fn check_not_tangled(mesh: &Mesh, coords: &[DVec2]) -> Result<()> {
+    let bad = inverted_cells(mesh, coords);
+    if bad.is_empty() {
+        return Ok(());
+    }
+    let first: Vec<String> = bad.iter().take(5).map(|c| c.to_string()).collect();
+    Err(Error::Tangled(format!(
+        "{} cell(s) of non-positive area (first: {}); nothing is solved on a tangled mesh",
+        bad.len(),
+        first.join(", ")
+    )))
+}
+
+/// Quality of `mesh` moved by `displacement` against `mesh`.
+fn moved_quality(mesh: &Mesh, displacement: &[DVec2]) -> Quality {
+    let moved: Vec<DVec2> = mesh.coords().iter().zip(displacement).map(|(x, d)| *x + *d).collect();
+    quality(mesh, &moved)
+}
+
+/// DESIGN §4: on a CLAMPED patch moving rigidly, S_b = (1/V_b) Σ_j K_bj (d_j − L_j); the K L part
+/// is returned as a source, so the held spacing rotates with the body. Every unknown of a patch
+/// vertex gets it (a vertex split per region has one per side).
+pub(crate) fn rigid_flux(h: &Hierarchy, bcs: &BoundaryConditions, motion: &Motion, c: usize) -> Option<Vec<f64>> {
+    let lev = h.fine();
+    if lev.op.method != Method::Biharmonic {
+        return None;
+    }
+    let mut g: Option<Vec<f64>> = None;
+    let x = lev.mesh.coords();
+    for &(patch, m) in &motion.rigid {
+        if bcs.kind(patch, c) != Kind::Clamped {
+            continue;
+        }
+        let l: Vec<f64> = lev.dofs.dof_vertex.iter().map(|&v| m.displacement(x[v as usize])[c]).collect();
+        let mut on_patch = vec![false; lev.mesh.num_vertices()];
+        lev.mesh.patch_vertices(patch).iter().for_each(|&v| on_patch[v as usize] = true);
+        let g = g.get_or_insert_with(|| vec![0.0; lev.n()]);
+        for (d, g) in g.iter_mut().enumerate() {
+            if lev.dofs.vertices_of(d).iter().any(|&v| on_patch[v as usize]) {
+                *g = lev.op.k.row_dot(d, &l);
+            }
+        }
+    }
+    g
+}
+
+/// `Error::NotConverged` for a report that did not reach its tolerance (`step` names the step).
+fn check_converged(rep: &Report, step: Option<(usize, usize)>) -> Result<()> {
+    if rep.converged {
+        return Ok(());
+    }
+    let at = step.map(|(s, sub)| format!("step {s}.{sub}: ")).unwrap_or_default();
+    Err(Error::NotConverged(format!(
+        "{at}relative residual {:.3e} after {} cycles (the limit), largest correction {:.3e}",
+        rep.rel_residual, rep.cycles, rep.max_correction
+    )))
+}
+
 fn check_solve_params(p: &SolveParams) -> Result<()> {
+    let degree_ok = |d: Option<usize>| d.is_none_or(|d| (1..=MAX_CHEB_DEGREE).contains(&d));
     if !(p.tol > 0.0 && p.tol.is_finite())
-        || p.max_cycles == 0
-        || p.cheb_degree == Some(0)
-        || p.cheb_coarse_degree == Some(0)
+        || !(1..=MAX_CYCLES).contains(&p.max_cycles)
+        || !degree_ok(p.cheb_degree)
+        || !degree_ok(p.cheb_coarse_degree)
         || p.cheb_lower_ratio.is_some_and(|r| !(r > 1.0 && r.is_finite()))
     {
-        return Err(Error::InvalidArgument(
-            "tolerance must be positive and finite, max cycles and Chebyshev degree at least 1, lower ratio finite and above 1"
-                .into(),
-        ));
+        return Err(Error::InvalidArgument(format!(
+            "tolerance must be positive and finite, max cycles 1 to {MAX_CYCLES}, Chebyshev degree 1 to \
+             {MAX_CHEB_DEGREE}, lower ratio finite and above 1"
+        )));
+    }
+    Ok(())
+}
+
+fn check_options(o: &Options) -> Result<()> {
+    check_solve_params(&o.solve)?;
+    if o.max_substeps > MAX_SUBSTEPS {
+        return Err(Error::InvalidArgument(format!("max_substeps is {}; at most {MAX_SUBSTEPS}", o.max_substeps)));
+    }
+    if !(0.0..1.0).contains(&o.min_volume_ratio) {
+        return Err(Error::InvalidArgument(format!(
+            "min_volume_ratio is {}; it must be at least 0 and below 1",
+            o.min_volume_ratio
+        )));
     }
     Ok(())
 }

@@ -260,10 +260,12 @@ pub fn dot(a: &[f64], b: &[f64]) -> f64 {
 
 /// Largest absolute entry (max is order-independent, so a plain parallel reduction is exact).
 pub fn max_abs(a: &[f64]) -> f64 {
+    // NaN wins (`f64::max` would drop it): a non-finite vector must not look small.
+    let max = |m: f64, x: f64| if m.is_nan() || x.is_nan() { f64::NAN } else { m.max(x) };
     if a.len() < PAR_ROWS {
-        a.iter().fold(0.0, |m, &x| m.max(x.abs()))
+        a.iter().fold(0.0, |m, &x| max(m, x.abs()))
     } else {
-        a.par_iter().map(|x| x.abs()).reduce(|| 0.0, f64::max)
+        a.par_iter().map(|x| x.abs()).reduce(|| 0.0, max)
     }
 }
 

@@ -84,11 +84,35 @@ fn each_mesh_error_is_named() {
 }
 
 #[test]
-fn mixed_orientation_is_normalised() {
-    let m = Mesh::new(&SQ, &[[0i64, 1, 2], [0, 3, 2]], IndexBase::Zero, &[], None).unwrap();
+fn a_mesh_given_clockwise_is_normalised_but_mixed_orientation_is_refused() {
+    let m = Mesh::new(&SQ, &[[0i64, 2, 1], [0, 3, 2]], IndexBase::Zero, &[], None).unwrap();
     let areas = meshmove::mesh::quality::signed_areas(&m, m.coords());
     assert_eq!(areas, vec![0.5, 0.5]);
     assert_eq!(m.patch_edges().len(), 4);
+    let z = IndexBase::Zero;
+    assert!(matches!(
+        mesh_err(&SQ, &[[0, 1, 2], [0, 3, 2]], z, &[], None),
+        MeshError::InconsistentOrientation { cell: 1, clockwise: 1, counter_clockwise: 1 }
+    ));
+}
+
+/// A fan of four cells around a centre vertex that lies outside the square: each cell on its
+/// own is a fine triangle, together they fold. Flipping cells one by one accepted it.
+#[test]
+fn a_tangled_fan_is_refused() {
+    let xy = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0], [1.5, 0.5]];
+    let fan = [[0i64, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]];
+    let e = Mesh::new(&xy, &fan, IndexBase::Zero, &[], None).unwrap_err();
+    assert!(matches!(e, MeshError::InconsistentOrientation { cell: 1, clockwise: 1, counter_clockwise: 3 }), "{e}");
+}
+
+#[test]
+fn overlapping_and_repeated_cells_are_refused() {
+    let xy = [[0.0, 0.0], [1.0, 0.0], [0.5, 1.0], [0.5, 0.5]];
+    let e = Mesh::new(&xy, &[[0i64, 1, 2], [0, 1, 3]], IndexBase::Zero, &[], None).unwrap_err();
+    assert!(matches!(e, MeshError::Overlap { first: 0, second: 1, a: 0, b: 1 }), "{e}");
+    let e = Mesh::new(&SQ, &[[0i64, 1, 2], [0, 2, 3], [1, 2, 0]], IndexBase::Zero, &[], None).unwrap_err();
+    assert!(matches!(e, MeshError::RepeatedCell { first: 0, second: 2 }), "{e}");
 }
 
 #[test]

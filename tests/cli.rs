@@ -140,7 +140,17 @@ fn bad_config_fails_with_a_message_naming_the_problem() {
         ("[[patch]]\npatch = 1\nkind = \"glued\"\n", "kind `glued`"),
         ("method = \"elastic\"\n", "method `elastic`"),
         ("stepz = 3\n", "unknown field"),
-        ("steps = 0\n", "steps must be at least 1"),
+        ("steps = 0\n", "steps must be 1 to"),
+        ("steps = \"often\"\n", "not a count or \"auto\""),
+        ("[[patch]]\npatch = 1\nkind = \"fixed\"\n[[patch]]\npatch = \"wall\"\nkind = \"free\"\n", "already given a kind by [[patch]] 1"),
+        (
+            "[[patch]]\npatch = \"cylinder\"\nkind = [\"free\", \"fixed\"]\n[[motion]]\npatch = \"cylinder\"\ntranslation = [0.1, 0.0]\n",
+            "moves its vertices in x, which is FREE",
+        ),
+        (
+            "[[motion]]\npatch = \"cylinder\"\ntranslation = [0.1, 0.0]\n[[motion]]\npatch = \"cylinder\"\nrotation_deg = 5.0\n",
+            "already moved by [[motion]] 1",
+        ),
         ("[[motion]]\npatch = 2\nfile = \"nope.csv\"\n", "nope.csv"),
         ("method = \n", "config"),
     ];

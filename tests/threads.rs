@@ -13,7 +13,10 @@ fn one_and_two_threads_agree_bitwise() {
             let run = |threads| {
                 let mut o = Options { method, threads, ..Default::default() };
                 o.solve.mode = mode;
-                o.solve.tol = 1e-6;
+                // The paper's stationary cycle is slow on the re-referenced step: a looser
+                // tolerance keeps it short (an unconverged step is an error).
+                o.solve.tol = if mode == Mode::Default { 1e-6 } else { 1e-4 };
+                o.solve.max_cycles = 2000;
                 let mut s = Solver::new(mesh, bcs, o).unwrap();
                 let d = s.solve(motion).unwrap().displacement;
                 s.move_in_steps(motion, 2).unwrap();

@@ -243,7 +243,7 @@ pub unsafe extern "C" fn meshmove_solver_solve(
         check_xy_out(displacement, len, nv, "displacement")?;
         let d = read_xy(prescribed, len, nv, "prescribed")?;
         let g = if guess.is_null() { None } else { Some(read_xy(guess, len, nv, "guess")?) };
-        let sol = s.solver.solve_from(&s.motion(d), g.as_deref())?;
+        let sol = s.solver.solve_report(&s.motion(d), g.as_deref())?;
         finite_out(&sol.displacement, "displacement")?;
         finite_report(&sol.report)?;
         report_out(report, &sol.report)?;
@@ -316,60 +316,49 @@ pub unsafe extern "C" fn meshmove_solver_move(
         let d = read_xy(boundary_displacement, len, nv, "boundary_displacement")?;
         let x = read_xy(coords, len, nv, "coords")?;
         handles::finite_xy(&x, "coords")?;
-        // Transactional: the reference before the call is put back when anything below fails.
-        let before = if x.as_slice() != s.solver.mesh().coords() {
+        // Transactional: `advance` restores the solver when it fails; the reference this call
+        // moved to `coords` first is put back by `restore`.
+        let before = if x.as_slice() != s.solver.current_coords() {
             let before = s.solver.mesh().coords().to_vec();
             s.solver.set_reference(x.clone())?;
             Some(before)
         } else {
             None
         };
-        let sol = match s.solver.solve(&s.motion(d)) {
+        let motion = s.motion(d);
+        let sol = match s.solver.advance(&motion) {
             Ok(sol) => sol,
             Err(e) => return Err(s.restore(before, e.into())),
         };
         let moved: Vec<DVec2> = x.iter().zip(&sol.displacement).map(|(a, b)| *a + *b).collect();
-        let checked = finite_out(&moved, "moved position").and_then(|()| finite_report(&sol.report)).and_then(|()| {
-            if sol.report.converged {
-                Ok(())
-            } else {
-                Err(not_converged(&sol.report, "coords are unchanged"))
-            }
-        });
-        if let Err(e) = checked {
-            return Err(s.restore(before, e));
+        if let Err(e) = finite_out(&moved, "moved position").and_then(|()| finite_report(&sol.report)) {
+            return Err(s.restore(Some(before.unwrap_or(x)), e));
         }
-        let q = s.solver.quality(&sol.displacement);
-        if q.inverted > 0 {
-            // The converged answer has inverted cells: written, but the solver keeps its
-            // reference (a tangled mesh is no reference for the next step).
-            let e = s.restore(
+        let q = sol.quality;
+        let inverted = q.inverted > 0;
+        let e = if inverted {
+            // The method's honest answer has inverted cells: written, never plain OK; the solver
+            // keeps the reference it had (a tangled mesh is no reference for the next step).
+            Some(s.restore(
                 before,
                 CError::new(
                     meshmove_status::Inverted,
                     format!(
-                        "the moved mesh has {} inverted cells (smallest area ratio {:e}); coords hold it, the solver keeps the reference it had",
+                        "the moved mesh has {} inverted cell(s) (smallest area ratio {:e}); coords hold it, the solver keeps the reference it had",
                         q.inverted, q.min_area_ratio
                     ),
                 ),
-            );
-            report_out(report, &sol.report)?;
-            if !quality.is_null() {
-                handles::write_out(quality, meshmove_quality::from(q), "quality")?;
-            }
-            write_xy(coords, &moved);
-            return Err(e);
-        }
-        if let Err(e) = s.solver.set_reference(moved.clone()) {
-            return Err(s.restore(before, e.into()));
-        }
+            ))
+        } else {
+            None
+        };
         report_out(report, &sol.report)?;
         if !quality.is_null() {
             handles::write_out(quality, meshmove_quality::from(q), "quality")?;
         }
         write_xy(coords, &moved);
         s.last = sol.displacement;
-        Ok(())
+        e.map_or(Ok(()), Err)
     })
 }
 
@@ -398,32 +387,21 @@ pub unsafe extern "C" fn meshmove_solver_move_in_steps(
         let cap = count(num_reports, "num_reports")?;
         let out = handles::slice_mut(reports, cap, "reports")?;
         let d = read_xy(prescribed, len, nv, "prescribed")?;
-        let before = s.solver.mesh().coords().to_vec();
+        let before = s.solver.current_coords().to_vec();
         let motion = s.motion(d);
+        // `move_in_steps` restores the solver itself when it fails; its step reports stay.
         let r = s.solver.move_in_steps(&motion, n);
-        s.steps = match &r {
-            Ok(reps) => types::step_reports(reps, n),
-            Err(_) => Vec::new(),
-        };
-        let reps = match r {
-            Ok(reps) => reps,
-            Err(e) => return Err(s.restore(Some(before), e.into())),
-        };
-        let checked = finite_out(s.solver.mesh().coords(), "moved position")
-            .and_then(|()| reps.iter().try_for_each(finite_report))
-            .and_then(|()| match reps.iter().position(|r| !r.converged) {
-                Some(i) => {
-                    Err(not_converged(&reps[i], &format!("in step {} of {n}; the solver is as before the call", i + 1)))
-                }
-                None => Ok(()),
-            });
+        s.steps = s.solver.step_reports().iter().map(meshmove_step_report::from).collect();
+        r?;
+        let checked = finite_out(s.solver.current_coords(), "moved position")
+            .and_then(|()| s.steps.iter().try_for_each(types::finite_step_report));
         if let Err(e) = checked {
             return Err(s.restore(Some(before), e));
         }
         for (o, r) in out.iter_mut().zip(&s.steps) {
             *o = *r;
         }
-        s.last = s.solver.mesh().coords().iter().zip(&before).map(|(a, b)| *a - *b).collect();
+        s.last = s.solver.current_coords().iter().zip(&before).map(|(a, b)| *a - *b).collect();
         Ok(())
     })
 }
@@ -461,6 +439,56 @@ pub unsafe extern "C" fn meshmove_solver_step_reports(
     })
 }
 
+/// Automatic sub-stepping of `_move` and `_move_in_steps`: a step whose result would invert a
+/// cell, fall below `min_volume_ratio` (moved / reference cell area), or not converge is split in
+/// halves, down to 1/`max_substeps` of the step (0 ≤ `max_substeps` ≤ `MESHMOVE_MAX_SUBSTEPS`;
+/// 0 or 1: no splitting, the default; 0 ≤ `min_volume_ratio` < 1, default 0). The motion still
+/// ends exactly at the prescribed position, or the call fails at the last valid state (the
+/// solver as before the call, the step reports saying how far it got).
+///
+/// # Safety
+/// `solver` must be a handle from meshmove (checked).
+#[no_mangle]
+pub unsafe extern "C" fn meshmove_solver_set_substepping(
+    solver: *mut meshmove_solver,
+    max_substeps: i32,
+    min_volume_ratio: f64,
+) -> meshmove_status {
+    ffi_body!(meshmove_solver_set_substepping, {
+        let mut s = get_mut(solver, "solver")?;
+        let n = types::bounded(max_substeps, "max_substeps", 0, crate::limits::MAX_SUBSTEPS)?;
+        if !(0.0..1.0).contains(&min_volume_ratio) {
+            return Err(CError::arg(format!(
+                "min_volume_ratio is {min_volume_ratio}; it must be at least 0 and below 1"
+            )));
+        }
+        let mut o = s.solver.options().clone();
+        o.max_substeps = n;
+        o.min_volume_ratio = min_volume_ratio;
+        s.solver.set_options(o)?;
+        Ok(())
+    })
+}
+
+/// What each later step is solved from: a `meshmove_reference` value. Switching to
+/// `MESHMOVE_REFERENCE_ORIGINAL` makes the current mesh the original one.
+///
+/// # Safety
+/// `solver` must be a handle from meshmove (checked).
+#[no_mangle]
+pub unsafe extern "C" fn meshmove_solver_set_reference_mode(
+    solver: *mut meshmove_solver,
+    mode: i32,
+) -> meshmove_status {
+    ffi_body!(meshmove_solver_set_reference_mode, {
+        let mut s = get_mut(solver, "solver")?;
+        let mut o = s.solver.options().clone();
+        o.reference = types::reference_mode(mode)?;
+        s.solver.set_options(o)?;
+        Ok(())
+    })
+}
+
 /// Makes `coords` (`len` = 2 × vertices, finite) the solver's reference mesh: the operators are
 /// re-evaluated there, the coarse topology is kept when it can be.
 ///
@@ -481,7 +509,7 @@ pub unsafe extern "C" fn meshmove_solver_set_reference(
     })
 }
 
-/// Copies the reference coordinates (after `meshmove_solver_move` or `_move_in_steps`: the moved
+/// Copies the current positions (after `meshmove_solver_move` or `_move_in_steps`: the moved
 /// mesh) into `coords`, `len` = 2 × vertices.
 ///
 /// # Safety
@@ -495,7 +523,7 @@ pub unsafe extern "C" fn meshmove_solver_get_coords(
     ffi_body!(meshmove_solver_get_coords, {
         let s = get(solver, "solver")?;
         check_xy_out(coords, len, s.nv(), "coords")?;
-        write_xy(coords, s.solver.mesh().coords());
+        write_xy(coords, s.solver.current_coords());
         Ok(())
     })
 }

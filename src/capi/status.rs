@@ -57,6 +57,8 @@ impl From<&Error> for meshmove_status {
             Error::InvalidArgument(_) => meshmove_status::InvalidArgument,
             Error::Coarsening(_) => meshmove_status::Coarsening,
             Error::Diverged(_) => meshmove_status::Diverged,
+            Error::NotConverged(_) => meshmove_status::NotConverged,
+            Error::Tangled(_) => meshmove_status::Tangled,
             Error::Io(IoError::Mesh(_)) => meshmove_status::InvalidMesh,
             Error::Io(IoError::InvalidArgument(_)) => meshmove_status::InvalidArgument,
             Error::Io(_) => meshmove_status::Io,

@@ -16,7 +16,7 @@ pub const MESHMOVE_MAX_CHEB_DEGREE: i32 = 64;
 /// Largest `meshmove_options.threads` (a fixed bound, the same on every machine).
 pub const MESHMOVE_MAX_THREADS: i32 = 1024;
 /// Largest `max_substeps` of `meshmove_solver_set_substepping`.
-pub const MESHMOVE_MAX_SUBSTEPS: i32 = 1024;
+pub const MESHMOVE_MAX_SUBSTEPS: i32 = 1_048_576;
 /// Most vertices of a mesh (2 × vertices must fit an `int32_t` length).
 pub const MESHMOVE_MAX_VERTICES: i32 = 1_073_741_823;
 /// Most cells of a mesh (3 × cells must fit an `int32_t` length).
@@ -181,23 +181,45 @@ pub struct meshmove_step_report {
     pub accepted: i32,
 }
 
-/// The per-step reports of a `move_in_steps` of `n` equal steps, from the solve reports.
-pub(crate) fn step_reports(reps: &[crate::Report], n: usize) -> Vec<meshmove_step_report> {
-    let sat = |v: usize| v.min(i32::MAX as usize) as i32;
-    reps.iter()
-        .enumerate()
-        .map(|(i, r)| meshmove_step_report {
-            step: sat(i + 1),
-            substep: 1,
-            fraction: (i + 1) as f64 / n as f64,
+impl From<&crate::StepReport> for meshmove_step_report {
+    fn from(r: &crate::StepReport) -> Self {
+        let sat = |v: usize| v.min(i32::MAX as usize) as i32;
+        meshmove_step_report {
+            step: sat(r.step),
+            substep: sat(r.substep),
+            fraction: r.fraction,
             cycles: sat(r.cycles),
             rel_residual: r.rel_residual,
             converged: i32::from(r.converged),
+            rebuilt: i32::from(r.rebuilt),
+            inverted: sat(r.inverted),
+            min_volume_ratio: r.min_volume_ratio,
+            min_angle_deg: r.min_angle_deg,
             seconds: r.seconds,
-            accepted: 1,
-            ..Default::default()
-        })
-        .collect()
+            accepted: i32::from(r.accepted),
+        }
+    }
+}
+
+/// Every field of an accepted step report is finite (a rejected attempt may report what went
+/// wrong, e.g. a residual that blew up).
+pub(crate) fn finite_step_report(r: &meshmove_step_report) -> Result<(), CError> {
+    let fields = [r.fraction, r.rel_residual, r.min_volume_ratio, r.min_angle_deg, r.seconds];
+    if r.accepted == 1 && !fields.iter().all(|v| v.is_finite()) {
+        return Err(CError::new(
+            super::status::meshmove_status::Diverged,
+            format!("step {}.{}: its report is not finite; nothing was written", r.step, r.substep),
+        ));
+    }
+    Ok(())
+}
+
+pub(crate) fn reference_mode(m: i32) -> Result<crate::ReferenceMode, CError> {
+    match m {
+        0 => Ok(crate::ReferenceMode::Incremental),
+        1 => Ok(crate::ReferenceMode::Original),
+        _ => Err(CError::arg(format!("reference mode {m} is not a meshmove_reference (0 INCREMENTAL, 1 ORIGINAL)"))),
+    }
 }
 
 /// Quality of a deformed mesh against the solver's reference mesh.

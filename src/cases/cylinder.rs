@@ -92,10 +92,11 @@ pub fn boundary_layer_cylinder() -> Mesh {
         }
     };
     let mut tris = unstructured.tris.clone();
+    // Counter-clockwise like the unstructured part (ring k + 1 lies outside ring k).
     for k in 0..nl {
         for j in 0..nt {
-            tris.push([id(k, j), id(k, j + 1), id(k + 1, j + 1)]);
-            tris.push([id(k, j), id(k + 1, j + 1), id(k + 1, j)]);
+            tris.push([id(k, j), id(k + 1, j + 1), id(k, j + 1)]);
+            tris.push([id(k, j), id(k + 1, j), id(k + 1, j + 1)]);
         }
     }
     let mut tagged = unstructured.tagged.clone();

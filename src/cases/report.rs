@@ -4,9 +4,8 @@
 use super::setups::CaseSetup;
 use crate::mesh::quality::{quality, signed_areas};
 use crate::mesh::Mesh;
-use crate::multigrid::solve::Report;
 use crate::operator::Method;
-use crate::solver::{Options, Solver};
+use crate::solver::{Options, Solver, StepReport};
 use crate::Result;
 use glam::DVec2;
 use std::collections::HashMap;
@@ -46,7 +45,8 @@ pub struct CaseResult {
     pub min_area_ratio: f64,
     pub min_angle_deg: f64,
     pub patch: PatchMeasures,
-    /// W-cycles (CG iterations in the default mode) summed over steps, max over components.
+    /// W-cycles (CG iterations in the default mode) summed over the accepted steps, max over
+    /// components.
     pub cycles: usize,
     /// Wall time of the whole case: hierarchy, every step.
     pub seconds: f64,
@@ -54,12 +54,16 @@ pub struct CaseResult {
     pub max_y_upper: Option<f64>,
     /// First step (1-based) after which the mesh had an inverted cell, if any.
     pub first_inverted_step: Option<usize>,
-    /// A step whose solve or re-referencing failed, with the message (the run stops there).
+    /// A step that failed, or whose result inverted cells while steps remained, with the
+    /// message (the run stops there).
     pub failure: Option<String>,
-    /// Final positions of every vertex.
+    /// Final positions of every vertex (on a failure, the last mesh reached, which may be the
+    /// inverted result that stopped the run).
     pub coords: Vec<DVec2>,
-    /// Reports of each step.
-    pub reports: Vec<Report>,
+    /// The last valid mesh of the run (the final one when the run succeeded).
+    pub last_valid: Vec<DVec2>,
+    /// Reports of each sub-step.
+    pub reports: Vec<StepReport>,
 }
 
 impl CaseResult {
@@ -149,33 +153,53 @@ pub fn patch_measures(original: &Mesh, deformed: &[DVec2], patch: i32, upper: Op
 }
 
 /// Runs `setup` with `method` and `opts` (its method is overridden): `steps` solves, the reference
-/// re-evaluated after each, then measures the final mesh against the original one. A solve that
-/// fails (e.g. a re-reference onto a tangled mesh) ends the run; it is reported in `failure`.
+/// re-evaluated after each, then measures the final mesh against the original one. A step that
+/// fails, or whose result inverts cells while steps remain, ends the run; it is reported in
+/// `failure`.
 pub fn run_case(setup: &CaseSetup, method: Method, opts: &Options) -> Result<CaseResult> {
+    run_case_with(setup, method, opts, |_, _| {})
+}
+
+/// [`run_case`], calling `on_step(step, reports)` after each step with its sub-step reports.
+pub fn run_case_with(
+    setup: &CaseSetup,
+    method: Method,
+    opts: &Options,
+    mut on_step: impl FnMut(usize, &[StepReport]),
+) -> Result<CaseResult> {
     let t0 = Instant::now();
     let opts = Options { method, ..opts.clone() };
     let original = &setup.mesh;
     let mut solver = Solver::new(original, &setup.bcs, opts)?;
+    solver.check_motion(&setup.motion)?;
     let mut coords = original.coords().to_vec();
     let mut reports = Vec::new();
     let mut first_inverted_step = None;
     let mut failure = None;
+    let mut last_valid = coords.clone();
     for i in 0..setup.steps {
-        let sol = match solver.solve(&setup.motion.increment(i, setup.steps)) {
+        let result = solver.advance(&setup.motion.increment(i, setup.steps));
+        reports.extend(solver.step_reports().iter().cloned());
+        on_step(i + 1, solver.step_reports());
+        let sol = match result {
             Ok(s) => s,
             Err(e) => {
                 failure = Some(format!("step {}: {e}", i + 1));
+                coords = solver.last_valid_coords().to_vec();
+                last_valid = coords.clone();
                 break;
             }
         };
-        coords = solver.mesh().coords().iter().zip(&sol.displacement).map(|(x, d)| *x + *d).collect();
-        reports.push(sol.report);
-        if first_inverted_step.is_none() && quality(original, &coords).inverted > 0 {
-            first_inverted_step = Some(i + 1);
-        }
-        if i + 1 < setup.steps {
-            if let Err(e) = solver.set_reference(coords.clone()) {
-                failure = Some(format!("step {}: new reference: {e}", i + 1));
+        coords = solver.last_valid_coords().to_vec();
+        last_valid = if sol.quality.inverted > 0 { solver.current_coords().to_vec() } else { coords.clone() };
+        if sol.quality.inverted > 0 {
+            first_inverted_step.get_or_insert(i + 1);
+            if i + 1 < setup.steps {
+                failure = Some(format!(
+                    "step {}: {} inverted cells; the later steps cannot start from a tangled mesh",
+                    i + 1,
+                    sol.quality.inverted
+                ));
                 break;
             }
         }
@@ -201,12 +225,13 @@ pub fn run_case(setup: &CaseSetup, method: Method, opts: &Options) -> Result<Cas
         min_area_ratio: q.min_area_ratio,
         min_angle_deg: q.min_angle_deg,
         patch,
-        cycles: reports.iter().map(|r| r.cycles).sum(),
+        cycles: reports.iter().filter(|r| r.accepted).map(|r| r.cycles).sum(),
         seconds: t0.elapsed().as_secs_f64(),
         max_y_upper,
         first_inverted_step,
         failure,
         coords,
+        last_valid,
         reports,
     })
 }
@@ -221,7 +246,7 @@ pub fn reference_displacement(
     method: Method,
     tol: f64,
 ) -> Result<Vec<DVec2>> {
-    use crate::bc::{Kind, P};
+    use crate::bc::P;
     let solver = Solver::new(mesh, bcs, Options { method, ..Default::default() })?;
     let lev = &solver.hierarchy().levels[0];
     let n = lev.n();
@@ -231,22 +256,8 @@ pub fn reference_displacement(
         let flags = &lev.flags[c];
         let dp: Vec<f64> =
             (0..n).map(|d| if flags[d] & P != 0 { vals[lev.dofs.dof_vertex[d] as usize][c] } else { 0.0 }).collect();
-        // The rigid-motion flux source of a CLAMPED patch (DESIGN §4), as the solver builds it.
-        let mut g: Option<Vec<f64>> = None;
-        if method == Method::Biharmonic {
-            let x = lev.mesh.coords();
-            for &(patch, m) in &motion.rigid {
-                if bcs.kind(patch, c) != Kind::Clamped {
-                    continue;
-                }
-                let l: Vec<f64> = lev.dofs.dof_vertex.iter().map(|&v| m.displacement(x[v as usize])[c]).collect();
-                let g = g.get_or_insert_with(|| vec![0.0; n]);
-                for v in lev.mesh.patch_vertices(patch) {
-                    let d = lev.dofs.vertex_dof[v as usize] as usize;
-                    g[d] = lev.op.k.row_dot(d, &l);
-                }
-            }
-        }
+        // The rigid-motion flux source of a CLAMPED patch (DESIGN §4): the solver's own.
+        let g = crate::solver::rigid_flux(solver.hierarchy(), bcs, motion, c);
         let (mut b, mut sc) = (vec![0.0; n], vec![0.0; n]);
         lev.op.rhs(flags, &dp, g.as_deref(), &mut b, &mut sc);
         let dinv = lev.op.inv_l1_diag(flags);
@@ -285,18 +296,18 @@ pub fn reference_displacement(
 
 /// [`run_case`] with every step solved by [`reference_displacement`] (the mesh re-referenced
 /// after each step as the solver does). Returns the final positions and the first step after
-/// which a cell was inverted.
+/// which a cell was inverted; like the solver, it stops after that step (nothing can be solved
+/// on a tangled mesh).
 pub fn run_case_reference(setup: &CaseSetup, method: Method, tol: f64) -> Result<(Vec<DVec2>, Option<usize>)> {
     let original = &setup.mesh;
     let mut current = original.clone();
-    let mut first = None;
     for i in 0..setup.steps {
         let d = reference_displacement(&current, &setup.bcs, &setup.motion.increment(i, setup.steps), method, tol)?;
         let moved: Vec<DVec2> = current.coords().iter().zip(&d).map(|(x, d)| *x + *d).collect();
-        if first.is_none() && quality(original, &moved).inverted > 0 {
-            first = Some(i + 1);
+        if quality(original, &moved).inverted > 0 {
+            return Ok((moved, Some(i + 1)));
         }
         current = current.with_coords(moved);
     }
-    Ok((current.coords().to_vec(), first))
+    Ok((current.coords().to_vec(), None))
 }

@@ -17,6 +17,17 @@ pub enum MeshError {
     UnusedVertex { vertex: usize },
     #[error("cell {cell} has zero area ({area:e})")]
     DegenerateCell { cell: usize, area: f64 },
+    #[error(
+        "cell {cell} is oriented against the rest of the mesh ({clockwise} cells clockwise, {counter_clockwise} \
+         counter-clockwise): a cell is inverted or the mesh folds over itself"
+    )]
+    InconsistentOrientation { cell: usize, clockwise: usize, counter_clockwise: usize },
+    #[error(
+        "cells {first} and {second} lie on the same side of their shared edge ({a}, {b}): the mesh overlaps itself"
+    )]
+    Overlap { first: usize, second: usize, a: usize, b: usize },
+    #[error("cells {first} and {second} have the same vertices")]
+    RepeatedCell { first: usize, second: usize },
     #[error("edge ({a}, {b}) is shared by {cells} cells; at most two may share an edge")]
     NonManifoldEdge { a: usize, b: usize, cells: usize },
     #[error("tagged edge {edge} refers to vertex index {index}, outside {base}..{end}")]

@@ -62,6 +62,7 @@ impl Mesh {
         let mut cells = validate::cells(triangles, base, coords.len())?;
         validate::all_used(&cells, coords.len())?;
         validate::orient(&coords, &mut cells)?;
+        validate::distinct(&cells)?;
         let regions = match regions {
             Some(r) if r.len() != cells.len() => {
                 return Err(MeshError::RegionCount { regions: r.len(), cells: cells.len() })
@@ -70,6 +71,7 @@ impl Mesh {
             None => vec![0; cells.len()],
         };
         let edges = EdgeCells::build(&cells)?;
+        topology::check_no_overlap(&cells, &edges)?;
         let tagged = validate::tagged_edges(tagged, base, coords.len())?;
         let patch_edges = topology::patch_edges(&cells, &edges, &tagged)?;
         Ok(Mesh::from_parts(coords, cells, regions, patch_edges))

@@ -12,6 +12,11 @@ pub fn signed_areas(mesh: &Mesh, coords: &[DVec2]) -> Vec<f64> {
         .collect()
 }
 
+/// The cells of `mesh`'s topology with non-positive signed area at positions `coords`, ascending.
+pub fn inverted_cells(mesh: &Mesh, coords: &[DVec2]) -> Vec<usize> {
+    signed_areas(mesh, coords).iter().enumerate().filter(|(_, &a)| !(a > 0.0)).map(|(c, _)| c).collect()
+}
+
 /// Smallest interior angle of triangle (a, b, c) in degrees (0 for an inverted or flat cell).
 pub fn min_angle_deg(a: DVec2, b: DVec2, c: DVec2) -> f64 {
     if twice_signed_area(a, b, c) <= 0.0 {

@@ -52,6 +52,21 @@ impl EdgeCells {
     }
 }
 
+/// Counter-clockwise cells on both sides of an interior edge run along it in opposite
+/// directions; the same direction means they lie on the same side: the mesh overlaps itself.
+pub(super) fn check_no_overlap(cells: &[[u32; 3]], edges: &EdgeCells) -> Result<(), MeshError> {
+    for &(key, [c0, c1]) in &edges.edges {
+        if c1 == u32::MAX {
+            continue;
+        }
+        let (a, b) = ((key >> 32) as u32, (key & 0xffff_ffff) as u32);
+        if oriented(cells[c0 as usize], a, b) == oriented(cells[c1 as usize], a, b) {
+            return Err(MeshError::Overlap { first: c0 as usize, second: c1 as usize, a: a as usize, b: b as usize });
+        }
+    }
+    Ok(())
+}
+
 /// Orients edge (a, b) of `cell` so the cell lies on its left (cells are counter-clockwise).
 fn oriented(cell: [u32; 3], a: u32, b: u32) -> [u32; 2] {
     for k in 0..3 {

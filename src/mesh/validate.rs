@@ -81,9 +81,13 @@ pub fn twice_signed_area(a: DVec2, b: DVec2, c: DVec2) -> f64 {
     (b - a).perp_dot(c - a)
 }
 
-/// Flips clockwise cells to counter-clockwise; a zero-area cell is an error.
+/// Orients the mesh counter-clockwise as a whole: a mesh given entirely clockwise is flipped, a
+/// zero-area cell is an error, and so is a cell whose orientation disagrees with the rest's
+/// (flipping cells one by one would accept a tangled mesh). The reported cell is the first one
+/// of the smaller group (the first clockwise one on a tie).
 pub(super) fn orient(coords: &[DVec2], cells: &mut [[u32; 3]]) -> Result<(), MeshError> {
-    for (c, t) in cells.iter_mut().enumerate() {
+    let mut clockwise = Vec::new();
+    for (c, t) in cells.iter().enumerate() {
         let [a, b, d] = t.map(|v| coords[v as usize]);
         let area2 = twice_signed_area(a, b, d);
         // Relative test: the area against the squared longest edge, so the check is scale-free.
@@ -91,11 +95,37 @@ pub(super) fn orient(coords: &[DVec2], cells: &mut [[u32; 3]]) -> Result<(), Mes
         if area2.abs() <= 1e-14 * scale || !area2.is_finite() {
             return Err(MeshError::DegenerateCell { cell: c, area: 0.5 * area2 });
         }
-        if area2 < 0.0 {
-            t.swap(1, 2);
-        }
+        clockwise.push(area2 < 0.0);
+    }
+    let cw = clockwise.iter().filter(|&&x| x).count();
+    let ccw = cells.len() - cw;
+    if cw > 0 && ccw > 0 {
+        let minority_cw = cw <= ccw;
+        let cell = clockwise.iter().position(|&x| x == minority_cw).expect("both orientations present");
+        return Err(MeshError::InconsistentOrientation { cell, clockwise: cw, counter_clockwise: ccw });
+    }
+    if cw > 0 {
+        cells.iter_mut().for_each(|t| t.swap(1, 2));
     }
     Ok(())
+}
+
+/// Two cells with the same vertex set are an error (the second one names the pair).
+pub(super) fn distinct(cells: &[[u32; 3]]) -> Result<(), MeshError> {
+    let mut keys: Vec<([u32; 3], u32)> = cells
+        .iter()
+        .enumerate()
+        .map(|(c, t)| {
+            let mut k = *t;
+            k.sort_unstable();
+            (k, c as u32)
+        })
+        .collect();
+    keys.sort_unstable();
+    match keys.windows(2).find(|w| w[0].0 == w[1].0) {
+        Some(w) => Err(MeshError::RepeatedCell { first: w[0].1 as usize, second: w[1].1 as usize }),
+        None => Ok(()),
+    }
 }
 
 pub(super) fn tagged_edges<I: Copy + TryInto<i64>>(

@@ -21,7 +21,9 @@ pub enum CoarseSolve {
 }
 
 impl CoarseSolve {
-    pub fn new(pb: Problem) -> Result<CoarseSolve> {
+    /// The coarse solve of component `component` (named in the error when A is not positive
+    /// definite there).
+    pub fn new(pb: Problem, component: usize) -> Result<CoarseSolve> {
         let n = pb.op.n();
         let free: Vec<u32> = (0..n as u32).filter(|&i| pb.flags[i as usize] & P == 0).collect();
         let m = free.len();
@@ -49,11 +51,14 @@ impl CoarseSolve {
                 a[j * m + i] = v;
             }
         }
+        // Every connected part has a prescribed vertex (checked on the fine level first), so a
+        // coarsest operator that is not positive definite comes from the geometry of the levels.
         let chol = Cholesky::new(m, &a).ok_or_else(|| {
-            Error::IllPosed {
-                component: "",
-                detail: " on some part of the mesh (the coarsest multigrid operator is singular: a region without prescribed vertex?)".into(),
-            }
+            Error::Coarsening(format!(
+                "the coarsest level's {} operator is not positive definite ({m} free unknowns): a coarse cell is \
+                 degenerate or inverted",
+                crate::bc::COMPONENT[component]
+            ))
         })?;
         Ok(CoarseSolve::Dense { free, chol })
     }

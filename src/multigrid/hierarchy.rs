@@ -234,6 +234,8 @@ pub struct Hierarchy {
     pub levels: Vec<Level>,
     pub method: Method,
     galerkin: bool,
+    /// Built from the current fine mesh (true) or moved there from the mesh it was built on.
+    pub fresh: bool,
 }
 
 impl Hierarchy {
@@ -273,14 +275,14 @@ impl Hierarchy {
             };
             (mesh, pairs, parent_vertex) = (cm.mesh, cm.links, cm.fine_vertex);
         }
-        let mut h = Hierarchy { levels, method, galerkin: params.coarse_operator.galerkin(method) };
+        let mut h = Hierarchy { levels, method, galerkin: params.coarse_operator.galerkin(method), fresh: true };
         h.build_coarse_solve()?;
         Ok(h)
     }
 
     fn build_coarse_solve(&mut self) -> Result<()> {
         let last = self.levels.last_mut().expect("one level at least");
-        let solves = [CoarseSolve::new(last.problem(0))?, CoarseSolve::new(last.problem(1))?];
+        let solves = [CoarseSolve::new(last.problem(0), 0)?, CoarseSolve::new(last.problem(1), 1)?];
         last.coarse = Some(solves);
         Ok(())
     }
@@ -321,6 +323,7 @@ impl Hierarchy {
             self.levels[l].refresh_bounds();
         }
         self.build_coarse_solve()?;
+        self.fresh = false;
         Ok(true)
     }
 

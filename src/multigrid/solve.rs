@@ -102,6 +102,9 @@ pub struct Report {
     /// ‖b − A x‖₂ / ‖b‖₂ at the end (0 when b = 0).
     pub rel_residual: f64,
     pub converged: bool,
+    /// Conjugate gradients broke down: pᵀAp was not positive and finite at this iteration (the
+    /// operator is not positive definite, e.g. on a tangled reference mesh).
+    pub breakdown: Option<usize>,
     pub seconds: f64,
     /// (max correction, relative residual) after each cycle.
     pub history: Vec<(f64, f64)>,
@@ -117,6 +120,7 @@ impl Report {
             max_correction: a.max_correction.max(b.max_correction),
             rel_residual: a.rel_residual.max(b.rel_residual),
             converged: a.converged && b.converged,
+            breakdown: a.breakdown.or(b.breakdown),
             seconds: a.seconds + b.seconds,
             history: (0..n)
                 .map(|i| {
@@ -240,7 +244,11 @@ impl Run<'_> {
             lev.op.apply(flags, &dir, &mut q, &mut ws.fine().s);
             let pq = dot(&dir, &q);
             if pq <= 0.0 || !pq.is_finite() {
-                return false; // the preconditioned operator is not positive definite: report, not loop
+                // Not positive definite: the iterate is not improved by this direction. Reported
+                // (the caller turns it into an error), never taken as a zero update.
+                rep.breakdown = Some(k);
+                rep.converged = false;
+                return false;
             }
             let alpha = rz / pq;
             axpy(alpha, &dir, x);

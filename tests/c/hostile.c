@@ -232,12 +232,22 @@ static void test_transactional(int n) {
         double moves[7][2] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}, {2, 0}, {0, 2}, {NAN, 0}};
         for (k = 0; k < 7; k++) {
             meshmove_status st;
-            double dx = moves[k][0] / (n - 1), dy = moves[k][1] / (n - 1);
+            int nb;
+            double dx, dy;
             if (k < 6 && (i + moves[k][0] < 0 || i + moves[k][0] > n - 1 || j + moves[k][1] < 0 || j + moves[k][1] > n - 1))
                 continue;
             memcpy(x, g.xy, sizeof x);
-            x[2 * v] += dx;
-            x[2 * v + 1] += dy;
+            if (k < 6) {
+                /* exactly onto the neighbour (k < 4) or as far beyond it (k 4, 5): the vertex
+                 * neighbour nb = v + (mx, my) steps */
+                int mx = (int)moves[k][0], my = (int)moves[k][1], step = k < 4 ? 1 : 2;
+                nb = v + (mx / step) + (my / step) * n;
+                x[2 * v] = g.xy[2 * v] + step * (g.xy[2 * nb] - g.xy[2 * v]);
+                x[2 * v + 1] = g.xy[2 * v + 1] + step * (g.xy[2 * nb + 1] - g.xy[2 * v + 1]);
+            } else
+                x[2 * v] = NAN;
+            dx = x[2 * v] - g.xy[2 * v];
+            dy = x[2 * v + 1] - g.xy[2 * v + 1];
             tried++;
             st = meshmove_solver_set_reference(s, 2 * g.nv, x);
             CHECK(st != MESHMOVE_STATUS_OK, "%dx%d: set_reference with vertex %d moved by (%g, %g) was accepted", n, n, v,
@@ -257,7 +267,7 @@ static void test_transactional(int n) {
                 memcpy(x2, g.xy, sizeof x2);
                 x2[2 * v] += dx;
                 x2[2 * v + 1] += dy;
-                CHECK(memcmp(x, x2, sizeof x) == 0, "a failed move wrote coords");
+                CHECK(memcmp(x, x2, sizeof(double) * 2 * (size_t)g.nv) == 0, "a failed move wrote coords");
             }
             if (st == MESHMOVE_STATUS_OK) meshmove_solver_set_reference(s, 2 * g.nv, g.xy);
             same_as_before(s, &g, d, want, __LINE__);
@@ -434,16 +444,23 @@ static void test_fork(int threads) {
     STATUS(meshmove_solver_free(s), MESHMOVE_STATUS_OK);
 }
 
-int main(void) {
-    test_one_thread(); /* first: no other solver's threads exist yet */
-    test_bounds();
-    test_transactional(3);
-    test_transactional(4);
-    test_non_finite();
-    test_stale();
-    test_busy();
-    test_fork(1);
-    test_fork(0);
-    printf("hostile: %d checks, %d failures\n", checks, failures);
+/* `hostile_c [GROUP]`: one group, or all of them. */
+int main(int argc, char **argv) {
+    const char *only = argc > 1 ? argv[1] : "";
+#define GROUP(name) (!only[0] || !strcmp(only, name))
+    if (GROUP("one_thread")) test_one_thread(); /* first: no other solver's threads exist yet */
+    if (GROUP("bounds")) test_bounds();
+    if (GROUP("transactional")) {
+        test_transactional(3);
+        test_transactional(4);
+    }
+    if (GROUP("non_finite")) test_non_finite();
+    if (GROUP("stale")) test_stale();
+    if (GROUP("busy")) test_busy();
+    if (GROUP("fork")) {
+        test_fork(1);
+        test_fork(0);
+    }
+    printf("hostile %s: %d checks, %d failures\n", only, checks, failures);
     return failures != 0;
 }

@@ -212,7 +212,7 @@ fn build_at_each(
                 let solver = Solver::new(mesh, bcs, opts).map_err(|e| e.to_string())?;
                 let setup_s = t.elapsed().as_secs_f64();
                 let t = Instant::now();
-                let sol = solver.solve(motion).map_err(|e| e.to_string())?;
+                let sol = solver.solve_report(motion, None).map_err(|e| e.to_string())?;
                 let best = (t.elapsed().as_secs_f64(), sol.report);
                 let bytes_per_vertex = alloc::peak_above(base) as f64 / nv as f64;
                 Ok(Built { solver, setup_s, bytes_per_vertex, best })
@@ -240,7 +240,7 @@ fn alternate_solves(built: &mut [Built], pools: &[(usize, rayon::ThreadPool)], m
         }
         for (b, (_, pool)) in built.iter_mut().zip(pools) {
             let t = Instant::now();
-            let sol = pool.install(|| b.solver.solve(motion)).map_err(|e| e.to_string())?;
+            let sol = pool.install(|| b.solver.solve_report(motion, None)).map_err(|e| e.to_string())?;
             let dt = t.elapsed().as_secs_f64();
             total += dt;
             if dt < b.best.0 {
@@ -295,13 +295,13 @@ fn alternatives(
         let mut solve = SolveParams { tol: a.tol, mode: Mode::PaperFaithful, max_cycles: 1, ..Default::default() };
         solver.set_solve_params(solve).map_err(|e| e.to_string())?;
         let t = Instant::now();
-        solver.solve(motion).map_err(|e| e.to_string())?;
+        solver.solve_report(motion, None).map_err(|e| e.to_string())?;
         let one = t.elapsed().as_secs_f64();
         solve.max_cycles = ((a.paper_cap_s / one) as usize).clamp(1, 5000);
         solver.set_solve_params(solve).map_err(|e| e.to_string())?;
         let mem = alloc::start();
         let t = Instant::now();
-        let sol = solver.solve(motion).map_err(|e| e.to_string())?;
+        let sol = solver.solve_report(motion, None).map_err(|e| e.to_string())?;
         let paper_s = t.elapsed().as_secs_f64();
         let extra = alloc::peak_above(mem) as f64 / nv as f64;
         let r = &sol.report;

@@ -21,13 +21,17 @@
 //! patch = "top"                # optionally only on one patch's vertices
 //! ```
 //!
-//! Exit status: 0 on a valid result, 1 on a bad mesh, case file or failed solve, 2 on usage
-//! errors (clap), 3 when the result has inverted cells (the .vtu is still written).
+//! Exit status: 0 on a valid result; 1 on a bad mesh or case file (nothing written); 2 on usage
+//! errors (clap); 3 when the result has inverted cells (the .vtu is still written); 4 when a step
+//! failed (not converged, sub-stepping limit reached, tangled reference): the last valid mesh is
+//! written to `OUT.last-valid.vtu` beside the requested output.
 
 use glam::DVec2;
-use meshmove::cases::report::{patch_measures, run_case};
+use indicatif::{ProgressBar, ProgressStyle};
+use meshmove::cases::report::{patch_measures, run_case_with};
 use meshmove::cases::setups::CaseSetup;
 use meshmove::io::{read_msh, read_vtu};
+use meshmove::solver::{ReferenceMode, StepReport};
 use meshmove::{BoundaryConditions, InterfaceVariant, Kind, Link, Mesh, Method, Motion, Options, RigidMotion};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
@@ -43,6 +47,17 @@ pub struct Args {
     /// Where to write the deformed mesh (.vtu).
     #[arg(short, long)]
     output: PathBuf,
+    /// Also write one JSON object per sub-step (JSON lines) to this file.
+    #[arg(long)]
+    report: Option<PathBuf>,
+}
+
+/// `steps = N` or `steps = "auto"` (one step, split automatically as needed).
+#[derive(Deserialize, Debug)]
+#[serde(untagged)]
+enum StepsSpec {
+    Count(usize),
+    Word(String),
 }
 
 #[derive(Deserialize, Debug, Clone)]
@@ -98,7 +113,10 @@ struct Config {
     method: Option<String>,
     tolerance: Option<f64>,
     threads: Option<usize>,
-    steps: Option<usize>,
+    steps: Option<StepsSpec>,
+    max_substeps: Option<usize>,
+    min_volume_ratio: Option<f64>,
+    reference: Option<String>,
     #[serde(default)]
     patch: Vec<PatchCfg>,
     #[serde(default)]
@@ -114,7 +132,18 @@ struct Patches {
     names: Vec<(i32, String)>,
 }
 
+/// Sub-steps per step of `steps = "auto"`.
+const AUTO_SUBSTEPS: usize = 1024;
+
 impl Patches {
+    /// `name (id)` for a named patch, the id otherwise.
+    fn name(&self, id: i32) -> String {
+        match self.names.iter().find(|(i, _)| *i == id) {
+            Some((_, n)) => format!("`{n}` ({id})"),
+            None => id.to_string(),
+        }
+    }
+
     fn resolve(&self, p: &PatchRef, what: &str) -> Result<i32, String> {
         let id = match p {
             PatchRef::Id(i) => *i,
@@ -223,14 +252,33 @@ fn build(args: &Args) -> Result<(CaseSetup, Options), String> {
         opts.solve.tol = t;
     }
     opts.threads = cfg.threads.unwrap_or(0);
-    let steps = cfg.steps.unwrap_or(1);
-    if steps == 0 {
-        return Err("config: steps must be at least 1".into());
+    let (steps, auto) = match &cfg.steps {
+        None => (1, false),
+        Some(StepsSpec::Count(n)) => (*n, false),
+        Some(StepsSpec::Word(w)) if w == "auto" => (1, true),
+        Some(StepsSpec::Word(w)) => return Err(format!("config: steps = \"{w}\" is not a count or \"auto\"")),
+    };
+    if steps == 0 || steps > meshmove::solver::MAX_STEPS {
+        return Err(format!("config: steps must be 1 to {}", meshmove::solver::MAX_STEPS));
     }
+    opts.max_substeps = cfg.max_substeps.unwrap_or(if auto { AUTO_SUBSTEPS } else { 0 });
+    if let Some(r) = cfg.min_volume_ratio {
+        opts.min_volume_ratio = r;
+    }
+    opts.reference = match cfg.reference.as_deref().map(str::to_ascii_lowercase).as_deref() {
+        None | Some("incremental") => ReferenceMode::Incremental,
+        Some("original") => ReferenceMode::Original,
+        Some(r) => return Err(format!("config: reference `{r}` is not incremental or original")),
+    };
     let mut bcs = BoundaryConditions::new();
+    let mut listed: Vec<(i32, usize)> = Vec::new();
     for (i, p) in cfg.patch.iter().enumerate() {
         let what = format!("config: [[patch]] {}", i + 1);
         let id = patches.resolve(&p.patch, &what)?;
+        if let Some((_, first)) = listed.iter().find(|(q, _)| *q == id) {
+            return Err(format!("{what}: patch {} is already given a kind by [[patch]] {first}", patches.name(id)));
+        }
+        listed.push((id, i + 1));
         match &p.kind {
             KindSpec::Both(k) => {
                 bcs.set_kinds(id, kind(k, &what)?);
@@ -258,9 +306,16 @@ fn build(args: &Args) -> Result<(CaseSetup, Options), String> {
     }
     let mut motion = Motion::zero(mesh.num_vertices());
     let mut moved_patch = 0;
+    let mut moved: Vec<(i32, usize)> = Vec::new();
     for (i, m) in cfg.motion.iter().enumerate() {
         let what = format!("config: [[motion]] {}", i + 1);
         let patch = m.patch.as_ref().map(|p| patches.resolve(p, &what)).transpose()?;
+        if let Some(p) = patch {
+            if let Some((_, first)) = moved.iter().find(|(q, _)| *q == p) {
+                return Err(format!("{what}: patch {} is already moved by [[motion]] {first}", patches.name(p)));
+            }
+            moved.push((p, i + 1));
+        }
         if let Some(p) = patch {
             if moved_patch == 0 {
                 moved_patch = p;
@@ -281,6 +336,18 @@ fn build(args: &Args) -> Result<(CaseSetup, Options), String> {
             }
             (Some(f), false) => {
                 let d = read_displacement(&base.join(f), mesh.num_vertices())?;
+                if let Some(p) = patch {
+                    for c in 0..2 {
+                        let moves = mesh.patch_vertices(p).iter().any(|&v| d[v as usize].is_some_and(|d| d[c] != 0.0));
+                        if moves && bcs.kind(p, c) == Kind::Free {
+                            return Err(format!(
+                                "{what}: the file moves patch {} in {}, which is FREE there: make it fixed or clamped",
+                                patches.name(p),
+                                ["x", "y"][c]
+                            ));
+                        }
+                    }
+                }
                 let only = patch.map(|p| mesh.patch_vertices(p));
                 for (v, dv) in d.iter().enumerate() {
                     if let Some(dv) = dv {
@@ -299,14 +366,47 @@ fn build(args: &Args) -> Result<(CaseSetup, Options), String> {
 
 pub fn run(args: Args) -> Result<ExitCode, String> {
     let (setup, opts) = build(&args)?;
-    let r = run_case(&setup, opts.method, &opts).map_err(|e| e.to_string())?;
+    let bar = if setup.steps >= 5 { ProgressBar::new(setup.steps as u64) } else { ProgressBar::hidden() };
+    bar.set_style(
+        ProgressStyle::with_template("{bar:40} step {pos}/{len} {elapsed}").unwrap_or(ProgressStyle::default_bar()),
+    );
+    let r = run_case_with(&setup, opts.method, &opts, |_, reps| {
+        for rep in reps {
+            let line = rep.line();
+            if bar.is_hidden() {
+                eprintln!("{line}");
+            } else {
+                bar.println(line);
+            }
+        }
+        bar.inc(1);
+    })
+    .map_err(|e| e.to_string())?;
+    bar.finish_and_clear();
+    if let Some(path) = &args.report {
+        let text: String = r.reports.iter().map(|x| json_line(x) + "\n").collect();
+        std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))?;
+    }
+    let original = setup.mesh.coords();
     if let Some(f) = &r.failure {
-        return Err(format!("solve failed: {f}"));
+        let partial = args.output.with_extension("last-valid.vtu");
+        let disp: Vec<DVec2> = r.last_valid.iter().zip(original).map(|(a, b)| *a - *b).collect();
+        meshmove::io::write_deformed(&partial, &setup.mesh, &disp)
+            .map_err(|e| format!("{}: {e}", partial.display()))?;
+        let done = r.reports.iter().filter(|x| x.accepted).map(|x| x.fraction).fold(0.0, f64::max);
+        eprintln!("meshmove: error: {f}");
+        eprintln!(
+            "meshmove: the last valid mesh ({:.1}% of the motion) is written to {}; {} is not written",
+            100.0 * done,
+            partial.display(),
+            args.output.display()
+        );
+        return Ok(ExitCode::from(4));
     }
     let disp = r.displacement(&setup.mesh);
     meshmove::io::write_deformed(&args.output, &setup.mesh, &disp)
         .map_err(|e| format!("{}: {e}", args.output.display()))?;
-    let converged = r.reports.iter().all(|x| x.converged);
+    let substeps = r.reports.iter().filter(|x| x.accepted).count();
     println!(
         "mesh            {} ({} vertices, {} cells)",
         args.mesh.display(),
@@ -314,12 +414,8 @@ pub fn run(args: Args) -> Result<ExitCode, String> {
         setup.mesh.num_cells()
     );
     println!(
-        "method          {:?}, {} step(s), {} cycles, {:.3} s{}",
-        opts.method,
-        r.steps,
-        r.cycles,
-        r.seconds,
-        if converged { "" } else { " (NOT converged to the tolerance)" }
+        "method          {:?}, {} step(s) in {substeps} sub-step(s), {} cycles, {:.3} s, converged",
+        opts.method, r.steps, r.cycles, r.seconds,
     );
     println!("inverted cells  {}", r.inverted);
     println!("min area ratio  {:.4}", r.min_area_ratio);
@@ -341,4 +437,24 @@ pub fn run(args: Args) -> Result<ExitCode, String> {
         return Ok(ExitCode::from(3));
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// One sub-step as a JSON object (non-finite numbers as null).
+fn json_line(r: &StepReport) -> String {
+    let num = |x: f64| if x.is_finite() { format!("{x:?}") } else { "null".into() };
+    format!(
+        "{{\"step\":{},\"substep\":{},\"fraction\":{},\"cycles\":{},\"rel_residual\":{},\"converged\":{},\"rebuilt\":{},\"inverted\":{},\"min_volume_ratio\":{},\"min_angle_deg\":{},\"seconds\":{},\"accepted\":{}}}",
+        r.step,
+        r.substep,
+        num(r.fraction),
+        r.cycles,
+        num(r.rel_residual),
+        r.converged,
+        r.rebuilt,
+        r.inverted,
+        num(r.min_volume_ratio),
+        num(r.min_angle_deg),
+        num(r.seconds),
+        r.accepted
+    )
 }

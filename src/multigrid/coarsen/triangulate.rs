@@ -22,8 +22,13 @@ pub(super) fn triangulate(
     // Bulk loading keeps the vertex order (and is far faster than inserting one by one).
     let points: Vec<Point2<f64>> = fine_vertex.iter().map(|&v| Point2::new(x[v as usize].x, x[v as usize].y)).collect();
     let mut cdt: ConstrainedDelaunayTriangulation<Point2<f64>> =
-        ConstrainedDelaunayTriangulation::try_bulk_load_cdt(points, Vec::new(), |_| {})
-            .map_err(|e| Error::Coarsening(format!("triangulating the kept vertices: {e:?}")))?;
+        ConstrainedDelaunayTriangulation::try_bulk_load_cdt(points, Vec::new(), |_| {}).map_err(|e| {
+            let big = fine_vertex.iter().fold(0.0f64, |m, &v| m.max(x[v as usize].abs().max_element()));
+            Error::Coarsening(format!(
+                "the coarse triangulation cannot take these coordinates (largest |x|, |y| = {big:e}; \
+                     spade: {e:?}): the mesh was moved too far or its coordinates are not finite"
+            ))
+        })?;
     if cdt.num_vertices() != nc {
         // Duplicate positions: spade merged vertices.
         return Ok(Err(Failure::Stop));

@@ -1,0 +1,241 @@
+//! Steps of a motion: the reference re-evaluated after each, automatic sub-stepping, a rebuilt
+//! hierarchy when a reused one stalls, and one report per sub-step.
+//!
+//! A step is tried whole; when its result would not converge, invert a cell or fall below the
+//! minimum area ratio, and sub-stepping is enabled, the rest of the step is tried in halves
+//! (each from the last valid mesh), down to 1/`max_substeps` of the step. A rigid motion is
+//! split by its angle and translation (`Motion::between`), so the last sub-step ends exactly
+//! where the step does. A call that fails puts the solver back where it was; how far it got is
+//! in the reports and in `last_valid_coords`.
+
+use super::{check_converged, ReferenceMode, Solution, Solver, Undo};
+use crate::mesh::quality::Quality;
+use crate::motion::Motion;
+use crate::multigrid::solve::Report;
+use crate::{Error, Result};
+use glam::DVec2;
+use std::time::Instant;
+
+/// What one sub-step did.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StepReport {
+    /// Step, 1-based.
+    pub step: usize,
+    /// Attempt within the step, 1-based (a rejected attempt is followed by a shorter one).
+    pub substep: usize,
+    /// Fraction of the whole motion done when this attempt is accepted.
+    pub fraction: f64,
+    /// CG iterations (or W-cycles) of the larger component.
+    pub cycles: usize,
+    /// Final relative residual of the larger component.
+    pub rel_residual: f64,
+    pub converged: bool,
+    /// The hierarchy was rebuilt from this sub-step's reference (a reused one stalled).
+    pub rebuilt: bool,
+    /// Cells of non-positive area in the result.
+    pub inverted: usize,
+    /// Smallest deformed/reference cell area ratio.
+    pub min_volume_ratio: f64,
+    /// Smallest angle of any cell, degrees.
+    pub min_angle_deg: f64,
+    pub seconds: f64,
+    /// The result became the new mesh (false: rejected and split, or the call failed here).
+    pub accepted: bool,
+}
+
+impl StepReport {
+    /// The one-line summary the command line prints per sub-step.
+    pub fn line(&self) -> String {
+        format!(
+            "step {}.{} at {:.4}: {} cycles, residual {:.2e}{}{}, inverted {}, min area ratio {:.4}, min angle {:.2}°, {:.3} s{}",
+            self.step,
+            self.substep,
+            self.fraction,
+            self.cycles,
+            self.rel_residual,
+            if self.converged { "" } else { " (NOT converged)" },
+            if self.rebuilt { ", hierarchy rebuilt" } else { "" },
+            self.inverted,
+            self.min_volume_ratio,
+            self.min_angle_deg,
+            self.seconds,
+            if self.accepted { "" } else { ", rejected" }
+        )
+    }
+}
+
+/// One step of a motion: its increment and the fractions of the whole motion it spans.
+struct Step<'a> {
+    number: usize,
+    increment: &'a Motion,
+    from: f64,
+    to: f64,
+    last: bool,
+}
+
+pub(super) fn advance(s: &mut Solver, increment: &Motion) -> Result<Solution> {
+    let before = s.current_coords().to_vec();
+    let t0 = Instant::now();
+    run(s, |s, undo| do_step(s, &Step { number: 1, increment, from: 0.0, to: 1.0, last: true }, undo))?;
+    let after = s.last_valid.clone();
+    let displacement: Vec<DVec2> = after.iter().zip(&before).map(|(a, b)| *a - *b).collect();
+    let quality = crate::mesh::quality::quality(&s.mesh().with_coords(before.clone()), &after);
+    Ok(Solution { displacement, report: summary(&s.steps, t0), quality })
+}
+
+pub(super) fn move_in_steps(s: &mut Solver, motion: &Motion, steps: usize) -> Result<()> {
+    run(s, |s, undo| {
+        for i in 0..steps {
+            let increment = motion.increment(i, steps);
+            let (from, to) = (i as f64 / steps as f64, (i + 1) as f64 / steps as f64);
+            do_step(s, &Step { number: i + 1, increment: &increment, from, to, last: i + 1 == steps }, undo)?;
+        }
+        Ok(())
+    })
+}
+
+/// Runs `f` as one transaction: reports cleared, the solver restored when `f` fails.
+fn run(s: &mut Solver, f: impl FnOnce(&mut Solver, &mut Undo) -> Result<()>) -> Result<()> {
+    s.steps.clear();
+    s.last_valid = s.current_coords().to_vec();
+    let mut undo = s.undo();
+    let total = s.total.clone();
+    let r = f(s, &mut undo);
+    if r.is_err() {
+        s.restore(undo);
+        s.total = total;
+    }
+    r
+}
+
+fn report(step: &Step, substep: usize, end: f64, sol: &Solution, rebuilt: bool, t0: Instant) -> StepReport {
+    let q: &Quality = &sol.quality;
+    StepReport {
+        step: step.number,
+        substep,
+        fraction: step.from + (step.to - step.from) * end,
+        cycles: sol.report.cycles,
+        rel_residual: sol.report.rel_residual,
+        converged: sol.report.converged,
+        rebuilt,
+        inverted: q.inverted,
+        min_volume_ratio: q.min_area_ratio,
+        min_angle_deg: q.min_angle_deg,
+        seconds: t0.elapsed().as_secs_f64(),
+        accepted: false,
+    }
+}
+
+fn do_step(s: &mut Solver, step: &Step, undo: &mut Undo) -> Result<()> {
+    if s.opts.reference == ReferenceMode::Original {
+        return original_step(s, step);
+    }
+    let split = s.opts.max_substeps > 1;
+    let smallest = if split { 1.0 / s.opts.max_substeps as f64 } else { 1.0 };
+    let (mut done, mut size, mut substep) = (0.0f64, 1.0f64, 0usize);
+    while done < 1.0 {
+        substep += 1;
+        let end = if done + size >= 1.0 { 1.0 } else { done + size };
+        let part = step.increment.between(done, end);
+        let t0 = Instant::now();
+        let (sol, rebuilt) = solve_part(s, &part, undo)?;
+        let mut rep = report(step, substep, end, &sol, rebuilt, t0);
+        let q = &sol.quality;
+        let valid = q.inverted == 0 && (!split || q.min_area_ratio >= s.opts.min_volume_ratio);
+        if sol.report.converged && valid {
+            let moved: Vec<DVec2> = s.mesh().coords().iter().zip(&sol.displacement).map(|(x, d)| *x + *d).collect();
+            s.set_reference_inner(moved.clone(), undo)?;
+            rep.accepted = true;
+            s.steps.push(rep);
+            s.last_valid = moved;
+            done = end;
+            continue;
+        }
+        if split && size / 2.0 >= smallest * (1.0 - 1e-12) {
+            s.steps.push(rep);
+            size /= 2.0;
+            continue;
+        }
+        if sol.report.converged && !split {
+            // The method's honest answer: a converged result with inverted cells. It is the
+            // call's result when nothing follows it; a later step cannot start from it.
+            s.steps.push(rep);
+            if end >= 1.0 && step.last {
+                s.steps.last_mut().expect("pushed").accepted = true;
+                s.last_valid = s.mesh().coords().iter().zip(&sol.displacement).map(|(x, d)| *x + *d).collect();
+                return Ok(());
+            }
+            return Err(Error::Tangled(format!(
+                "step {}: the result has {} inverted cell(s) (min area ratio {:.3e}); the next step cannot \
+                 start from a tangled mesh: enable sub-stepping or use more steps",
+                step.number, q.inverted, q.min_area_ratio
+            )));
+        }
+        s.steps.push(rep);
+        check_converged(&sol.report, Some((step.number, substep)))?;
+        let why = if q.inverted > 0 {
+            format!("{} inverted cell(s)", q.inverted)
+        } else {
+            format!("min area ratio {:.3e} below the minimum {}", q.min_area_ratio, s.opts.min_volume_ratio)
+        };
+        return Err(Error::NotConverged(format!(
+            "step {}: sub-stepping reached its limit of {} sub-steps at {:.4} of the motion: the next sub-step would \
+             give {why}; the mesh stays at the last valid state",
+            step.number,
+            s.opts.max_substeps,
+            step.from + (step.to - step.from) * done
+        )));
+    }
+    Ok(())
+}
+
+/// Solves one part of a step; a solve that stops above its tolerance on a hierarchy moved from
+/// another mesh is retried once on a hierarchy rebuilt from the current reference.
+fn solve_part(s: &mut Solver, part: &Motion, undo: &mut Undo) -> Result<(Solution, bool)> {
+    let sol = s.solve_report(part, None)?;
+    if sol.report.converged || s.hierarchy.fresh {
+        return Ok((sol, false));
+    }
+    let x = s.mesh().coords().to_vec();
+    s.rebuild(x, undo)?;
+    Ok((s.solve_report(part, None)?, true))
+}
+
+/// `ReferenceMode::Original`: the total motion so far solved from the original mesh.
+fn original_step(s: &mut Solver, step: &Step) -> Result<()> {
+    let total = match &s.total {
+        Some((m, _)) => m.then(step.increment),
+        None => step.increment.clone(),
+    };
+    let t0 = Instant::now();
+    let sol = s.solve_report(&total, None)?;
+    let mut rep = report(step, 1, 1.0, &sol, false, t0);
+    check_converged(&sol.report, Some((step.number, 1))).inspect_err(|_| s.steps.push(rep.clone()))?;
+    let moved: Vec<DVec2> = s.mesh().coords().iter().zip(&sol.displacement).map(|(x, d)| *x + *d).collect();
+    if sol.quality.inverted > 0 && !step.last {
+        s.steps.push(rep);
+        return Err(Error::Tangled(format!(
+            "step {}: the total motion so far inverts {} cell(s) of the original mesh",
+            step.number, sol.quality.inverted
+        )));
+    }
+    rep.accepted = true;
+    s.steps.push(rep);
+    s.last_valid = moved.clone();
+    s.total = Some((total, moved));
+    Ok(())
+}
+
+/// One report for a whole call: cycles summed over the accepted sub-steps, the worst residual.
+fn summary(steps: &[StepReport], t0: Instant) -> Report {
+    let acc = steps.iter().filter(|r| r.accepted);
+    Report {
+        cycles: acc.clone().map(|r| r.cycles).sum(),
+        max_correction: 0.0,
+        rel_residual: acc.clone().map(|r| r.rel_residual).fold(0.0, f64::max),
+        converged: acc.clone().all(|r| r.converged),
+        breakdown: None,
+        seconds: t0.elapsed().as_secs_f64(),
+        history: Vec::new(),
+    }
+}
