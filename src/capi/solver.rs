@@ -225,6 +225,10 @@ pub unsafe extern "C" fn meshmove_solver_clear_rigid_motions(solver: *mut meshmo
 /// same length (e.g. the previous step's). `displacement` receives the result (may be the same
 /// array as `prescribed` or `guess`). `report` may be NULL.
 ///
+/// `MESHMOVE_STATUS_NOT_CONVERGED`: the solve stopped at `max_cycles` above its tolerance; the
+/// unconverged displacement IS written (with its report), for the caller to use or not. On
+/// every other failure nothing is written.
+///
 /// # Safety
 /// Arrays must hold `len` doubles; `solver` must be a handle from meshmove (checked).
 #[no_mangle]
@@ -291,10 +295,16 @@ pub unsafe extern "C" fn meshmove_solver_cycle(
 /// vertices, read only where prescribed), solves and adds the displacement of every vertex to
 /// `coords` in place; the moved mesh becomes the solver's reference for the next call.
 ///
-/// `coords` on entry are the current positions; when they differ from the solver's reference
-/// (the code moved the mesh itself), the reference is first re-evaluated there. `report` and
-/// `quality` (of the moved mesh against the positions on entry) may be NULL. On failure
-/// `coords` is unchanged.
+/// `coords` on entry are the current positions; when they differ from the solver's (the code
+/// moved the mesh itself), the reference is first re-evaluated there. With sub-stepping
+/// (`meshmove_solver_set_substepping`) a motion that would invert a cell or not converge is
+/// split; the step reports say how (`meshmove_solver_step_reports`). `report` and `quality` (of
+/// the moved mesh against the positions on entry) may be NULL.
+///
+/// Returns OK, or `MESHMOVE_STATUS_INVERTED` when the converged result has inverted cells: then
+/// `coords`, `report` and `quality` (its `inverted` count) ARE written but the solver keeps the
+/// reference it had. On any other failure (`NOT_CONVERGED`, `TANGLED`, ...) nothing is written
+/// and the solver is as before the call.
 ///
 /// # Safety
 /// Arrays must hold `len` doubles; `solver` must be a handle from meshmove (checked).
