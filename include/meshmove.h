@@ -933,8 +933,8 @@ meshmove_status meshmove_solver_move_in_steps(struct meshmove_solver *solver,
                                               struct meshmove_step_report *reports);
 
 /*
- The step reports of the last `_move_in_steps` call on this solver (one per step or
- sub-step, kept after a failure too). `*count` receives how many there are; if `capacity` is
+ The step reports of the last `_move` or `_move_in_steps` call on this solver (one per step
+ or sub-step attempt, rejected attempts with `accepted` 0; kept after a failure too). `*count` receives how many there are; if `capacity` is
  smaller (e.g. 0 with `reports` NULL, to ask the size), nothing is copied and
  `MESHMOVE_STATUS_BUFFER_TOO_SMALL` is returned.
 

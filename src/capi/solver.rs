@@ -21,7 +21,6 @@ pub(crate) struct SolverState {
     solver: Solver,
     rigid: Vec<(i32, RigidMotion)>,
     last: Vec<DVec2>,
-    steps: Vec<meshmove_step_report>,
 }
 
 impl Handle for meshmove_solver {
@@ -133,10 +132,7 @@ pub unsafe extern "C" fn meshmove_solver_create(
         };
         let solver = Solver::new(&m, &b, o.to_rust()?)?;
         let nv = m.num_vertices();
-        hand_out::<meshmove_solver>(
-            SolverState { solver, rigid: Vec::new(), last: vec![DVec2::ZERO; nv], steps: Vec::new() },
-            out,
-        )
+        hand_out::<meshmove_solver>(SolverState { solver, rigid: Vec::new(), last: vec![DVec2::ZERO; nv] }, out)
     })
 }
 
@@ -401,14 +397,14 @@ pub unsafe extern "C" fn meshmove_solver_move_in_steps(
         let motion = s.motion(d);
         // `move_in_steps` restores the solver itself when it fails; its step reports stay.
         let r = s.solver.move_in_steps(&motion, n);
-        s.steps = s.solver.step_reports().iter().map(meshmove_step_report::from).collect();
         r?;
+        let steps: Vec<meshmove_step_report> = s.solver.step_reports().iter().map(meshmove_step_report::from).collect();
         let checked = finite_out(s.solver.current_coords(), "moved position")
-            .and_then(|()| s.steps.iter().try_for_each(types::finite_step_report));
+            .and_then(|()| steps.iter().try_for_each(types::finite_step_report));
         if let Err(e) = checked {
             return Err(s.restore(Some(before), e));
         }
-        for (o, r) in out.iter_mut().zip(&s.steps) {
+        for (o, r) in out.iter_mut().zip(&steps) {
             *o = *r;
         }
         s.last = s.solver.current_coords().iter().zip(&before).map(|(a, b)| *a - *b).collect();
@@ -416,8 +412,8 @@ pub unsafe extern "C" fn meshmove_solver_move_in_steps(
     })
 }
 
-/// The step reports of the last `_move_in_steps` call on this solver (one per step or
-/// sub-step, kept after a failure too). `*count` receives how many there are; if `capacity` is
+/// The step reports of the last `_move` or `_move_in_steps` call on this solver (one per step
+/// or sub-step attempt, rejected attempts with `accepted` 0; kept after a failure too). `*count` receives how many there are; if `capacity` is
 /// smaller (e.g. 0 with `reports` NULL, to ask the size), nothing is copied and
 /// `MESHMOVE_STATUS_BUFFER_TOO_SMALL` is returned.
 ///
@@ -436,7 +432,8 @@ pub unsafe extern "C" fn meshmove_solver_step_reports(
         if count.is_null() {
             return Err(CError::null("count"));
         }
-        let n = s.steps.len();
+        let steps = s.solver.step_reports();
+        let n = steps.len();
         handles::write_out(count, n.min(i32::MAX as usize) as i32, "count")?;
         if cap < n {
             return Err(CError::new(
@@ -444,7 +441,9 @@ pub unsafe extern "C" fn meshmove_solver_step_reports(
                 format!("there are {n} step reports; capacity is {cap}"),
             ));
         }
-        handles::slice_mut(reports, n, "reports")?.copy_from_slice(&s.steps);
+        for (o, r) in handles::slice_mut(reports, n, "reports")?.iter_mut().zip(steps) {
+            *o = meshmove_step_report::from(r);
+        }
         Ok(())
     })
 }

@@ -300,6 +300,121 @@ static void test_non_finite(void) {
     meshmove_solver_free(s);
 }
 
+static meshmove_solver *grid_solver_with(const grid *g, const meshmove_options *o) {
+    meshmove_mesh *m = NULL;
+    meshmove_bcs *b = NULL;
+    meshmove_solver *s = NULL;
+    STATUS(meshmove_mesh_create(g->nv, g->xy, g->nc, g->cells, 0, g->n - 1, g->edges, g->patches, NULL, &m),
+           MESHMOVE_STATUS_OK);
+    STATUS(meshmove_bcs_create(&b), MESHMOVE_STATUS_OK);
+    STATUS(meshmove_solver_create(m, b, o, &s), MESHMOVE_STATUS_OK);
+    meshmove_bcs_free(b);
+    meshmove_mesh_free(m);
+    return s;
+}
+
+/* NOT_CONVERGED, INVERTED, step reports and the sub-stepping and reference-mode setters. */
+static void test_statuses(void) {
+    grid g;
+    meshmove_solver *s;
+    meshmove_options o;
+    meshmove_report r;
+    meshmove_quality q;
+    meshmove_step_report sr[8];
+    double d[2 * 64], x[2 * 64], back[2 * 64];
+    int32_t count = -1;
+    int i;
+    make_grid(&g, 4);
+    top_shift(&g, d);
+
+    /* one cycle to 1e-14: not converged; _solve writes the result, _move writes nothing */
+    {
+        int nv = 0;
+        meshmove_solver *c;
+        double *cd, *cout, *cx, *cback;
+        meshmove_mesh *m = NULL;
+        meshmove_bcs *b = NULL;
+        meshmove_options_default(&o);
+        o.threads = 1;
+        o.max_cycles = 1;
+        o.tol = 1e-14;
+        STATUS(meshmove_mesh_create_case("free_surface", 1.0 / 32, &m), MESHMOVE_STATUS_OK);
+        STATUS(meshmove_bcs_create(&b), MESHMOVE_STATUS_OK);
+        STATUS(meshmove_solver_create(m, b, &o, &c), MESHMOVE_STATUS_OK);
+        meshmove_mesh_sizes(m, &nv, NULL);
+        cd = case_motion(c, nv);
+        cout = malloc(2 * (size_t)nv * sizeof(double));
+        cx = malloc(2 * (size_t)nv * sizeof(double));
+        cback = malloc(2 * (size_t)nv * sizeof(double));
+        for (i = 0; i < 2 * nv; i++) cout[i] = 12345.0;
+        STATUS(meshmove_solver_solve(c, 2 * nv, cd, NULL, cout, &r), MESHMOVE_STATUS_NOT_CONVERGED);
+        CHECK(strstr(msg(), "not converged") != NULL, "NOT_CONVERGED message");
+        for (i = 0; i < 2 * nv && cout[i] != 12345.0; i++) continue;
+        CHECK(i == 2 * nv && r.converged == 0 && r.cycles == 1, "NOT_CONVERGED solve did not write its result and report");
+        meshmove_mesh_get_coords(m, 2 * nv, cx);
+        STATUS(meshmove_solver_move(c, 2 * nv, cd, cx, &r, &q), MESHMOVE_STATUS_NOT_CONVERGED);
+        meshmove_mesh_get_coords(m, 2 * nv, cback);
+        CHECK(memcmp(cx, cback, sizeof(double) * 2 * (size_t)nv) == 0, "NOT_CONVERGED move wrote coords");
+        meshmove_solver_get_coords(c, 2 * nv, cx);
+        CHECK(memcmp(cx, cback, sizeof(double) * 2 * (size_t)nv) == 0, "NOT_CONVERGED move changed the solver");
+        meshmove_solver_free(c);
+        meshmove_bcs_free(b);
+        meshmove_mesh_free(m);
+        free(cd);
+        free(cout);
+        free(cx);
+        free(cback);
+    }
+
+    /* the Laplacian sheared far: a converged result with inverted cells is INVERTED, written */
+    meshmove_options_default(&o);
+    o.threads = 1;
+    o.method = MESHMOVE_METHOD_LAPLACIAN;
+    s = grid_solver_with(&g, &o);
+    for (i = 0; i < 2 * g.nv; i++) d[i] *= 40.0; /* the top moves 2 to the right */
+    memcpy(x, g.xy, sizeof x);
+    STATUS(meshmove_solver_move(s, 2 * g.nv, d, x, &r, &q), MESHMOVE_STATUS_INVERTED);
+    CHECK(q.inverted > 0 && r.converged == 1, "INVERTED without a count (%d) or unconverged", q.inverted);
+    CHECK(x[2 * (g.nv - 1)] == g.xy[2 * (g.nv - 1)] + 2.0, "INVERTED move did not write coords");
+    meshmove_solver_get_coords(s, 2 * g.nv, back);
+    CHECK(memcmp(back, g.xy, sizeof(double) * 2 * (size_t)g.nv) == 0, "INVERTED move changed the solver's reference");
+    /* with sub-stepping: either a valid mesh (OK) or a failure that changes nothing */
+    STATUS(meshmove_solver_set_substepping(s, MESHMOVE_MAX_SUBSTEPS + 1, 0.0), MESHMOVE_STATUS_INVALID_ARGUMENT);
+    STATUS(meshmove_solver_set_substepping(s, 8, 1.5), MESHMOVE_STATUS_INVALID_ARGUMENT);
+    STATUS(meshmove_solver_set_substepping(s, 8, NAN), MESHMOVE_STATUS_INVALID_ARGUMENT);
+    STATUS(meshmove_solver_set_substepping(s, 8, 0.0), MESHMOVE_STATUS_OK);
+    memcpy(x, g.xy, sizeof x);
+    {
+        meshmove_status st = meshmove_solver_move(s, 2 * g.nv, d, x, &r, &q);
+        CHECK(st != MESHMOVE_STATUS_INVERTED && st != MESHMOVE_STATUS_PANIC, "sub-stepped move: %s",
+              meshmove_status_name(st));
+        if (st == MESHMOVE_STATUS_OK) CHECK(q.inverted == 0, "OK with %d inverted cells", q.inverted);
+        if (st != MESHMOVE_STATUS_OK) {
+            CHECK(memcmp(x, g.xy, sizeof(double) * 2 * (size_t)g.nv) == 0, "a failed sub-stepped move wrote coords");
+            meshmove_solver_get_coords(s, 2 * g.nv, back);
+            CHECK(memcmp(back, g.xy, sizeof(double) * 2 * (size_t)g.nv) == 0, "a failed move changed the solver");
+        }
+        STATUS(meshmove_solver_step_reports(s, 8, sr, &count), count > 8 ? MESHMOVE_STATUS_BUFFER_TOO_SMALL : MESHMOVE_STATUS_OK);
+        CHECK(count > 1, "sub-stepping left %d step reports (move: %s)", count, meshmove_status_name(st));
+    }
+    STATUS(meshmove_solver_set_reference_mode(s, 2), MESHMOVE_STATUS_INVALID_ARGUMENT);
+    STATUS(meshmove_solver_set_reference_mode(s, MESHMOVE_REFERENCE_ORIGINAL), MESHMOVE_STATUS_OK);
+    STATUS(meshmove_solver_set_reference_mode(s, MESHMOVE_REFERENCE_INCREMENTAL), MESHMOVE_STATUS_OK);
+    meshmove_solver_free(s);
+
+    /* three equal steps: three step reports, the first two copied into room for two */
+    s = grid_solver(&g, 1);
+    top_shift(&g, d);
+    STATUS(meshmove_solver_move_in_steps(s, 2 * g.nv, d, 3, 2, sr), MESHMOVE_STATUS_OK);
+    CHECK(sr[0].step == 1 && sr[1].step == 2 && sr[1].accepted == 1 && fabs(sr[1].fraction - 2.0 / 3.0) < 1e-15,
+          "step reports wrong");
+    STATUS(meshmove_solver_step_reports(s, 1, sr, &count), MESHMOVE_STATUS_BUFFER_TOO_SMALL);
+    CHECK(count == 3, "%d step reports, want 3", count);
+    STATUS(meshmove_solver_step_reports(s, 8, sr, &count), MESHMOVE_STATUS_OK);
+    CHECK(count == 3 && sr[2].fraction == 1.0 && sr[2].converged == 1, "last step report wrong");
+    meshmove_solver_free(s);
+}
+
 /* ---- two threads on one solver ---- */
 typedef struct {
     meshmove_solver *s;
@@ -455,6 +570,7 @@ int main(int argc, char **argv) {
         test_transactional(4);
     }
     if (GROUP("non_finite")) test_non_finite();
+    if (GROUP("statuses")) test_statuses();
     if (GROUP("stale")) test_stale();
     if (GROUP("busy")) test_busy();
     if (GROUP("fork")) {
