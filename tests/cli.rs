@@ -180,3 +180,53 @@ fn bad_config_fails_with_a_message_naming_the_problem() {
     assert!(text(&o).contains("inverted cells"), "{}", text(&o));
     let _ = std::fs::remove_dir_all(&d);
 }
+
+/// A step that cannot reach its tolerance: exit 4, the message, the last valid mesh beside the
+/// requested output, and the requested output not written. Every sub-step is in the report.
+#[test]
+fn failed_step_writes_the_last_valid_mesh_and_exits_4() {
+    let d = tmp("fail");
+    let mesh = example("channel.msh");
+    let cfg = d.join("c.toml");
+    std::fs::write(
+        &cfg,
+        "tolerance = 1e-30\nsteps = 2\n[[patch]]\npatch = \"cylinder\"\nkind = \"clamped\"\n\
+         [[motion]]\npatch = \"cylinder\"\ntranslation = [0.2, 0.0]\n",
+    )
+    .unwrap();
+    let (out, report) = (d.join("o.vtu"), d.join("r.jsonl"));
+    let o = meshmove(&[
+        "deform",
+        &mesh,
+        "--config",
+        cfg.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--report",
+        report.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(4), "{}", text(&o));
+    assert!(text(&o).contains("not converged") && text(&o).contains("o.last-valid.vtu"), "{}", text(&o));
+    assert!(d.join("o.last-valid.vtu").exists() && !out.exists());
+    let lines = std::fs::read_to_string(&report).unwrap();
+    assert!(lines.lines().count() >= 1 && lines.contains("\"converged\":false"), "{lines}");
+
+    // A run that succeeds: one JSON object per sub-step, one line per sub-step on stderr.
+    std::fs::write(&cfg, "steps = 2\n[[patch]]\npatch = \"cylinder\"\nkind = \"clamped\"\n[[motion]]\npatch = \"cylinder\"\ntranslation = [0.2, 0.0]\n").unwrap();
+    let o = meshmove(&[
+        "deform",
+        &mesh,
+        "--config",
+        cfg.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--report",
+        report.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let lines = std::fs::read_to_string(&report).unwrap();
+    assert_eq!(lines.lines().count(), 2, "{lines}");
+    assert!(lines.lines().nth(1).unwrap().starts_with("{\"step\":2,\"substep\":1,\"fraction\":1.0,"), "{lines}");
+    assert!(String::from_utf8_lossy(&o.stderr).contains("step 2.1 at 1.0000"), "{}", text(&o));
+    let _ = std::fs::remove_dir_all(&d);
+}

@@ -25,6 +25,34 @@ pub const BL_LAYERS: usize = 15;
 /// [`boundary_layer_cylinder`]: vertices around the cylinder (and around every layer).
 pub const BL_N_THETA: usize = 128;
 
+/// [`ellipse_in_box`]: the box [−3,3]×[−2,2].
+pub const EL_BOX: i32 = 1;
+/// [`ellipse_in_box`]: the ellipse.
+pub const EL_ELLIPSE: i32 = 2;
+
+/// The box [−3,3]×[−2,2] minus the ellipse of semi-axes `a` (along x) and `b` about the origin
+/// (a polygon of 96 vertices), graded from the ellipse's spacing to about 0.3 at the box.
+/// Patches [`EL_BOX`], [`EL_ELLIPSE`].
+pub fn ellipse_in_box(a: f64, b: f64) -> Mesh {
+    assert!(a > 0.0 && b > 0.0 && a < 2.5 && b < 1.5, "ellipse_in_box: the ellipse must fit the box");
+    let n = 96;
+    let ell: Vec<DVec2> = (0..n)
+        .map(|j| {
+            let t = 2.0 * PI * j as f64 / n as f64;
+            DVec2::new(a * t.cos(), b * t.sin())
+        })
+        .collect();
+    let h = ell.windows(2).map(|w| (w[1] - w[0]).length()).fold(0.0, f64::max);
+    let outer = rect_loop([-3.0, 3.0, -2.0, 2.0], 20, 14, [EL_BOX; 4]);
+    let hole = Loop { points: ell, patches: vec![EL_ELLIPSE; n] };
+    let size = |p: DVec2| {
+        let d = ((p.x / a).powi(2) + (p.y / b).powi(2)).sqrt().max(1.0) - 1.0;
+        (h + 0.12 * d * b.max(a)).min(0.3)
+    };
+    let p = mesh_domain(&[outer, hole], &size, 30.0, 2);
+    to_mesh(&p, None, "ellipse_in_box")
+}
+
 /// `n` points on the circle of radius `r` about `c`, counter-clockwise from angle 0.
 fn circle(c: DVec2, r: f64, n: usize) -> Vec<DVec2> {
     (0..n)

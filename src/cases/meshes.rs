@@ -9,8 +9,8 @@ use crate::mesh::{IndexBase, Mesh};
 use glam::DVec2;
 
 pub use super::cylinder::{
-    boundary_layer_cylinder, cylinder_channel, BL_CYLINDER, BL_FAR, BL_FIRST_HEIGHT, BL_GROWTH, BL_LAYERS, BL_N_THETA,
-    CH_CYLINDER, CH_WALL,
+    boundary_layer_cylinder, cylinder_channel, ellipse_in_box, BL_CYLINDER, BL_FAR, BL_FIRST_HEIGHT, BL_GROWTH,
+    BL_LAYERS, BL_N_THETA, CH_CYLINDER, CH_WALL, EL_BOX, EL_ELLIPSE,
 };
 pub use super::free_surface::{
     free_surface, two_region_interface, FS_BOTTOM, FS_LEFT, FS_RIGHT, FS_TOP, IF_BOTTOM, IF_INTERFACE, IF_LEFT,

@@ -179,8 +179,14 @@ pub fn run_case_with(
     let mut last_valid = coords.clone();
     for i in 0..setup.steps {
         let result = solver.advance(&setup.motion.increment(i, setup.steps));
-        reports.extend(solver.step_reports().iter().cloned());
-        on_step(i + 1, solver.step_reports());
+        // `advance` numbers its sub-steps as one step of a whole motion: renumber as step i + 1.
+        let steps: Vec<StepReport> = solver
+            .step_reports()
+            .iter()
+            .map(|r| StepReport { step: i + 1, fraction: (i as f64 + r.fraction) / setup.steps as f64, ..r.clone() })
+            .collect();
+        on_step(i + 1, &steps);
+        reports.extend(steps);
         let sol = match result {
             Ok(s) => s,
             Err(e) => {
