@@ -10,6 +10,19 @@
  * Coordinates and displacements are interleaved (x0, y0, x1, y1, ...) arrays of 2 x vertices
  * doubles; every array comes with its int32_t length, which must match. Enum arguments are
  * int32_t values of the enums below. Every _create has a _free that accepts NULL.
+ *
+ * A call either succeeds or fails with a status that names why, and a failing call leaves every
+ * handle exactly as it was. Outputs are finite or the call fails. Counts and options have upper
+ * bounds (MESHMOVE_MAX_*), checked before anything is allocated.
+ *
+ * Threads: distinct handles may be used on distinct threads at once. A handle in use by one
+ * thread is not waited for: a call on it from another thread returns MESHMOVE_STATUS_BUSY at
+ * once and does nothing (calls that only read a handle may share it). A solver's work runs on
+ * its own options.threads worker threads only, never on a global pool. After fork(), the child
+ * may use inherited handles (the worker threads are rebuilt there). A freed handle is refused
+ * (MESHMOVE_STATUS_INVALID_HANDLE) even after later handles were created: its small slot stays
+ * allocated (a tombstone of under 100 bytes per handle ever created), so addresses are never
+ * reused.
  */
 
 #ifndef MESHMOVE_H
@@ -89,6 +102,41 @@
 #define MESHMOVE_CH_CYLINDER 2
 
 /*
+ Most steps of one `meshmove_solver_move_in_steps` call.
+ */
+#define MESHMOVE_MAX_STEPS 1000000
+
+/*
+ Largest `meshmove_options.max_cycles`.
+ */
+#define MESHMOVE_MAX_CYCLES 1000000
+
+/*
+ Largest `meshmove_options.cheb_degree`.
+ */
+#define MESHMOVE_MAX_CHEB_DEGREE 64
+
+/*
+ Largest `meshmove_options.threads` (a fixed bound, the same on every machine).
+ */
+#define MESHMOVE_MAX_THREADS 1024
+
+/*
+ Largest `max_substeps` of `meshmove_solver_set_substepping`.
+ */
+#define MESHMOVE_MAX_SUBSTEPS 1048576
+
+/*
+ Most vertices of a mesh (2 × vertices must fit an `int32_t` length).
+ */
+#define MESHMOVE_MAX_VERTICES 1073741823
+
+/*
+ Most cells of a mesh (3 × cells must fit an `int32_t` length).
+ */
+#define MESHMOVE_MAX_CELLS 715827882
+
+/*
  What a meshmove call returned. The values are fixed and never renumbered; new codes are only
  appended. `meshmove_last_error_message` gives the text of the last failure on this thread.
  */
@@ -145,6 +193,27 @@ enum meshmove_status
    An internal error (a Rust panic) was caught; the handle involved may be inconsistent.
    */
   MESHMOVE_STATUS_PANIC = 11,
+  /*
+   A solve did not reach its tolerance within `max_cycles`. `meshmove_solver_solve` still
+   writes the unconverged displacement (the caller decides whether to use it; the report says
+   how far it got); `_move` and `_move_in_steps` leave the coordinates and the solver as
+   before the call.
+   */
+  MESHMOVE_STATUS_NOT_CONVERGED = 12,
+  /*
+   The reference mesh of a step has cells of non-positive area (the message names the first).
+   */
+  MESHMOVE_STATUS_TANGLED = 13,
+  /*
+   The solve converged but the moved mesh has inverted cells: the result IS written and the
+   quality output gives the count. Never reported as plain OK.
+   */
+  MESHMOVE_STATUS_INVERTED = 14,
+  /*
+   The handle is in use by a call on another thread; nothing was done (try again later, or
+   give each thread its own handle).
+   */
+  MESHMOVE_STATUS_BUSY = 15,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
@@ -288,6 +357,33 @@ typedef int32_t meshmove_interface;
 #endif // __cplusplus
 
 /*
+ What each step of a move is solved from (`meshmove_solver_set_reference_mode`).
+ */
+enum meshmove_reference
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : int32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+  /*
+   The mesh of the previous step (default): each step solves for the increment on the
+   moved mesh. Large rotations need it; the mesh depends on the path.
+   */
+  MESHMOVE_REFERENCE_INCREMENTAL = 0,
+  /*
+   The original mesh: each step solves for the total displacement so far, so the mesh
+   depends only on the boundary's position (a periodic motion comes back to its start).
+   */
+  MESHMOVE_REFERENCE_ORIGINAL = 1,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum meshmove_reference meshmove_reference;
+#else
+typedef int32_t meshmove_reference;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
+/*
  A boundary-condition set: a `meshmove_kind` per patch and component (patches not named are
  FIXED), links between patches, interface variants. It is checked against a mesh when a solver
  is created, and copied into the solver (it may be freed afterwards).
@@ -304,8 +400,9 @@ typedef struct meshmove_mesh meshmove_mesh;
 
 /*
  A solver: the hierarchy built once for a mesh and boundary conditions, the rigid motions
- currently set, and the displacement of the last solve. Not to be used from two threads at
- once (different solvers may be used concurrently).
+ currently set, and the displacement of the last solve. Different solvers may be used
+ concurrently; a call on a solver that another thread is using returns
+ `MESHMOVE_STATUS_BUSY` at once and changes nothing.
  */
 typedef struct meshmove_solver meshmove_solver;
 
@@ -326,7 +423,9 @@ typedef struct meshmove_options {
    */
   int32_t criterion;
   /*
-   Worker threads; 0 uses the global pool (all cores). Results do not depend on it.
+   Worker threads of this solver, 0 ≤ threads ≤ `MESHMOVE_MAX_THREADS`; 0 is one per
+   available core. All of the solver's work runs on them (never on a shared global pool).
+   Results do not depend on it.
    */
   int32_t threads;
   /*
@@ -334,13 +433,13 @@ typedef struct meshmove_options {
    */
   double tol;
   /*
-   Most cycles per solve (default 500), at least 1.
+   Most cycles per solve (default 500), 1 ≤ max_cycles ≤ `MESHMOVE_MAX_CYCLES`.
    */
   int32_t max_cycles;
   /*
    Chebyshev smoother degree of the default mode, on every level; 0 picks per method
-   (default 0: biharmonic 6 on the finest level and 4 below, others 3 and 2), otherwise at
-   least 1.
+   (default 0: biharmonic 6 on the finest level and 4 below, others 3 and 2), otherwise
+   1 ≤ cheb_degree ≤ `MESHMOVE_MAX_CHEB_DEGREE`.
    */
   int32_t cheb_degree;
   /*
@@ -397,6 +496,61 @@ typedef struct meshmove_quality {
    */
   double min_angle_deg;
 } meshmove_quality;
+
+/*
+ What one step (or automatic sub-step) of a move did.
+ */
+typedef struct meshmove_step_report {
+  /*
+   The step, 1-based.
+   */
+  int32_t step;
+  /*
+   The sub-step within the step, 1-based (1 when the step was not split).
+   */
+  int32_t substep;
+  /*
+   Fraction of the whole motion done after this sub-step (1 after the last).
+   */
+  double fraction;
+  /*
+   Cycles of this sub-step's solve.
+   */
+  int32_t cycles;
+  /*
+   Relative residual at the end of this sub-step's solve.
+   */
+  double rel_residual;
+  /*
+   1 if the solve met its tolerance, else 0.
+   */
+  int32_t converged;
+  /*
+   1 if the multigrid hierarchy was rebuilt (a coarse cell would have inverted), else 0.
+   */
+  int32_t rebuilt;
+  /*
+   Inverted cells of the mesh after this sub-step.
+   */
+  int32_t inverted;
+  /*
+   Smallest moved / reference cell area ratio of this sub-step.
+   */
+  double min_volume_ratio;
+  /*
+   Smallest angle of any cell after this sub-step, degrees.
+   */
+  double min_angle_deg;
+  /*
+   Wall-clock seconds of this sub-step.
+   */
+  double seconds;
+  /*
+   1 if the result became the new mesh; 0 if it was rejected (and the step split), or the
+   call failed here.
+   */
+  int32_t accepted;
+} meshmove_step_report;
 
 #ifdef __cplusplus
 extern "C" {
@@ -461,7 +615,8 @@ meshmove_status meshmove_bcs_link_periodic(struct meshmove_bcs *bcs,
                                            double tol);
 
 /*
- Links explicit vertex pairs: `pairs` holds `2 num_pairs` vertex indices in `index_base`
+ Links explicit vertex pairs (1 ≤ `num_pairs` ≤ `MESHMOVE_MAX_VERTICES`): `pairs` holds
+ `2 num_pairs` vertex indices in `index_base`
  (a0, b0, a1, b1, ...). Linked vertices become one unknown and must be told the same
  displacement. Indices beyond the mesh are reported when the solver is created.
 
@@ -517,7 +672,8 @@ const char *meshmove_status_name(int32_t status);
 meshmove_status meshmove_version(int32_t *major, int32_t *minor, int32_t *patch);
 
 /*
- Validates and creates a mesh.
+ Validates and creates a mesh (at most `MESHMOVE_MAX_VERTICES` vertices,
+ `MESHMOVE_MAX_CELLS` cells and `MESHMOVE_MAX_VERTICES` tagged edges).
 
  `coords`: `2 num_vertices` doubles (x0, y0, x1, y1, ...). `cells`: `3 num_cells` vertex
  indices in `index_base` (0 for C, 1 for Fortran), either orientation. `tagged_edges`:
@@ -704,6 +860,10 @@ meshmove_status meshmove_solver_clear_rigid_motions(struct meshmove_solver *solv
  same length (e.g. the previous step's). `displacement` receives the result (may be the same
  array as `prescribed` or `guess`). `report` may be NULL.
 
+ `MESHMOVE_STATUS_NOT_CONVERGED`: the solve stopped at `max_cycles` above its tolerance; the
+ unconverged displacement IS written (with its report), for the caller to use or not. On
+ every other failure nothing is written.
+
  # Safety
  Arrays must hold `len` doubles; `solver` must be a handle from meshmove (checked).
  */
@@ -733,10 +893,16 @@ meshmove_status meshmove_solver_cycle(struct meshmove_solver *solver,
  vertices, read only where prescribed), solves and adds the displacement of every vertex to
  `coords` in place; the moved mesh becomes the solver's reference for the next call.
 
- `coords` on entry are the current positions; when they differ from the solver's reference
- (the code moved the mesh itself), the reference is first re-evaluated there. `report` and
- `quality` (of the moved mesh against the positions on entry) may be NULL. On failure
- `coords` is unchanged.
+ `coords` on entry are the current positions; when they differ from the solver's (the code
+ moved the mesh itself), the reference is first re-evaluated there. With sub-stepping
+ (`meshmove_solver_set_substepping`) a motion that would invert a cell or not converge is
+ split; the step reports say how (`meshmove_solver_step_reports`). `report` and `quality` (of
+ the moved mesh against the positions on entry) may be NULL.
+
+ Returns OK, or `MESHMOVE_STATUS_INVERTED` when the converged result has inverted cells: then
+ `coords`, `report` and `quality` (its `inverted` count) ARE written but the solver keeps the
+ reference it had. On any other failure (`NOT_CONVERGED`, `TANGLED`, ...) nothing is written
+ and the solver is as before the call.
 
  # Safety
  Arrays must hold `len` doubles; `solver` must be a handle from meshmove (checked).
@@ -749,10 +915,12 @@ meshmove_status meshmove_solver_move(struct meshmove_solver *solver,
                                      struct meshmove_quality *quality);
 
 /*
- Moves the boundary to `prescribed` (and the rigid motions) in `steps` equal steps, the
- reference re-evaluated after each (the paper's 10- and 15-interval runs); the solver's
- reference becomes the moved mesh. `reports`: NULL, or room for `num_reports` ≥ `steps`
- reports, one per step.
+ Moves the boundary to `prescribed` (and the rigid motions) in `steps` equal steps
+ (1 ≤ `steps` ≤ `MESHMOVE_MAX_STEPS`), the reference re-evaluated after each (the paper's 10-
+ and 15-interval runs); the solver's reference becomes the moved mesh. `reports`: NULL (with
+ `num_reports` 0), or room for `num_reports` step reports: the first min(count, num_reports)
+ are copied (all of them: `meshmove_solver_step_reports`). On failure the solver is as before
+ the call (its step reports say how far the motion got).
 
  # Safety
  `prescribed` must hold `len` doubles, `reports` `num_reports` structs.
@@ -762,7 +930,45 @@ meshmove_status meshmove_solver_move_in_steps(struct meshmove_solver *solver,
                                               const double *prescribed,
                                               int32_t steps,
                                               int32_t num_reports,
-                                              struct meshmove_report *reports);
+                                              struct meshmove_step_report *reports);
+
+/*
+ The step reports of the last `_move` or `_move_in_steps` call on this solver (one per step
+ or sub-step attempt, rejected attempts with `accepted` 0; kept after a failure too). `*count` receives how many there are; if `capacity` is
+ smaller (e.g. 0 with `reports` NULL, to ask the size), nothing is copied and
+ `MESHMOVE_STATUS_BUFFER_TOO_SMALL` is returned.
+
+ # Safety
+ `reports` must hold `capacity` structs; `count` must be writable.
+ */
+meshmove_status meshmove_solver_step_reports(const struct meshmove_solver *solver,
+                                             int32_t capacity,
+                                             struct meshmove_step_report *reports,
+                                             int32_t *count);
+
+/*
+ Automatic sub-stepping of `_move` and `_move_in_steps`: a step whose result would invert a
+ cell, fall below `min_volume_ratio` (moved / reference cell area), or not converge is split in
+ halves, down to 1/`max_substeps` of the step (0 ≤ `max_substeps` ≤ `MESHMOVE_MAX_SUBSTEPS`;
+ 0 or 1: no splitting, the default; 0 ≤ `min_volume_ratio` < 1, default 0). The motion still
+ ends exactly at the prescribed position, or the call fails at the last valid state (the
+ solver as before the call, the step reports saying how far it got).
+
+ # Safety
+ `solver` must be a handle from meshmove (checked).
+ */
+meshmove_status meshmove_solver_set_substepping(struct meshmove_solver *solver,
+                                                int32_t max_substeps,
+                                                double min_volume_ratio);
+
+/*
+ What each later step is solved from: a `meshmove_reference` value. Switching to
+ `MESHMOVE_REFERENCE_ORIGINAL` makes the current mesh the original one.
+
+ # Safety
+ `solver` must be a handle from meshmove (checked).
+ */
+meshmove_status meshmove_solver_set_reference_mode(struct meshmove_solver *solver, int32_t mode);
 
 /*
  Makes `coords` (`len` = 2 × vertices, finite) the solver's reference mesh: the operators are
@@ -776,7 +982,7 @@ meshmove_status meshmove_solver_set_reference(struct meshmove_solver *solver,
                                               const double *coords);
 
 /*
- Copies the reference coordinates (after `meshmove_solver_move` or `_move_in_steps`: the moved
+ Copies the current positions (after `meshmove_solver_move` or `_move_in_steps`: the moved
  mesh) into `coords`, `len` = 2 × vertices.
 
  # Safety

@@ -28,10 +28,14 @@ pub mod cases;
 pub mod dense;
 pub mod error;
 pub mod io;
+pub(crate) mod limits;
 pub mod mesh;
 pub mod motion;
 pub mod multigrid;
 pub mod operator;
+// Until the solver runs every loop in its own `Pool`, only the tests use it.
+#[allow(dead_code)]
+pub(crate) mod pool;
 pub mod solver;
 pub mod sparse;
 

@@ -75,7 +75,7 @@ fn null_and_stale_handles_are_statuses() {
         assert!(last().contains("kind 3"));
         assert_eq!(meshmove_mesh_free(m), meshmove_status::Ok);
         assert_eq!(meshmove_mesh_free(m), meshmove_status::InvalidHandle);
-        assert!(last().contains("not a live meshmove_mesh"));
+        assert!(last().contains("meshmove_mesh handle that was already freed"), "{}", last());
         assert_eq!(meshmove_bcs_free(b), meshmove_status::Ok);
     }
 }
@@ -115,5 +115,42 @@ fn drop_in_move_matches_the_rust_api() {
         for h in [meshmove_solver_free(s), meshmove_bcs_free(b), meshmove_mesh_free(m)] {
             assert_eq!(h, meshmove_status::Ok);
         }
+    }
+}
+
+#[test]
+fn mesh_messages_count_from_the_callers_base() {
+    // cell 2 (1-based) = second cell repeats vertex 5 (1-based)
+    let cells1: [i32; 12] = [1, 2, 5, 2, 5, 5, 3, 4, 5, 4, 1, 5];
+    let mut m = null_mut();
+    let s = unsafe {
+        meshmove_mesh_create(5, XY.as_ptr(), 4, cells1.as_ptr(), 1, 1, [2, 3].as_ptr(), [2].as_ptr(), null(), &mut m)
+    };
+    assert_eq!(s, meshmove_status::InvalidMesh);
+    assert!(last().contains("cell 2 repeats vertex 5"), "{}", last());
+    let cells0: Vec<i32> = cells1.iter().map(|c| c - 1).collect();
+    let s = unsafe {
+        meshmove_mesh_create(5, XY.as_ptr(), 4, cells0.as_ptr(), 0, 1, [1, 2].as_ptr(), [2].as_ptr(), null(), &mut m)
+    };
+    assert_eq!(s, meshmove_status::InvalidMesh);
+    assert!(last().contains("cell 1 repeats vertex 4"), "{}", last());
+}
+
+#[test]
+fn a_busy_handle_is_refused_and_a_freed_one_stays_refused() {
+    unsafe {
+        let m = square();
+        // Many handles after the free: none takes the freed address.
+        assert_eq!(meshmove_mesh_free(m), meshmove_status::Ok);
+        let fresh: Vec<_> = (0..32).map(|_| square()).collect();
+        assert!(fresh.iter().all(|&f| f != m));
+        let mut n = 0;
+        assert_eq!(meshmove_mesh_sizes(m, &mut n, null_mut()), meshmove_status::InvalidHandle);
+        assert!(last().contains("already freed"), "{}", last());
+        for f in fresh {
+            assert_eq!(meshmove_mesh_free(f), meshmove_status::Ok);
+        }
+        let name = CStr::from_ptr(meshmove_status_name(meshmove_status::Busy as i32));
+        assert_eq!(name.to_str().unwrap(), "MESHMOVE_STATUS_BUSY");
     }
 }

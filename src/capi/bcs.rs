@@ -1,7 +1,7 @@
 //! `meshmove_bcs`: kinds per patch and component, links, interface variants.
 
 use super::error::CError;
-use super::handles::{self, check_out, count, get_mut, hand_out, slice, Handle};
+use super::handles::{self, check_out, get_mut, hand_out, slice, Handle, Slot};
 use super::status::meshmove_status;
 use super::types;
 use crate::{BoundaryConditions, Link};
@@ -10,19 +10,16 @@ use glam::DVec2;
 /// A boundary-condition set: a `meshmove_kind` per patch and component (patches not named are
 /// FIXED), links between patches, interface variants. It is checked against a mesh when a solver
 /// is created, and copied into the solver (it may be freed afterwards).
-pub struct meshmove_bcs {
-    magic: u64,
-    pub(crate) bcs: BoundaryConditions,
-}
+pub struct meshmove_bcs(Slot<BoundaryConditions>);
 
 impl Handle for meshmove_bcs {
-    const MAGIC: u64 = 0x6263_7362_6373_6263; // "bcsbcsbc"
+    type Payload = BoundaryConditions;
     const NAME: &'static str = "meshmove_bcs";
-    fn tag(&self) -> u64 {
-        self.magic
+    fn slot(&self) -> &Slot<BoundaryConditions> {
+        &self.0
     }
-    fn set_tag(&mut self, t: u64) {
-        self.magic = t;
+    fn from_slot(slot: Slot<BoundaryConditions>) -> Self {
+        meshmove_bcs(slot)
     }
 }
 
@@ -34,7 +31,7 @@ impl Handle for meshmove_bcs {
 pub unsafe extern "C" fn meshmove_bcs_create(out: *mut *mut meshmove_bcs) -> meshmove_status {
     ffi_body!(meshmove_bcs_create, {
         check_out(out, "out")?;
-        hand_out(meshmove_bcs { magic: meshmove_bcs::MAGIC, bcs: BoundaryConditions::new() }, out)
+        hand_out(BoundaryConditions::new(), out)
     })
 }
 
@@ -59,12 +56,12 @@ pub unsafe extern "C" fn meshmove_bcs_set_kind(
     kind: i32,
 ) -> meshmove_status {
     ffi_body!(meshmove_bcs_set_kind, {
-        let b = get_mut(bcs, "bcs")?;
+        let mut b = get_mut(bcs, "bcs")?;
         let k = types::kind(kind)?;
         if !(0..=1).contains(&component) {
             return Err(CError::arg(format!("component {component} does not exist in 2D (0 = x, 1 = y)")));
         }
-        b.bcs.set_kind(patch, component as usize, k)?;
+        b.set_kind(patch, component as usize, k)?;
         Ok(())
     })
 }
@@ -76,9 +73,9 @@ pub unsafe extern "C" fn meshmove_bcs_set_kind(
 #[no_mangle]
 pub unsafe extern "C" fn meshmove_bcs_set_kinds(bcs: *mut meshmove_bcs, patch: i32, kind: i32) -> meshmove_status {
     ffi_body!(meshmove_bcs_set_kinds, {
-        let b = get_mut(bcs, "bcs")?;
+        let mut b = get_mut(bcs, "bcs")?;
         let k = types::kind(kind)?;
-        b.bcs.set_kinds(patch, k);
+        b.set_kinds(patch, k);
         Ok(())
     })
 }
@@ -90,8 +87,8 @@ pub unsafe extern "C" fn meshmove_bcs_set_kinds(bcs: *mut meshmove_bcs, patch: i
 #[no_mangle]
 pub unsafe extern "C" fn meshmove_bcs_set_default_kind(bcs: *mut meshmove_bcs, kind: i32) -> meshmove_status {
     ffi_body!(meshmove_bcs_set_default_kind, {
-        let b = get_mut(bcs, "bcs")?;
-        b.bcs.default_kind = [types::kind(kind)?; 2];
+        let mut b = get_mut(bcs, "bcs")?;
+        b.default_kind = [types::kind(kind)?; 2];
         Ok(())
     })
 }
@@ -112,7 +109,7 @@ pub unsafe extern "C" fn meshmove_bcs_link_periodic(
     tol: f64,
 ) -> meshmove_status {
     ffi_body!(meshmove_bcs_link_periodic, {
-        let b = get_mut(bcs, "bcs")?;
+        let mut b = get_mut(bcs, "bcs")?;
         if !(dx.is_finite() && dy.is_finite()) {
             return Err(CError::arg(format!("offset ({dx}, {dy}) is not finite")));
         }
@@ -122,12 +119,13 @@ pub unsafe extern "C" fn meshmove_bcs_link_periodic(
         if patch_a == patch_b {
             return Err(CError::arg(format!("a patch ({patch_a}) cannot be linked to itself")));
         }
-        b.bcs.add_link(Link::ByOffset { a: patch_a, b: patch_b, offset: DVec2::new(dx, dy), tol });
+        b.add_link(Link::ByOffset { a: patch_a, b: patch_b, offset: DVec2::new(dx, dy), tol });
         Ok(())
     })
 }
 
-/// Links explicit vertex pairs: `pairs` holds `2 num_pairs` vertex indices in `index_base`
+/// Links explicit vertex pairs (1 ≤ `num_pairs` ≤ `MESHMOVE_MAX_VERTICES`): `pairs` holds
+/// `2 num_pairs` vertex indices in `index_base`
 /// (a0, b0, a1, b1, ...). Linked vertices become one unknown and must be told the same
 /// displacement. Indices beyond the mesh are reported when the solver is created.
 ///
@@ -141,26 +139,31 @@ pub unsafe extern "C" fn meshmove_bcs_link_pairs(
     index_base: i32,
 ) -> meshmove_status {
     ffi_body!(meshmove_bcs_link_pairs, {
-        let b = get_mut(bcs, "bcs")?;
+        let mut b = get_mut(bcs, "bcs")?;
         let base = handles::index_base(index_base)? as i32;
-        let n = count(num_pairs, "num_pairs")?;
-        if n == 0 {
-            return Err(CError::arg("num_pairs is 0; give at least one pair"));
-        }
+        let n = types::bounded(num_pairs, "num_pairs", 1, crate::limits::MAX_VERTICES)?;
         let p = slice(pairs, 2 * n, "pairs")?;
         let mut out = Vec::with_capacity(n);
         for (i, c) in p.chunks_exact(2).enumerate() {
             let conv = |v: i32| {
-                u32::try_from(i64::from(v) - i64::from(base))
-                    .map_err(|_| CError::arg(format!("pair {i} has vertex index {v}, below the index base {base}")))
+                u32::try_from(i64::from(v) - i64::from(base)).map_err(|_| {
+                    CError::arg(format!(
+                        "pair {} has vertex index {v}, below the index base {base}",
+                        i as i64 + i64::from(base)
+                    ))
+                })
             };
             let (a, z) = (conv(c[0])?, conv(c[1])?);
             if a == z {
-                return Err(CError::arg(format!("pair {i} links vertex {} to itself", c[0])));
+                return Err(CError::arg(format!(
+                    "pair {} links vertex {} to itself",
+                    i as i64 + i64::from(base),
+                    c[0]
+                )));
             }
             out.push([a, z]);
         }
-        b.bcs.add_link(Link::Pairs(out));
+        b.add_link(Link::Pairs(out));
         Ok(())
     })
 }
@@ -177,9 +180,9 @@ pub unsafe extern "C" fn meshmove_bcs_set_interface(
     variant: i32,
 ) -> meshmove_status {
     ffi_body!(meshmove_bcs_set_interface, {
-        let b = get_mut(bcs, "bcs")?;
+        let mut b = get_mut(bcs, "bcs")?;
         let v = types::interface(variant)?;
-        b.bcs.set_interface(patch, v);
+        b.set_interface(patch, v);
         Ok(())
     })
 }

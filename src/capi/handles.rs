@@ -1,36 +1,79 @@
-//! Handles (libimagequant's magic tag, plus a registry of live handles so that a stale or
-//! foreign pointer is rejected before it is dereferenced) and argument checks.
+//! Handles and argument checks.
+//!
+//! A handle is a small fixed-size [`Slot`]: a state word and a box holding the payload (the
+//! mesh, the boundary conditions, the solver). Three rules make a handle safe to misuse:
+//!
+//! * **Never reused (tombstones).** `_free` drops the payload but never the slot: the slot stays
+//!   allocated, marked dead, so its address is never handed out again while the process lives.
+//!   A stale handle therefore always points at its own tombstone and is refused, even after
+//!   later handles were created (a freed address reused by the allocator would otherwise make a
+//!   stale pointer indistinguishable from a live one: a generation stored in the object cannot
+//!   help, as the pointer itself carries none). The cost is the slot and its registry entry,
+//!   under 100 bytes per handle ever created, kept until the process exits.
+//! * **Registered.** Every slot's address and type are in a registry, so a pointer meshmove never
+//!   made, or a handle of another type, is refused before it is dereferenced.
+//! * **Busy, not racing.** Every call acquires the handle's state word with one atomic
+//!   compare-and-swap and releases it when it returns (also on an error or a caught panic: the
+//!   guard's `Drop`). Calls that only read a handle share it; a call that changes it (or frees
+//!   it) needs it alone. A call that finds the handle taken returns `MESHMOVE_STATUS_BUSY`
+//!   immediately and changes nothing: it never waits, never races. A call that panics while it
+//!   holds a handle alone leaves it poisoned: every later call but `_free` is refused.
 
 use super::error::CError;
 use super::status::meshmove_status;
 use glam::DVec2;
+use std::any::TypeId;
+use std::cell::UnsafeCell;
 use std::collections::HashMap;
 use std::ffi::{c_char, CStr};
+use std::ops::{Deref, DerefMut};
+use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::Mutex;
 
-/// A type handed to C as an opaque pointer. Its first field is the magic tag.
-pub(crate) trait Handle: 'static {
-    const MAGIC: u64;
-    const NAME: &'static str;
-    fn tag(&self) -> u64;
-    fn set_tag(&mut self, t: u64);
+/// State word values: 0 idle, 1.. that many readers, `WRITER` one writer, `DEAD` freed,
+/// `POISONED` a call that changed the handle panicked (it may be half-changed: only `_free` is
+/// accepted).
+const WRITER: u32 = u32::MAX - 1;
+const DEAD: u32 = u32::MAX;
+const POISONED: u32 = u32::MAX - 2;
+
+/// What a C handle points at: the state word and the payload (`None` once freed).
+pub(crate) struct Slot<T> {
+    state: AtomicU32,
+    payload: UnsafeCell<Option<Box<T>>>,
 }
 
-/// Written over the tag on free.
-const DEAD: u64 = 0xDEAD_DEAD_DEAD_DEAD;
+// SAFETY: the payload is only reached through `Shared` (shared references, many readers) or
+// `Exclusive` (one mutable reference), which the state word hands out exclusively of each other;
+// payloads are `Send + Sync` (plain data, and the solver's pool).
+unsafe impl<T: Send + Sync> Sync for Slot<T> {}
 
-/// Address of every live handle and the magic of its type.
-static LIVE: Mutex<Option<HashMap<usize, (u64, &'static str)>>> = Mutex::new(None);
+impl<T> Slot<T> {
+    pub(crate) fn new(payload: T) -> Self {
+        Slot { state: AtomicU32::new(0), payload: UnsafeCell::new(Some(Box::new(payload))) }
+    }
+}
 
-fn live<R>(f: impl FnOnce(&mut HashMap<usize, (u64, &'static str)>) -> R) -> R {
-    let mut g = LIVE.lock().unwrap_or_else(|p| p.into_inner());
+/// A type handed to C as an opaque pointer: a newtype over its `Slot`.
+pub(crate) trait Handle: Sized + 'static {
+    type Payload: Send + Sync + 'static;
+    const NAME: &'static str;
+    fn slot(&self) -> &Slot<Self::Payload>;
+    fn from_slot(slot: Slot<Self::Payload>) -> Self;
+}
+
+/// Address of every slot ever handed out (live or tombstone), with its type.
+static SLOTS: Mutex<Option<HashMap<usize, (TypeId, &'static str)>>> = Mutex::new(None);
+
+fn slots<R>(f: impl FnOnce(&mut HashMap<usize, (TypeId, &'static str)>) -> R) -> R {
+    let mut g = SLOTS.lock().unwrap_or_else(|p| p.into_inner());
     f(g.get_or_insert_with(HashMap::new))
 }
 
-/// Boxes `value`, registers it and stores it in `*out`.
-pub(crate) unsafe fn hand_out<T: Handle>(value: T, out: *mut *mut T) -> Result<(), CError> {
-    let p = Box::into_raw(Box::new(value));
-    live(|m| m.insert(p as usize, (T::MAGIC, T::NAME)));
+/// Boxes `payload` in a new slot, registers it and stores it in `*out`.
+pub(crate) unsafe fn hand_out<T: Handle>(payload: T::Payload, out: *mut *mut T) -> Result<(), CError> {
+    let p = Box::into_raw(Box::new(T::from_slot(Slot::new(payload))));
+    slots(|m| m.insert(p as usize, (TypeId::of::<T>(), T::NAME)));
     *out = p;
     Ok(())
 }
@@ -45,13 +88,13 @@ pub(crate) unsafe fn check_out<T>(out: *mut *mut T, what: &str) -> Result<(), CE
     Ok(())
 }
 
-fn check_live<T: Handle>(p: *const T, what: &str) -> Result<(), CError> {
+/// The slot behind `p`, once the registry says `p` is a slot of type `T`.
+fn slot<'a, T: Handle>(p: *const T, what: &str) -> Result<&'a Slot<T::Payload>, CError> {
     if p.is_null() {
         return Err(CError::null(what));
     }
-    let found = live(|m| m.get(&(p as usize)).copied());
-    match found {
-        Some((magic, _)) if magic == T::MAGIC => {}
+    match slots(|m| m.get(&(p as usize)).copied()) {
+        Some((t, _)) if t == TypeId::of::<T>() => {}
         Some((_, name)) => {
             return Err(CError::new(
                 meshmove_status::InvalidHandle,
@@ -61,37 +104,147 @@ fn check_live<T: Handle>(p: *const T, what: &str) -> Result<(), CError> {
         None => {
             return Err(CError::new(
                 meshmove_status::InvalidHandle,
-                format!("`{what}` is not a live {} handle (already freed, or not made by meshmove)", T::NAME),
+                format!("`{what}` is not a {} handle made by meshmove", T::NAME),
             ))
         }
     }
-    // Registered: safe to read the tag.
-    let tag = unsafe { (*p).tag() };
-    if tag != T::MAGIC {
-        return Err(CError::new(meshmove_status::InvalidHandle, format!("`{what}`: {} handle is corrupted", T::NAME)));
+    // SAFETY: registered slots are never freed, and this one is a `T`.
+    Ok(unsafe { (*p).slot() })
+}
+
+fn freed<T: Handle>(what: &str) -> CError {
+    CError::new(meshmove_status::InvalidHandle, format!("`{what}` is a {} handle that was already freed", T::NAME))
+}
+
+fn poisoned<T: Handle>(what: &str) -> CError {
+    CError::new(
+        meshmove_status::InvalidHandle,
+        format!("`{what}` ({}) was left unusable by an internal error (PANIC) in an earlier call; free it", T::NAME),
+    )
+}
+
+/// The error for a handle whose state word is `now` (not idle).
+fn taken<T: Handle>(now: u32, what: &str) -> CError {
+    match now {
+        DEAD => freed::<T>(what),
+        POISONED => poisoned::<T>(what),
+        _ => busy::<T>(what),
     }
-    Ok(())
 }
 
-pub(crate) unsafe fn get<'a, T: Handle>(p: *const T, what: &str) -> Result<&'a T, CError> {
-    check_live(p, what)?;
-    Ok(&*p)
+fn busy<T: Handle>(what: &str) -> CError {
+    CError::new(
+        meshmove_status::Busy,
+        format!(
+            "`{what}` ({}) is in use by a call on another thread; one handle must not be used by two threads at once",
+            T::NAME
+        ),
+    )
 }
 
-pub(crate) unsafe fn get_mut<'a, T: Handle>(p: *mut T, what: &str) -> Result<&'a mut T, CError> {
-    check_live(p, what)?;
-    Ok(&mut *p)
+/// A handle acquired for reading (shared with other readers); released on drop.
+pub(crate) struct Shared<'a, T> {
+    state: &'a AtomicU32,
+    value: &'a T,
 }
 
-/// Frees a handle; NULL is fine, a stale or foreign handle is an error (nothing is freed).
-pub(crate) unsafe fn free<T: Handle>(p: *mut T, what: &str) -> Result<(), CError> {
+impl<T> Deref for Shared<'_, T> {
+    type Target = T;
+    fn deref(&self) -> &T {
+        self.value
+    }
+}
+
+impl<T> Drop for Shared<'_, T> {
+    fn drop(&mut self) {
+        self.state.fetch_sub(1, Ordering::Release);
+    }
+}
+
+/// A handle acquired alone (for a call that changes it); released on drop.
+pub(crate) struct Exclusive<'a, T> {
+    state: &'a AtomicU32,
+    value: &'a mut T,
+}
+
+impl<T> Deref for Exclusive<'_, T> {
+    type Target = T;
+    fn deref(&self) -> &T {
+        self.value
+    }
+}
+
+impl<T> DerefMut for Exclusive<'_, T> {
+    fn deref_mut(&mut self) -> &mut T {
+        self.value
+    }
+}
+
+impl<T> Drop for Exclusive<'_, T> {
+    fn drop(&mut self) {
+        // Unwinding from a panic: the payload may be half-changed, so no later call may use it.
+        let next = if std::thread::panicking() { POISONED } else { 0 };
+        self.state.store(next, Ordering::Release);
+    }
+}
+
+/// Acquires a handle for a call that only reads it.
+pub(crate) fn get<'a, T: Handle>(p: *const T, what: &str) -> Result<Shared<'a, T::Payload>, CError> {
+    let s = slot(p, what)?;
+    let mut cur = s.state.load(Ordering::Relaxed);
+    loop {
+        match cur {
+            n if n >= POISONED - 1 => return Err(taken::<T>(n, what)),
+            n => match s.state.compare_exchange_weak(n, n + 1, Ordering::Acquire, Ordering::Relaxed) {
+                Ok(_) => break,
+                Err(now) => cur = now,
+            },
+        }
+    }
+    // SAFETY: the state word now counts this reader, so no writer holds or takes the payload.
+    match unsafe { (*s.payload.get()).as_deref() } {
+        Some(value) => Ok(Shared { state: &s.state, value }),
+        None => {
+            s.state.fetch_sub(1, Ordering::Release);
+            Err(freed::<T>(what))
+        }
+    }
+}
+
+/// Acquires a handle alone, for a call that changes it.
+pub(crate) fn get_mut<'a, T: Handle>(p: *mut T, what: &str) -> Result<Exclusive<'a, T::Payload>, CError> {
+    let s = slot(p, what)?;
+    if let Err(now) = s.state.compare_exchange(0, WRITER, Ordering::Acquire, Ordering::Relaxed) {
+        return Err(taken::<T>(now, what));
+    }
+    // SAFETY: the state word is `WRITER`: this call alone reaches the payload until the guard drops.
+    match unsafe { (*s.payload.get()).as_deref_mut() } {
+        Some(value) => Ok(Exclusive { state: &s.state, value }),
+        None => {
+            s.state.store(DEAD, Ordering::Release);
+            Err(freed::<T>(what))
+        }
+    }
+}
+
+/// Frees a handle's payload and leaves its slot as a tombstone; NULL is fine. A stale, foreign
+/// or busy handle is an error and nothing is freed.
+pub(crate) fn free<T: Handle>(p: *mut T, what: &str) -> Result<(), CError> {
     if p.is_null() {
         return Ok(());
     }
-    check_live(p, what)?;
-    live(|m| m.remove(&(p as usize)));
-    (*p).set_tag(DEAD);
-    drop(Box::from_raw(p));
+    let s = slot(p, what)?;
+    let idle = |from: u32| s.state.compare_exchange(from, WRITER, Ordering::Acquire, Ordering::Relaxed);
+    if let Err(now) = idle(0) {
+        // A poisoned handle can still be freed.
+        if now != POISONED || idle(POISONED).is_err() {
+            return Err(taken::<T>(now, what));
+        }
+    }
+    // SAFETY: the state word is `WRITER`: no other call reaches the payload.
+    let payload = unsafe { (*s.payload.get()).take() };
+    s.state.store(DEAD, Ordering::Release);
+    drop(payload);
     Ok(())
 }
 
@@ -194,4 +347,66 @@ pub(crate) unsafe fn write_out<T>(p: *mut T, v: T, what: &str) -> Result<(), CEr
     check_aligned(p, what)?;
     p.write(v);
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    struct Thing(Slot<Vec<u8>>);
+    impl Handle for Thing {
+        type Payload = Vec<u8>;
+        const NAME: &'static str = "thing";
+        fn slot(&self) -> &Slot<Vec<u8>> {
+            &self.0
+        }
+        fn from_slot(slot: Slot<Vec<u8>>) -> Self {
+            Thing(slot)
+        }
+    }
+
+    fn make() -> *mut Thing {
+        let mut p = std::ptr::null_mut();
+        unsafe { hand_out::<Thing>(vec![1, 2, 3], &mut p).unwrap() };
+        p
+    }
+
+    #[test]
+    fn readers_share_a_writer_is_alone() {
+        let p = make();
+        {
+            let (a, b) = (get(p, "p").unwrap(), get(p, "p").unwrap());
+            assert_eq!(a.len() + b.len(), 6);
+            assert_eq!(get_mut(p, "p").err().unwrap().status, meshmove_status::Busy);
+            assert_eq!(free(p, "p").unwrap_err().status, meshmove_status::Busy);
+        }
+        {
+            let mut w = get_mut(p, "p").unwrap();
+            w.push(4);
+            assert_eq!(get(p, "p").err().unwrap().status, meshmove_status::Busy);
+            assert_eq!(get_mut(p, "p").err().unwrap().status, meshmove_status::Busy);
+        }
+        assert_eq!(get(p, "p").unwrap().len(), 4);
+        free(p, "p").unwrap();
+        let e = get(p, "p").err().unwrap();
+        assert_eq!(e.status, meshmove_status::InvalidHandle);
+        assert!(e.msg.contains("already freed"), "{}", e.msg);
+        assert_eq!(free(p, "p").unwrap_err().status, meshmove_status::InvalidHandle);
+    }
+
+    #[test]
+    fn a_panic_poisons_the_handle_but_free_works() {
+        let p = make();
+        let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            let mut w = get_mut(p, "p").unwrap();
+            w.clear();
+            panic!("half-changed");
+        }));
+        assert!(r.is_err());
+        let e = get(p, "p").err().unwrap();
+        assert!(e.msg.contains("PANIC"), "{}", e.msg);
+        assert_eq!(get_mut(p, "p").err().unwrap().status, meshmove_status::InvalidHandle);
+        free(p, "p").unwrap();
+        assert!(get(p, "p").err().unwrap().msg.contains("already freed"));
+    }
 }

@@ -1,10 +1,11 @@
 //! `meshmove_mesh`: a validated triangle mesh with patches and regions.
 
 use super::error::CError;
-use super::handles::{self, check_out, count, get, hand_out, path, slice, Handle};
+use super::handles::{self, check_out, count, get, hand_out, path, slice, Handle, Slot};
 use super::status::meshmove_status;
+use super::types::bounded;
 use crate::cases::meshes;
-use crate::Mesh;
+use crate::{Mesh, MeshError};
 use glam::DVec2;
 use std::ffi::c_char;
 
@@ -12,25 +13,16 @@ use std::ffi::c_char;
 /// Create with `meshmove_mesh_create`, `meshmove_mesh_create_case` or `meshmove_mesh_read_msh`;
 /// free with `meshmove_mesh_free`. A solver keeps its own copy: the mesh may be freed after
 /// `meshmove_solver_create`.
-pub struct meshmove_mesh {
-    magic: u64,
-    pub(crate) mesh: Mesh,
-}
+pub struct meshmove_mesh(Slot<Mesh>);
 
 impl Handle for meshmove_mesh {
-    const MAGIC: u64 = 0x6d65_7368_6d65_7368; // "meshmesh"
+    type Payload = Mesh;
     const NAME: &'static str = "meshmove_mesh";
-    fn tag(&self) -> u64 {
-        self.magic
+    fn slot(&self) -> &Slot<Mesh> {
+        &self.0
     }
-    fn set_tag(&mut self, t: u64) {
-        self.magic = t;
-    }
-}
-
-impl meshmove_mesh {
-    pub(crate) fn new(mesh: Mesh) -> Self {
-        meshmove_mesh { magic: Self::MAGIC, mesh }
+    fn from_slot(slot: Slot<Mesh>) -> Self {
+        meshmove_mesh(slot)
     }
 }
 
@@ -57,7 +49,8 @@ pub const MESHMOVE_CH_WALL: i32 = 1;
 /// `"cylinder_channel"`: the cylinder of diameter 1 about (2, 0).
 pub const MESHMOVE_CH_CYLINDER: i32 = 2;
 
-/// Validates and creates a mesh.
+/// Validates and creates a mesh (at most `MESHMOVE_MAX_VERTICES` vertices,
+/// `MESHMOVE_MAX_CELLS` cells and `MESHMOVE_MAX_VERTICES` tagged edges).
 ///
 /// `coords`: `2 num_vertices` doubles (x0, y0, x1, y1, ...). `cells`: `3 num_cells` vertex
 /// indices in `index_base` (0 for C, 1 for Fortran), either orientation. `tagged_edges`:
@@ -83,9 +76,9 @@ pub unsafe extern "C" fn meshmove_mesh_create(
 ) -> meshmove_status {
     ffi_body!(meshmove_mesh_create, {
         check_out(out, "out")?;
-        let nv = count(num_vertices, "num_vertices")?;
-        let nc = count(num_cells, "num_cells")?;
-        let nt = count(num_tagged, "num_tagged")?;
+        let nv = bounded(num_vertices, "num_vertices", 0, crate::limits::MAX_VERTICES)?;
+        let nc = bounded(num_cells, "num_cells", 0, crate::limits::MAX_CELLS)?;
+        let nt = bounded(num_tagged, "num_tagged", 0, crate::limits::MAX_VERTICES)?;
         let base = handles::index_base(index_base)?;
         let xy = slice(coords, 2 * nv, "coords")?;
         let cv = slice(cells, 3 * nc, "cells")?;
@@ -95,9 +88,40 @@ pub unsafe extern "C" fn meshmove_mesh_create(
         let xy: Vec<[f64; 2]> = xy.chunks_exact(2).map(|c| [c[0], c[1]]).collect();
         let tris: Vec<[i32; 3]> = cv.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
         let tagged: Vec<([i32; 2], i32)> = te.chunks_exact(2).zip(tp).map(|(e, &p)| ([e[0], e[1]], p)).collect();
-        let mesh = Mesh::new(&xy, &tris, base, &tagged, reg)?;
-        hand_out(meshmove_mesh::new(mesh), out)
+        let mesh = Mesh::new(&xy, &tris, base, &tagged, reg).map_err(|e| in_base(e, index_base))?;
+        hand_out(mesh, out)
     })
+}
+
+/// A mesh error in the caller's numbering: cells, vertices and tagged edges counted from `base`
+/// (the mesh's own messages count from 0).
+fn in_base(e: MeshError, base: i32) -> CError {
+    let n = |i: &usize| *i as i64 + i64::from(base);
+    let msg = match &e {
+        MeshError::NonFiniteCoordinate { vertex, x, y } => {
+            format!("vertex {} has a non-finite coordinate ({x}, {y})", n(vertex))
+        }
+        MeshError::IndexOutOfRange { cell, index, base, end } => {
+            format!("cell {} refers to vertex index {index}, outside {base}..{end}", n(cell))
+        }
+        MeshError::RepeatedVertex { cell, vertex } => format!("cell {} repeats vertex {}", n(cell), n(vertex)),
+        MeshError::UnusedVertex { vertex } => format!("vertex {} is not used by any cell", n(vertex)),
+        MeshError::DegenerateCell { cell, area } => format!("cell {} has zero area ({area:e})", n(cell)),
+        MeshError::NonManifoldEdge { a, b, cells } => {
+            format!("edge ({}, {}) is shared by {cells} cells; at most two may share an edge", n(a), n(b))
+        }
+        MeshError::TaggedIndexOutOfRange { edge, index, base, end } => {
+            format!("tagged edge {} refers to vertex index {index}, outside {base}..{end}", n(edge))
+        }
+        MeshError::TaggedEdgeNotAnEdge { edge, a, b } => {
+            format!("tagged edge {} ({}, {}) is not an edge of any cell", n(edge), n(a), n(b))
+        }
+        MeshError::TaggedEdgeTwice { edge, a, b, first, second } => {
+            format!("tagged edge {} ({}, {}) is tagged twice, with patches {first} and {second}", n(edge), n(a), n(b))
+        }
+        _ => return e.into(),
+    };
+    CError::new(meshmove_status::InvalidMesh, format!("invalid mesh: {msg} (numbered from {base}, as given)"))
 }
 
 /// Creates one of the paper's test meshes with edge length about `h`: `"free_surface"`
@@ -134,7 +158,7 @@ pub unsafe extern "C" fn meshmove_mesh_create_case(
             "two_region_interface" => meshes::two_region_interface(h),
             _ => meshes::cylinder_channel(h),
         };
-        hand_out(meshmove_mesh::new(mesh), out)
+        hand_out(mesh, out)
     })
 }
 
@@ -149,7 +173,7 @@ pub unsafe extern "C" fn meshmove_mesh_read_msh(path: *const c_char, out: *mut *
         check_out(out, "out")?;
         let p = handles::path(path, "path")?;
         let m = crate::io::read_msh(std::path::Path::new(p))?;
-        hand_out(meshmove_mesh::new(m.mesh), out)
+        hand_out(m.mesh, out)
     })
 }
 
@@ -174,7 +198,7 @@ pub unsafe extern "C" fn meshmove_mesh_sizes(
     num_cells: *mut i32,
 ) -> meshmove_status {
     ffi_body!(meshmove_mesh_sizes, {
-        let m = &get(mesh, "mesh")?.mesh;
+        let m = get(mesh, "mesh")?;
         if !num_vertices.is_null() {
             handles::write_out(num_vertices, m.num_vertices() as i32, "num_vertices")?;
         }
@@ -196,7 +220,7 @@ pub unsafe extern "C" fn meshmove_mesh_get_coords(
     coords: *mut f64,
 ) -> meshmove_status {
     ffi_body!(meshmove_mesh_get_coords, {
-        let m = &get(mesh, "mesh")?.mesh;
+        let m = get(mesh, "mesh")?;
         handles::check_xy_out(coords, len, m.num_vertices(), "coords")?;
         handles::write_xy(coords, m.coords());
         Ok(())
@@ -216,7 +240,7 @@ pub unsafe extern "C" fn meshmove_mesh_get_cells(
     cells: *mut i32,
 ) -> meshmove_status {
     ffi_body!(meshmove_mesh_get_cells, {
-        let m = &get(mesh, "mesh")?.mesh;
+        let m = get(mesh, "mesh")?;
         let b = handles::index_base(index_base)? as i32;
         let n = count(len, "len")?;
         if n != 3 * m.num_cells() {
@@ -247,7 +271,7 @@ pub unsafe extern "C" fn meshmove_mesh_get_regions(
     regions: *mut i32,
 ) -> meshmove_status {
     ffi_body!(meshmove_mesh_get_regions, {
-        let m = &get(mesh, "mesh")?.mesh;
+        let m = get(mesh, "mesh")?;
         let n = count(len, "len")?;
         if n != m.num_cells() {
             return Err(CError::arg(format!("len is {n}; the mesh has {} cells", m.num_cells())));
@@ -273,7 +297,7 @@ pub unsafe extern "C" fn meshmove_mesh_patch_vertices(
     count: *mut i32,
 ) -> meshmove_status {
     ffi_body!(meshmove_mesh_patch_vertices, {
-        let m = &get(mesh, "mesh")?.mesh;
+        let m = get(mesh, "mesh")?;
         let b = handles::index_base(index_base)? as i32;
         let cap = handles::count(capacity, "capacity")?;
         if count.is_null() {
@@ -309,9 +333,9 @@ pub unsafe extern "C" fn meshmove_mesh_write_vtu(
     displacement: *const f64,
 ) -> meshmove_status {
     ffi_body!(meshmove_mesh_write_vtu, {
-        let m = &get(mesh, "mesh")?.mesh;
+        let m = get(mesh, "mesh")?;
         let p = handles::path(path, "path")?;
-        write_vtu(m, p, len, displacement)
+        write_vtu(&m, p, len, displacement)
     })
 }
 

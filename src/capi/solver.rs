@@ -3,41 +3,100 @@
 
 use super::bcs::meshmove_bcs;
 use super::error::CError;
-use super::handles::{self, check_out, check_xy_out, count, get, get_mut, hand_out, read_xy, write_xy, Handle};
+use super::handles::{self, check_out, check_xy_out, count, get, get_mut, hand_out, read_xy, write_xy, Handle, Slot};
 use super::mesh::meshmove_mesh;
 use super::status::meshmove_status;
-use super::types::{meshmove_options, meshmove_quality, meshmove_report};
+use super::types::{self, meshmove_options, meshmove_quality, meshmove_report, meshmove_step_report};
 use crate::{Motion, RigidMotion, Solver};
 use glam::DVec2;
 use std::ffi::c_char;
 
 /// A solver: the hierarchy built once for a mesh and boundary conditions, the rigid motions
-/// currently set, and the displacement of the last solve. Not to be used from two threads at
-/// once (different solvers may be used concurrently).
-pub struct meshmove_solver {
-    magic: u64,
+/// currently set, and the displacement of the last solve. Different solvers may be used
+/// concurrently; a call on a solver that another thread is using returns
+/// `MESHMOVE_STATUS_BUSY` at once and changes nothing.
+pub struct meshmove_solver(Slot<SolverState>);
+
+pub(crate) struct SolverState {
     solver: Solver,
     rigid: Vec<(i32, RigidMotion)>,
     last: Vec<DVec2>,
 }
 
 impl Handle for meshmove_solver {
-    const MAGIC: u64 = 0x736f_6c76_6572_736f; // "solverso"
+    type Payload = SolverState;
     const NAME: &'static str = "meshmove_solver";
-    fn tag(&self) -> u64 {
-        self.magic
+    fn slot(&self) -> &Slot<SolverState> {
+        &self.0
     }
-    fn set_tag(&mut self, t: u64) {
-        self.magic = t;
+    fn from_slot(slot: Slot<SolverState>) -> Self {
+        meshmove_solver(slot)
     }
 }
 
-impl meshmove_solver {
+impl SolverState {
     fn nv(&self) -> usize {
         self.solver.mesh().num_vertices()
     }
     fn motion(&self, d: Vec<DVec2>) -> Motion {
         Motion { displacement: d, rigid: self.rigid.clone() }
+    }
+    /// Puts the reference mesh back to `before` after a failed call changed it, so that the
+    /// failure leaves the solver as it was. The operators are re-evaluated there (the same
+    /// values as before the call).
+    fn restore(&mut self, before: Option<Vec<DVec2>>, e: CError) -> CError {
+        match before {
+            Some(b) => match self.solver.set_reference(b) {
+                Ok(()) => e,
+                Err(r) => CError::new(e.status, format!("{}; restoring the reference failed too: {r}", e.msg)),
+            },
+            None => e,
+        }
+    }
+}
+
+/// Every output must be finite or the call fails (and writes nothing).
+fn finite_out(v: &[DVec2], what: &str) -> Result<(), CError> {
+    match v.iter().position(|p| !p.is_finite()) {
+        Some(i) => Err(CError::new(
+            meshmove_status::Diverged,
+            format!("the {what} of vertex {i} (0-based) is not finite ({}, {}); nothing was written", v[i].x, v[i].y),
+        )),
+        None => Ok(()),
+    }
+}
+
+fn finite_report(r: &crate::Report) -> Result<(), CError> {
+    for (v, what) in
+        [(r.max_correction, "max correction"), (r.rel_residual, "relative residual"), (r.seconds, "seconds")]
+    {
+        if !v.is_finite() {
+            return Err(CError::new(
+                meshmove_status::Diverged,
+                format!("the report's {what} is not finite ({v}); nothing was written"),
+            ));
+        }
+    }
+    Ok(())
+}
+
+fn not_converged(r: &crate::Report, what: &str) -> CError {
+    CError::new(
+        meshmove_status::NotConverged,
+        format!(
+            "not converged: relative residual {:e} (largest correction {:e}) after {} cycles (max_cycles); {what}",
+            r.rel_residual, r.max_correction, r.cycles
+        ),
+    )
+}
+
+/// An optional output (NULL allowed), checked before any work so that writing it cannot fail
+/// after the solver changed.
+fn check_opt_out<T>(p: *mut T, what: &str) -> Result<(), CError> {
+    if p.is_null() {
+        Ok(())
+    } else {
+        handles::check_aligned(p, what)
     }
 }
 
@@ -63,20 +122,17 @@ pub unsafe extern "C" fn meshmove_solver_create(
 ) -> meshmove_status {
     ffi_body!(meshmove_solver_create, {
         check_out(out, "out")?;
-        let m = &get(mesh, "mesh")?.mesh;
-        let b = &get(bcs, "bcs")?.bcs;
+        let m = get(mesh, "mesh")?;
+        let b = get(bcs, "bcs")?;
         let o = if options.is_null() {
             meshmove_options::default()
         } else {
             handles::check_aligned(options, "options")?;
             *options
         };
-        let solver = Solver::new(m, b, o.to_rust()?)?;
+        let solver = Solver::new(&m, &b, o.to_rust()?)?;
         let nv = m.num_vertices();
-        hand_out(
-            meshmove_solver { magic: meshmove_solver::MAGIC, solver, rigid: Vec::new(), last: vec![DVec2::ZERO; nv] },
-            out,
-        )
+        hand_out::<meshmove_solver>(SolverState { solver, rigid: Vec::new(), last: vec![DVec2::ZERO; nv] }, out)
     })
 }
 
@@ -129,7 +185,7 @@ pub unsafe extern "C" fn meshmove_solver_set_rigid_motion(
     cy: f64,
 ) -> meshmove_status {
     ffi_body!(meshmove_solver_set_rigid_motion, {
-        let s = get_mut(solver, "solver")?;
+        let mut s = get_mut(solver, "solver")?;
         if ![tx, ty, angle, cx, cy].iter().all(|v| v.is_finite()) {
             return Err(CError::arg(format!("rigid motion of patch {patch} is not finite")));
         }
@@ -165,6 +221,10 @@ pub unsafe extern "C" fn meshmove_solver_clear_rigid_motions(solver: *mut meshmo
 /// same length (e.g. the previous step's). `displacement` receives the result (may be the same
 /// array as `prescribed` or `guess`). `report` may be NULL.
 ///
+/// `MESHMOVE_STATUS_NOT_CONVERGED`: the solve stopped at `max_cycles` above its tolerance; the
+/// unconverged displacement IS written (with its report), for the caller to use or not. On
+/// every other failure nothing is written.
+///
 /// # Safety
 /// Arrays must hold `len` doubles; `solver` must be a handle from meshmove (checked).
 #[no_mangle]
@@ -177,15 +237,21 @@ pub unsafe extern "C" fn meshmove_solver_solve(
     report: *mut meshmove_report,
 ) -> meshmove_status {
     ffi_body!(meshmove_solver_solve, {
-        let s = get_mut(solver, "solver")?;
+        let mut s = get_mut(solver, "solver")?;
         let nv = s.nv();
+        check_opt_out(report, "report")?;
         check_xy_out(displacement, len, nv, "displacement")?;
         let d = read_xy(prescribed, len, nv, "prescribed")?;
         let g = if guess.is_null() { None } else { Some(read_xy(guess, len, nv, "guess")?) };
-        let sol = s.solver.solve_from(&s.motion(d), g.as_deref())?;
+        let sol = s.solver.solve_report(&s.motion(d), g.as_deref())?;
+        finite_out(&sol.displacement, "displacement")?;
+        finite_report(&sol.report)?;
         report_out(report, &sol.report)?;
         write_xy(displacement, &sol.displacement);
         s.last = sol.displacement;
+        if !sol.report.converged {
+            return Err(not_converged(&sol.report, "the unconverged displacement was written"));
+        }
         Ok(())
     })
 }
@@ -205,12 +271,15 @@ pub unsafe extern "C" fn meshmove_solver_cycle(
     report: *mut meshmove_report,
 ) -> meshmove_status {
     ffi_body!(meshmove_solver_cycle, {
-        let s = get_mut(solver, "solver")?;
+        let mut s = get_mut(solver, "solver")?;
         let nv = s.nv();
+        check_opt_out(report, "report")?;
         check_xy_out(displacement, len, nv, "displacement")?;
         let d = read_xy(prescribed, len, nv, "prescribed")?;
         let mut x = read_xy(displacement, len, nv, "displacement")?;
         let r = s.solver.cycle(&s.motion(d), &mut x)?;
+        finite_out(&x, "displacement")?;
+        finite_report(&r)?;
         report_out(report, &r)?;
         write_xy(displacement, &x);
         s.last = x;
@@ -222,10 +291,16 @@ pub unsafe extern "C" fn meshmove_solver_cycle(
 /// vertices, read only where prescribed), solves and adds the displacement of every vertex to
 /// `coords` in place; the moved mesh becomes the solver's reference for the next call.
 ///
-/// `coords` on entry are the current positions; when they differ from the solver's reference
-/// (the code moved the mesh itself), the reference is first re-evaluated there. `report` and
-/// `quality` (of the moved mesh against the positions on entry) may be NULL. On failure
-/// `coords` is unchanged.
+/// `coords` on entry are the current positions; when they differ from the solver's (the code
+/// moved the mesh itself), the reference is first re-evaluated there. With sub-stepping
+/// (`meshmove_solver_set_substepping`) a motion that would invert a cell or not converge is
+/// split; the step reports say how (`meshmove_solver_step_reports`). `report` and `quality` (of
+/// the moved mesh against the positions on entry) may be NULL.
+///
+/// Returns OK, or `MESHMOVE_STATUS_INVERTED` when the converged result has inverted cells: then
+/// `coords`, `report` and `quality` (its `inverted` count) ARE written but the solver keeps the
+/// reference it had. On any other failure (`NOT_CONVERGED`, `TANGLED`, ...) nothing is written
+/// and the solver is as before the call.
 ///
 /// # Safety
 /// Arrays must hold `len` doubles; `solver` must be a handle from meshmove (checked).
@@ -239,33 +314,66 @@ pub unsafe extern "C" fn meshmove_solver_move(
     quality: *mut meshmove_quality,
 ) -> meshmove_status {
     ffi_body!(meshmove_solver_move, {
-        let s = get_mut(solver, "solver")?;
+        let mut s = get_mut(solver, "solver")?;
         let nv = s.nv();
+        check_opt_out(report, "report")?;
+        check_opt_out(quality, "quality")?;
         check_xy_out(coords, len, nv, "coords")?;
         let d = read_xy(boundary_displacement, len, nv, "boundary_displacement")?;
         let x = read_xy(coords, len, nv, "coords")?;
         handles::finite_xy(&x, "coords")?;
-        if x.as_slice() != s.solver.mesh().coords() {
+        // Transactional: `advance` restores the solver when it fails; the reference this call
+        // moved to `coords` first is put back by `restore`.
+        let before = if x.as_slice() != s.solver.current_coords() {
+            let before = s.solver.mesh().coords().to_vec();
             s.solver.set_reference(x.clone())?;
-        }
-        let sol = s.solver.solve(&s.motion(d))?;
-        let q = s.solver.quality(&sol.displacement);
+            Some(before)
+        } else {
+            None
+        };
+        let motion = s.motion(d);
+        let sol = match s.solver.advance(&motion) {
+            Ok(sol) => sol,
+            Err(e) => return Err(s.restore(before, e.into())),
+        };
         let moved: Vec<DVec2> = x.iter().zip(&sol.displacement).map(|(a, b)| *a + *b).collect();
-        s.solver.set_reference(moved.clone())?;
+        if let Err(e) = finite_out(&moved, "moved position").and_then(|()| finite_report(&sol.report)) {
+            return Err(s.restore(Some(before.unwrap_or(x)), e));
+        }
+        let q = sol.quality;
+        let inverted = q.inverted > 0;
+        let e = if inverted {
+            // The method's honest answer has inverted cells: written, never plain OK; the solver
+            // keeps the reference it had (a tangled mesh is no reference for the next step).
+            Some(s.restore(
+                before,
+                CError::new(
+                    meshmove_status::Inverted,
+                    format!(
+                        "the moved mesh has {} inverted cell(s) (smallest area ratio {:e}); coords hold it, the solver keeps the reference it had",
+                        q.inverted, q.min_area_ratio
+                    ),
+                ),
+            ))
+        } else {
+            None
+        };
         report_out(report, &sol.report)?;
         if !quality.is_null() {
             handles::write_out(quality, meshmove_quality::from(q), "quality")?;
         }
         write_xy(coords, &moved);
         s.last = sol.displacement;
-        Ok(())
+        e.map_or(Ok(()), Err)
     })
 }
 
-/// Moves the boundary to `prescribed` (and the rigid motions) in `steps` equal steps, the
-/// reference re-evaluated after each (the paper's 10- and 15-interval runs); the solver's
-/// reference becomes the moved mesh. `reports`: NULL, or room for `num_reports` ≥ `steps`
-/// reports, one per step.
+/// Moves the boundary to `prescribed` (and the rigid motions) in `steps` equal steps
+/// (1 ≤ `steps` ≤ `MESHMOVE_MAX_STEPS`), the reference re-evaluated after each (the paper's 10-
+/// and 15-interval runs); the solver's reference becomes the moved mesh. `reports`: NULL (with
+/// `num_reports` 0), or room for `num_reports` step reports: the first min(count, num_reports)
+/// are copied (all of them: `meshmove_solver_step_reports`). On failure the solver is as before
+/// the call (its step reports say how far the motion got).
 ///
 /// # Safety
 /// `prescribed` must hold `len` doubles, `reports` `num_reports` structs.
@@ -276,39 +384,116 @@ pub unsafe extern "C" fn meshmove_solver_move_in_steps(
     prescribed: *const f64,
     steps: i32,
     num_reports: i32,
-    reports: *mut meshmove_report,
+    reports: *mut meshmove_step_report,
 ) -> meshmove_status {
     ffi_body!(meshmove_solver_move_in_steps, {
-        let s = get_mut(solver, "solver")?;
+        let mut s = get_mut(solver, "solver")?;
         let nv = s.nv();
-        let n = count(steps, "steps")?;
-        if n == 0 {
-            return Err(CError::arg("steps is 0; it must be at least 1"));
-        }
-        let out = if reports.is_null() {
-            None
-        } else {
-            let cap = count(num_reports, "num_reports")?;
-            if cap < n {
-                return Err(CError::arg(format!("num_reports is {cap}; {n} steps need {n} reports")));
-            }
-            Some(handles::slice_mut(reports, n, "reports")?)
-        };
+        let n = types::bounded(steps, "steps", 1, crate::limits::MAX_STEPS)?;
+        let cap = count(num_reports, "num_reports")?;
+        let out = handles::slice_mut(reports, cap, "reports")?;
         let d = read_xy(prescribed, len, nv, "prescribed")?;
-        let before = s.solver.mesh().coords().to_vec();
-        let reps = s.solver.move_in_steps(&s.motion(d), n)?;
-        if let Some(out) = out {
-            for (o, r) in out.iter_mut().zip(reps.iter().filter(|r| r.accepted)) {
-                *o = meshmove_report {
-                    cycles: r.cycles.min(i32::MAX as usize) as i32,
-                    max_correction: 0.0,
-                    rel_residual: r.rel_residual,
-                    seconds: r.seconds,
-                    converged: i32::from(r.converged),
-                };
-            }
+        let before = s.solver.current_coords().to_vec();
+        let motion = s.motion(d);
+        // `move_in_steps` restores the solver itself when it fails; its step reports stay.
+        let r = s.solver.move_in_steps(&motion, n);
+        r?;
+        let steps: Vec<meshmove_step_report> = s.solver.step_reports().iter().map(meshmove_step_report::from).collect();
+        let checked = finite_out(s.solver.current_coords(), "moved position")
+            .and_then(|()| steps.iter().try_for_each(types::finite_step_report));
+        if let Err(e) = checked {
+            return Err(s.restore(Some(before), e));
         }
-        s.last = s.solver.mesh().coords().iter().zip(&before).map(|(a, b)| *a - *b).collect();
+        for (o, r) in out.iter_mut().zip(&steps) {
+            *o = *r;
+        }
+        s.last = s.solver.current_coords().iter().zip(&before).map(|(a, b)| *a - *b).collect();
+        Ok(())
+    })
+}
+
+/// The step reports of the last `_move` or `_move_in_steps` call on this solver (one per step
+/// or sub-step attempt, rejected attempts with `accepted` 0; kept after a failure too). `*count` receives how many there are; if `capacity` is
+/// smaller (e.g. 0 with `reports` NULL, to ask the size), nothing is copied and
+/// `MESHMOVE_STATUS_BUFFER_TOO_SMALL` is returned.
+///
+/// # Safety
+/// `reports` must hold `capacity` structs; `count` must be writable.
+#[no_mangle]
+pub unsafe extern "C" fn meshmove_solver_step_reports(
+    solver: *const meshmove_solver,
+    capacity: i32,
+    reports: *mut meshmove_step_report,
+    count: *mut i32,
+) -> meshmove_status {
+    ffi_body!(meshmove_solver_step_reports, {
+        let s = get(solver, "solver")?;
+        let cap = handles::count(capacity, "capacity")?;
+        if count.is_null() {
+            return Err(CError::null("count"));
+        }
+        let steps = s.solver.step_reports();
+        let n = steps.len();
+        handles::write_out(count, n.min(i32::MAX as usize) as i32, "count")?;
+        if cap < n {
+            return Err(CError::new(
+                meshmove_status::BufferTooSmall,
+                format!("there are {n} step reports; capacity is {cap}"),
+            ));
+        }
+        for (o, r) in handles::slice_mut(reports, n, "reports")?.iter_mut().zip(steps) {
+            *o = meshmove_step_report::from(r);
+        }
+        Ok(())
+    })
+}
+
+/// Automatic sub-stepping of `_move` and `_move_in_steps`: a step whose result would invert a
+/// cell, fall below `min_volume_ratio` (moved / reference cell area), or not converge is split in
+/// halves, down to 1/`max_substeps` of the step (0 ≤ `max_substeps` ≤ `MESHMOVE_MAX_SUBSTEPS`;
+/// 0 or 1: no splitting, the default; 0 ≤ `min_volume_ratio` < 1, default 0). The motion still
+/// ends exactly at the prescribed position, or the call fails at the last valid state (the
+/// solver as before the call, the step reports saying how far it got).
+///
+/// # Safety
+/// `solver` must be a handle from meshmove (checked).
+#[no_mangle]
+pub unsafe extern "C" fn meshmove_solver_set_substepping(
+    solver: *mut meshmove_solver,
+    max_substeps: i32,
+    min_volume_ratio: f64,
+) -> meshmove_status {
+    ffi_body!(meshmove_solver_set_substepping, {
+        let mut s = get_mut(solver, "solver")?;
+        let n = types::bounded(max_substeps, "max_substeps", 0, crate::limits::MAX_SUBSTEPS)?;
+        if !(0.0..1.0).contains(&min_volume_ratio) {
+            return Err(CError::arg(format!(
+                "min_volume_ratio is {min_volume_ratio}; it must be at least 0 and below 1"
+            )));
+        }
+        let mut o = s.solver.options().clone();
+        o.max_substeps = n;
+        o.min_volume_ratio = min_volume_ratio;
+        s.solver.set_options(o)?;
+        Ok(())
+    })
+}
+
+/// What each later step is solved from: a `meshmove_reference` value. Switching to
+/// `MESHMOVE_REFERENCE_ORIGINAL` makes the current mesh the original one.
+///
+/// # Safety
+/// `solver` must be a handle from meshmove (checked).
+#[no_mangle]
+pub unsafe extern "C" fn meshmove_solver_set_reference_mode(
+    solver: *mut meshmove_solver,
+    mode: i32,
+) -> meshmove_status {
+    ffi_body!(meshmove_solver_set_reference_mode, {
+        let mut s = get_mut(solver, "solver")?;
+        let mut o = s.solver.options().clone();
+        o.reference = types::reference_mode(mode)?;
+        s.solver.set_options(o)?;
         Ok(())
     })
 }
@@ -325,7 +510,7 @@ pub unsafe extern "C" fn meshmove_solver_set_reference(
     coords: *const f64,
 ) -> meshmove_status {
     ffi_body!(meshmove_solver_set_reference, {
-        let s = get_mut(solver, "solver")?;
+        let mut s = get_mut(solver, "solver")?;
         let x = read_xy(coords, len, s.nv(), "coords")?;
         handles::finite_xy(&x, "coords")?;
         s.solver.set_reference(x)?;
@@ -333,7 +518,7 @@ pub unsafe extern "C" fn meshmove_solver_set_reference(
     })
 }
 
-/// Copies the reference coordinates (after `meshmove_solver_move` or `_move_in_steps`: the moved
+/// Copies the current positions (after `meshmove_solver_move` or `_move_in_steps`: the moved
 /// mesh) into `coords`, `len` = 2 × vertices.
 ///
 /// # Safety
@@ -347,7 +532,7 @@ pub unsafe extern "C" fn meshmove_solver_get_coords(
     ffi_body!(meshmove_solver_get_coords, {
         let s = get(solver, "solver")?;
         check_xy_out(coords, len, s.nv(), "coords")?;
-        write_xy(coords, s.solver.mesh().coords());
+        write_xy(coords, s.solver.current_coords());
         Ok(())
     })
 }

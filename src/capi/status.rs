@@ -33,6 +33,19 @@ pub enum meshmove_status {
     BufferTooSmall = 10,
     /// An internal error (a Rust panic) was caught; the handle involved may be inconsistent.
     Panic = 11,
+    /// A solve did not reach its tolerance within `max_cycles`. `meshmove_solver_solve` still
+    /// writes the unconverged displacement (the caller decides whether to use it; the report says
+    /// how far it got); `_move` and `_move_in_steps` leave the coordinates and the solver as
+    /// before the call.
+    NotConverged = 12,
+    /// The reference mesh of a step has cells of non-positive area (the message names the first).
+    Tangled = 13,
+    /// The solve converged but the moved mesh has inverted cells: the result IS written and the
+    /// quality output gives the count. Never reported as plain OK.
+    Inverted = 14,
+    /// The handle is in use by a call on another thread; nothing was done (try again later, or
+    /// give each thread its own handle).
+    Busy = 15,
 }
 
 impl From<&Error> for meshmove_status {
@@ -44,8 +57,8 @@ impl From<&Error> for meshmove_status {
             Error::InvalidArgument(_) => meshmove_status::InvalidArgument,
             Error::Coarsening(_) => meshmove_status::Coarsening,
             Error::Diverged(_) => meshmove_status::Diverged,
-            Error::NotConverged(_) => meshmove_status::Diverged,
-            Error::Tangled(_) => meshmove_status::InvalidMesh,
+            Error::NotConverged(_) => meshmove_status::NotConverged,
+            Error::Tangled(_) => meshmove_status::Tangled,
             Error::Io(IoError::Mesh(_)) => meshmove_status::InvalidMesh,
             Error::Io(IoError::InvalidArgument(_)) => meshmove_status::InvalidArgument,
             Error::Io(_) => meshmove_status::Io,
@@ -68,10 +81,14 @@ impl meshmove_status {
             meshmove_status::Io => c"MESHMOVE_STATUS_IO",
             meshmove_status::BufferTooSmall => c"MESHMOVE_STATUS_BUFFER_TOO_SMALL",
             meshmove_status::Panic => c"MESHMOVE_STATUS_PANIC",
+            meshmove_status::NotConverged => c"MESHMOVE_STATUS_NOT_CONVERGED",
+            meshmove_status::Tangled => c"MESHMOVE_STATUS_TANGLED",
+            meshmove_status::Inverted => c"MESHMOVE_STATUS_INVERTED",
+            meshmove_status::Busy => c"MESHMOVE_STATUS_BUSY",
         }
     }
 
-    pub(crate) const ALL: [meshmove_status; 12] = [
+    pub(crate) const ALL: [meshmove_status; 16] = [
         meshmove_status::Ok,
         meshmove_status::NullPointer,
         meshmove_status::InvalidHandle,
@@ -84,5 +101,9 @@ impl meshmove_status {
         meshmove_status::Io,
         meshmove_status::BufferTooSmall,
         meshmove_status::Panic,
+        meshmove_status::NotConverged,
+        meshmove_status::Tangled,
+        meshmove_status::Inverted,
+        meshmove_status::Busy,
     ];
 }

@@ -4,7 +4,42 @@
 //! never renumbered) and are converted with a check.
 
 use super::error::CError;
+use crate::limits;
 use crate::{Criterion, InterfaceVariant, Kind, Method, Mode};
+
+/// Most steps of one `meshmove_solver_move_in_steps` call.
+pub const MESHMOVE_MAX_STEPS: i32 = 1_000_000;
+/// Largest `meshmove_options.max_cycles`.
+pub const MESHMOVE_MAX_CYCLES: i32 = 1_000_000;
+/// Largest `meshmove_options.cheb_degree`.
+pub const MESHMOVE_MAX_CHEB_DEGREE: i32 = 64;
+/// Largest `meshmove_options.threads` (a fixed bound, the same on every machine).
+pub const MESHMOVE_MAX_THREADS: i32 = 1024;
+/// Largest `max_substeps` of `meshmove_solver_set_substepping`.
+pub const MESHMOVE_MAX_SUBSTEPS: i32 = 1_048_576;
+/// Most vertices of a mesh (2 × vertices must fit an `int32_t` length).
+pub const MESHMOVE_MAX_VERTICES: i32 = 1_073_741_823;
+/// Most cells of a mesh (3 × cells must fit an `int32_t` length).
+pub const MESHMOVE_MAX_CELLS: i32 = 715_827_882;
+
+// The header's numbers are the library's bounds (cbindgen needs literals to emit `#define`s).
+const _: () = {
+    assert!(MESHMOVE_MAX_STEPS as usize == limits::MAX_STEPS);
+    assert!(MESHMOVE_MAX_CYCLES as usize == limits::MAX_CYCLES);
+    assert!(MESHMOVE_MAX_CHEB_DEGREE as usize == limits::MAX_CHEB_DEGREE);
+    assert!(MESHMOVE_MAX_THREADS as usize == limits::MAX_THREADS);
+    assert!(MESHMOVE_MAX_SUBSTEPS as usize == limits::MAX_SUBSTEPS);
+    assert!(MESHMOVE_MAX_VERTICES as usize == limits::MAX_VERTICES);
+    assert!(MESHMOVE_MAX_CELLS as usize == limits::MAX_CELLS);
+};
+
+/// An `int32_t` count or option checked against `min ..= max` before anything is allocated.
+pub(crate) fn bounded(v: i32, what: &str, min: usize, max: usize) -> Result<usize, CError> {
+    match usize::try_from(v) {
+        Ok(n) if (min..=max).contains(&n) => Ok(n),
+        _ => Err(CError::arg(format!("{what} is {v}; it must be between {min} and {max}"))),
+    }
+}
 
 /// Which equation moves the mesh (`meshmove_options.method`).
 #[repr(i32)]
@@ -60,6 +95,18 @@ pub enum meshmove_interface {
     Continuous = 1,
 }
 
+/// What each step of a move is solved from (`meshmove_solver_set_reference_mode`).
+#[repr(i32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum meshmove_reference {
+    /// The mesh of the previous step (default): each step solves for the increment on the
+    /// moved mesh. Large rotations need it; the mesh depends on the path.
+    Incremental = 0,
+    /// The original mesh: each step solves for the total displacement so far, so the mesh
+    /// depends only on the boundary's position (a periodic motion comes back to its start).
+    Original = 1,
+}
+
 /// Solver options; fill with `meshmove_options_default` and change what you need.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -70,15 +117,17 @@ pub struct meshmove_options {
     pub mode: i32,
     /// A `meshmove_criterion` value.
     pub criterion: i32,
-    /// Worker threads; 0 uses the global pool (all cores). Results do not depend on it.
+    /// Worker threads of this solver, 0 ≤ threads ≤ `MESHMOVE_MAX_THREADS`; 0 is one per
+    /// available core. All of the solver's work runs on them (never on a shared global pool).
+    /// Results do not depend on it.
     pub threads: i32,
     /// Tolerance of the criterion (default 1e-8), positive and finite.
     pub tol: f64,
-    /// Most cycles per solve (default 500), at least 1.
+    /// Most cycles per solve (default 500), 1 ≤ max_cycles ≤ `MESHMOVE_MAX_CYCLES`.
     pub max_cycles: i32,
     /// Chebyshev smoother degree of the default mode, on every level; 0 picks per method
-    /// (default 0: biharmonic 6 on the finest level and 4 below, others 3 and 2), otherwise at
-    /// least 1.
+    /// (default 0: biharmonic 6 on the finest level and 4 below, others 3 and 2), otherwise
+    /// 1 ≤ cheb_degree ≤ `MESHMOVE_MAX_CHEB_DEGREE`.
     pub cheb_degree: i32,
     /// 0 (default): fourth-kind Chebyshev, which needs no interval. Above 1: first-kind
     /// Chebyshev on [λmax / cheb_lower_ratio, λmax].
@@ -99,6 +148,78 @@ pub struct meshmove_report {
     pub seconds: f64,
     /// 1 if both components met the criterion, else 0.
     pub converged: i32,
+}
+
+/// What one step (or automatic sub-step) of a move did.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct meshmove_step_report {
+    /// The step, 1-based.
+    pub step: i32,
+    /// The sub-step within the step, 1-based (1 when the step was not split).
+    pub substep: i32,
+    /// Fraction of the whole motion done after this sub-step (1 after the last).
+    pub fraction: f64,
+    /// Cycles of this sub-step's solve.
+    pub cycles: i32,
+    /// Relative residual at the end of this sub-step's solve.
+    pub rel_residual: f64,
+    /// 1 if the solve met its tolerance, else 0.
+    pub converged: i32,
+    /// 1 if the multigrid hierarchy was rebuilt (a coarse cell would have inverted), else 0.
+    pub rebuilt: i32,
+    /// Inverted cells of the mesh after this sub-step.
+    pub inverted: i32,
+    /// Smallest moved / reference cell area ratio of this sub-step.
+    pub min_volume_ratio: f64,
+    /// Smallest angle of any cell after this sub-step, degrees.
+    pub min_angle_deg: f64,
+    /// Wall-clock seconds of this sub-step.
+    pub seconds: f64,
+    /// 1 if the result became the new mesh; 0 if it was rejected (and the step split), or the
+    /// call failed here.
+    pub accepted: i32,
+}
+
+impl From<&crate::StepReport> for meshmove_step_report {
+    fn from(r: &crate::StepReport) -> Self {
+        let sat = |v: usize| v.min(i32::MAX as usize) as i32;
+        meshmove_step_report {
+            step: sat(r.step),
+            substep: sat(r.substep),
+            fraction: r.fraction,
+            cycles: sat(r.cycles),
+            rel_residual: r.rel_residual,
+            converged: i32::from(r.converged),
+            rebuilt: i32::from(r.rebuilt),
+            inverted: sat(r.inverted),
+            min_volume_ratio: r.min_volume_ratio,
+            min_angle_deg: r.min_angle_deg,
+            seconds: r.seconds,
+            accepted: i32::from(r.accepted),
+        }
+    }
+}
+
+/// Every field of an accepted step report is finite (a rejected attempt may report what went
+/// wrong, e.g. a residual that blew up).
+pub(crate) fn finite_step_report(r: &meshmove_step_report) -> Result<(), CError> {
+    let fields = [r.fraction, r.rel_residual, r.min_volume_ratio, r.min_angle_deg, r.seconds];
+    if r.accepted == 1 && !fields.iter().all(|v| v.is_finite()) {
+        return Err(CError::new(
+            super::status::meshmove_status::Diverged,
+            format!("step {}.{}: its report is not finite; nothing was written", r.step, r.substep),
+        ));
+    }
+    Ok(())
+}
+
+pub(crate) fn reference_mode(m: i32) -> Result<crate::ReferenceMode, CError> {
+    match m {
+        0 => Ok(crate::ReferenceMode::Incremental),
+        1 => Ok(crate::ReferenceMode::Original),
+        _ => Err(CError::arg(format!("reference mode {m} is not a meshmove_reference (0 INCREMENTAL, 1 ORIGINAL)"))),
+    }
 }
 
 /// Quality of a deformed mesh against the solver's reference mesh.
@@ -202,17 +323,11 @@ impl meshmove_options {
                 )))
             }
         };
-        let pos = |v: i32, what: &str, min: i32| {
-            if v < min {
-                Err(CError::arg(format!("options.{what} is {v}; it must be at least {min}")))
-            } else {
-                Ok(v as usize)
-            }
-        };
-        let threads = pos(self.threads, "threads", 0)?;
-        let max_cycles = pos(self.max_cycles, "max_cycles", 1)?;
+        let threads = bounded(self.threads, "options.threads", 0, limits::MAX_THREADS)?;
+        let max_cycles = bounded(self.max_cycles, "options.max_cycles", 1, limits::MAX_CYCLES)?;
         // 0 picks the per-method default, like cheb_lower_ratio.
-        let cheb_degree = Some(pos(self.cheb_degree, "cheb_degree", 0)?).filter(|&d| d > 0);
+        let cheb_degree =
+            Some(bounded(self.cheb_degree, "options.cheb_degree", 0, limits::MAX_CHEB_DEGREE)?).filter(|&d| d > 0);
         if !(self.tol > 0.0 && self.tol.is_finite()) {
             return Err(CError::arg(format!("options.tol is {}; it must be positive and finite", self.tol)));
         }

@@ -151,7 +151,7 @@ int main(void) {
     /* wrong handle types and unknown patches */
     EXPECT(meshmove_mesh_sizes((meshmove_mesh *)bcs, &n, &n), HANDLE, "meshmove_bcs handle, not a meshmove_mesh");
     EXPECT(meshmove_bcs_free((meshmove_bcs *)mesh), HANDLE, "not a meshmove_bcs");
-    EXPECT(meshmove_mesh_sizes((meshmove_mesh *)xy, &n, &n), HANDLE, "not a live");
+    EXPECT(meshmove_mesh_sizes((meshmove_mesh *)xy, &n, &n), HANDLE, "not a meshmove_mesh handle made by meshmove");
 
     /* solver_create */
     EXPECT(meshmove_solver_create(mesh, bcs, NULL, NULL), NUL, "out");
@@ -170,6 +170,12 @@ int main(void) {
     EXPECT(meshmove_solver_create(mesh, bcs, &o, &solver), ARG, "options.threads");
     meshmove_options_default(&o), o.max_cycles = 0;
     EXPECT(meshmove_solver_create(mesh, bcs, &o, &solver), ARG, "options.max_cycles");
+    meshmove_options_default(&o), o.max_cycles = MESHMOVE_MAX_CYCLES + 1;
+    EXPECT(meshmove_solver_create(mesh, bcs, &o, &solver), ARG, "options.max_cycles");
+    meshmove_options_default(&o), o.cheb_degree = MESHMOVE_MAX_CHEB_DEGREE + 1;
+    EXPECT(meshmove_solver_create(mesh, bcs, &o, &solver), ARG, "options.cheb_degree");
+    meshmove_options_default(&o), o.threads = MESHMOVE_MAX_THREADS + 1;
+    EXPECT(meshmove_solver_create(mesh, bcs, &o, &solver), ARG, "options.threads");
     meshmove_options_default(&o), o.cheb_lower_ratio = 0.5;
     EXPECT(meshmove_solver_create(mesh, bcs, &o, &solver), ARG, "cheb_lower_ratio");
     {
@@ -221,7 +227,11 @@ int main(void) {
     EXPECT(meshmove_solver_cycle(solver, 10, d, out, &rep), OK, NULL);
     EXPECT(meshmove_solver_move_in_steps(solver, 10, d, 0, 0, NULL), ARG, "steps is 0");
     EXPECT(meshmove_solver_move_in_steps(solver, 10, d, -3, 0, NULL), ARG, "steps");
-    EXPECT(meshmove_solver_move_in_steps(solver, 10, d, 2, 1, &rep), ARG, "num_reports");
+    EXPECT(meshmove_solver_move_in_steps(solver, 10, d, 2, -1, NULL), ARG, "num_reports");
+    EXPECT(meshmove_solver_move_in_steps(solver, 10, d, 2, 2, NULL), NUL, "reports");
+    EXPECT(meshmove_solver_move_in_steps(solver, 10, d, MESHMOVE_MAX_STEPS + 1, 0, NULL), ARG, "1000000");
+    EXPECT(meshmove_solver_step_reports(solver, 0, NULL, NULL), NUL, "count");
+    EXPECT(meshmove_solver_step_reports(solver, -1, NULL, &n), ARG, "capacity");
     EXPECT(meshmove_solver_move_in_steps(solver, 10, NULL, 2, 0, NULL), NUL, "prescribed");
     EXPECT(meshmove_solver_quality(solver, 10, d, NULL), NUL, "quality");
     EXPECT(meshmove_solver_quality(solver, 10, NULL, &q), NUL, "displacement");
@@ -264,14 +274,14 @@ int main(void) {
 
     /* stale handles: freed twice, used after free */
     EXPECT(meshmove_solver_free(solver), OK, NULL);
-    EXPECT(meshmove_solver_free(solver), HANDLE, "not a live");
-    EXPECT(meshmove_solver_solve(solver, 10, d, NULL, out, &rep), HANDLE, "not a live");
+    EXPECT(meshmove_solver_free(solver), HANDLE, "already freed");
+    EXPECT(meshmove_solver_solve(solver, 10, d, NULL, out, &rep), HANDLE, "already freed");
     EXPECT(meshmove_bcs_free(bcs), OK, NULL);
-    EXPECT(meshmove_bcs_set_kinds(bcs, 0, MESHMOVE_KIND_FIXED), HANDLE, "not a live");
+    EXPECT(meshmove_bcs_set_kinds(bcs, 0, MESHMOVE_KIND_FIXED), HANDLE, "already freed");
     EXPECT(meshmove_mesh_free(mesh), OK, NULL);
     EXPECT(meshmove_mesh_free(m2), OK, NULL);
-    EXPECT(meshmove_mesh_get_coords(mesh, 10, out), HANDLE, "not a live");
-    EXPECT(meshmove_mesh_free(mesh), HANDLE, "not a live");
+    EXPECT(meshmove_mesh_get_coords(mesh, 10, out), HANDLE, "already freed");
+    EXPECT(meshmove_mesh_free(mesh), HANDLE, "already freed");
 
     printf("bad_input: %d checks, %d failures\n", checks, failures);
     return failures != 0;
