@@ -43,6 +43,9 @@ pub struct Args {
     /// Where to write the deformed mesh (.vtu).
     #[arg(short, long)]
     output: PathBuf,
+    /// Also draw the deformed mesh to this PNG file (title, inverted cells, min area ratio).
+    #[arg(long, value_name = "FILE")]
+    png: Option<PathBuf>,
 }
 
 #[derive(Deserialize, Debug, Clone)]
@@ -332,6 +335,9 @@ pub fn run(args: Args) -> Result<ExitCode, String> {
         );
     }
     println!("wrote           {}", args.output.display());
+    if let Some(png) = &args.png {
+        crate::plot::case_png(png, &setup, &r.coords, opts.method, r.steps)?;
+    }
     if r.inverted > 0 {
         eprintln!(
             "meshmove: error: the deformed mesh has {} inverted cells (written anyway to {})",
