@@ -1,5 +1,5 @@
 //! Unknowns ("dofs") of a level: linked vertices merged into one, and vertices of a variant-A
-//! interface split into one unknown per region (DESIGN §3, last paragraph; §4).
+//! interface split into one unknown per region (docs/DESIGN.md §3, last paragraph; §4).
 
 use super::numbering::reverse_cuthill_mckee;
 use crate::sparse::bucket_by_key;

@@ -1,6 +1,6 @@
-//! The paper's cases (DESIGN §7) as complete set-ups: mesh, boundary conditions, motion, steps.
+//! The paper's cases (docs/DESIGN.md §7) as complete set-ups: mesh, boundary conditions, motion, steps.
 //!
-//! Every set-up is the one stated in DESIGN §7; nothing here is tuned to make a finding hold.
+//! Every set-up is the one stated in docs/DESIGN.md §7; nothing here is tuned to make a finding hold.
 //! `Scale::Quick` only coarsens the meshes (for smoke tests of the CLI); the findings are
 //! asserted at `Scale::Paper`.
 
@@ -24,7 +24,7 @@ pub const CASE_NAMES: [&str; 9] = [
     "boundary_layer_cylinder",
 ];
 
-/// Mesh sizes: the paper's (DESIGN §7) or coarse ones for quick smoke runs.
+/// Mesh sizes: the paper's (docs/DESIGN.md §7) or coarse ones for quick smoke runs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Scale {
     /// Free-surface and interface meshes at h = 1/32, cylinder in channel at h = 1/12.
