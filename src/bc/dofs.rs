@@ -59,7 +59,7 @@ impl Dofs {
         // Key of a cell corner: (root vertex, region when split). Unknowns are first numbered in
         // key order (deterministic), then renumbered for locality. Counted per root vertex
         // rather than sorted: one key per used unsplit root, one per region at a split root (a
-        // sort of every corner's key took a third of a million-vertex setup).
+        // sort of every corner's key would take a third of a million-vertex setup).
         let regions = mesh.regions();
         let mut used = vec![false; nv];
         let mut split_keys: Vec<(u32, i32)> = Vec::new();
