@@ -1,4 +1,4 @@
-//! The free-surface box [0,1]×[−1,0] and the two-region interface mesh built from it by mirroring.
+//! The free-surface box \[0,1\]×[−1,0] and the two-region interface mesh built from it by mirroring.
 
 use super::cdt::{mesh_lattice, Loop, Planar};
 use super::meshes::{lerp_step, to_mesh};
@@ -57,7 +57,7 @@ fn free_surface_planar(h: f64) -> Planar {
     mesh_lattice(&[outer], s, 0.2, 30.0, 2)
 }
 
-/// Unstructured triangles of [0,1]×[−1,0] with edge length about `h`: n = round(1/h) equal
+/// Unstructured triangles of \[0,1\]×[−1,0] with edge length about `h`: n = round(1/h) equal
 /// boundary segments per side (left and right vertices at bitwise-equal y; the top has n + 1
 /// vertices), the interior a deterministically jittered hexagonal lattice, triangulated,
 /// Delaunay-refined (boundary segments never split) and smoothed. Patches [`FS_BOTTOM`],
@@ -68,7 +68,7 @@ pub fn free_surface(h: f64) -> Mesh {
 }
 
 /// [`free_surface`]`(h)` (region 0) and its exact mirror y → −y (region 1), sharing the n + 1
-/// vertices of y = 0: [0,1]×[−1,1]. The mirror of lower vertex (x, y) is (x, −y) bitwise.
+/// vertices of y = 0: \[0,1\]×[−1,1]. The mirror of lower vertex (x, y) is (x, −y) bitwise.
 /// Patches [`IF_BOTTOM`], [`IF_RIGHT`] (both halves), [`IF_TOP`], [`IF_LEFT`] (both halves),
 /// and [`IF_INTERFACE`] on y = 0 as tagged interior edges. Lower vertices keep the indices of
 /// `free_surface(h)`; upper vertices not on y = 0 follow in the same order.

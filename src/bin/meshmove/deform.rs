@@ -287,7 +287,7 @@ fn build(args: &Args) -> Result<(CaseSetup, Options), String> {
                 let only = patch.map(|p| mesh.patch_vertices(p));
                 for (v, dv) in d.iter().enumerate() {
                     if let Some(dv) = dv {
-                        if only.as_ref().map_or(true, |o| o.binary_search(&(v as u32)).is_ok()) {
+                        if only.as_ref().is_none_or(|o| o.binary_search(&(v as u32)).is_ok()) {
                             motion.displacement[v] = *dv;
                         }
                     }

@@ -87,7 +87,8 @@ fn picture(dir: &Path, setup: &CaseSetup, coords: &[DVec2], stem: &str, label: &
     let path = dir.join(format!("{stem}.png"));
     let title = format!("{}: {label}", case_title(&setup.name));
     let highlight = patch_edges(&setup.mesh, setup.moved_patch);
-    deformed_png(&path, &setup.mesh, coords, title, &view_notes(setup), &highlight, Some(view), inset, width)
+    let notes = view_notes(setup);
+    deformed_png(&path, (&setup.mesh, coords), (title, &notes), &highlight, (Some(view), inset), width)
         .map_err(|e| format!("{}: {e}", path.display()))
 }
 

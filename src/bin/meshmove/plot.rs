@@ -75,6 +75,14 @@ pub struct Annotation<'a> {
 /// Pixel rectangle (left, top, width, height).
 type Rect = (i32, i32, i32, i32);
 
+/// Where a mesh is drawn: the world window, the pixel rectangle it maps to, and whether only the
+/// cells entirely inside the window are drawn (an inset).
+struct Frame {
+    view: View,
+    rect: Rect,
+    clip: bool,
+}
+
 fn to_px(v: &View, r: Rect, p: DVec2) -> (i32, i32) {
     let sx = r.2 as f64 / (v.x1 - v.x0);
     let sy = r.3 as f64 / (v.y1 - v.y0);
@@ -84,21 +92,20 @@ fn to_px(v: &View, r: Rect, p: DVec2) -> (i32, i32) {
 
 type Err = Box<dyn std::error::Error>;
 
-/// The mesh's edges in `r`, inverted cells filled, highlighted edges on top. With `clip`, only the
-/// cells entirely inside the view are drawn (the inset).
+/// The mesh's edges in `frame`, inverted cells filled, highlighted edges on top.
 fn draw_mesh<DB: DrawingBackend>(
     area: &DrawingArea<DB, plotters::coord::Shift>,
     mesh: &Mesh,
     coords: &[DVec2],
     inverted: &[bool],
     highlight: &[[u32; 2]],
-    view: &View,
-    r: Rect,
-    clip: bool,
+    frame: &Frame,
 ) -> Result<(), Err>
 where
     DB::ErrorType: 'static,
 {
+    let Frame { view, rect: r, clip } = frame;
+    let (view, r, clip) = (view, *r, *clip);
     let inside = |c: &[u32]| !clip || c.iter().all(|&v| view.contains(coords[v as usize]));
     for (k, c) in mesh.cells().iter().enumerate() {
         if inverted[k] && inside(c) {
@@ -160,15 +167,13 @@ where
 }
 
 /// The deformed mesh `width` pixels wide under its caption: inverted cells filled red, the
-/// highlighted edges blue; with `inset`, a zoomed window drawn framed in the top-right corner of
-/// the mesh (the boundary-layer cylinder), its place marked in the main view.
+/// highlighted edges blue; `views.0` is the window drawn, and `views.1` a zoomed window drawn
+/// framed in the top-right corner of the mesh (the boundary-layer cylinder), its place marked in
+/// the main view.
 pub fn mesh_png(
     path: &Path,
-    mesh: &Mesh,
-    coords: &[DVec2],
-    inverted: &[bool],
-    view: View,
-    inset: Option<View>,
+    (mesh, coords, inverted): (&Mesh, &[DVec2], &[bool]),
+    (view, inset): (View, Option<View>),
     note: &Annotation,
     width: u32,
 ) -> Result<(), Err> {
@@ -184,13 +189,13 @@ pub fn mesh_png(
         root.fill(&WHITE)?;
         draw_caption(&root, note.lines, fs)?;
         let main = (0, band, width as i32, mesh_h as i32);
-        draw_mesh(&root, mesh, coords, inverted, note.highlight, &view, main, false)?;
+        draw_mesh(&root, mesh, coords, inverted, note.highlight, &Frame { view, rect: main, clip: false })?;
         if let Some(iv) = inset {
             let side = (mesh_h.min(width) as f64 * 0.45) as i32;
             let r = (width as i32 - side - 4, band + 4, side, side);
             let frame = [(r.0 - 2, r.1 - 2), (r.0 + r.2 + 2, r.1 + r.3 + 2)];
             root.draw(&Rectangle::new(frame, WHITE.filled()))?;
-            draw_mesh(&root, mesh, coords, inverted, note.highlight, &iv, r, true)?;
+            draw_mesh(&root, mesh, coords, inverted, note.highlight, &Frame { view: iv, rect: r, clip: true })?;
             root.draw(&Rectangle::new(frame, BLUE.stroke_width(2)))?;
             let a = to_px(&view, main, DVec2::new(iv.x0, iv.y1));
             let b = to_px(&view, main, DVec2::new(iv.x1, iv.y0));
@@ -203,17 +208,13 @@ pub fn mesh_png(
 
 /// A deformed mesh's picture with its judgement drawn in: `title`, then "N inverted cells (red),
 /// min area ratio R" measured against `mesh`'s own coordinates (the original mesh), then `extra`
-/// lines. `view` is the window drawn (`None`: the whole deformed mesh).
-#[allow(clippy::too_many_arguments)]
+/// lines. `views`: the window drawn (`None`: the whole deformed mesh) and an optional inset.
 pub fn deformed_png(
     path: &Path,
-    mesh: &Mesh,
-    coords: &[DVec2],
-    title: String,
-    extra: &[String],
+    (mesh, coords): (&Mesh, &[DVec2]),
+    (title, extra): (String, &[String]),
     highlight: &[[u32; 2]],
-    view: Option<View>,
-    inset: Option<View>,
+    (view, inset): (Option<View>, Option<View>),
     width: u32,
 ) -> Result<(), Err> {
     let before = meshmove::mesh::quality::signed_areas(mesh, mesh.coords());
@@ -225,7 +226,7 @@ pub fn deformed_png(
     lines.extend_from_slice(extra);
     let view = view.unwrap_or_else(|| View::around(coords, 0.01));
     let note = Annotation { lines: &lines, highlight };
-    mesh_png(path, mesh, coords, &inverted, view, inset, &note, width)
+    mesh_png(path, (mesh, coords, &inverted), (view, inset), &note, width)
 }
 
 /// The picture `meshmove deform --png FILE` writes: the whole deformed mesh, titled with the
@@ -242,7 +243,7 @@ pub fn case_png(
         0 => (Vec::new(), Vec::new()),
         p => (patch_edges(&setup.mesh, p), vec![format!("blue: the moved patch ({p})")]),
     };
-    deformed_png(path, &setup.mesh, coords, title, &extra, &highlight, None, None, 800)
+    deformed_png(path, (&setup.mesh, coords), (title, &extra), &highlight, (None, None), 800)
         .map_err(|e| format!("{}: {e}", path.display()))
 }
 
