@@ -164,7 +164,7 @@ impl CsrMatrix {
 
 /// Counting sort of (key, value) pairs with keys below `n`: key k's values are
 /// `values[start[k]..start[k + 1]]`, in input order. O(pairs + n), where a comparison sort of
-/// millions of pairs was a tenth of a setup.
+/// millions of pairs would take a tenth of a setup.
 pub(crate) fn bucket_by_key(n: usize, pairs: &[(u32, u32)]) -> (Vec<u32>, Vec<u32>) {
     let mut start = vec![0u32; n + 1];
     for &(k, _) in pairs {
