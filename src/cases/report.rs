@@ -231,7 +231,7 @@ pub fn reference_displacement(
         let flags = &lev.flags[c];
         let dp: Vec<f64> =
             (0..n).map(|d| if flags[d] & P != 0 { vals[lev.dofs.dof_vertex[d] as usize][c] } else { 0.0 }).collect();
-        // The rigid-motion flux source of a CLAMPED patch (docs/DESIGN.md §4), as the solver builds it.
+        // The rigid-motion flux source of a CLAMPED patch (DESIGN §4), as the solver builds it.
         let mut g: Option<Vec<f64>> = None;
         if method == Method::Biharmonic {
             let x = lev.mesh.coords();

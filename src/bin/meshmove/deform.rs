@@ -22,12 +22,12 @@ pub struct Args {
     /// The case file (TOML).
     #[arg(long)]
     config: PathBuf,
-    /// Where to write the deformed mesh (.vtu).
-    #[arg(short, long)]
-    output: PathBuf,
     /// Also draw the deformed mesh to this PNG file (title, inverted cells, min area ratio).
     #[arg(long, value_name = "FILE")]
     png: Option<PathBuf>,
+    /// Where to write the deformed mesh (.vtu).
+    #[arg(short, long)]
+    output: PathBuf,
 }
 
 #[derive(Deserialize, Debug, Clone)]
