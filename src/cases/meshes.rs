@@ -1,4 +1,4 @@
-//! Deterministic mesh generators for the cases of DESIGN §7.
+//! Deterministic mesh generators for the cases of docs/DESIGN.md §7.
 //!
 //! Every generator returns a validated [`Mesh`] and produces the same mesh on every run (no
 //! randomness; spade's refinement is deterministic for a fixed insertion order). Patch ids are
