@@ -147,9 +147,7 @@ impl Solver {
     /// `ReferenceMode::Original` makes the current mesh the original one.
     pub fn set_options(&mut self, opts: Options) -> Result<()> {
         check_options(&opts)?;
-        if opts.method != self.opts.method
-            || opts.threads != self.opts.threads
-            || opts.hierarchy != self.opts.hierarchy
+        if opts.method != self.opts.method || opts.threads != self.opts.threads || opts.hierarchy != self.opts.hierarchy
         {
             return Err(Error::InvalidArgument(
                 "method, threads and hierarchy parameters are fixed when the solver is made: make a new solver".into(),
