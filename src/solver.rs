@@ -15,6 +15,7 @@ use crate::multigrid::hierarchy::{Hierarchy, HierarchyParams, Level};
 use crate::multigrid::smoother::Start;
 use crate::multigrid::solve::{solve, Report, SolveParams};
 use crate::operator::Method;
+use crate::pool::Pool;
 use crate::sparse::max_abs;
 use crate::{Error, Mesh, Result};
 use glam::DVec2;
@@ -51,7 +52,8 @@ pub enum ReferenceMode {
 pub struct Options {
     pub method: Method,
     pub solve: SolveParams,
-    /// Worker threads; 0 uses rayon's global pool.
+    /// Worker threads of the solver's own pool (0: one per available core). All of a call's work
+    /// runs there, never on rayon's global pool; results do not depend on the count.
     pub threads: usize,
     pub hierarchy: HierarchyParams,
     /// Automatic sub-stepping: a step whose result would invert a cell, fall below
@@ -84,7 +86,7 @@ pub struct Solver {
     opts: Options,
     bcs: BoundaryConditions,
     hierarchy: Hierarchy,
-    pool: Option<rayon::ThreadPool>,
+    pool: Pool,
     /// `ReferenceMode::Original`: the motion done so far (the sum of the increments) and the
     /// positions it gave; the hierarchy stays on the original mesh.
     total: Option<(Motion, Vec<DVec2>)>,
@@ -102,31 +104,16 @@ impl Solver {
         bcs.check(mesh)?;
         check_not_tangled(mesh, mesh.coords())?;
         let pairs = resolve_links(mesh, &bcs.links)?;
-        let pool = match opts.threads {
-            0 => None,
-            n => Some(
-                rayon::ThreadPoolBuilder::new()
-                    .num_threads(n)
-                    .build()
-                    .map_err(|e| Error::InvalidArgument(format!("cannot start {n} threads: {e}")))?,
-            ),
-        };
-        let build = || Hierarchy::build(mesh, pairs, bcs, opts.method, &opts.hierarchy);
-        let hierarchy = match &pool {
-            Some(p) => p.install(build)?,
-            None => build()?,
-        };
+        let pool = Pool::new(opts.threads)?;
+        let hierarchy = pool.install(|| Hierarchy::build(mesh, pairs, bcs, opts.method, &opts.hierarchy))??;
         let last_valid = mesh.coords().to_vec();
         Ok(Solver { opts, bcs: bcs.clone(), hierarchy, pool, total: None, steps: Vec::new(), last_valid })
     }
 
     /// Runs `f` on the solver's threads: every part of a call's work, so the thread count set
-    /// in the options bounds all of it.
-    fn run<T: Send>(&self, f: impl FnOnce() -> T + Send) -> T {
-        match &self.pool {
-            Some(p) => p.install(f),
-            None => f(),
-        }
+    /// in the options bounds all of it (fails only when a forked child cannot start its pool).
+    fn run<T: Send>(&self, f: impl FnOnce() -> T + Send) -> Result<T> {
+        self.pool.install(f)
     }
 
     /// The reference mesh (the mesh at the start of the step).
@@ -211,7 +198,7 @@ impl Solver {
         let mesh = self.mesh();
         motion.check(mesh)?;
         for &(patch, m) in &motion.rigid {
-            for c in 0..2 {
+            for (c, name) in COMPONENT.iter().enumerate() {
                 if self.bcs.kind(patch, c) != Kind::Free {
                     continue;
                 }
@@ -219,9 +206,8 @@ impl Solver {
                     mesh.patch_vertices(patch).iter().any(|&v| m.displacement(mesh.coords()[v as usize])[c] != 0.0);
                 if moves {
                     return Err(Error::InvalidArgument(format!(
-                        "the rigid motion of patch {patch} moves its vertices in {}, which is FREE on that patch: \
-                         make {} FIXED or CLAMPED there, or give that patch no motion",
-                        COMPONENT[c], COMPONENT[c]
+                        "the rigid motion of patch {patch} moves its vertices in {name}, which is FREE on that \
+                         patch: make {name} FIXED or CLAMPED there, or give that patch no motion"
                     )));
                 }
             }
@@ -298,7 +284,7 @@ impl Solver {
         if let Some(g) = guess {
             check_guess(g, lev.mesh.num_vertices())?;
         }
-        self.run(|| self.solve_inner(motion, guess))
+        self.run(|| self.solve_inner(motion, guess))?
     }
 
     fn solve_inner(&self, motion: &Motion, guess: Option<&[DVec2]>) -> Result<Solution> {
@@ -357,7 +343,7 @@ impl Solver {
     pub fn cycle(&self, motion: &Motion, displacement: &mut [DVec2]) -> Result<Report> {
         self.check_motion(motion)?;
         check_guess(displacement, self.mesh().num_vertices())?;
-        let (out, rep) = self.run(|| self.cycle_inner(motion, displacement))?;
+        let (out, rep) = self.run(|| self.cycle_inner(motion, displacement))??;
         if let Some(v) = out.iter().position(|d| !d.is_finite()) {
             return Err(Error::Diverged(format!("the cycle's displacement of vertex {v} is not finite")));
         }
@@ -452,21 +438,15 @@ impl Solver {
         }
         if self.hierarchy.fine().mesh.coords() != undo.coords.as_slice() {
             let hierarchy = &mut self.hierarchy;
-            let moved = match &self.pool {
-                Some(p) => p.install(|| hierarchy.move_to(undo.coords)),
-                None => hierarchy.move_to(undo.coords),
-            };
+            let moved = self.pool.install(|| hierarchy.move_to(undo.coords));
             // The same topology at positions it had before: every coarse cell was valid there.
-            debug_assert!(matches!(moved, Ok(true)), "moving back to a previous reference failed: {moved:?}");
+            debug_assert!(matches!(moved, Ok(Ok(true))), "moving back to a previous reference failed");
         }
     }
 
     fn set_reference_inner(&mut self, coords: Vec<DVec2>, undo: &mut Undo) -> Result<()> {
         let hierarchy = &mut self.hierarchy;
-        let kept = match &self.pool {
-            Some(p) => p.install(|| hierarchy.move_to(coords.clone()))?,
-            None => hierarchy.move_to(coords.clone())?,
-        };
+        let kept = self.pool.install(|| hierarchy.move_to(coords.clone()))??;
         if !kept {
             self.rebuild(coords, undo)?;
         }
@@ -478,7 +458,7 @@ impl Solver {
         let mesh = self.hierarchy.fine().mesh.with_coords(coords);
         let pairs = self.hierarchy.fine().pairs.clone();
         let (bcs, method, hp) = (&self.bcs, self.opts.method, &self.opts.hierarchy);
-        let built = self.run(|| Hierarchy::build(&mesh, pairs, bcs, method, hp))?;
+        let built = self.pool.install(|| Hierarchy::build(&mesh, pairs, bcs, method, hp))??;
         let old = std::mem::replace(&mut self.hierarchy, built);
         if undo.hierarchy.is_none() {
             undo.hierarchy = Some(old);
@@ -574,13 +554,14 @@ fn check_converged(rep: &Report, step: Option<(usize, usize)>) -> Result<()> {
 }
 
 fn check_solve_params(p: &SolveParams) -> Result<()> {
-    let degree_ok = |d: Option<usize>| d.is_none_or(|d| (1..=MAX_CHEB_DEGREE).contains(&d));
-    if !(p.tol > 0.0 && p.tol.is_finite())
-        || !(1..=MAX_CYCLES).contains(&p.max_cycles)
-        || !degree_ok(p.cheb_degree)
-        || !degree_ok(p.cheb_coarse_degree)
-        || p.cheb_lower_ratio.is_some_and(|r| !(r > 1.0 && r.is_finite()))
-    {
+    let degree_ok = |d: Option<usize>| d.map_or(true, |d| (1..=MAX_CHEB_DEGREE).contains(&d));
+    let ok = p.tol > 0.0
+        && p.tol.is_finite()
+        && (1..=MAX_CYCLES).contains(&p.max_cycles)
+        && degree_ok(p.cheb_degree)
+        && degree_ok(p.cheb_coarse_degree)
+        && p.cheb_lower_ratio.map_or(true, |r| r > 1.0 && r.is_finite());
+    if !ok {
         return Err(Error::InvalidArgument(format!(
             "tolerance must be positive and finite, max cycles 1 to {MAX_CYCLES}, Chebyshev degree 1 to \
              {MAX_CHEB_DEGREE}, lower ratio finite and above 1"

@@ -214,3 +214,22 @@ fn periodic_motion_returns_to_the_start_from_the_original_mesh() {
     assert!(offsets[0] < 1e-10, "{}", offsets[0]);
     assert!(offsets[1] > 1e-4, "{}", offsets[1]);
 }
+
+/// `tests/data/ellipse_box.msh` (read by `tests/c/steps.c`) is the mesh of `ellipse_in_box(0.5,
+/// 0.1)`; `MESHMOVE_BLESS=1` rewrites it.
+#[test]
+fn ellipse_fixture_is_fresh() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/ellipse_box.msh");
+    let tmp = std::env::temp_dir().join(format!("ellipse_box_{}.msh", std::process::id()));
+    meshmove::io::write_msh22(&ellipse_in_box(0.5, 0.1), &tmp).unwrap();
+    let want = std::fs::read(&tmp).unwrap();
+    let _ = std::fs::remove_file(&tmp);
+    if std::env::var_os("MESHMOVE_BLESS").is_some() {
+        std::fs::write(&path, &want).unwrap();
+    }
+    assert!(
+        std::fs::read(&path).unwrap() == want,
+        "{} is stale: MESHMOVE_BLESS=1 cargo test --test robustness",
+        path.display()
+    );
+}

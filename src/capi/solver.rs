@@ -479,7 +479,18 @@ pub unsafe extern "C" fn meshmove_solver_move_in_steps(
             *o = *r;
         }
         s.last = s.solver.current_coords().iter().zip(&before).map(|(a, b)| *a - *b).collect();
-        Ok(())
+        // The last step's result inverted cells (the method's honest answer without
+        // sub-stepping): reported, never plain OK; the reference stays on the last valid mesh.
+        match s.solver.step_reports().last() {
+            Some(r) if r.accepted && r.inverted > 0 => Err(CError::new(
+                meshmove_status::Inverted,
+                format!(
+                    "the last step's mesh has {} inverted cell(s) (smallest area ratio {:e}); the solver keeps the last valid mesh",
+                    r.inverted, r.min_volume_ratio
+                ),
+            )),
+            _ => Ok(()),
+        }
     })
 }
 

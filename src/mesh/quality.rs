@@ -14,7 +14,7 @@ pub fn signed_areas(mesh: &Mesh, coords: &[DVec2]) -> Vec<f64> {
 
 /// The cells of `mesh`'s topology with non-positive signed area at positions `coords`, ascending.
 pub fn inverted_cells(mesh: &Mesh, coords: &[DVec2]) -> Vec<usize> {
-    signed_areas(mesh, coords).iter().enumerate().filter(|(_, &a)| !(a > 0.0)).map(|(c, _)| c).collect()
+    signed_areas(mesh, coords).iter().enumerate().filter(|(_, &a)| a <= 0.0 || a.is_nan()).map(|(c, _)| c).collect()
 }
 
 /// Smallest interior angle of triangle (a, b, c) in degrees (0 for an inverted or flat cell).
