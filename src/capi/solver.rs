@@ -10,7 +10,6 @@ use super::types::{self, meshmove_options, meshmove_quality, meshmove_report, me
 use crate::{Motion, RigidMotion, Solver};
 use glam::DVec2;
 use std::ffi::c_char;
-use std::mem::ManuallyDrop;
 
 /// A solver: the hierarchy built once for a mesh and boundary conditions, the rigid motions
 /// currently set, and the displacement of the last solve. Different solvers may be used
@@ -19,10 +18,7 @@ use std::mem::ManuallyDrop;
 pub struct meshmove_solver(Slot<SolverState>);
 
 pub(crate) struct SolverState {
-    /// Not dropped in a forked child (see `Drop`).
-    solver: ManuallyDrop<Solver>,
-    /// The process that created the solver: its worker threads exist only there.
-    pid: u32,
+    solver: Solver,
     rigid: Vec<(i32, RigidMotion)>,
     last: Vec<DVec2>,
 }
@@ -36,46 +32,6 @@ impl Handle for meshmove_solver {
     fn from_slot(slot: Slot<SolverState>) -> Self {
         meshmove_solver(slot)
     }
-}
-
-impl Drop for SolverState {
-    fn drop(&mut self) {
-        if self.pid == std::process::id() {
-            // SAFETY: dropped once, here; the field is not used afterwards.
-            unsafe { ManuallyDrop::drop(&mut self.solver) };
-        }
-        // In a forked child the solver's thread pool has no threads and its locks may be held
-        // by threads that do not exist there: it is leaked, not dropped.
-    }
-}
-
-/// A solver acquired for a call: live, not in use by another thread, and made in this process.
-/// A solver created before `fork()` is refused in the child: its worker threads exist only in
-/// the parent, and waiting for them would never return.
-fn state<'a>(p: *const meshmove_solver) -> Result<handles::Shared<'a, SolverState>, CError> {
-    let s = get(p, "solver")?;
-    same_process(&s)?;
-    Ok(s)
-}
-
-fn state_mut<'a>(p: *mut meshmove_solver) -> Result<handles::Exclusive<'a, SolverState>, CError> {
-    let s = get_mut(p, "solver")?;
-    same_process(&s)?;
-    Ok(s)
-}
-
-fn same_process(s: &SolverState) -> Result<(), CError> {
-    let pid = std::process::id();
-    if s.pid != pid {
-        return Err(CError::new(
-            meshmove_status::InvalidHandle,
-            format!(
-                "`solver` was created in process {} before fork(); its worker threads do not exist in this process {pid}: create a new solver here (meshes and boundary conditions can be reused)",
-                s.pid
-            ),
-        ));
-    }
-    Ok(())
 }
 
 impl SolverState {
@@ -191,15 +147,7 @@ pub unsafe extern "C" fn meshmove_solver_create(
         };
         let solver = Solver::new(&m, &b, o.to_rust()?)?;
         let nv = m.num_vertices();
-        hand_out::<meshmove_solver>(
-            SolverState {
-                solver: ManuallyDrop::new(solver),
-                pid: std::process::id(),
-                rigid: Vec::new(),
-                last: vec![DVec2::ZERO; nv],
-            },
-            out,
-        )
+        hand_out::<meshmove_solver>(SolverState { solver, rigid: Vec::new(), last: vec![DVec2::ZERO; nv] }, out)
     })
 }
 
@@ -223,7 +171,7 @@ pub unsafe extern "C" fn meshmove_solver_sizes(
     num_levels: *mut i32,
 ) -> meshmove_status {
     ffi_body!(meshmove_solver_sizes, {
-        let s = state(solver)?;
+        let s = get(solver, "solver")?;
         if !num_vertices.is_null() {
             handles::write_out(num_vertices, s.nv() as i32, "num_vertices")?;
         }
@@ -252,7 +200,7 @@ pub unsafe extern "C" fn meshmove_solver_set_rigid_motion(
     cy: f64,
 ) -> meshmove_status {
     ffi_body!(meshmove_solver_set_rigid_motion, {
-        let mut s = state_mut(solver)?;
+        let mut s = get_mut(solver, "solver")?;
         if ![tx, ty, angle, cx, cy].iter().all(|v| v.is_finite()) {
             return Err(CError::arg(format!("rigid motion of patch {patch} is not finite")));
         }
@@ -276,7 +224,7 @@ pub unsafe extern "C" fn meshmove_solver_set_rigid_motion(
 #[no_mangle]
 pub unsafe extern "C" fn meshmove_solver_clear_rigid_motions(solver: *mut meshmove_solver) -> meshmove_status {
     ffi_body!(meshmove_solver_clear_rigid_motions, {
-        state_mut(solver)?.rigid.clear();
+        get_mut(solver, "solver")?.rigid.clear();
         Ok(())
     })
 }
@@ -304,7 +252,7 @@ pub unsafe extern "C" fn meshmove_solver_solve(
     report: *mut meshmove_report,
 ) -> meshmove_status {
     ffi_body!(meshmove_solver_solve, {
-        let mut s = state_mut(solver)?;
+        let mut s = get_mut(solver, "solver")?;
         let nv = s.nv();
         check_opt_out(report, "report")?;
         check_xy_out(displacement, len, nv, "displacement")?;
@@ -338,7 +286,7 @@ pub unsafe extern "C" fn meshmove_solver_cycle(
     report: *mut meshmove_report,
 ) -> meshmove_status {
     ffi_body!(meshmove_solver_cycle, {
-        let mut s = state_mut(solver)?;
+        let mut s = get_mut(solver, "solver")?;
         let nv = s.nv();
         check_opt_out(report, "report")?;
         check_xy_out(displacement, len, nv, "displacement")?;
@@ -381,7 +329,7 @@ pub unsafe extern "C" fn meshmove_solver_move(
     quality: *mut meshmove_quality,
 ) -> meshmove_status {
     ffi_body!(meshmove_solver_move, {
-        let mut s = state_mut(solver)?;
+        let mut s = get_mut(solver, "solver")?;
         let nv = s.nv();
         check_opt_out(report, "report")?;
         check_opt_out(quality, "quality")?;
@@ -458,7 +406,7 @@ pub unsafe extern "C" fn meshmove_solver_move_in_steps(
     reports: *mut meshmove_step_report,
 ) -> meshmove_status {
     ffi_body!(meshmove_solver_move_in_steps, {
-        let mut s = state_mut(solver)?;
+        let mut s = get_mut(solver, "solver")?;
         let nv = s.nv();
         let n = types::bounded(steps, "steps", 1, crate::limits::MAX_STEPS)?;
         let cap = count(num_reports, "num_reports")?;
@@ -509,7 +457,7 @@ pub unsafe extern "C" fn meshmove_solver_step_reports(
     count: *mut i32,
 ) -> meshmove_status {
     ffi_body!(meshmove_solver_step_reports, {
-        let s = state(solver)?;
+        let s = get(solver, "solver")?;
         let cap = handles::count(capacity, "capacity")?;
         if count.is_null() {
             return Err(CError::null("count"));
@@ -546,7 +494,7 @@ pub unsafe extern "C" fn meshmove_solver_set_substepping(
     min_volume_ratio: f64,
 ) -> meshmove_status {
     ffi_body!(meshmove_solver_set_substepping, {
-        let mut s = state_mut(solver)?;
+        let mut s = get_mut(solver, "solver")?;
         let n = types::bounded(max_substeps, "max_substeps", 0, crate::limits::MAX_SUBSTEPS)?;
         if !(0.0..1.0).contains(&min_volume_ratio) {
             return Err(CError::arg(format!(
@@ -572,7 +520,7 @@ pub unsafe extern "C" fn meshmove_solver_set_reference_mode(
     mode: i32,
 ) -> meshmove_status {
     ffi_body!(meshmove_solver_set_reference_mode, {
-        let mut s = state_mut(solver)?;
+        let mut s = get_mut(solver, "solver")?;
         let mut o = s.solver.options().clone();
         o.reference = types::reference_mode(mode)?;
         s.solver.set_options(o)?;
@@ -592,7 +540,7 @@ pub unsafe extern "C" fn meshmove_solver_set_reference(
     coords: *const f64,
 ) -> meshmove_status {
     ffi_body!(meshmove_solver_set_reference, {
-        let mut s = state_mut(solver)?;
+        let mut s = get_mut(solver, "solver")?;
         let x = read_xy(coords, len, s.nv(), "coords")?;
         handles::finite_xy(&x, "coords")?;
         s.solver.set_reference(x)?;
@@ -612,7 +560,7 @@ pub unsafe extern "C" fn meshmove_solver_get_coords(
     coords: *mut f64,
 ) -> meshmove_status {
     ffi_body!(meshmove_solver_get_coords, {
-        let s = state(solver)?;
+        let s = get(solver, "solver")?;
         check_xy_out(coords, len, s.nv(), "coords")?;
         write_xy(coords, s.solver.current_coords());
         Ok(())
@@ -631,7 +579,7 @@ pub unsafe extern "C" fn meshmove_solver_get_displacement(
     displacement: *mut f64,
 ) -> meshmove_status {
     ffi_body!(meshmove_solver_get_displacement, {
-        let s = state(solver)?;
+        let s = get(solver, "solver")?;
         check_xy_out(displacement, len, s.nv(), "displacement")?;
         write_xy(displacement, &s.last);
         Ok(())
@@ -651,7 +599,7 @@ pub unsafe extern "C" fn meshmove_solver_quality(
     quality: *mut meshmove_quality,
 ) -> meshmove_status {
     ffi_body!(meshmove_solver_quality, {
-        let s = state(solver)?;
+        let s = get(solver, "solver")?;
         if quality.is_null() {
             return Err(CError::null("quality"));
         }
@@ -676,7 +624,7 @@ pub unsafe extern "C" fn meshmove_solver_write_vtu(
     displacement: *const f64,
 ) -> meshmove_status {
     ffi_body!(meshmove_solver_write_vtu, {
-        let s = state(solver)?;
+        let s = get(solver, "solver")?;
         let p = handles::path(path, "path")?;
         super::mesh::write_vtu(s.solver.mesh(), p, len, displacement)
     })

@@ -323,9 +323,7 @@ impl meshmove_options {
                 )))
             }
         };
-        // 0 becomes the machine's core count here, so that every solver made through the C ABI
-        // owns its pool and none runs on rayon's global one (whose threads a forked child lacks).
-        let threads = crate::pool::resolve_threads(bounded(self.threads, "options.threads", 0, limits::MAX_THREADS)?)?;
+        let threads = bounded(self.threads, "options.threads", 0, limits::MAX_THREADS)?;
         let max_cycles = bounded(self.max_cycles, "options.max_cycles", 1, limits::MAX_CYCLES)?;
         // 0 picks the per-method default, like cheb_lower_ratio.
         let cheb_degree =
