@@ -22,7 +22,7 @@
  * may use inherited handles and create new ones (a solver's worker threads are rebuilt in the
  * child on its first call there). A freed handle is refused
  * (MESHMOVE_STATUS_INVALID_HANDLE) even after later handles were created: its small slot stays
- * allocated (a tombstone of under 100 bytes per handle ever created), so addresses are never
+ * allocated (a tombstone of about 120 bytes per handle ever created), so addresses are never
  * reused.
  */
 
