@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Builds everything and runs every test. `.ci/run` runs exactly this.
-#   Rust library and tests, header freshness (tests/header_fresh.rs), CMake build of the C and
-#   Fortran examples into build/, cargo test and ctest (examples vs the Rust reference, the C
-#   bad-input test under valgrind, install + find_package consumer).
+#   rustfmt, clippy (all targets, warnings are errors) and rustdoc (warnings are errors); Rust
+#   library and tests, header freshness (tests/header_fresh.rs), CMake build of the C and Fortran
+#   examples into build/, cargo test and ctest (examples vs the Rust reference, the C bad-input
+#   test under valgrind, install + C and Fortran consumers by find_package, pkg-config and plain
+#   compiler flags).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -19,6 +21,15 @@ if ((${#missing[@]})); then
     $SUDO env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq cmake gfortran valgrind pkg-config >/dev/null
 fi
 
+# clippy and rustfmt: rustup components, added when missing.
+for component in clippy rustfmt; do
+    if ! cargo "${component/rustfmt/fmt}" --version >/dev/null 2>&1; then
+        rustup component add "$component"
+    fi
+done
+cargo fmt --check
+cargo clippy --release --all-targets -- -D warnings
+
 cargo build --release --all-targets
 # The committed header must match what cbindgen generates from src/capi.
 cargo test --release --test header_fresh
@@ -26,3 +37,5 @@ cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DMESHMOVE_WITH_CLI=ON
 cmake --build build -j "$(nproc)"
 cargo test --release
 (cd build && ctest --output-on-failure -j "$(nproc)")
+# The API documentation builds without a warning (broken links, bad markup).
+RUSTDOCFLAGS="-D warnings" cargo doc --release --no-deps

@@ -149,7 +149,7 @@ impl Solver {
         check_options(&opts)?;
         if opts.method != self.opts.method
             || opts.threads != self.opts.threads
-            || format!("{:?}", opts.hierarchy) != format!("{:?}", self.opts.hierarchy)
+            || opts.hierarchy != self.opts.hierarchy
         {
             return Err(Error::InvalidArgument(
                 "method, threads and hierarchy parameters are fixed when the solver is made: make a new solver".into(),
@@ -554,13 +554,13 @@ fn check_converged(rep: &Report, step: Option<(usize, usize)>) -> Result<()> {
 }
 
 fn check_solve_params(p: &SolveParams) -> Result<()> {
-    let degree_ok = |d: Option<usize>| d.map_or(true, |d| (1..=MAX_CHEB_DEGREE).contains(&d));
+    let degree_ok = |d: Option<usize>| d.is_none_or(|d| (1..=MAX_CHEB_DEGREE).contains(&d));
     let ok = p.tol > 0.0
         && p.tol.is_finite()
         && (1..=MAX_CYCLES).contains(&p.max_cycles)
         && degree_ok(p.cheb_degree)
         && degree_ok(p.cheb_coarse_degree)
-        && p.cheb_lower_ratio.map_or(true, |r| r > 1.0 && r.is_finite());
+        && p.cheb_lower_ratio.is_none_or(|r| r > 1.0 && r.is_finite());
     if !ok {
         return Err(Error::InvalidArgument(format!(
             "tolerance must be positive and finite, max cycles 1 to {MAX_CYCLES}, Chebyshev degree 1 to \

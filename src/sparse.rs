@@ -164,7 +164,7 @@ impl CsrMatrix {
 
 /// Counting sort of (key, value) pairs with keys below `n`: key k's values are
 /// `values[start[k]..start[k + 1]]`, in input order. O(pairs + n), where a comparison sort of
-/// millions of pairs was a tenth of a setup.
+/// millions of pairs would take a tenth of a setup.
 pub(crate) fn bucket_by_key(n: usize, pairs: &[(u32, u32)]) -> (Vec<u32>, Vec<u32>) {
     let mut start = vec![0u32; n + 1];
     for &(k, _) in pairs {
@@ -184,10 +184,9 @@ pub(crate) fn bucket_by_key(n: usize, pairs: &[(u32, u32)]) -> (Vec<u32>, Vec<u3
 
 /// Σ_k term(a_k, b_k) as two partial sums, one over the even positions k and one over the odd
 /// ones, each in order, added at the end. One running sum makes every product wait for the
-/// previous addition; two halve that chain. A K pass (rows of about 7 entries) ran 1.00–1.44×
-/// faster at 16.7k and 1.06M rows and 0.88–1.18× at 266k (one process, variants alternating, best
-/// of 9, three runs); whole solves 1.03–1.10×. The order is still fixed per row, so results do
-/// not depend on the thread count.
+/// previous addition; two halve that chain, which makes whole solves 1.03–1.10× faster
+/// (docs/perf-history.md, step 15). The order is fixed per row, so results do not depend on the
+/// thread count.
 #[inline(always)]
 pub fn pair_sum<A: Copy, B: Copy>(a: &[A], b: &[B], term: impl Fn(A, B) -> f64) -> f64 {
     let (a2, b2) = (a.chunks_exact(2), b.chunks_exact(2));

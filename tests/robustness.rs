@@ -6,10 +6,8 @@
 mod common;
 use common::*;
 use glam::DVec2;
-use meshmove::cases::meshes::{
-    cylinder_channel, ellipse_in_box, structured_rectangle, CH_CYLINDER, CH_WALL, EL_BOX, EL_ELLIPSE,
-};
-use meshmove::cases::meshes::{RECT_BOTTOM, RECT_LEFT, RECT_RIGHT, RECT_TOP};
+use meshmove::cases::meshes::{cylinder_channel, ellipse_in_box, CH_CYLINDER, CH_WALL, EL_BOX, EL_ELLIPSE};
+use meshmove::cases::meshes::{unstructured_rectangle, FS_BOTTOM, FS_LEFT, FS_RIGHT, FS_TOP};
 use meshmove::{BoundaryConditions, Error, Kind, Method, Motion, Options, ReferenceMode, RigidMotion, Solver};
 use std::f64::consts::PI;
 
@@ -23,35 +21,32 @@ fn rotation(deg: f64) -> RigidMotion {
     RigidMotion { translation: DVec2::ZERO, angle: deg.to_radians(), center: DVec2::ZERO }
 }
 
-/// A Gaussian bump of height 0.55 raised in 10 steps on the bottom of [0,4]×[0,1], every side
-/// FIXED: every step reaches the tolerance (the reused hierarchy is rebuilt when it stalls),
-/// or the call says NotConverged. It never returns a result above its tolerance.
+/// A Gaussian bump of height 0.55 raised in 10 steps on the bottom of [0,4]×[0,1] (unstructured,
+/// h = 0.03), every side FIXED: every step reaches the tolerance 1e-10. From the third step on,
+/// the smoother's power-iteration estimate of λmax falls below the true one and CG stagnated at a
+/// residual of 1e-4 at any Chebyshev degree (it was returned as a result); a stalled solve now
+/// also tries the l1 bound's interval and every step converges in well under 100 iterations.
 #[test]
-fn bump_steps_converge_or_say_so() {
-    let mesh = structured_rectangle(80, 20, 0.0, 4.0, 0.0, 1.0);
+fn bump_steps_converge() {
+    let mesh = unstructured_rectangle([0.0, 4.0, 0.0, 1.0], 0.03);
     let mut bcs = BoundaryConditions::new();
-    for p in [RECT_BOTTOM, RECT_RIGHT, RECT_TOP, RECT_LEFT] {
+    for p in [FS_BOTTOM, FS_RIGHT, FS_TOP, FS_LEFT] {
         bcs.set_kinds(p, Kind::Fixed);
     }
     let mut motion = Motion::zero(mesh.num_vertices());
-    for v in mesh.patch_vertices(RECT_BOTTOM) {
+    for v in mesh.patch_vertices(FS_BOTTOM) {
         let x = mesh.coords()[v as usize].x;
         motion.displacement[v as usize].y = 0.55 * (-((x - 2.0) / 0.3).powi(2)).exp();
     }
     let mut o = Options::default();
     o.solve.tol = 1e-10;
     let mut s = Solver::new(&mesh, &bcs, o).unwrap();
-    match s.move_in_steps(&motion, 10) {
-        Ok(reps) => {
-            assert!(reps.iter().filter(|r| r.accepted).count() >= 10);
-            for r in reps.iter().filter(|r| r.accepted) {
-                assert!(r.converged && r.rel_residual <= 1e-10, "{}", r.line());
-            }
-            let rebuilt = reps.iter().filter(|r| r.rebuilt).count();
-            eprintln!("bump: {} sub-steps, {rebuilt} with a rebuilt hierarchy", reps.len());
-        }
-        Err(e) => assert!(matches!(e, Error::NotConverged(_)), "{e}"),
+    let reps = s.move_in_steps(&motion, 10).unwrap();
+    assert_eq!(reps.len(), 10);
+    for r in &reps {
+        assert!(r.accepted && r.converged && r.rel_residual <= 1e-10 && r.inverted == 0, "{}", r.line());
     }
+    assert!(reps[2].cycles < 100, "{}", reps[2].line());
 }
 
 /// The Laplacian rotating a thin ellipse by 90° in 10 steps tangles the mesh; the call stops

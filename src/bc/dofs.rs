@@ -1,5 +1,5 @@
 //! Unknowns ("dofs") of a level: linked vertices merged into one, and vertices of a variant-A
-//! interface split into one unknown per region (DESIGN §3, last paragraph; §4).
+//! interface split into one unknown per region (docs/DESIGN.md §3, last paragraph; §4).
 
 use super::numbering::reverse_cuthill_mckee;
 use crate::sparse::bucket_by_key;
@@ -59,7 +59,7 @@ impl Dofs {
         // Key of a cell corner: (root vertex, region when split). Unknowns are first numbered in
         // key order (deterministic), then renumbered for locality. Counted per root vertex
         // rather than sorted: one key per used unsplit root, one per region at a split root (a
-        // sort of every corner's key took a third of a million-vertex setup).
+        // sort of every corner's key would take a third of a million-vertex setup).
         let regions = mesh.regions();
         let mut used = vec![false; nv];
         let mut split_keys: Vec<(u32, i32)> = Vec::new();

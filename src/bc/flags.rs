@@ -1,4 +1,4 @@
-//! Per-unknown flags P (displacement prescribed) and Z (S fixed to zero), DESIGN §3–§4.
+//! Per-unknown flags P (displacement prescribed) and Z (S fixed to zero), docs/DESIGN.md §3–§4.
 
 use super::{BoundaryConditions, Dofs, Kind};
 use crate::Mesh;

@@ -1,5 +1,5 @@
-//! Boundary conditions (DESIGN §4): a kind per patch and component, links between patches, and
-//! interface variants. `flags` turns them into the per-unknown P/Z flags of DESIGN §3; `dofs`
+//! Boundary conditions (docs/DESIGN.md §4): a kind per patch and component, links between patches, and
+//! interface variants. `flags` turns them into the per-unknown P/Z flags of docs/DESIGN.md §3; `dofs`
 //! merges linked vertices and splits "clamped on each side" interfaces.
 
 mod dofs;
@@ -28,7 +28,7 @@ pub enum Kind {
     Free,
 }
 
-/// How an internal interface between two regions couples them (DESIGN §4).
+/// How an internal interface between two regions couples them (docs/DESIGN.md §4).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum InterfaceVariant {
     /// Variant A: each side clamped separately; S is two-valued at the interface.

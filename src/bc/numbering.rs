@@ -3,7 +3,7 @@
 //! Every operator application gathers x over the neighbours of each row, so its speed on a large
 //! mesh depends on how close neighbours are in memory. Mesh generators and refinement number
 //! vertices in whatever order they were made (on the bench's refined meshes, edge midpoints in
-//! cell order, scattered across the array), which cost 2.6× on the biharmonic operator at
+//! cell order, scattered across the array), which makes the biharmonic operator 2.6× slower at
 //! 1M vertices. Numbering the unknowns by breadth-first level sets keeps each row's neighbours
 //! within a band about one mesh width wide, so the gathers hit cache whatever the caller's
 //! numbering. Only the solver's unknowns are renumbered: meshes, coarsening and the results the

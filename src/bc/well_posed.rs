@@ -8,7 +8,7 @@ use crate::{Error, Result};
 pub const COMPONENT: [&str; 2] = ["x", "y"];
 
 /// Each component needs a prescribed unknown in every connected part of the mesh, or its
-/// displacement is undetermined (DESIGN §3: an error, not a hang).
+/// displacement is undetermined (docs/DESIGN.md §3: an error, not a hang).
 pub fn check_well_posed(k: &CsrMatrix, flags: &[Vec<u8>; 2], dofs: &Dofs) -> Result<()> {
     let n = dofs.n;
     let mut comp = vec![u32::MAX; n];

@@ -63,7 +63,7 @@ fn circle(c: DVec2, r: f64, n: usize) -> Vec<DVec2> {
         .collect()
 }
 
-/// [0,8]×[−1,1] minus the cylinder of diameter 1 about (2, 0) (a regular polygon of
+/// \[0,8\]×[−1,1] minus the cylinder of diameter 1 about (2, 0) (a regular polygon of
 /// 4 round(π / 4h) ≥ 16 vertices), uniform edge length about `h` (n = round(1/h) segments per
 /// unit of wall; jittered hexagonal lattice inside). Patches [`CH_WALL`], [`CH_CYLINDER`].
 /// h = 1/8: 1,171 vertices, 24 on the cylinder, min angle 36°; pass h = 1/12 for ≈ 2,600.

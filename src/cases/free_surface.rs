@@ -1,4 +1,4 @@
-//! The free-surface box [0,1]×[−1,0] and the two-region interface mesh built from it by mirroring.
+//! The free-surface box \[0,1\]×[−1,0] and the two-region interface mesh built from it by mirroring.
 
 use super::cdt::{mesh_lattice, Loop, Planar};
 use super::meshes::{lerp_step, to_mesh};
@@ -57,7 +57,16 @@ fn free_surface_planar(h: f64) -> Planar {
     mesh_lattice(&[outer], s, 0.2, 30.0, 2)
 }
 
-/// Unstructured triangles of [0,1]×[−1,0] with edge length about `h`: n = round(1/h) equal
+/// Unstructured triangles of \[x0, x1\] × \[y0, y1\] with edge length about `h` (the free surface's
+/// lattice mesher), patches [`FS_BOTTOM`], [`FS_RIGHT`], [`FS_TOP`], [`FS_LEFT`].
+pub fn unstructured_rectangle([x0, x1, y0, y1]: [f64; 4], h: f64) -> Mesh {
+    assert!(h > 0.0 && x1 > x0 && y1 > y0, "unstructured_rectangle: h > 0 and a non-empty box");
+    let (nx, ny) = (((x1 - x0) / h).round().max(1.0) as usize, ((y1 - y0) / h).round().max(1.0) as usize);
+    let outer = rect_loop([x0, x1, y0, y1], nx, ny, [FS_BOTTOM, FS_RIGHT, FS_TOP, FS_LEFT]);
+    to_mesh(&mesh_lattice(&[outer], (x1 - x0) / nx as f64, 0.2, 30.0, 2), None, "unstructured_rectangle")
+}
+
+/// Unstructured triangles of \[0,1\]×[−1,0] with edge length about `h`: n = round(1/h) equal
 /// boundary segments per side (left and right vertices at bitwise-equal y; the top has n + 1
 /// vertices), the interior a deterministically jittered hexagonal lattice, triangulated,
 /// Delaunay-refined (boundary segments never split) and smoothed. Patches [`FS_BOTTOM`],
@@ -68,7 +77,7 @@ pub fn free_surface(h: f64) -> Mesh {
 }
 
 /// [`free_surface`]`(h)` (region 0) and its exact mirror y → −y (region 1), sharing the n + 1
-/// vertices of y = 0: [0,1]×[−1,1]. The mirror of lower vertex (x, y) is (x, −y) bitwise.
+/// vertices of y = 0: \[0,1\]×[−1,1]. The mirror of lower vertex (x, y) is (x, −y) bitwise.
 /// Patches [`IF_BOTTOM`], [`IF_RIGHT`] (both halves), [`IF_TOP`], [`IF_LEFT`] (both halves),
 /// and [`IF_INTERFACE`] on y = 0 as tagged interior edges. Lower vertices keep the indices of
 /// `free_surface(h)`; upper vertices not on y = 0 follow in the same order.

@@ -1,4 +1,4 @@
-//! Deterministic mesh generators for the cases of DESIGN §7.
+//! Deterministic mesh generators for the cases of docs/DESIGN.md §7.
 //!
 //! Every generator returns a validated [`Mesh`] and produces the same mesh on every run (no
 //! randomness; spade's refinement is deterministic for a fixed insertion order). Patch ids are
@@ -13,8 +13,8 @@ pub use super::cylinder::{
     BL_LAYERS, BL_N_THETA, CH_CYLINDER, CH_WALL, EL_BOX, EL_ELLIPSE,
 };
 pub use super::free_surface::{
-    free_surface, two_region_interface, FS_BOTTOM, FS_LEFT, FS_RIGHT, FS_TOP, IF_BOTTOM, IF_INTERFACE, IF_LEFT,
-    IF_RIGHT, IF_TOP,
+    free_surface, two_region_interface, unstructured_rectangle, FS_BOTTOM, FS_LEFT, FS_RIGHT, FS_TOP, IF_BOTTOM,
+    IF_INTERFACE, IF_LEFT, IF_RIGHT, IF_TOP,
 };
 
 /// [`structured_rectangle`]: the side y = y0.

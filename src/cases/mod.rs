@@ -1,4 +1,4 @@
-//! The paper's test cases (DESIGN §7): deterministic mesh generators with named patches, the
+//! The paper's test cases (docs/DESIGN.md §7): deterministic mesh generators with named patches, the
 //! complete set-ups (`setups`) and the measurements of a run (`report`).
 
 mod cdt;

@@ -1,5 +1,5 @@
 //! Running a case with one method and measuring the result against the ORIGINAL mesh
-//! (DESIGN §7's quality measures).
+//! (docs/DESIGN.md §7's quality measures).
 
 use super::setups::CaseSetup;
 use crate::mesh::quality::{quality, signed_areas};

@@ -1,6 +1,6 @@
-//! The paper's cases (DESIGN §7) as complete set-ups: mesh, boundary conditions, motion, steps.
+//! The paper's cases (docs/DESIGN.md §7) as complete set-ups: mesh, boundary conditions, motion, steps.
 //!
-//! Every set-up is the one stated in DESIGN §7; nothing here is tuned to make a finding hold.
+//! Every set-up is the one stated in docs/DESIGN.md §7; nothing here is tuned to make a finding hold.
 //! `Scale::Quick` only coarsens the meshes (for smoke tests of the CLI); the findings are
 //! asserted at `Scale::Paper`.
 
@@ -24,7 +24,7 @@ pub const CASE_NAMES: [&str; 9] = [
     "boundary_layer_cylinder",
 ];
 
-/// Mesh sizes: the paper's (DESIGN §7) or coarse ones for quick smoke runs.
+/// Mesh sizes: the paper's (docs/DESIGN.md §7) or coarse ones for quick smoke runs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Scale {
     /// Free-surface and interface meshes at h = 1/32, cylinder in channel at h = 1/12.
@@ -58,7 +58,7 @@ fn free_surface_bcs() -> BoundaryConditions {
     bcs
 }
 
-/// The free surface [0,1]×[−1,0]: sides linked (X CLAMPED, Y FREE), bottom FIXED, top CLAMPED
+/// The free surface \[0,1\]×[−1,0]: sides linked (X CLAMPED, Y FREE), bottom FIXED, top CLAMPED
 /// and moved to y = `a` cos 2πx in `steps` equal steps.
 pub fn free_surface_case(name: &'static str, h: f64, a: f64, steps: usize) -> CaseSetup {
     let mesh = free_surface(h);
@@ -78,7 +78,7 @@ pub fn free_surface_case(name: &'static str, h: f64, a: f64, steps: usize) -> Ca
     }
 }
 
-/// The two-region mesh [0,1]×[−1,1] (the free-surface mesh and its mirror): bottom and top
+/// The two-region mesh \[0,1\]×[−1,1] (the free-surface mesh and its mirror): bottom and top
 /// FIXED, sides linked (X CLAMPED, Y FREE), the interface CLAMPED with `variant`, moved to
 /// y = `target(x)` in `steps` equal steps.
 pub fn interface_case(
@@ -104,7 +104,7 @@ pub fn interface_case(
     CaseSetup { name: name.to_string(), mesh, bcs, motion, steps, moved_patch: IF_INTERFACE, upper_region: Some(1) }
 }
 
-/// [0,8]×[−1,1], cylinder D = 1 at (2,0) moved +1 D in x by a rigid translation; channel FIXED,
+/// \[0,8\]×[−1,1], cylinder D = 1 at (2,0) moved +1 D in x by a rigid translation; channel FIXED,
 /// cylinder CLAMPED.
 pub fn cylinder_channel_case(h: f64) -> CaseSetup {
     let mesh = cylinder_channel(h);

@@ -84,6 +84,28 @@ pub(crate) fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> IoError + '_
     move |source| IoError::Io { path: path.to_path_buf(), source }
 }
 
+/// Checks that points given as (x, y, z) lie in one plane z = constant, so that dropping z keeps
+/// the mesh as it is. A mesh in another plane (the xz plane, a tilted one) would otherwise reach
+/// the mesh checks as cells of zero area. The tolerance is relative to the points' extent.
+pub(crate) fn check_planar(points: impl Iterator<Item = [f64; 3]> + Clone) -> Result<(), IoError> {
+    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    for p in points {
+        for k in 0..3 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    let extent = (0..3).map(|k| hi[k] - lo[k]).fold(0.0, f64::max);
+    if hi[2] - lo[2] > 1e-9 * extent {
+        return Err(IoError::Unsupported(format!(
+            "the mesh is not planar in the xy plane: z ranges from {} to {} (meshmove reads 2D meshes from \
+             x and y, with one z for every node)",
+            lo[2], hi[2]
+        )));
+    }
+    Ok(())
+}
+
 /// 1-based line of byte `offset` in `bytes`.
 pub(crate) fn line_of(bytes: &[u8], offset: usize) -> usize {
     1 + bytes[..offset.min(bytes.len())].iter().filter(|&&b| b == b'\n').count()

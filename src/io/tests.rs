@@ -397,3 +397,29 @@ fn io_error_converts_into_crate_error() {
     assert!(matches!(e, crate::Error::Io(IoError::Io { .. })));
     assert_eq!(e.clone(), e);
 }
+
+#[test]
+fn mesh_off_the_xy_plane_is_not_planar() {
+    // The unit square stood up in the xz plane: x and y alone would give cells of zero area.
+    let xz = GOOD22.replace("30 1 1 0", "30 1 0 1").replace("40 0 1 0", "40 0 0 1");
+    match parse_msh(xz.as_bytes()) {
+        Err(IoError::Unsupported(m)) => assert!(m.contains("not planar"), "{m}"),
+        other => panic!("expected a not-planar error, got {other:?}"),
+    }
+    // One z for every node is a plane: read, z dropped.
+    let raised = GOOD22.replace(" 0\n", " 2.5\n");
+    assert!(raised.contains("10 0 0 2.5"));
+    assert_eq!(parse_msh(raised.as_bytes()).unwrap().mesh.coords()[2], DVec2::new(1.0, 1.0));
+    // The same check for .vtu points.
+    let t = vtu_text();
+    let a = t.find("<Points>").unwrap();
+    let b = a + t[a..].find("</Points>").unwrap();
+    let mut points = t[a..b].to_string();
+    let last_zero = points.rfind(" 0 ").unwrap_or_else(|| points.rfind('0').unwrap());
+    points.replace_range(last_zero..last_zero + 2, " 1");
+    let tilted = format!("{}{}{}", &t[..a], points, &t[b..]);
+    match parse_vtu(tilted.as_bytes()) {
+        Err(IoError::Unsupported(m)) => assert!(m.contains("not planar"), "{m}"),
+        other => panic!("expected a not-planar error, got {other:?}"),
+    }
+}

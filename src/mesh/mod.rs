@@ -1,4 +1,4 @@
-//! The mesh: vertices, cells, boundary patches and regions (DESIGN §2).
+//! The mesh: vertices, cells, boundary patches and regions (docs/DESIGN.md §2).
 //!
 //! Cells are triangles today. Everything downstream (operators, multigrid) works on per-cell
 //! element contributions and on adjacency derived from the cells, so tetrahedra and mixed cells

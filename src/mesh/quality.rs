@@ -1,4 +1,4 @@
-//! Quality of a (deformed) mesh: signed areas, inverted cells, angles, area ratios (DESIGN §7).
+//! Quality of a (deformed) mesh: signed areas, inverted cells, angles, area ratios (docs/DESIGN.md §7).
 
 use super::validate::twice_signed_area;
 use super::Mesh;

@@ -1,4 +1,4 @@
-//! Checks on raw caller input, each returning the named error of DESIGN §2.
+//! Checks on raw caller input, each returning the named error of docs/DESIGN.md §2.
 
 use super::{IndexBase, MeshError};
 use glam::DVec2;

@@ -215,7 +215,7 @@ impl CoarseOperator {
 }
 
 /// Hierarchy parameters.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct HierarchyParams {
     pub coarsen: CoarsenParams,
     /// How coarse levels get their operator.

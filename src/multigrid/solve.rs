@@ -161,7 +161,7 @@ pub fn solve(h: &Hierarchy, c: usize, p: &SolveParams, b: &[f64], x: &mut [f64],
             Mode::Default => {
                 // A stalled PCG restarts from its iterate with a stronger smoother (see `STALL`).
                 while run.pcg(&cp, x, &mut ws, &mut rep, boost < MAX_BOOSTS) {
-                    cp = cp.stronger();
+                    cp = cp.stronger(boost);
                     boost += 1;
                 }
             }
@@ -196,8 +196,9 @@ const TRUE_RESIDUAL_RESTARTS: usize = 2;
 const STALL: f64 = 0.2;
 const STALL_AFTER: usize = 10;
 const STALL_SPAN: usize = 5;
-/// Smoother strengthenings before a stalled solve runs on as it is (degree 6 → 10 → 16 → 26).
-const MAX_BOOSTS: usize = 3;
+/// Smoother strengthenings before a stalled solve runs on as it is (degree 10, the l1 bound's
+/// interval, degree 16, 26: see `CycleParams::stronger`).
+const MAX_BOOSTS: usize = 4;
 
 /// Diverging when the residual grew this much: stop rather than run to max_cycles.
 const DIVERGED: f64 = 1e8;

@@ -176,7 +176,7 @@ impl<'a> Locator<'a> {
     pub fn locate(&self, p: DVec2, region: Option<i32>) -> Location {
         let region = region.filter(|r| self.regions.binary_search(r).is_ok());
         let regions = self.mesh.regions();
-        let allowed = |c: u32| region.map_or(true, |r| regions[c as usize] == r);
+        let allowed = |c: u32| region.is_none_or(|r| regions[c as usize] == r);
         let (ci, cj) = self.bucket_of(p);
         // Containing cell in the point's own bucket: the one with the largest smallest weight.
         let mut best: Option<(f64, u32, [f64; 3])> = None;
@@ -186,7 +186,7 @@ impl<'a> Locator<'a> {
             }
             let w = self.weights(c, p);
             let m = w[0].min(w[1]).min(w[2]);
-            if m >= INSIDE_TOL && best.map_or(true, |b| m > b.0) {
+            if m >= INSIDE_TOL && best.is_none_or(|b| m > b.0) {
                 best = Some((m, c, w));
             }
         }
@@ -215,7 +215,7 @@ impl<'a> Locator<'a> {
                         }
                         let t = cells[c as usize];
                         let d = distance_to_triangle(x[t[0] as usize], x[t[1] as usize], x[t[2] as usize], p);
-                        if nearest.map_or(true, |n| d < n.0 || (d == n.0 && c < n.1)) {
+                        if nearest.is_none_or(|n| d < n.0 || (d == n.0 && c < n.1)) {
                             nearest = Some((d, c));
                         }
                     }

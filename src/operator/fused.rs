@@ -4,9 +4,9 @@
 //! Row i of the second pass reads S only at its neighbours, which the locality numbering
 //! (`bc/numbering.rs`) keeps within the bandwidth `bw` of i. So S can be computed `bw` rows ahead
 //! of the second pass, and row i of K is read a second time while it is still in cache instead
-//! of from memory. The pass is as much bound by its arithmetic as by memory on the machines we
-//! measured, so the gain is modest: a 1.06M-vertex biharmonic solve 1.08× faster at 1 thread and
-//! 1.10× at 2 (free surface, one process, best of 5).
+//! of from memory. A pass over K is bound by its arithmetic about as much as by memory, so the
+//! gain is modest: a 1.06M-vertex biharmonic solve is about 1.1× faster than with two passes
+//! (docs/perf-history.md, step 13).
 //!
 //! In parallel the rows are cut into chunks of at least 2·`bw`. S next to a chunk's edges reads
 //! the iterate of the neighbouring chunk, which a smoothing step updates in place, so those S
@@ -21,9 +21,9 @@ use crate::bc::P;
 use crate::sparse::CsrMatrix;
 use rayon::prelude::*;
 
-/// Levels below this many rows keep the plain passes. Measured (free surface, solve time, fused
-/// over plain, in one process): 266k vertices 0.96–1.01×, no gain; 1.06M 1.08× at 1 thread and
-/// 1.10× at 2. Below ≈ ½M rows K is still mostly in the 32 MiB L3 between the two passes.
+/// Levels below this many rows keep the plain passes: below ≈ ½M rows K stays mostly in a 32 MiB
+/// L3 cache between the two passes, and fusing them gains nothing (266k vertices: 0.96–1.01×,
+/// against 1.1× at 1.06M).
 const FUSE_MIN_ROWS: usize = 1 << 19;
 /// Rows of the second pass per block; S runs `bw` rows ahead of the block.
 const BLOCK: usize = 4096;

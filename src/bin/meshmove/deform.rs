@@ -1,25 +1,7 @@
 //! `meshmove deform MESH --config CASE.toml -o OUT.vtu`: the user's own mesh and case.
 //!
-//! The case file (see docs/examples/channel.toml):
-//!
-//! ```toml
-//! method = "biharmonic"        # biharmonic | laplacian | spring
-//! tolerance = 1e-8             # relative residual
-//! threads = 0                  # 0: all cores
-//! steps = 1
-//! [[patch]]                    # a patch by id (integer) or Gmsh physical name (string)
-//! patch = "wall"
-//! kind = "fixed"               # fixed | clamped | free, or [x kind, y kind]
-//! [[link]]                     # periodic: every vertex of a at v + offset on b
-//! a = "left"; b = "right"; offset = [1.0, 0.0]; tol = 1e-9
-//! [[interface]]                # an interior patch between two regions
-//! patch = "interface"; variant = "separate"   # separate (A) | continuous (B)
-//! [[motion]]                   # a rigid motion of a patch ...
-//! patch = "cylinder"; translation = [1.0, 0.0]; rotation_deg = 0.0; center = [2.0, 0.0]
-//! [[motion]]                   # ... or a displacement field (.vtu point data
-//! file = "disp.csv"            # `displacement`, or CSV lines `vertex,dx,dy`, 0-based),
-//! patch = "top"                # optionally only on one patch's vertices
-//! ```
+//! The case file (TOML): every key, its default and an example of each feature are in
+//! docs/CASE-FORMAT.md, whose examples tests/case_format.rs runs.
 //!
 //! Exit status: 0 on a valid result; 1 on a bad mesh or case file (nothing written); 2 on usage
 //! errors (clap); 3 when the result has inverted cells (the .vtu is still written); 4 when a step
@@ -44,6 +26,9 @@ pub struct Args {
     /// The case file (TOML).
     #[arg(long)]
     config: PathBuf,
+    /// Also draw the deformed mesh to this PNG file (title, inverted cells, min area ratio).
+    #[arg(long, value_name = "FILE")]
+    png: Option<PathBuf>,
     /// Where to write the deformed mesh (.vtu).
     #[arg(short, long)]
     output: PathBuf,
@@ -351,7 +336,7 @@ fn build(args: &Args) -> Result<(CaseSetup, Options), String> {
                 let only = patch.map(|p| mesh.patch_vertices(p));
                 for (v, dv) in d.iter().enumerate() {
                     if let Some(dv) = dv {
-                        if only.as_ref().map_or(true, |o| o.binary_search(&(v as u32)).is_ok()) {
+                        if only.as_ref().is_none_or(|o| o.binary_search(&(v as u32)).is_ok()) {
                             motion.displacement[v] = *dv;
                         }
                     }
@@ -428,6 +413,9 @@ pub fn run(args: Args) -> Result<ExitCode, String> {
         );
     }
     println!("wrote           {}", args.output.display());
+    if let Some(png) = &args.png {
+        crate::plot::case_png(png, &setup, &r.coords, opts.method, r.steps)?;
+    }
     if r.inverted > 0 {
         eprintln!(
             "meshmove: error: the deformed mesh has {} inverted cells (written anyway to {})",

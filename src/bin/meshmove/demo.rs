@@ -1,6 +1,6 @@
-//! `meshmove demo --out DIR [--quick]`: every case of DESIGN §7 with every method.
+//! `meshmove demo --out DIR [--quick]`: every case of docs/DESIGN.md §7 with every method.
 
-use crate::plot::{mesh_png, semilog_png, View};
+use crate::plot::{deformed_png, patch_edges, semilog_png, Series, View};
 use glam::DVec2;
 use indicatif::{ProgressBar, ProgressStyle};
 use meshmove::cases::report::{method_name, run_case, run_case_reference, CaseResult, METHODS};
@@ -43,13 +43,53 @@ fn view_for(setup: &CaseSetup, coords: &[DVec2]) -> (View, Option<View>) {
     }
 }
 
-/// One mesh picture, `DIR/{stem}.png`.
-fn picture(dir: &Path, setup: &CaseSetup, coords: &[DVec2], stem: &str, width: u32) -> Result<(), String> {
-    let a = signed_areas(&setup.mesh, coords);
-    let inverted: Vec<bool> = a.iter().map(|&x| x <= 0.0).collect();
+/// The method as a picture names it.
+fn method_title(method: Method) -> &'static str {
+    match method {
+        Method::Biharmonic => "biharmonic",
+        Method::Laplacian => "Laplacian",
+        Method::Spring => "spring analogy",
+    }
+}
+
+/// The case's title for its pictures.
+fn case_title(name: &str) -> String {
+    let t = match name {
+        "free_surface_a0.1" => "Free surface, A = 0.1, one step",
+        "free_surface_a0.25" => "Free surface, A = 0.25, one step",
+        "free_surface_a0.25_10steps" => "Free surface, A = 0.25, 10 steps",
+        "rising_interface_0.5" => "Interface raised to 0.5",
+        "rising_interface_0.75" => "Interface raised to 0.75",
+        "deforming_interface_A" => "Deforming interface, variant A (separate), 15 steps",
+        "deforming_interface_B" => "Deforming interface, variant B (continuous), 15 steps",
+        "cylinder_channel" => "Cylinder in a channel, moved 1 D in x",
+        "boundary_layer_cylinder" => "Boundary-layer cylinder, moved 4.5 D",
+        other => other,
+    };
+    t.to_string()
+}
+
+/// What the picture's window and blue edges are, when that needs saying.
+fn view_notes(setup: &CaseSetup) -> Vec<String> {
+    let mut notes = Vec::new();
+    notes.push(if setup.upper_region.is_some() { "blue: the interface" } else { "blue: the moved patch" }.to_string());
+    match setup.name.as_str() {
+        "cylinder_channel" => notes[0].push_str("; cropped to x from 0.5 to 4.5 of the channel [0, 8] x [-1, 1]"),
+        "boundary_layer_cylinder" => notes[0].push_str("; inset (blue frame): 1.5 D x 1.5 D around the cylinder"),
+        _ => {}
+    }
+    notes
+}
+
+/// One mesh picture, `DIR/{stem}.png`, titled with the case and `label` (the method).
+fn picture(dir: &Path, setup: &CaseSetup, coords: &[DVec2], stem: &str, label: &str, width: u32) -> Result<(), String> {
     let (view, inset) = view_for(setup, coords);
     let path = dir.join(format!("{stem}.png"));
-    mesh_png(&path, &setup.mesh, coords, &inverted, view, inset, width).map_err(|e| format!("{}: {e}", path.display()))
+    let title = format!("{}: {label}", case_title(&setup.name));
+    let highlight = patch_edges(&setup.mesh, setup.moved_patch);
+    let notes = view_notes(setup);
+    deformed_png(&path, (&setup.mesh, coords), (title, &notes), &highlight, (Some(view), inset), width)
+        .map_err(|e| format!("{}: {e}", path.display()))
 }
 
 /// Paper Fig. 8: largest vertex correction per W-cycle, paper-faithful mode, free surface A = 0.25.
@@ -75,8 +115,16 @@ fn convergence(dir: &Path, scale: Scale, width: u32) -> Result<(), String> {
     let p = dir.join("convergence.csv");
     std::fs::write(&p, csv).map_err(|e| format!("{}: {e}", p.display()))?;
     let p = dir.join("convergence.png");
-    semilog_png(&p, &[(&hist[0], BIHARMONIC_COLOUR), (&hist[1], LAPLACIAN_COLOUR)], width, width * 5 / 8)
-        .map_err(|e| format!("{}: {e}", p.display()))
+    let lines = [
+        format!("Multigrid convergence: free surface, A = 0.25, h = 1/{}", (1.0 / h).round()),
+        "paper-faithful mode: W-cycles, one Jacobi sweep, C = 0.9 (paper Fig. 8)".to_string(),
+    ];
+    let series = [
+        Series { name: "biharmonic", values: &hist[0], colour: BIHARMONIC_COLOUR },
+        Series { name: "Laplacian", values: &hist[1], colour: LAPLACIAN_COLOUR },
+    ];
+    let axes = ("W-cycle", "largest vertex correction");
+    semilog_png(&p, &lines, axes, &series, width, width * 5 / 8).map_err(|e| format!("{}: {e}", p.display()))
 }
 
 /// A message above the bar, or on stderr when the bar is hidden (not a terminal).
@@ -120,7 +168,7 @@ pub fn run(args: Args) -> Result<ExitCode, String> {
             write_deformed(&vtu, &setup.mesh, &r.displacement(&setup.mesh))
                 .map_err(|e| format!("{}: {e}", vtu.display()))?;
             let stem = format!("{name}_{}", method_name(method));
-            picture(dir, &setup, &r.coords, &stem, args.width)?;
+            picture(dir, &setup, &r.coords, &stem, method_title(method), args.width)?;
             if unconverged > 0 {
                 // What the method gives: every step solved exactly (slow, independent of the
                 // multigrid), written beside the multigrid's result as *_exact.{vtu,png}.
@@ -135,7 +183,8 @@ pub fn run(args: Args) -> Result<ExitCode, String> {
                         let disp: Vec<DVec2> = coords.iter().zip(setup.mesh.coords()).map(|(a, b)| *a - *b).collect();
                         let vtu = dir.join(format!("{stem}_exact.vtu"));
                         write_deformed(&vtu, &setup.mesh, &disp).map_err(|e| format!("{}: {e}", vtu.display()))?;
-                        picture(dir, &setup, &coords, &format!("{stem}_exact"), args.width)?;
+                        let label = format!("{}, every step solved exactly", method_title(method));
+                        picture(dir, &setup, &coords, &format!("{stem}_exact"), &label, args.width)?;
                     }
                     Err(e) => say(&bar, format!("      exact solve failed: {e}")),
                 }

@@ -9,7 +9,8 @@
 //! sections are skipped. Triangles (type 2) become cells with their physical tag as region (0 if
 //! none), lines (type 1) tagged edges with their physical tag as patch (0 if none; in 4.1 the
 //! first physical tag of the line's curve entity), points (type 15) are ignored, any other type
-//! is `Unsupported`. z is ignored. Nodes no triangle uses are dropped and the rest renumbered in
+//! is `Unsupported`. z must be one value for every node a triangle uses (else `Unsupported`: the
+//! mesh is not planar) and is dropped. Nodes no triangle uses are dropped and the rest renumbered in
 //! file order; `MshMesh::node_tags` keeps each vertex's Gmsh tag. Binary files of either byte
 //! order are read (the order is the one that makes the file's check integer equal 1).
 

@@ -24,6 +24,8 @@ pub(super) struct Parser<'a> {
     /// Gmsh node tag -> index in `nodes`.
     pub(super) node_index: HashMap<usize, usize>,
     pub(super) nodes: Vec<(usize, [f64; 2])>,
+    /// z of each node of `nodes` (checked to be one plane in `finish`).
+    pub(super) node_z: Vec<f64>,
     pub(super) triangles: Vec<[usize; 3]>,
     pub(super) regions: Vec<i32>,
     pub(super) lines: Vec<([usize; 2], i32)>,
@@ -44,6 +46,7 @@ impl<'a> Parser<'a> {
             entity_phys: HashMap::new(),
             node_index: HashMap::new(),
             nodes: Vec::new(),
+            node_z: Vec::new(),
             triangles: Vec::new(),
             regions: Vec::new(),
             lines: Vec::new(),

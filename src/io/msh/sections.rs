@@ -140,12 +140,13 @@ impl<'a> Parser<'a> {
         self.expect_end("Entities")
     }
 
-    pub(super) fn add_node(&mut self, tag: usize, x: f64, y: f64, at: usize) -> Result<(), IoError> {
+    pub(super) fn add_node(&mut self, tag: usize, [x, y, z]: [f64; 3], at: usize) -> Result<(), IoError> {
         if self.node_index.insert(tag, self.nodes.len()).is_some() {
             let msg = format!("node tag {tag} appears twice in $Nodes");
             return Err(if self.binary { self.err_bin(at, msg) } else { self.err_at(at, msg) });
         }
         self.nodes.push((tag, [x, y]));
+        self.node_z.push(z);
         Ok(())
     }
 
@@ -165,21 +166,21 @@ impl<'a> Parser<'a> {
                         self.skip_ws();
                     }
                     let at = self.pos;
-                    let (tag, x, y) = if self.binary {
+                    let (tag, xyz) = if self.binary {
                         let tag = self.bin_tag("a node tag in $Nodes")?;
                         let x = self.bin_f64("a node coordinate in $Nodes")?;
                         let y = self.bin_f64("a node coordinate in $Nodes")?;
-                        self.bin_f64("a node coordinate in $Nodes")?;
-                        (tag, x, y)
+                        let z = self.bin_f64("a node coordinate in $Nodes")?;
+                        (tag, [x, y, z])
                     } else {
                         let what = format!("node {} of {n}: tag in $Nodes", i + 1);
                         let tag: usize = self.num(&what)?;
                         let x: f64 = self.num("a node x coordinate in $Nodes")?;
                         let y: f64 = self.num("a node y coordinate in $Nodes")?;
-                        let _z: f64 = self.num("a node z coordinate in $Nodes")?;
-                        (tag, x, y)
+                        let z: f64 = self.num("a node z coordinate in $Nodes")?;
+                        (tag, [x, y, z])
                     };
-                    self.add_node(tag, x, y, at)?;
+                    self.add_node(tag, xyz, at)?;
                 }
             }
             Version::V41 => {
@@ -204,10 +205,11 @@ impl<'a> Parser<'a> {
                     for (tag, at) in tags {
                         let x = self.f64_41("a node x coordinate in $Nodes")?;
                         let y = self.f64_41("a node y coordinate in $Nodes")?;
-                        for _ in 0..1 + extra {
-                            self.f64_41("a node coordinate in $Nodes")?;
+                        let z = self.f64_41("a node z coordinate in $Nodes")?;
+                        for _ in 0..extra {
+                            self.f64_41("a parametric node coordinate in $Nodes")?;
                         }
-                        self.add_node(tag, x, y, at)?;
+                        self.add_node(tag, [x, y, z], at)?;
                     }
                     read += n;
                 }
@@ -372,6 +374,8 @@ impl<'a> Parser<'a> {
                 new_index[v] = 0;
             }
         }
+        let used = self.nodes.iter().zip(&self.node_z).zip(&new_index).filter(|(_, &k)| k == 0);
+        crate::io::check_planar(used.map(|(((_, [x, y]), &z), _)| [*x, *y, z]))?;
         let mut coords = Vec::new();
         let mut node_tags = Vec::new();
         for (i, (tag, xy)) in self.nodes.iter().enumerate() {

@@ -307,6 +307,7 @@ fn finish_array(
             if a.comps != 3 {
                 return Err(ctx.err(a.at, format!("{label}: NumberOfComponents is {}, 3 expected", a.comps)));
             }
+            crate::io::check_planar(values.chunks_exact(3).map(|p| [p[0], p[1], p[2]]))?;
             out.points = values.chunks_exact(3).map(|p| [p[0], p[1]]).collect();
         }
         Section::PointData | Section::CellData => {

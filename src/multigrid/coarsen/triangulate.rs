@@ -86,7 +86,7 @@ pub(super) fn triangulate(
     let mut queue: Vec<usize> = Vec::new();
     let mut head = 0;
     let toggles = |constraint: bool, a: FixedVertexHandle, b: FixedVertexHandle| -> bool {
-        constraint && segment_at(cv(a), cv(b)).map_or(true, |s| !s.interior)
+        constraint && segment_at(cv(a), cv(b)).is_none_or(|s| !s.interior)
     };
     for fh in cdt.fixed_inner_faces() {
         let face = cdt.face(fh);
