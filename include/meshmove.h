@@ -19,9 +19,10 @@
  * thread is not waited for: a call on it from another thread returns MESHMOVE_STATUS_BUSY at
  * once and does nothing (calls that only read a handle may share it). A solver's work runs on
  * its own options.threads worker threads only, never on a global pool. After fork(), the child
- * may use inherited handles (the worker threads are rebuilt there). A freed handle is refused
+ * may use inherited handles and create new ones (a solver's worker threads are rebuilt in the
+ * child on its first call there). A freed handle is refused
  * (MESHMOVE_STATUS_INVALID_HANDLE) even after later handles were created: its small slot stays
- * allocated (a tombstone of under 100 bytes per handle ever created), so addresses are never
+ * allocated (a tombstone of about 120 bytes per handle ever created), so addresses are never
  * reused.
  */
 

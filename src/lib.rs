@@ -33,8 +33,6 @@ pub mod mesh;
 pub mod motion;
 pub mod multigrid;
 pub mod operator;
-// Until the solver runs every loop in its own `Pool`, only the tests use it.
-#[allow(dead_code)]
 pub(crate) mod pool;
 pub mod solver;
 pub mod sparse;

@@ -7,7 +7,8 @@
 //! would wait forever. `install` compares the process id stored at creation with the current one
 //! and, in a child, builds a fresh pool of the same size first. The parent's pool object is
 //! leaked in the child (not dropped): its locks may have been held by a thread that does not
-//! exist there, so dropping it could block. Results do not depend on the rebuild: every
+//! exist there, so dropping it could block (also when a pool never used in the child is dropped
+//! there). Results do not depend on the rebuild: every
 //! reduction's order is fixed by the data, not by the threads (`sparse.rs`).
 
 use crate::limits::MAX_THREADS;
@@ -57,6 +58,7 @@ impl Pool {
     }
 
     /// Worker threads (the resolved count, never 0).
+    #[cfg(test)]
     pub(crate) fn threads(&self) -> usize {
         self.threads
     }
@@ -77,6 +79,16 @@ impl Pool {
             Arc::clone(&g.1)
         };
         Ok(pool.install(f))
+    }
+}
+
+impl Drop for Pool {
+    fn drop(&mut self) {
+        let g = self.inner.get_mut().unwrap_or_else(|p| p.into_inner());
+        if g.0 != std::process::id() {
+            // Dropped in a forked child before any use there: the parent's pool (see `install`).
+            std::mem::forget(Arc::clone(&g.1));
+        }
     }
 }
 

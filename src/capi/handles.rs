@@ -9,7 +9,8 @@
 //!   later handles were created (a freed address reused by the allocator would otherwise make a
 //!   stale pointer indistinguishable from a live one: a generation stored in the object cannot
 //!   help, as the pointer itself carries none). The cost is the slot and its registry entry,
-//!   under 100 bytes per handle ever created, kept until the process exits.
+//!   about 120 bytes per handle ever created (118 measured over a million create/free pairs),
+//!   kept until the process exits.
 //! * **Registered.** Every slot's address and type are in a registry, so a pointer meshmove never
 //!   made, or a handle of another type, is refused before it is dereferenced.
 //! * **Busy, not racing.** Every call acquires the handle's state word with one atomic

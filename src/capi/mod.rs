@@ -7,10 +7,14 @@
 //! test --test header_fresh` rewrites it) and `include/meshmove.f90` binds it for Fortran.
 //!
 //! Rules every entry point follows: the body runs inside `ffi_body!` (catch_unwind → status,
-//! last error set); every handle is checked against a registry of live handles and its magic
-//! tag; every array pointer is checked for NULL and alignment and comes with an explicit
-//! `int32_t` length that must match; enum arguments are `int32_t` values checked before
-//! conversion (a Rust enum receiving an unknown discriminant would be undefined behaviour).
+//! last error set); every handle is checked against the registry of slots ever handed out and
+//! acquired through its atomic state word (`handles.rs`: BUSY instead of a race, freed slots kept
+//! as tombstones so a stale handle is always refused); every array pointer is checked for NULL
+//! and alignment and comes with an explicit `int32_t` length that must match; every count and
+//! option is checked against its bound (`MESHMOVE_MAX_*`) before anything is allocated; enum
+//! arguments are `int32_t` values checked before conversion (a Rust enum receiving an unknown
+//! discriminant would be undefined behaviour); outputs are written only after every check passed
+//! and only when finite, and a failing call puts back anything it changed.
 #![allow(non_camel_case_types)]
 #![allow(clippy::missing_safety_doc)]
 

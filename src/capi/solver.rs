@@ -80,6 +80,21 @@ fn finite_report(r: &crate::Report) -> Result<(), CError> {
     Ok(())
 }
 
+fn finite_quality(q: &crate::mesh::quality::Quality) -> Result<(), CError> {
+    let fields = [
+        (q.min_area_ratio, "min_area_ratio"),
+        (q.max_area_ratio, "max_area_ratio"),
+        (q.min_angle_deg, "min_angle_deg"),
+    ];
+    match fields.iter().find(|(v, _)| !v.is_finite()) {
+        Some((v, what)) => Err(CError::new(
+            meshmove_status::Diverged,
+            format!("the quality's {what} is not finite ({v}): a cell collapsed; nothing was written"),
+        )),
+        None => Ok(()),
+    }
+}
+
 fn not_converged(r: &crate::Report, what: &str) -> CError {
     CError::new(
         meshmove_status::NotConverged,
@@ -341,8 +356,12 @@ pub unsafe extern "C" fn meshmove_solver_move(
             return Err(s.restore(Some(before.unwrap_or(x)), e));
         }
         let q = sol.quality;
-        let inverted = q.inverted > 0;
-        let e = if inverted {
+        if !quality.is_null() {
+            if let Err(e) = finite_quality(&q) {
+                return Err(s.restore(Some(before.unwrap_or(x)), e));
+            }
+        }
+        let e = if q.inverted > 0 {
             // The method's honest answer has inverted cells: written, never plain OK; the solver
             // keeps the reference it had (a tangled mesh is no reference for the next step).
             Some(s.restore(
@@ -586,7 +605,9 @@ pub unsafe extern "C" fn meshmove_solver_quality(
         }
         let d = read_xy(displacement, len, s.nv(), "displacement")?;
         handles::finite_xy(&d, "displacement")?;
-        handles::write_out(quality, meshmove_quality::from(s.solver.quality(&d)), "quality")
+        let q = s.solver.quality(&d);
+        finite_quality(&q)?;
+        handles::write_out(quality, meshmove_quality::from(q), "quality")
     })
 }
 

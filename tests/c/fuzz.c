@@ -22,6 +22,7 @@
 
 static uint64_t rng;
 static int failures = 0, calls = 0;
+static long seen[MESHMOVE_STATUS_BUSY + 1]; /* calls per status, printed at the end */
 
 static uint64_t next(void) {
     rng ^= rng >> 12;
@@ -53,6 +54,7 @@ static double now(void) {
 static void check(meshmove_status s, const char *what) {
     const char *m = meshmove_last_error();
     calls++;
+    if ((int)s >= 0 && (int)s <= MESHMOVE_STATUS_BUSY) seen[s]++;
     if ((int)s < 0 || (int)s > MESHMOVE_STATUS_BUSY || s == MESHMOVE_STATUS_PANIC) {
         fprintf(stderr, "%s: status %d (%s): %s\n", what, (int)s, meshmove_status_name(s), m);
         failures++;
@@ -267,6 +269,32 @@ static void step(world *w) {
     }
 }
 
+/* A valid mesh, boundary conditions and solver in slot 0, so that most sequences reach the
+ * solver's deeper paths (solves, moves, steps) rather than only the argument checks. */
+static void seed_world(world *w) {
+    static double xy[2 * 16];
+    static int32_t cells[3 * 18], edges[6] = {12, 13, 13, 14, 14, 15}, patches[3] = {1, 1, 1};
+    meshmove_options o;
+    int i, j, c = 0;
+    for (j = 0; j < 4; j++)
+        for (i = 0; i < 4; i++) {
+            xy[2 * (4 * j + i)] = i / 3.0;
+            xy[2 * (4 * j + i) + 1] = j / 3.0;
+        }
+    for (j = 0; j < 3; j++)
+        for (i = 0; i < 3; i++) {
+            int32_t a = 4 * j + i, t[6] = {a, a + 1, a + 5, a, a + 5, a + 4};
+            memcpy(&cells[3 * c], t, sizeof t);
+            c += 2;
+        }
+    meshmove_options_default(&o);
+    o.threads = 1;
+    check(meshmove_mesh_create(16, xy, 18, cells, 0, 3, edges, patches, NULL, &w->mesh[0]), "seed mesh");
+    check(meshmove_bcs_create(&w->bcs[0]), "seed bcs");
+    check(meshmove_solver_create(w->mesh[0], w->bcs[0], &o, &w->solver[0]), "seed solver");
+    w->nv[0] = 16;
+}
+
 int main(int argc, char **argv) {
     uint64_t seed = argc > 1 ? strtoull(argv[1], NULL, 10) : 1;
     long sequences = argc > 2 ? strtol(argv[2], NULL, 10) : 200, q;
@@ -277,6 +305,7 @@ int main(int argc, char **argv) {
         world w;
         int i;
         memset(&w, 0, sizeof w);
+        seed_world(&w);
         for (i = 0; i < 40; i++) step(&w);
         for (k = 0; k < NH; k++) {
             check(meshmove_solver_free(w.solver[k]), "final solver_free");
@@ -294,5 +323,7 @@ int main(int argc, char **argv) {
     }
     printf("fuzz: seed %llu, %ld sequences, %d calls, %d failures, %.1f s\n", (unsigned long long)seed, q, calls, failures,
            now() - t0);
+    for (k = 0; k <= MESHMOVE_STATUS_BUSY; k++)
+        if (seen[k]) printf("  %-34s %ld\n", meshmove_status_name(k), seen[k]);
     return failures != 0;
 }

@@ -8,7 +8,7 @@
  *   - non-finite output is refused and nothing is written;
  *   - two threads on one solver: the second call gets BUSY, free during a move gets BUSY;
  *   - a stale handle is refused even after many new handles were created (no address reuse);
- *   - fork(): the child can use the solver it inherited and a new one.
+ *   - fork(): the child can use the solver it inherited and a new one; the parent's is unaffected.
  * Exit status 0 when every check passed. */
 #define _POSIX_C_SOURCE 200809L
 #include <dirent.h>
@@ -515,21 +515,27 @@ static void test_stale(void) {
     STATUS(meshmove_solver_free(s2), MESHMOVE_STATUS_OK);
 }
 
-/* In a child: the inherited solver and a new one both work (alarm: a hang fails the test). */
-static int child_work(meshmove_solver *s, const grid *g, const double *want) {
+/* In a child (alarm: a hang fails the test): the inherited solver works (bitwise the parent's
+ * result: its pool is rebuilt there) and can be freed; a new solver from an inherited mesh works. */
+static int child_work(meshmove_solver *s, meshmove_mesh *m, meshmove_bcs *b, const grid *g, const double *want) {
     double d[2 * 64], out[2 * 64];
-    meshmove_solver *s2;
+    meshmove_solver *s2 = NULL;
+    meshmove_status st;
     int bad = 0;
     alarm(10);
     top_shift(g, d);
-    if (meshmove_solver_solve(s, 2 * g->nv, d, NULL, out, NULL) != MESHMOVE_STATUS_OK ||
-        memcmp(out, want, sizeof(double) * 2 * (size_t)g->nv) != 0) {
-        fprintf(stderr, "child: inherited solver: %s\n", msg());
+    st = meshmove_solver_solve(s, 2 * g->nv, d, NULL, out, NULL);
+    if (st != MESHMOVE_STATUS_OK || memcmp(out, want, sizeof(double) * 2 * (size_t)g->nv) != 0) {
+        fprintf(stderr, "child: inherited solver: %s: %s\n", meshmove_status_name(st), msg());
         bad = 1;
     }
-    s2 = grid_solver(g, 0);
+    if (meshmove_solver_free(s) != MESHMOVE_STATUS_OK) {
+        fprintf(stderr, "child: freeing the inherited solver: %s\n", msg());
+        bad = 1;
+    }
     memcpy(out, g->xy, sizeof(double) * 2 * (size_t)g->nv);
-    if (s2 == NULL || meshmove_solver_move(s2, 2 * g->nv, d, out, NULL, NULL) != MESHMOVE_STATUS_OK) {
+    if (meshmove_solver_create(m, b, NULL, &s2) != MESHMOVE_STATUS_OK ||
+        meshmove_solver_move(s2, 2 * g->nv, d, out, NULL, NULL) != MESHMOVE_STATUS_OK) {
         fprintf(stderr, "child: new solver: %s\n", msg());
         bad = 1;
     }
@@ -539,24 +545,35 @@ static int child_work(meshmove_solver *s, const grid *g, const double *want) {
 
 static void test_fork(int threads) {
     grid g;
-    meshmove_solver *s;
+    meshmove_mesh *m = NULL;
+    meshmove_bcs *b = NULL;
+    meshmove_solver *s = NULL;
+    meshmove_options o;
     double d[2 * 64], want[2 * 64];
     pid_t pid;
     int status = 0;
     make_grid(&g, 4);
-    s = grid_solver(&g, threads);
+    meshmove_options_default(&o);
+    o.threads = threads;
+    STATUS(meshmove_mesh_create(g.nv, g.xy, g.nc, g.cells, 0, g.n - 1, g.edges, g.patches, NULL, &m), MESHMOVE_STATUS_OK);
+    STATUS(meshmove_bcs_create(&b), MESHMOVE_STATUS_OK);
+    STATUS(meshmove_solver_create(m, b, &o, &s), MESHMOVE_STATUS_OK);
     top_shift(&g, d);
     STATUS(meshmove_solver_solve(s, 2 * g.nv, d, NULL, want, NULL), MESHMOVE_STATUS_OK);
     fflush(NULL);
     pid = fork();
-    if (pid == 0) _exit(child_work(s, &g, want));
+    if (pid == 0) _exit(child_work(s, m, b, &g, want));
     CHECK(pid > 0, "fork failed");
     if (pid > 0) {
         waitpid(pid, &status, 0);
         CHECK(WIFEXITED(status) && WEXITSTATUS(status) == 0, "threads = %d: the forked child %s", threads,
               WIFSIGNALED(status) ? "was killed (hung: alarm)" : "failed");
     }
+    /* the parent's solver is unaffected */
+    STATUS(meshmove_solver_solve(s, 2 * g.nv, d, NULL, want, NULL), MESHMOVE_STATUS_OK);
     STATUS(meshmove_solver_free(s), MESHMOVE_STATUS_OK);
+    meshmove_bcs_free(b);
+    meshmove_mesh_free(m);
 }
 
 /* `hostile_c [GROUP]`: one group, or all of them. */
