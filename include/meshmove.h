@@ -93,7 +93,7 @@
 #define MESHMOVE_IF_TOP 5
 
 /*
- `"cylinder_channel"`: the four channel walls of [0,8]×[−1,1].
+ `"cylinder_channel"`: the four channel walls of `[0,8]×[−1,1]`.
  */
 #define MESHMOVE_CH_WALL 1
 
@@ -699,9 +699,9 @@ meshmove_status meshmove_mesh_create(int32_t num_vertices,
 
 /*
  Creates one of the paper's test meshes with edge length about `h`: `"free_surface"`
- ([0,1]×[−1,0], patches `MESHMOVE_FS_*`, 0 < h ≤ 1/2), `"two_region_interface"`
- ([0,1]×[−1,1], regions 0 and 1, patches `MESHMOVE_IF_*`, 0 < h ≤ 1/2) or
- `"cylinder_channel"` ([0,8]×[−1,1] minus a cylinder, patches `MESHMOVE_CH_*`, 0 < h ≤ 1/4).
+ (`[0,1]×[−1,0]`, patches `MESHMOVE_FS_*`, 0 < h ≤ 1/2), `"two_region_interface"`
+ (`[0,1]×[−1,1]`, regions 0 and 1, patches `MESHMOVE_IF_*`, 0 < h ≤ 1/2) or
+ `"cylinder_channel"` (`[0,8]×[−1,1]` minus a cylinder, patches `MESHMOVE_CH_*`, 0 < h ≤ 1/4).
  h below 1/1024 is refused (the mesh would not fit in memory comfortably).
 
  # Safety

@@ -1,7 +1,7 @@
 //! meshmove: moves the interior of an unstructured mesh when its boundaries move.
 //!
 //! The biharmonic mesh deformation of Helenbrook (2001), beside the Laplacian and spring-analogy
-//! movers, solved by geometric multigrid W-cycles. `DESIGN.md` states the discrete equations.
+//! movers, solved by geometric multigrid W-cycles. `docs/DESIGN.md` states the discrete equations.
 //!
 //! ```
 //! use meshmove::{BoundaryConditions, IndexBase, Kind, Mesh, Motion, Options, Solver};

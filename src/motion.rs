@@ -1,5 +1,5 @@
 //! Prescribed boundary motion: per-vertex displacements and rigid motions of patches, and the
-//! increments of a motion split into equal steps (DESIGN §3 last paragraph, §4).
+//! increments of a motion split into equal steps (docs/DESIGN.md §3 last paragraph, §4).
 
 use crate::{Error, Mesh, Result};
 use glam::DVec2;
@@ -24,7 +24,7 @@ impl RigidMotion {
     }
 
     /// Step `step` (0-based) of `steps` equal steps: the angle and translation are ramped, not
-    /// the displacement, so a rotating body keeps its shape half-way (DESIGN §4).
+    /// the displacement, so a rotating body keeps its shape half-way (docs/DESIGN.md §4).
     pub fn increment(&self, step: usize, steps: usize) -> RigidMotion {
         let f = 1.0 / steps as f64;
         RigidMotion {

@@ -38,7 +38,7 @@ pub const MAX_SUBSTEPS: usize = 1 << 20;
 /// What every step is solved from.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum ReferenceMode {
-    /// The mesh of the previous step (DESIGN §3's multi-step motion): each step solves for the
+    /// The mesh of the previous step (docs/DESIGN.md §3's multi-step motion): each step solves for the
     /// increment on the moved mesh. Large rotations need it; the mesh depends on the path.
     #[default]
     Incremental,
@@ -512,7 +512,7 @@ fn moved_quality(mesh: &Mesh, displacement: &[DVec2]) -> Quality {
     quality(mesh, &moved)
 }
 
-/// DESIGN §4: on a CLAMPED patch moving rigidly, S_b = (1/V_b) Σ_j K_bj (d_j − L_j); the K L part
+/// docs/DESIGN.md §4: on a CLAMPED patch moving rigidly, S_b = (1/V_b) Σ_j K_bj (d_j − L_j); the K L part
 /// is returned as a source, so the held spacing rotates with the body. Every unknown of a patch
 /// vertex gets it (a vertex split per region has one per side).
 pub(crate) fn rigid_flux(h: &Hierarchy, bcs: &BoundaryConditions, motion: &Motion, c: usize) -> Option<Vec<f64>> {

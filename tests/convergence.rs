@@ -1,4 +1,4 @@
-//! Multigrid convergence on the paper's free-surface case (DESIGN §7, A = 0.25, one step):
+//! Multigrid convergence on the paper's free-surface case (docs/DESIGN.md §7, A = 0.25, one step):
 //! W-cycles to a 1e-8 relative max correction (the paper's Fig. 8 measure) and to a 1e-8
 //! relative residual, paper-faithful and default mode, both methods. Printed with
 //! `cargo test --release --test convergence -- --nocapture`.

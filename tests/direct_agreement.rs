@@ -1,4 +1,4 @@
-//! The multigrid solution equals a dense direct solve of the same discrete system (DESIGN §3)
+//! The multigrid solution equals a dense direct solve of the same discrete system (docs/DESIGN.md §3)
 //! to 1e-10 relative, for every method and for each kind of boundary condition.
 
 mod common;

@@ -1,4 +1,4 @@
-//! The l1 Jacobi bound of DESIGN §3 dominates the assembled matrix's rows, and a sweep with
+//! The l1 Jacobi bound of docs/DESIGN.md §3 dominates the assembled matrix's rows, and a sweep with
 //! C = 0.9 never grows the error, even where the bare diagonal would diverge.
 
 mod common;

@@ -1,4 +1,4 @@
-//! Multi-step motion (DESIGN §3 last paragraph): the boundary reaches its target, the reference
+//! Multi-step motion (docs/DESIGN.md §3 last paragraph): the boundary reaches its target, the reference
 //! is re-evaluated each step with the coarse topology kept, and single cycles converge.
 
 mod common;

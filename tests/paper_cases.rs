@@ -1,5 +1,5 @@
-//! The paper's findings (DESIGN §7) as numbers, at the stated set-ups (`Scale::Paper`). Each
-//! assertion names DESIGN's "expected here" value; where ours differs, the comment says what we
+//! The paper's findings (docs/DESIGN.md §7) as numbers, at the stated set-ups (`Scale::Paper`). Each
+//! assertion names the "expected here" value of docs/DESIGN.md §7; where ours differs, the comment says what we
 //! get and why (docs/RESULTS.md has the full table). No case is tuned to pass.
 
 use glam::DVec2;
@@ -48,7 +48,7 @@ fn free_surface_a025_one_step_laplacian_and_spring_tangle() {
 fn free_surface_ten_steps_all_valid_with_the_quality_gap() {
     let (_, b) = run("free_surface_a0.25_10steps", Method::Biharmonic);
     let (_, l) = run("free_surface_a0.25_10steps", Method::Laplacian);
-    // † The paper's "Laplacian inverts on the last step" does not hold (nor did it for DESIGN's
+    // † The paper's "Laplacian inverts on the last step" does not hold (nor did it for docs/DESIGN.md §7's
     // independent implementation): all valid.
     assert_eq!((b.inverted, l.inverted), (0, 0));
     // Expected min area ratio Laplacian ≈ 0.16, biharmonic ≈ 0.68. Ours: 0.206 and 0.680 (the
@@ -135,7 +135,7 @@ fn cylinder_in_channel() {
     assert_eq!(b.inverted, 0);
     // Expected ≈ 200 inverted for the Laplacian. Ours at h = 1/12: 86. The count grows with the
     // mesh (h = 1/8: 36, 1/16: 163, 1/24: 352; examples/channel_probe.rs): the tangled area is
-    // the same, DESIGN does not state its mesh size. The finding (Laplacian inverts right of the
+    // the same, docs/DESIGN.md §7 does not state its mesh size. The finding (Laplacian inverts right of the
     // cylinder, biharmonic does not) holds at every size.
     assert!((60..=120).contains(&l.inverted), "{}", l.inverted);
     // Expected wall-cell area ratio 0.87–1.13. Ours at h = 1/12: 0.795–1.221, tending to it as

@@ -1,4 +1,4 @@
-//! A rotating CLAMPED body rotates its wall layer (DESIGN §4, rigid motion): with the rigid
+//! A rotating CLAMPED body rotates its wall layer (docs/DESIGN.md §4, rigid motion): with the rigid
 //! flux the first off-wall vertices follow the rotation; with held spacing they shear.
 
 mod common;

@@ -1,4 +1,4 @@
-//! Results are bitwise identical for any thread count (DESIGN §5).
+//! Results are bitwise identical for any thread count (docs/DESIGN.md §5).
 
 use meshmove::cases::setups::free_surface_case;
 use meshmove::{Method, Mode, Options, Solver};

@@ -44,7 +44,7 @@ pub const MESHMOVE_IF_INTERFACE: i32 = 3;
 pub const MESHMOVE_IF_LEFT: i32 = 4;
 /// `"two_region_interface"`: the top, y = +1.
 pub const MESHMOVE_IF_TOP: i32 = 5;
-/// `"cylinder_channel"`: the four channel walls of [0,8]×[−1,1].
+/// `"cylinder_channel"`: the four channel walls of `[0,8]×[−1,1]`.
 pub const MESHMOVE_CH_WALL: i32 = 1;
 /// `"cylinder_channel"`: the cylinder of diameter 1 about (2, 0).
 pub const MESHMOVE_CH_CYLINDER: i32 = 2;
@@ -125,9 +125,9 @@ fn in_base(e: MeshError, base: i32) -> CError {
 }
 
 /// Creates one of the paper's test meshes with edge length about `h`: `"free_surface"`
-/// ([0,1]×[−1,0], patches `MESHMOVE_FS_*`, 0 < h ≤ 1/2), `"two_region_interface"`
-/// ([0,1]×[−1,1], regions 0 and 1, patches `MESHMOVE_IF_*`, 0 < h ≤ 1/2) or
-/// `"cylinder_channel"` ([0,8]×[−1,1] minus a cylinder, patches `MESHMOVE_CH_*`, 0 < h ≤ 1/4).
+/// (`[0,1]×[−1,0]`, patches `MESHMOVE_FS_*`, 0 < h ≤ 1/2), `"two_region_interface"`
+/// (`[0,1]×[−1,1]`, regions 0 and 1, patches `MESHMOVE_IF_*`, 0 < h ≤ 1/2) or
+/// `"cylinder_channel"` (`[0,8]×[−1,1]` minus a cylinder, patches `MESHMOVE_CH_*`, 0 < h ≤ 1/4).
 /// h below 1/1024 is refused (the mesh would not fit in memory comfortably).
 ///
 /// # Safety

@@ -1,4 +1,4 @@
-//! The C ABI (DESIGN §6): three opaque handles (`meshmove_mesh`, `meshmove_bcs`,
+//! The C ABI (docs/DESIGN.md §6): three opaque handles (`meshmove_mesh`, `meshmove_bcs`,
 //! `meshmove_solver`), a status from every call, a thread-local last-error message.
 //!
 //! This module only checks arguments, converts them, calls the Rust API and maps errors; the

@@ -262,7 +262,7 @@ pub fn reference_displacement(
         let flags = &lev.flags[c];
         let dp: Vec<f64> =
             (0..n).map(|d| if flags[d] & P != 0 { vals[lev.dofs.dof_vertex[d] as usize][c] } else { 0.0 }).collect();
-        // The rigid-motion flux source of a CLAMPED patch (DESIGN §4): the solver's own.
+        // The rigid-motion flux source of a CLAMPED patch (docs/DESIGN.md §4): the solver's own.
         let g = crate::solver::rigid_flux(solver.hierarchy(), bcs, motion, c);
         let (mut b, mut sc) = (vec![0.0; n], vec![0.0; n]);
         lev.op.rhs(flags, &dp, g.as_deref(), &mut b, &mut sc);

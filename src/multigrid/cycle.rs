@@ -33,7 +33,7 @@ impl CycleParams {
     /// For the biharmonic the rediscretised coarse operator K_c M_c⁻¹ K_c is about half the
     /// Galerkin PᵀAP, so a full coarse correction overshoots ≈ 2× and the cycle diverges
     /// (measured on the free-surface case: factor 2.3 at h = 1/32, 173 at h = 1/128). We weight
-    /// the coarse correction by ½ instead of adding a post-sweep (DESIGN §5 allows either): it
+    /// the coarse correction by ½ instead of adding a post-sweep (docs/DESIGN.md §5 allows either): it
     /// keeps the paper's sweep pattern and converges at 0.90–0.94 per cycle at every size. The
     /// Laplacian's coarse operators do not overshoot; it keeps the full correction.
     pub fn paper(method: Method) -> Self {

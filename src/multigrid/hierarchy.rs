@@ -1,5 +1,5 @@
 //! The multigrid hierarchy: a mesh per level with its unknowns, flags, operator and the
-//! transfer to the next coarser level (DESIGN §5).
+//! transfer to the next coarser level (docs/DESIGN.md §5).
 //!
 //! Coarse vertices are a subset of the fine ones, so when the fine mesh moves the coarse meshes
 //! follow it with their topology kept; only values are re-evaluated.
@@ -111,13 +111,11 @@ impl Level {
         let bounds = |c: usize| {
             let inv_d = self.op.inv_l1_diag(&self.flags[c]);
             // The l1 bound guarantees λmax(D⁻¹A) ≤ 1. For the second-order operators it is
-            // nearly tight: with the default fourth-kind smoother, dropping the power
-            // iteration changed no CG iteration count on the single-step cases (Laplacian and
-            // spring; the first kind on [λmax/6, λmax] lost one on spring) and added 2–6% over
-            // the multi-step ones (10-step free surface, Laplacian 59 → 62), while the
-            // estimate, redone at every re-evaluated step, costs about 2/3 of a Laplacian solve
-            // (30 products per level). The biharmonic's bound is looser (with 1: 18 iterations
-            // instead of 16 on the boundary-layer cylinder), so it keeps the estimate.
+            // nearly tight (the same CG iteration counts as the estimate on the single-step
+            // cases, 2–6% more on the multi-step ones), and the estimate, redone at every
+            // re-evaluated step, costs about 2/3 of a Laplacian solve (30 products per level).
+            // The biharmonic's bound is looser (18 iterations instead of 16 on the
+            // boundary-layer cylinder), so it keeps the estimate.
             let lambda_max = if self.op.method == Method::Biharmonic {
                 estimate_lambda_max(&self.op, &self.flags[c], &inv_d)
             } else {
@@ -191,14 +189,15 @@ fn prolongation(coarse: &Level, locs: &[Location]) -> CsrMatrix {
 pub enum CoarseOperator {
     /// Galerkin for the spring analogy, rediscretised otherwise.
     ///
-    /// Measured (CG iterations, boundary-layer cylinder / free surface 66k / 266k): the spring
-    /// rediscretised diverges on the free surface (its 1/L² weights shrink 4× per level) and
-    /// takes 123 on the wall layer, Galerkin 5 / 4 / 5. The biharmonic and Laplacian converge
+    /// Rediscretised spring operators are far too soft on coarse levels (their 1/L² weights
+    /// shrink 4× per level): CG diverges on the free surface and takes 123 iterations on the
+    /// wall layer of the boundary-layer cylinder, where Galerkin takes 5 (free surface 66k /
+    /// 266k vertices: 4 / 5). The biharmonic and Laplacian converge
     /// as fast rediscretised (12 / 8 / 9 and 5 / 5 / 5) and their solves are 1.4–1.6× cheaper
-    /// that way (sparser coarse operators), so they keep DESIGN §5's rediscretisation.
+    /// that way (sparser coarse operators), so they keep docs/DESIGN.md §5's rediscretisation.
     #[default]
     Auto,
-    /// K and V rediscretised on the coarse mesh (DESIGN §5).
+    /// K and V rediscretised on the coarse mesh (docs/DESIGN.md §5).
     Rediscretised,
     /// K_c = PᵀKP, V_c = PᵀV; see `LevelOperator::galerkin`.
     Galerkin,

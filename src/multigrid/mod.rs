@@ -1,4 +1,4 @@
-//! Geometric multigrid (DESIGN §5): coarse meshes built from the user's mesh, linear transfer,
+//! Geometric multigrid (docs/DESIGN.md §5): coarse meshes built from the user's mesh, linear transfer,
 //! rediscretised operators, Jacobi/Chebyshev smoothing, W-cycles, and the solve to tolerance.
 
 pub mod coarse_solve;

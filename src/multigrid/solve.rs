@@ -1,5 +1,5 @@
 //! Solving one component to a tolerance: the paper's stationary W-cycle iteration, or the
-//! W-cycle as a preconditioner for conjugate gradients (the default, DESIGN §5).
+//! W-cycle as a preconditioner for conjugate gradients (the default, docs/DESIGN.md §5).
 
 use super::cycle::{cycle, CycleParams, Workspace};
 use super::hierarchy::Hierarchy;
@@ -63,16 +63,12 @@ impl SolveParams {
     /// Per-method defaults of the default mode's smoother: fourth-kind Chebyshev of degree 6 on
     /// the finest level and 4 below for the biharmonic, 3 and 2 for the Laplacian and spring.
     ///
-    /// Measured in one run (CG iterations on the boundary-layer cylinder, the cylinder channel,
-    /// the interface, the free surface at 18.8k and 74.9k vertices; then one solve at 1.06M,
-    /// 1 thread, relative to the old default):
-    /// - biharmonic, first kind on [λmax/20, λmax], degree 6 everywhere (the old default):
-    ///   12, 9, 9, 8, 8; fourth kind 6/4: 16, 9, 9, 8, 8, 0.85× the time. First kind 4/4 on
-    ///   [λmax/10, λmax] stalls on the wall layer (200, unconverged), fourth kind 4/4 takes 20.
-    ///   Lower coarse degrees are cheaper on the free surface but slower on the wall layer
-    ///   (fourth kind 6/3: 19; 6/2: 29).
-    /// - Laplacian, first kind 4/4 on [λmax/6, λmax] (the old default): 5 on every case;
-    ///   fourth kind 3/2: 6, 5, 5, 5, 5, 0.76× the time.
+    /// Why these: on the wall layer of the boundary-layer cylinder the fourth kind converges at
+    /// degree 4 (20 CG iterations) where the first kind on [λmax/10, λmax] stalls, degree 6/4
+    /// takes 16, and lower coarse degrees are slower there (6/3: 19, 6/2: 29); on the other cases
+    /// the iteration counts equal the first kind's at degree 6 (9, 9, 8, 8) at 0.85× its time
+    /// (biharmonic) and 0.76× (Laplacian, 5–6 iterations at 3/2). The measurements are in
+    /// docs/perf-history.md.
     pub fn cheb_defaults(&self, method: Method) -> (usize, usize) {
         let (fine, coarse) = if method == Method::Biharmonic { (6, 4) } else { (3, 2) };
         match self.cheb_degree {

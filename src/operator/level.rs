@@ -1,4 +1,4 @@
-//! The operator A of one level and component, applied matrix-free from K and V (DESIGN §3):
+//! The operator A of one level and component, applied matrix-free from K and V (docs/DESIGN.md §3):
 //!
 //! biharmonic:  S_k = (1/V_k) Σ_j K_kj x_j  for k without Z (else 0)      (paper Eq. 5)
 //!              (A x)_i = Σ_k K_ik S_k       for i without P (else 0)      (paper Eq. 6)
@@ -72,7 +72,7 @@ impl LevelOperator {
     }
 
     /// S = M⁻¹ K x on unknowns without Z (Eq. 5 with zero boundary flux), minus an optional
-    /// source `g` (the rigid-motion flux of DESIGN §4).
+    /// source `g` (the rigid-motion flux of docs/DESIGN.md §4).
     fn source(&self, flags: &[u8], x: &[f64], g: Option<&[f64]>, s: &mut [f64]) {
         par_fill(s, |i| self.source_row(flags, i, x, 0, g));
     }
@@ -185,7 +185,7 @@ impl LevelOperator {
         b.iter_mut().for_each(|b| *b = -*b);
     }
 
-    /// 1/D with D the l1 (Gershgorin) row bound of DESIGN §3, zero on P unknowns:
+    /// 1/D with D the l1 (Gershgorin) row bound of docs/DESIGN.md §3, zero on P unknowns:
     /// biharmonic D_i = Σ_{k without Z} |K_ik| (Σ_j |K_kj|) / V_k  (bounds Σ_j |A_ij|, paper Eq. 8),
     /// Laplacian and spring D_i = Σ_j |K_ij|.
     pub fn inv_l1_diag(&self, flags: &[u8]) -> Vec<f64> {

@@ -1,4 +1,4 @@
-//! The discrete operators of DESIGN §3: stiffness K (cotangent or spring weights), lumped mass
+//! The discrete operators of docs/DESIGN.md §3: stiffness K (cotangent or spring weights), lumped mass
 //! V, and per method the operator A, its right-hand side and its l1 Jacobi bound.
 
 mod fused;

@@ -1,5 +1,5 @@
 //! `meshmove bench`: every method, paper-faithful and default mode, against a direct sparse
-//! solve and the legacy Jacobi spring mover, on the free-surface case (DESIGN §7) refined
+//! solve and the legacy Jacobi spring mover, on the free-surface case (docs/DESIGN.md §7) refined
 //! uniformly from about 16 thousand to 4 million vertices. Writes `DIR/bench.csv`, prints a table.
 
 mod alloc;
