@@ -428,11 +428,15 @@ static void *mover(void *arg) {
     shared *sh = arg;
     double *out = malloc(2 * (size_t)sh->nv * sizeof(double));
     int k;
-    for (k = 0; k < sh->rounds; k++) {
+    /* `rounds` calls that got the solver: a BUSY answer (the main thread inside a call) is
+     * retried, so the worker is inside a call often whichever thread wins the first race. */
+    for (k = 0; k < sh->rounds;) {
         meshmove_status st;
         sh->started = 1;
         st = meshmove_solver_solve(sh->s, 2 * sh->nv, sh->d, NULL, out, NULL);
+        if (st == MESHMOVE_STATUS_INVALID_HANDLE) break; /* the main thread freed it */
         if (st != MESHMOVE_STATUS_OK && st != MESHMOVE_STATUS_BUSY) sh->other++;
+        if (st != MESHMOVE_STATUS_BUSY) k++;
     }
     free(out);
     sh->done = 1;
