@@ -168,7 +168,11 @@ pub fn run(args: Args) -> Result<ExitCode, String> {
             write_deformed(&vtu, &setup.mesh, &r.displacement(&setup.mesh))
                 .map_err(|e| format!("{}: {e}", vtu.display()))?;
             let stem = format!("{name}_{}", method_name(method));
-            picture(dir, &setup, &r.coords, &stem, method_title(method), args.width)?;
+            let label = match (&r.failure, r.reports.last()) {
+                (Some(_), Some(last)) => format!("{}, stopped at step {}", method_title(method), last.step),
+                _ => method_title(method).to_string(),
+            };
+            picture(dir, &setup, &r.coords, &stem, &label, args.width)?;
             if unconverged > 0 {
                 // What the method gives: every step solved exactly (slow, independent of the
                 // multigrid), written beside the multigrid's result as *_exact.{vtu,png}.
