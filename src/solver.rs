@@ -154,12 +154,13 @@ impl Solver {
             ));
         }
         if opts.reference != self.opts.reference {
+            // The current positions become the reference (Incremental) or the original mesh
+            // with no motion done yet (Original).
             let x = self.current_coords().to_vec();
-            if opts.reference == ReferenceMode::Incremental {
+            if x.as_slice() != self.mesh().coords() {
                 self.set_reference(x)?;
-            } else {
-                self.total = None;
             }
+            self.total = None;
         }
         self.opts = opts;
         Ok(())

@@ -228,3 +228,25 @@ fn ellipse_fixture_is_fresh() {
         path.display()
     );
 }
+
+/// Switching the reference mode keeps the current positions: they become the reference mesh
+/// (incremental) or the new original mesh.
+#[test]
+fn switching_the_reference_mode_keeps_the_current_mesh() {
+    let mesh = cylinder_channel(1.0 / 8.0);
+    let mut bcs = BoundaryConditions::new();
+    bcs.set_kinds(CH_WALL, Kind::Fixed).set_kinds(CH_CYLINDER, Kind::Clamped);
+    let mut s = Solver::new(&mesh, &bcs, Options { reference: ReferenceMode::Original, ..Default::default() }).unwrap();
+    let up = Motion::zero(mesh.num_vertices()).with_rigid(CH_CYLINDER, RigidMotion::translation(DVec2::new(0.0, 0.1)));
+    s.advance(&up).unwrap();
+    let moved = s.current_coords().to_vec();
+    assert_eq!(s.mesh().coords(), mesh.coords(), "the original mode keeps the original reference");
+    let mut o = s.options().clone();
+    o.reference = ReferenceMode::Incremental;
+    s.set_options(o).unwrap();
+    assert_eq!(s.mesh().coords(), &moved[..]);
+    assert_eq!(s.current_coords(), &moved[..]);
+    s.advance(&up).unwrap();
+    let cyl = mesh.patch_vertices(CH_CYLINDER)[0] as usize;
+    assert!((s.current_coords()[cyl].y - mesh.coords()[cyl].y - 0.2).abs() < 1e-12);
+}
