@@ -421,22 +421,28 @@ typedef struct {
     int nv, rounds;
     double *d;
     volatile int started, done;
+    int busy;  /* BUSY statuses seen by the worker */
     int other; /* statuses other than OK and BUSY seen by the worker */
 } shared;
 
+/* Solves until `rounds` of them succeeded (BUSY ones are counted and retried); stops at any
+ * other status (e.g. after the main thread freed the solver). */
 static void *mover(void *arg) {
     shared *sh = arg;
     double *out = malloc(2 * (size_t)sh->nv * sizeof(double));
-    int k;
-    /* `rounds` calls that got the solver: a BUSY answer (the main thread inside a call) is
-     * retried, so the worker is inside a call often whichever thread wins the first race. */
-    for (k = 0; k < sh->rounds;) {
+    int ok = 0;
+    while (ok < sh->rounds) {
         meshmove_status st;
         sh->started = 1;
         st = meshmove_solver_solve(sh->s, 2 * sh->nv, sh->d, NULL, out, NULL);
-        if (st == MESHMOVE_STATUS_INVALID_HANDLE) break; /* the main thread freed it */
-        if (st != MESHMOVE_STATUS_OK && st != MESHMOVE_STATUS_BUSY) sh->other++;
-        if (st != MESHMOVE_STATUS_BUSY) k++;
+        if (st == MESHMOVE_STATUS_OK)
+            ok++;
+        else if (st == MESHMOVE_STATUS_BUSY)
+            sh->busy++;
+        else {
+            sh->other++;
+            break;
+        }
     }
     free(out);
     sh->done = 1;
@@ -451,13 +457,18 @@ static void test_busy(void) {
     memset(&sh, 0, sizeof sh);
     sh.s = case_solver(1.0 / 64, 1, &sh.nv);
     sh.d = case_motion(sh.s, sh.nv);
-    sh.rounds = 40;
+    sh.rounds = 20;
     out = malloc(2 * (size_t)sh.nv * sizeof(double));
     pthread_create(&t, NULL, mover, &sh);
     while (!sh.started) sched_yield();
     while (!sh.done) {
         meshmove_status st = meshmove_solver_solve(sh.s, 2 * sh.nv, sh.d, NULL, out, NULL);
-        if (st == MESHMOVE_STATUS_OK) continue; /* the worker was between calls */
+        if (st == MESHMOVE_STATUS_OK) {
+            /* this thread won: give the worker time to start its next call */
+            struct timespec pause = {0, 2000000};
+            nanosleep(&pause, NULL);
+            continue;
+        }
         if (st != MESHMOVE_STATUS_BUSY) {
             other++;
             continue;
@@ -483,7 +494,8 @@ static void test_busy(void) {
     else
         CHECK(sh.other == 0, "the worker saw %d statuses other than OK/BUSY", sh.other);
     if (!freed) STATUS(meshmove_solver_free(sh.s), MESHMOVE_STATUS_OK);
-    printf("busy: %d BUSY solves, %d BUSY frees\n", busy_solve, busy_free);
+    printf("busy: %d BUSY solves, %d BUSY frees in this thread, %d BUSY solves in the worker%s\n", busy_solve, busy_free,
+           sh.busy, freed ? " (then freed between its calls)" : "");
     free(sh.d);
     free(out);
 }
