@@ -921,7 +921,8 @@ meshmove_status meshmove_solver_move(struct meshmove_solver *solver,
  and 15-interval runs); the solver's reference becomes the moved mesh. `reports`: NULL (with
  `num_reports` 0), or room for `num_reports` step reports: the first min(count, num_reports)
  are copied (all of them: `meshmove_solver_step_reports`). On failure the solver is as before
- the call (its step reports say how far the motion got).
+ the call (its step reports say how far the motion got); so it is when the last step's result
+ has inverted cells (`MESHMOVE_STATUS_INVERTED`: the method's answer, reported, not adopted).
 
  # Safety
  `prescribed` must hold `len` doubles, `reports` `num_reports` structs.

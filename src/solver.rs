@@ -407,14 +407,16 @@ impl Solver {
         self.check_reference(&coords)?;
         let mut undo = self.undo();
         let r = self.set_reference_inner(coords, &mut undo);
-        if r.is_err() {
-            self.restore(undo);
+        match r {
+            // In `ReferenceMode::Original` the new reference is the new original mesh.
+            Ok(()) => self.total = None,
+            Err(_) => self.restore(undo),
         }
         r
     }
 
     /// Finite positions, one per vertex, no cell of non-positive area.
-    fn check_reference(&self, coords: &[DVec2]) -> Result<()> {
+    pub(crate) fn check_reference(&self, coords: &[DVec2]) -> Result<()> {
         let nv = self.hierarchy.fine().mesh.num_vertices();
         if coords.len() != nv {
             return Err(Error::InvalidArgument(format!("new reference needs {nv} positions, got {}", coords.len())));
@@ -481,10 +483,21 @@ impl Solver {
     /// The drop-in call of a time step: moves the mesh by `increment` (the boundary motion since
     /// the last call) from the current positions, with the sub-stepping of the options, and makes
     /// the result the current mesh. Returns the displacement from the positions before the call;
-    /// a result with inverted cells is returned (its `quality` says so), never silently.
+    /// a result with inverted cells is returned (its `quality` says so) and not adopted: the
+    /// solver stays as before the call, since no step can start from a tangled mesh.
     pub fn advance(&mut self, increment: &Motion) -> Result<Solution> {
         self.check_motion(increment)?;
-        steps::advance(self, increment)
+        steps::advance(self, None, increment)
+    }
+
+    /// [`Solver::advance`] from the positions `coords`, when the caller moved the mesh itself
+    /// since the last call: they become the current mesh (the reference, or in
+    /// `ReferenceMode::Original` the new original mesh) in the same transaction, so a failure
+    /// leaves the solver as it was. A result with inverted cells is returned and not adopted.
+    pub fn advance_from(&mut self, coords: &[DVec2], increment: &Motion) -> Result<Solution> {
+        self.check_motion(increment)?;
+        let from = (coords != self.current_coords()).then_some(coords);
+        steps::advance(self, from, increment)
     }
 
     /// Quality of the reference mesh moved by `displacement`.

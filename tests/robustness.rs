@@ -88,7 +88,7 @@ fn substepping_keeps_large_rotations_valid_or_fails_cleanly() {
         (s, r)
     };
     // Without sub-stepping the last step inverts cells: the method's honest answer, returned
-    // with its count (the reference stays on the last valid mesh).
+    // with its count and not adopted (the solver stays on the mesh it started from).
     let (_, r) = turn(270.0, 1);
     let last = r.unwrap().pop().unwrap();
     assert!(last.step == 10 && last.inverted > 0, "{}", last.line());

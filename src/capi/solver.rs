@@ -337,46 +337,30 @@ pub unsafe extern "C" fn meshmove_solver_move(
         let d = read_xy(boundary_displacement, len, nv, "boundary_displacement")?;
         let x = read_xy(coords, len, nv, "coords")?;
         handles::finite_xy(&x, "coords")?;
-        // Transactional: `advance` restores the solver when it fails; the reference this call
-        // moved to `coords` first is put back by `restore`.
-        let before = if x.as_slice() != s.solver.current_coords() {
-            let before = s.solver.mesh().coords().to_vec();
-            s.solver.set_reference(x.clone())?;
-            Some(before)
-        } else {
-            None
-        };
+        // Transactional: `advance_from` re-references at `coords` (when the code moved the mesh
+        // itself) and solves in one transaction, restoring the solver when it fails; a result
+        // with inverted cells is returned but not adopted.
         let motion = s.motion(d);
-        let sol = match s.solver.advance(&motion) {
-            Ok(sol) => sol,
-            Err(e) => return Err(s.restore(before, e.into())),
-        };
-        let moved: Vec<DVec2> = x.iter().zip(&sol.displacement).map(|(a, b)| *a + *b).collect();
-        if let Err(e) = finite_out(&moved, "moved position").and_then(|()| finite_report(&sol.report)) {
-            return Err(s.restore(Some(before.unwrap_or(x)), e));
-        }
+        let sol = s.solver.advance_from(&x, &motion)?;
+        // The positions the solver reached (checked finite inside its transaction).
+        let moved = s.solver.last_valid_coords().to_vec();
+        finite_out(&moved, "moved position")?;
+        finite_report(&sol.report)?;
         let q = sol.quality;
         if !quality.is_null() {
-            if let Err(e) = finite_quality(&q) {
-                return Err(s.restore(Some(before.unwrap_or(x)), e));
-            }
+            finite_quality(&q)?;
         }
-        let e = if q.inverted > 0 {
+        let e = (q.inverted > 0).then(|| {
             // The method's honest answer has inverted cells: written, never plain OK; the solver
-            // keeps the reference it had (a tangled mesh is no reference for the next step).
-            Some(s.restore(
-                before,
-                CError::new(
-                    meshmove_status::Inverted,
-                    format!(
-                        "the moved mesh has {} inverted cell(s) (smallest area ratio {:e}); coords hold it, the solver keeps the reference it had",
-                        q.inverted, q.min_area_ratio
-                    ),
+            // keeps the mesh it had (a tangled mesh is no reference for the next step).
+            CError::new(
+                meshmove_status::Inverted,
+                format!(
+                    "the moved mesh has {} inverted cell(s) (smallest area ratio {:e}); coords hold it, the solver keeps the mesh it had",
+                    q.inverted, q.min_area_ratio
                 ),
-            ))
-        } else {
-            None
-        };
+            )
+        });
         report_out(report, &sol.report)?;
         if !quality.is_null() {
             handles::write_out(quality, meshmove_quality::from(q), "quality")?;
@@ -392,7 +376,8 @@ pub unsafe extern "C" fn meshmove_solver_move(
 /// and 15-interval runs); the solver's reference becomes the moved mesh. `reports`: NULL (with
 /// `num_reports` 0), or room for `num_reports` step reports: the first min(count, num_reports)
 /// are copied (all of them: `meshmove_solver_step_reports`). On failure the solver is as before
-/// the call (its step reports say how far the motion got).
+/// the call (its step reports say how far the motion got); so it is when the last step's result
+/// has inverted cells (`MESHMOVE_STATUS_INVERTED`: the method's answer, reported, not adopted).
 ///
 /// # Safety
 /// `prescribed` must hold `len` doubles, `reports` `num_reports` structs.
@@ -428,12 +413,13 @@ pub unsafe extern "C" fn meshmove_solver_move_in_steps(
         }
         s.last = s.solver.current_coords().iter().zip(&before).map(|(a, b)| *a - *b).collect();
         // The last step's result inverted cells (the method's honest answer without
-        // sub-stepping): reported, never plain OK; the reference stays on the last valid mesh.
+        // sub-stepping): reported, never plain OK; the solver stays as before the call.
         match s.solver.step_reports().last() {
             Some(r) if r.accepted && r.inverted > 0 => Err(CError::new(
                 meshmove_status::Inverted,
                 format!(
-                    "the last step's mesh has {} inverted cell(s) (smallest area ratio {:e}); the solver keeps the last valid mesh",
+                    "the last step's mesh has {} inverted cell(s) (smallest area ratio {:e}); the solver keeps the mesh it \
+                     had before the call (the step reports say how the motion went)",
                     r.inverted, r.min_volume_ratio
                 ),
             )),

@@ -73,35 +73,77 @@ struct Step<'a> {
     last: bool,
 }
 
-pub(super) fn advance(s: &mut Solver, increment: &Motion) -> Result<Solution> {
-    let before = s.current_coords().to_vec();
+/// One step of `increment` from the current positions, or first from `from` (the caller moved
+/// the mesh itself: those positions become the current mesh in the same transaction). A result
+/// with inverted cells is returned but not adopted: the solver stays as before the call.
+pub(super) fn advance(s: &mut Solver, from: Option<&[DVec2]>, increment: &Motion) -> Result<Solution> {
     let t0 = Instant::now();
-    run(s, |s, undo| do_step(s, &Step { number: 1, increment, from: 0.0, to: 1.0, last: true }, undo))?;
-    let after = s.last_valid.clone();
-    let displacement: Vec<DVec2> = after.iter().zip(&before).map(|(a, b)| *a - *b).collect();
-    let quality = crate::mesh::quality::quality(&s.mesh().with_coords(before.clone()), &after);
-    Ok(Solution { displacement, report: summary(&s.steps, t0), quality })
+    run(
+        s,
+        |s, undo| {
+            if let Some(x) = from {
+                rebase(s, x, undo)?;
+            }
+            let before = s.current_coords().to_vec();
+            do_step(s, &Step { number: 1, increment, from: 0.0, to: 1.0, last: true }, undo)?;
+            let after = &s.last_valid;
+            let displacement: Vec<DVec2> = after.iter().zip(&before).map(|(a, b)| *a - *b).collect();
+            let quality = crate::mesh::quality::quality(&s.mesh().with_coords(before), after);
+            // Every output finite, or the call fails (and the transaction restores the solver).
+            let q = [quality.min_area_ratio, quality.max_area_ratio, quality.min_angle_deg];
+            if after.iter().chain(&displacement).any(|p| !p.is_finite()) || q.iter().any(|v| !v.is_finite()) {
+                return Err(Error::Diverged(
+                    "the moved positions, their displacement or quality are not finite".into(),
+                ));
+            }
+            Ok(Solution { displacement, report: summary(&s.steps, t0), quality })
+        },
+        |sol| sol.quality.inverted == 0,
+    )
 }
 
+/// `steps` equal steps of `motion`. When the last step's result has inverted cells it is
+/// reported (the last step report) and not adopted: the solver stays as before the call.
 pub(super) fn move_in_steps(s: &mut Solver, motion: &Motion, steps: usize) -> Result<()> {
-    run(s, |s, undo| {
-        for i in 0..steps {
-            let increment = motion.increment(i, steps);
-            let (from, to) = (i as f64 / steps as f64, (i + 1) as f64 / steps as f64);
-            do_step(s, &Step { number: i + 1, increment: &increment, from, to, last: i + 1 == steps }, undo)?;
-        }
-        Ok(())
-    })
+    run(
+        s,
+        |s, undo| {
+            for i in 0..steps {
+                let increment = motion.increment(i, steps);
+                let (from, to) = (i as f64 / steps as f64, (i + 1) as f64 / steps as f64);
+                do_step(s, &Step { number: i + 1, increment: &increment, from, to, last: i + 1 == steps }, undo)?;
+            }
+            Ok(s.steps.last().map_or(0, |r| r.inverted))
+        },
+        |&inverted| inverted == 0,
+    )
+    .map(|_| ())
 }
 
-/// Runs `f` as one transaction: reports cleared, the solver restored when `f` fails.
-fn run(s: &mut Solver, f: impl FnOnce(&mut Solver, &mut Undo) -> Result<()>) -> Result<()> {
+/// Makes `x` the current mesh: the reference (incremental) or the original mesh with no motion
+/// done yet (original).
+fn rebase(s: &mut Solver, x: &[DVec2], undo: &mut Undo) -> Result<()> {
+    s.check_reference(x)?;
+    if x != s.mesh().coords() {
+        s.set_reference_inner(x.to_vec(), undo)?;
+    }
+    s.total = None;
+    Ok(())
+}
+
+/// Runs `f` as one transaction: reports cleared, the solver restored when `f` fails or its
+/// result is not to be `kept`.
+fn run<T>(
+    s: &mut Solver,
+    f: impl FnOnce(&mut Solver, &mut Undo) -> Result<T>,
+    keep: impl FnOnce(&T) -> bool,
+) -> Result<T> {
     s.steps.clear();
     s.last_valid = s.current_coords().to_vec();
     let mut undo = s.undo();
     let total = s.total.clone();
     let r = f(s, &mut undo);
-    if r.is_err() {
+    if !r.as_ref().is_ok_and(keep) {
         s.restore(undo);
         s.total = total;
     }
