@@ -92,7 +92,8 @@ pub struct Solver {
     total: Option<(Motion, Vec<DVec2>)>,
     /// The sub-steps of the last `advance` or `move_in_steps` call.
     steps: Vec<StepReport>,
-    /// The last valid mesh the last `advance` or `move_in_steps` call reached.
+    /// The last valid mesh the last `advance` or `move_in_steps` call reached (empty before the
+    /// first).
     last_valid: Vec<DVec2>,
 }
 
@@ -106,8 +107,8 @@ impl Solver {
         let pairs = resolve_links(mesh, &bcs.links)?;
         let pool = Pool::new(opts.threads)?;
         let hierarchy = pool.install(|| Hierarchy::build(mesh, pairs, bcs, opts.method, &opts.hierarchy))??;
-        let last_valid = mesh.coords().to_vec();
-        Ok(Solver { opts, bcs: bcs.clone(), hierarchy, pool, total: None, steps: Vec::new(), last_valid })
+        let (steps, last_valid) = (Vec::new(), Vec::new());
+        Ok(Solver { opts, bcs: bcs.clone(), hierarchy, pool, total: None, steps, last_valid })
     }
 
     /// Runs `f` on the solver's threads: every part of a call's work, so the thread count set
@@ -188,7 +189,12 @@ impl Solver {
     /// The last valid mesh the last [`Solver::advance`] or [`Solver::move_in_steps`] call reached
     /// (its result on success; on failure how far it got, while the solver itself is restored).
     pub fn last_valid_coords(&self) -> &[DVec2] {
-        &self.last_valid
+        // Empty until the first such call (a copy of the mesh per solver is not kept for nothing).
+        if self.last_valid.is_empty() {
+            self.current_coords()
+        } else {
+            &self.last_valid
+        }
     }
 
     /// A prescribed motion must fit the mesh and move only what it can: one rigid motion per
