@@ -7,7 +7,7 @@
 //! a reference mesh with a cell of non-positive area is `Error::Tangled` before anything is
 //! solved on it, and a call that fails leaves the solver exactly as it was.
 
-use crate::bc::{resolve_links, BoundaryConditions, Kind, P};
+use crate::bc::{resolve_links, BoundaryConditions, Kind, COMPONENT, P};
 use crate::mesh::quality::{inverted_cells, quality, Quality};
 use crate::motion::Motion;
 use crate::multigrid::cycle::{cycle, Workspace};
@@ -96,8 +96,6 @@ pub struct Solver {
     /// first).
     last_valid: Vec<DVec2>,
 }
-
-use crate::bc::COMPONENT;
 
 impl Solver {
     pub fn new(mesh: &Mesh, bcs: &BoundaryConditions, opts: Options) -> Result<Solver> {
