@@ -187,24 +187,16 @@ fn bad_config_fails_with_a_message_naming_the_problem() {
 fn failed_step_writes_the_last_valid_mesh_and_exits_4() {
     let d = tmp("fail");
     let mesh = example("channel.msh");
-    let cfg = d.join("c.toml");
-    std::fs::write(
-        &cfg,
-        "tolerance = 1e-30\nsteps = 2\n[[patch]]\npatch = \"cylinder\"\nkind = \"clamped\"\n\
-         [[motion]]\npatch = \"cylinder\"\ntranslation = [0.2, 0.0]\n",
-    )
-    .unwrap();
-    let (out, report) = (d.join("o.vtu"), d.join("r.jsonl"));
-    let o = meshmove(&[
-        "deform",
-        &mesh,
-        "--config",
-        cfg.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "--report",
-        report.to_str().unwrap(),
-    ]);
+    let (cfg, out, report) = (d.join("c.toml"), d.join("o.vtu"), d.join("r.jsonl"));
+    // The cylinder moved 0.2 in x in two steps, with `extra` keys first.
+    let deform = |extra: &str| {
+        let case = "steps = 2\n[[patch]]\npatch = \"cylinder\"\nkind = \"clamped\"\n\
+                    [[motion]]\npatch = \"cylinder\"\ntranslation = [0.2, 0.0]\n";
+        std::fs::write(&cfg, format!("{extra}{case}")).unwrap();
+        let path = |p: &PathBuf| p.to_str().unwrap().to_string();
+        meshmove(&["deform", &mesh, "--config", &path(&cfg), "-o", &path(&out), "--report", &path(&report)])
+    };
+    let o = deform("tolerance = 1e-30\n");
     assert_eq!(o.status.code(), Some(4), "{}", text(&o));
     assert!(text(&o).contains("not converged") && text(&o).contains("o.last-valid.vtu"), "{}", text(&o));
     assert!(d.join("o.last-valid.vtu").exists() && !out.exists());
@@ -212,17 +204,7 @@ fn failed_step_writes_the_last_valid_mesh_and_exits_4() {
     assert!(lines.lines().count() >= 1 && lines.contains("\"converged\":false"), "{lines}");
 
     // A run that succeeds: one JSON object per sub-step, one line per sub-step on stderr.
-    std::fs::write(&cfg, "steps = 2\n[[patch]]\npatch = \"cylinder\"\nkind = \"clamped\"\n[[motion]]\npatch = \"cylinder\"\ntranslation = [0.2, 0.0]\n").unwrap();
-    let o = meshmove(&[
-        "deform",
-        &mesh,
-        "--config",
-        cfg.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "--report",
-        report.to_str().unwrap(),
-    ]);
+    let o = deform("");
     assert!(o.status.success(), "{}", text(&o));
     let lines = std::fs::read_to_string(&report).unwrap();
     assert_eq!(lines.lines().count(), 2, "{lines}");
