@@ -96,20 +96,25 @@ static void make_grid(grid *g, int n) {
     }
 }
 
-static meshmove_solver *grid_solver(const grid *g, int threads) {
-    meshmove_mesh *m = NULL;
+/* A solver with `threads` workers on `m` (every patch FIXED); `m` is freed. */
+static meshmove_solver *solver_on(meshmove_mesh *m, int threads) {
     meshmove_bcs *b = NULL;
     meshmove_solver *s = NULL;
     meshmove_options o;
     meshmove_options_default(&o);
     o.threads = threads;
-    STATUS(meshmove_mesh_create(g->nv, g->xy, g->nc, g->cells, 0, g->n - 1, g->edges, g->patches, NULL, &m),
-           MESHMOVE_STATUS_OK);
     STATUS(meshmove_bcs_create(&b), MESHMOVE_STATUS_OK);
     STATUS(meshmove_solver_create(m, b, &o, &s), MESHMOVE_STATUS_OK);
     meshmove_bcs_free(b);
     meshmove_mesh_free(m);
     return s;
+}
+
+static meshmove_solver *grid_solver(const grid *g, int threads) {
+    meshmove_mesh *m = NULL;
+    STATUS(meshmove_mesh_create(g->nv, g->xy, g->nc, g->cells, 0, g->n - 1, g->edges, g->patches, NULL, &m),
+           MESHMOVE_STATUS_OK);
+    return solver_on(m, threads);
 }
 
 /* The grid's top moves right by 0.05. */
@@ -122,18 +127,9 @@ static void top_shift(const grid *g, double *d) {
 /* A finer mesh whose solves take long enough to overlap with another thread's call. */
 static meshmove_solver *case_solver(double h, int threads, int *nv) {
     meshmove_mesh *m = NULL;
-    meshmove_bcs *b = NULL;
-    meshmove_solver *s = NULL;
-    meshmove_options o;
-    meshmove_options_default(&o);
-    o.threads = threads;
     STATUS(meshmove_mesh_create_case("free_surface", h, &m), MESHMOVE_STATUS_OK);
-    STATUS(meshmove_bcs_create(&b), MESHMOVE_STATUS_OK);
-    STATUS(meshmove_solver_create(m, b, &o, &s), MESHMOVE_STATUS_OK);
     meshmove_mesh_sizes(m, nv, NULL);
-    meshmove_bcs_free(b);
-    meshmove_mesh_free(m);
-    return s;
+    return solver_on(m, threads);
 }
 
 /* The top (y = 0) of the free-surface case rises by 0.02 sin(pi x). */
