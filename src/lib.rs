@@ -27,6 +27,7 @@ pub mod capi;
 pub mod cases;
 pub mod dense;
 pub mod error;
+pub mod geometry;
 pub mod io;
 pub(crate) mod limits;
 pub mod mesh;

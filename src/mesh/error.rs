@@ -38,6 +38,10 @@ pub enum MeshError {
     TaggedEdgeTwice { edge: usize, a: usize, b: usize, first: i32, second: i32 },
     #[error("{regions} region ids given for {cells} cells")]
     RegionCount { regions: usize, cells: usize },
+    #[error("a mesh of dimension {dim}: meshmove handles 2 and 3")]
+    Dimension { dim: usize },
+    #[error("cell {cell} is a {cell_type}, which is not a cell of a {dim}D mesh")]
+    CellTypeNotInDimension { cell: usize, cell_type: crate::geometry::CellType, dim: usize },
     #[error("the mesh has {vertices} vertices; at most {max} are supported")]
     TooLarge { vertices: usize, max: usize },
 }

@@ -4,12 +4,14 @@
 //! element contributions and on adjacency derived from the cells, so tetrahedra and mixed cells
 //! add a cell kind here and an element routine in `operator`, not a new data model.
 
+mod data;
 mod error;
 pub mod quality;
 mod refine;
 mod topology;
 pub(crate) mod validate;
 
+pub use data::MeshData;
 pub use error::MeshError;
 pub use topology::{edge_key, EdgeCells, VertexCells};
 

@@ -1,0 +1,142 @@
+//! A mesh as plain arrays: what the file readers and the case generators produce, what
+//! [`Mesh::from_data`](super::Mesh::from_data) validates, and what the writers take.
+
+use crate::geometry::CellType;
+
+/// A mesh as plain 0-based arrays, in the layout of VTK's unstructured grid and of most FV
+/// codes: coordinates interleaved (`dim` per vertex), cells and faces as CSR lists.
+///
+/// Nothing here is checked; [`Mesh::from_data`](super::Mesh::from_data) does that.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct MeshData {
+    /// 2 or 3.
+    pub dim: usize,
+    /// `dim` values per vertex: x0, y0, (z0,) x1, ...
+    pub coords: Vec<f64>,
+    /// The type of each cell.
+    pub cell_types: Vec<CellType>,
+    /// Cell `c`'s corners are `cell_vertices[cell_offsets[c]..cell_offsets[c + 1]]`; starts at 0.
+    pub cell_offsets: Vec<u32>,
+    /// Corners of every cell, in VTK's local order for its type.
+    pub cell_vertices: Vec<u32>,
+    /// Region of each cell; empty means every cell is in region 0.
+    pub regions: Vec<i32>,
+    /// Tagged faces (segments in 2D, triangles and quads in 3D): face `f`'s vertices are
+    /// `face_vertices[face_offsets[f]..face_offsets[f + 1]]`; starts at 0.
+    pub face_offsets: Vec<u32>,
+    /// Vertices of every tagged face.
+    pub face_vertices: Vec<u32>,
+    /// Patch id of each tagged face.
+    pub face_patch: Vec<i32>,
+}
+
+impl MeshData {
+    /// An empty mesh of dimension `dim`.
+    pub fn new(dim: usize) -> MeshData {
+        MeshData { dim, cell_offsets: vec![0], face_offsets: vec![0], ..MeshData::default() }
+    }
+
+    /// Number of vertices (`coords.len() / dim`).
+    pub fn num_vertices(&self) -> usize {
+        self.coords.len().checked_div(self.dim).unwrap_or(0)
+    }
+
+    /// Number of cells.
+    pub fn num_cells(&self) -> usize {
+        self.cell_types.len()
+    }
+
+    /// Number of tagged faces.
+    pub fn num_faces(&self) -> usize {
+        self.face_patch.len()
+    }
+
+    /// Appends a vertex; returns its index.
+    pub fn push_vertex(&mut self, x: &[f64]) -> u32 {
+        debug_assert_eq!(x.len(), self.dim);
+        self.coords.extend_from_slice(x);
+        (self.num_vertices() - 1) as u32
+    }
+
+    /// Appends a cell in region `region`.
+    pub fn push_cell(&mut self, ty: CellType, vertices: &[u32], region: i32) {
+        if self.cell_offsets.is_empty() {
+            self.cell_offsets.push(0);
+        }
+        // Regions are stored only once a cell is outside region 0.
+        if region != 0 && self.regions.is_empty() {
+            self.regions = vec![0; self.cell_types.len()];
+        }
+        if !self.regions.is_empty() {
+            self.regions.push(region);
+        }
+        self.cell_types.push(ty);
+        self.cell_vertices.extend_from_slice(vertices);
+        self.cell_offsets.push(self.cell_vertices.len() as u32);
+    }
+
+    /// Appends a tagged face on patch `patch`.
+    pub fn push_face(&mut self, vertices: &[u32], patch: i32) {
+        if self.face_offsets.is_empty() {
+            self.face_offsets.push(0);
+        }
+        self.face_vertices.extend_from_slice(vertices);
+        self.face_offsets.push(self.face_vertices.len() as u32);
+        self.face_patch.push(patch);
+    }
+
+    /// The corners of cell `c`.
+    pub fn cell(&self, c: usize) -> &[u32] {
+        &self.cell_vertices[self.cell_offsets[c] as usize..self.cell_offsets[c + 1] as usize]
+    }
+
+    /// The vertices of tagged face `f`.
+    pub fn face(&self, f: usize) -> &[u32] {
+        &self.face_vertices[self.face_offsets[f] as usize..self.face_offsets[f + 1] as usize]
+    }
+
+    /// The coordinates of vertex `v`.
+    pub fn point(&self, v: usize) -> &[f64] {
+        &self.coords[v * self.dim..(v + 1) * self.dim]
+    }
+}
+
+impl super::Mesh {
+    /// Validates `data` and builds the mesh (see [`Mesh::new`](super::Mesh::new) for what is
+    /// checked).
+    pub fn from_data(data: &MeshData) -> Result<super::Mesh, super::MeshError> {
+        use super::MeshError;
+        if data.dim != 2 {
+            return Err(MeshError::Dimension { dim: data.dim });
+        }
+        let mut tris = Vec::with_capacity(data.num_cells());
+        for c in 0..data.num_cells() {
+            if data.cell_types[c] != CellType::Triangle {
+                return Err(MeshError::CellTypeNotInDimension { cell: c, cell_type: data.cell_types[c], dim: 2 });
+            }
+            let t = data.cell(c);
+            tris.push([t[0], t[1], t[2]]);
+        }
+        let coords: Vec<[f64; 2]> = data.coords.chunks_exact(2).map(|p| [p[0], p[1]]).collect();
+        let tagged: Vec<([u32; 2], i32)> =
+            (0..data.num_faces()).map(|f| ([data.face(f)[0], data.face(f)[1]], data.face_patch[f])).collect();
+        let regions = (!data.regions.is_empty()).then_some(&data.regions[..]);
+        super::Mesh::new(&coords, &tris, super::IndexBase::Zero, &tagged, regions)
+    }
+
+    /// The mesh as plain arrays; its faces are every patch face (boundary faces on patch 0
+    /// included), so `Mesh::from_data(&m.to_data())` gives the same mesh.
+    pub fn to_data(&self) -> MeshData {
+        let mut d = MeshData::new(2);
+        for p in self.coords() {
+            d.push_vertex(&[p.x, p.y]);
+        }
+        for (t, &r) in self.cells().iter().zip(self.regions()) {
+            d.push_cell(CellType::Triangle, t, r);
+        }
+        for e in self.patch_edges() {
+            d.push_face(&e.vertices, e.patch);
+        }
+        d
+    }
+}
