@@ -4,7 +4,7 @@ use glam::DVec2;
 use meshmove::bc::P;
 use meshmove::cases::setups::*;
 use meshmove::dense::Cholesky;
-use meshmove::mesh::quality::quality;
+use meshmove::mesh::quality;
 use meshmove::{Kind, Method, Options, Solver};
 fn main() {
     let s = case("boundary_layer_cylinder", Scale::Paper).unwrap();

@@ -3,7 +3,7 @@
 //! or the solver's? (docs/RESULTS.md)
 use meshmove::cases::report::*;
 use meshmove::cases::setups::*;
-use meshmove::mesh::quality::quality;
+use meshmove::mesh::quality;
 use meshmove::Method;
 fn main() {
     for name in ["free_surface_a0.25_10steps", "deforming_interface_A", "deforming_interface_B"] {

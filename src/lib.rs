@@ -9,12 +9,12 @@
 //! let coords = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0], [0.5, 0.5]];
 //! let cells = [[0u32, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]];
 //! let right = [([1u32, 2], 2)];
-//! let mesh = Mesh::new(&coords, &cells, IndexBase::Zero, &right, None).unwrap();
+//! let mesh = Mesh::triangles(&coords, &cells, IndexBase::Zero, &right, None).unwrap();
 //! let mut bcs = BoundaryConditions::new();
 //! bcs.set_kinds(0, Kind::Fixed).set_kinds(2, Kind::Fixed);
 //! let solver = Solver::new(&mesh, &bcs, Options::default()).unwrap();
-//! let mut motion = Motion::zero(mesh.num_vertices());
-//! for v in mesh.patch_vertices(2) { motion.displacement[v as usize].y = 0.1; }
+//! let mut motion = Motion::zero(&mesh);
+//! for v in mesh.patch_vertices(2) { motion.displacement[2 * v as usize + 1] = 0.1; }
 //! // Corners 1 and 2 are also on patch 0 (FIXED, zero): the later patch id does not win, any
 //! // prescription applies, and the value is read from the displacement array.
 //! let sol = solver.solve(&motion).unwrap();
@@ -22,25 +22,35 @@
 //! assert!(sol.displacement[4].y > 0.0);
 //! ```
 
-pub mod bc;
+/// A module of the solver's internals: public (and hidden from the documentation) only with
+/// the `internals` feature, which the `meshmove` command line's bench and the tests use. Not a
+/// stable API.
+macro_rules! internal_mod {
+    ($($name:ident),*) => {$(
+        #[cfg(feature = "internals")]
+        #[doc(hidden)]
+        pub mod $name;
+        #[cfg(not(feature = "internals"))]
+        mod $name;
+    )*};
+}
+
+internal_mod!(bc, cases, dense, multigrid, operator, sparse);
+#[doc(hidden)]
 pub mod capi;
-pub mod cases;
-pub mod dense;
 pub mod error;
-pub mod geometry;
+mod geometry;
 pub mod io;
-pub(crate) mod limits;
+mod limits;
 pub mod mesh;
 pub mod motion;
-pub mod multigrid;
-pub mod operator;
-pub(crate) mod pool;
+mod pool;
 pub mod solver;
-pub mod sparse;
 
 pub use bc::{BoundaryConditions, InterfaceVariant, Kind, Link};
 pub use error::{Error, Result};
-pub use mesh::{IndexBase, Mesh, MeshError, PatchEdge};
+pub use geometry::CellType;
+pub use mesh::{IndexBase, Mesh, MeshData, MeshError, PatchFace};
 pub use motion::{Motion, RigidMotion};
 pub use multigrid::solve::{Criterion, Mode, Report, SolveParams};
 pub use operator::Method;

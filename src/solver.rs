@@ -11,6 +11,7 @@ use crate::bc::{resolve_links, BoundaryConditions, Kind, COMPONENT, P};
 use crate::mesh::quality::{inverted_cells, quality, Quality};
 use crate::motion::Motion;
 use crate::multigrid::cycle::{cycle, Workspace};
+pub use crate::multigrid::hierarchy::CoarseOperator;
 use crate::multigrid::hierarchy::{Hierarchy, HierarchyParams, Level};
 use crate::multigrid::smoother::Start;
 use crate::multigrid::solve::{solve, Report, SolveParams};
@@ -18,7 +19,7 @@ use crate::operator::Method;
 use crate::pool::Pool;
 use crate::sparse::max_abs;
 use crate::{Error, Mesh, Result};
-use glam::DVec2;
+use std::ops::Range;
 use std::time::Instant;
 
 mod steps;
@@ -69,7 +70,9 @@ pub struct Options {
 /// Displacements of every vertex and how the solve went.
 #[derive(Clone, Debug)]
 pub struct Solution {
-    pub displacement: Vec<DVec2>,
+    /// Displacement of every vertex, `dim` values per vertex.
+    pub displacement: Vec<f64>,
+    /// How the solve went.
     pub report: Report,
     /// The moved mesh against the mesh the displacement starts from.
     pub quality: Quality,
@@ -77,7 +80,7 @@ pub struct Solution {
 
 /// The state a failed mutating call restores.
 struct Undo {
-    coords: Vec<DVec2>,
+    coords: Vec<f64>,
     /// The hierarchy as it was before the first rebuild of the call.
     hierarchy: Option<Hierarchy>,
 }
@@ -89,12 +92,12 @@ pub struct Solver {
     pool: Pool,
     /// `ReferenceMode::Original`: the motion done so far (the sum of the increments) and the
     /// positions it gave; the hierarchy stays on the original mesh.
-    total: Option<(Motion, Vec<DVec2>)>,
+    total: Option<(Motion, Vec<f64>)>,
     /// The sub-steps of the last `advance` or `move_in_steps` call.
     steps: Vec<StepReport>,
     /// The last valid mesh the last `advance` or `move_in_steps` call reached (empty before the
     /// first).
-    last_valid: Vec<DVec2>,
+    last_valid: Vec<f64>,
 }
 
 impl Solver {
@@ -122,7 +125,7 @@ impl Solver {
 
     /// The positions after the last step: the reference mesh, or in `ReferenceMode::Original`
     /// the original mesh moved by the motion so far.
-    pub fn current_coords(&self) -> &[DVec2] {
+    pub fn current_coords(&self) -> &[f64] {
         match &self.total {
             Some((_, x)) => x,
             None => self.mesh().coords(),
@@ -174,6 +177,8 @@ impl Solver {
         self.hierarchy.describe()
     }
 
+    /// The multigrid hierarchy (internals: the bench and tests).
+    #[doc(hidden)]
     pub fn hierarchy(&self) -> &Hierarchy {
         &self.hierarchy
     }
@@ -186,7 +191,7 @@ impl Solver {
 
     /// The last valid mesh the last [`Solver::advance`] or [`Solver::move_in_steps`] call reached
     /// (its result on success; on failure how far it got, while the solver itself is restored).
-    pub fn last_valid_coords(&self) -> &[DVec2] {
+    pub fn last_valid_coords(&self) -> &[f64] {
         // Empty until the first such call (a copy of the mesh per solver is not kept for nothing).
         if self.last_valid.is_empty() {
             self.current_coords()
@@ -205,8 +210,11 @@ impl Solver {
                 if self.bcs.kind(patch, c) != Kind::Free {
                     continue;
                 }
+                if c >= mesh.dim() {
+                    break;
+                }
                 let moves =
-                    mesh.patch_vertices(patch).iter().any(|&v| m.displacement(mesh.coords()[v as usize])[c] != 0.0);
+                    mesh.patch_vertices(patch).iter().any(|&v| m.displacement(mesh.point(v as usize))[c] != 0.0);
                 if moves {
                     return Err(Error::InvalidArgument(format!(
                         "the rigid motion of patch {patch} moves its vertices in {name}, which is FREE on that \
@@ -219,8 +227,9 @@ impl Solver {
     }
 
     /// Prescribed values (zero off P) and the rigid-motion flux source of component `c`.
-    fn prescribed(&self, motion: &Motion, vals: &[DVec2], c: usize) -> Result<(Vec<f64>, Option<Vec<f64>>)> {
+    fn prescribed(&self, motion: &Motion, vals: &[f64], c: usize) -> Result<(Vec<f64>, Option<Vec<f64>>)> {
         let lev = self.hierarchy.fine();
+        let dim = lev.dim();
         let flags = &lev.flags[c];
         let mut dp = vec![0.0; lev.n()];
         for d in 0..lev.n() {
@@ -228,10 +237,10 @@ impl Solver {
                 continue;
             }
             let vs = lev.dofs.vertices_of(d);
-            let v0 = vals[vs[0] as usize][c];
+            let v0 = vals[vs[0] as usize * dim + c];
             // Linked vertices are one unknown: they must be told the same thing.
             for &v in &vs[1..] {
-                let vv = vals[v as usize][c];
+                let vv = vals[v as usize * dim + c];
                 if (vv - v0).abs() > 1e-9 * (1.0 + v0.abs().max(vv.abs())) {
                     return Err(Error::InvalidArgument(format!(
                         "linked vertices {} and {v} are prescribed different {} displacements ({v0} and {vv})",
@@ -245,9 +254,9 @@ impl Solver {
     }
 
     /// The right-hand side of component `c` (its scratch S freed before the solve starts).
-    fn rhs(lev: &Level, c: usize, dp: &[f64], g: Option<&[f64]>) -> Result<Vec<f64>> {
-        let (mut b, mut s) = (vec![0.0; lev.n()], vec![0.0; lev.n()]);
-        lev.op.rhs(&lev.flags[c], dp, g, &mut b, &mut s);
+    fn rhs(lev: &Level, c: usize, dp: &[f64], g: Option<&[f64]>, b: &mut [f64]) -> Result<()> {
+        let mut s = vec![0.0; lev.n()];
+        lev.op.rhs(&lev.flags[c], dp, g, b, &mut s);
         if let Some(i) = b.iter().position(|v| !v.is_finite()) {
             let big = dp.iter().fold(0.0f64, |m, v| m.max(v.abs()));
             return Err(Error::InvalidArgument(format!(
@@ -256,15 +265,22 @@ impl Solver {
                 COMPONENT[c]
             )));
         }
-        Ok(b)
+        Ok(())
     }
 
-    fn scale(vals: &[DVec2]) -> f64 {
-        vals.iter().fold(0.0f64, |m, d| m.max(d.x.abs()).max(d.y.abs()))
+    fn scale(vals: &[f64]) -> f64 {
+        vals.iter().fold(0.0f64, |m, d| m.max(d.abs()))
     }
 
-    fn to_vertices(lev: &Level, d: &[Vec<f64>; 2]) -> Vec<DVec2> {
-        lev.dofs.vertex_dof.iter().map(|&k| DVec2::new(d[0][k as usize], d[1][k as usize])).collect()
+    /// Writes the blocks `x` of the components `comps` (one block of n unknowns each) into the
+    /// per-vertex displacement `out` (`dim` values per vertex).
+    fn to_vertices(lev: &Level, comps: Range<usize>, x: &[f64], out: &mut [f64]) {
+        let (n, dim) = (lev.n(), lev.dim());
+        for (k, c) in comps.enumerate() {
+            for (v, &d) in lev.dofs.vertex_dof.iter().enumerate() {
+                out[v * dim + c] = x[k * n + d as usize];
+            }
+        }
     }
 
     /// Solves for the displacement of every vertex, to the tolerance of the options.
@@ -272,8 +288,9 @@ impl Solver {
         self.solve_from(motion, None)
     }
 
-    /// As `solve`, starting from a guess (e.g. the previous time step's displacement).
-    pub fn solve_from(&self, motion: &Motion, guess: Option<&[DVec2]>) -> Result<Solution> {
+    /// As `solve`, starting from a guess (e.g. the previous time step's displacement, `dim`
+    /// values per vertex).
+    pub fn solve_from(&self, motion: &Motion, guess: Option<&[f64]>) -> Result<Solution> {
         let sol = self.solve_report(motion, guess)?;
         check_converged(&sol.report, None)?;
         Ok(sol)
@@ -281,99 +298,122 @@ impl Solver {
 
     /// As `solve_from`, but a solve that stops above its tolerance is returned (with
     /// `report.converged == false`) for the caller to judge. Breakdowns and bad input are errors.
-    pub fn solve_report(&self, motion: &Motion, guess: Option<&[DVec2]>) -> Result<Solution> {
+    pub fn solve_report(&self, motion: &Motion, guess: Option<&[f64]>) -> Result<Solution> {
         self.check_motion(motion)?;
-        let lev = self.hierarchy.fine();
         if let Some(g) = guess {
-            check_guess(g, lev.mesh.num_vertices())?;
+            check_guess(g, self.mesh())?;
         }
         self.run(|| self.solve_inner(motion, guess))?
     }
 
-    fn solve_inner(&self, motion: &Motion, guess: Option<&[DVec2]>) -> Result<Solution> {
+    /// The right-hand side and initial iterate of the components `comps`, one block each.
+    fn group_system(
+        &self,
+        motion: &Motion,
+        vals: &[f64],
+        comps: Range<usize>,
+        guess: Option<&[f64]>,
+    ) -> Result<(Vec<f64>, Vec<f64>)> {
+        let lev = self.hierarchy.fine();
+        let (n, dim) = (lev.n(), lev.dim());
+        let (mut b, mut x) = (vec![0.0; comps.len() * n], vec![0.0; comps.len() * n]);
+        for (k, c) in comps.enumerate() {
+            let (dp, g) = self.prescribed(motion, vals, c)?;
+            Self::rhs(lev, c, &dp, g.as_deref(), &mut b[k * n..(k + 1) * n])?;
+            if let Some(gv) = guess {
+                let flags = &lev.flags[c];
+                for (i, x) in x[k * n..(k + 1) * n].iter_mut().enumerate() {
+                    if flags[i] & P == 0 {
+                        *x = gv[lev.dofs.dof_vertex[i] as usize * dim + c];
+                    }
+                }
+            }
+        }
+        Ok((b, x))
+    }
+
+    /// Adds the prescribed values to the P unknowns of the blocks `x` (the solve leaves them 0).
+    fn add_prescribed(lev: &Level, comps: Range<usize>, vals: &[f64], x: &mut [f64]) {
+        let (n, dim) = (lev.n(), lev.dim());
+        for (k, c) in comps.enumerate() {
+            let flags = &lev.flags[c];
+            for (i, x) in x[k * n..(k + 1) * n].iter_mut().enumerate() {
+                if flags[i] & P != 0 {
+                    *x += vals[lev.dofs.vertices_of(i)[0] as usize * dim + c];
+                }
+            }
+        }
+    }
+
+    fn solve_inner(&self, motion: &Motion, guess: Option<&[f64]>) -> Result<Solution> {
         let lev = self.hierarchy.fine();
         let vals = motion.vertex_values(&lev.mesh);
         let scale = Self::scale(&vals);
-        let mut d: [Vec<f64>; 2] = [Vec::new(), Vec::new()];
-        let mut reps = Vec::new();
-        for c in 0..2 {
-            let (dp, g) = self.prescribed(motion, &vals, c)?;
-            let flags = &lev.flags[c];
-            let b = Self::rhs(lev, c, &dp, g.as_deref())?;
-            // Not kept through the solve (memory): the prescribed values are re-read from `vals`.
-            drop((dp, g));
-            let mut x: Vec<f64> = match guess {
-                Some(gv) => (0..lev.n())
-                    .map(|k| if flags[k] & P != 0 { 0.0 } else { gv[lev.dofs.dof_vertex[k] as usize][c] })
-                    .collect(),
-                None => vec![0.0; lev.n()],
-            };
-            let rep = solve(&self.hierarchy, c, &self.opts.solve, &b, &mut x, scale);
+        let mut displacement = vec![0.0; lev.mesh.coords().len()];
+        let mut report: Option<Report> = None;
+        for comps in self.hierarchy.groups() {
+            let name = group_name(comps.clone());
+            // One group at a time: only its right-hand side and iterate are alive (memory).
+            let (b, mut x) = self.group_system(motion, &vals, comps.clone(), guess)?;
+            let rep = solve(&self.hierarchy, comps.clone(), &self.opts.solve, &b, &mut x, scale);
+            drop(b);
             if let Some(k) = rep.breakdown {
                 return Err(Error::Diverged(format!(
-                    "component {}: conjugate gradients broke down at iteration {k} (pᵀAp not positive): the \
-                     operator is not positive definite on this reference mesh",
-                    COMPONENT[c]
+                    "component {name}: conjugate gradients broke down at iteration {k} (pᵀAp not positive): the \
+                     operator is not positive definite on this reference mesh"
                 )));
             }
             if !rep.rel_residual.is_finite() || rep.rel_residual > 1.0 {
                 return Err(Error::Diverged(format!(
-                    "component {} residual {:e} after {} cycles",
-                    COMPONENT[c], rep.rel_residual, rep.cycles
+                    "component {name} residual {:e} after {} cycles",
+                    rep.rel_residual, rep.cycles
                 )));
             }
-            // The solve leaves P unknowns at zero; they take their prescribed values.
-            for (k, x) in x.iter_mut().enumerate() {
-                if flags[k] & P != 0 {
-                    *x += vals[lev.dofs.vertices_of(k)[0] as usize][c];
-                }
-            }
-            d[c] = x;
-            reps.push(rep);
+            Self::add_prescribed(lev, comps.clone(), &vals, &mut x);
+            Self::to_vertices(lev, comps, &x, &mut displacement);
+            report = Some(match report {
+                None => rep,
+                Some(r) => Report::merge(r, rep),
+            });
         }
-        let ry = reps.pop().expect("two reports");
-        let rx = reps.pop().expect("two reports");
-        let displacement = Self::to_vertices(lev, &d);
-        if let Some(v) = displacement.iter().position(|d| !d.is_finite()) {
-            return Err(Error::Diverged(format!("the displacement of vertex {v} is not finite")));
+        if let Some(i) = displacement.iter().position(|d| !d.is_finite()) {
+            return Err(Error::Diverged(format!("the displacement of vertex {} is not finite", i / lev.dim())));
         }
         let quality = moved_quality(&lev.mesh, &displacement);
-        Ok(Solution { displacement, report: Report::merge(rx, ry), quality })
+        Ok(Solution { displacement, report: report.expect("at least one component"), quality })
     }
 
-    /// One multigrid cycle of the solver's mode from `displacement` (read and overwritten): for
-    /// codes that run a fixed number of cycles per time step.
-    pub fn cycle(&self, motion: &Motion, displacement: &mut [DVec2]) -> Result<Report> {
+    /// One multigrid cycle of the solver's mode from `displacement` (read and overwritten, `dim`
+    /// values per vertex): for codes that run a fixed number of cycles per time step.
+    pub fn cycle(&self, motion: &Motion, displacement: &mut [f64]) -> Result<Report> {
         self.check_motion(motion)?;
-        check_guess(displacement, self.mesh().num_vertices())?;
+        check_guess(displacement, self.mesh())?;
         let (out, rep) = self.run(|| self.cycle_inner(motion, displacement))??;
-        if let Some(v) = out.iter().position(|d| !d.is_finite()) {
-            return Err(Error::Diverged(format!("the cycle's displacement of vertex {v} is not finite")));
+        if let Some(i) = out.iter().position(|d| !d.is_finite()) {
+            return Err(Error::Diverged(format!(
+                "the cycle's displacement of vertex {} is not finite",
+                i / self.mesh().dim()
+            )));
         }
         displacement.copy_from_slice(&out);
         Ok(rep)
     }
 
-    fn cycle_inner(&self, motion: &Motion, displacement: &[DVec2]) -> Result<(Vec<DVec2>, Report)> {
+    fn cycle_inner(&self, motion: &Motion, displacement: &[f64]) -> Result<(Vec<f64>, Report)> {
         let lev = self.hierarchy.fine();
         let vals = motion.vertex_values(&lev.mesh);
         let cp = self.opts.solve.cycle_params(self.opts.method);
-        let mut d: [Vec<f64>; 2] = [Vec::new(), Vec::new()];
-        let mut reps = Vec::new();
-        for c in 0..2 {
+        let mut out = vec![0.0; displacement.len()];
+        let mut report: Option<Report> = None;
+        for comps in self.hierarchy.groups() {
             let t0 = Instant::now();
-            let (dp, g) = self.prescribed(motion, &vals, c)?;
-            let flags = &lev.flags[c];
-            let n = lev.n();
-            let b = Self::rhs(lev, c, &dp, g.as_deref())?;
-            let (mut s, mut r) = (vec![0.0; n], vec![0.0; n]);
-            let mut x: Vec<f64> = (0..n)
-                .map(|k| if flags[k] & P != 0 { 0.0 } else { displacement[lev.dofs.dof_vertex[k] as usize][c] })
-                .collect();
+            let (b, mut x) = self.group_system(motion, &vals, comps.clone(), Some(displacement))?;
+            let mut s = vec![0.0; lev.n()];
+            let mut r = vec![0.0; b.len()];
             let before = x.clone();
             let mut ws = Workspace::new(&self.hierarchy);
-            cycle(&self.hierarchy, c, &cp, &b, &mut x, Start::Guess, &mut ws);
-            lev.op.residual(flags, &b, &x, &mut r, &mut s);
+            cycle(&self.hierarchy, comps.clone(), &cp, &b, &mut x, Start::Guess, &mut ws);
+            lev.residual(comps.clone(), &b, &x, &mut r, &mut s);
             let bn = crate::sparse::dot(&b, &b).sqrt();
             let rn = crate::sparse::dot(&r, &r).sqrt();
             // A zero right-hand side has nothing to reduce: its relative residual is its norm.
@@ -383,13 +423,13 @@ impl Solver {
             if !rel.is_finite() || !mc.is_finite() {
                 return Err(Error::Diverged(format!(
                     "component {}: the cycle gave a non-finite residual or correction",
-                    COMPONENT[c]
+                    group_name(comps)
                 )));
             }
-            x.iter_mut().zip(&dp).for_each(|(x, p)| *x += p);
-            d[c] = x;
+            Self::add_prescribed(lev, comps.clone(), &vals, &mut x);
+            Self::to_vertices(lev, comps, &x, &mut out);
             let secs = t0.elapsed().as_secs_f64();
-            reps.push(Report {
+            let rep = Report {
                 cycles: 1,
                 max_correction: mc,
                 rel_residual: rel,
@@ -397,17 +437,19 @@ impl Solver {
                 breakdown: None,
                 seconds: secs,
                 history: vec![(mc, rel)],
+            };
+            report = Some(match report {
+                None => rep,
+                Some(r) => Report::merge(r, rep),
             });
         }
-        let ry = reps.pop().expect("two reports");
-        let rx = reps.pop().expect("two reports");
-        Ok((Self::to_vertices(lev, &d), Report::merge(rx, ry)))
+        Ok((out, report.expect("at least one component")))
     }
 
     /// Makes `coords` the new reference mesh: K and V re-evaluated on every level, the coarse
     /// topology kept (rebuilt only if a coarse cell would invert). Positions with a cell of
     /// non-positive area are `Error::Tangled`; on any error the solver is unchanged.
-    pub fn set_reference(&mut self, coords: Vec<DVec2>) -> Result<()> {
+    pub fn set_reference(&mut self, coords: Vec<f64>) -> Result<()> {
         self.check_reference(&coords)?;
         let mut undo = self.undo();
         let r = self.set_reference_inner(coords, &mut undo);
@@ -420,13 +462,19 @@ impl Solver {
     }
 
     /// Finite positions, one per vertex, no cell of non-positive area.
-    pub(crate) fn check_reference(&self, coords: &[DVec2]) -> Result<()> {
-        let nv = self.hierarchy.fine().mesh.num_vertices();
-        if coords.len() != nv {
-            return Err(Error::InvalidArgument(format!("new reference needs {nv} positions, got {}", coords.len())));
+    pub(crate) fn check_reference(&self, coords: &[f64]) -> Result<()> {
+        let mesh = &self.hierarchy.fine().mesh;
+        if coords.len() != mesh.coords().len() {
+            return Err(Error::InvalidArgument(format!(
+                "new reference needs {} values ({} vertices × {}), got {}",
+                mesh.coords().len(),
+                mesh.num_vertices(),
+                mesh.dim(),
+                coords.len()
+            )));
         }
-        if let Some(v) = coords.iter().position(|p| !p.is_finite()) {
-            return Err(Error::InvalidArgument(format!("new reference: vertex {v} is not finite")));
+        if let Some(i) = coords.iter().position(|p| !p.is_finite()) {
+            return Err(Error::InvalidArgument(format!("new reference: vertex {} is not finite", i / mesh.dim())));
         }
         check_not_tangled(&self.hierarchy.fine().mesh, coords)
     }
@@ -449,7 +497,7 @@ impl Solver {
         }
     }
 
-    fn set_reference_inner(&mut self, coords: Vec<DVec2>, undo: &mut Undo) -> Result<()> {
+    fn set_reference_inner(&mut self, coords: Vec<f64>, undo: &mut Undo) -> Result<()> {
         let hierarchy = &mut self.hierarchy;
         let kept = self.pool.install(|| hierarchy.move_to(coords.clone()))??;
         if !kept {
@@ -459,7 +507,7 @@ impl Solver {
     }
 
     /// A new hierarchy built from `coords`, the old one kept in `undo` (the first time).
-    fn rebuild(&mut self, coords: Vec<DVec2>, undo: &mut Undo) -> Result<()> {
+    fn rebuild(&mut self, coords: Vec<f64>, undo: &mut Undo) -> Result<()> {
         let mesh = self.hierarchy.fine().mesh.with_coords(coords);
         let pairs = self.hierarchy.fine().pairs.clone();
         let (bcs, method, hp) = (&self.bcs, self.opts.method, &self.opts.hierarchy);
@@ -498,36 +546,48 @@ impl Solver {
     /// since the last call: they become the current mesh (the reference, or in
     /// `ReferenceMode::Original` the new original mesh) in the same transaction, so a failure
     /// leaves the solver as it was. A result with inverted cells is returned and not adopted.
-    pub fn advance_from(&mut self, coords: &[DVec2], increment: &Motion) -> Result<Solution> {
+    pub fn advance_from(&mut self, coords: &[f64], increment: &Motion) -> Result<Solution> {
         self.check_motion(increment)?;
         let from = (coords != self.current_coords()).then_some(coords);
         steps::advance(self, from, increment)
     }
 
     /// Quality of the reference mesh moved by `displacement`.
-    pub fn quality(&self, displacement: &[DVec2]) -> Quality {
+    pub fn quality(&self, displacement: &[f64]) -> Quality {
         moved_quality(self.mesh(), displacement)
     }
 }
 
 /// `Error::Tangled` naming the first cells of non-positive area of `mesh`'s topology at `coords`.
-fn check_not_tangled(mesh: &Mesh, coords: &[DVec2]) -> Result<()> {
+fn check_not_tangled(mesh: &Mesh, coords: &[f64]) -> Result<()> {
     let bad = inverted_cells(mesh, coords);
     if bad.is_empty() {
         return Ok(());
     }
     let first: Vec<String> = bad.iter().take(5).map(|c| c.to_string()).collect();
     Err(Error::Tangled(format!(
-        "{} cell(s) of non-positive area (first: {}); nothing is solved on a tangled mesh",
+        "{} inverted cell(s) (a corner Jacobian ≤ 0; first: {}); nothing is solved on a tangled mesh",
         bad.len(),
         first.join(", ")
     )))
 }
 
 /// Quality of `mesh` moved by `displacement` against `mesh`.
-fn moved_quality(mesh: &Mesh, displacement: &[DVec2]) -> Quality {
-    let moved: Vec<DVec2> = mesh.coords().iter().zip(displacement).map(|(x, d)| *x + *d).collect();
-    quality(mesh, &moved)
+fn moved_quality(mesh: &Mesh, displacement: &[f64]) -> Quality {
+    quality(mesh, &moved(mesh.coords(), displacement))
+}
+
+/// Positions `x` moved by `d` (both `dim` values per vertex).
+pub(crate) fn moved(x: &[f64], d: &[f64]) -> Vec<f64> {
+    x.iter().zip(d).map(|(x, d)| x + d).collect()
+}
+
+/// "x", "y", "z", or e.g. "x–y" for a group of components solved together.
+fn group_name(comps: Range<usize>) -> String {
+    match comps.len() {
+        1 => COMPONENT[comps.start].to_string(),
+        _ => format!("{}–{}", COMPONENT[comps.start], COMPONENT[comps.end - 1]),
+    }
 }
 
 /// docs/DESIGN.md §4: on a CLAMPED patch moving rigidly, S_b = (1/V_b) Σ_j K_bj (d_j − L_j); the K L part
@@ -539,12 +599,11 @@ pub(crate) fn rigid_flux(h: &Hierarchy, bcs: &BoundaryConditions, motion: &Motio
         return None;
     }
     let mut g: Option<Vec<f64>> = None;
-    let x = lev.mesh.coords();
     for &(patch, m) in &motion.rigid {
         if bcs.kind(patch, c) != Kind::Clamped {
             continue;
         }
-        let l: Vec<f64> = lev.dofs.dof_vertex.iter().map(|&v| m.displacement(x[v as usize])[c]).collect();
+        let l: Vec<f64> = lev.dofs.dof_vertex.iter().map(|&v| m.displacement(lev.mesh.point(v as usize))[c]).collect();
         let mut on_patch = vec![false; lev.mesh.num_vertices()];
         lev.mesh.patch_vertices(patch).iter().for_each(|&v| on_patch[v as usize] = true);
         let g = g.get_or_insert_with(|| vec![0.0; lev.n()]);
@@ -600,15 +659,17 @@ fn check_options(o: &Options) -> Result<()> {
     Ok(())
 }
 
-fn check_guess(g: &[DVec2], nv: usize) -> Result<()> {
-    if g.len() != nv {
+fn check_guess(g: &[f64], mesh: &Mesh) -> Result<()> {
+    if g.len() != mesh.coords().len() {
         return Err(Error::InvalidArgument(format!(
-            "displacement has {} entries, the mesh has {nv} vertices",
-            g.len()
+            "displacement has {} values, the mesh has {} vertices × {} components",
+            g.len(),
+            mesh.num_vertices(),
+            mesh.dim()
         )));
     }
-    if let Some(v) = g.iter().position(|d| !d.is_finite()) {
-        return Err(Error::InvalidArgument(format!("initial displacement of vertex {v} is not finite")));
+    if let Some(i) = g.iter().position(|d| !d.is_finite()) {
+        return Err(Error::InvalidArgument(format!("initial displacement of vertex {} is not finite", i / mesh.dim())));
     }
     Ok(())
 }

@@ -17,7 +17,7 @@ fn mesh_err(
     tagged: &[([i64; 2], i32)],
     regions: Option<&[i32]>,
 ) -> MeshError {
-    Mesh::new(coords, cells, base, tagged, regions).unwrap_err()
+    Mesh::triangles(coords, cells, base, tagged, regions).unwrap_err()
 }
 
 #[test]
@@ -36,7 +36,7 @@ fn each_mesh_error_is_named() {
         mesh_err(&SQ, &[[0, 1, 2]], IndexBase::One, &[], None),
         MeshError::IndexOutOfRange { index: 0, base: 1, .. }
     ));
-    assert!(Mesh::new(&SQ, &[[1i64, 2, 3], [1, 3, 4]], IndexBase::One, &[], None).is_ok());
+    assert!(Mesh::triangles(&SQ, &[[1i64, 2, 3], [1, 3, 4]], IndexBase::One, &[], None).is_ok());
     assert!(matches!(
         mesh_err(&SQ, &[[0, 1, 1], [0, 2, 3]], z, &[], None),
         MeshError::RepeatedVertex { cell: 0, vertex: 1 }
@@ -85,8 +85,8 @@ fn each_mesh_error_is_named() {
 
 #[test]
 fn a_mesh_given_clockwise_is_normalised_but_mixed_orientation_is_refused() {
-    let m = Mesh::new(&SQ, &[[0i64, 2, 1], [0, 3, 2]], IndexBase::Zero, &[], None).unwrap();
-    let areas = meshmove::mesh::quality::signed_areas(&m, m.coords());
+    let m = Mesh::triangles(&SQ, &[[0i64, 2, 1], [0, 3, 2]], IndexBase::Zero, &[], None).unwrap();
+    let areas = meshmove::mesh::signed_measures(&m, m.coords());
     assert_eq!(areas, vec![0.5, 0.5]);
     assert_eq!(m.patch_edges().len(), 4);
     let z = IndexBase::Zero;
@@ -102,22 +102,22 @@ fn a_mesh_given_clockwise_is_normalised_but_mixed_orientation_is_refused() {
 fn a_tangled_fan_is_refused() {
     let xy = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0], [1.5, 0.5]];
     let fan = [[0i64, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]];
-    let e = Mesh::new(&xy, &fan, IndexBase::Zero, &[], None).unwrap_err();
+    let e = Mesh::triangles(&xy, &fan, IndexBase::Zero, &[], None).unwrap_err();
     assert!(matches!(e, MeshError::InconsistentOrientation { cell: 1, clockwise: 1, counter_clockwise: 3 }), "{e}");
 }
 
 #[test]
 fn overlapping_and_repeated_cells_are_refused() {
     let xy = [[0.0, 0.0], [1.0, 0.0], [0.5, 1.0], [0.5, 0.5]];
-    let e = Mesh::new(&xy, &[[0i64, 1, 2], [0, 1, 3]], IndexBase::Zero, &[], None).unwrap_err();
+    let e = Mesh::triangles(&xy, &[[0i64, 1, 2], [0, 1, 3]], IndexBase::Zero, &[], None).unwrap_err();
     assert!(matches!(e, MeshError::Overlap { first: 0, second: 1, a: 0, b: 1 }), "{e}");
-    let e = Mesh::new(&SQ, &[[0i64, 1, 2], [0, 2, 3], [1, 2, 0]], IndexBase::Zero, &[], None).unwrap_err();
+    let e = Mesh::triangles(&SQ, &[[0i64, 1, 2], [0, 2, 3], [1, 2, 0]], IndexBase::Zero, &[], None).unwrap_err();
     assert!(matches!(e, MeshError::RepeatedCell { first: 0, second: 2 }), "{e}");
 }
 
 #[test]
 fn interior_tagged_edge_is_an_interface() {
-    let m = Mesh::new(&SQ, &[[0i64, 1, 2], [0, 2, 3]], IndexBase::Zero, &[([0, 2], 7)], Some(&[0, 1])).unwrap();
+    let m = Mesh::triangles(&SQ, &[[0i64, 1, 2], [0, 2, 3]], IndexBase::Zero, &[([0, 2], 7)], Some(&[0, 1])).unwrap();
     assert!(m.patch_edges().iter().any(|e| e.patch == 7 && e.interior));
 }
 
@@ -133,7 +133,7 @@ fn ill_posed_component_is_an_error_not_a_hang() {
     coords.extend(SQ.iter().map(|p| [p[0] + 2.0, p[1]]));
     let cells = [[0i64, 1, 2], [0, 2, 3], [4, 5, 6], [4, 6, 7]];
     let tagged = [([4i64, 5], 9), ([5, 6], 9), ([6, 7], 9), ([7, 4], 9)];
-    let two = Mesh::new(&coords, &cells, IndexBase::Zero, &tagged, None).unwrap();
+    let two = Mesh::triangles(&coords, &cells, IndexBase::Zero, &tagged, None).unwrap();
     let mut bcs = BoundaryConditions::new();
     bcs.set_kinds(9, Kind::Free);
     let e = Solver::new(&two, &bcs, Options::default()).err().unwrap();
@@ -169,13 +169,13 @@ fn bad_motions_and_options_are_named() {
     let mesh = Grid::new(6, 6).mesh();
     let s = Solver::new(&mesh, &BoundaryConditions::new(), Options::default()).unwrap();
     assert!(matches!(s.solve(&Motion::zero(3)), Err(Error::InvalidArgument(m)) if m.contains("3 entries")));
-    let mut m = Motion::zero(mesh.num_vertices());
+    let mut m = Motion::zero(&mesh);
     m.displacement[5].x = f64::NAN;
     assert!(matches!(s.solve(&m), Err(Error::InvalidArgument(m)) if m.contains("vertex 5")));
-    let m = Motion::zero(mesh.num_vertices()).with_rigid(99, RigidMotion::translation(DVec2::X));
+    let m = Motion::zero(&mesh).with_rigid(99, RigidMotion::translation(DVec2::X));
     assert!(matches!(s.solve(&m), Err(Error::InvalidArgument(m)) if m.contains("patch 99")));
     let mut s2 = Solver::new(&mesh, &BoundaryConditions::new(), Options::default()).unwrap();
-    assert!(s2.move_in_steps(&Motion::zero(mesh.num_vertices()), 0).is_err());
+    assert!(s2.move_in_steps(&Motion::zero(&mesh), 0).is_err());
     assert!(s2.set_reference(vec![DVec2::ZERO; 2]).is_err());
     let mut o = Options::default();
     o.solve.tol = -1.0;

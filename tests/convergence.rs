@@ -62,10 +62,10 @@ fn cycle_counts_paper_faithful_and_default() {
 fn a_stalled_solve_strengthens_its_smoother_and_converges() {
     let s = free_surface_case("fs", 1.0 / 128.0, 0.25, 1);
     let mesh = s.mesh.refine_uniform();
-    let mut motion = Motion::zero(mesh.num_vertices());
+    let mut motion = Motion::zero(&mesh);
     for v in mesh.patch_vertices(FS_TOP) {
-        let x = mesh.coords()[v as usize].x;
-        motion.displacement[v as usize].y = 0.25 * (std::f64::consts::TAU * x).cos();
+        let x = mesh.point(v as usize)[0];
+        motion.displacement[2 * v as usize + 1] = 0.25 * (std::f64::consts::TAU * x).cos();
     }
     let opts = Options { method: Method::Biharmonic, ..Default::default() };
     let first = Solver::new(&mesh, &s.bcs, opts.clone()).unwrap().solve(&motion).unwrap();

@@ -41,7 +41,7 @@ fn configs() -> Vec<(&'static str, Mesh, BoundaryConditions)> {
     for p in [LEFT, RIGHT] {
         periodic.set_kind(p, 0, Kind::Clamped).unwrap().set_kind(p, 1, Kind::Free).unwrap();
     }
-    periodic.add_link(Link::ByOffset { a: LEFT, b: RIGHT, offset: DVec2::X, tol: 1e-9 });
+    periodic.add_link(Link::ByOffset { a: LEFT, b: RIGHT, offset: [1.0, 0.0, 0.0], tol: 1e-9 });
     out.push(("periodic", mesh.clone(), periodic));
 
     let two = grid.two_regions();

@@ -24,7 +24,7 @@ fn shuffled(s: &CaseSetup) -> (Mesh, Motion, Vec<usize>) {
     let cells: Vec<[u32; 3]> = m.cells().iter().map(|t| t.map(|v| new_of[v as usize] as u32)).collect();
     let tagged: Vec<([u32; 2], i32)> =
         m.patch_edges().iter().map(|e| (e.vertices.map(|v| new_of[v as usize] as u32), e.patch)).collect();
-    let mesh = Mesh::new(&coords, &cells, IndexBase::Zero, &tagged, Some(m.regions())).unwrap();
+    let mesh = Mesh::triangles(&coords, &cells, IndexBase::Zero, &tagged, Some(m.regions())).unwrap();
     let mut motion = s.motion.clone();
     motion.displacement = order.iter().map(|&o| s.motion.displacement[o]).collect();
     (mesh, motion, new_of)

@@ -5,7 +5,7 @@
 use glam::DVec2;
 use meshmove::cases::report::{patch_measures, reference_displacement, run_case, run_case_reference, CaseResult};
 use meshmove::cases::setups::{case, interface_case, CaseSetup, Scale};
-use meshmove::mesh::quality::quality;
+use meshmove::mesh::quality;
 use meshmove::{InterfaceVariant, Method, Options};
 
 fn run(name: &str, method: Method) -> (CaseSetup, CaseResult) {

@@ -14,7 +14,7 @@ fn rotating_clamped_patch_rotates_its_wall_layer() {
     bcs.set_kinds(INNER, Kind::Clamped).set_kinds(OUTER, Kind::Fixed);
     let s = Solver::new(&mesh, &bcs, Options::default()).unwrap();
     let rot = RigidMotion { translation: DVec2::ZERO, angle: 0.4, center: DVec2::ZERO };
-    let rigid = s.solve(&Motion::zero(mesh.num_vertices()).with_rigid(INNER, rot)).unwrap();
+    let rigid = s.solve(&Motion::zero(&mesh).with_rigid(INNER, rot)).unwrap();
     let per_vertex: Vec<DVec2> =
         mesh.coords().iter().map(|&x| if x.length() < 0.5001 { rot.displacement(x) } else { DVec2::ZERO }).collect();
     let held = s.solve(&Motion::from_displacement(per_vertex)).unwrap();

@@ -3,6 +3,8 @@
 
 use super::numbering::reverse_cuthill_mckee;
 use crate::sparse::bucket_by_key;
+use crate::geometry::Corners;
+use crate::mesh::Csr;
 use crate::Mesh;
 
 /// The unknowns of a mesh. Only the vertex maps are stored in full; how cell corners, linked
@@ -49,9 +51,9 @@ impl Dofs {
         }
         let root: Vec<u32> = (0..nv as u32).map(|v| find(&mut parent, v)).collect();
         let mut split = vec![false; nv];
-        for e in mesh.patch_edges() {
+        for e in mesh.patch_faces() {
             if e.interior && split_patches.contains(&e.patch) {
-                for v in e.vertices {
+                for &v in e.vertices {
                     split[root[v as usize] as usize] = true;
                 }
             }
@@ -63,8 +65,8 @@ impl Dofs {
         let regions = mesh.regions();
         let mut used = vec![false; nv];
         let mut split_keys: Vec<(u32, i32)> = Vec::new();
-        for (c, t) in mesh.cells().iter().enumerate() {
-            for &v in t {
+        for c in 0..mesh.num_cells() {
+            for &v in mesh.cell(c) {
                 let r = root[v as usize];
                 used[r as usize] = true;
                 if split[r as usize] {
@@ -98,7 +100,11 @@ impl Dofs {
             base[r as usize] + (k - first) as u32
         };
         let index = |v: u32, c: usize| key_index(root[v as usize], regions[c]);
-        let by_vertex: Vec<[u32; 3]> = mesh.cells().iter().enumerate().map(|(c, t)| t.map(|v| index(v, c))).collect();
+        let mut by_vertex = Csr::new();
+        for c in 0..mesh.num_cells() {
+            let t = mesh.cell(c);
+            by_vertex.push(&Corners::from_fn(t.len(), |k| index(t[k], c)));
+        }
         // Renumber for locality of the operators' gathers (see `numbering`).
         let order = reverse_cuthill_mckee(n, &by_vertex);
         let mut new_of = vec![0u32; n];
@@ -106,12 +112,12 @@ impl Dofs {
             new_of[old as usize] = new as u32;
         }
         drop(by_vertex);
-        let cell_dofs = |c: usize, t: &[u32; 3]| t.map(|v| new_of[index(v, c) as usize]);
         let mut vertex_dof = vec![u32::MAX; nv];
         let mut split_corners: Vec<(u32, i32, u32)> = Vec::new();
-        for (c, t) in mesh.cells().iter().enumerate() {
-            let d = cell_dofs(c, t);
-            for k in 0..3 {
+        for c in 0..mesh.num_cells() {
+            let t = mesh.cell(c);
+            let d = Corners::from_fn(t.len(), |k| new_of[index(t[k], c) as usize]);
+            for k in 0..t.len() {
                 if vertex_dof[t[k] as usize] == u32::MAX {
                     vertex_dof[t[k] as usize] = d[k];
                 }
@@ -165,15 +171,19 @@ impl Dofs {
     }
 
     /// The unknown of each corner of cell `c` of `mesh`, the mesh these unknowns were built on.
-    pub fn cell_dofs(&self, mesh: &Mesh, c: usize) -> [u32; 3] {
-        let t = mesh.cells()[c];
+    #[inline]
+    pub(crate) fn cell_dofs(&self, mesh: &Mesh, c: usize) -> Corners<u32> {
+        let t = mesh.cell(c);
         if self.split_corners.is_empty() {
-            return t.map(|v| self.vertex_dof[v as usize]);
+            return Corners::from_fn(t.len(), |k| self.vertex_dof[t[k] as usize]);
         }
         let r = mesh.regions()[c];
-        t.map(|v| match self.split_corners.binary_search_by(|e| (e.0, e.1).cmp(&(v, r))) {
-            Ok(k) => self.split_corners[k].2,
-            Err(_) => self.vertex_dof[v as usize],
+        Corners::from_fn(t.len(), |k| {
+            let v = t[k];
+            match self.split_corners.binary_search_by(|e| (e.0, e.1).cmp(&(v, r))) {
+                Ok(k) => self.split_corners[k].2,
+                Err(_) => self.vertex_dof[v as usize],
+            }
         })
     }
 }
@@ -189,24 +199,25 @@ mod tests {
     #[test]
     fn derived_tables_match_corner_keys() {
         let m = two_regions(6);
-        let x = m.coords();
-        let pairs: Vec<[u32; 2]> = (0..x.len() as u32)
-            .filter(|&a| x[a as usize].x == 0.0)
-            .map(|a| [a, (0..x.len() as u32).find(|&b| x[b as usize] == x[a as usize] + glam::DVec2::X).unwrap()])
+        let x = |v: u32| m.point(v as usize);
+        let nv = m.num_vertices() as u32;
+        let pairs: Vec<[u32; 2]> = (0..nv)
+            .filter(|&a| x(a)[0] == 0.0)
+            .map(|a| [a, (0..nv).find(|&b| x(b)[0] == x(a)[0] + 1.0 && x(b)[1] == x(a)[1]).unwrap()])
             .collect();
         let dofs = Dofs::build(&m, &pairs, &[9]);
         let root = |v: u32| pairs.iter().find(|p| p[1] == v).map_or(v, |p| p[0]);
-        let split = |v: u32| (x[root(v) as usize].y - 0.5).abs() < 1e-12;
+        let split = |v: u32| (x(root(v))[1] - 0.5).abs() < 1e-12;
         let key = |v: u32, c: usize| (root(v), split(v).then(|| m.regions()[c]));
         let mut members: BTreeMap<(u32, Option<i32>), Vec<u32>> = BTreeMap::new();
-        for (c, t) in m.cells().iter().enumerate() {
-            t.iter().for_each(|&v| members.entry(key(v, c)).or_default().push(v));
+        for c in 0..m.num_cells() {
+            m.cell(c).iter().for_each(|&v| members.entry(key(v, c)).or_default().push(v));
         }
         assert_eq!(dofs.n, members.len());
         // Unknowns are numbered for locality, so corners map to keys one-to-one, in some order.
         let mut key_of: Vec<Option<(u32, Option<i32>)>> = vec![None; dofs.n];
-        for (c, t) in m.cells().iter().enumerate() {
-            let d = dofs.cell_dofs(&m, c);
+        for c in 0..m.num_cells() {
+            let (t, d) = (m.cell(c), dofs.cell_dofs(&m, c));
             for k in 0..3 {
                 let e = key_of[d[k] as usize].get_or_insert(key(t[k], c));
                 assert_eq!(*e, key(t[k], c), "unknown {} has two keys", d[k]);

@@ -4,7 +4,7 @@ use super::Link;
 use crate::{Error, Mesh, Result};
 
 /// All linked vertex pairs of the mesh, with a clear error when a vertex finds no partner.
-pub fn resolve_links(mesh: &Mesh, links: &[Link]) -> Result<Vec<[u32; 2]>> {
+pub(crate) fn resolve_links(mesh: &Mesh, links: &[Link]) -> Result<Vec<[u32; 2]>> {
     let mut pairs = Vec::new();
     let nv = mesh.num_vertices() as u32;
     for link in links {
@@ -21,29 +21,36 @@ pub fn resolve_links(mesh: &Mesh, links: &[Link]) -> Result<Vec<[u32; 2]>> {
     Ok(pairs)
 }
 
-fn by_offset(mesh: &Mesh, a: i32, b: i32, offset: glam::DVec2, tol: f64) -> Result<Vec<[u32; 2]>> {
-    if !(tol >= 0.0 && tol.is_finite() && offset.is_finite()) {
+fn by_offset(mesh: &Mesh, a: i32, b: i32, offset: [f64; 3], tol: f64) -> Result<Vec<[u32; 2]>> {
+    if !(tol >= 0.0 && tol.is_finite() && offset.iter().all(|x| x.is_finite())) {
         return Err(Error::Bc(format!("link {a} -> {b}: offset and tolerance must be finite, tolerance ≥ 0")));
     }
     let (va, vb) = (mesh.patch_vertices(a), mesh.patch_vertices(b));
     if va.is_empty() || vb.is_empty() {
         return Err(Error::Bc(format!("link {a} -> {b}: patch {} has no vertex", if va.is_empty() { a } else { b })));
     }
-    let x = mesh.coords();
+    let dim = mesh.dim();
+    let x = |v: u32| -> [f64; 3] {
+        let mut p = [0.0; 3];
+        p[..dim].copy_from_slice(mesh.point(v as usize));
+        p
+    };
+    let dist = |p: &[f64; 3], q: &[f64; 3]| crate::geometry::dist2(p, q).sqrt();
     // Patches are boundary curves (O(√N) vertices), so a sorted sweep on x is plenty.
     let mut sorted_b: Vec<u32> = vb.clone();
-    sorted_b.sort_by(|&p, &q| x[p as usize].x.total_cmp(&x[q as usize].x).then(p.cmp(&q)));
+    sorted_b.sort_by(|&p, &q| x(p)[0].total_cmp(&x(q)[0]).then(p.cmp(&q)));
     let mut taken = vec![false; sorted_b.len()];
     let mut out = Vec::with_capacity(va.len());
     for &v in &va {
-        let target = x[v as usize] + offset;
-        let lo = sorted_b.partition_point(|&w| x[w as usize].x < target.x - tol);
+        let xv = x(v);
+        let target = [0, 1, 2].map(|i| if i < dim { xv[i] + offset[i] } else { 0.0 });
+        let lo = sorted_b.partition_point(|&w| x(w)[0] < target[0] - tol);
         let found = sorted_b[lo..]
             .iter()
             .enumerate()
-            .take_while(|(_, &w)| x[w as usize].x <= target.x + tol)
-            .filter(|(_, &w)| x[w as usize].distance(target) <= tol)
-            .min_by(|(_, &p), (_, &q)| x[p as usize].distance(target).total_cmp(&x[q as usize].distance(target)));
+            .take_while(|(_, &w)| x(w)[0] <= target[0] + tol)
+            .filter(|(_, &w)| dist(&x(w), &target) <= tol)
+            .min_by(|(_, &p), (_, &q)| dist(&x(p), &target).total_cmp(&dist(&x(q), &target)));
         match found {
             Some((k, &w)) if !taken[lo + k] => {
                 taken[lo + k] = true;
@@ -56,8 +63,9 @@ fn by_offset(mesh: &Mesh, a: i32, b: i32, offset: glam::DVec2, tol: f64) -> Resu
             }
             None => {
                 return Err(Error::Bc(format!(
-                    "link {a} -> {b}: vertex {v} at ({}, {}) has no partner on patch {b} at ({}, {}) within {tol}",
-                    x[v as usize].x, x[v as usize].y, target.x, target.y
+                    "link {a} -> {b}: vertex {v} at {:?} has no partner on patch {b} at {:?} within {tol}",
+                    &xv[..dim],
+                    &target[..dim]
                 )))
             }
         }

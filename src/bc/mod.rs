@@ -9,13 +9,16 @@ mod numbering;
 mod well_posed;
 
 pub use dofs::Dofs;
-pub use flags::{component_flags, P, Z};
-pub use links::resolve_links;
-pub use well_posed::{check_well_posed, COMPONENT};
+pub(crate) use flags::component_flags;
+pub use flags::{P, Z};
+pub(crate) use links::resolve_links;
+pub(crate) use well_posed::{check_well_posed, COMPONENT};
 
 use crate::{Error, Mesh, Result};
-use glam::DVec2;
 use std::collections::BTreeMap;
+
+/// The most components a displacement has (3D).
+const MAX_DIM: usize = 3;
 
 /// The boundary condition of one component on one patch (the paper's three well-posed pairs).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -42,7 +45,16 @@ pub enum InterfaceVariant {
 pub enum Link {
     /// Every vertex `v` of patch `a` is joined to the vertex of patch `b` at `v + offset`
     /// (within `tol`); both patches must be matched completely.
-    ByOffset { a: i32, b: i32, offset: DVec2, tol: f64 },
+    ByOffset {
+        /// The first patch.
+        a: i32,
+        /// The partner patch.
+        b: i32,
+        /// From a vertex of `a` to its partner on `b` (the z component is ignored in 2D).
+        offset: [f64; 3],
+        /// Largest distance between `v + offset` and the partner.
+        tol: f64,
+    },
     /// Explicit vertex pairs (0-based).
     Pairs(Vec<[u32; 2]>),
 }
@@ -50,9 +62,10 @@ pub enum Link {
 /// Kinds per patch and component, links and interface variants.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BoundaryConditions {
-    kinds: BTreeMap<i32, [Kind; 2]>,
-    /// Kind of patches not named: FIXED, the safe choice (boundary stays where it is told).
-    pub default_kind: [Kind; 2],
+    kinds: BTreeMap<i32, [Kind; MAX_DIM]>,
+    /// Kind of patches not named, per component: FIXED, the safe choice (boundary stays where
+    /// it is told).
+    pub default_kind: [Kind; MAX_DIM],
     pub(crate) links: Vec<Link>,
     interfaces: BTreeMap<i32, InterfaceVariant>,
 }
@@ -61,7 +74,7 @@ impl Default for BoundaryConditions {
     fn default() -> Self {
         BoundaryConditions {
             kinds: BTreeMap::new(),
-            default_kind: [Kind::Fixed; 2],
+            default_kind: [Kind::Fixed; MAX_DIM],
             links: Vec::new(),
             interfaces: BTreeMap::new(),
         }
@@ -69,29 +82,33 @@ impl Default for BoundaryConditions {
 }
 
 impl BoundaryConditions {
+    /// Every patch FIXED in every component, no links, no interfaces.
     pub fn new() -> Self {
         Self::default()
     }
 
-    /// Sets the kind of one component (0 = x, 1 = y) on a patch.
+    /// Sets the kind of one component (0 = x, 1 = y, 2 = z) on a patch. A z kind is ignored on a
+    /// 2D mesh.
     pub fn set_kind(&mut self, patch: i32, component: usize, kind: Kind) -> Result<&mut Self> {
-        if component > 1 {
-            return Err(Error::InvalidArgument(format!("component {component} does not exist in 2D (0 = x, 1 = y)")));
+        if component >= MAX_DIM {
+            return Err(Error::InvalidArgument(format!("component {component} does not exist (0 = x, 1 = y, 2 = z)")));
         }
         self.kinds.entry(patch).or_insert(self.default_kind)[component] = kind;
         Ok(self)
     }
 
-    /// Sets the same kind for both components on a patch.
+    /// Sets the same kind for every component on a patch.
     pub fn set_kinds(&mut self, patch: i32, kind: Kind) -> &mut Self {
-        self.kinds.insert(patch, [kind; 2]);
+        self.kinds.insert(patch, [kind; MAX_DIM]);
         self
     }
 
+    /// The kind of a component on a patch.
     pub fn kind(&self, patch: i32, component: usize) -> Kind {
         self.kinds.get(&patch).unwrap_or(&self.default_kind)[component]
     }
 
+    /// Joins two patches (periodic sides) or explicit vertex pairs.
     pub fn add_link(&mut self, link: Link) -> &mut Self {
         self.links.push(link);
         self
@@ -104,7 +121,7 @@ impl BoundaryConditions {
     }
 
     /// Patches whose shared vertices are split per region (variant A).
-    pub fn split_patches(&self) -> Vec<i32> {
+    pub(crate) fn split_patches(&self) -> Vec<i32> {
         self.interfaces.iter().filter(|(_, &v)| v == InterfaceVariant::Separate).map(|(&p, _)| p).collect()
     }
 
@@ -118,10 +135,10 @@ impl BoundaryConditions {
             }
         }
         for p in self.split_patches() {
-            if !mesh.patch_edges().iter().any(|e| e.patch == p && e.interior) {
-                return Err(Error::Bc(format!("interface patch {p} has no interior edge between two cells")));
+            if !mesh.patch_faces().any(|e| e.patch == p && e.interior) {
+                return Err(Error::Bc(format!("interface patch {p} has no interior face between two cells")));
             }
-            for c in 0..2 {
+            for c in 0..mesh.dim() {
                 if self.kind(p, c) == Kind::Free {
                     return Err(Error::Bc(format!(
                         "interface patch {p} is split (variant A) but component {c} is FREE: each side must prescribe the position"

@@ -9,11 +9,11 @@
 //! numbering. Only the solver's unknowns are renumbered: meshes, coarsening and the results the
 //! caller sees keep the caller's vertex numbers.
 
-use crate::mesh::VertexCells;
+use crate::mesh::{Csr, VertexCells};
 
 /// New-to-old order of `n` unknowns connected by the edges of `cells`. Deterministic: ties break
 /// by index.
-pub fn reverse_cuthill_mckee(n: usize, cells: &[[u32; 3]]) -> Vec<u32> {
+pub(crate) fn reverse_cuthill_mckee(n: usize, cells: &Csr) -> Vec<u32> {
     let (ptr, adj) = adjacency(n, cells);
     let degree = |v: u32| ptr[v as usize + 1] - ptr[v as usize];
     let neighbours = |v: u32| &adj[ptr[v as usize] as usize..ptr[v as usize + 1] as usize];
@@ -71,14 +71,14 @@ pub fn reverse_cuthill_mckee(n: usize, cells: &[[u32; 3]]) -> Vec<u32> {
 
 /// The graph of the cells' edges as CSR without the diagonal: each unknown's neighbours are the
 /// other corners of its cells (`VertexCells`, linear in the mesh), sorted and deduplicated.
-fn adjacency(n: usize, cells: &[[u32; 3]]) -> (Vec<u32>, Vec<u32>) {
+fn adjacency(n: usize, cells: &Csr) -> (Vec<u32>, Vec<u32>) {
     let around = VertexCells::build(n, cells);
     let mut ptr = vec![0u32; n + 1];
-    let mut adj = Vec::with_capacity(3 * cells.len());
+    let mut adj = Vec::with_capacity(cells.items.len());
     let mut row: Vec<u32> = Vec::new();
     for v in 0..n {
         row.clear();
-        row.extend(around.of(v).iter().flat_map(|&c| cells[c as usize]).filter(|&w| w as usize != v));
+        row.extend(around.of(v).iter().flat_map(|&c| cells.get(c as usize)).copied().filter(|&w| w as usize != v));
         row.sort_unstable();
         row.dedup();
         adj.extend_from_slice(&row);
@@ -90,6 +90,12 @@ fn adjacency(n: usize, cells: &[[u32; 3]]) -> (Vec<u32>, Vec<u32>) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn csr(cells: &[[u32; 3]]) -> Csr {
+        let mut c = Csr::new();
+        cells.iter().for_each(|t| c.push(t));
+        c
+    }
 
     /// A strip of 2×m squares numbered badly (even columns first, then odd): the order must be a
     /// permutation and bring the bandwidth down to a few columns.
@@ -113,7 +119,7 @@ mod tests {
                 .unwrap()
         };
         assert!(bw(&|v| v as i64) > 100);
-        let order = reverse_cuthill_mckee(n, &cells);
+        let order = reverse_cuthill_mckee(n, &csr(&cells));
         let mut new_of = vec![u32::MAX; n];
         for (k, &v) in order.iter().enumerate() {
             assert_eq!(new_of[v as usize], u32::MAX, "vertex {v} twice");
@@ -125,7 +131,7 @@ mod tests {
     /// Two disconnected triangles and an isolated index: every index appears once.
     #[test]
     fn disconnected_parts_and_isolated_unknowns() {
-        let order = reverse_cuthill_mckee(7, &[[0, 1, 2], [4, 5, 6]]);
+        let order = reverse_cuthill_mckee(7, &csr(&[[0, 1, 2], [4, 5, 6]]));
         let mut sorted = order.clone();
         sorted.sort_unstable();
         assert_eq!(sorted, (0..7).collect::<Vec<u32>>());

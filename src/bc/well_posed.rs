@@ -5,11 +5,11 @@ use crate::sparse::CsrMatrix;
 use crate::{Error, Result};
 
 /// Names of the components in messages.
-pub const COMPONENT: [&str; 2] = ["x", "y"];
+pub(crate) const COMPONENT: [&str; 3] = ["x", "y", "z"];
 
 /// Each component needs a prescribed unknown in every connected part of the mesh, or its
 /// displacement is undetermined (docs/DESIGN.md §3: an error, not a hang).
-pub fn check_well_posed(k: &CsrMatrix, flags: &[Vec<u8>; 2], dofs: &Dofs) -> Result<()> {
+pub(crate) fn check_well_posed(k: &CsrMatrix, flags: &[Vec<u8>], dofs: &Dofs) -> Result<()> {
     let n = dofs.n;
     let mut comp = vec![u32::MAX; n];
     // The smallest vertex of each part: messages name vertices in the caller's numbering,
@@ -33,10 +33,10 @@ pub fn check_well_posed(k: &CsrMatrix, flags: &[Vec<u8>; 2], dofs: &Dofs) -> Res
             }
         }
     }
-    for c in 0..2 {
+    for (c, flags) in flags.iter().enumerate() {
         let mut has_p = vec![false; parts.len()];
         for i in 0..n {
-            if flags[c][i] & P != 0 {
+            if flags[i] & P != 0 {
                 has_p[comp[i] as usize] = true;
             }
         }

@@ -5,7 +5,6 @@ use super::handles::{self, check_out, get_mut, hand_out, slice, Handle, Slot};
 use super::status::meshmove_status;
 use super::types;
 use crate::{BoundaryConditions, Link};
-use glam::DVec2;
 
 /// A boundary-condition set: a `meshmove_kind` per patch and component (patches not named are
 /// FIXED), links between patches, interface variants. It is checked against a mesh when a solver
@@ -88,7 +87,7 @@ pub unsafe extern "C" fn meshmove_bcs_set_kinds(bcs: *mut meshmove_bcs, patch: i
 pub unsafe extern "C" fn meshmove_bcs_set_default_kind(bcs: *mut meshmove_bcs, kind: i32) -> meshmove_status {
     ffi_body!(meshmove_bcs_set_default_kind, {
         let mut b = get_mut(bcs, "bcs")?;
-        b.default_kind = [types::kind(kind)?; 2];
+        b.default_kind = [types::kind(kind)?; 3];
         Ok(())
     })
 }
@@ -119,7 +118,7 @@ pub unsafe extern "C" fn meshmove_bcs_link_periodic(
         if patch_a == patch_b {
             return Err(CError::arg(format!("a patch ({patch_a}) cannot be linked to itself")));
         }
-        b.add_link(Link::ByOffset { a: patch_a, b: patch_b, offset: DVec2::new(dx, dy), tol });
+        b.add_link(Link::ByOffset { a: patch_a, b: patch_b, offset: [dx, dy, 0.0], tol });
         Ok(())
     })
 }

@@ -22,7 +22,6 @@
 
 use super::error::CError;
 use super::status::meshmove_status;
-use glam::DVec2;
 use std::any::TypeId;
 use std::cell::UnsafeCell;
 use std::collections::HashMap;
@@ -285,7 +284,7 @@ pub(crate) unsafe fn slice_mut<'a, T>(p: *mut T, len: usize, what: &str) -> Resu
 }
 
 /// An interleaved (x0, y0, x1, y1, ...) array of exactly `2 nv` doubles, copied out.
-pub(crate) unsafe fn read_xy(p: *const f64, len: i32, nv: usize, what: &str) -> Result<Vec<DVec2>, CError> {
+pub(crate) unsafe fn read_xy(p: *const f64, len: i32, nv: usize, what: &str) -> Result<Vec<f64>, CError> {
     let n = count(len, &format!("{what} length"))?;
     if n != 2 * nv {
         return Err(CError::arg(format!(
@@ -294,7 +293,7 @@ pub(crate) unsafe fn read_xy(p: *const f64, len: i32, nv: usize, what: &str) -> 
         )));
     }
     let s = slice(p, n, what)?;
-    Ok(s.chunks_exact(2).map(|c| DVec2::new(c[0], c[1])).collect())
+    Ok(s.to_vec())
 }
 
 /// Checks an output array of exactly `2 nv` doubles (before any work is done).
@@ -311,17 +310,18 @@ pub(crate) unsafe fn check_xy_out(p: *mut f64, len: i32, nv: usize, what: &str) 
 }
 
 /// Writes `v` interleaved into `p` (checked by `check_xy_out`).
-pub(crate) unsafe fn write_xy(p: *mut f64, v: &[DVec2]) {
-    let out = std::slice::from_raw_parts_mut(p, 2 * v.len());
-    for (o, d) in out.chunks_exact_mut(2).zip(v) {
-        o[0] = d.x;
-        o[1] = d.y;
-    }
+pub(crate) unsafe fn write_xy(p: *mut f64, v: &[f64]) {
+    std::slice::from_raw_parts_mut(p, v.len()).copy_from_slice(v);
 }
 
-pub(crate) fn finite_xy(v: &[DVec2], what: &str) -> Result<(), CError> {
+pub(crate) fn finite_xy(v: &[f64], what: &str) -> Result<(), CError> {
     match v.iter().position(|p| !p.is_finite()) {
-        Some(i) => Err(CError::arg(format!("`{what}` of vertex {i} (0-based) is not finite ({}, {})", v[i].x, v[i].y))),
+        Some(i) => Err(CError::arg(format!(
+            "`{what}` of vertex {} (0-based) is not finite ({}, {})",
+            i / 2,
+            v[i / 2 * 2],
+            v[i / 2 * 2 + 1]
+        ))),
         None => Ok(()),
     }
 }

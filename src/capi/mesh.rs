@@ -6,7 +6,6 @@ use super::status::meshmove_status;
 use super::types::bounded;
 use crate::cases::meshes;
 use crate::{Mesh, MeshError};
-use glam::DVec2;
 use std::ffi::c_char;
 
 /// An immutable triangle mesh (vertices, cells, boundary and interface patches, regions).
@@ -88,7 +87,7 @@ pub unsafe extern "C" fn meshmove_mesh_create(
         let xy: Vec<[f64; 2]> = xy.chunks_exact(2).map(|c| [c[0], c[1]]).collect();
         let tris: Vec<[i32; 3]> = cv.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
         let tagged: Vec<([i32; 2], i32)> = te.chunks_exact(2).zip(tp).map(|(e, &p)| ([e[0], e[1]], p)).collect();
-        let mesh = Mesh::new(&xy, &tris, base, &tagged, reg).map_err(|e| in_base(e, index_base))?;
+        let mesh = Mesh::triangles(&xy, &tris, base, &tagged, reg).map_err(|e| in_base(e, index_base))?;
         hand_out(mesh, out)
     })
 }
@@ -98,26 +97,29 @@ pub unsafe extern "C" fn meshmove_mesh_create(
 fn in_base(e: MeshError, base: i32) -> CError {
     let n = |i: &usize| *i as i64 + i64::from(base);
     let msg = match &e {
-        MeshError::NonFiniteCoordinate { vertex, x, y } => {
-            format!("vertex {} has a non-finite coordinate ({x}, {y})", n(vertex))
+        MeshError::NonFiniteCoordinate { vertex, component, value } => {
+            format!("vertex {} has a non-finite coordinate: component {component} is {value}", n(vertex))
         }
         MeshError::IndexOutOfRange { cell, index, base, end } => {
             format!("cell {} refers to vertex index {index}, outside {base}..{end}", n(cell))
         }
         MeshError::RepeatedVertex { cell, vertex } => format!("cell {} repeats vertex {}", n(cell), n(vertex)),
         MeshError::UnusedVertex { vertex } => format!("vertex {} is not used by any cell", n(vertex)),
-        MeshError::DegenerateCell { cell, area } => format!("cell {} has zero area ({area:e})", n(cell)),
-        MeshError::NonManifoldEdge { a, b, cells } => {
-            format!("edge ({}, {}) is shared by {cells} cells; at most two may share an edge", n(a), n(b))
+        MeshError::DegenerateCell { cell, measure } => format!("cell {} has zero area ({measure:e})", n(cell)),
+        MeshError::NonManifoldFace { face, cells } => {
+            let f: Vec<i64> = face.iter().map(|&v| n(&(v as usize))).collect();
+            format!("face {f:?} is shared by {cells} cells; at most two may share a face")
         }
         MeshError::TaggedIndexOutOfRange { edge, index, base, end } => {
             format!("tagged edge {} refers to vertex index {index}, outside {base}..{end}", n(edge))
         }
-        MeshError::TaggedEdgeNotAnEdge { edge, a, b } => {
-            format!("tagged edge {} ({}, {}) is not an edge of any cell", n(edge), n(a), n(b))
+        MeshError::TaggedFaceNotAFace { face, vertices } => {
+            let f: Vec<i64> = vertices.iter().map(|&v| n(&(v as usize))).collect();
+            format!("tagged edge {} {f:?} is not an edge of any cell", n(face))
         }
-        MeshError::TaggedEdgeTwice { edge, a, b, first, second } => {
-            format!("tagged edge {} ({}, {}) is tagged twice, with patches {first} and {second}", n(edge), n(a), n(b))
+        MeshError::TaggedFaceTwice { face, vertices, first, second } => {
+            let f: Vec<i64> = vertices.iter().map(|&v| n(&(v as usize))).collect();
+            format!("tagged edge {} {f:?} is tagged twice, with patches {first} and {second}", n(face))
         }
         _ => return e.into(),
     };
@@ -251,7 +253,8 @@ pub unsafe extern "C" fn meshmove_mesh_get_cells(
             )));
         }
         let out = handles::slice_mut(cells, n, "cells")?;
-        for (o, c) in out.chunks_exact_mut(3).zip(m.cells()) {
+        for (i, o) in out.chunks_exact_mut(3).enumerate() {
+            let c = m.cell(i);
             for k in 0..3 {
                 o[k] = c[k] as i32 + b;
             }
@@ -341,7 +344,7 @@ pub unsafe extern "C" fn meshmove_mesh_write_vtu(
 
 pub(crate) unsafe fn write_vtu(m: &Mesh, p: &str, len: i32, displacement: *const f64) -> Result<(), CError> {
     let d = if len == 0 && displacement.is_null() {
-        vec![DVec2::ZERO; m.num_vertices()]
+        vec![0.0; m.coords().len()]
     } else {
         handles::read_xy(displacement, len, m.num_vertices(), "displacement")?
     };

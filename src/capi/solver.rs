@@ -8,7 +8,6 @@ use super::mesh::meshmove_mesh;
 use super::status::meshmove_status;
 use super::types::{self, meshmove_options, meshmove_quality, meshmove_report, meshmove_step_report};
 use crate::{Motion, RigidMotion, Solver};
-use glam::DVec2;
 use std::ffi::c_char;
 
 /// A solver: the hierarchy built once for a mesh and boundary conditions, the rigid motions
@@ -20,7 +19,7 @@ pub struct meshmove_solver(Slot<SolverState>);
 pub(crate) struct SolverState {
     solver: Solver,
     rigid: Vec<(i32, RigidMotion)>,
-    last: Vec<DVec2>,
+    last: Vec<f64>,
 }
 
 impl Handle for meshmove_solver {
@@ -38,13 +37,13 @@ impl SolverState {
     fn nv(&self) -> usize {
         self.solver.mesh().num_vertices()
     }
-    fn motion(&self, d: Vec<DVec2>) -> Motion {
+    fn motion(&self, d: Vec<f64>) -> Motion {
         Motion { displacement: d, rigid: self.rigid.clone() }
     }
     /// Puts the reference mesh back to `before` after a failed call changed it, so that the
     /// failure leaves the solver as it was. The operators are re-evaluated there (the same
     /// values as before the call).
-    fn restore(&mut self, before: Option<Vec<DVec2>>, e: CError) -> CError {
+    fn restore(&mut self, before: Option<Vec<f64>>, e: CError) -> CError {
         match before {
             Some(b) => match self.solver.set_reference(b) {
                 Ok(()) => e,
@@ -56,11 +55,11 @@ impl SolverState {
 }
 
 /// Every output must be finite or the call fails (and writes nothing).
-fn finite_out(v: &[DVec2], what: &str) -> Result<(), CError> {
+fn finite_out(v: &[f64], what: &str) -> Result<(), CError> {
     match v.iter().position(|p| !p.is_finite()) {
         Some(i) => Err(CError::new(
             meshmove_status::Diverged,
-            format!("the {what} of vertex {i} (0-based) is not finite ({}, {}); nothing was written", v[i].x, v[i].y),
+            format!("the {what} of vertex {} (0-based) is not finite; nothing was written", i / 2),
         )),
         None => Ok(()),
     }
@@ -147,7 +146,7 @@ pub unsafe extern "C" fn meshmove_solver_create(
         };
         let solver = Solver::new(&m, &b, o.to_rust()?)?;
         let nv = m.num_vertices();
-        hand_out::<meshmove_solver>(SolverState { solver, rigid: Vec::new(), last: vec![DVec2::ZERO; nv] }, out)
+        hand_out::<meshmove_solver>(SolverState { solver, rigid: Vec::new(), last: vec![0.0; 2 * nv] }, out)
     })
 }
 
@@ -210,7 +209,7 @@ pub unsafe extern "C" fn meshmove_solver_set_rigid_motion(
                 s.solver.mesh().patch_ids()
             )));
         }
-        let m = RigidMotion { translation: DVec2::new(tx, ty), angle, center: DVec2::new(cx, cy) };
+        let m = RigidMotion::planar([tx, ty], angle, [cx, cy]);
         s.rigid.retain(|(p, _)| *p != patch);
         s.rigid.push((patch, m));
         Ok(())
@@ -411,7 +410,7 @@ pub unsafe extern "C" fn meshmove_solver_move_in_steps(
         for (o, r) in out.iter_mut().zip(&steps) {
             *o = *r;
         }
-        s.last = s.solver.current_coords().iter().zip(&before).map(|(a, b)| *a - *b).collect();
+        s.last = s.solver.current_coords().iter().zip(&before).map(|(a, b)| a - b).collect();
         // The last step's result inverted cells (the method's honest answer without
         // sub-stepping): reported, never plain OK; the solver stays as before the call.
         match s.solver.step_reports().last() {

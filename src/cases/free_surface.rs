@@ -138,7 +138,7 @@ mod tests {
             assert_eq!(m.patch_vertices(p).len(), 33, "patch {p}");
         }
         let ys = |p: i32| {
-            let mut y: Vec<f64> = m.patch_vertices(p).iter().map(|&v| m.coords()[v as usize].y).collect();
+            let mut y: Vec<f64> = m.patch_vertices(p).iter().map(|&v| m.point(v as usize)[1]).collect();
             y.sort_by(f64::total_cmp);
             y
         };
@@ -147,7 +147,7 @@ mod tests {
             assert!((y - (-1.0 + j as f64 / 32.0)).abs() < 1e-15);
         }
         for &v in &m.patch_vertices(FS_TOP) {
-            assert_eq!(m.coords()[v as usize].y, 0.0);
+            assert_eq!(m.point(v as usize)[1], 0.0);
         }
         assert!(min_angle(&m) >= 25.0, "min angle {}", min_angle(&m));
         // Deterministic.
@@ -187,7 +187,7 @@ mod tests {
         let r = m.regions();
         assert_eq!(r.iter().filter(|&&x| x == 0).count(), lower.num_cells());
         for (c, t) in m.cells().iter().enumerate() {
-            let cy: f64 = t.iter().map(|&v| m.coords()[v as usize].y).sum::<f64>() / 3.0;
+            let cy: f64 = t.iter().map(|&v| m.point(v as usize)[1]).sum::<f64>() / 3.0;
             assert_eq!(r[c], i32::from(cy > 0.0));
         }
         assert_eq!(m.patch_ids(), vec![1, 2, 3, 4, 5]);

@@ -63,24 +63,24 @@ pub fn structured_rectangle(nx: usize, ny: usize, x0: f64, x1: f64, y0: f64, y1:
         tagged.push(([id(nx, j), id(nx, j + 1)], RECT_RIGHT));
         tagged.push(([id(0, j), id(0, j + 1)], RECT_LEFT));
     }
-    Mesh::new(&coords, &tris, IndexBase::Zero, &tagged, None).expect("structured_rectangle")
+    Mesh::triangles(&coords, &tris, IndexBase::Zero, &tagged, None).expect("structured_rectangle")
 }
 
 /// Builds the validated mesh of a planar triangulation; tags with patch 0 are left untagged.
 pub(super) fn to_mesh(p: &Planar, regions: Option<&[i32]>, what: &str) -> Mesh {
     let coords: Vec<[f64; 2]> = p.coords.iter().map(|v: &DVec2| [v.x, v.y]).collect();
     let tagged: Vec<([u32; 2], i32)> = p.tagged.iter().copied().filter(|t| t.1 != 0).collect();
-    Mesh::new(&coords, &p.tris, IndexBase::Zero, &tagged, regions)
+    Mesh::triangles(&coords, &p.tris, IndexBase::Zero, &tagged, regions)
         .unwrap_or_else(|e| panic!("{what}: invalid mesh: {e}"))
 }
 
 #[cfg(test)]
 pub(super) mod test_util {
-    use crate::mesh::quality::signed_areas;
+    use crate::mesh::quality::signed_measures;
     use crate::mesh::Mesh;
 
     pub fn total_area(m: &Mesh) -> f64 {
-        signed_areas(m, m.coords()).iter().sum()
+        signed_measures(m, m.coords()).iter().sum()
     }
 
     pub fn min_angle(m: &Mesh) -> f64 {
@@ -125,10 +125,10 @@ mod tests {
         assert_eq!(m.patch_vertices(RECT_LEFT).len(), 5);
         assert_eq!(m.patch_vertices(RECT_RIGHT).len(), 5);
         for &v in &m.patch_vertices(RECT_RIGHT) {
-            assert_eq!(m.coords()[v as usize].x, 2.0);
+            assert_eq!(m.point(v as usize)[0], 2.0);
         }
         for &v in &m.patch_vertices(RECT_BOTTOM) {
-            assert_eq!(m.coords()[v as usize].y, -1.0);
+            assert_eq!(m.point(v as usize)[1], -1.0);
         }
         // Cells: right triangles with legs 0.25, 0.25: min angle 45°.
         assert!((min_angle(&m) - 45.0).abs() < 1e-9);

@@ -2,7 +2,7 @@
 //! (docs/DESIGN.md §7's quality measures).
 
 use super::setups::CaseSetup;
-use crate::mesh::quality::{quality, signed_areas};
+use crate::mesh::quality::{quality, signed_measures};
 use crate::mesh::Mesh;
 use crate::operator::Method;
 use crate::solver::{Options, Solver, StepReport};
@@ -59,17 +59,17 @@ pub struct CaseResult {
     pub failure: Option<String>,
     /// Final positions of every vertex (on a failure, the last mesh reached, which may be the
     /// inverted result that stopped the run).
-    pub coords: Vec<DVec2>,
+    pub coords: Vec<f64>,
     /// The last valid mesh of the run (the final one when the run succeeded).
-    pub last_valid: Vec<DVec2>,
+    pub last_valid: Vec<f64>,
     /// Reports of each sub-step.
     pub reports: Vec<StepReport>,
 }
 
 impl CaseResult {
     /// Displacement from the original mesh.
-    pub fn displacement(&self, original: &Mesh) -> Vec<DVec2> {
-        self.coords.iter().zip(original.coords()).map(|(a, b)| *a - *b).collect()
+    pub fn displacement(&self, original: &Mesh) -> Vec<f64> {
+        self.coords.iter().zip(original.coords()).map(|(a, b)| a - b).collect()
     }
 
     /// The CSV header of [`CaseResult::csv_row`].
@@ -93,17 +93,19 @@ impl CaseResult {
     }
 }
 
-/// The cells touching `patch` by an edge, with that edge: (cell, a, b).
+/// The cells touching `patch` (of a 2D mesh) by an edge, with that edge: (cell, a, b).
 pub fn patch_cells(mesh: &Mesh, patch: i32) -> Vec<(usize, u32, u32)> {
     let mut by_edge: HashMap<(u32, u32), Vec<usize>> = HashMap::new();
-    for (c, t) in mesh.cells().iter().enumerate() {
-        for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
+    for c in 0..mesh.num_cells() {
+        let t = mesh.cell(c);
+        for k in 0..t.len() {
+            let (a, b) = (t[k], t[(k + 1) % t.len()]);
             by_edge.entry((a.min(b), a.max(b))).or_default().push(c);
         }
     }
     let mut out = Vec::new();
-    for e in mesh.patch_edges().iter().filter(|e| e.patch == patch) {
-        let [a, b] = e.vertices;
+    for e in mesh.patch_faces().filter(|e| e.patch == patch) {
+        let [a, b] = [e.vertices[0], e.vertices[1]];
         for &c in by_edge.get(&(a.min(b), a.max(b))).map(|v| v.as_slice()).unwrap_or(&[]) {
             out.push((c, a, b));
         }
@@ -111,22 +113,28 @@ pub fn patch_cells(mesh: &Mesh, patch: i32) -> Vec<(usize, u32, u32)> {
     out
 }
 
-/// Height of the triangle of signed area `area` over the edge (a, b).
+/// Twice the cell's signed area over the length of its edge (a, b): a triangle's height over
+/// the edge, twice a quad's (only ratios of these are reported).
 fn height(area: f64, a: DVec2, b: DVec2) -> f64 {
     2.0 * area / (b - a).length()
 }
 
+/// Vertex `v` of 2D positions `x`.
+fn xy(x: &[f64], v: usize) -> DVec2 {
+    DVec2::new(x[2 * v], x[2 * v + 1])
+}
+
 /// The measures of [`PatchMeasures`] for `original` moved to `deformed`.
-pub fn patch_measures(original: &Mesh, deformed: &[DVec2], patch: i32, upper: Option<i32>) -> PatchMeasures {
-    let a0 = signed_areas(original, original.coords());
-    let a1 = signed_areas(original, deformed);
+pub fn patch_measures(original: &Mesh, deformed: &[f64], patch: i32, upper: Option<i32>) -> PatchMeasures {
+    let a0 = signed_measures(original, original.coords());
+    let a1 = signed_measures(original, deformed);
     let x0 = original.coords();
     let (mut lo, mut hi, mut sum, mut n) = (f64::INFINITY, f64::NEG_INFINITY, 0.0, 0usize);
     let (mut rlo, mut rhi) = (f64::INFINITY, f64::NEG_INFINITY);
     let (mut up, mut nup, mut down, mut ndown) = (0.0, 0usize, 0.0, 0usize);
     for (c, a, b) in patch_cells(original, patch) {
         let (a, b) = (a as usize, b as usize);
-        let r = height(a1[c], deformed[a], deformed[b]) / height(a0[c], x0[a], x0[b]);
+        let r = height(a1[c], xy(deformed, a), xy(deformed, b)) / height(a0[c], xy(x0, a), xy(x0, b));
         lo = lo.min(r);
         hi = hi.max(r);
         sum += r;
@@ -214,10 +222,10 @@ pub fn run_case_with(
     let patch = patch_measures(original, &coords, setup.moved_patch, setup.upper_region);
     let max_y_upper = setup.upper_region.map(|u| {
         let mut m = f64::NEG_INFINITY;
-        for (c, t) in original.cells().iter().enumerate() {
+        for c in 0..original.num_cells() {
             if original.regions()[c] == u {
-                for &v in t {
-                    m = m.max(coords[v as usize].y);
+                for &v in original.cell(c) {
+                    m = m.max(coords[2 * v as usize + 1]);
                 }
             }
         }
@@ -251,17 +259,19 @@ pub fn reference_displacement(
     motion: &crate::Motion,
     method: Method,
     tol: f64,
-) -> Result<Vec<DVec2>> {
+) -> Result<Vec<f64>> {
     use crate::bc::P;
     let solver = Solver::new(mesh, bcs, Options { method, ..Default::default() })?;
     let lev = &solver.hierarchy().levels[0];
     let n = lev.n();
     let vals = motion.vertex_values(mesh);
-    let mut disp = vec![DVec2::ZERO; mesh.num_vertices()];
-    for c in 0..2 {
+    let dim = mesh.dim();
+    let mut disp = vec![0.0; mesh.coords().len()];
+    for c in 0..dim {
         let flags = &lev.flags[c];
-        let dp: Vec<f64> =
-            (0..n).map(|d| if flags[d] & P != 0 { vals[lev.dofs.dof_vertex[d] as usize][c] } else { 0.0 }).collect();
+        let dp: Vec<f64> = (0..n)
+            .map(|d| if flags[d] & P != 0 { vals[lev.dofs.dof_vertex[d] as usize * dim + c] } else { 0.0 })
+            .collect();
         // The rigid-motion flux source of a CLAMPED patch (docs/DESIGN.md §4): the solver's own.
         let g = crate::solver::rigid_flux(solver.hierarchy(), bcs, motion, c);
         let (mut b, mut sc) = (vec![0.0; n], vec![0.0; n]);
@@ -294,7 +304,7 @@ pub fn reference_displacement(
             return Err(crate::Error::Diverged(format!("reference CG reached only {rel:e}")));
         }
         for (v, &d) in lev.dofs.vertex_dof.iter().enumerate() {
-            disp[v][c] = x[d as usize] + dp[d as usize];
+            disp[v * dim + c] = x[d as usize] + dp[d as usize];
         }
     }
     Ok(disp)
@@ -304,12 +314,12 @@ pub fn reference_displacement(
 /// after each step as the solver does). Returns the final positions and the first step after
 /// which a cell was inverted; like the solver, it stops after that step (nothing can be solved
 /// on a tangled mesh).
-pub fn run_case_reference(setup: &CaseSetup, method: Method, tol: f64) -> Result<(Vec<DVec2>, Option<usize>)> {
+pub fn run_case_reference(setup: &CaseSetup, method: Method, tol: f64) -> Result<(Vec<f64>, Option<usize>)> {
     let original = &setup.mesh;
     let mut current = original.clone();
     for i in 0..setup.steps {
         let d = reference_displacement(&current, &setup.bcs, &setup.motion.increment(i, setup.steps), method, tol)?;
-        let moved: Vec<DVec2> = current.coords().iter().zip(&d).map(|(x, d)| *x + *d).collect();
+        let moved = crate::solver::moved(current.coords(), &d);
         if quality(original, &moved).inverted > 0 {
             return Ok((moved, Some(i + 1)));
         }

@@ -8,7 +8,6 @@ use super::meshes::*;
 use crate::bc::{BoundaryConditions, InterfaceVariant, Kind, Link};
 use crate::mesh::Mesh;
 use crate::motion::{Motion, RigidMotion};
-use glam::DVec2;
 use std::f64::consts::TAU;
 
 /// The case names of the CLI's `results.csv`, in order.
@@ -54,7 +53,7 @@ fn free_surface_bcs() -> BoundaryConditions {
     for p in [FS_LEFT, FS_RIGHT] {
         bcs.set_kind(p, 0, Kind::Clamped).unwrap().set_kind(p, 1, Kind::Free).unwrap();
     }
-    bcs.add_link(Link::ByOffset { a: FS_LEFT, b: FS_RIGHT, offset: DVec2::X, tol: 1e-9 });
+    bcs.add_link(Link::ByOffset { a: FS_LEFT, b: FS_RIGHT, offset: [1.0, 0.0, 0.0], tol: 1e-9 });
     bcs
 }
 
@@ -62,10 +61,10 @@ fn free_surface_bcs() -> BoundaryConditions {
 /// and moved to y = `a` cos 2πx in `steps` equal steps.
 pub fn free_surface_case(name: &'static str, h: f64, a: f64, steps: usize) -> CaseSetup {
     let mesh = free_surface(h);
-    let mut motion = Motion::zero(mesh.num_vertices());
+    let mut motion = Motion::zero(&mesh);
     for v in mesh.patch_vertices(FS_TOP) {
-        let x = mesh.coords()[v as usize].x;
-        motion.displacement[v as usize].y = a * (TAU * x).cos();
+        let x = mesh.point(v as usize)[0];
+        motion.displacement[2 * v as usize + 1] = a * (TAU * x).cos();
     }
     CaseSetup {
         name: name.to_string(),
@@ -94,12 +93,12 @@ pub fn interface_case(
     for p in [IF_LEFT, IF_RIGHT] {
         bcs.set_kind(p, 0, Kind::Clamped).unwrap().set_kind(p, 1, Kind::Free).unwrap();
     }
-    bcs.add_link(Link::ByOffset { a: IF_LEFT, b: IF_RIGHT, offset: DVec2::X, tol: 1e-9 });
+    bcs.add_link(Link::ByOffset { a: IF_LEFT, b: IF_RIGHT, offset: [1.0, 0.0, 0.0], tol: 1e-9 });
     bcs.set_interface(IF_INTERFACE, variant);
-    let mut motion = Motion::zero(mesh.num_vertices());
+    let mut motion = Motion::zero(&mesh);
     for v in mesh.patch_vertices(IF_INTERFACE) {
-        let x = mesh.coords()[v as usize].x;
-        motion.displacement[v as usize].y = target(x);
+        let x = mesh.point(v as usize)[0];
+        motion.displacement[2 * v as usize + 1] = target(x);
     }
     CaseSetup { name: name.to_string(), mesh, bcs, motion, steps, moved_patch: IF_INTERFACE, upper_region: Some(1) }
 }
@@ -111,7 +110,7 @@ pub fn cylinder_channel_case(h: f64) -> CaseSetup {
     let mut bcs = BoundaryConditions::new();
     bcs.set_kinds(CH_WALL, Kind::Fixed).set_kinds(CH_CYLINDER, Kind::Clamped);
     let motion =
-        Motion::zero(mesh.num_vertices()).with_rigid(CH_CYLINDER, RigidMotion::translation(DVec2::new(1.0, 0.0)));
+        Motion::zero(&mesh).with_rigid(CH_CYLINDER, RigidMotion::translation([1.0, 0.0, 0.0]));
     CaseSetup {
         name: "cylinder_channel".into(),
         mesh,
@@ -129,8 +128,8 @@ pub fn boundary_layer_cylinder_case() -> CaseSetup {
     let mesh = boundary_layer_cylinder();
     let mut bcs = BoundaryConditions::new();
     bcs.set_kinds(BL_FAR, Kind::Fixed).set_kinds(BL_CYLINDER, Kind::Clamped);
-    let t = 4.5 * DVec2::new(-1.0, 1.0) / 2f64.sqrt();
-    let motion = Motion::zero(mesh.num_vertices()).with_rigid(BL_CYLINDER, RigidMotion::translation(t));
+    let t = [-4.5 / 2f64.sqrt(), 4.5 / 2f64.sqrt(), 0.0];
+    let motion = Motion::zero(&mesh).with_rigid(BL_CYLINDER, RigidMotion::translation(t));
     CaseSetup {
         name: "boundary_layer_cylinder".into(),
         mesh,

@@ -1,5 +1,200 @@
 //! The geometry of cells: everything that knows the dimension and the cell type lives here.
+//!
+//! A cell's corners are gathered into [`CellPoints`]; its element quantities (signed measure,
+//! corner Jacobians, the stiffness ∫∇φ_i·∇φ_j, the lumped mass ∫φ_i, angles) come from the
+//! module of its family: `simplex` (P1 triangles and tetrahedra) and `tensor` (Q1 quads and
+//! hexahedra). Rotations in D dimensions are in `rotation`.
 
 mod cell_type;
+pub(crate) mod rotation;
+mod simplex;
+mod tensor;
 
 pub use cell_type::{CellType, MAX_CORNERS};
+
+/// Up to `MAX_CORNERS` values, one per corner of a cell.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Corners<T> {
+    v: [T; MAX_CORNERS],
+    n: u8,
+}
+
+impl<T: Copy + Default> Corners<T> {
+    /// The values `f(k)` of the `n` corners.
+    #[inline]
+    pub(crate) fn from_fn(n: usize, mut f: impl FnMut(usize) -> T) -> Corners<T> {
+        let mut v = [T::default(); MAX_CORNERS];
+        for (k, x) in v[..n].iter_mut().enumerate() {
+            *x = f(k);
+        }
+        Corners { v, n: n as u8 }
+    }
+}
+
+impl<T> std::ops::Deref for Corners<T> {
+    type Target = [T];
+    #[inline]
+    fn deref(&self) -> &[T] {
+        &self.v[..self.n as usize]
+    }
+}
+
+/// The corners of one cell, padded to 3 coordinates (z = 0 in 2D).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct CellPoints {
+    pub(crate) ty: CellType,
+    pub(crate) p: [[f64; 3]; MAX_CORNERS],
+}
+
+impl CellPoints {
+    /// Gathers the corners `verts` of a cell of type `ty` from interleaved `coords` of `dim`
+    /// values per vertex.
+    #[inline]
+    pub(crate) fn gather(ty: CellType, verts: &[u32], coords: &[f64], dim: usize) -> CellPoints {
+        let mut p = [[0.0; 3]; MAX_CORNERS];
+        for (k, &v) in verts.iter().enumerate() {
+            let x = &coords[v as usize * dim..v as usize * dim + dim];
+            p[k][..dim].copy_from_slice(x);
+        }
+        CellPoints { ty, p }
+    }
+
+    /// Signed area (2D) or volume (3D): positive for a cell in its type's orientation.
+    pub(crate) fn signed_measure(&self) -> f64 {
+        match self.ty {
+            CellType::Triangle => simplex::triangle_area(&self.p),
+            CellType::Quad => tensor::quad_area(&self.p),
+            CellType::Tetra => simplex::tet_volume(&self.p),
+            _ => tensor::volume_by_corners(self.ty, &self.p),
+        }
+    }
+
+    /// The smallest corner Jacobian determinant (for a simplex its one Jacobian, twice the area
+    /// or six times the volume): the cell is inverted when it is ≤ 0.
+    pub(crate) fn min_corner_jacobian(&self) -> f64 {
+        match self.ty {
+            CellType::Triangle => 2.0 * simplex::triangle_area(&self.p),
+            CellType::Tetra => 6.0 * simplex::tet_volume(&self.p),
+            _ => tensor::min_corner_jacobian(self.ty, &self.p),
+        }
+    }
+
+    /// The squared length of the cell's longest edge (the scale of degeneracy tests).
+    pub(crate) fn longest_edge_squared(&self) -> f64 {
+        self.ty.edges().iter().map(|e| dist2(&self.p[e[0] as usize], &self.p[e[1] as usize])).fold(0.0, f64::max)
+    }
+
+    /// The smallest angle between two edges at a corner, in degrees (0 for an inverted corner).
+    pub(crate) fn min_angle_deg(&self) -> f64 {
+        match self.ty {
+            CellType::Triangle => simplex::triangle_min_angle_deg(&self.p),
+            _ => tensor::min_corner_angle_deg(self.ty, &self.p),
+        }
+    }
+
+    /// The local stiffness K_ij = ∫∇φ_i·∇φ_j for the pairs of `self.ty.couplings()`, in that
+    /// order (the diagonal follows from the rows' zero sums and is not returned).
+    pub(crate) fn stiffness(&self, k: &mut [f64]) {
+        match self.ty {
+            CellType::Triangle => simplex::triangle_stiffness(&self.p, k),
+            CellType::Quad => tensor::quad_stiffness(&self.p, k),
+            t => unimplemented_cell(t),
+        }
+    }
+
+    /// The lumped mass ∫φ_i of every corner.
+    pub(crate) fn lumped_mass(&self, m: &mut [f64]) {
+        match self.ty {
+            CellType::Triangle => simplex::triangle_lumped_mass(&self.p, m),
+            CellType::Quad => tensor::quad_lumped_mass(&self.p, m),
+            t => unimplemented_cell(t),
+        }
+    }
+}
+
+/// The 3D cells' element kernels are not written yet: a mesh with such cells is refused by
+/// `Mesh::from_data`, so no kernel is ever asked for one.
+fn unimplemented_cell(t: CellType) -> ! {
+    unreachable!("no element kernel for {t} cells: the mesh constructor refuses them")
+}
+
+/// The cell types whose element kernels exist (the others are refused by `Mesh::from_data`).
+pub(crate) fn has_kernels(t: CellType) -> bool {
+    matches!(t, CellType::Triangle | CellType::Quad)
+}
+
+impl CellType {
+    /// The pairs of corners the stiffness couples: a simplex's edges (in `edges()` order), a
+    /// tensor cell's every pair (its basis functions overlap across face diagonals too).
+    pub(crate) fn couplings(self) -> &'static [[u8; 2]] {
+        match self {
+            CellType::Triangle | CellType::Tetra => self.edges(),
+            CellType::Quad => &[[0, 1], [1, 2], [2, 3], [3, 0], [0, 2], [1, 3]],
+            CellType::Hexahedron | CellType::Wedge | CellType::Pyramid => &ALL_PAIRS_8,
+        }
+    }
+
+    /// The corner order of the same cell in the opposite orientation.
+    pub(crate) fn flipped(self) -> &'static [u8] {
+        match self {
+            CellType::Triangle => &[0, 2, 1],
+            CellType::Quad => &[0, 3, 2, 1],
+            CellType::Tetra => &[0, 2, 1, 3],
+            CellType::Hexahedron => &[0, 3, 2, 1, 4, 7, 6, 5],
+            CellType::Wedge => &[0, 2, 1, 3, 5, 4],
+            CellType::Pyramid => &[0, 3, 2, 1, 4],
+        }
+    }
+}
+
+/// Every pair of up to eight corners (the 3D tensor cells take the pairs below their count).
+static ALL_PAIRS_8: [[u8; 2]; 28] = {
+    let mut out = [[0u8; 2]; 28];
+    let (mut i, mut k) = (0u8, 0usize);
+    while i < 8 {
+        let mut j = i + 1;
+        while j < 8 {
+            out[k] = [i, j];
+            k += 1;
+            j += 1;
+        }
+        i += 1;
+    }
+    out
+};
+
+/// |a − b|², the same sum as `DVec2::distance_squared` in 2D (z terms are zero).
+#[inline]
+pub(crate) fn dist2(a: &[f64; 3], b: &[f64; 3]) -> f64 {
+    let d = [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+    if d[2] == 0.0 {
+        d[0] * d[0] + d[1] * d[1]
+    } else {
+        d[0] * d[0] + d[1] * d[1] + d[2] * d[2]
+    }
+}
+
+/// a − b.
+#[inline]
+pub(crate) fn sub(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+/// a × b.
+#[inline]
+pub(crate) fn cross(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
+    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+}
+
+/// a · b.
+#[inline]
+pub(crate) fn dot3(a: &[f64; 3], b: &[f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// (b − a) ⟂· (c − a) = twice the signed area of triangle (a, b, c) in the xy plane.
+#[inline]
+pub(crate) fn twice_area2(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> f64 {
+    let (u, v) = ([b[0] - a[0], b[1] - a[1]], [c[0] - a[0], c[1] - a[1]]);
+    u[0] * v[1] - u[1] * v[0]
+}

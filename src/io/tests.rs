@@ -83,12 +83,12 @@ fn gmsh_two_regions_interface_and_unnamed_curve() {
     let interface: Vec<_> = m.patch_edges().iter().filter(|e| e.patch == 9).collect();
     assert_eq!(interface.len(), 4);
     assert!(interface.iter().all(|e| e.interior));
-    assert!(m.patch_vertices(9).iter().all(|&v| m.coords()[v as usize].x == 1.0));
-    assert!(m.patch_vertices(0).iter().all(|&v| m.coords()[v as usize].y == 1.0));
+    assert!(m.patch_vertices(9).iter().all(|&v| m.point(v as usize)[0] == 1.0));
+    assert!(m.patch_vertices(0).iter().all(|&v| m.point(v as usize)[1] == 1.0));
     assert_eq!(edges_of(m, 4), 8);
     assert_eq!(edges_of(m, 0), 8);
     for (c, &r) in m.cells().iter().zip(m.regions()) {
-        let cx = c.iter().map(|&v| m.coords()[v as usize].x).sum::<f64>() / 3.0;
+        let cx = c.iter().map(|&v| m.point(v as usize)[0]).sum::<f64>() / 3.0;
         assert_eq!(r, if cx < 1.0 { 1 } else { 2 });
     }
     // Node tags: the Gmsh tags of the kept nodes, distinct.

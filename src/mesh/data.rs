@@ -102,40 +102,16 @@ impl MeshData {
 }
 
 impl super::Mesh {
-    /// Validates `data` and builds the mesh (see [`Mesh::new`](super::Mesh::new) for what is
-    /// checked).
-    pub fn from_data(data: &MeshData) -> Result<super::Mesh, super::MeshError> {
-        use super::MeshError;
-        if data.dim != 2 {
-            return Err(MeshError::Dimension { dim: data.dim });
-        }
-        let mut tris = Vec::with_capacity(data.num_cells());
-        for c in 0..data.num_cells() {
-            if data.cell_types[c] != CellType::Triangle {
-                return Err(MeshError::CellTypeNotInDimension { cell: c, cell_type: data.cell_types[c], dim: 2 });
-            }
-            let t = data.cell(c);
-            tris.push([t[0], t[1], t[2]]);
-        }
-        let coords: Vec<[f64; 2]> = data.coords.chunks_exact(2).map(|p| [p[0], p[1]]).collect();
-        let tagged: Vec<([u32; 2], i32)> =
-            (0..data.num_faces()).map(|f| ([data.face(f)[0], data.face(f)[1]], data.face_patch[f])).collect();
-        let regions = (!data.regions.is_empty()).then_some(&data.regions[..]);
-        super::Mesh::new(&coords, &tris, super::IndexBase::Zero, &tagged, regions)
-    }
-
     /// The mesh as plain arrays; its faces are every patch face (boundary faces on patch 0
     /// included), so `Mesh::from_data(&m.to_data())` gives the same mesh.
     pub fn to_data(&self) -> MeshData {
-        let mut d = MeshData::new(2);
-        for p in self.coords() {
-            d.push_vertex(&[p.x, p.y]);
+        let mut d = MeshData::new(self.dim());
+        d.coords = self.coords().to_vec();
+        for c in 0..self.num_cells() {
+            d.push_cell(self.cell_type(c), self.cell(c), self.regions()[c]);
         }
-        for (t, &r) in self.cells().iter().zip(self.regions()) {
-            d.push_cell(CellType::Triangle, t, r);
-        }
-        for e in self.patch_edges() {
-            d.push_face(&e.vertices, e.patch);
+        for f in self.patch_faces() {
+            d.push_face(f.vertices, f.patch);
         }
         d
     }

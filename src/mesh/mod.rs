@@ -1,138 +1,235 @@
-//! The mesh: vertices, cells, boundary patches and regions (docs/DESIGN.md §2).
+//! The mesh: vertices, cells of any type, boundary and interface faces with patch ids, regions
+//! (docs/DESIGN.md §2).
 //!
-//! Cells are triangles today. Everything downstream (operators, multigrid) works on per-cell
-//! element contributions and on adjacency derived from the cells, so tetrahedra and mixed cells
-//! add a cell kind here and an element routine in `operator`, not a new data model.
+//! Cells are stored as CSR lists with a [`CellType`] each, in VTK's local corner order; faces
+//! (segments in 2D, triangles and quads in 3D) likewise. Everything downstream works on the
+//! per-cell element contributions of [`crate::geometry`] and on adjacency derived from the
+//! cells, so nothing outside the geometry module knows the dimension or the cell type.
 
 mod data;
 mod error;
-pub mod quality;
+pub(crate) mod quality;
 mod refine;
 mod topology;
 pub(crate) mod validate;
 
 pub use data::MeshData;
 pub use error::MeshError;
-pub use topology::{edge_key, EdgeCells, VertexCells};
+pub use quality::{inverted_cells, quality, signed_measures, Quality};
+pub(crate) use topology::{edge_key, EdgeCells, VertexCells};
 
-use glam::DVec2;
+use crate::geometry::CellType;
 
 /// First index of the caller's vertex numbering: C passes 0, Fortran 1.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum IndexBase {
+    /// 0-based (C, C++, Rust).
     Zero = 0,
+    /// 1-based (Fortran).
     One = 1,
 }
 
-/// A patch edge: a boundary edge (patch 0 when the caller did not tag it) or an interior edge the
-/// caller tagged, typically an interface between two regions.
+/// A face on a patch: a boundary face (patch 0 when the caller did not tag it) or an interior
+/// face the caller tagged, typically an interface between two regions.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct PatchEdge {
-    /// For boundary edges: oriented with the domain on the left. Interior edges: as given.
-    pub vertices: [u32; 2],
+pub struct PatchFace<'a> {
+    /// Boundary faces: ordered so their right-hand normal points out of the domain (in 2D the
+    /// domain lies on the left of the segment). Interior faces: as given.
+    pub vertices: &'a [u32],
+    /// The patch id.
     pub patch: i32,
-    /// True for a tagged edge with a cell on each side.
+    /// True for a tagged face with a cell on each side.
     pub interior: bool,
 }
 
-/// A validated 2D triangle mesh. Cells are stored counter-clockwise whatever the input orientation.
-#[derive(Clone, Debug)]
-pub struct Mesh {
-    coords: Vec<DVec2>,
-    cells: Vec<[u32; 3]>,
-    regions: Vec<i32>,
-    patch_edges: Vec<PatchEdge>,
+/// CSR lists: item `i` is `items[ptr[i]..ptr[i + 1]]`.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub(crate) struct Csr {
+    pub(crate) ptr: Vec<u32>,
+    pub(crate) items: Vec<u32>,
 }
 
-/// A tagged edge as the caller gives it: two vertex indices (in the caller's base) and a patch id.
-pub type TaggedEdge<I> = ([I; 2], i32);
+impl Csr {
+    pub(crate) fn new() -> Csr {
+        Csr { ptr: vec![0], items: Vec::new() }
+    }
+    pub(crate) fn len(&self) -> usize {
+        self.ptr.len() - 1
+    }
+    #[inline]
+    pub(crate) fn get(&self, i: usize) -> &[u32] {
+        &self.items[self.ptr[i] as usize..self.ptr[i + 1] as usize]
+    }
+    pub(crate) fn push(&mut self, items: &[u32]) {
+        self.items.extend_from_slice(items);
+        self.ptr.push(self.items.len() as u32);
+    }
+    fn shrink(&mut self) {
+        self.ptr.shrink_to_fit();
+        self.items.shrink_to_fit();
+    }
+}
+
+/// A validated mesh in 2 or 3 dimensions. Cells are stored positively oriented whatever the
+/// input orientation (a mesh given entirely in the other orientation is flipped as a whole).
+///
+/// Coordinates are plain `f64`, `dim` per vertex, interleaved (x0, y0, x1, y1, … in 2D): the
+/// layout of C and Fortran hosts, with no vector type of a third-party crate in the API. The
+/// dimension is a run-time value rather than a type parameter: hosts choose it at run time, one
+/// `Solver` type serves both, and the dimension never appears in the solver's inner loops (they
+/// run on scalar sparse rows; only the cell kernels of [`crate::geometry`] see points).
+#[derive(Clone, Debug)]
+pub struct Mesh {
+    dim: usize,
+    coords: Vec<f64>,
+    types: Vec<CellType>,
+    cells: Csr,
+    regions: Vec<i32>,
+    faces: Csr,
+    face_patch: Vec<i32>,
+    face_interior: Vec<bool>,
+}
 
 impl Mesh {
-    /// Validates and builds a mesh.
+    /// A 2D triangle mesh from caller arrays: `triangles` and `tagged` (boundary or interface
+    /// edges with a patch id) in the caller's index `base`; `regions`, when given, one per cell.
     ///
-    /// `triangles` and `tagged` use `base`; `regions`, when given, has one entry per triangle.
-    /// Boundary edges that are not in `tagged` go to patch 0. A tagged edge must be a boundary
-    /// edge or an interior edge between two cells (an internal interface).
-    pub fn new<I: Copy + TryInto<i64>>(
+    /// ```
+    /// use meshmove::{IndexBase, Mesh};
+    /// let coords = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+    /// let mesh = Mesh::triangles(&coords, &[[1u32, 2, 3], [1, 3, 4]], IndexBase::One, &[([2, 3], 7)], None).unwrap();
+    /// assert_eq!(mesh.patch_vertices(7), vec![1, 2]);
+    /// ```
+    pub fn triangles<I: Copy + TryInto<i64>>(
         coords: &[[f64; 2]],
         triangles: &[[I; 3]],
         base: IndexBase,
-        tagged: &[TaggedEdge<I>],
+        tagged: &[([I; 2], i32)],
         regions: Option<&[i32]>,
     ) -> Result<Mesh, MeshError> {
-        let coords = validate::coordinates(coords)?;
-        let mut cells = validate::cells(triangles, base, coords.len())?;
-        validate::all_used(&cells, coords.len())?;
-        validate::orient(&coords, &mut cells)?;
-        validate::distinct(&cells)?;
-        let regions = match regions {
-            Some(r) if r.len() != cells.len() => {
-                return Err(MeshError::RegionCount { regions: r.len(), cells: cells.len() })
-            }
-            Some(r) => r.to_vec(),
-            None => vec![0; cells.len()],
-        };
-        let edges = EdgeCells::build(&cells)?;
-        topology::check_no_overlap(&cells, &edges)?;
-        let tagged = validate::tagged_edges(tagged, base, coords.len())?;
-        let patch_edges = topology::patch_edges(&cells, &edges, &tagged)?;
-        Ok(Mesh::from_parts(coords, cells, regions, patch_edges))
+        let n = coords.len();
+        let mut d = MeshData::new(2);
+        d.coords = coords.iter().flatten().copied().collect();
+        for (c, t) in triangles.iter().enumerate() {
+            let t = validate::indices(t, base, n).map_err(|(_, index)| validate::out_of_range(c, index, base, n))?;
+            d.push_cell(CellType::Triangle, &t, 0);
+        }
+        for (e, (v, patch)) in tagged.iter().enumerate() {
+            let v = validate::indices(v, base, n).map_err(|(_, index)| MeshError::TaggedIndexOutOfRange {
+                edge: e,
+                index,
+                base: base as i64,
+                end: n as i64 + base as i64,
+            })?;
+            d.push_face(&v, *patch);
+        }
+        if let Some(r) = regions {
+            d.regions = r.to_vec();
+        }
+        Mesh::from_data(&d)
+    }
+
+    /// Validates `data` and builds the mesh: dimension 2 or 3, finite coordinates, cells of the
+    /// mesh's dimension with valid indices, no repeated vertex in a cell, no unused vertex, no
+    /// degenerate or inverted cell, one orientation for all cells, no two cells on the same side
+    /// of a face, no face shared by more than two cells, no repeated cell, tagged faces that are
+    /// faces of the mesh, one region per cell. Boundary faces not tagged go to patch 0.
+    pub fn from_data(data: &MeshData) -> Result<Mesh, MeshError> {
+        validate::mesh(data)
     }
 
     /// Assembles a mesh from already-validated parts (refinement and coarsening produce these).
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn from_parts(
-        coords: Vec<DVec2>,
-        cells: Vec<[u32; 3]>,
+        dim: usize,
+        coords: Vec<f64>,
+        types: Vec<CellType>,
+        cells: Csr,
         regions: Vec<i32>,
-        patch_edges: Vec<PatchEdge>,
+        faces: Csr,
+        face_patch: Vec<i32>,
+        face_interior: Vec<bool>,
     ) -> Mesh {
-        let mut m = Mesh { coords, cells, regions, patch_edges };
+        let mut m = Mesh { dim, coords, types, cells, regions, faces, face_patch, face_interior };
         // Multigrid levels keep their meshes for the solver's life: no spare capacity.
         m.coords.shrink_to_fit();
-        m.cells.shrink_to_fit();
+        m.types.shrink_to_fit();
+        m.cells.shrink();
         m.regions.shrink_to_fit();
-        m.patch_edges.shrink_to_fit();
+        m.faces.shrink();
+        m.face_patch.shrink_to_fit();
+        m.face_interior.shrink_to_fit();
         m
     }
 
+    /// The dimension: 2 or 3.
+    pub fn dim(&self) -> usize {
+        self.dim
+    }
+    /// Number of vertices.
     pub fn num_vertices(&self) -> usize {
-        self.coords.len()
+        self.coords.len() / self.dim
     }
+    /// Number of cells.
     pub fn num_cells(&self) -> usize {
-        self.cells.len()
+        self.types.len()
     }
-    pub fn coords(&self) -> &[DVec2] {
+    /// All coordinates, `dim` per vertex, interleaved.
+    pub fn coords(&self) -> &[f64] {
         &self.coords
     }
-    pub fn cells(&self) -> &[[u32; 3]] {
-        &self.cells
+    /// The coordinates of vertex `v`.
+    #[inline]
+    pub fn point(&self, v: usize) -> &[f64] {
+        &self.coords[v * self.dim..(v + 1) * self.dim]
     }
+    /// The corners of cell `c`, in VTK's local order for its type, positively oriented.
+    #[inline]
+    pub fn cell(&self, c: usize) -> &[u32] {
+        self.cells.get(c)
+    }
+    /// The type of cell `c`.
+    #[inline]
+    pub fn cell_type(&self, c: usize) -> CellType {
+        self.types[c]
+    }
+    /// The types of all cells.
+    pub fn cell_types(&self) -> &[CellType] {
+        &self.types
+    }
+    /// Region of each cell.
     pub fn regions(&self) -> &[i32] {
         &self.regions
     }
-    pub fn patch_edges(&self) -> &[PatchEdge] {
-        &self.patch_edges
+    /// Number of patch faces (boundary faces and tagged interior faces).
+    pub fn num_patch_faces(&self) -> usize {
+        self.face_patch.len()
     }
-    /// The cells around each vertex, computed on demand (meshes are held by every multigrid
-    /// level, so adjacency is not stored with them).
-    pub fn vertex_cells(&self) -> VertexCells {
-        VertexCells::build(self.coords.len(), &self.cells)
+    /// Patch face `f`.
+    pub fn patch_face(&self, f: usize) -> PatchFace<'_> {
+        PatchFace { vertices: self.faces.get(f), patch: self.face_patch[f], interior: self.face_interior[f] }
+    }
+    /// Every patch face: boundary faces (with their tag, or patch 0) and tagged interior faces,
+    /// in the order of their sorted vertex sets.
+    pub fn patch_faces(&self) -> impl ExactSizeIterator<Item = PatchFace<'_>> + '_ {
+        (0..self.num_patch_faces()).map(|f| self.patch_face(f))
     }
 
-    /// Coordinates as plain pairs, for callers without glam.
-    pub fn coords_xy(&self) -> Vec<[f64; 2]> {
-        self.coords.iter().map(|p| [p.x, p.y]).collect()
+    /// The cells around each vertex, computed on demand (meshes are held by every multigrid
+    /// level, so adjacency is not stored with them).
+    pub(crate) fn vertex_cells(&self) -> VertexCells {
+        VertexCells::build(self.num_vertices(), &self.cells)
     }
 
     /// The same topology at new vertex positions (a deformed mesh). Positions must be finite.
-    pub fn with_coords(&self, coords: Vec<DVec2>) -> Mesh {
+    pub fn with_coords(&self, coords: Vec<f64>) -> Mesh {
         assert_eq!(coords.len(), self.coords.len(), "with_coords: vertex count changed");
         Mesh { coords, ..self.clone() }
     }
 
     /// Sorted, deduplicated patch ids present in the mesh.
     pub fn patch_ids(&self) -> Vec<i32> {
-        let mut ids: Vec<i32> = self.patch_edges.iter().map(|e| e.patch).collect();
+        let mut ids = self.face_patch.clone();
         ids.sort_unstable();
         ids.dedup();
         ids
@@ -140,14 +237,84 @@ impl Mesh {
 
     /// Sorted vertices lying on a patch.
     pub fn patch_vertices(&self, patch: i32) -> Vec<u32> {
-        let mut v: Vec<u32> = self.patch_edges.iter().filter(|e| e.patch == patch).flat_map(|e| e.vertices).collect();
+        let mut v: Vec<u32> =
+            self.patch_faces().filter(|f| f.patch == patch).flat_map(|f| f.vertices.iter().copied()).collect();
         v.sort_unstable();
         v.dedup();
         v
     }
 
-    /// Each triangle split into four at its edge midpoints; patches and regions inherited.
+    /// Each cell split at its edge midpoints (a triangle into four, a quad into four); patches
+    /// and regions inherited.
     pub fn refine_uniform(&self) -> Mesh {
         refine::uniform(self)
+    }
+}
+
+/// Access for the 2D triangle code of the Delaunay coarsener and its transfers (coarse levels
+/// in 2D are triangulations).
+impl Mesh {
+    /// Vertex `v` of a 2D mesh as a glam vector.
+    #[inline]
+    pub(crate) fn xy(&self, v: usize) -> glam::DVec2 {
+        glam::DVec2::new(self.coords[2 * v], self.coords[2 * v + 1])
+    }
+    /// All vertices of a 2D mesh as glam vectors.
+    pub(crate) fn xy_all(&self) -> Vec<glam::DVec2> {
+        self.coords.chunks_exact(2).map(|p| glam::DVec2::new(p[0], p[1])).collect()
+    }
+    /// Cell `c` of a triangle mesh.
+    #[inline]
+    pub(crate) fn tri(&self, c: usize) -> [u32; 3] {
+        let t = self.cells.get(c);
+        [t[0], t[1], t[2]]
+    }
+    /// A 2D triangle mesh from validated parts: the coarsener's triangulations, with their
+    /// feature segments as patch faces.
+    pub(crate) fn from_triangles(
+        coords: &[glam::DVec2],
+        tris: &[[u32; 3]],
+        regions: Vec<i32>,
+        segments: &[([u32; 2], i32, bool)],
+    ) -> Mesh {
+        let mut cells = Csr::new();
+        tris.iter().for_each(|t| cells.push(t));
+        let mut faces = Csr::new();
+        segments.iter().for_each(|s| faces.push(&s.0));
+        Mesh::from_parts(
+            2,
+            coords.iter().flat_map(|p| [p.x, p.y]).collect(),
+            vec![CellType::Triangle; tris.len()],
+            cells,
+            regions,
+            faces,
+            segments.iter().map(|s| s.1).collect(),
+            segments.iter().map(|s| s.2).collect(),
+        )
+    }
+}
+
+impl Mesh {
+    /// The same 2D mesh with every quad split into two triangles along its 0–2 diagonal
+    /// (regions and patch faces kept): for the triangle-based point location.
+    pub(crate) fn split_into_triangles(&self) -> Mesh {
+        let mut cells = Csr::new();
+        let mut regions = Vec::new();
+        for c in 0..self.num_cells() {
+            let t = self.cell(c);
+            match self.cell_type(c) {
+                CellType::Quad => {
+                    cells.push(&[t[0], t[1], t[2]]);
+                    cells.push(&[t[0], t[2], t[3]]);
+                    regions.extend([self.regions[c]; 2]);
+                }
+                _ => {
+                    cells.push(t);
+                    regions.push(self.regions[c]);
+                }
+            }
+        }
+        let n = cells.len();
+        Mesh { types: vec![CellType::Triangle; n], cells, regions, ..self.clone() }
     }
 }

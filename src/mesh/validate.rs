@@ -1,30 +1,25 @@
-//! Checks on raw caller input, each returning the named error of docs/DESIGN.md §2.
+//! Checks on a caller's mesh, each returning the named error of docs/DESIGN.md §2, and the
+//! construction of the validated mesh (orientation normalised, patch faces derived).
 
-use super::{IndexBase, MeshError};
-use glam::DVec2;
+use super::topology::{cell_faces, patch_faces};
+use super::{Csr, IndexBase, Mesh, MeshData, MeshError};
+use crate::geometry::{has_kernels, CellPoints, CellType};
 
-pub(super) fn coordinates(coords: &[[f64; 2]]) -> Result<Vec<DVec2>, MeshError> {
-    if coords.is_empty() {
-        return Err(MeshError::Empty);
+/// Converts caller indices to 0-based vertices; on failure, the position and the raw index.
+pub(crate) fn indices<I: Copy + TryInto<i64>, const N: usize>(
+    raw: &[I; N],
+    base: IndexBase,
+    n: usize,
+) -> Result<[u32; N], (usize, i64)> {
+    let mut out = [0u32; N];
+    for (k, &i) in raw.iter().enumerate() {
+        out[k] = index(i, base, n).map_err(|raw| (k, raw))?;
     }
-    if coords.len() >= u32::MAX as usize {
-        return Err(MeshError::TooLarge { vertices: coords.len(), max: u32::MAX as usize - 1 });
-    }
-    coords
-        .iter()
-        .enumerate()
-        .map(|(i, &[x, y])| {
-            if x.is_finite() && y.is_finite() {
-                Ok(DVec2::new(x, y))
-            } else {
-                Err(MeshError::NonFiniteCoordinate { vertex: i, x, y })
-            }
-        })
-        .collect()
+    Ok(out)
 }
 
-/// Converts one caller index to a 0-based vertex, or None when out of range.
-pub(super) fn index<I: Copy + TryInto<i64>>(i: I, base: IndexBase, n: usize) -> Result<u32, i64> {
+/// Converts one caller index to a 0-based vertex, or the raw index when out of range.
+pub(crate) fn index<I: Copy + TryInto<i64>>(i: I, base: IndexBase, n: usize) -> Result<u32, i64> {
     let raw: i64 = i.try_into().unwrap_or(i64::MIN);
     let v = raw.checked_sub(base as i64).unwrap_or(-1);
     if v < 0 || v >= n as i64 {
@@ -34,89 +29,138 @@ pub(super) fn index<I: Copy + TryInto<i64>>(i: I, base: IndexBase, n: usize) -> 
     }
 }
 
-pub(super) fn cells<I: Copy + TryInto<i64>>(
-    tris: &[[I; 3]],
-    base: IndexBase,
-    n: usize,
-) -> Result<Vec<[u32; 3]>, MeshError> {
-    if tris.is_empty() {
+/// The error of a cell corner index outside the vertex range.
+pub(crate) fn out_of_range(cell: usize, index: i64, base: IndexBase, n: usize) -> MeshError {
+    let b = base as i64;
+    MeshError::IndexOutOfRange { cell, index, base: b, end: n as i64 + b }
+}
+
+/// Validates `d` and builds the mesh (see `Mesh::from_data`).
+pub(super) fn mesh(d: &MeshData) -> Result<Mesh, MeshError> {
+    let dim = d.dim;
+    if dim != 2 && dim != 3 {
+        return Err(MeshError::Dimension { dim });
+    }
+    if d.coords.len() % dim != 0 {
+        return Err(MeshError::CoordinateCount { values: d.coords.len(), dim });
+    }
+    let n = d.coords.len() / dim;
+    if n == 0 || d.cell_types.is_empty() {
         return Err(MeshError::Empty);
     }
-    let b = base as i64;
-    tris.iter()
-        .enumerate()
-        .map(|(c, t)| {
-            let mut out = [0u32; 3];
-            for k in 0..3 {
-                out[k] = index(t[k], base, n).map_err(|index| MeshError::IndexOutOfRange {
-                    cell: c,
-                    index,
-                    base: b,
-                    end: n as i64 + b,
-                })?;
+    if n >= u32::MAX as usize {
+        return Err(MeshError::TooLarge { vertices: n, max: u32::MAX as usize - 1 });
+    }
+    if let Some(i) = d.coords.iter().position(|x| !x.is_finite()) {
+        return Err(MeshError::NonFiniteCoordinate { vertex: i / dim, component: i % dim, value: d.coords[i] });
+    }
+    let cells = cells(d, n)?;
+    let nc = d.cell_types.len();
+    let regions = match d.regions.len() {
+        0 => vec![0; nc],
+        r if r == nc => d.regions.clone(),
+        r => return Err(MeshError::RegionCount { regions: r, cells: nc }),
+    };
+    all_used(&cells, n)?;
+    let mut cells = cells;
+    orient(&d.coords, dim, &d.cell_types, &mut cells)?;
+    distinct(&cells)?;
+    let faces = cell_faces(&d.cell_types, &cells)?;
+    let tagged = tagged_faces(d, n)?;
+    let (pf, patch, interior) = patch_faces(&d.cell_types, &cells, &faces, &tagged)?;
+    Ok(Mesh::from_parts(dim, d.coords.clone(), d.cell_types.clone(), cells, regions, pf, patch, interior))
+}
+
+/// The cells as CSR, every count, type and index checked.
+fn cells(d: &MeshData, n: usize) -> Result<Csr, MeshError> {
+    let nc = d.cell_types.len();
+    let off = &d.cell_offsets;
+    if off.len() != nc + 1 || off[0] != 0 || off[nc] as usize != d.cell_vertices.len() {
+        return Err(MeshError::CellOffsets { cells: nc, offsets: off.len(), vertices: d.cell_vertices.len() });
+    }
+    let mut out = Csr { ptr: Vec::with_capacity(nc + 1), items: Vec::with_capacity(d.cell_vertices.len()) };
+    out.ptr.push(0);
+    for (c, &ty) in d.cell_types.iter().enumerate() {
+        if ty.dim() != d.dim {
+            return Err(MeshError::CellTypeNotInDimension { cell: c, cell_type: ty, dim: d.dim });
+        }
+        if !has_kernels(ty) {
+            return Err(MeshError::CellTypeNotSupported { cell: c, cell_type: ty });
+        }
+        if off[c + 1] < off[c] || (off[c + 1] - off[c]) as usize != ty.num_corners() {
+            return Err(MeshError::CornerCount { cell: c, cell_type: ty, count: off[c + 1] as i64 - off[c] as i64 });
+        }
+        let t = &d.cell_vertices[off[c] as usize..off[c + 1] as usize];
+        for (k, &v) in t.iter().enumerate() {
+            if v as usize >= n {
+                return Err(out_of_range(c, v as i64, IndexBase::Zero, n));
             }
-            if out[0] == out[1] || out[0] == out[2] {
-                return Err(MeshError::RepeatedVertex { cell: c, vertex: out[0] as usize });
+            if t[..k].contains(&v) {
+                return Err(MeshError::RepeatedVertex { cell: c, vertex: v as usize });
             }
-            if out[1] == out[2] {
-                return Err(MeshError::RepeatedVertex { cell: c, vertex: out[1] as usize });
-            }
-            Ok(out)
-        })
-        .collect()
+        }
+        out.push(t);
+    }
+    Ok(out)
 }
 
 /// Every vertex must belong to a cell: a lone vertex has no equation to move it.
-pub(super) fn all_used(cells: &[[u32; 3]], n: usize) -> Result<(), MeshError> {
+fn all_used(cells: &Csr, n: usize) -> Result<(), MeshError> {
     let mut used = vec![false; n];
-    cells.iter().flatten().for_each(|&v| used[v as usize] = true);
+    cells.items.iter().for_each(|&v| used[v as usize] = true);
     match used.iter().position(|u| !u) {
         Some(vertex) => Err(MeshError::UnusedVertex { vertex }),
         None => Ok(()),
     }
 }
 
-/// Twice the signed area of triangle (a, b, c).
-pub fn twice_signed_area(a: DVec2, b: DVec2, c: DVec2) -> f64 {
-    (b - a).perp_dot(c - a)
-}
-
-/// Orients the mesh counter-clockwise as a whole: a mesh given entirely clockwise is flipped, a
-/// zero-area cell is an error, and so is a cell whose orientation disagrees with the rest's
-/// (flipping cells one by one would accept a tangled mesh). The reported cell is the first one
-/// of the smaller group (the first clockwise one on a tie).
-pub(super) fn orient(coords: &[DVec2], cells: &mut [[u32; 3]]) -> Result<(), MeshError> {
-    let mut clockwise = Vec::new();
-    for (c, t) in cells.iter().enumerate() {
-        let [a, b, d] = t.map(|v| coords[v as usize]);
-        let area2 = twice_signed_area(a, b, d);
-        // Relative test: the area against the squared longest edge, so the check is scale-free.
-        let scale = (b - a).length_squared().max((d - a).length_squared()).max((d - b).length_squared());
-        if area2.abs() <= 1e-14 * scale || !area2.is_finite() {
-            return Err(MeshError::DegenerateCell { cell: c, area: 0.5 * area2 });
+/// Orients the mesh as a whole: a mesh given entirely in the negative orientation is flipped, a
+/// cell of zero measure is an error, and so is a cell whose orientation disagrees with the
+/// rest's (flipping cells one by one would accept a tangled mesh). The reported cell is the
+/// first one of the smaller group (the first negative one on a tie). After orienting, every
+/// corner of every cell must have a positive Jacobian (a non-convex quad is refused).
+fn orient(coords: &[f64], dim: usize, types: &[CellType], cells: &mut Csr) -> Result<(), MeshError> {
+    let mut negative = Vec::with_capacity(types.len());
+    for (c, &ty) in types.iter().enumerate() {
+        let g = CellPoints::gather(ty, cells.get(c), coords, dim);
+        let m = g.signed_measure();
+        // Relative test: the measure against the longest edge's, so the check is scale-free.
+        let scale = g.longest_edge_squared().powf(0.5 * dim as f64);
+        if m.abs() <= 1e-14 * scale || !m.is_finite() {
+            return Err(MeshError::DegenerateCell { cell: c, measure: m });
         }
-        clockwise.push(area2 < 0.0);
+        negative.push(m < 0.0);
     }
-    let cw = clockwise.iter().filter(|&&x| x).count();
-    let ccw = cells.len() - cw;
-    if cw > 0 && ccw > 0 {
-        let minority_cw = cw <= ccw;
-        let cell = clockwise.iter().position(|&x| x == minority_cw).expect("both orientations present");
-        return Err(MeshError::InconsistentOrientation { cell, clockwise: cw, counter_clockwise: ccw });
+    let neg = negative.iter().filter(|&&x| x).count();
+    let pos = types.len() - neg;
+    if neg > 0 && pos > 0 {
+        let minority = neg <= pos;
+        let cell = negative.iter().position(|&x| x == minority).expect("both orientations present");
+        return Err(MeshError::InconsistentOrientation { cell, negative: neg, positive: pos });
     }
-    if cw > 0 {
-        cells.iter_mut().for_each(|t| t.swap(1, 2));
+    for (c, &ty) in types.iter().enumerate() {
+        let r = cells.ptr[c] as usize..cells.ptr[c + 1] as usize;
+        if neg > 0 {
+            let old: Vec<u32> = cells.items[r.clone()].to_vec();
+            for (k, &f) in ty.flipped().iter().enumerate() {
+                cells.items[r.start + k] = old[f as usize];
+            }
+        }
+        let g = CellPoints::gather(ty, &cells.items[r], coords, dim);
+        if g.min_corner_jacobian() <= 0.0 {
+            return Err(MeshError::InvertedCorner { cell: c, cell_type: ty });
+        }
     }
     Ok(())
 }
 
 /// Two cells with the same vertex set are an error (the second one names the pair).
-pub(super) fn distinct(cells: &[[u32; 3]]) -> Result<(), MeshError> {
-    let mut keys: Vec<([u32; 3], u32)> = cells
-        .iter()
-        .enumerate()
-        .map(|(c, t)| {
-            let mut k = *t;
+fn distinct(cells: &Csr) -> Result<(), MeshError> {
+    let mut keys: Vec<([u32; 8], u32)> = (0..cells.len())
+        .map(|c| {
+            let mut k = [u32::MAX; 8];
+            let t = cells.get(c);
+            k[..t.len()].copy_from_slice(t);
             k.sort_unstable();
             (k, c as u32)
         })
@@ -128,25 +172,26 @@ pub(super) fn distinct(cells: &[[u32; 3]]) -> Result<(), MeshError> {
     }
 }
 
-pub(super) fn tagged_edges<I: Copy + TryInto<i64>>(
-    tagged: &[([I; 2], i32)],
-    base: IndexBase,
-    n: usize,
-) -> Result<Vec<([u32; 2], i32)>, MeshError> {
-    let b = base as i64;
-    tagged
-        .iter()
-        .enumerate()
-        .map(|(e, &([p, q], patch))| {
-            let conv = |i| {
-                index(i, base, n).map_err(|index| MeshError::TaggedIndexOutOfRange {
-                    edge: e,
-                    index,
-                    base: b,
-                    end: n as i64 + b,
-                })
-            };
-            Ok(([conv(p)?, conv(q)?], patch))
+/// The tagged faces, their offsets and indices checked.
+fn tagged_faces(d: &MeshData, n: usize) -> Result<Vec<(Vec<u32>, i32)>, MeshError> {
+    let nf = d.face_patch.len();
+    let off = &d.face_offsets;
+    if nf == 0 && (off.is_empty() || off == &[0]) && d.face_vertices.is_empty() {
+        return Ok(Vec::new());
+    }
+    if off.len() != nf + 1 || off[0] != 0 || off[nf] as usize != d.face_vertices.len() {
+        return Err(MeshError::FaceOffsets { faces: nf, offsets: off.len(), vertices: d.face_vertices.len() });
+    }
+    (0..nf)
+        .map(|f| {
+            if off[f + 1] < off[f] {
+                return Err(MeshError::FaceOffsets { faces: nf, offsets: off.len(), vertices: d.face_vertices.len() });
+            }
+            let v = &d.face_vertices[off[f] as usize..off[f + 1] as usize];
+            if let Some(&bad) = v.iter().find(|&&v| v as usize >= n) {
+                return Err(MeshError::TaggedIndexOutOfRange { edge: f, index: bad as i64, base: 0, end: n as i64 });
+            }
+            Ok((v.to_vec(), d.face_patch[f]))
         })
         .collect()
 }

@@ -93,12 +93,12 @@ struct LevelWork {
     scratch: Scratch,
 }
 
-pub struct Workspace {
+pub(crate) struct Workspace {
     levels: Vec<LevelWork>,
 }
 
 impl Workspace {
-    pub fn new(h: &Hierarchy) -> Self {
+    pub(crate) fn new(h: &Hierarchy) -> Self {
         let levels = h
             .levels
             .iter()
@@ -113,24 +113,32 @@ impl Workspace {
     }
 
     /// The finest level's scratch, free between cycles (for the outer iteration's products).
-    pub fn fine(&mut self) -> &mut Scratch {
+    pub(crate) fn fine(&mut self) -> &mut Scratch {
         &mut self.levels[0].scratch
     }
 }
 
-/// One cycle for component `c` on the finest level: x ← x + B(b − A x), or x = B b from
-/// `Start::Zero` (x's content ignored). Returns the largest correction of the first fine-level
-/// smoothing sweep (the paper's convergence measure).
-pub fn cycle(
+/// One cycle for the components `comps` on the finest level: x ← x + B(b − A x), or x = B b
+/// from `Start::Zero` (x's content ignored). `b` and `x` hold one block of n values per
+/// component; the cycle treats the blocks one after another (the methods' operators do not
+/// couple components). Returns the largest correction of the first fine-level smoothing sweep
+/// (the paper's convergence measure).
+pub(crate) fn cycle(
     h: &Hierarchy,
-    c: usize,
+    comps: std::ops::Range<usize>,
     p: &CycleParams,
     b: &[f64],
     x: &mut [f64],
     start: Start,
     ws: &mut Workspace,
 ) -> f64 {
-    level_cycle(h, c, p, 0, b, x, start, ws)
+    let n = h.fine().n();
+    let mut first = 0.0f64;
+    for (k, c) in comps.enumerate() {
+        let blk = k * n..(k + 1) * n;
+        first = first.max(level_cycle(h, c, p, 0, &b[blk.clone()], &mut x[blk], start, ws));
+    }
+    first
 }
 
 #[allow(clippy::too_many_arguments)]

@@ -5,23 +5,25 @@
 //! follow it with their topology kept; only values are re-evaluated.
 
 use super::coarse_solve::CoarseSolve;
-use super::coarsen::{coarsen, CoarsenParams};
+use super::coarsen::CoarsenParams;
+use super::coarsener::{coarsener_for, Coarsener};
 use super::restriction::Restriction;
 use super::smoother::{estimate_lambda_max, Problem};
-use super::transfer::{locate, update_weights, Location};
 use crate::bc::{check_well_posed, component_flags, BoundaryConditions, Dofs};
-use crate::mesh::quality::signed_areas;
+use crate::mesh::quality::is_inverted;
 use crate::operator::{LevelOperator, Method};
-use crate::sparse::{offset, CsrMatrix};
+use crate::sparse::CsrMatrix;
 use crate::{Mesh, Result};
-use glam::DVec2;
+use rayon::prelude::*;
+use std::ops::Range;
 use std::sync::Arc;
 
 /// Interpolation from the next coarser level and its transpose.
 pub struct Transfer {
-    /// The coarse cell each fine unknown interpolates from; its weights are in `prolong` (and
-    /// are recomputed from these cells when the mesh moves).
-    cells: Vec<u32>,
+    /// Where each fine unknown interpolates from, in the coarsener's terms (the 2D coarsener:
+    /// the coarse cell; its weights are in `prolong` and are recomputed from these cells when
+    /// the mesh moves).
+    pub cells: Vec<u32>,
     /// Fine unknowns × coarse unknowns: barycentric weights in the coarse cell.
     pub prolong: Arc<CsrMatrix>,
     /// Its transpose, stored (pattern only, weights read from `prolong`) so restriction is a
@@ -29,45 +31,22 @@ pub struct Transfer {
     pub restrict: Restriction,
 }
 
-impl Transfer {
-    /// Locates the unknowns of `fine` in the cells of `coarse`. Runs with every finer level
-    /// alive, so its temporaries (points, locations) go as soon as they are used.
-    fn new(fine: &Level, coarse: &Level) -> Transfer {
-        let locs = {
-            let (pts, regions) = fine.dof_points();
-            locate(&coarse.mesh, &pts, &regions)
-        };
-        let prolong = Arc::new(prolongation(coarse, &locs));
-        let cells = locs.iter().map(|l| l.cell).collect();
-        drop(locs);
-        let restrict = Restriction::new(Arc::clone(&prolong));
-        Transfer { cells, prolong, restrict }
-    }
-
-    /// New weights in the same coarse cells, for the fine unknowns now at `pts`.
-    fn update(&mut self, pts: &[DVec2], coarse: &Level) {
-        let mut locs: Vec<Location> = self.cells.iter().map(|&cell| Location { cell, weights: [0.0; 3] }).collect();
-        update_weights(&coarse.mesh, pts, &mut locs);
-        self.prolong = Arc::new(prolongation(coarse, &locs));
-        drop(locs);
-        self.restrict = Restriction::new(Arc::clone(&self.prolong));
-    }
-}
-
+/// One level of the hierarchy. Per-component data (`flags`, `inv_d`, `lambda_max`, `coarse`)
+/// has one entry per component of the displacement.
 pub struct Level {
     pub mesh: Mesh,
     pub pairs: Vec<[u32; 2]>,
     pub dofs: Dofs,
     pub op: LevelOperator,
-    pub flags: [Vec<u8>; 2],
-    pub inv_d: [Vec<f64>; 2],
-    pub lambda_max: [f64; 2],
+    pub flags: Vec<Vec<u8>>,
+    pub inv_d: Vec<Vec<f64>>,
+    pub lambda_max: Vec<f64>,
     /// Vertex i of this level is vertex `parent_vertex[i]` of the next finer level.
     pub parent_vertex: Vec<u32>,
     /// Transfer to the next coarser level; None on the coarsest.
     pub down: Option<Transfer>,
     /// Direct solve per component, on the coarsest level only.
-    pub coarse: Option<[CoarseSolve; 2]>,
+    pub coarse: Option<Vec<CoarseSolve>>,
 }
 
 /// What a level computes from its mesh (everything but the mesh itself), so it can be built
@@ -75,13 +54,13 @@ pub struct Level {
 struct LevelParts {
     dofs: Dofs,
     op: LevelOperator,
-    flags: [Vec<u8>; 2],
+    flags: Vec<Vec<u8>>,
 }
 
 impl LevelParts {
     fn build(mesh: &Mesh, pairs: &[[u32; 2]], bcs: &BoundaryConditions, method: Method) -> LevelParts {
         let dofs = Dofs::build(mesh, pairs, &bcs.split_patches());
-        let flags = [0, 1].map(|c| component_flags(mesh, &dofs, bcs, c));
+        let flags = (0..mesh.dim()).map(|c| component_flags(mesh, &dofs, bcs, c)).collect();
         let op = LevelOperator::new(method, mesh, &dofs);
         LevelParts { dofs, op, flags }
     }
@@ -94,8 +73,8 @@ impl LevelParts {
             dofs,
             op,
             flags,
-            inv_d: [Vec::new(), Vec::new()],
-            lambda_max: [1.0; 2],
+            inv_d: Vec::new(),
+            lambda_max: Vec::new(),
             parent_vertex,
             down: None,
             coarse: None,
@@ -107,7 +86,7 @@ impl LevelParts {
 
 impl Level {
     fn refresh_bounds(&mut self) {
-        // The two components are independent: side by side, so small levels use both threads.
+        // The components are independent: side by side, so small levels use several threads.
         let bounds = |c: usize| {
             let inv_d = self.op.inv_l1_diag(&self.flags[c]);
             // The l1 bound guarantees λmax(D⁻¹A) ≤ 1. For the second-order operators it is
@@ -123,9 +102,9 @@ impl Level {
             };
             (inv_d, lambda_max)
         };
-        let ((d0, l0), (d1, l1)) = rayon::join(|| bounds(0), || bounds(1));
-        self.inv_d = [d0, d1];
-        self.lambda_max = [l0, l1];
+        let (inv_d, lambda_max) = (0..self.flags.len()).into_par_iter().map(bounds).unzip();
+        self.inv_d = inv_d;
+        self.lambda_max = lambda_max;
     }
 
     pub fn problem(&self, c: usize) -> Problem<'_> {
@@ -136,14 +115,18 @@ impl Level {
         self.dofs.n
     }
 
-    /// Positions of the unknowns and the region each should be interpolated from.
-    fn dof_points(&self) -> (Vec<DVec2>, Vec<Option<i32>>) {
-        let x = self.mesh.coords();
-        let pts = self.dofs.dof_vertex.iter().map(|&v| x[v as usize]).collect();
+    /// The number of components of the displacement.
+    pub fn dim(&self) -> usize {
+        self.flags.len()
+    }
+
+    /// The region each unknown should be interpolated from: its own when it lies inside one
+    /// region (or is a split copy of one), None on an unsplit interface.
+    pub fn dof_regions(&self) -> Vec<Option<i32>> {
         // A vertex inside one region interpolates from that region's coarse cells only.
         let mut vregion: Vec<Option<Option<i32>>> = vec![None; self.mesh.num_vertices()];
-        for (t, &r) in self.mesh.cells().iter().zip(self.mesh.regions()) {
-            for &v in t {
+        for (c, &r) in self.mesh.regions().iter().enumerate() {
+            for &v in self.mesh.cell(c) {
                 let e = &mut vregion[v as usize];
                 *e = match *e {
                     None => Some(Some(r)),
@@ -152,36 +135,27 @@ impl Level {
                 };
             }
         }
-        let regions = (0..self.dofs.n)
-            .map(|d| self.dofs.region_of(d).or(vregion[self.dofs.dof_vertex[d] as usize].flatten()))
-            .collect();
-        (pts, regions)
+        (0..self.dofs.n).map(|d| self.dofs.region_of(d).or(vregion[self.dofs.dof_vertex[d] as usize].flatten())).collect()
     }
-}
 
-/// Row i interpolates fine unknown i from the unknowns of its coarse cell with the barycentric
-/// weights: columns ascending, corners sharing an unknown summed in corner order onto zero
-/// (exactly what `CsrMatrix::from_triplets` gives, built row by row without its triplet list).
-fn prolongation(coarse: &Level, locs: &[Location]) -> CsrMatrix {
-    let n = locs.len();
-    let (mut row_ptr, mut cols, mut vals) =
-        (Vec::with_capacity(n + 1), Vec::with_capacity(3 * n), Vec::with_capacity(3 * n));
-    row_ptr.push(0);
-    for loc in locs {
-        let cd = coarse.dofs.cell_dofs(&coarse.mesh, loc.cell as usize);
-        let mut corners = [0, 1, 2];
-        corners.sort_by_key(|&k| cd[k]);
-        let start = cols.len();
-        for k in corners {
-            if cols.len() == start || cols[cols.len() - 1] != cd[k] {
-                cols.push(cd[k]);
-                vals.push(0.0);
-            }
-            *vals.last_mut().expect("pushed above") += loc.weights[k];
+    /// r = b − A x for the components `comps`, whose blocks of n values follow each other in
+    /// `b`, `x` and `r`. `s` is scratch of length n.
+    pub fn residual(&self, comps: Range<usize>, b: &[f64], x: &[f64], r: &mut [f64], s: &mut [f64]) {
+        let n = self.n();
+        for (k, c) in comps.enumerate() {
+            let blk = k * n..(k + 1) * n;
+            self.op.residual(&self.flags[c], &b[blk.clone()], &x[blk.clone()], &mut r[blk], s);
         }
-        row_ptr.push(offset(cols.len()));
     }
-    CsrMatrix { nrows: n, ncols: coarse.n(), row_ptr, cols, vals }
+
+    /// y = A x for the components `comps` (blocks as in `residual`).
+    pub fn apply(&self, comps: Range<usize>, x: &[f64], y: &mut [f64], s: &mut [f64]) {
+        let n = self.n();
+        for (k, c) in comps.enumerate() {
+            let blk = k * n..(k + 1) * n;
+            self.op.apply(&self.flags[c], &x[blk.clone()], &mut y[blk], s);
+        }
+    }
 }
 
 /// How a coarse level's K and V are made.
@@ -216,6 +190,7 @@ impl CoarseOperator {
 /// Hierarchy parameters.
 #[derive(Clone, Debug, PartialEq)]
 pub struct HierarchyParams {
+    /// When the coarsener stops.
     pub coarsen: CoarsenParams,
     /// How coarse levels get their operator.
     pub coarse_operator: CoarseOperator,
@@ -235,6 +210,7 @@ pub struct Hierarchy {
     galerkin: bool,
     /// Built from the current fine mesh (true) or moved there from the mesh it was built on.
     pub fresh: bool,
+    coarsener: Box<dyn Coarsener>,
 }
 
 impl Hierarchy {
@@ -246,6 +222,7 @@ impl Hierarchy {
         method: Method,
         params: &HierarchyParams,
     ) -> Result<Hierarchy> {
+        let coarsener = coarsener_for(mesh.dim(), params.coarsen)?;
         let mut levels: Vec<Level> = Vec::new();
         let (mut mesh, mut pairs, mut parent_vertex) = (mesh.clone(), pairs, Vec::new());
         loop {
@@ -254,13 +231,13 @@ impl Hierarchy {
             let last = levels.len() + 1 >= params.max_levels;
             let (parts, cm) = rayon::join(
                 || LevelParts::build(&mesh, &pairs, bcs, method),
-                || if last { Ok(None) } else { coarsen(&mesh, &pairs, &params.coarsen) },
+                || if last { Ok(None) } else { coarsener.coarsen(&mesh, &pairs) },
             );
             let mut level = parts.into_level(mesh, pairs, parent_vertex);
             match levels.last_mut() {
                 None => check_well_posed(&level.op.k, &level.flags, &level.dofs)?,
                 Some(fine) => {
-                    let down = Transfer::new(fine, &level);
+                    let down = coarsener.transfer(fine, &level);
                     if params.coarse_operator.galerkin(method) {
                         level.op = LevelOperator::galerkin(&fine.op, &down.prolong, &down.prolong.transpose());
                         level.refresh_bounds();
@@ -274,14 +251,15 @@ impl Hierarchy {
             };
             (mesh, pairs, parent_vertex) = (cm.mesh, cm.links, cm.fine_vertex);
         }
-        let mut h = Hierarchy { levels, method, galerkin: params.coarse_operator.galerkin(method), fresh: true };
+        let galerkin = params.coarse_operator.galerkin(method);
+        let mut h = Hierarchy { levels, method, galerkin, fresh: true, coarsener };
         h.build_coarse_solve()?;
         Ok(h)
     }
 
     fn build_coarse_solve(&mut self) -> Result<()> {
         let last = self.levels.last_mut().expect("one level at least");
-        let solves = [CoarseSolve::new(last.problem(0), 0)?, CoarseSolve::new(last.problem(1), 1)?];
+        let solves = (0..last.dim()).map(|c| CoarseSolve::new(last.problem(c), c)).collect::<Result<Vec<_>>>()?;
         last.coarse = Some(solves);
         Ok(())
     }
@@ -290,14 +268,24 @@ impl Hierarchy {
         &self.levels[0]
     }
 
+    /// The groups of components solved as one system: today every component alone (the
+    /// methods decouple them); a coupling condition between components (a slip wall) makes
+    /// them one group.
+    pub fn groups(&self) -> Vec<Range<usize>> {
+        (0..self.fine().dim()).map(|c| c..c + 1).collect()
+    }
+
     /// Re-evaluates every level at new fine-vertex positions, keeping the coarse topology.
     /// Returns false (and changes nothing) when a coarse cell would invert: the caller rebuilds.
-    pub fn move_to(&mut self, fine_coords: Vec<DVec2>) -> Result<bool> {
+    pub fn move_to(&mut self, fine_coords: Vec<f64>) -> Result<bool> {
+        let dim = self.fine().mesh.dim();
         let mut coords = vec![fine_coords];
         for l in 1..self.levels.len() {
             let prev = &coords[l - 1];
-            let c: Vec<DVec2> = self.levels[l].parent_vertex.iter().map(|&v| prev[v as usize]).collect();
-            if signed_areas(&self.levels[l].mesh, &c).iter().any(|&a| a <= 0.0) {
+            let c: Vec<f64> =
+                self.levels[l].parent_vertex.iter().flat_map(|&v| &prev[v as usize * dim..(v as usize + 1) * dim]).copied().collect();
+            let m = &self.levels[l].mesh;
+            if (0..m.num_cells()).any(|k| is_inverted(m, &c, k)) {
                 return Ok(false);
             }
             coords.push(c);
@@ -312,9 +300,10 @@ impl Hierarchy {
                 // The transfer from the level above, then (Galerkin) this level's operator.
                 let (upper, rest) = self.levels.split_at_mut(l);
                 let (fine, coarse) = (&mut upper[l - 1], &mut rest[0]);
-                let pts = fine.dof_points().0;
-                let down = fine.down.as_mut().expect("not the coarsest level");
-                down.update(&pts, coarse);
+                let mut down = fine.down.take().expect("not the coarsest level");
+                self.coarsener.update(&mut down, fine, coarse);
+                fine.down = Some(down);
+                let down = fine.down.as_ref().expect("just put back");
                 if self.galerkin {
                     coarse.op = LevelOperator::galerkin(&fine.op, &down.prolong, &down.prolong.transpose());
                 }

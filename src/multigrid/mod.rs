@@ -1,11 +1,12 @@
-//! Geometric multigrid (docs/DESIGN.md §5): coarse meshes built from the user's mesh, linear transfer,
-//! rediscretised operators, Jacobi/Chebyshev smoothing, W-cycles, and the solve to tolerance.
+//! Geometric multigrid (docs/DESIGN.md §5): coarse levels built from the user's mesh by a
+//! `Coarsener`, linear transfers, rediscretised or Galerkin operators, Jacobi/Chebyshev
+//! smoothing, W-cycles, and the solve to tolerance.
 
 pub mod coarse_solve;
 pub mod coarsen;
+pub mod coarsener;
 pub mod cycle;
 pub mod hierarchy;
 pub mod restriction;
 pub mod smoother;
 pub mod solve;
-pub mod transfer;

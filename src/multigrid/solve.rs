@@ -6,6 +6,7 @@ use super::hierarchy::Hierarchy;
 use super::smoother::Start;
 use crate::operator::Method;
 use crate::sparse::{axpy, dot, max_abs, par_update};
+use std::ops::Range;
 
 /// How the solver iterates.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
@@ -107,8 +108,8 @@ pub struct Report {
 }
 
 impl Report {
-    /// Combines the reports of the two components of one solve.
-    pub fn merge(a: Report, b: Report) -> Report {
+    /// Combines the reports of two groups of components of one solve.
+    pub(crate) fn merge(a: Report, b: Report) -> Report {
         let n = a.history.len().max(b.history.len());
         let at = |h: &Vec<(f64, f64)>, i: usize| h.get(i).or(h.last()).copied().unwrap_or((0.0, 0.0));
         Report {
@@ -135,9 +136,11 @@ fn done(p: &SolveParams, max_corr: f64, rel: f64, scale: f64) -> bool {
     }
 }
 
-/// Solves A x = b for component `c` from the initial guess in `x`. `scale` is the largest
-/// prescribed displacement (for the max-correction criterion).
-pub fn solve(h: &Hierarchy, c: usize, p: &SolveParams, b: &[f64], x: &mut [f64], scale: f64) -> Report {
+/// Solves A x = b for the components `comps` (one group of `Hierarchy::groups`) from the
+/// initial guess in `x`; `b` and `x` hold one block of n values per component, and the group is
+/// one system: one set of CG scalars over all its blocks. `scale` is the largest prescribed
+/// displacement (for the max-correction criterion).
+pub(crate) fn solve(h: &Hierarchy, comps: Range<usize>, p: &SolveParams, b: &[f64], x: &mut [f64], scale: f64) -> Report {
     let t0 = std::time::Instant::now();
     let bnorm = dot(b, b).sqrt();
     let mut rep = Report::default();
@@ -147,7 +150,7 @@ pub fn solve(h: &Hierarchy, c: usize, p: &SolveParams, b: &[f64], x: &mut [f64],
         return rep;
     }
     let mut ws = Workspace::new(h);
-    let run = Run { h, c, p, b, bnorm, scale };
+    let run = Run { h, comps: comps.clone(), p, b, bnorm, scale };
     let lev = h.fine();
     let mut cp = p.cycle_params(h.method);
     let mut boost = 0;
@@ -162,9 +165,9 @@ pub fn solve(h: &Hierarchy, c: usize, p: &SolveParams, b: &[f64], x: &mut [f64],
                 }
             }
         }
-        let w = ws.fine();
-        lev.op.residual(&lev.flags[c], b, x, &mut w.r, &mut w.s);
-        rep.rel_residual = dot(&w.r, &w.r).sqrt() / bnorm;
+        let mut r = vec![0.0; b.len()];
+        lev.residual(comps.clone(), b, x, &mut r, &mut ws.fine().s);
+        rep.rel_residual = dot(&r, &r).sqrt() / bnorm;
         // PCG's updated residual drifts from the true one by rounding: a solve is converged
         // when the true residual meets the tolerance, and restarts from it while cycles remain.
         let true_ok = p.criterion != Criterion::RelativeResidual || rep.rel_residual <= p.tol;
@@ -199,10 +202,10 @@ const MAX_BOOSTS: usize = 4;
 /// Diverging when the residual grew this much: stop rather than run to max_cycles.
 const DIVERGED: f64 = 1e8;
 
-/// What both iterations share: the hierarchy, the component, the parameters and the system.
+/// What both iterations share: the hierarchy, the components, the parameters and the system.
 struct Run<'a> {
     h: &'a Hierarchy,
-    c: usize,
+    comps: Range<usize>,
     p: &'a SolveParams,
     b: &'a [f64],
     bnorm: f64,
@@ -222,14 +225,15 @@ impl Run<'_> {
     }
 
     fn stationary(&self, x: &mut [f64], ws: &mut Workspace, rep: &mut Report) {
-        let Run { h, c, p, b, .. } = *self;
+        let Run { h, p, b, .. } = *self;
+        let comps = self.comps.clone();
         let cp = p.cycle_params(h.method);
         let lev = h.fine();
+        let mut r = vec![0.0; b.len()];
         for k in rep.history.len() + 1..=p.max_cycles {
-            let mc = cycle(h, c, &cp, b, x, Start::Guess, ws);
-            let w = ws.fine();
-            lev.op.residual(&lev.flags[c], b, x, &mut w.r, &mut w.s);
-            if self.record(rep, k, mc, &w.r) {
+            let mc = cycle(h, comps.clone(), &cp, b, x, Start::Guess, ws);
+            lev.residual(comps.clone(), b, x, &mut r, &mut ws.fine().s);
+            if self.record(rep, k, mc, &r) {
                 return;
             }
         }
@@ -238,21 +242,21 @@ impl Run<'_> {
     /// PCG from `x`, numbering its iterations after those already in `rep`. Returns true when
     /// it stopped because it stalled (only if `may_stall`); the caller then strengthens `cp`.
     fn pcg(&self, cp: &CycleParams, x: &mut [f64], ws: &mut Workspace, rep: &mut Report, may_stall: bool) -> bool {
-        let Run { h, c, p, b, .. } = *self;
+        let Run { h, p, b, .. } = *self;
+        let comps = self.comps.clone();
         let cp = *cp;
         let first = rep.history.len();
         let lev = h.fine();
-        let n = lev.n();
-        let flags = &lev.flags[c];
+        let n = b.len();
         // Three vectors: the preconditioned residual z shares q's storage (q = A dir is spent
         // once r is updated), and the products' scratch S is the fine level's, free between
         // preconditioner applications.
         let (mut r, mut dir, mut q) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
-        lev.op.residual(flags, b, x, &mut r, &mut ws.fine().s);
-        cycle(h, c, &cp, &r, &mut dir, Start::Zero, ws);
+        lev.residual(comps.clone(), b, x, &mut r, &mut ws.fine().s);
+        cycle(h, comps.clone(), &cp, &r, &mut dir, Start::Zero, ws);
         let mut rz = dot(&r, &dir);
         for k in first + 1..=p.max_cycles {
-            lev.op.apply(flags, &dir, &mut q, &mut ws.fine().s);
+            lev.apply(comps.clone(), &dir, &mut q, &mut ws.fine().s);
             let pq = dot(&dir, &q);
             if pq <= 0.0 || !pq.is_finite() {
                 // Not positive definite: the iterate is not improved by this direction. Reported
@@ -272,7 +276,7 @@ impl Run<'_> {
                 return true;
             }
             let z = &mut q;
-            cycle(h, c, &cp, &r, z, Start::Zero, ws);
+            cycle(h, comps.clone(), &cp, &r, z, Start::Zero, ws);
             let rz_new = dot(&r, z);
             let beta = rz_new / rz;
             rz = rz_new;

@@ -13,7 +13,6 @@ use crate::mesh::quality::Quality;
 use crate::motion::Motion;
 use crate::multigrid::solve::Report;
 use crate::{Error, Result};
-use glam::DVec2;
 use std::time::Instant;
 
 /// What one sub-step did.
@@ -76,7 +75,7 @@ struct Step<'a> {
 /// One step of `increment` from the current positions, or first from `from` (the caller moved
 /// the mesh itself: those positions become the current mesh in the same transaction). A result
 /// with inverted cells is returned but not adopted: the solver stays as before the call.
-pub(super) fn advance(s: &mut Solver, from: Option<&[DVec2]>, increment: &Motion) -> Result<Solution> {
+pub(super) fn advance(s: &mut Solver, from: Option<&[f64]>, increment: &Motion) -> Result<Solution> {
     let t0 = Instant::now();
     run(
         s,
@@ -87,7 +86,7 @@ pub(super) fn advance(s: &mut Solver, from: Option<&[DVec2]>, increment: &Motion
             let before = s.current_coords().to_vec();
             do_step(s, &Step { number: 1, increment, from: 0.0, to: 1.0, last: true }, undo)?;
             let after = &s.last_valid;
-            let displacement: Vec<DVec2> = after.iter().zip(&before).map(|(a, b)| *a - *b).collect();
+            let displacement: Vec<f64> = after.iter().zip(&before).map(|(a, b)| a - b).collect();
             let quality = crate::mesh::quality::quality(&s.mesh().with_coords(before), after);
             // Every output finite, or the call fails (and the transaction restores the solver).
             let q = [quality.min_area_ratio, quality.max_area_ratio, quality.min_angle_deg];
@@ -122,7 +121,7 @@ pub(super) fn move_in_steps(s: &mut Solver, motion: &Motion, steps: usize) -> Re
 
 /// Makes `x` the current mesh: the reference (incremental) or the original mesh with no motion
 /// done yet (original).
-fn rebase(s: &mut Solver, x: &[DVec2], undo: &mut Undo) -> Result<()> {
+fn rebase(s: &mut Solver, x: &[f64], undo: &mut Undo) -> Result<()> {
     s.check_reference(x)?;
     if x != s.mesh().coords() {
         s.set_reference_inner(x.to_vec(), undo)?;
@@ -185,7 +184,7 @@ fn do_step(s: &mut Solver, step: &Step, undo: &mut Undo) -> Result<()> {
         let q = &sol.quality;
         let valid = q.inverted == 0 && (!split || q.min_area_ratio >= s.opts.min_volume_ratio);
         if sol.report.converged && valid {
-            let moved: Vec<DVec2> = s.mesh().coords().iter().zip(&sol.displacement).map(|(x, d)| *x + *d).collect();
+            let moved: Vec<f64> = s.mesh().coords().iter().zip(&sol.displacement).map(|(x, d)| x + d).collect();
             s.set_reference_inner(moved.clone(), undo)?;
             rep.accepted = true;
             s.steps.push(rep);
@@ -204,7 +203,7 @@ fn do_step(s: &mut Solver, step: &Step, undo: &mut Undo) -> Result<()> {
             s.steps.push(rep);
             if end >= 1.0 && step.last {
                 s.steps.last_mut().expect("pushed").accepted = true;
-                s.last_valid = s.mesh().coords().iter().zip(&sol.displacement).map(|(x, d)| *x + *d).collect();
+                s.last_valid = s.mesh().coords().iter().zip(&sol.displacement).map(|(x, d)| x + d).collect();
                 return Ok(());
             }
             return Err(Error::Tangled(format!(
@@ -246,14 +245,14 @@ fn solve_part(s: &mut Solver, part: &Motion, undo: &mut Undo) -> Result<(Solutio
 /// `ReferenceMode::Original`: the total motion so far solved from the original mesh.
 fn original_step(s: &mut Solver, step: &Step) -> Result<()> {
     let total = match &s.total {
-        Some((m, _)) => m.then(step.increment),
+        Some((m, _)) => m.then(step.increment, s.mesh().dim()),
         None => step.increment.clone(),
     };
     let t0 = Instant::now();
     let sol = s.solve_report(&total, None)?;
     let mut rep = report(step, 1, 1.0, &sol, false, t0);
     check_converged(&sol.report, Some((step.number, 1))).inspect_err(|_| s.steps.push(rep.clone()))?;
-    let moved: Vec<DVec2> = s.mesh().coords().iter().zip(&sol.displacement).map(|(x, d)| *x + *d).collect();
+    let moved: Vec<f64> = s.mesh().coords().iter().zip(&sol.displacement).map(|(x, d)| x + d).collect();
     if sol.quality.inverted > 0 && !step.last {
         s.steps.push(rep);
         return Err(Error::Tangled(format!(

@@ -91,7 +91,7 @@ impl Grid {
     }
 
     pub fn mesh(&self) -> Mesh {
-        Mesh::new(&self.coords(), &self.cells(), IndexBase::Zero, &self.tagged(), None).unwrap()
+        Mesh::triangles(&self.coords(), &self.cells(), IndexBase::Zero, &self.tagged(), None).unwrap()
     }
 
     /// Two regions: rows below `ny/2` region 0, above region 1; the middle row's edges tagged
@@ -103,7 +103,7 @@ impl Grid {
         for i in 0..self.nx {
             tagged.push(([self.id(i, mid), self.id(i + 1, mid)], INTERFACE));
         }
-        Mesh::new(&self.coords(), &self.cells(), IndexBase::Zero, &tagged, Some(&regions)).unwrap()
+        Mesh::triangles(&self.coords(), &self.cells(), IndexBase::Zero, &tagged, Some(&regions)).unwrap()
     }
 }
 
@@ -140,7 +140,7 @@ pub fn annulus(nr: usize, nt: usize, r0: f64, r1: f64, ratio: f64) -> Mesh {
         tagged.push(([id(0, k), id(0, k + 1)], INNER));
         tagged.push(([id(nr, k), id(nr, k + 1)], OUTER));
     }
-    Mesh::new(&coords, &cells, IndexBase::Zero, &tagged, None).unwrap()
+    Mesh::triangles(&coords, &cells, IndexBase::Zero, &tagged, None).unwrap()
 }
 
 use glam::DVec2;

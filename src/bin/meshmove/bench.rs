@@ -8,7 +8,6 @@ mod extrapolate;
 mod jacobi;
 
 use extrapolate::seconds_to_tol;
-use glam::DVec2;
 use meshmove::bc::P;
 use meshmove::cases::meshes::{free_surface, FS_BOTTOM, FS_LEFT, FS_RIGHT, FS_TOP};
 use meshmove::multigrid::hierarchy::Level;
@@ -96,11 +95,11 @@ fn case(mesh: &Mesh) -> (BoundaryConditions, Motion) {
     for p in [FS_LEFT, FS_RIGHT] {
         bcs.set_kind(p, 0, Kind::Clamped).expect("component 0").set_kind(p, 1, Kind::Free).expect("component 1");
     }
-    bcs.add_link(Link::ByOffset { a: FS_LEFT, b: FS_RIGHT, offset: DVec2::X, tol: 1e-9 });
-    let mut motion = Motion::zero(mesh.num_vertices());
+    bcs.add_link(Link::ByOffset { a: FS_LEFT, b: FS_RIGHT, offset: [1.0, 0.0, 0.0], tol: 1e-9 });
+    let mut motion = Motion::zero(&mesh);
     for v in mesh.patch_vertices(FS_TOP) {
-        let x = mesh.coords()[v as usize].x;
-        motion.displacement[v as usize].y = 0.25 * (std::f64::consts::TAU * x).cos();
+        let x = mesh.point(v as usize)[0];
+        motion.displacement[2 * v as usize + 1] = 0.25 * (std::f64::consts::TAU * x).cos();
     }
     (bcs, motion)
 }
@@ -114,8 +113,9 @@ const COMP: usize = 1;
 fn rhs(lev: &Level, motion: &Motion, c: usize) -> Vec<f64> {
     let vals = motion.vertex_values(&lev.mesh);
     let flags = &lev.flags[c];
-    let dp: Vec<f64> =
-        (0..lev.n()).map(|d| if flags[d] & P != 0 { vals[lev.dofs.dof_vertex[d] as usize][c] } else { 0.0 }).collect();
+    let dp: Vec<f64> = (0..lev.n())
+        .map(|d| if flags[d] & P != 0 { vals[lev.dofs.dof_vertex[d] as usize * 2 + c] } else { 0.0 })
+        .collect();
     let (mut b, mut s) = (vec![0.0; lev.n()], vec![0.0; lev.n()]);
     lev.op.rhs(flags, &dp, None, &mut b, &mut s);
     b

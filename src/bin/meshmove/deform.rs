@@ -277,7 +277,7 @@ fn build(args: &Args) -> Result<(CaseSetup, Options), String> {
     for (i, l) in cfg.link.iter().enumerate() {
         let what = format!("config: [[link]] {}", i + 1);
         let (a, b) = (patches.resolve(&l.a, &what)?, patches.resolve(&l.b, &what)?);
-        bcs.add_link(Link::ByOffset { a, b, offset: DVec2::from(l.offset), tol: l.tol.unwrap_or(1e-9) });
+        bcs.add_link(Link::ByOffset { a, b, offset: [l.offset[0], l.offset[1], 0.0], tol: l.tol.unwrap_or(1e-9) });
     }
     for (i, f) in cfg.interface.iter().enumerate() {
         let what = format!("config: [[interface]] {}", i + 1);
@@ -289,7 +289,7 @@ fn build(args: &Args) -> Result<(CaseSetup, Options), String> {
         };
         bcs.set_interface(id, v);
     }
-    let mut motion = Motion::zero(mesh.num_vertices());
+    let mut motion = Motion::zero(&mesh);
     let mut moved_patch = 0;
     let mut moved: Vec<(i32, usize)> = Vec::new();
     for (i, m) in cfg.motion.iter().enumerate() {
@@ -312,11 +312,11 @@ fn build(args: &Args) -> Result<(CaseSetup, Options), String> {
             (None, false) => return Err(format!("{what}: give `translation`/`rotation_deg` or a displacement `file`")),
             (None, true) => {
                 let p = patch.ok_or_else(|| format!("{what}: a rigid motion needs `patch`"))?;
-                let r = RigidMotion {
-                    translation: DVec2::from(m.translation.unwrap_or([0.0; 2])),
-                    angle: m.rotation_deg.unwrap_or(0.0).to_radians(),
-                    center: DVec2::from(m.center.unwrap_or([0.0; 2])),
-                };
+                let r = RigidMotion::planar(
+                    m.translation.unwrap_or([0.0; 2]),
+                    m.rotation_deg.unwrap_or(0.0).to_radians(),
+                    m.center.unwrap_or([0.0; 2]),
+                );
                 motion = motion.with_rigid(p, r);
             }
             (Some(f), false) => {
@@ -337,7 +337,8 @@ fn build(args: &Args) -> Result<(CaseSetup, Options), String> {
                 for (v, dv) in d.iter().enumerate() {
                     if let Some(dv) = dv {
                         if only.as_ref().is_none_or(|o| o.binary_search(&(v as u32)).is_ok()) {
-                            motion.displacement[v] = *dv;
+                            motion.displacement[2 * v] = dv.x;
+                            motion.displacement[2 * v + 1] = dv.y;
                         }
                     }
                 }
@@ -375,7 +376,7 @@ pub fn run(args: Args) -> Result<ExitCode, String> {
     let original = setup.mesh.coords();
     if let Some(f) = &r.failure {
         let partial = args.output.with_extension("last-valid.vtu");
-        let disp: Vec<DVec2> = r.last_valid.iter().zip(original).map(|(a, b)| *a - *b).collect();
+        let disp: Vec<f64> = r.last_valid.iter().zip(original).map(|(a, b)| a - b).collect();
         meshmove::io::write_deformed(&partial, &setup.mesh, &disp)
             .map_err(|e| format!("{}: {e}", partial.display()))?;
         let done = r.reports.iter().filter(|x| x.accepted).map(|x| x.fraction).fold(0.0, f64::max);

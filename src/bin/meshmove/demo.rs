@@ -6,7 +6,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use meshmove::cases::report::{method_name, run_case, run_case_reference, CaseResult, METHODS};
 use meshmove::cases::setups::{case, free_surface_case, CaseSetup, Scale, CASE_NAMES};
 use meshmove::io::write_deformed;
-use meshmove::mesh::quality::signed_areas;
+use meshmove::mesh::signed_measures;
 use meshmove::{Criterion, Method, Mode, Options, Solver};
 use plotters::style::RGBColor;
 use std::fmt::Write as _;
@@ -29,13 +29,14 @@ pub struct Args {
 pub const BIHARMONIC_COLOUR: RGBColor = RGBColor(31, 119, 180);
 pub const LAPLACIAN_COLOUR: RGBColor = RGBColor(255, 127, 14);
 
-fn view_for(setup: &CaseSetup, coords: &[DVec2]) -> (View, Option<View>) {
+fn view_for(setup: &CaseSetup, coords: &[f64]) -> (View, Option<View>) {
+    let coords = &crate::plot::xy(coords);
     match setup.name.as_str() {
         "boundary_layer_cylinder" => {
             // The inset follows the moved cylinder (its vertices' centroid).
             let cyl = setup.mesh.patch_vertices(setup.moved_patch);
             let c = cyl.iter().map(|&v| coords[v as usize]).sum::<DVec2>() / cyl.len() as f64;
-            (View::around(setup.mesh.coords(), 0.0), Some(View::centred(c, 0.75)))
+            (View::around(&crate::plot::xy(setup.mesh.coords()), 0.0), Some(View::centred(c, 0.75)))
         }
         // The part of the channel around the cylinder (the rest barely moves).
         "cylinder_channel" => (View { x0: 0.5, x1: 4.5, y0: -1.02, y1: 1.02 }, None),
@@ -82,7 +83,7 @@ fn view_notes(setup: &CaseSetup) -> Vec<String> {
 }
 
 /// One mesh picture, `DIR/{stem}.png`, titled with the case and `label` (the method).
-fn picture(dir: &Path, setup: &CaseSetup, coords: &[DVec2], stem: &str, label: &str, width: u32) -> Result<(), String> {
+fn picture(dir: &Path, setup: &CaseSetup, coords: &[f64], stem: &str, label: &str, width: u32) -> Result<(), String> {
     let (view, inset) = view_for(setup, coords);
     let path = dir.join(format!("{stem}.png"));
     let title = format!("{}: {label}", case_title(&setup.name));
@@ -179,12 +180,12 @@ pub fn run(args: Args) -> Result<ExitCode, String> {
                 bar.set_message(format!("{name} {}: exact solve", method_name(method)));
                 match run_case_reference(&setup, method, 1e-10) {
                     Ok((coords, first)) => {
-                        let inv = signed_areas(&setup.mesh, &coords).iter().filter(|&&a| a <= 0.0).count();
+                        let inv = signed_measures(&setup.mesh, &coords).iter().filter(|&&a| a <= 0.0).count();
                         say(&bar, format!(
                             "      exact solves of every step: {inv} inverted cells{}; written as {stem}_exact.vtu/.png",
                             first.map(|k| format!(" (first at step {k})")).unwrap_or_default()
                         ));
-                        let disp: Vec<DVec2> = coords.iter().zip(setup.mesh.coords()).map(|(a, b)| *a - *b).collect();
+                        let disp: Vec<f64> = coords.iter().zip(setup.mesh.coords()).map(|(a, b)| a - b).collect();
                         let vtu = dir.join(format!("{stem}_exact.vtu"));
                         write_deformed(&vtu, &setup.mesh, &disp).map_err(|e| format!("{}: {e}", vtu.display()))?;
                         let label = format!("{}, every step solved exactly", method_title(method));

@@ -107,15 +107,17 @@ where
     let Frame { view, rect: r, clip } = frame;
     let (view, r, clip) = (view, *r, *clip);
     let inside = |c: &[u32]| !clip || c.iter().all(|&v| view.contains(coords[v as usize]));
-    for (k, c) in mesh.cells().iter().enumerate() {
+    for k in 0..mesh.num_cells() {
+        let c = mesh.cell(k);
         if inverted[k] && inside(c) {
             let pts: Vec<(i32, i32)> = c.iter().map(|&v| to_px(view, r, coords[v as usize])).collect();
             area.draw(&Polygon::new(pts, INVERTED_COLOUR.filled()))?;
         }
     }
     let mut edges: Vec<(u32, u32)> = Vec::with_capacity(3 * mesh.num_cells());
-    for c in mesh.cells().iter().filter(|c| inside(&c[..])) {
-        for (a, b) in [(c[0], c[1]), (c[1], c[2]), (c[2], c[0])] {
+    for c in (0..mesh.num_cells()).map(|k| mesh.cell(k)).filter(|c| inside(c)) {
+        for k in 0..c.len() {
+            let (a, b) = (c[k], c[(k + 1) % c.len()]);
             edges.push((a.min(b), a.max(b)));
         }
     }
@@ -211,15 +213,17 @@ pub fn mesh_png(
 /// lines. `views`: the window drawn (`None`: the whole deformed mesh) and an optional inset.
 pub fn deformed_png(
     path: &Path,
-    (mesh, coords): (&Mesh, &[DVec2]),
+    (mesh, coords): (&Mesh, &[f64]),
     (title, extra): (String, &[String]),
     highlight: &[[u32; 2]],
     (view, inset): (Option<View>, Option<View>),
     width: u32,
 ) -> Result<(), Err> {
-    let before = meshmove::mesh::quality::signed_areas(mesh, mesh.coords());
-    let after = meshmove::mesh::quality::signed_areas(mesh, coords);
-    let inverted: Vec<bool> = after.iter().map(|&a| a <= 0.0).collect();
+    let before = meshmove::mesh::signed_measures(mesh, mesh.coords());
+    let after = meshmove::mesh::signed_measures(mesh, coords);
+    let mut inverted = vec![false; mesh.num_cells()];
+    meshmove::mesh::inverted_cells(mesh, coords).into_iter().for_each(|c| inverted[c] = true);
+    let coords = &xy(coords);
     let count = inverted.iter().filter(|&&b| b).count();
     let ratio = after.iter().zip(&before).map(|(a, b)| a / b).fold(f64::INFINITY, f64::min);
     let mut lines = vec![title, format!("{count} inverted cells (red), min area ratio {ratio:.3}")];
@@ -234,7 +238,7 @@ pub fn deformed_png(
 pub fn case_png(
     path: &Path,
     setup: &meshmove::cases::setups::CaseSetup,
-    coords: &[DVec2],
+    coords: &[f64],
     method: meshmove::Method,
     steps: usize,
 ) -> Result<(), String> {
@@ -249,7 +253,12 @@ pub fn case_png(
 
 /// The edges of `patch` (a boundary patch or an interface), for highlighting.
 pub fn patch_edges(mesh: &Mesh, patch: i32) -> Vec<[u32; 2]> {
-    mesh.patch_edges().iter().filter(|e| e.patch == patch).map(|e| e.vertices).collect()
+    mesh.patch_faces().filter(|e| e.patch == patch).map(|e| [e.vertices[0], e.vertices[1]]).collect()
+}
+
+/// Interleaved 2D positions as points.
+pub fn xy(x: &[f64]) -> Vec<DVec2> {
+    x.chunks_exact(2).map(|p| DVec2::new(p[0], p[1])).collect()
 }
 
 /// One curve of [`semilog_png`]: its legend name, values (one per x = 1, 2, …) and colour.

@@ -52,18 +52,20 @@ pub fn write_msh22(mesh: &Mesh, path: &Path) -> Result<(), IoError> {
     let mut s = String::with_capacity(64 * (mesh.num_vertices() + mesh.num_cells()));
     s.push_str("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n");
     let _ = writeln!(s, "{}", mesh.num_vertices());
-    for (i, p) in mesh.coords().iter().enumerate() {
-        let _ = writeln!(s, "{} {:?} {:?} 0", i + 1, p.x, p.y);
+    for i in 0..mesh.num_vertices() {
+        let p = mesh.point(i);
+        let _ = writeln!(s, "{} {:?} {:?} 0", i + 1, p[0], p[1]);
     }
     s.push_str("$EndNodes\n$Elements\n");
-    let _ = writeln!(s, "{}", mesh.patch_edges().len() + mesh.num_cells());
+    let _ = writeln!(s, "{}", mesh.num_patch_faces() + mesh.num_cells());
     let mut id = 0usize;
-    for e in mesh.patch_edges() {
+    for e in mesh.patch_faces() {
         id += 1;
-        let [a, b] = e.vertices;
+        let [a, b] = [e.vertices[0], e.vertices[1]];
         let _ = writeln!(s, "{id} 1 2 {} {} {} {}", e.patch, e.patch, a + 1, b + 1);
     }
-    for (c, r) in mesh.cells().iter().zip(mesh.regions()) {
+    for (k, r) in mesh.regions().iter().enumerate() {
+        let c = mesh.cell(k);
         id += 1;
         let _ = writeln!(s, "{id} 2 2 {r} {r} {} {} {}", c[0] + 1, c[1] + 1, c[2] + 1);
     }

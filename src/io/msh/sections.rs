@@ -396,7 +396,7 @@ impl<'a> Parser<'a> {
             }
             tagged.push(([a, b], *p));
         }
-        let mesh = Mesh::new(&coords, &cells, IndexBase::Zero, &tagged, Some(&self.regions))?;
+        let mesh = Mesh::triangles(&coords, &cells, IndexBase::Zero, &tagged, Some(&self.regions))?;
         Ok(MshMesh { mesh, physical_names: self.physical_names, node_tags })
     }
 }

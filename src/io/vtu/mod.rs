@@ -19,14 +19,13 @@ pub use write::{write_deformed, write_vtu};
 
 use super::IoError;
 use crate::mesh::{IndexBase, Mesh};
-use glam::DVec2;
 
 /// A field with one value per vertex.
 #[derive(Clone, Copy, Debug)]
 pub enum PointField<'a> {
     Scalar(&'a [f64]),
     /// Written with three components, z = 0 (ParaView's vectors are 3D).
-    Vector(&'a [DVec2]),
+    Vector(&'a [f64]),
 }
 
 /// A field with one value per cell.
@@ -69,6 +68,6 @@ impl VtuData {
             None => None,
         };
         let tagged: [([u32; 2], i32); 0] = [];
-        Ok(Mesh::new(&self.points, &self.cells, IndexBase::Zero, &tagged, regions.as_deref())?)
+        Ok(Mesh::triangles(&self.points, &self.cells, IndexBase::Zero, &tagged, regions.as_deref())?)
     }
 }

@@ -2,9 +2,8 @@
 
 use super::{CellField, PointField};
 use crate::io::{io_err, IoError};
-use crate::mesh::quality::{min_angle_deg, signed_areas};
+use crate::mesh::quality::signed_measures;
 use crate::mesh::Mesh;
-use glam::DVec2;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -12,12 +11,13 @@ use std::path::Path;
 pub fn write_vtu(
     path: &Path,
     mesh: &Mesh,
-    coords: &[DVec2],
+    coords: &[f64],
     point_data: &[(&str, PointField)],
     cell_data: &[(&str, CellField)],
 ) -> Result<(), IoError> {
     let (n, m) = (mesh.num_vertices(), mesh.num_cells());
-    if coords.len() != n {
+    let dim = mesh.dim();
+    if coords.len() != n * dim {
         return Err(IoError::InvalidArgument(format!(
             "write_vtu: {} coordinates for a mesh of {n} vertices",
             coords.len()
@@ -30,7 +30,7 @@ pub fn write_vtu(
     for (name, f) in point_data {
         let (len, comps) = match f {
             PointField::Scalar(v) => (v.len(), 1),
-            PointField::Vector(v) => (v.len(), 3),
+            PointField::Vector(v) => (v.len() / dim, 3),
         };
         if len != n {
             return Err(IoError::InvalidArgument(format!(
@@ -40,7 +40,7 @@ pub fn write_vtu(
         open_array(&mut s, "Float64", Some(name), comps);
         match f {
             PointField::Scalar(v) => v.iter().for_each(|x| push_f64(&mut s, *x)),
-            PointField::Vector(v) => v.iter().for_each(|p| push_xyz(&mut s, *p)),
+            PointField::Vector(v) => v.chunks_exact(dim).for_each(|p| push_xyz(&mut s, p)),
         }
         s.push_str("\n</DataArray>\n");
     }
@@ -71,18 +71,24 @@ pub fn write_vtu(
     }
     s.push_str("</CellData>\n<Points>\n");
     open_array(&mut s, "Float64", None, 3);
-    coords.iter().for_each(|p| push_xyz(&mut s, *p));
+    coords.chunks_exact(dim).for_each(|p| push_xyz(&mut s, p));
     s.push_str("\n</DataArray>\n</Points>\n<Cells>\n");
     s.push_str("<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n");
-    for c in mesh.cells() {
-        let _ = write!(s, "{} {} {} ", c[0], c[1], c[2]);
+    for c in 0..m {
+        for v in mesh.cell(c) {
+            let _ = write!(s, "{v} ");
+        }
     }
     s.push_str("\n</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n");
-    for i in 1..=m {
-        let _ = write!(s, "{} ", 3 * i);
+    let mut end = 0;
+    for c in 0..m {
+        end += mesh.cell(c).len();
+        let _ = write!(s, "{end} ");
     }
     s.push_str("\n</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n");
-    s.push_str(&"5 ".repeat(m));
+    for &t in mesh.cell_types() {
+        let _ = write!(s, "{} ", t.vtk_id());
+    }
     s.push_str("\n</DataArray>\n</Cells>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n");
     std::fs::write(path, s).map_err(io_err(path))
 }
@@ -100,31 +106,36 @@ fn push_f64(s: &mut String, x: f64) {
     let _ = write!(s, "{x:?} ");
 }
 
-fn push_xyz(s: &mut String, p: DVec2) {
-    let _ = write!(s, "{:?} {:?} 0 ", p.x, p.y);
+fn push_xyz(s: &mut String, p: &[f64]) {
+    match p {
+        [x, y] => {
+            let _ = write!(s, "{x:?} {y:?} 0 ");
+        }
+        _ => {
+            let _ = write!(s, "{:?} {:?} {:?} ", p[0], p[1], p[2]);
+        }
+    }
 }
 
 /// Writes `reference` moved by `displacement`, with point data `displacement` and cell data
 /// `region` (Int32), `area_ratio` (deformed over reference signed area), `inverted` (1 where the
 /// deformed signed area is not positive) and `min_angle` (degrees, 0 for inverted cells).
-pub fn write_deformed(path: &Path, reference: &Mesh, displacement: &[DVec2]) -> Result<(), IoError> {
-    if displacement.len() != reference.num_vertices() {
+pub fn write_deformed(path: &Path, reference: &Mesh, displacement: &[f64]) -> Result<(), IoError> {
+    if displacement.len() != reference.coords().len() {
         return Err(IoError::InvalidArgument(format!(
             "write_deformed: {} displacements for a mesh of {} vertices",
             displacement.len(),
             reference.num_vertices()
         )));
     }
-    let moved: Vec<DVec2> = reference.coords().iter().zip(displacement).map(|(p, d)| *p + *d).collect();
-    let a0 = signed_areas(reference, reference.coords());
-    let a1 = signed_areas(reference, &moved);
+    let moved: Vec<f64> = reference.coords().iter().zip(displacement).map(|(p, d)| p + d).collect();
+    let a0 = signed_measures(reference, reference.coords());
+    let a1 = signed_measures(reference, &moved);
     let ratio: Vec<f64> = a1.iter().zip(&a0).map(|(a, b)| a / b).collect();
-    let inverted: Vec<i32> = a1.iter().map(|&a| i32::from(a <= 0.0)).collect();
-    let min_angle: Vec<f64> = reference
-        .cells()
-        .iter()
-        .map(|c| min_angle_deg(moved[c[0] as usize], moved[c[1] as usize], moved[c[2] as usize]))
+    let inverted: Vec<i32> = (0..reference.num_cells())
+        .map(|c| i32::from(crate::mesh::quality::is_inverted(reference, &moved, c)))
         .collect();
+    let min_angle = crate::mesh::quality::min_angles(reference, &moved);
     write_vtu(
         path,
         reference,

@@ -7,16 +7,84 @@
 
 #[cfg(test)]
 pub(crate) mod tests;
+mod locate;
 mod triangulate;
 
-use super::transfer::Locator;
+use super::coarsener::Coarsener;
+use super::hierarchy::{Level, Transfer};
+use super::restriction::Restriction;
+use crate::sparse::{offset, CsrMatrix};
+use locate::{Location, Locator};
+use std::sync::Arc;
 use crate::error::{Error, Result};
-use crate::mesh::{edge_key, EdgeCells, Mesh, PatchEdge, VertexCells};
+use crate::mesh::{edge_key, EdgeCells, Mesh, VertexCells};
 use glam::DVec2;
 use spade::handles::FixedVertexHandle;
 use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
 use std::collections::HashMap;
 use triangulate::triangulate;
+
+/// The 2D coarsener: vertex removal, constrained Delaunay retriangulation, barycentric
+/// interpolation in the coarse triangles.
+pub(crate) struct Delaunay2d {
+    pub(crate) params: CoarsenParams,
+}
+
+impl Coarsener for Delaunay2d {
+    fn coarsen(&self, fine: &Mesh, links: &[[u32; 2]]) -> Result<Option<CoarseMesh>> {
+        coarsen(fine, links, &self.params)
+    }
+
+    /// Locates the unknowns of `fine` in the cells of `coarse`. Runs with every finer level
+    /// alive, so its temporaries (points, locations) go as soon as they are used.
+    fn transfer(&self, fine: &Level, coarse: &Level) -> Transfer {
+        let locs = locate::locate(&coarse.mesh, &dof_points(fine), &fine.dof_regions());
+        let prolong = Arc::new(prolongation(coarse, &locs));
+        let cells = locs.iter().map(|l| l.cell).collect();
+        drop(locs);
+        let restrict = Restriction::new(Arc::clone(&prolong));
+        Transfer { cells, prolong, restrict }
+    }
+
+    /// New weights in the same coarse cells, for the fine unknowns at their new positions.
+    fn update(&self, t: &mut Transfer, fine: &Level, coarse: &Level) {
+        let mut locs: Vec<Location> = t.cells.iter().map(|&cell| Location { cell, weights: [0.0; 3] }).collect();
+        locate::update_weights(&coarse.mesh, &dof_points(fine), &mut locs);
+        t.prolong = Arc::new(prolongation(coarse, &locs));
+        drop(locs);
+        t.restrict = Restriction::new(Arc::clone(&t.prolong));
+    }
+}
+
+/// Positions of a level's unknowns.
+fn dof_points(l: &Level) -> Vec<DVec2> {
+    l.dofs.dof_vertex.iter().map(|&v| l.mesh.xy(v as usize)).collect()
+}
+
+/// Row i interpolates fine unknown i from the unknowns of its coarse cell with the barycentric
+/// weights: columns ascending, corners sharing an unknown summed in corner order onto zero
+/// (exactly what `CsrMatrix::from_triplets` gives, built row by row without its triplet list).
+fn prolongation(coarse: &Level, locs: &[Location]) -> CsrMatrix {
+    let n = locs.len();
+    let (mut row_ptr, mut cols, mut vals) =
+        (Vec::with_capacity(n + 1), Vec::with_capacity(3 * n), Vec::with_capacity(3 * n));
+    row_ptr.push(0);
+    for loc in locs {
+        let cd = coarse.dofs.cell_dofs(&coarse.mesh, loc.cell as usize);
+        let mut corners = [0, 1, 2];
+        corners.sort_by_key(|&k| cd[k]);
+        let start = cols.len();
+        for k in corners {
+            if cols.len() == start || cols[cols.len() - 1] != cd[k] {
+                cols.push(cd[k]);
+                vals.push(0.0);
+            }
+            *vals.last_mut().expect("pushed above") += loc.weights[k];
+        }
+        row_ptr.push(offset(cols.len()));
+    }
+    CsrMatrix { nrows: n, ncols: coarse.n(), row_ptr, cols, vals }
+}
 
 /// When to stop coarsening and what counts as a corner.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -37,7 +105,7 @@ impl Default for CoarsenParams {
 
 /// One coarse level.
 #[derive(Clone, Debug)]
-pub struct CoarseMesh {
+pub(crate) struct CoarseMesh {
     /// The coarse mesh: valid, all cells counter-clockwise with positive area.
     pub mesh: Mesh,
     /// Coarse vertex `i` is fine vertex `fine_vertex[i]` (same position); ascending.
@@ -49,6 +117,13 @@ pub struct CoarseMesh {
 /// Attempts at fixing a failed triangulation (keeping a whole chain, dropping an interior point)
 /// before giving up on this level.
 const MAX_ATTEMPTS: usize = 24;
+
+/// A patch face of the 2D fine mesh: a segment.
+struct PatchSegment {
+    vertices: [u32; 2],
+    patch: i32,
+    interior: bool,
+}
 
 /// A path of feature edges between two forced vertices, or a closed loop.
 struct Chain {
@@ -89,7 +164,7 @@ enum Failure {
 ///
 /// `Ok(None)` when coarsening is not worthwhile (too few vertices, ratio too small) or the coarse
 /// triangulation could not be made valid; `Err(Error::Coarsening)` only for impossible input.
-pub fn coarsen(fine: &Mesh, links: &[[u32; 2]], params: &CoarsenParams) -> Result<Option<CoarseMesh>> {
+pub(crate) fn coarsen(fine: &Mesh, links: &[[u32; 2]], params: &CoarsenParams) -> Result<Option<CoarseMesh>> {
     let nv = fine.num_vertices();
     if let Some(l) = links.iter().find(|l| l.iter().any(|&v| v as usize >= nv)) {
         return Err(Error::Coarsening(format!("link [{}, {}] names a vertex beyond {}", l[0], l[1], nv)));
@@ -133,8 +208,12 @@ struct Features {
 impl Features {
     fn build(fine: &Mesh, links: &[[u32; 2]], params: &CoarsenParams) -> Features {
         let nv = fine.num_vertices();
-        let pe = fine.patch_edges();
-        let x = fine.coords();
+        let pe: Vec<PatchSegment> = fine
+            .patch_faces()
+            .map(|f| PatchSegment { vertices: [f.vertices[0], f.vertices[1]], patch: f.patch, interior: f.interior })
+            .collect();
+        let pe = &pe[..];
+        let x = fine.xy_all();
         // Incident feature edges per vertex (CSR, ascending edge index).
         let mut ptr = vec![0usize; nv + 1];
         for e in pe {
@@ -317,11 +396,10 @@ fn select(
     };
     // Interior points: greedy maximal independent set in index order, kept feature vertices
     // already selected. A vertex's neighbours are the corners of its cells.
-    let cells = fine.cells();
     let mut blocked = vec![false; nv];
     let block_around = |v: usize, blocked: &mut [bool]| {
         for &c in around.of(v) {
-            cells[c as usize].iter().for_each(|&j| blocked[j as usize] = true);
+            fine.cell(c as usize).iter().for_each(|&j| blocked[j as usize] = true);
         }
     };
     for v in (0..nv).filter(|&v| kept[v]) {

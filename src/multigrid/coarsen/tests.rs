@@ -61,7 +61,7 @@ pub(crate) fn structured(n: usize, m: usize, w: f64, h: f64) -> (Vec<[f64; 2]>, 
 pub(crate) fn rect(n: usize) -> Mesh {
     let (coords, cells) = structured(n, n, 1.0, 1.0);
     let tags = rect_tags(&coords, &cells, 1.0, 1.0);
-    Mesh::new(&coords, &cells, IndexBase::Zero, &tags, None).unwrap()
+    Mesh::triangles(&coords, &cells, IndexBase::Zero, &tags, None).unwrap()
 }
 
 /// Unit square, regions 1 (y < 1/2) and 2, interface y = 1/2 tagged as patch 9.
@@ -83,7 +83,7 @@ pub(crate) fn two_regions(n: usize) -> Mesh {
         let (a, b) = ((n / 2) * (n + 1) + j, (n / 2) * (n + 1) + j + 1);
         tags.push(([a as u32, b as u32], 9));
     }
-    Mesh::new(&coords, &cells, IndexBase::Zero, &tags, Some(&regions)).unwrap()
+    Mesh::triangles(&coords, &cells, IndexBase::Zero, &tags, Some(&regions)).unwrap()
 }
 
 /// Delaunay mesh of the unit square: boundary points at spacing 1/n, jittered interior.
@@ -109,7 +109,7 @@ pub(crate) fn unstructured_rect(n: usize, seed: u64) -> Mesh {
     let coords: Vec<[f64; 2]> = dt.vertices().map(|v| [v.position().x, v.position().y]).collect();
     let cells: Vec<[u32; 3]> = dt.inner_faces().map(|f| f.vertices().map(|v| v.fix().index() as u32)).collect();
     let tags = rect_tags(&coords, &cells, 1.0, 1.0);
-    Mesh::new(&coords, &cells, IndexBase::Zero, &tags, None).unwrap()
+    Mesh::triangles(&coords, &cells, IndexBase::Zero, &tags, None).unwrap()
 }
 
 /// Channel [0, 4] x [0, 2] around a cylinder of radius 0.3 at (1, 1) (patch 5).
@@ -180,7 +180,7 @@ pub(crate) fn cylinder(n: usize, seed: u64) -> Mesh {
             tags.push(([a as u32, b as u32], 5));
         }
     }
-    Mesh::new(&coords, &cells, IndexBase::Zero, &tags, None).unwrap()
+    Mesh::triangles(&coords, &cells, IndexBase::Zero, &tags, None).unwrap()
 }
 
 /// Polar-structured annulus 0.5 < r < 1: outer circle patch 1, inner circle patch 2.
@@ -211,7 +211,7 @@ fn annulus_r(r0: f64, nr: usize, nt: usize) -> Mesh {
         tags.push(([id(i, 0), id(i + 1, 0)], 2));
         tags.push(([id(i, nr), id(i + 1, nr)], 1));
     }
-    Mesh::new(&coords, &cells, IndexBase::Zero, &tags, None).unwrap()
+    Mesh::triangles(&coords, &cells, IndexBase::Zero, &tags, None).unwrap()
 }
 
 /// Checks everything a coarse level promises and returns its area.
@@ -220,9 +220,9 @@ pub(crate) fn check(fine: &Mesh, c: &CoarseMesh) -> f64 {
     // Round trip through the validating constructor.
     let tags: Vec<([u32; 2], i32)> = m.patch_edges().iter().map(|e| (e.vertices, e.patch)).collect();
     let again =
-        Mesh::new(&m.coords_xy(), m.cells(), IndexBase::Zero, &tags, Some(m.regions())).expect("coarse mesh validates");
+        Mesh::triangles(&m.coords_xy(), m.cells(), IndexBase::Zero, &tags, Some(m.regions())).expect("coarse mesh validates");
     assert_eq!(again.patch_edges().len(), m.patch_edges().len());
-    let areas = crate::mesh::quality::signed_areas(m, m.coords());
+    let areas = crate::mesh::quality::signed_measures(m, m.coords());
     assert!(areas.iter().all(|&a| a > 0.0), "non-positive coarse cell");
     assert_eq!(c.fine_vertex.len(), m.num_vertices());
     assert!(c.fine_vertex.windows(2).all(|w| w[0] < w[1]));
@@ -253,7 +253,7 @@ pub(crate) fn check(fine: &Mesh, c: &CoarseMesh) -> f64 {
 }
 
 fn fine_area(m: &Mesh) -> f64 {
-    crate::mesh::quality::signed_areas(m, m.coords()).iter().sum()
+    crate::mesh::quality::signed_measures(m, m.coords()).iter().sum()
 }
 
 fn hierarchy(fine: &Mesh, links: &[[u32; 2]]) -> Vec<usize> {
@@ -372,7 +372,7 @@ fn interface_between_regions_is_preserved() {
         len += (a - b).length();
     }
     assert!((len - 1.0).abs() < 1e-14);
-    let areas = crate::mesh::quality::signed_areas(m, x);
+    let areas = crate::mesh::quality::signed_measures(m, x);
     let (mut a1, mut a2) = (0.0, 0.0);
     for (k, t) in m.cells().iter().enumerate() {
         let y = t.iter().map(|&v| x[v as usize].y).sum::<f64>() / 3.0;
@@ -396,7 +396,7 @@ fn periodic_links_stay_paired() {
     // 33 x 17 vertices; left side (0, j) linked with right side (32, j).
     let (coords, cells) = structured(32, 16, 2.0, 1.0);
     let tags = rect_tags(&coords, &cells, 2.0, 1.0);
-    let fine = Mesh::new(&coords, &cells, IndexBase::Zero, &tags, None).unwrap();
+    let fine = Mesh::triangles(&coords, &cells, IndexBase::Zero, &tags, None).unwrap();
     let links: Vec<[u32; 2]> = (0..=16u32).map(|j| [j * 33, j * 33 + 32]).collect();
     let check_links = |m: &Mesh, l: &[[u32; 2]]| {
         let x = m.coords();
@@ -470,7 +470,7 @@ fn crossing_chords_keep_their_chain() {
     }
     let cells: Vec<[u32; 3]> = base.cells().iter().map(|t| t.map(relabel)).collect();
     let tags: Vec<([u32; 2], i32)> = base.patch_edges().iter().map(|e| (e.vertices.map(relabel), e.patch)).collect();
-    let fine = Mesh::new(&coords, &cells, IndexBase::Zero, &tags, None).unwrap();
+    let fine = Mesh::triangles(&coords, &cells, IndexBase::Zero, &tags, None).unwrap();
     let params = CoarsenParams { min_vertices: 10, ..Default::default() };
     let c = coarsen(&fine, &[], &params).unwrap().unwrap();
     check(&fine, &c);

@@ -10,7 +10,7 @@ pub(super) fn triangulate(
     segments: &[Segment],
     f: &Features,
 ) -> Result<std::result::Result<CoarseMesh, Failure>> {
-    let x = fine.coords();
+    let x = fine.xy_all();
     // Exact capacities here and for the cells: the coarse level keeps these for the solver's life.
     let mut fine_vertex: Vec<u32> = Vec::with_capacity(kept.iter().filter(|&&k| k).count());
     fine_vertex.extend((0..fine.num_vertices() as u32).filter(|&v| kept[v as usize]));
@@ -174,10 +174,10 @@ pub(super) fn triangulate(
         return Ok(Err(Failure::Stop));
     }
     // Boundary of the triangulation = boundary segments; interface segments have two cells.
-    let Ok(edges) = EdgeCells::build(&cells) else {
+    let Some(edges) = EdgeCells::build(&cells) else {
         return Ok(Err(Failure::Stop));
     };
-    let mut patch_edges = Vec::with_capacity(segments.len());
+    let mut patch_edges: Vec<([u32; 2], i32, bool)> = Vec::with_capacity(segments.len());
     let mut boundary_segments = 0;
     for s in segments {
         let (a, b) = (coarse_of[s.a as usize], coarse_of[s.b as usize]);
@@ -188,7 +188,7 @@ pub(super) fn triangulate(
             if c1 == u32::MAX {
                 return Ok(Err(Failure::Stop));
             }
-            patch_edges.push(PatchEdge { vertices: [a, b], patch: s.patch, interior: true });
+            patch_edges.push(([a, b], s.patch, true));
         } else {
             if c1 != u32::MAX {
                 return Ok(Err(Failure::Stop));
@@ -196,11 +196,7 @@ pub(super) fn triangulate(
             boundary_segments += 1;
             let t = cells[c0 as usize];
             let forward = (0..3).any(|k| t[k] == a && t[(k + 1) % 3] == b);
-            patch_edges.push(PatchEdge {
-                vertices: if forward { [a, b] } else { [b, a] },
-                patch: s.patch,
-                interior: false,
-            });
+            patch_edges.push((if forward { [a, b] } else { [b, a] }, s.patch, false));
         }
     }
     let boundary_edges = edges.edges.iter().filter(|e| e.1[1] == u32::MAX).count();
@@ -214,7 +210,10 @@ pub(super) fn triangulate(
     let mut regions = vec![0i32; ncell];
     let fine_regions = fine.regions();
     // With one region there is nothing to look up: skip the point locator over the fine mesh.
-    let locator = fine_regions.iter().any(|&r| r != fine_regions[0]).then(|| Locator::new(fine));
+    // The locator works on triangles: a fine mesh with other cells is located in their halves.
+    let split = fine_regions.iter().any(|&r| r != fine_regions[0]).then(|| fine.split_into_triangles());
+    let locator = split.as_ref().map(|m| Locator::new(m));
+    let fine_regions = split.as_ref().map_or(fine_regions, |m| m.regions());
     let mut stack = Vec::new();
     for start in 0..ncell {
         if comp[start] != u32::MAX {
@@ -257,5 +256,5 @@ pub(super) fn triangulate(
         .filter(|l| kept[l[0] as usize] && kept[l[1] as usize])
         .map(|l| [coarse_of[l[0] as usize], coarse_of[l[1] as usize]])
         .collect();
-    Ok(Ok(CoarseMesh { mesh: Mesh::from_parts(cx, cells, regions, patch_edges), fine_vertex, links: coarse_links }))
+    Ok(Ok(CoarseMesh { mesh: Mesh::from_triangles(&cx, &cells, regions, &patch_edges), fine_vertex, links: coarse_links }))
 }

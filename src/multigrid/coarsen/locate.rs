@@ -68,10 +68,11 @@ pub struct Locator<'a> {
 impl<'a> Locator<'a> {
     /// Builds the bucket grid (about two cells per bucket).
     pub fn new(mesh: &'a Mesh) -> Locator<'a> {
-        let coords = mesh.coords();
-        let cells = mesh.cells();
+        debug_assert!(mesh.cell_types().iter().all(|&t| t == crate::geometry::CellType::Triangle));
+        let coords = mesh.xy_all();
+        let cells: Vec<[u32; 3]> = (0..mesh.num_cells()).map(|c| mesh.tri(c)).collect();
         let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
-        for t in cells {
+        for t in &cells {
             for &v in t {
                 lo = lo.min(coords[v as usize]);
                 hi = hi.max(coords[v as usize]);
@@ -158,9 +159,9 @@ impl<'a> Locator<'a> {
     }
 
     fn weights(&self, c: u32, p: DVec2) -> [f64; 3] {
-        let t = self.mesh.cells()[c as usize];
-        let x = self.mesh.coords();
-        barycentric(x[t[0] as usize], x[t[1] as usize], x[t[2] as usize], p)
+        let t = self.mesh.tri(c as usize);
+        let x = |v: u32| self.mesh.xy(v as usize);
+        barycentric(x(t[0]), x(t[1]), x(t[2]), p)
     }
 
     /// Distance from `p` to bucket (i, j)'s rectangle.
@@ -194,8 +195,7 @@ impl<'a> Locator<'a> {
             return Location { cell, weights };
         }
         // Nearest allowed cell: rings of buckets around the point's bucket.
-        let x = self.mesh.coords();
-        let cells = self.mesh.cells();
+        let x = |v: u32| self.mesh.xy(v as usize);
         let mut nearest: Option<(f64, u32)> = None;
         let max_r = self.nx.max(self.ny);
         for r in 0..=max_r {
@@ -213,8 +213,8 @@ impl<'a> Locator<'a> {
                         if !allowed(c) {
                             continue;
                         }
-                        let t = cells[c as usize];
-                        let d = distance_to_triangle(x[t[0] as usize], x[t[1] as usize], x[t[2] as usize], p);
+                        let t = self.mesh.tri(c as usize);
+                        let d = distance_to_triangle(x(t[0]), x(t[1]), x(t[2]), p);
                         if nearest.is_none_or(|n| d < n.0 || (d == n.0 && c < n.1)) {
                             nearest = Some((d, c));
                         }
@@ -270,10 +270,10 @@ pub fn locate(coarse: &Mesh, points: &[DVec2], regions: &[Option<i32>]) -> Vec<L
 /// moved. `points` are the new positions of the located points, one per location.
 pub fn update_weights(coarse: &Mesh, points: &[DVec2], locs: &mut [Location]) {
     assert_eq!(points.len(), locs.len(), "update_weights: length mismatch");
-    let (x, cells) = (coarse.coords(), coarse.cells());
+    let x = |v: u32| coarse.xy(v as usize);
     let f = |(l, &p): (&mut Location, &DVec2)| {
-        let t = cells[l.cell as usize];
-        l.weights = barycentric(x[t[0] as usize], x[t[1] as usize], x[t[2] as usize], p);
+        let t = coarse.tri(l.cell as usize);
+        l.weights = barycentric(x(t[0]), x(t[1]), x(t[2]), p);
     };
     if points.len() < PAR_POINTS {
         locs.iter_mut().zip(points).for_each(f);
@@ -364,7 +364,7 @@ mod tests {
         assert!(has(&locs[1], DVec2::new(0.0, 0.5)));
         // Just below the bottom edge: a cell on that edge.
         let t = m.cells()[locs[2].cell as usize];
-        assert_eq!(t.iter().filter(|&&v| m.coords()[v as usize].y == 0.0).count(), 2);
+        assert_eq!(t.iter().filter(|&&v| m.point(v as usize)[1] == 0.0).count(), 2);
         let pts = [DVec2::new(3.0, 3.0), DVec2::new(-1.0, 0.5), DVec2::new(0.5, -1e-9)];
         let (err, _) = linear_error(&m, &pts, &locs);
         assert!(err < 1e-12);

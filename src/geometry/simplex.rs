@@ -1,0 +1,68 @@
+//! P1 simplices: triangles (and, in 3D, tetrahedra). The triangle's formulas are the cotangent
+//! form of ∫∇φ_i·∇φ_j, evaluated in a fixed order so results do not depend on anything else.
+
+use super::{cross, dot3, sub, twice_area2};
+use glam::DVec2;
+
+fn p2(p: &[f64; 3]) -> DVec2 {
+    DVec2::new(p[0], p[1])
+}
+
+/// Signed area of triangle p0 p1 p2 (positive counter-clockwise).
+#[inline]
+pub(super) fn triangle_area(p: &[[f64; 3]]) -> f64 {
+    0.5 * twice_area2(&p[0], &p[1], &p[2])
+}
+
+/// Signed volume of tetrahedron p0 p1 p2 p3 (positive when p3 lies on the side where
+/// (p1 − p0) × (p2 − p0) points).
+pub(super) fn tet_volume(p: &[[f64; 3]]) -> f64 {
+    dot3(&cross(&sub(&p[1], &p[0]), &sub(&p[2], &p[0])), &sub(&p[3], &p[0])) / 6.0
+}
+
+/// K for the edges (0,1), (1,2), (2,0): −½ cot of the opposite angle, as
+/// −(e_oi · e_oj) / (2 · 2A).
+#[inline]
+pub(super) fn triangle_stiffness(p: &[[f64; 3]], k: &mut [f64]) {
+    let p = [p2(&p[0]), p2(&p[1]), p2(&p[2])];
+    let twice_area = (p[1] - p[0]).perp_dot(p[2] - p[0]);
+    for m in 0..3 {
+        let (i, j, o) = (m, (m + 1) % 3, (m + 2) % 3);
+        k[m] = -(0.5 * (p[i] - p[o]).dot(p[j] - p[o]) / twice_area);
+    }
+}
+
+/// A third of the area at each corner.
+#[inline]
+pub(super) fn triangle_lumped_mass(p: &[[f64; 3]], m: &mut [f64]) {
+    let third = twice_area2(&p[0], &p[1], &p[2]) / 6.0;
+    m[..3].iter_mut().for_each(|m| *m = third);
+}
+
+/// Smallest interior angle in degrees (0 for an inverted or flat cell).
+pub(super) fn triangle_min_angle_deg(p: &[[f64; 3]]) -> f64 {
+    let [a, b, c] = [p2(&p[0]), p2(&p[1]), p2(&p[2])];
+    if (b - a).perp_dot(c - a) <= 0.0 {
+        return 0.0;
+    }
+    let ang = |p: DVec2, q: DVec2, r: DVec2| (q - p).angle_to(r - p).abs();
+    ang(a, b, c).min(ang(b, c, a)).min(ang(c, a, b)).to_degrees()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn right_triangle() {
+        let p = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+        assert_eq!(triangle_area(&p), 0.5);
+        let mut k = [0.0; 3];
+        triangle_stiffness(&p, &mut k);
+        // Edge (0,1) faces the 45° corner 2: −½ cot 45° = −½; edge (1,2) faces the right angle.
+        assert_eq!(k, [-0.5, 0.0, -0.5]);
+        assert!((triangle_min_angle_deg(&p) - 45.0).abs() < 1e-12);
+        let t = [[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+        assert!((tet_volume(&t) - 1.0 / 6.0).abs() < 1e-16);
+    }
+}

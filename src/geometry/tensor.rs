@@ -1,0 +1,175 @@
+//! Q1 tensor-product cells: bilinear quads (and, in 3D, trilinear hexahedra). Stiffness and
+//! lumped mass by 2×2 Gauss quadrature, exact for a parallelogram's bilinear integrands.
+
+use super::{cross, dot3, sub, twice_area2, CellType};
+
+/// The reference corners of the bilinear quad on [−1, 1]², counter-clockwise.
+const QUAD_REF: [[f64; 2]; 4] = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]];
+
+/// Shape function values and reference gradients of the four corners at (ξ, η).
+fn quad_basis(xi: f64, eta: f64) -> ([f64; 4], [[f64; 2]; 4]) {
+    let mut n = [0.0; 4];
+    let mut g = [[0.0; 2]; 4];
+    for (k, [a, b]) in QUAD_REF.iter().enumerate() {
+        n[k] = 0.25 * (1.0 + a * xi) * (1.0 + b * eta);
+        g[k] = [0.25 * a * (1.0 + b * eta), 0.25 * b * (1.0 + a * xi)];
+    }
+    (n, g)
+}
+
+/// The 2×2 Gauss points on [−1, 1]² (weights 1).
+fn gauss2() -> [[f64; 2]; 4] {
+    let g = 1.0 / 3f64.sqrt();
+    [[-g, -g], [g, -g], [g, g], [-g, g]]
+}
+
+/// At a quadrature point: the physical gradients of the four shape functions and det J.
+fn quad_point(p: &[[f64; 3]], xi: f64, eta: f64) -> ([f64; 4], [[f64; 2]; 4], f64) {
+    let (n, g) = quad_basis(xi, eta);
+    let mut j = [[0.0; 2]; 2];
+    for k in 0..4 {
+        for a in 0..2 {
+            for b in 0..2 {
+                j[a][b] += p[k][a] * g[k][b];
+            }
+        }
+    }
+    let det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
+    // ∇φ = J⁻ᵀ ∇_ref φ.
+    let inv = [[j[1][1] / det, -j[1][0] / det], [-j[0][1] / det, j[0][0] / det]];
+    let grad = g.map(|r| [inv[0][0] * r[0] + inv[0][1] * r[1], inv[1][0] * r[0] + inv[1][1] * r[1]]);
+    (n, grad, det)
+}
+
+/// Signed area (shoelace; exact for a bilinear quad).
+pub(super) fn quad_area(p: &[[f64; 3]]) -> f64 {
+    0.5 * (twice_area2(&p[0], &p[1], &p[2]) + twice_area2(&p[0], &p[2], &p[3]))
+}
+
+/// K_ij = ∫∇φ_i·∇φ_j for the quad's couplings (4 sides, then the diagonals 0–2 and 1–3).
+pub(super) fn quad_stiffness(p: &[[f64; 3]], k: &mut [f64]) {
+    let pairs = CellType::Quad.couplings();
+    k[..pairs.len()].iter_mut().for_each(|k| *k = 0.0);
+    for [xi, eta] in gauss2() {
+        let (_, g, det) = quad_point(p, xi, eta);
+        for (m, &[i, j]) in pairs.iter().enumerate() {
+            let (a, b) = (g[i as usize], g[j as usize]);
+            k[m] += (a[0] * b[0] + a[1] * b[1]) * det;
+        }
+    }
+}
+
+/// ∫φ_i at each corner.
+pub(super) fn quad_lumped_mass(p: &[[f64; 3]], m: &mut [f64]) {
+    m[..4].iter_mut().for_each(|m| *m = 0.0);
+    for [xi, eta] in gauss2() {
+        let (n, _, det) = quad_point(p, xi, eta);
+        for k in 0..4 {
+            m[k] += n[k] * det;
+        }
+    }
+}
+
+/// The corners adjacent to each corner, in the order that makes the corner's edge frame
+/// positively oriented (2D: next, previous; 3D: three edges).
+fn corner_frames(ty: CellType) -> &'static [&'static [u8]] {
+    match ty {
+        CellType::Quad => &[&[1, 3], &[2, 0], &[3, 1], &[0, 2]],
+        CellType::Hexahedron => {
+            &[&[1, 3, 4], &[2, 0, 5], &[3, 1, 6], &[0, 2, 7], &[7, 5, 0], &[4, 6, 1], &[5, 7, 2], &[6, 4, 3]]
+        }
+        // VTK's wedge: triangle 0-1-2 has its normal away from 3-4-5.
+        CellType::Wedge => &[&[2, 1, 3], &[0, 2, 4], &[1, 0, 5], &[4, 5, 0], &[5, 3, 1], &[3, 4, 2]],
+        CellType::Pyramid => &[&[1, 3, 4], &[2, 0, 4], &[3, 1, 4], &[0, 2, 4]],
+        CellType::Triangle => &[&[1, 2], &[2, 0], &[0, 1]],
+        CellType::Tetra => &[&[1, 2, 3], &[2, 0, 3], &[0, 1, 3], &[1, 0, 2]],
+    }
+}
+
+/// The Jacobian determinant of the edge frame at every corner (the apex of a pyramid has none
+/// of its own: four edges meet there, and the base corners' frames cover it).
+fn corner_jacobians(ty: CellType, p: &[[f64; 3]]) -> impl Iterator<Item = f64> + '_ {
+    corner_frames(ty).iter().enumerate().map(move |(c, f)| {
+        let e = |k: usize| sub(&p[f[k] as usize], &p[c]);
+        if f.len() == 2 {
+            let (a, b) = (e(0), e(1));
+            a[0] * b[1] - a[1] * b[0]
+        } else {
+            dot3(&cross(&e(0), &e(1)), &e(2))
+        }
+    })
+}
+
+/// The smallest corner Jacobian determinant: ≤ 0 means the cell is inverted or folded.
+pub(super) fn min_corner_jacobian(ty: CellType, p: &[[f64; 3]]) -> f64 {
+    corner_jacobians(ty, p).fold(f64::INFINITY, f64::min)
+}
+
+/// A signed volume of a 3D non-simplex cell: the sum of its corner Jacobians weighted to the
+/// exact volume of an affine cell (used for orientation and ratios).
+pub(super) fn volume_by_corners(ty: CellType, p: &[[f64; 3]]) -> f64 {
+    let n = corner_frames(ty).len() as f64;
+    let unit = match ty {
+        CellType::Hexahedron => 1.0,
+        CellType::Wedge => 0.5,
+        _ => 1.0 / 3.0,
+    };
+    corner_jacobians(ty, p).sum::<f64>() / n * unit
+}
+
+/// The smallest angle between the two (2D) or three (3D) edges of any corner's frame, degrees.
+pub(super) fn min_corner_angle_deg(ty: CellType, p: &[[f64; 3]]) -> f64 {
+    let mut min = 180.0f64;
+    for (c, f) in corner_frames(ty).iter().enumerate() {
+        if f.len() == 2 {
+            let (a, b) = (sub(&p[f[0] as usize], &p[c]), sub(&p[f[1] as usize], &p[c]));
+            let cross = a[0] * b[1] - a[1] * b[0];
+            if cross <= 0.0 {
+                return 0.0;
+            }
+            min = min.min(cross.atan2(a[0] * b[0] + a[1] * b[1]).to_degrees());
+        } else {
+            for k in 0..f.len() {
+                let (a, b) = (sub(&p[f[k] as usize], &p[c]), sub(&p[f[(k + 1) % f.len()] as usize], &p[c]));
+                let s = cross(&a, &b);
+                min = min.min(dot3(&s, &s).sqrt().atan2(dot3(&a, &b)).to_degrees());
+            }
+        }
+    }
+    min
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// On a parallelogram the Gauss rule is exact: the unit square's Q1 stiffness has the known
+    /// entries (sides −1/6, diagonals −1/3), the mass a quarter of the area at each corner.
+    #[test]
+    fn unit_square_entries() {
+        let p = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]];
+        let mut k = [0.0; 6];
+        quad_stiffness(&p, &mut k);
+        for (m, want) in [-1.0 / 6.0, -1.0 / 6.0, -1.0 / 6.0, -1.0 / 6.0, -1.0 / 3.0, -1.0 / 3.0].iter().enumerate() {
+            assert!((k[m] - want).abs() < 1e-15, "{m}: {}", k[m]);
+        }
+        let mut m = [0.0; 4];
+        quad_lumped_mass(&p, &mut m);
+        assert!(m.iter().all(|&m| (m - 0.25).abs() < 1e-15));
+        assert_eq!(quad_area(&p), 1.0);
+        assert_eq!(min_corner_jacobian(CellType::Quad, &p), 1.0);
+        assert!((min_corner_angle_deg(CellType::Quad, &p) - 90.0).abs() < 1e-12);
+        // A dart (non-convex) quad has a negative corner.
+        let dart = [[0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [0.5, 0.5, 0.0], [0.0, 2.0, 0.0]];
+        assert!(min_corner_jacobian(CellType::Quad, &dart) < 0.0);
+        // Unit hexahedron: every corner frame has determinant 1.
+        let mut h = [[0.0; 3]; 8];
+        for (k, c) in
+            [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]].iter().enumerate()
+        {
+            h[k] = c.map(|x| x as f64);
+        }
+        assert_eq!(min_corner_jacobian(CellType::Hexahedron, &h), 1.0);
+        assert_eq!(volume_by_corners(CellType::Hexahedron, &h), 1.0);
+    }
+}
