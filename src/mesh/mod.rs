@@ -318,3 +318,42 @@ impl Mesh {
         Mesh { types: vec![CellType::Triangle; n], cells, regions, ..self.clone() }
     }
 }
+
+/// A patch face of a 2D mesh as a value (tests of the 2D code compare these).
+#[doc(hidden)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PatchEdge {
+    /// The segment's vertices.
+    pub vertices: [u32; 2],
+    /// The patch id.
+    pub patch: i32,
+    /// Tagged face with a cell on each side.
+    pub interior: bool,
+}
+
+/// Views of a 2D triangle mesh for the tests of the 2D code (internals; not a stable API).
+#[cfg(any(test, feature = "internals"))]
+impl Mesh {
+    /// The coordinates as pairs.
+    #[doc(hidden)]
+    pub fn coords_xy(&self) -> Vec<[f64; 2]> {
+        self.coords.chunks_exact(2).map(|p| [p[0], p[1]]).collect()
+    }
+    /// The coordinates as glam vectors.
+    #[doc(hidden)]
+    pub fn points_2d(&self) -> Vec<glam::DVec2> {
+        self.xy_all()
+    }
+    /// The cells of a triangle mesh.
+    #[doc(hidden)]
+    pub fn tris(&self) -> Vec<[u32; 3]> {
+        (0..self.num_cells()).map(|c| self.tri(c)).collect()
+    }
+    /// The patch faces of a 2D mesh as values.
+    #[doc(hidden)]
+    pub fn patch_edges(&self) -> Vec<PatchEdge> {
+        self.patch_faces()
+            .map(|f| PatchEdge { vertices: [f.vertices[0], f.vertices[1]], patch: f.patch, interior: f.interior })
+            .collect()
+    }
+}

@@ -297,8 +297,8 @@ mod tests {
     fn linear_error(coarse: &Mesh, points: &[DVec2], locs: &[Location]) -> (f64, f64) {
         let (mut err, mut wmin) = (0.0f64, f64::INFINITY);
         for (p, l) in points.iter().zip(locs) {
-            let t = coarse.cells()[l.cell as usize];
-            let v: f64 = (0..3).map(|k| l.weights[k] * linear(coarse.coords()[t[k] as usize])).sum();
+            let t = coarse.tris()[l.cell as usize];
+            let v: f64 = (0..3).map(|k| l.weights[k] * linear(coarse.points_2d()[t[k] as usize])).sum();
             assert!((l.weights.iter().sum::<f64>() - 1.0).abs() < 1e-14);
             err = err.max((v - linear(*p)).abs());
             wmin = wmin.min(l.weights[0].min(l.weights[1]).min(l.weights[2]));
@@ -311,8 +311,8 @@ mod tests {
         // Curved outer boundary: fine vertices on it lie outside the coarse chords.
         let fine = annulus(8, 96);
         let c = coarsen(&fine, &[], &CoarsenParams::default()).unwrap().unwrap();
-        let locs = locate(&c.mesh, fine.coords(), &[]);
-        let (err, wmin) = linear_error(&c.mesh, fine.coords(), &locs);
+        let locs = locate(&c.mesh, &fine.points_2d(), &[]);
+        let (err, wmin) = linear_error(&c.mesh, &fine.points_2d(), &locs);
         assert!(err < 1e-12, "error {err}");
         assert!(wmin < -1e-3, "no fine vertex outside the coarse domain ({wmin})");
         // The outside ones got the nearest cell: extrapolation stays mild.
@@ -322,7 +322,7 @@ mod tests {
         // Kept vertices are located at themselves (weight one on that vertex).
         for (i, &v) in c.fine_vertex.iter().enumerate() {
             let l = locs[v as usize];
-            let t = c.mesh.cells()[l.cell as usize];
+            let t = c.mesh.tris()[l.cell as usize];
             let k = t.iter().position(|&u| u as usize == i).expect("own cell");
             assert!((l.weights[k] - 1.0).abs() < 1e-12);
         }
@@ -330,8 +330,8 @@ mod tests {
         // Cylinder in a channel, every level of the hierarchy.
         let mut m = cylinder(24, 3);
         while let Some(c) = coarsen(&m, &[], &CoarsenParams::default()).unwrap() {
-            let locs = locate(&c.mesh, m.coords(), &[]);
-            let (err, _) = linear_error(&c.mesh, m.coords(), &locs);
+            let locs = locate(&c.mesh, &m.points_2d(), &[]);
+            let (err, _) = linear_error(&c.mesh, &m.points_2d(), &locs);
             assert!(err < 1e-12, "error {err}");
             m = c.mesh;
         }
@@ -359,11 +359,11 @@ mod tests {
     fn far_points_get_the_nearest_cell() {
         let m = rect(8);
         let locs = locate(&m, &[DVec2::new(3.0, 3.0), DVec2::new(-1.0, 0.5), DVec2::new(0.5, -1e-9)], &[]);
-        let has = |l: &Location, p: DVec2| m.cells()[l.cell as usize].iter().any(|&v| m.coords()[v as usize] == p);
+        let has = |l: &Location, p: DVec2| m.tris()[l.cell as usize].iter().any(|&v| m.points_2d()[v as usize] == p);
         assert!(has(&locs[0], DVec2::new(1.0, 1.0)));
         assert!(has(&locs[1], DVec2::new(0.0, 0.5)));
         // Just below the bottom edge: a cell on that edge.
-        let t = m.cells()[locs[2].cell as usize];
+        let t = m.tris()[locs[2].cell as usize];
         assert_eq!(t.iter().filter(|&&v| m.point(v as usize)[1] == 0.0).count(), 2);
         let pts = [DVec2::new(3.0, 3.0), DVec2::new(-1.0, 0.5), DVec2::new(0.5, -1e-9)];
         let (err, _) = linear_error(&m, &pts, &locs);
@@ -374,12 +374,12 @@ mod tests {
     fn update_weights_follows_moved_mesh() {
         let fine = unstructured_rect(40, 9);
         let c = coarsen(&fine, &[], &CoarsenParams::default()).unwrap().unwrap();
-        let mut locs = locate(&c.mesh, fine.coords(), &[]);
+        let mut locs = locate(&c.mesh, &fine.points_2d(), &[]);
         let mut rng = Lcg(1);
         let moved: Vec<DVec2> =
-            c.mesh.coords().iter().map(|p| *p + 0.002 * DVec2::new(rng.next() - 0.5, rng.next() - 0.5)).collect();
-        let moved_mesh = c.mesh.with_coords(moved);
-        let fine_moved: Vec<DVec2> = fine.coords().iter().map(|p| *p * 1.01).collect();
+            c.mesh.points_2d().iter().map(|p| *p + 0.002 * DVec2::new(rng.next() - 0.5, rng.next() - 0.5)).collect();
+        let moved_mesh = c.mesh.with_coords(moved.iter().flat_map(|p| [p.x, p.y]).collect());
+        let fine_moved: Vec<DVec2> = fine.points_2d().iter().map(|p| *p * 1.01).collect();
         let cells_before: Vec<u32> = locs.iter().map(|l| l.cell).collect();
         update_weights(&moved_mesh, &fine_moved, &mut locs);
         assert_eq!(cells_before, locs.iter().map(|l| l.cell).collect::<Vec<_>>());
@@ -410,10 +410,10 @@ mod tests {
         let t0 = std::time::Instant::now();
         let c = coarsen(&fine, &[], &CoarsenParams::default()).unwrap().unwrap();
         let t1 = std::time::Instant::now();
-        let locs = locate(&c.mesh, fine.coords(), &[]);
+        let locs = locate(&c.mesh, &fine.points_2d(), &[]);
         let t2 = std::time::Instant::now();
         eprintln!("{} fine vertices: coarsen {:.2?}, locate {:.2?}", fine.num_vertices(), t1 - t0, t2 - t1);
-        let (err, _) = linear_error(&c.mesh, fine.coords(), &locs);
+        let (err, _) = linear_error(&c.mesh, &fine.points_2d(), &locs);
         assert!(err < 1e-11);
     }
 }

@@ -220,20 +220,20 @@ pub(crate) fn check(fine: &Mesh, c: &CoarseMesh) -> f64 {
     // Round trip through the validating constructor.
     let tags: Vec<([u32; 2], i32)> = m.patch_edges().iter().map(|e| (e.vertices, e.patch)).collect();
     let again =
-        Mesh::triangles(&m.coords_xy(), m.cells(), IndexBase::Zero, &tags, Some(m.regions())).expect("coarse mesh validates");
+        Mesh::triangles(&m.coords_xy(), &m.tris(), IndexBase::Zero, &tags, Some(m.regions())).expect("coarse mesh validates");
     assert_eq!(again.patch_edges().len(), m.patch_edges().len());
     let areas = crate::mesh::quality::signed_measures(m, m.coords());
     assert!(areas.iter().all(|&a| a > 0.0), "non-positive coarse cell");
     assert_eq!(c.fine_vertex.len(), m.num_vertices());
     assert!(c.fine_vertex.windows(2).all(|w| w[0] < w[1]));
     for (i, &v) in c.fine_vertex.iter().enumerate() {
-        assert_eq!(m.coords()[i], fine.coords()[v as usize]);
+        assert_eq!(m.points_2d()[i], fine.points_2d()[v as usize]);
     }
     let mut used = vec![false; m.num_vertices()];
-    m.cells().iter().flatten().for_each(|&v| used[v as usize] = true);
+    m.tris().iter().flatten().for_each(|&v| used[v as usize] = true);
     assert!(used.iter().all(|&u| u), "unused coarse vertex");
     // Boundary edges oriented with the domain on the left; every boundary edge is a patch edge.
-    let edges = EdgeCells::build(m.cells()).unwrap();
+    let edges = EdgeCells::build(&m.tris()).unwrap();
     let nb = edges.edges.iter().filter(|e| e.1[1] == u32::MAX).count();
     let mut nbp = 0;
     for e in m.patch_edges() {
@@ -244,7 +244,7 @@ pub(crate) fn check(fine: &Mesh, c: &CoarseMesh) -> f64 {
         } else {
             nbp += 1;
             assert_eq!(c1, u32::MAX);
-            let t = m.cells()[c0 as usize];
+            let t = m.tris()[c0 as usize];
             assert!((0..3).any(|k| t[k] == a && t[(k + 1) % 3] == b));
         }
     }
@@ -286,7 +286,7 @@ fn structured_square_halves_resolution() {
         assert_eq!(c.mesh.patch_vertices(p).len(), 17, "patch {p}");
     }
     // Patch ids of coarse edges match the side they lie on.
-    let x = c.mesh.coords();
+    let x = c.mesh.points_2d();
     for e in c.mesh.patch_edges() {
         let [a, b] = e.vertices.map(|v| x[v as usize]);
         let ok = match e.patch {
@@ -343,7 +343,7 @@ fn cylinder_in_channel() {
     assert_eq!(fine.patch_vertices(5).len(), 45);
     assert_eq!(hole.len(), 22);
     for &v in &hole {
-        let p = c.mesh.coords()[v as usize];
+        let p = c.mesh.points_2d()[v as usize];
         assert!(((p - DVec2::new(1.0, 1.0)).length() - 0.3).abs() < 1e-12);
     }
     for e in c.mesh.patch_edges() {
@@ -361,8 +361,8 @@ fn interface_between_regions_is_preserved() {
     let area = check(&fine, &c);
     assert!((area - 1.0).abs() < 1e-12);
     let m = &c.mesh;
-    let x = m.coords();
-    let iface: Vec<_> = m.patch_edges().iter().filter(|e| e.patch == 9).collect();
+    let x = m.points_2d();
+    let iface: Vec<_> = m.patch_edges().into_iter().filter(|e| e.patch == 9).collect();
     assert_eq!(iface.len(), 16);
     let mut len = 0.0;
     for e in &iface {
@@ -372,9 +372,9 @@ fn interface_between_regions_is_preserved() {
         len += (a - b).length();
     }
     assert!((len - 1.0).abs() < 1e-14);
-    let areas = crate::mesh::quality::signed_measures(m, x);
+    let areas = crate::mesh::quality::signed_measures(m, m.coords());
     let (mut a1, mut a2) = (0.0, 0.0);
-    for (k, t) in m.cells().iter().enumerate() {
+    for (k, t) in m.tris().iter().enumerate() {
         let y = t.iter().map(|&v| x[v as usize].y).sum::<f64>() / 3.0;
         match m.regions()[k] {
             1 => {
@@ -399,8 +399,8 @@ fn periodic_links_stay_paired() {
     let fine = Mesh::triangles(&coords, &cells, IndexBase::Zero, &tags, None).unwrap();
     let links: Vec<[u32; 2]> = (0..=16u32).map(|j| [j * 33, j * 33 + 32]).collect();
     let check_links = |m: &Mesh, l: &[[u32; 2]]| {
-        let x = m.coords();
-        let left = m.coords().iter().filter(|p| p.x == 0.0).count();
+        let x = m.points_2d();
+        let left = m.points_2d().iter().filter(|p| p.x == 0.0).count();
         assert_eq!(l.len(), left);
         for &[a, b] in l {
             let (p, q) = (x[a as usize], x[b as usize]);
@@ -422,10 +422,10 @@ fn periodic_links_stay_paired() {
     let links2: Vec<[u32; 2]> = (0..=16u32).map(|j| [j * 33, (16 - j) * 33 + 32]).collect();
     let c = coarsen(&fine, &links2, &CoarsenParams::default()).unwrap().unwrap();
     for &[a, b] in &c.links {
-        let (p, q) = (c.mesh.coords()[a as usize], c.mesh.coords()[b as usize]);
+        let (p, q) = (c.mesh.points_2d()[a as usize], c.mesh.points_2d()[b as usize]);
         assert!(p.x == 0.0 && q.x == 2.0 && (p.y + q.y - 1.0).abs() < 1e-15);
     }
-    assert_eq!(c.links.len(), c.mesh.coords().iter().filter(|p| p.x == 0.0).count());
+    assert_eq!(c.links.len(), c.mesh.points_2d().iter().filter(|p| p.x == 0.0).count());
 }
 
 #[test]
@@ -468,7 +468,7 @@ fn crossing_chords_keep_their_chain() {
     for (v, p) in base.coords_xy().into_iter().enumerate() {
         coords[relabel(v as u32) as usize] = p;
     }
-    let cells: Vec<[u32; 3]> = base.cells().iter().map(|t| t.map(relabel)).collect();
+    let cells: Vec<[u32; 3]> = base.tris().iter().map(|t| t.map(relabel)).collect();
     let tags: Vec<([u32; 2], i32)> = base.patch_edges().iter().map(|e| (e.vertices.map(relabel), e.patch)).collect();
     let fine = Mesh::triangles(&coords, &cells, IndexBase::Zero, &tags, None).unwrap();
     let params = CoarsenParams { min_vertices: 10, ..Default::default() };
@@ -490,8 +490,8 @@ fn deterministic() {
         let a = coarsen(&fine, &[], &CoarsenParams::default()).unwrap().unwrap();
         let b = coarsen(&fine, &[], &CoarsenParams::default()).unwrap().unwrap();
         assert_eq!(a.fine_vertex, b.fine_vertex);
-        assert_eq!(a.mesh.coords(), b.mesh.coords());
-        assert_eq!(a.mesh.cells(), b.mesh.cells());
+        assert_eq!(a.mesh.points_2d(), b.mesh.points_2d());
+        assert_eq!(a.mesh.tris(), b.mesh.tris());
         assert_eq!(a.mesh.regions(), b.mesh.regions());
         assert_eq!(a.mesh.patch_edges(), b.mesh.patch_edges());
     }
