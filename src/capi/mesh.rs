@@ -346,6 +346,7 @@ pub(crate) unsafe fn write_vtu(m: &Mesh, p: &str, len: i32, displacement: *const
         handles::read_xy(displacement, len, m.num_vertices(), "displacement")?
     };
     handles::finite_xy(&d, "displacement")?;
+    let d: Vec<f64> = d.iter().flat_map(|v| v.to_array()).collect();
     crate::io::write_deformed(std::path::Path::new(p), m, &d)?;
     Ok(())
 }

@@ -9,7 +9,17 @@ mod demo;
 mod plot;
 
 use clap::{Parser, Subcommand};
+use glam::DVec2;
+use meshmove::Mesh;
+use std::path::Path;
 use std::process::ExitCode;
+
+/// Writes `mesh` moved by `displacement` (one per vertex) as a `.vtu`
+/// ([`meshmove::io::write_deformed`]); the error names the file.
+fn write_deformed(path: &Path, mesh: &Mesh, displacement: &[DVec2]) -> Result<(), String> {
+    let flat: Vec<f64> = displacement.iter().flat_map(|d| d.to_array()).collect();
+    meshmove::io::write_deformed(path, mesh, &flat).map_err(|e| format!("{}: {e}", path.display()))
+}
 
 #[derive(Parser)]
 #[command(name = "meshmove", version, about = "Biharmonic, Laplacian and spring mesh deformation")]
