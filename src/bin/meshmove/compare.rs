@@ -33,8 +33,9 @@ pub fn run(args: Args) -> Result<ExitCode, String> {
     }
     let (mut worst, mut at) = (0.0f64, 0usize);
     for (i, (p, q)) in ma.coords.chunks_exact(ma.dim).zip(mb.coords.chunks_exact(mb.dim)).enumerate() {
-        let d =
-            p.iter().zip(q).map(|(x, y)| (x - y).abs()).fold(0.0, |m: f64, d| if d.is_nan() { d } else { m.max(d) });
+        // The largest difference of the point's coordinates; NaN if any is.
+        let nan_max = |m: f64, d: f64| if m.is_nan() || d.is_nan() { f64::NAN } else { m.max(d) };
+        let d = p.iter().zip(q).map(|(x, y)| (x - y).abs()).fold(0.0, nan_max);
         if d > worst || d.is_nan() {
             worst = d;
             at = i;
