@@ -92,6 +92,20 @@ fn ring_radius(k: usize) -> f64 {
 /// layer's outer ring, then the Steiner points), then the rings 0 (the cylinder), 1, …,
 /// [`BL_LAYERS`] − 1 of [`BL_N_THETA`] vertices each, counter-clockwise from angle 0.
 pub fn boundary_layer_cylinder() -> Mesh {
+    let (mut p, quads) = boundary_layer_parts();
+    // Each quad a, b, c, d as the triangles a c d and a b c.
+    for [a, b, c, d] in quads {
+        p.tris.push([a, c, d]);
+        p.tris.push([a, b, c]);
+    }
+    to_mesh(&p, None, "boundary_layer_cylinder")
+}
+
+/// The parts of [`boundary_layer_cylinder`]: every vertex, the unstructured triangles and the
+/// tagged edges (the layer's outer ring on patch 0) as a `Planar`, and the wall layers' quads,
+/// ring by ring from the cylinder, counter-clockwise (ring k at angles j and j + 1 are corners
+/// 0 and 3, ring k + 1 corners 1 and 2).
+pub(super) fn boundary_layer_parts() -> (Planar, Vec<[u32; 4]>) {
     let nt = BL_N_THETA;
     let nl = BL_LAYERS;
     let r_out = ring_radius(nl);
@@ -104,12 +118,11 @@ pub fn boundary_layer_cylinder() -> Mesh {
     };
     let s0 = 2.0 * PI * r_out / nt as f64;
     let size = move |p: DVec2| (s0 + 0.2 * (p.length() - r_out).max(0.0)).min(far);
-    let unstructured = mesh_domain(&[outer, ring], &size, 30.0, 0);
+    let mut p = mesh_domain(&[outer, ring], &size, 30.0, 0);
 
-    let mut coords = unstructured.coords.clone();
-    let base = coords.len();
+    let base = p.coords.len();
     for k in 0..nl {
-        coords.extend(circle(DVec2::ZERO, ring_radius(k), nt));
+        p.coords.extend(circle(DVec2::ZERO, ring_radius(k), nt));
     }
     let id = |k: usize, j: usize| -> u32 {
         let j = j % nt;
@@ -119,18 +132,11 @@ pub fn boundary_layer_cylinder() -> Mesh {
             (base + k * nt + j) as u32
         }
     };
-    let mut tris = unstructured.tris.clone();
-    // Counter-clockwise like the unstructured part (ring k + 1 lies outside ring k).
-    for k in 0..nl {
-        for j in 0..nt {
-            tris.push([id(k, j), id(k + 1, j + 1), id(k, j + 1)]);
-            tris.push([id(k, j), id(k + 1, j), id(k + 1, j + 1)]);
-        }
-    }
-    let mut tagged = unstructured.tagged.clone();
-    tagged.extend((0..nt).map(|j| ([id(0, j), id(0, j + 1)], BL_CYLINDER)));
-    let p = Planar { coords, tris, tagged };
-    to_mesh(&p, None, "boundary_layer_cylinder")
+    // Ring k + 1 lies outside ring k.
+    let quads = (0..nl).flat_map(|k| (0..nt).map(move |j| [id(k, j), id(k + 1, j), id(k + 1, j + 1), id(k, j + 1)]));
+    let quads = quads.collect();
+    p.tagged.extend((0..nt).map(|j| ([id(0, j), id(0, j + 1)], BL_CYLINDER)));
+    (p, quads)
 }
 
 #[cfg(test)]

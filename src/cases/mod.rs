@@ -4,6 +4,7 @@
 mod cdt;
 mod cylinder;
 mod free_surface;
+pub mod hybrid;
 pub mod meshes;
 pub mod report;
 pub mod setups;

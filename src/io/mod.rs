@@ -1,16 +1,26 @@
-//! Mesh files: Gmsh `.msh` in (2.2 and 4.1, ASCII and binary), `.msh` 2.2 out, VTK XML `.vtu`
-//! out and in (ParaView).
+//! Mesh files, 2D and 3D, as [`MeshData`]: Gmsh `.msh` in (2.2 and 4.1, ASCII and binary) and
+//! out (ASCII 2.2); VTK XML `.vtu` in (ASCII, base64 and appended data, raw or zlib-compressed:
+//! what VTK, ParaView and meshio write) and out (ASCII).
 //!
-//! Both formats are handled by small parsers of our own; `msh.rs` and `vtu.rs` say why the crates
-//! that exist (`mshio`, `vtkio`) were not used. XML tokenising is `quick-xml`'s.
+//! Cells of every [`CellType`](crate::geometry::CellType) (triangles and quads in 2D; tetrahedra,
+//! hexahedra, wedges and pyramids in 3D) are read and written, in VTK's corner order. `.msh` files
+//! also carry the tagged faces (lines in 2D, triangles and quads in 3D) with their patch ids;
+//! `.vtu` files carry no faces, but point and cell fields. The readers return `MeshData`
+//! ([`parse_msh_data`], [`VtuData::mesh`]) and build a [`Mesh`](crate::mesh::Mesh) from it
+//! ([`parse_msh`], [`VtuData::to_mesh`]) with [`Mesh::from_data`](crate::mesh::Mesh::from_data),
+//! which checks what the core handles.
+//!
+//! Both formats are handled by small parsers of our own; `msh` and `vtu` say why the crates
+//! that exist (`mshio`, `vtkio`) were not used. XML tokenising is `quick-xml`'s, inflating
+//! `flate2`'s.
 
 mod msh;
 mod vtu;
 
-pub use msh::{parse_msh, read_msh, write_msh22, MshMesh};
-pub use vtu::{parse_vtu, read_vtu, write_deformed, write_vtu, CellField, PointField, VtuData};
+pub use msh::{parse_msh, parse_msh_data, read_msh, read_msh_data, write_msh22, write_msh22_data, MshMesh, MshParts};
+pub use vtu::{parse_vtu, read_vtu, write_deformed, write_deformed_data, write_vtu, CellField, PointField, VtuData};
 
-use crate::mesh::MeshError;
+use crate::mesh::{MeshData, MeshError};
 use std::path::{Path, PathBuf};
 use thiserror::Error;
 
@@ -106,6 +116,53 @@ pub(crate) fn check_planar(points: impl Iterator<Item = [f64; 3]> + Clone) -> Re
     Ok(())
 }
 
+/// Checks that the arrays of `d` fit together, as the writers need: dimension 2 or 3, whole
+/// vertices, CSR offsets from 0 with each cell's corner count its type's, vertex indices in range,
+/// regions empty or one per cell, one patch per face. `what` names the writer in errors.
+pub(crate) fn check_data(d: &MeshData, what: &str) -> Result<(), IoError> {
+    let bad = |msg: String| Err(IoError::InvalidArgument(format!("{what}: {msg}")));
+    if d.dim != 2 && d.dim != 3 {
+        return bad(format!("dimension {}; 2 or 3 expected", d.dim));
+    }
+    if d.coords.len() % d.dim != 0 {
+        return bad(format!("{} coordinates are not whole vertices of {} values", d.coords.len(), d.dim));
+    }
+    let n = d.num_vertices();
+    let lists = [
+        ("cell", &d.cell_offsets, &d.cell_vertices, d.num_cells()),
+        ("face", &d.face_offsets, &d.face_vertices, d.num_faces()),
+    ];
+    for (name, offsets, vertices, count) in lists {
+        let starts_at_0 = offsets.first().is_none_or(|&o| o == 0);
+        if !starts_at_0
+            || offsets.len().max(1) != count + 1
+            || offsets.last().map_or(0, |&o| o as usize) != vertices.len()
+        {
+            return bad(format!(
+                "{count} {name}s with {} {name} offsets (starting at {:?}) and {} vertices",
+                offsets.len(),
+                offsets.first(),
+                vertices.len()
+            ));
+        }
+        if let Some(w) = offsets.windows(2).position(|w| w[1] < w[0]) {
+            return bad(format!("{name} {w}: its offsets decrease"));
+        }
+        if let Some(&v) = vertices.iter().find(|&&v| v as usize >= n) {
+            return bad(format!("a {name} refers to vertex {v}, outside 0..{n}"));
+        }
+    }
+    for (c, t) in d.cell_types.iter().enumerate() {
+        if d.cell(c).len() != t.num_corners() {
+            return bad(format!("cell {c} is a {t} of {} corners; a {t} has {}", d.cell(c).len(), t.num_corners()));
+        }
+    }
+    if !d.regions.is_empty() && d.regions.len() != d.num_cells() {
+        return bad(format!("{} regions for {} cells", d.regions.len(), d.num_cells()));
+    }
+    Ok(())
+}
+
 /// 1-based line of byte `offset` in `bytes`.
 pub(crate) fn line_of(bytes: &[u8], offset: usize) -> usize {
     1 + bytes[..offset.min(bytes.len())].iter().filter(|&&b| b == b'\n').count()
@@ -113,3 +170,5 @@ pub(crate) fn line_of(bytes: &[u8], offset: usize) -> usize {
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_cells;

@@ -64,10 +64,8 @@ impl MeshData {
             self.cell_offsets.push(0);
         }
         // Regions are stored only once a cell is outside region 0.
-        if region != 0 && self.regions.is_empty() {
-            self.regions = vec![0; self.cell_types.len()];
-        }
-        if !self.regions.is_empty() {
+        if region != 0 || !self.regions.is_empty() {
+            self.regions.resize(self.cell_types.len(), 0);
             self.regions.push(region);
         }
         self.cell_types.push(ty);

@@ -19,28 +19,33 @@ pub fn run(args: Args) -> Result<ExitCode, String> {
     }
     let a = read_vtu(&args.a).map_err(|e| format!("{}: {e}", args.a.display()))?;
     let b = read_vtu(&args.b).map_err(|e| format!("{}: {e}", args.b.display()))?;
-    if a.points.len() != b.points.len() {
+    let (ma, mb) = (&a.mesh, &b.mesh);
+    if ma.num_vertices() != mb.num_vertices() || ma.dim != mb.dim {
         return Err(format!(
-            "{} has {} points, {} has {}",
+            "{} has {} points in {}D, {} has {} in {}D",
             args.a.display(),
-            a.points.len(),
+            ma.num_vertices(),
+            ma.dim,
             args.b.display(),
-            b.points.len()
+            mb.num_vertices(),
+            mb.dim
         ));
     }
     let (mut worst, mut at) = (0.0f64, 0usize);
-    for (i, (p, q)) in a.points.iter().zip(&b.points).enumerate() {
-        let d = (p[0] - q[0]).abs().max((p[1] - q[1]).abs());
+    for (i, (p, q)) in ma.coords.chunks_exact(ma.dim).zip(mb.coords.chunks_exact(mb.dim)).enumerate() {
+        // The largest difference of the point's coordinates; NaN if any is.
+        let nan_max = |m: f64, d: f64| if m.is_nan() || d.is_nan() { f64::NAN } else { m.max(d) };
+        let d = p.iter().zip(q).map(|(x, y)| (x - y).abs()).fold(0.0, nan_max);
         if d > worst || d.is_nan() {
             worst = d;
             at = i;
         }
     }
-    if a.cells != b.cells {
+    if (&ma.cell_types, &ma.cell_vertices) != (&mb.cell_types, &mb.cell_vertices) {
         println!("note: the cell lists differ");
     }
     if worst <= args.tol {
-        println!("agree: max coordinate difference {worst:e} <= {:e} ({} points)", args.tol, a.points.len());
+        println!("agree: max coordinate difference {worst:e} <= {:e} ({} points)", args.tol, ma.num_vertices());
         Ok(ExitCode::SUCCESS)
     } else {
         eprintln!("differ: max coordinate difference {worst:e} at point {at} > tolerance {:e}", args.tol);

@@ -377,8 +377,7 @@ pub fn run(args: Args) -> Result<ExitCode, String> {
     if let Some(f) = &r.failure {
         let partial = args.output.with_extension("last-valid.vtu");
         let disp: Vec<f64> = r.last_valid.iter().zip(original).map(|(a, b)| a - b).collect();
-        meshmove::io::write_deformed(&partial, &setup.mesh, &disp)
-            .map_err(|e| format!("{}: {e}", partial.display()))?;
+        crate::write_deformed(&partial, &setup.mesh, &disp)?;
         let done = r.reports.iter().filter(|x| x.accepted).map(|x| x.fraction).fold(0.0, f64::max);
         eprintln!("meshmove: error: {f}");
         eprintln!(
@@ -390,8 +389,7 @@ pub fn run(args: Args) -> Result<ExitCode, String> {
         return Ok(ExitCode::from(4));
     }
     let disp = r.displacement(&setup.mesh);
-    meshmove::io::write_deformed(&args.output, &setup.mesh, &disp)
-        .map_err(|e| format!("{}: {e}", args.output.display()))?;
+    crate::write_deformed(&args.output, &setup.mesh, &disp)?;
     let substeps = r.reports.iter().filter(|x| x.accepted).count();
     println!(
         "mesh            {} ({} vertices, {} cells)",

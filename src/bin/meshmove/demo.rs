@@ -1,11 +1,11 @@
 //! `meshmove demo --out DIR [--quick]`: every case of docs/DESIGN.md §7 with every method.
 
 use crate::plot::{deformed_png, patch_edges, semilog_png, Series, View};
+use crate::write_deformed;
 use glam::DVec2;
 use indicatif::{ProgressBar, ProgressStyle};
 use meshmove::cases::report::{method_name, run_case, run_case_reference, CaseResult, METHODS};
 use meshmove::cases::setups::{case, free_surface_case, CaseSetup, Scale, CASE_NAMES};
-use meshmove::io::write_deformed;
 use meshmove::mesh::signed_measures;
 use meshmove::{Criterion, Method, Mode, Options, Solver};
 use plotters::style::RGBColor;
@@ -166,8 +166,7 @@ pub fn run(args: Args) -> Result<ExitCode, String> {
                 say(&bar, format!("{name} {}: stopped at {f}", method_name(method)));
             }
             let vtu = dir.join(format!("{name}_{}.vtu", method_name(method)));
-            write_deformed(&vtu, &setup.mesh, &r.displacement(&setup.mesh))
-                .map_err(|e| format!("{}: {e}", vtu.display()))?;
+            write_deformed(&vtu, &setup.mesh, &r.displacement(&setup.mesh))?;
             let stem = format!("{name}_{}", method_name(method));
             let label = match (&r.failure, r.reports.last()) {
                 (Some(_), Some(last)) => format!("{}, stopped at step {}", method_title(method), last.step),
@@ -187,7 +186,7 @@ pub fn run(args: Args) -> Result<ExitCode, String> {
                         ));
                         let disp: Vec<f64> = coords.iter().zip(setup.mesh.coords()).map(|(a, b)| a - b).collect();
                         let vtu = dir.join(format!("{stem}_exact.vtu"));
-                        write_deformed(&vtu, &setup.mesh, &disp).map_err(|e| format!("{}: {e}", vtu.display()))?;
+                        write_deformed(&vtu, &setup.mesh, &disp)?;
                         let label = format!("{}, every step solved exactly", method_title(method));
                         picture(dir, &setup, &coords, &format!("{stem}_exact"), &label, args.width)?;
                     }

@@ -9,7 +9,15 @@ mod demo;
 mod plot;
 
 use clap::{Parser, Subcommand};
+use meshmove::Mesh;
+use std::path::Path;
 use std::process::ExitCode;
+
+/// Writes `mesh` moved by `displacement` (`dim` values per vertex) as a `.vtu`
+/// ([`meshmove::io::write_deformed`]); the error names the file.
+fn write_deformed(path: &Path, mesh: &Mesh, displacement: &[f64]) -> Result<(), String> {
+    meshmove::io::write_deformed(path, mesh, displacement).map_err(|e| format!("{}: {e}", path.display()))
+}
 
 #[derive(Parser)]
 #[command(name = "meshmove", version, about = "Biharmonic, Laplacian and spring mesh deformation")]

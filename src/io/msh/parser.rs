@@ -1,6 +1,7 @@
 //! The byte-level reader of `.msh` files: tokens, lines, binary values, error positions.
 
 use super::super::{line_of, IoError};
+use super::GmshType;
 use std::collections::HashMap;
 
 #[derive(Clone, Copy, PartialEq)]
@@ -23,12 +24,12 @@ pub(super) struct Parser<'a> {
     pub(super) entity_phys: HashMap<(i32, i32), i32>,
     /// Gmsh node tag -> index in `nodes`.
     pub(super) node_index: HashMap<usize, usize>,
-    pub(super) nodes: Vec<(usize, [f64; 2])>,
-    /// z of each node of `nodes` (checked to be one plane in `finish`).
-    pub(super) node_z: Vec<f64>,
-    pub(super) triangles: Vec<[usize; 3]>,
-    pub(super) regions: Vec<i32>,
-    pub(super) lines: Vec<([usize; 2], i32)>,
+    /// Gmsh tag and (x, y, z) of each node, in file order.
+    pub(super) nodes: Vec<(usize, [f64; 3])>,
+    /// The elements kept (points excluded), in file order: their type and physical tag, and
+    /// where their node indices (into `nodes`, in Gmsh's order) start in `element_nodes`.
+    pub(super) elements: Vec<(GmshType, i32, usize)>,
+    pub(super) element_nodes: Vec<usize>,
     pub(super) seen_nodes: bool,
     pub(super) seen_elements: bool,
 }
@@ -46,10 +47,8 @@ impl<'a> Parser<'a> {
             entity_phys: HashMap::new(),
             node_index: HashMap::new(),
             nodes: Vec::new(),
-            node_z: Vec::new(),
-            triangles: Vec::new(),
-            regions: Vec::new(),
-            lines: Vec::new(),
+            elements: Vec::new(),
+            element_nodes: Vec::new(),
             seen_nodes: false,
             seen_elements: false,
         }
@@ -190,6 +189,4 @@ impl<'a> Parser<'a> {
             self.num(what)
         }
     }
-
-    // ---- sections -----------------------------------------------------------------------------
 }

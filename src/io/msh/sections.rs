@@ -2,11 +2,12 @@
 
 use super::super::{line_of, IoError};
 use super::parser::{Parser, Version};
-use super::MshMesh;
-use crate::mesh::{IndexBase, Mesh};
+use super::{GmshType, MshParts};
+use crate::geometry::MAX_CORNERS;
+use crate::mesh::MeshData;
 
 impl<'a> Parser<'a> {
-    pub(super) fn run(mut self) -> Result<MshMesh, IoError> {
+    pub(super) fn run(mut self) -> Result<MshParts, IoError> {
         match self.token() {
             Some(("$MeshFormat", _)) => self.mesh_format()?,
             Some((t, at)) => return Err(self.err_at(at, format!("expected `$MeshFormat`, found `{t}`"))),
@@ -140,13 +141,12 @@ impl<'a> Parser<'a> {
         self.expect_end("Entities")
     }
 
-    pub(super) fn add_node(&mut self, tag: usize, [x, y, z]: [f64; 3], at: usize) -> Result<(), IoError> {
+    pub(super) fn add_node(&mut self, tag: usize, xyz: [f64; 3], at: usize) -> Result<(), IoError> {
         if self.node_index.insert(tag, self.nodes.len()).is_some() {
             let msg = format!("node tag {tag} appears twice in $Nodes");
             return Err(if self.binary { self.err_bin(at, msg) } else { self.err_at(at, msg) });
         }
-        self.nodes.push((tag, [x, y]));
-        self.node_z.push(z);
+        self.nodes.push((tag, xyz));
         Ok(())
     }
 
@@ -224,24 +224,21 @@ impl<'a> Parser<'a> {
     }
 
     /// Records one element; `nodes` are Gmsh node tags. `at` is the element's offset.
-    pub(super) fn add_element(&mut self, ty: i32, phys: i32, nodes: &[usize], at: usize) -> Result<(), IoError> {
-        let mut idx = [0usize; 3];
-        for (k, &t) in nodes.iter().enumerate() {
+    pub(super) fn add_element(&mut self, ty: GmshType, phys: i32, nodes: &[usize], at: usize) -> Result<(), IoError> {
+        let start = self.element_nodes.len();
+        for &t in nodes {
             match self.node_index.get(&t) {
-                Some(&i) => idx[k] = i,
+                Some(&i) => self.element_nodes.push(i),
                 None => {
                     let msg = format!("an element of $Elements refers to node {t}, which $Nodes does not define");
                     return Err(if self.binary { self.err_bin(at, msg) } else { self.err_at(at, msg) });
                 }
             }
         }
-        match ty {
-            1 => self.lines.push(([idx[0], idx[1]], phys)),
-            2 => {
-                self.triangles.push(idx);
-                self.regions.push(phys);
-            }
-            _ => {}
+        if ty.dim == 0 {
+            self.element_nodes.truncate(start);
+        } else {
+            self.elements.push((ty, phys, start));
         }
         Ok(())
     }
@@ -278,12 +275,12 @@ impl<'a> Parser<'a> {
                     phys = t;
                 }
             }
-            let nn = nodes_of(ty, at, self)?;
-            let mut nodes = [0usize; 3];
-            for v in nodes.iter_mut().take(nn) {
+            let gt = gmsh_type(ty, at, self)?;
+            let mut nodes = [0usize; MAX_CORNERS];
+            for v in nodes.iter_mut().take(gt.nodes) {
                 *v = self.num("an element node tag in $Elements")?;
             }
-            self.add_element(ty, phys, &nodes[..nn], at)?;
+            self.add_element(gt, phys, &nodes[..gt.nodes], at)?;
         }
         Ok(())
     }
@@ -297,7 +294,7 @@ impl<'a> Parser<'a> {
             let ty = self.bin_i32("an element type in $Elements")?;
             let count = self.bin_tag("an element count in $Elements")?;
             let ntags = self.bin_tag("the number of tags in $Elements")?;
-            let nn = nodes_of(ty, at, self)?;
+            let gt = gmsh_type(ty, at, self)?;
             if count == 0 || read + count > n {
                 return Err(
                     self.err_bin(at, format!("element block of {count} exceeds the {n} elements $Elements announces"))
@@ -313,11 +310,11 @@ impl<'a> Parser<'a> {
                         phys = t;
                     }
                 }
-                let mut nodes = [0usize; 3];
-                for v in nodes.iter_mut().take(nn) {
+                let mut nodes = [0usize; MAX_CORNERS];
+                for v in nodes.iter_mut().take(gt.nodes) {
                     *v = self.bin_tag("an element node tag in $Elements")?;
                 }
-                self.add_element(ty, phys, &nodes[..nn], at)?;
+                self.add_element(gt, phys, &nodes[..gt.nodes], at)?;
             }
             read += count;
         }
@@ -339,7 +336,7 @@ impl<'a> Parser<'a> {
             let etag = self.int41("an entity tag in an $Elements block")?;
             let ty = self.int41("an element type in an $Elements block")?;
             let n = self.size41("the number of elements in an $Elements block")?;
-            let nn = nodes_of(ty, at, self)?;
+            let gt = gmsh_type(ty, at, self)?;
             let phys = self.entity_phys.get(&(dim, etag)).copied().unwrap_or(0);
             for _ in 0..n {
                 // ASCII: point at the element's line, not at the end of the previous one.
@@ -348,11 +345,11 @@ impl<'a> Parser<'a> {
                 }
                 let at = self.pos;
                 self.size41("an element tag in $Elements")?;
-                let mut nodes = [0usize; 3];
-                for v in nodes.iter_mut().take(nn) {
+                let mut nodes = [0usize; MAX_CORNERS];
+                for v in nodes.iter_mut().take(gt.nodes) {
                     *v = self.size41("an element node tag in $Elements")?;
                 }
-                self.add_element(ty, phys, &nodes[..nn], at)?;
+                self.add_element(gt, phys, &nodes[..gt.nodes], at)?;
             }
             read += n;
         }
@@ -364,65 +361,69 @@ impl<'a> Parser<'a> {
         Ok(())
     }
 
-    pub(super) fn finish(self) -> Result<MshMesh, IoError> {
-        if self.triangles.is_empty() {
-            return Err(IoError::Unsupported("the file has no triangles (element type 2)".into()));
+    /// The mesh of the elements read: see the module documentation.
+    pub(super) fn finish(self) -> Result<MshParts, IoError> {
+        let dim = self.elements.iter().map(|e| e.0.dim).max().unwrap_or(0);
+        if dim < 2 {
+            return Err(IoError::Unsupported("the file has no 2D or 3D elements (Gmsh element types 2 to 7)".into()));
         }
+        let element = |&(ty, _, start): &(GmshType, i32, usize)| &self.element_nodes[start..start + ty.nodes];
+        // The nodes of the cells are kept, in file order.
         let mut new_index = vec![u32::MAX; self.nodes.len()];
-        for t in &self.triangles {
-            for &v in t {
-                new_index[v] = 0;
-            }
+        for e in self.elements.iter().filter(|e| e.0.dim == dim) {
+            element(e).iter().for_each(|&v| new_index[v] = 0);
         }
-        let used = self.nodes.iter().zip(&self.node_z).zip(&new_index).filter(|(_, &k)| k == 0);
-        crate::io::check_planar(used.map(|(((_, [x, y]), &z), _)| [*x, *y, z]))?;
-        let mut coords = Vec::new();
+        if dim == 2 {
+            crate::io::check_planar(self.nodes.iter().zip(&new_index).filter(|(_, &k)| k == 0).map(|((_, p), _)| *p))?;
+        }
+        let mut data = MeshData::new(dim);
         let mut node_tags = Vec::new();
-        for (i, (tag, xy)) in self.nodes.iter().enumerate() {
-            if new_index[i] == 0 {
-                new_index[i] = coords.len() as u32;
-                coords.push(*xy);
+        for ((tag, xyz), k) in self.nodes.iter().zip(new_index.iter_mut()) {
+            if *k == 0 {
+                *k = data.push_vertex(&xyz[..dim]);
                 node_tags.push(*tag);
             }
         }
-        let cells: Vec<[u32; 3]> = self.triangles.iter().map(|t| t.map(|v| new_index[v])).collect();
-        let mut tagged = Vec::with_capacity(self.lines.len());
-        for ([a, b], p) in &self.lines {
-            let (a, b) = (new_index[*a], new_index[*b]);
-            if a == u32::MAX || b == u32::MAX {
-                return Err(IoError::Unsupported(format!(
-                    "a line element of physical tag {p} has a node that is on no triangle"
-                )));
+        for e @ &(ty, phys, _) in &self.elements {
+            let nodes = element(e);
+            let mut corners = [0u32; MAX_CORNERS];
+            for (c, &k) in corners.iter_mut().zip(ty.vtk_order()) {
+                *c = new_index[nodes[k]];
             }
-            tagged.push(([a, b], *p));
+            let corners = &corners[..ty.nodes];
+            if ty.dim == dim {
+                data.push_cell(ty.cell.expect("the element types of dimension 2 and 3 are cell types"), corners, phys);
+            } else if ty.dim + 1 == dim {
+                if corners.contains(&u32::MAX) {
+                    return Err(IoError::Unsupported(format!(
+                        "a {} element of physical tag {phys} has a node that is on no cell",
+                        ty.name
+                    )));
+                }
+                data.push_face(corners, phys);
+            }
         }
-        let mesh = Mesh::triangles(&coords, &cells, IndexBase::Zero, &tagged, Some(&self.regions))?;
-        Ok(MshMesh { mesh, physical_names: self.physical_names, node_tags })
+        Ok((data, self.physical_names, node_tags))
     }
 }
 
-/// Number of nodes of the element types we keep; `Unsupported` for the rest.
-pub(super) fn nodes_of(ty: i32, at: usize, p: &Parser) -> Result<usize, IoError> {
-    match ty {
-        1 => Ok(2),
-        2 => Ok(3),
-        15 => Ok(1),
-        _ => {
-            let name = match ty {
-                3 => " (4-node quadrangle)",
-                4 => " (4-node tetrahedron)",
-                5 => " (8-node hexahedron)",
-                6 => " (6-node prism)",
-                7 => " (5-node pyramid)",
-                8 => " (3-node line)",
-                9 => " (6-node triangle)",
-                10 => " (9-node quadrangle)",
-                _ => "",
-            };
-            let place = if p.binary { format!("byte {at}") } else { format!("line {}", line_of(p.b, at)) };
-            Err(IoError::Unsupported(format!(
-                "Gmsh element type {ty}{name} at {place}; only triangles (2), lines (1) and points (15) are read"
-            )))
-        }
-    }
+/// The element type `ty` if it is one that is read; `Unsupported` for the rest.
+pub(super) fn gmsh_type(ty: i32, at: usize, p: &Parser) -> Result<GmshType, IoError> {
+    GmshType::from_id(ty).ok_or_else(|| {
+        let name = match ty {
+            8 => " (3-node line)",
+            9 => " (6-node triangle)",
+            10 => " (9-node quadrangle)",
+            11 => " (10-node tetrahedron)",
+            12 => " (27-node hexahedron)",
+            16 => " (8-node quadrangle)",
+            17 => " (20-node hexahedron)",
+            _ => "",
+        };
+        let place = if p.binary { format!("byte {at}") } else { format!("line {}", line_of(p.b, at)) };
+        IoError::Unsupported(format!(
+            "Gmsh element type {ty}{name} at {place}; the types read are lines (1), triangles (2), quadrangles (3), \
+             tetrahedra (4), hexahedra (5), prisms (6), pyramids (7) and points (15)"
+        ))
+    })
 }

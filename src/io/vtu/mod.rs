@@ -1,31 +1,45 @@
-//! VTK XML UnstructuredGrid (`.vtu`) writer and reader, for looking at meshes in ParaView.
+//! VTK XML UnstructuredGrid (`.vtu`) writer and reader, for looking at meshes in ParaView and
+//! reading what VTK, ParaView and meshio write.
 //!
-//! Our own writer and reader, with `quick-xml` tokenising, rather than the `vtkio` crate: its
-//! XML support is in a release candidate (0.7.0-rc2; the stable 0.6 line has old dependencies),
-//! its default features pull in three compressors, and its errors do not say which element or
-//! attribute was wrong, which the reader's errors must. What we need is small: one piece of
-//! triangles with Float64 points and a few named arrays.
+//! Our own writer and reader, with `quick-xml` tokenising and `flate2` inflating, rather than the
+//! `vtkio` crate: its XML support is in a release candidate (0.7.0-rc2; the stable 0.6 line has
+//! old dependencies), its default features pull in three compressors, and its errors do not say
+//! which element or attribute was wrong, which the reader's errors must. What we need is small:
+//! one piece of cells with Float64 points and a few named arrays.
 //!
 //! The writer writes ASCII (`format="ascii"`) with shortest round-trip float formatting, so
-//! reading back gives the same bits. The reader takes one `<Piece>` of triangles (cell type 5),
-//! with DataArrays in `ascii` or inline `binary` (base64, uncompressed, UInt32 or UInt64 header,
-//! either byte order); `appended` data and compressed files are `Unsupported`.
+//! reading back gives the same bits; cells of any [`CellType`](crate::geometry::CellType) (the
+//! `connectivity`, `offsets` and `types` arrays), 2D points with z = 0.
+//!
+//! The reader takes one `<Piece>` of cells of the types of
+//! [`CellType`](crate::geometry::CellType) (VTK ids 5, 9, 10, 12, 13, 14, mixed; any other type is
+//! `Unsupported`), with DataArrays in `ascii`, inline `binary` (base64) or `appended` format
+//! (`<AppendedData>` with `raw` or `base64` encoding, located by each array's `offset`), of any
+//! of VTK's integer and float types, uncompressed or compressed by `vtkZLibDataCompressor`
+//! (another compressor is `Unsupported`), with a UInt32 or UInt64 header, in either byte order.
+//! `<InformationKey>` elements inside a DataArray are skipped. The mesh is 3D if any cell is a
+//! solid, else 2D: then z must be one value for every point (else `Unsupported`: the mesh is not
+//! planar) and is dropped. A one-component cell array named `region` gives the cells' regions.
+//! A `.vtu` has no tagged faces.
 
 mod read;
 mod write;
 
 pub use read::{parse_vtu, read_vtu};
-pub use write::{write_deformed, write_vtu};
+#[cfg(test)]
+pub(crate) use write::signed_measure;
+pub use write::{write_deformed, write_deformed_data, write_vtu};
 
 use super::IoError;
-use crate::mesh::{IndexBase, Mesh};
+use crate::mesh::{Mesh, MeshData};
 
 /// A field with one value per vertex.
 #[derive(Clone, Copy, Debug)]
 pub enum PointField<'a> {
     Scalar(&'a [f64]),
-    /// Written with three components, z = 0 (ParaView's vectors are 3D).
-    Vector(&'a [f64]),
+    /// The values and the number of components per vertex (tuples one after another). Two
+    /// components are written as three, z = 0 (ParaView's vectors are 3D).
+    Vector(&'a [f64], usize),
 }
 
 /// A field with one value per cell.
@@ -35,39 +49,20 @@ pub enum CellField<'a> {
     I32(&'a [i32]),
 }
 
-/// What `read_vtu` returns: 2D points (z dropped), triangles, and every named array as `f64`
-/// values with its number of components (tuples stored one after another).
+/// What `read_vtu` returns: the mesh (points, cells, regions from the cell array `region`; no
+/// tagged faces) and every named array as `f64` values with its number of components (tuples
+/// stored one after another).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct VtuData {
-    pub points: Vec<[f64; 2]>,
-    pub cells: Vec<[u32; 3]>,
+    pub mesh: MeshData,
     pub point_data: Vec<(String, Vec<f64>, usize)>,
     pub cell_data: Vec<(String, Vec<f64>, usize)>,
 }
 
 impl VtuData {
-    /// The mesh of these points and cells; regions from a one-component cell array `region` if
-    /// present. A `.vtu` has no boundary patches: every boundary edge is on patch 0.
+    /// The validated mesh of these points, cells and regions. A `.vtu` has no boundary patches:
+    /// every boundary face is on patch 0.
     pub fn to_mesh(&self) -> Result<Mesh, IoError> {
-        let regions = match self.cell_data.iter().find(|(n, _, _)| n == "region") {
-            Some((_, v, 1)) => Some(
-                v.iter()
-                    .enumerate()
-                    .map(|(c, &r)| {
-                        if r.fract() == 0.0 && r.abs() <= i32::MAX as f64 {
-                            Ok(r as i32)
-                        } else {
-                            Err(IoError::InvalidArgument(format!("cell data `region` of cell {c} is {r}, not an i32")))
-                        }
-                    })
-                    .collect::<Result<Vec<i32>, _>>()?,
-            ),
-            Some((_, _, k)) => {
-                return Err(IoError::InvalidArgument(format!("cell data `region` has {k} components; 1 expected")))
-            }
-            None => None,
-        };
-        let tagged: [([u32; 2], i32); 0] = [];
-        Ok(Mesh::triangles(&self.points, &self.cells, IndexBase::Zero, &tagged, regions.as_deref())?)
+        Ok(Mesh::from_data(&self.mesh)?)
     }
 }

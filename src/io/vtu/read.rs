@@ -1,13 +1,16 @@
-//! The `.vtu` reader: one piece of triangles, ascii or inline base64 arrays.
+//! The `.vtu` reader: one piece of cells; ascii, inline base64 or appended arrays, zlib or not.
 
 use super::VtuData;
+use crate::geometry::CellType;
 use crate::io::{io_err, line_of, IoError};
+use crate::mesh::MeshData;
 use base64::Engine as _;
 use quick_xml::events::{BytesStart, Event};
 use quick_xml::Reader;
+use std::io::Read as _;
 use std::path::Path;
 
-/// Reads a `.vtu` file: one piece of triangles (see the module documentation for the encodings).
+/// Reads a `.vtu` file: one piece of cells (see the module documentation for the encodings).
 pub fn read_vtu(path: &Path) -> Result<VtuData, IoError> {
     let bytes = std::fs::read(path).map_err(io_err(path))?;
     parse_vtu(&bytes)
@@ -35,25 +38,84 @@ impl Section {
 }
 
 struct Array {
+    section: Section,
     ty: String,
     name: Option<String>,
     comps: usize,
     format: String,
+    /// `offset` of an appended array.
+    offset: Option<usize>,
     /// Offset of the `<DataArray` tag and of its text.
     at: usize,
     text_at: usize,
     text: String,
 }
 
+impl Array {
+    fn label(&self) -> String {
+        match &self.name {
+            Some(s) => format!("DataArray `{s}` in {}", self.section.tag()),
+            None => format!("DataArray in {}", self.section.tag()),
+        }
+    }
+}
+
+/// The data of `<AppendedData>`: from after its `_` to `end` (the end of the file for raw data,
+/// the closing tag for base64).
+struct Appended {
+    start: usize,
+    end: usize,
+    base64: bool,
+}
+
 struct Ctx<'a> {
     b: &'a [u8],
     header64: bool,
     big_endian: bool,
+    /// Compressed by `vtkZLibDataCompressor`.
+    zlib: bool,
+    appended: Option<Appended>,
+    /// The `offset`s of the appended arrays, ascending (where each base64 run ends).
+    offsets: Vec<usize>,
+}
+
+/// Where something is in the file: the text at a byte offset (reported by line), or binary data
+/// at a byte offset (reported by offset).
+#[derive(Clone, Copy)]
+enum Pos {
+    Text(usize),
+    Byte(usize),
 }
 
 impl Ctx<'_> {
     fn err(&self, at: usize, message: String) -> IoError {
         IoError::Parse { line: line_of(self.b, at), offset: Some(at), message }
+    }
+
+    fn err_pos(&self, pos: Pos, message: String) -> IoError {
+        match pos {
+            Pos::Text(at) => self.err(at, message),
+            Pos::Byte(at) => IoError::Parse { line: 0, offset: Some(at), message },
+        }
+    }
+
+    /// Size of the header integers.
+    fn hsize(&self) -> usize {
+        if self.header64 {
+            8
+        } else {
+            4
+        }
+    }
+
+    /// A header integer (`hsize` bytes in the file's byte order).
+    fn uint(&self, b: &[u8]) -> u64 {
+        let mut a = [0u8; 8];
+        a[..b.len()].copy_from_slice(b);
+        if self.big_endian {
+            a[..b.len()].reverse();
+        }
+        u64::from_le_bytes(a)
     }
 }
 
@@ -78,27 +140,44 @@ fn req_usize(e: &BytesStart, name: &str, ctx: &Ctx, at: usize) -> Result<usize, 
     v.trim().parse().map_err(|_| ctx.err(at, format!("attribute `{name}` of <{}> is `{v}`, not a count", tag_name(e))))
 }
 
+fn opt_usize(e: &BytesStart, name: &str, ctx: &Ctx, at: usize) -> Result<Option<usize>, IoError> {
+    match attr(e, name, ctx, at)? {
+        None => Ok(None),
+        Some(_) => req_usize(e, name, ctx, at).map(Some),
+    }
+}
+
 /// Parses the contents of a `.vtu` file.
 pub fn parse_vtu(bytes: &[u8]) -> Result<VtuData, IoError> {
-    let text = std::str::from_utf8(bytes).map_err(|e| IoError::Parse {
+    // The XML runs up to the end of the <AppendedData> tag: raw data after it is not text.
+    let xml_end = match bytes.windows(13).position(|w| w == b"<AppendedData") {
+        Some(p) => bytes[p..].iter().position(|&c| c == b'>').map_or(bytes.len(), |q| p + q + 1),
+        None => bytes.len(),
+    };
+    let text = std::str::from_utf8(&bytes[..xml_end]).map_err(|e| IoError::Parse {
         line: line_of(bytes, e.valid_up_to()),
         offset: Some(e.valid_up_to()),
-        message: "the file is not UTF-8 text (appended raw data is not supported)".into(),
+        message: "the XML of the file is not UTF-8 text".into(),
     })?;
-    let mut ctx = Ctx { b: bytes, header64: false, big_endian: false };
+    let mut ctx =
+        Ctx { b: bytes, header64: false, big_endian: false, zlib: false, appended: None, offsets: Vec::new() };
     let mut reader = Reader::from_str(text);
-    let mut out = VtuData::default();
     let mut counts: Option<(usize, usize)> = None;
     let mut section = Section::None;
+    let mut arrays: Vec<Array> = Vec::new();
+    // The DataArray being read, and how deep inside it the reader is (<InformationKey>, ...).
     let mut array: Option<Array> = None;
+    let mut nested = 0usize;
     let mut seen_file = false;
     let mut seen_points = false;
-    let mut cells_arrays: Vec<(String, Vec<f64>, usize)> = Vec::new();
     let mut piece_end = None;
     loop {
         let at = reader.buffer_position() as usize;
         let ev = reader.read_event().map_err(|e| ctx.err(at, format!("malformed XML: {e}")))?;
         match ev {
+            Event::Start(_) | Event::Empty(_) if array.is_some() => {
+                nested += usize::from(matches!(ev, Event::Start(_)));
+            }
             Event::Start(ref e) | Event::Empty(ref e) => {
                 let empty = matches!(ev, Event::Empty(_));
                 match e.name().as_ref() {
@@ -110,8 +189,14 @@ pub fn parse_vtu(bytes: &[u8]) -> Result<VtuData, IoError> {
                                 "VTKFile type {ty:?}; only UnstructuredGrid is read"
                             )));
                         }
-                        if let Some(c) = attr(e, "compressor", &ctx, at)? {
-                            return Err(IoError::Unsupported(format!("compressed data ({c})")));
+                        match attr(e, "compressor", &ctx, at)?.as_deref() {
+                            None | Some("") => {}
+                            Some("vtkZLibDataCompressor") => ctx.zlib = true,
+                            Some(c) => {
+                                return Err(IoError::Unsupported(format!(
+                                    "data compressed by {c}; only vtkZLibDataCompressor is read"
+                                )))
+                            }
                         }
                         ctx.big_endian = attr(e, "byte_order", &ctx, at)?.as_deref() == Some("BigEndian");
                         ctx.header64 = attr(e, "header_type", &ctx, at)?.as_deref() == Some("UInt64");
@@ -133,34 +218,31 @@ pub fn parse_vtu(bytes: &[u8]) -> Result<VtuData, IoError> {
                             return Err(ctx.err(at, "<DataArray> outside a <Piece>".into()));
                         }
                         let a = Array {
+                            section,
                             ty: attr(e, "type", &ctx, at)?
                                 .ok_or_else(|| ctx.err(at, "<DataArray> has no attribute `type`".into()))?,
                             name: attr(e, "Name", &ctx, at)?,
-                            comps: match attr(e, "NumberOfComponents", &ctx, at)? {
-                                None => 1,
-                                Some(_) => req_usize(e, "NumberOfComponents", &ctx, at)?,
-                            },
+                            comps: opt_usize(e, "NumberOfComponents", &ctx, at)?.unwrap_or(1),
                             format: attr(e, "format", &ctx, at)?
                                 .ok_or_else(|| ctx.err(at, "<DataArray> has no attribute `format`".into()))?,
+                            offset: opt_usize(e, "offset", &ctx, at)?,
                             at,
                             text_at: reader.buffer_position() as usize,
                             text: String::new(),
                         };
                         if empty {
-                            finish_array(a, section, counts, &ctx, &mut out, &mut cells_arrays)?;
-                            if section == Section::Points {
-                                seen_points = true;
-                            }
+                            arrays.push(a);
                         } else {
                             array = Some(a);
+                            nested = 0;
                         }
                     }
-                    b"AppendedData" => return Err(IoError::Unsupported("<AppendedData>".into())),
+                    b"AppendedData" => ctx.appended = Some(appended_data(e, &ctx, at, xml_end)?),
                     _ => {}
                 }
             }
             Event::Text(t) => {
-                if let Some(a) = array.as_mut() {
+                if let Some(a) = array.as_mut().filter(|_| nested == 0) {
                     if a.text.is_empty() {
                         a.text_at = at;
                     }
@@ -168,14 +250,8 @@ pub fn parse_vtu(bytes: &[u8]) -> Result<VtuData, IoError> {
                 }
             }
             Event::End(e) => match e.name().as_ref() {
-                b"DataArray" => {
-                    if let Some(a) = array.take() {
-                        finish_array(a, section, counts, &ctx, &mut out, &mut cells_arrays)?;
-                        if section == Section::Points {
-                            seen_points = true;
-                        }
-                    }
-                }
+                _ if nested > 0 => nested -= 1,
+                b"DataArray" => arrays.extend(array.take()),
                 b"PointData" | b"CellData" | b"Points" | b"Cells" => section = Section::None,
                 b"Piece" => piece_end = Some(at),
                 _ => {}
@@ -190,24 +266,128 @@ pub fn parse_vtu(bytes: &[u8]) -> Result<VtuData, IoError> {
     let Some((n, m)) = counts else {
         return Err(ctx.err(bytes.len(), "no <Piece> element in <UnstructuredGrid>".into()));
     };
+    ctx.offsets = arrays.iter().filter(|a| a.format == "appended").filter_map(|a| a.offset).collect();
+    ctx.offsets.sort_unstable();
+
+    let mut out = VtuData { mesh: MeshData::new(2), ..VtuData::default() };
+    let mut points = None;
+    let mut cells_arrays: Vec<(String, Vec<f64>, usize)> = Vec::new();
+    for a in &arrays {
+        let cell_array = matches!(a.name.as_deref(), Some("connectivity" | "offsets" | "types"));
+        match a.section {
+            Section::None => continue,
+            Section::Cells if !cell_array => continue,
+            _ => {}
+        }
+        let label = a.label();
+        if a.comps == 0 {
+            return Err(ctx.err(a.at, format!("{label}: NumberOfComponents is 0")));
+        }
+        let values = decode(a, &label, &ctx)?;
+        let tuples = match a.section {
+            Section::Points | Section::PointData => Some(n),
+            Section::CellData => Some(m),
+            _ => None,
+        };
+        if let Some(t) = tuples {
+            if values.len() != t * a.comps {
+                return Err(ctx.err(
+                    a.at,
+                    format!(
+                        "{label}: expected {} values ({t} tuples × {} components), found {}",
+                        t * a.comps,
+                        a.comps,
+                        values.len()
+                    ),
+                ));
+            }
+        }
+        match a.section {
+            Section::Points => {
+                if a.comps != 3 {
+                    return Err(ctx.err(a.at, format!("{label}: NumberOfComponents is {}, 3 expected", a.comps)));
+                }
+                seen_points = true;
+                points = Some(values);
+            }
+            Section::PointData | Section::CellData => {
+                let name = a.name.clone().ok_or_else(|| ctx.err(a.at, format!("{label}: no attribute `Name`")))?;
+                if a.section == Section::CellData && name == "region" {
+                    out.mesh.regions = regions(&values, a, &label, &ctx)?;
+                }
+                let list = if a.section == Section::PointData { &mut out.point_data } else { &mut out.cell_data };
+                list.push((name, values, a.comps));
+            }
+            _ => cells_arrays.push((a.name.clone().unwrap_or_default(), values, a.at)),
+        }
+    }
     let end = piece_end.unwrap_or(bytes.len());
     if !seen_points {
         return Err(ctx.err(end, "<Piece> has no <Points> element".into()));
     }
-    if out.points.len() != n {
-        return Err(ctx.err(end, format!("<Points> holds {} points, NumberOfPoints is {n}", out.points.len())));
+    let points = points.unwrap_or_default();
+    if points.len() != 3 * n {
+        return Err(ctx.err(end, format!("<Points> holds {} points, NumberOfPoints is {n}", points.len() / 3)));
     }
-    out.cells = build_cells(&cells_arrays, n, m, &ctx, end)?;
+    build_cells(&mut out.mesh, &cells_arrays, n, m, &ctx, end)?;
+    let dim = out.mesh.dim;
+    if dim == 2 {
+        crate::io::check_planar(points.chunks_exact(3).map(|p| [p[0], p[1], p[2]]))?;
+    }
+    out.mesh.coords = points.chunks_exact(3).flat_map(|p| p[..dim].iter().copied()).collect();
     Ok(out)
 }
 
+/// The data of the `<AppendedData>` tag `e` (at `at`, ending at `xml_end`).
+fn appended_data(e: &BytesStart, ctx: &Ctx, at: usize, xml_end: usize) -> Result<Appended, IoError> {
+    let base64 = match attr(e, "encoding", ctx, at)?.as_deref() {
+        Some("raw") => false,
+        Some("base64") => true,
+        other => {
+            let msg = format!("attribute `encoding` of <AppendedData> is {other:?}; raw or base64 expected");
+            return Err(ctx.err(at, msg));
+        }
+    };
+    // Whitespace, then `_`, then the data.
+    let b = ctx.b;
+    let p = xml_end + b[xml_end..].iter().take_while(|c| c.is_ascii_whitespace()).count();
+    if b.get(p) != Some(&b'_') {
+        return Err(ctx.err(p, "<AppendedData>: expected `_` before its data".into()));
+    }
+    let end = match base64 {
+        true => b.windows(15).rposition(|w| w == b"</AppendedData>").unwrap_or(b.len()),
+        false => b.len(),
+    };
+    Ok(Appended { start: p + 1, end: end.max(p + 1), base64 })
+}
+
+/// The regions of the cell array `region` (one integer per cell); none when they are all 0.
+fn regions(values: &[f64], a: &Array, label: &str, ctx: &Ctx) -> Result<Vec<i32>, IoError> {
+    if a.comps != 1 {
+        return Err(ctx.err(a.at, format!("{label}: NumberOfComponents is {}; regions have 1", a.comps)));
+    }
+    let mut r = Vec::with_capacity(values.len());
+    for (c, &x) in values.iter().enumerate() {
+        if x.fract() != 0.0 || x.abs() > i32::MAX as f64 {
+            return Err(ctx.err(a.at, format!("{label}: the region of cell {c} is {x}, not an i32")));
+        }
+        r.push(x as i32);
+    }
+    if r.iter().all(|&x| x == 0) {
+        r.clear();
+    }
+    Ok(r)
+}
+
+/// Fills `mesh`'s dimension and cells from the arrays `connectivity`, `offsets` and `types`.
 fn build_cells(
+    mesh: &mut MeshData,
     arrays: &[(String, Vec<f64>, usize)],
     n: usize,
     m: usize,
     ctx: &Ctx,
     end: usize,
-) -> Result<Vec<[u32; 3]>, IoError> {
+) -> Result<(), IoError> {
     let get = |name: &str| {
         arrays
             .iter()
@@ -226,101 +406,57 @@ fn build_cells(
             ));
         }
     }
-    if let Some((c, &t)) = types.iter().enumerate().find(|(_, &t)| t != 5.0) {
-        return Err(IoError::Unsupported(format!("cell {c} has VTK cell type {t}; only triangles (5) are read")));
-    }
-    for (c, &o) in offsets.iter().enumerate() {
-        if o != (3 * (c + 1)) as f64 {
+    mesh.cell_offsets = Vec::with_capacity(m + 1);
+    mesh.cell_offsets.push(0);
+    let mut prev = 0usize;
+    for (c, (&t, &o)) in types.iter().zip(offsets).enumerate() {
+        let ty = Some(t).filter(|t| t.fract() == 0.0).and_then(|t| CellType::from_vtk(t as i64)).ok_or_else(|| {
+            IoError::Unsupported(format!(
+                "cell {c} has VTK cell type {t}; the types read are triangle (5), quad (9), tetra (10), \
+                 hexahedron (12), wedge (13) and pyramid (14)"
+            ))
+        })?;
+        let want = prev + ty.num_corners();
+        if o != want as f64 {
             return Err(ctx.err(
                 off_at,
                 format!(
-                    "DataArray `offsets` in <Cells>: offset of cell {c} is {o}, expected {} for triangles",
-                    3 * (c + 1)
+                    "DataArray `offsets` in <Cells>: offset of cell {c} is {o}, expected {want} (a {ty} of {} corners \
+                     after offset {prev})",
+                    ty.num_corners()
                 ),
             ));
         }
+        mesh.cell_types.push(ty);
+        mesh.cell_offsets.push(want as u32);
+        prev = want;
     }
-    if conn.len() != 3 * m {
+    if conn.len() != prev {
         return Err(ctx.err(
             conn_at,
             format!(
-                "DataArray `connectivity` in <Cells>: expected {} values (3 per triangle), found {}",
-                3 * m,
+                "DataArray `connectivity` in <Cells>: expected {prev} values (the last offset), found {}",
                 conn.len()
             ),
         ));
     }
-    let mut cells = Vec::with_capacity(m);
-    for (c, t) in conn.chunks_exact(3).enumerate() {
-        let mut cell = [0u32; 3];
-        for (k, &v) in t.iter().enumerate() {
-            if !(v >= 0.0 && v < n as f64 && v.fract() == 0.0) {
-                return Err(ctx.err(
-                    conn_at,
-                    format!("DataArray `connectivity` in <Cells>: cell {c} refers to point {v}, outside 0..{n}"),
-                ));
-            }
-            cell[k] = v as u32;
-        }
-        cells.push(cell);
-    }
-    Ok(cells)
-}
-
-fn finish_array(
-    a: Array,
-    section: Section,
-    counts: Option<(usize, usize)>,
-    ctx: &Ctx,
-    out: &mut VtuData,
-    cells_arrays: &mut Vec<(String, Vec<f64>, usize)>,
-) -> Result<(), IoError> {
-    let (n, m) = counts.unwrap_or((0, 0));
-    let label = match &a.name {
-        Some(s) => format!("DataArray `{s}` in {}", section.tag()),
-        None => format!("DataArray in {}", section.tag()),
-    };
-    if a.comps == 0 {
-        return Err(ctx.err(a.at, format!("{label}: NumberOfComponents is 0")));
-    }
-    let values = decode(&a, &label, ctx)?;
-    let tuples = match section {
-        Section::Points | Section::PointData => Some(n),
-        Section::CellData => Some(m),
-        _ => None,
-    };
-    if let Some(t) = tuples {
-        if values.len() != t * a.comps {
+    mesh.cell_vertices = Vec::with_capacity(prev);
+    for (k, &v) in conn.iter().enumerate() {
+        if !(v >= 0.0 && v < n as f64 && v.fract() == 0.0) {
+            let c = mesh.cell_offsets.partition_point(|&o| o as usize <= k) - 1;
             return Err(ctx.err(
-                a.at,
-                format!(
-                    "{label}: expected {} values ({t} tuples × {} components), found {}",
-                    t * a.comps,
-                    a.comps,
-                    values.len()
-                ),
+                conn_at,
+                format!("DataArray `connectivity` in <Cells>: cell {c} refers to point {v}, outside 0..{n}"),
             ));
         }
+        mesh.cell_vertices.push(v as u32);
     }
-    match section {
-        Section::Points => {
-            if a.comps != 3 {
-                return Err(ctx.err(a.at, format!("{label}: NumberOfComponents is {}, 3 expected", a.comps)));
-            }
-            crate::io::check_planar(values.chunks_exact(3).map(|p| [p[0], p[1], p[2]]))?;
-            out.points = values.chunks_exact(3).map(|p| [p[0], p[1]]).collect();
-        }
-        Section::PointData | Section::CellData => {
-            let name = a.name.ok_or_else(|| ctx.err(a.at, format!("{label}: no attribute `Name`")))?;
-            let list = if section == Section::PointData { &mut out.point_data } else { &mut out.cell_data };
-            list.push((name, values, a.comps));
-        }
-        Section::Cells => {
-            if let Some(name) = a.name {
-                cells_arrays.push((name, values, a.at));
-            }
-        }
-        Section::None => {}
+    mesh.dim = if mesh.cell_types.iter().any(|t| t.dim() == 3) { 3 } else { 2 };
+    if let Some(c) = mesh.cell_types.iter().position(|t| t.dim() != mesh.dim) {
+        return Err(IoError::Unsupported(format!(
+            "cell {c} is a {} among 3D cells; a piece of 2D and 3D cells is not read",
+            mesh.cell_types[c]
+        )));
     }
     Ok(())
 }
@@ -352,42 +488,120 @@ fn decode(a: &Array, label: &str, ctx: &Ctx) -> Result<Vec<f64>, IoError> {
             }
             Ok(v)
         }
-        "binary" => decode_base64(a, label, ctx),
-        "appended" => Err(IoError::Unsupported(format!("{label}: format=\"appended\""))),
+        "binary" => {
+            let pos = Pos::Text(a.text_at);
+            let raw = unbase64(&a.text, label, ctx, pos)?;
+            typed(&payload(&raw, label, ctx, pos)?, a, label, ctx, pos)
+        }
+        "appended" => {
+            let app = ctx.appended.as_ref().ok_or_else(|| {
+                ctx.err(a.at, format!("{label}: format=\"appended\" but the file has no <AppendedData>"))
+            })?;
+            let off =
+                a.offset.ok_or_else(|| ctx.err(a.at, format!("{label}: format=\"appended\" without `offset`")))?;
+            let start = app.start.saturating_add(off);
+            if start > app.end {
+                return Err(ctx.err(a.at, format!("{label}: offset {off} is past the end of <AppendedData>")));
+            }
+            if app.base64 {
+                // This array's run ends where the next one starts.
+                let end = ctx.offsets.iter().find(|&&o| o > off).map_or(app.end, |&o| (app.start + o).min(app.end));
+                let text = String::from_utf8_lossy(&ctx.b[start..end]);
+                let pos = Pos::Text(start);
+                let raw = unbase64(&text, label, ctx, pos)?;
+                typed(&payload(&raw, label, ctx, pos)?, a, label, ctx, pos)
+            } else {
+                let pos = Pos::Byte(start);
+                typed(&payload(&ctx.b[start..], label, ctx, pos)?, a, label, ctx, pos)
+            }
+        }
         f => Err(ctx.err(a.at, format!("{label}: attribute `format` is `{f}`; ascii, binary or appended expected"))),
     }
 }
 
-fn decode_base64(a: &Array, label: &str, ctx: &Ctx) -> Result<Vec<f64>, IoError> {
+/// The bytes of base64 `text` (whitespace ignored) holding a header and its data. VTK encodes
+/// the two either together or as two runs, the header's first; a header run whose length is
+/// not a multiple of 3 bytes ends in padding, and one that is encodes as the joint run does.
+fn unbase64(text: &str, label: &str, ctx: &Ctx, pos: Pos) -> Result<Vec<u8>, IoError> {
     let b64 = base64::engine::general_purpose::STANDARD;
-    let text: String = a.text.chars().filter(|c| !c.is_ascii_whitespace()).collect();
-    let hsize: usize = if ctx.header64 { 8 } else { 4 };
-    let bad = |e: base64::DecodeError| ctx.err(a.text_at, format!("{label}: bad base64: {e}"));
-    // VTK encodes the header and the data either together or as two base64 runs; a separate
-    // header run ends in padding.
-    let hchars = hsize.div_ceil(3) * 4;
-    let raw = if text.len() >= hchars && text[..hchars].ends_with('=') {
-        let mut h = b64.decode(&text[..hchars]).map_err(bad)?;
-        h.extend(b64.decode(&text[hchars..]).map_err(bad)?);
-        h
+    let text: String = text.chars().filter(|c| !c.is_ascii_whitespace()).collect();
+    let bad = |e: base64::DecodeError| ctx.err_pos(pos, format!("{label}: bad base64: {e}"));
+    let short = || ctx.err_pos(pos, format!("{label}: binary data shorter than its header"));
+    let h = ctx.hsize();
+    let header_bytes = if ctx.zlib {
+        // [blocks, block size, last block size, compressed sizes...]: the first 4h characters
+        // are the first 3h bytes in either layout.
+        let first = b64.decode(text.get(..4 * h).ok_or_else(short)?).map_err(bad)?;
+        let blocks = usize::try_from(ctx.uint(&first[..h])).unwrap_or(usize::MAX);
+        if blocks > text.len() {
+            return Err(ctx.err_pos(pos, format!("{label}: the header announces {blocks} compressed blocks")));
+        }
+        (3 + blocks) * h
     } else {
-        b64.decode(&text).map_err(bad)?
+        h
     };
-    if raw.len() < hsize {
-        return Err(ctx.err(a.text_at, format!("{label}: binary data shorter than its header")));
+    let hchars = header_bytes.div_ceil(3) * 4;
+    match text.get(..hchars) {
+        Some(head) if head.ends_with('=') => {
+            let mut raw = b64.decode(head).map_err(bad)?;
+            raw.extend(b64.decode(&text[hchars..]).map_err(bad)?);
+            Ok(raw)
+        }
+        _ => b64.decode(&text).map_err(bad),
     }
-    let hdr = &raw[..hsize];
-    let nbytes = match (hsize, ctx.big_endian) {
-        (8, false) => u64::from_le_bytes(hdr.try_into().unwrap()),
-        (8, true) => u64::from_be_bytes(hdr.try_into().unwrap()),
-        (_, false) => u32::from_le_bytes(hdr.try_into().unwrap()) as u64,
-        (_, true) => u32::from_be_bytes(hdr.try_into().unwrap()) as u64,
-    } as usize;
-    let data = &raw[hsize..];
-    if data.len() < nbytes {
-        return Err(ctx.err(a.text_at, format!("{label}: header announces {nbytes} bytes, {} present", data.len())));
+}
+
+/// The data bytes of one array from `src`, its header and data (and maybe more after them):
+/// uncompressed, or inflated block by block.
+fn payload(src: &[u8], label: &str, ctx: &Ctx, pos: Pos) -> Result<Vec<u8>, IoError> {
+    let h = ctx.hsize();
+    let int = |i: usize| -> Result<usize, IoError> {
+        let b = src
+            .get(i * h..(i + 1) * h)
+            .ok_or_else(|| ctx.err_pos(pos, format!("{label}: binary data shorter than its header")))?;
+        Ok(usize::try_from(ctx.uint(b)).unwrap_or(usize::MAX))
+    };
+    if !ctx.zlib {
+        let nbytes = int(0)?;
+        let data = &src[h..];
+        if data.len() < nbytes {
+            return Err(ctx.err_pos(pos, format!("{label}: header announces {nbytes} bytes, {} present", data.len())));
+        }
+        return Ok(data[..nbytes].to_vec());
     }
-    let data = &data[..nbytes];
+    let (blocks, size, last) = (int(0)?, int(1)?, int(2)?);
+    if blocks > src.len() {
+        return Err(ctx.err_pos(pos, format!("{label}: the header announces {blocks} compressed blocks")));
+    }
+    let mut at = (3 + blocks) * h;
+    let mut out = Vec::new();
+    for k in 0..blocks {
+        let csize = int(3 + k)?;
+        let want = if k + 1 == blocks && last != 0 { last } else { size };
+        let block = src.get(at..at.saturating_add(csize)).ok_or_else(|| {
+            ctx.err_pos(pos, format!("{label}: compressed block {k} of {csize} bytes runs past the data"))
+        })?;
+        let before = out.len();
+        flate2::read::ZlibDecoder::new(block)
+            .take(want as u64 + 1)
+            .read_to_end(&mut out)
+            .map_err(|e| ctx.err_pos(pos, format!("{label}: compressed block {k}: {e}")))?;
+        if out.len() - before != want {
+            return Err(ctx.err_pos(
+                pos,
+                format!(
+                    "{label}: compressed block {k} inflates to {} bytes, the header says {want}",
+                    out.len() - before
+                ),
+            ));
+        }
+        at += csize;
+    }
+    Ok(out)
+}
+
+/// The values of `data`, of `a`'s type in the file's byte order.
+fn typed(data: &[u8], a: &Array, label: &str, ctx: &Ctx, pos: Pos) -> Result<Vec<f64>, IoError> {
     let size = match a.ty.as_str() {
         "Int8" | "UInt8" => 1,
         "Int16" | "UInt16" => 2,
@@ -397,8 +611,8 @@ fn decode_base64(a: &Array, label: &str, ctx: &Ctx) -> Result<Vec<f64>, IoError>
             return Err(ctx.err(a.at, format!("{label}: unknown type `{t}`")));
         }
     };
-    if nbytes % size != 0 {
-        return Err(ctx.err(a.text_at, format!("{label}: {nbytes} bytes is not a whole number of {} values", a.ty)));
+    if data.len() % size != 0 {
+        return Err(ctx.err_pos(pos, format!("{label}: {} bytes is not a whole number of {} values", data.len(), a.ty)));
     }
     let be = ctx.big_endian;
     Ok(data

@@ -1,47 +1,40 @@
 //! The `.vtu` writer: ASCII, shortest round-trip floats.
 
 use super::{CellField, PointField};
-use crate::io::{io_err, IoError};
-use crate::mesh::quality::signed_measures;
-use crate::mesh::Mesh;
+use crate::geometry::CellType;
+use crate::io::{check_data, io_err, IoError};
+use crate::mesh::{Mesh, MeshData};
 use std::fmt::Write as _;
 use std::path::Path;
 
-/// Writes `mesh`'s cells at positions `coords` (one per vertex) with the given named fields.
+/// Writes the points and cells of `mesh` (its tagged faces are not written) with the given named
+/// fields. 2D points are written with z = 0. Regions are written only as a cell field the caller
+/// passes (`region`, which [`read_vtu`](super::read_vtu) reads back as the regions).
 pub fn write_vtu(
     path: &Path,
-    mesh: &Mesh,
-    coords: &[f64],
+    mesh: &MeshData,
     point_data: &[(&str, PointField)],
     cell_data: &[(&str, CellField)],
 ) -> Result<(), IoError> {
+    check_data(mesh, "write_vtu")?;
     let (n, m) = (mesh.num_vertices(), mesh.num_cells());
-    let dim = mesh.dim();
-    if coords.len() != n * dim {
-        return Err(IoError::InvalidArgument(format!(
-            "write_vtu: {} coordinates for a mesh of {n} vertices",
-            coords.len()
-        )));
-    }
     let mut s = String::with_capacity(80 * n + 40 * m);
     s.push_str("<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n<UnstructuredGrid>\n");
     let _ = writeln!(s, "<Piece NumberOfPoints=\"{n}\" NumberOfCells=\"{m}\">");
     s.push_str("<PointData>\n");
     for (name, f) in point_data {
-        let (len, comps) = match f {
-            PointField::Scalar(v) => (v.len(), 1),
-            PointField::Vector(v) => (v.len() / dim, 3),
+        let (values, comps) = match *f {
+            PointField::Scalar(v) => (v, 1),
+            PointField::Vector(v, k) => (v, k),
         };
-        if len != n {
+        if comps == 0 || values.len() != n * comps {
             return Err(IoError::InvalidArgument(format!(
-                "write_vtu: point field `{name}` has {len} values for {n} vertices"
+                "write_vtu: point field `{name}` has {} values of {comps} components for {n} vertices",
+                values.len()
             )));
         }
-        open_array(&mut s, "Float64", Some(name), comps);
-        match f {
-            PointField::Scalar(v) => v.iter().for_each(|x| push_f64(&mut s, *x)),
-            PointField::Vector(v) => v.chunks_exact(dim).for_each(|p| push_xyz(&mut s, p)),
-        }
+        open_array(&mut s, "Float64", Some(name), comps.max(3 * usize::from(comps == 2)));
+        push_tuples(&mut s, values, comps);
         s.push_str("\n</DataArray>\n");
     }
     s.push_str("</PointData>\n<CellData>\n");
@@ -62,33 +55,21 @@ pub fn write_vtu(
             }
             CellField::I32(v) => {
                 open_array(&mut s, "Int32", Some(name), 1);
-                v.iter().for_each(|x| {
-                    let _ = write!(s, "{x} ");
-                });
+                push_ints(&mut s, v);
             }
         }
         s.push_str("\n</DataArray>\n");
     }
     s.push_str("</CellData>\n<Points>\n");
     open_array(&mut s, "Float64", None, 3);
-    coords.chunks_exact(dim).for_each(|p| push_xyz(&mut s, p));
+    push_tuples(&mut s, &mesh.coords, mesh.dim);
     s.push_str("\n</DataArray>\n</Points>\n<Cells>\n");
     s.push_str("<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n");
-    for c in 0..m {
-        for v in mesh.cell(c) {
-            let _ = write!(s, "{v} ");
-        }
-    }
+    push_ints(&mut s, &mesh.cell_vertices);
     s.push_str("\n</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n");
-    let mut end = 0;
-    for c in 0..m {
-        end += mesh.cell(c).len();
-        let _ = write!(s, "{end} ");
-    }
+    push_ints(&mut s, mesh.cell_offsets.get(1..).unwrap_or_default());
     s.push_str("\n</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n");
-    for &t in mesh.cell_types() {
-        let _ = write!(s, "{} ", t.vtk_id());
-    }
+    push_ints(&mut s, &mesh.cell_types.iter().map(|t| t.vtk_id()).collect::<Vec<_>>());
     s.push_str("\n</DataArray>\n</Cells>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n");
     std::fs::write(path, s).map_err(io_err(path))
 }
@@ -106,46 +87,114 @@ fn push_f64(s: &mut String, x: f64) {
     let _ = write!(s, "{x:?} ");
 }
 
-fn push_xyz(s: &mut String, p: &[f64]) {
-    match p {
-        [x, y] => {
-            let _ = write!(s, "{x:?} {y:?} 0 ");
-        }
-        _ => {
-            let _ = write!(s, "{:?} {:?} {:?} ", p[0], p[1], p[2]);
+fn push_ints<T: std::fmt::Display>(s: &mut String, v: &[T]) {
+    v.iter().for_each(|x| {
+        let _ = write!(s, "{x} ");
+    });
+}
+
+/// Tuples of `comps` values; pairs are written as (x, y, 0).
+fn push_tuples(s: &mut String, values: &[f64], comps: usize) {
+    for t in values.chunks_exact(comps) {
+        t.iter().for_each(|x| push_f64(s, *x));
+        if comps == 2 {
+            s.push_str("0 ");
         }
     }
 }
 
-/// Writes `reference` moved by `displacement`, with point data `displacement` and cell data
-/// `region` (Int32), `area_ratio` (deformed over reference signed area), `inverted` (1 where the
-/// deformed signed area is not positive) and `min_angle` (degrees, 0 for inverted cells).
+/// Writes `reference` moved by `displacement` (`dim` values per vertex), with point data
+/// `displacement` and cell data `region` (Int32), `area_ratio` in 2D or `volume_ratio` in 3D
+/// (deformed over reference signed measure), `inverted` (1 where the deformed signed measure is
+/// not positive) and `min_angle` (degrees: the smallest corner angle of the cell in 2D, of its
+/// faces in 3D; 0 for inverted cells).
 pub fn write_deformed(path: &Path, reference: &Mesh, displacement: &[f64]) -> Result<(), IoError> {
-    if displacement.len() != reference.coords().len() {
+    write_deformed_data(path, &reference.to_data(), displacement)
+}
+
+/// [`write_deformed`] of a mesh given as plain arrays (any cell types, 2D or 3D).
+pub fn write_deformed_data(path: &Path, data: &MeshData, displacement: &[f64]) -> Result<(), IoError> {
+    check_data(data, "write_deformed")?;
+    let (dim, n) = (data.dim, data.num_vertices());
+    if displacement.len() != dim * n {
         return Err(IoError::InvalidArgument(format!(
-            "write_deformed: {} displacements for a mesh of {} vertices",
+            "write_deformed: {} displacement values for a mesh of {n} vertices in {dim}D ({} expected)",
             displacement.len(),
-            reference.num_vertices()
+            dim * n
         )));
     }
-    let moved: Vec<f64> = reference.coords().iter().zip(displacement).map(|(p, d)| p + d).collect();
-    let a0 = signed_measures(reference, reference.coords());
-    let a1 = signed_measures(reference, &moved);
-    let ratio: Vec<f64> = a1.iter().zip(&a0).map(|(a, b)| a / b).collect();
-    let inverted: Vec<i32> = (0..reference.num_cells())
-        .map(|c| i32::from(crate::mesh::quality::is_inverted(reference, &moved, c)))
-        .collect();
-    let min_angle = crate::mesh::quality::min_angles(reference, &moved);
+    let moved_coords: Vec<f64> = data.coords.iter().zip(displacement).map(|(x, d)| x + d).collect();
+    let moved = MeshData { coords: moved_coords, ..data.clone() };
+    let m = data.num_cells();
+    let (mut ratio, mut inverted, mut min_angle) =
+        (Vec::with_capacity(m), Vec::with_capacity(m), Vec::with_capacity(m));
+    for c in 0..m {
+        let a1 = signed_measure(&moved, c);
+        ratio.push(a1 / signed_measure(data, c));
+        inverted.push(i32::from(a1 <= 0.0));
+        min_angle.push(if a1 > 0.0 { min_corner_angle_deg(&moved, c) } else { 0.0 });
+    }
+    let regions = if data.regions.is_empty() { vec![0; m] } else { data.regions.clone() };
     write_vtu(
         path,
-        reference,
         &moved,
-        &[("displacement", PointField::Vector(displacement))],
+        &[("displacement", PointField::Vector(displacement, dim))],
         &[
-            ("region", CellField::I32(reference.regions())),
-            ("area_ratio", CellField::F64(&ratio)),
+            ("region", CellField::I32(&regions)),
+            (if dim == 2 { "area_ratio" } else { "volume_ratio" }, CellField::F64(&ratio)),
             ("inverted", CellField::I32(&inverted)),
             ("min_angle", CellField::F64(&min_angle)),
         ],
     )
+}
+
+/// The polygons whose corners are measured: the cell itself in 2D, its faces in 3D.
+fn polygons(ty: CellType) -> &'static [&'static [u8]] {
+    match ty {
+        CellType::Triangle => &[&[0, 1, 2]],
+        CellType::Quad => &[&[0, 1, 2, 3]],
+        _ => ty.faces(),
+    }
+}
+
+/// Signed area (2D, of the polygon of the corners) or volume (3D, by the divergence theorem over
+/// the faces, each a fan of triangles from its first corner) of cell `c`.
+pub(crate) fn signed_measure(d: &MeshData, c: usize) -> f64 {
+    let cell = d.cell(c);
+    let p = |k: u8| d.point(cell[k as usize] as usize);
+    let mut sum = 0.0;
+    for poly in polygons(d.cell_types[c]) {
+        for k in 1..poly.len() - 1 {
+            let (a, b, e) = (p(poly[0]), p(poly[k]), p(poly[k + 1]));
+            sum += if d.dim == 2 {
+                0.5 * ((b[0] - a[0]) * (e[1] - a[1]) - (b[1] - a[1]) * (e[0] - a[0]))
+            } else {
+                let cross = [b[1] * e[2] - b[2] * e[1], b[2] * e[0] - b[0] * e[2], b[0] * e[1] - b[1] * e[0]];
+                (a[0] * cross[0] + a[1] * cross[1] + a[2] * cross[2]) / 6.0
+            };
+        }
+    }
+    sum
+}
+
+/// The smallest corner angle of cell `c`'s polygons, degrees.
+fn min_corner_angle_deg(d: &MeshData, c: usize) -> f64 {
+    let cell = d.cell(c);
+    let p = |k: u8| d.point(cell[k as usize] as usize);
+    let dot = |u: &[f64], v: &[f64]| u.iter().zip(v).map(|(x, y)| x * y).sum::<f64>();
+    let mut min = f64::INFINITY;
+    for poly in polygons(d.cell_types[c]) {
+        let len = poly.len();
+        for k in 0..len {
+            let (o, a, b) = (p(poly[k]), p(poly[(k + len - 1) % len]), p(poly[(k + 1) % len]));
+            let (mut u, mut v) = ([0.0; 3], [0.0; 3]);
+            for i in 0..d.dim {
+                (u[i], v[i]) = (a[i] - o[i], b[i] - o[i]);
+            }
+            let uv = dot(&u, &v);
+            let sin = (dot(&u, &u) * dot(&v, &v) - uv * uv).max(0.0).sqrt();
+            min = min.min(sin.atan2(uv));
+        }
+    }
+    min.to_degrees()
 }
