@@ -159,7 +159,7 @@ mod tests {
         assert_eq!(m.patch_ids(), vec![1, 2]);
         assert!((total_area(&m) - (16.0 - polygon_area(nc, 0.5))).abs() < 1e-10);
         for &v in &m.patch_vertices(CH_CYLINDER) {
-            let d = m.coords()[v as usize] - DVec2::new(2.0, 0.0);
+            let d = m.points_2d()[v as usize] - DVec2::new(2.0, 0.0);
             assert!((d.length() - 0.5).abs() < 1e-14);
         }
         assert!(min_angle(&m) >= 25.0, "min angle {}", min_angle(&m));
@@ -170,17 +170,16 @@ mod tests {
     fn boundary_layer() {
         let m = boundary_layer_cylinder();
         let nv = m.num_vertices();
-        let c = m.coords();
+        let c = m.points_2d();
         let r_out = ring_radius(BL_LAYERS);
         // Unstructured part: cells with a vertex outside the layer.
+        let angles = crate::mesh::quality::min_angles(&m, m.coords());
         let unstructured_min = m
-            .cells()
+            .tris()
             .iter()
-            .filter(|t| t.iter().any(|&v| c[v as usize].length() > r_out + 1e-9))
-            .map(|t| {
-                let [a, b, d] = t.map(|v| c[v as usize]);
-                crate::mesh::quality::min_angle_deg(a, b, d)
-            })
+            .zip(&angles)
+            .filter(|(t, _)| t.iter().any(|&v| c[v as usize].length() > r_out + 1e-9))
+            .map(|(_, &a)| a)
             .fold(180.0, f64::min);
         eprintln!(
             "boundary_layer_cylinder: {nv} vertices, {} cells, min angle {:.2} (unstructured {:.2}), layer thickness {:.4}",

@@ -152,8 +152,8 @@ mod tests {
         assert!(min_angle(&m) >= 25.0, "min angle {}", min_angle(&m));
         // Deterministic.
         let again = free_surface(h);
-        assert_eq!(again.coords(), m.coords());
-        assert_eq!(again.cells(), m.cells());
+        assert_eq!(again.points_2d(), m.points_2d());
+        assert_eq!(again.tris(), m.tris());
     }
 
     #[test]
@@ -173,20 +173,20 @@ mod tests {
         assert_eq!(m.num_vertices(), 2 * nl - 33);
         assert_eq!(m.num_cells(), 2 * lower.num_cells());
         assert!((total_area(&m) - 2.0).abs() < 1e-10);
-        assert_eq!(&m.coords()[..nl], lower.coords());
+        assert_eq!(&m.points_2d()[..nl], lower.points_2d());
         // Every vertex's mirror is a vertex, bitwise.
         let key = |p: DVec2| (p.x.to_bits(), p.y.to_bits());
-        let set: std::collections::HashSet<_> = m.coords().iter().map(|&p| key(p)).collect();
-        for p in lower.coords() {
-            let q = if p.y == 0.0 { *p } else { DVec2::new(p.x, -p.y) };
+        let set: std::collections::HashSet<_> = m.points_2d().iter().map(|&p| key(p)).collect();
+        for p in lower.points_2d() {
+            let q = if p.y == 0.0 { p } else { DVec2::new(p.x, -p.y) };
             assert!(set.contains(&key(q)), "no mirror of {p}");
         }
-        let upper: Vec<_> = m.coords()[nl..].to_vec();
+        let upper: Vec<_> = m.points_2d()[nl..].to_vec();
         assert!(upper.iter().all(|p| p.y > 0.0));
         // Regions: equal counts, region 1 above y = 0.
         let r = m.regions();
         assert_eq!(r.iter().filter(|&&x| x == 0).count(), lower.num_cells());
-        for (c, t) in m.cells().iter().enumerate() {
+        for (c, t) in m.tris().iter().enumerate() {
             let cy: f64 = t.iter().map(|&v| m.point(v as usize)[1]).sum::<f64>() / 3.0;
             assert_eq!(r[c], i32::from(cy > 0.0));
         }
@@ -196,7 +196,7 @@ mod tests {
         assert_eq!(m.patch_vertices(IF_INTERFACE).len(), 33);
         assert_eq!(m.patch_vertices(IF_LEFT).len(), 65);
         assert_eq!(m.patch_vertices(IF_RIGHT).len(), 65);
-        let iface: Vec<_> = m.patch_edges().iter().filter(|e| e.patch == IF_INTERFACE).collect();
+        let iface: Vec<_> = m.patch_edges().into_iter().filter(|e| e.patch == IF_INTERFACE).collect();
         assert_eq!(iface.len(), 32);
         assert!(iface.iter().all(|e| e.interior));
         assert!(m.patch_edges().iter().all(|e| (e.patch == IF_INTERFACE) == e.interior));

@@ -58,7 +58,7 @@ pub fn boundary_layer_cylinder_hybrid() -> MeshData {
 mod tests {
     use super::super::meshes::{boundary_layer_cylinder, BL_CYLINDER, BL_FAR, BL_LAYERS, BL_N_THETA};
     use super::*;
-    use crate::mesh::quality::signed_areas;
+    use crate::mesh::quality::signed_measures;
 
     /// Twice the signed area of the triangle (a, b, c).
     fn cross(a: &[f64], b: &[f64], c: &[f64]) -> f64 {
@@ -120,7 +120,7 @@ mod tests {
         let d = boundary_layer_cylinder_hybrid();
         let m = boundary_layer_cylinder();
         assert_eq!(d.num_vertices(), m.num_vertices());
-        for (v, p) in m.coords().iter().enumerate() {
+        for (v, p) in m.points_2d().iter().enumerate() {
             assert_eq!(d.point(v), &[p.x, p.y]);
         }
         let quads: Vec<usize> = (0..d.num_cells()).filter(|&c| d.cell_types[c] == CellType::Quad).collect();
@@ -129,7 +129,7 @@ mod tests {
         assert!(quads.iter().all(|&c| convex(&d, c)), "a wall-layer quad is not convex");
         assert!((0..d.num_cells()).all(|c| area(&d, c) > 0.0), "a cell is not counter-clockwise");
         let total = sum((0..d.num_cells()).map(|c| area(&d, c)));
-        let triangles = sum(signed_areas(&m, m.coords()).into_iter());
+        let triangles = sum(signed_measures(&m, m.coords()).into_iter());
         assert!((total - triangles).abs() < 1e-12, "{total} vs {triangles}");
         // The same tagged faces as the triangle mesh's patches (whose edges are oriented by it).
         let sorted = |a: u32, b: u32| [a.min(b), a.max(b)];

@@ -90,13 +90,13 @@ pub(super) mod test_util {
     /// (min, mean, max) edge length.
     pub fn edge_lengths(m: &Mesh) -> (f64, f64, f64) {
         let mut e: Vec<(u32, u32)> = m
-            .cells()
+            .tris()
             .iter()
             .flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])].map(|(a, b)| (a.min(b), a.max(b))))
             .collect();
         e.sort_unstable();
         e.dedup();
-        let c = m.coords();
+        let c = m.points_2d();
         let l: Vec<f64> = e.iter().map(|&(a, b)| (c[a as usize] - c[b as usize]).length()).collect();
         let mean = l.iter().sum::<f64>() / l.len() as f64;
         (l.iter().copied().fold(f64::INFINITY, f64::min), mean, l.iter().copied().fold(0.0, f64::max))

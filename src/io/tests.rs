@@ -23,16 +23,16 @@ fn edges_of(m: &Mesh, patch: i32) -> usize {
 fn assert_same(a: &MshMesh, b: &MshMesh, tol: f64) {
     let (ma, mb) = (&a.mesh, &b.mesh);
     assert_eq!(ma.num_vertices(), mb.num_vertices());
-    assert_eq!(ma.cells(), mb.cells());
+    assert_eq!(ma.tris(), mb.tris());
     assert_eq!(ma.regions(), mb.regions());
     assert_eq!(ma.patch_edges(), mb.patch_edges());
     assert_eq!(a.node_tags, b.node_tags);
     assert_eq!(a.physical_names, b.physical_names);
-    for (p, q) in ma.coords().iter().zip(mb.coords()) {
+    for (p, q) in ma.points_2d().iter().zip(mb.points_2d()) {
         if tol == 0.0 {
             assert_eq!((p.x.to_bits(), p.y.to_bits()), (q.x.to_bits(), q.y.to_bits()));
         } else {
-            assert!((*p - *q).abs().max_element() <= tol, "{p} vs {q}");
+            assert!((*p - q).abs().max_element() <= tol, "{p} vs {q}");
         }
     }
 }
@@ -61,7 +61,7 @@ fn gmsh_fixtures_22_41_ascii_binary_agree() {
     );
     // The hole: patch 3 vertices at distance 0.2 from (0.5, 0.5).
     for v in m0.mesh.patch_vertices(3) {
-        let d = (m0.mesh.coords()[v as usize] - DVec2::new(0.5, 0.5)).length();
+        let d = (m0.mesh.points_2d()[v as usize] - DVec2::new(0.5, 0.5)).length();
         assert!((d - 0.2).abs() < 1e-12, "{d}");
     }
     // Gmsh writes ASCII with %.16g, so ASCII and binary agree to rounding only.
@@ -80,14 +80,14 @@ fn gmsh_two_regions_interface_and_unnamed_curve() {
     let m = &a.mesh;
     assert_eq!((m.num_vertices(), m.num_cells()), (56, 86));
     assert_eq!(m.patch_ids(), vec![0, 4, 5, 9]);
-    let interface: Vec<_> = m.patch_edges().iter().filter(|e| e.patch == 9).collect();
+    let interface: Vec<_> = m.patch_edges().into_iter().filter(|e| e.patch == 9).collect();
     assert_eq!(interface.len(), 4);
     assert!(interface.iter().all(|e| e.interior));
     assert!(m.patch_vertices(9).iter().all(|&v| m.point(v as usize)[0] == 1.0));
     assert!(m.patch_vertices(0).iter().all(|&v| m.point(v as usize)[1] == 1.0));
     assert_eq!(edges_of(m, 4), 8);
     assert_eq!(edges_of(m, 0), 8);
-    for (c, &r) in m.cells().iter().zip(m.regions()) {
+    for (c, &r) in m.tris().iter().zip(m.regions()) {
         let cx = c.iter().map(|&v| m.point(v as usize)[0]).sum::<f64>() / 3.0;
         assert_eq!(r, if cx < 1.0 { 1 } else { 2 });
     }
@@ -103,21 +103,21 @@ fn write_msh22_round_trip_is_exact() {
     let src = read_msh(&data("two_regions_41.msh")).unwrap().mesh;
     // Coordinates with full 53-bit mantissas, and one tiny and one huge offset.
     let coords: Vec<DVec2> = src
-        .coords()
+        .points_2d()
         .iter()
         .enumerate()
         .map(|(i, p)| *p * std::f64::consts::PI + DVec2::splat(1e-300 * i as f64))
         .collect();
-    let mesh = src.with_coords(coords);
+    let mesh = src.with_coords(coords.iter().flat_map(|p| [p.x, p.y]).collect());
     let path = tmp("round.msh");
     write_msh22(&mesh, &path).unwrap();
     let back = read_msh(&path).unwrap();
     assert_eq!(back.node_tags, (1..=mesh.num_vertices()).collect::<Vec<_>>());
     let bm = &back.mesh;
-    for (p, q) in mesh.coords().iter().zip(bm.coords()) {
+    for (p, q) in mesh.points_2d().iter().zip(bm.points_2d()) {
         assert_eq!((p.x.to_bits(), p.y.to_bits()), (q.x.to_bits(), q.y.to_bits()));
     }
-    assert_eq!(bm.cells(), mesh.cells());
+    assert_eq!(bm.tris(), mesh.tris());
     assert_eq!(bm.regions(), mesh.regions());
     assert_eq!(bm.patch_edges(), mesh.patch_edges());
 }
@@ -163,7 +163,7 @@ fn vtu_round_trip_is_exact() {
     assert_eq!(d.cell_data[1].1, k.iter().map(|&x| x as f64).collect::<Vec<_>>());
     let back = d.to_mesh().unwrap();
     assert_eq!(back.regions(), &k[..]);
-    assert_eq!(back.cells(), mesh.cells());
+    assert_eq!(back.tris(), mesh.tris());
 }
 
 #[test]
@@ -171,7 +171,7 @@ fn write_deformed_fields() {
     let mesh = read_msh(&data("square_hole_22.msh")).unwrap().mesh;
     let n = mesh.num_vertices();
     // Stretch x by 2 (area ratio 2), then flip one vertex far across to invert some cells.
-    let mut disp: Vec<f64> = mesh.coords().iter().flat_map(|p| [p.x, 0.0]).collect();
+    let mut disp: Vec<f64> = mesh.points_2d().iter().flat_map(|p| [p.x, 0.0]).collect();
     let path = tmp("def.vtu");
     write_deformed(&path, &mesh, &disp).unwrap();
     let d = read_vtu(&path).unwrap();
@@ -180,10 +180,10 @@ fn write_deformed_fields() {
     assert!(get("inverted").iter().all(|&r| r == 0.0));
     assert!(get("region").iter().all(|&r| r == 7.0));
     assert!(get("min_angle").iter().all(|&a| a > 0.0 && a < 60.0));
-    for (p, (q, u)) in d.mesh.coords.chunks_exact(2).zip(mesh.coords().iter().zip(disp.chunks_exact(2))) {
+    for (p, (q, u)) in d.mesh.coords.chunks_exact(2).zip(mesh.points_2d().iter().zip(disp.chunks_exact(2))) {
         assert_eq!(p[0], q.x + u[0]);
     }
-    let v = mesh.cells()[0][0] as usize;
+    let v = mesh.tris()[0][0] as usize;
     disp[2 * v..2 * v + 2].copy_from_slice(&[5.0, 5.0]);
     write_deformed(&path, &mesh, &disp).unwrap();
     let d = read_vtu(&path).unwrap();
@@ -409,7 +409,7 @@ fn mesh_off_the_xy_plane_is_not_planar() {
     // One z for every node is a plane: read, z dropped.
     let raised = GOOD22.replace(" 0\n", " 2.5\n");
     assert!(raised.contains("10 0 0 2.5"));
-    assert_eq!(parse_msh(raised.as_bytes()).unwrap().mesh.coords()[2], DVec2::new(1.0, 1.0));
+    assert_eq!(parse_msh(raised.as_bytes()).unwrap().mesh.points_2d()[2], DVec2::new(1.0, 1.0));
     // The same check for .vtu points.
     let t = vtu_text();
     let a = t.find("<Points>").unwrap();
