@@ -11,7 +11,7 @@ use crate::motion::{Motion, RigidMotion};
 use std::f64::consts::TAU;
 
 /// The case names of the CLI's `results.csv`, in order.
-pub const CASE_NAMES: [&str; 9] = [
+pub const CASE_NAMES: [&str; 10] = [
     "free_surface_a0.1",
     "free_surface_a0.25",
     "free_surface_a0.25_10steps",
@@ -21,6 +21,7 @@ pub const CASE_NAMES: [&str; 9] = [
     "deforming_interface_B",
     "cylinder_channel",
     "boundary_layer_cylinder",
+    "boundary_layer_cylinder_hybrid",
 ];
 
 /// Mesh sizes: the paper's (docs/DESIGN.md §7) or coarse ones for quick smoke runs.
@@ -125,13 +126,22 @@ pub fn cylinder_channel_case(h: f64) -> CaseSetup {
 /// [−10,20]×[−10,10] with the wall-layer cylinder moved 4.5 D along (−1, 1)/√2 by a rigid
 /// translation; far field FIXED, cylinder CLAMPED.
 pub fn boundary_layer_cylinder_case() -> CaseSetup {
-    let mesh = boundary_layer_cylinder();
+    bl_case("boundary_layer_cylinder", boundary_layer_cylinder())
+}
+
+/// The same case on the hybrid mesh: the 15 wall layers as quads, triangles outside.
+pub fn boundary_layer_cylinder_hybrid_case() -> CaseSetup {
+    let mesh = Mesh::from_data(&super::hybrid::boundary_layer_cylinder_hybrid()).expect("valid hybrid mesh");
+    bl_case("boundary_layer_cylinder_hybrid", mesh)
+}
+
+fn bl_case(name: &str, mesh: Mesh) -> CaseSetup {
     let mut bcs = BoundaryConditions::new();
     bcs.set_kinds(BL_FAR, Kind::Fixed).set_kinds(BL_CYLINDER, Kind::Clamped);
     let t = [-4.5 / 2f64.sqrt(), 4.5 / 2f64.sqrt(), 0.0];
     let motion = Motion::zero(&mesh).with_rigid(BL_CYLINDER, RigidMotion::translation(t));
     CaseSetup {
-        name: "boundary_layer_cylinder".into(),
+        name: name.into(),
         mesh,
         bcs,
         motion,
@@ -160,6 +170,7 @@ pub fn case(name: &str, scale: Scale) -> Option<CaseSetup> {
         }
         "cylinder_channel" => cylinder_channel_case(hc),
         "boundary_layer_cylinder" => boundary_layer_cylinder_case(),
+        "boundary_layer_cylinder_hybrid" => boundary_layer_cylinder_hybrid_case(),
         _ => return None,
     })
 }

@@ -65,7 +65,7 @@ impl CellPoints {
             CellType::Triangle => simplex::triangle_area(&self.p),
             CellType::Quad => tensor::quad_area(&self.p),
             CellType::Tetra => simplex::tet_volume(&self.p),
-            _ => tensor::volume_by_corners(self.ty, &self.p),
+            _ => tensor::volume_by_faces(self.ty, &self.p),
         }
     }
 

@@ -105,16 +105,17 @@ pub(super) fn min_corner_jacobian(ty: CellType, p: &[[f64; 3]]) -> f64 {
     corner_jacobians(ty, p).fold(f64::INFINITY, f64::min)
 }
 
-/// A signed volume of a 3D non-simplex cell: the sum of its corner Jacobians weighted to the
-/// exact volume of an affine cell (used for orientation and ratios).
-pub(super) fn volume_by_corners(ty: CellType, p: &[[f64; 3]]) -> f64 {
-    let n = corner_frames(ty).len() as f64;
-    let unit = match ty {
-        CellType::Hexahedron => 1.0,
-        CellType::Wedge => 0.5,
-        _ => 1.0 / 3.0,
-    };
-    corner_jacobians(ty, p).sum::<f64>() / n * unit
+/// The signed volume of a 3D cell by the divergence theorem over its outward faces, each a fan
+/// of triangles from its first corner (exact for planar faces).
+pub(super) fn volume_by_faces(ty: CellType, p: &[[f64; 3]]) -> f64 {
+    let mut sum = 0.0;
+    for f in ty.faces() {
+        for k in 1..f.len() - 1 {
+            let (a, b, e) = (&p[f[0] as usize], &p[f[k] as usize], &p[f[k + 1] as usize]);
+            sum += dot3(a, &cross(b, e));
+        }
+    }
+    sum / 6.0
 }
 
 /// The smallest angle between the two (2D) or three (3D) edges of any corner's frame, degrees.
@@ -170,6 +171,6 @@ mod tests {
             h[k] = c.map(|x| x as f64);
         }
         assert_eq!(min_corner_jacobian(CellType::Hexahedron, &h), 1.0);
-        assert_eq!(volume_by_corners(CellType::Hexahedron, &h), 1.0);
+        assert_eq!(volume_by_faces(CellType::Hexahedron, &h), 1.0);
     }
 }

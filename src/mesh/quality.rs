@@ -27,6 +27,7 @@ pub fn inverted_cells(mesh: &Mesh, coords: &[f64]) -> Vec<usize> {
 }
 
 /// The smallest corner angle of every cell at positions `coords`, degrees.
+#[cfg(test)]
 pub(crate) fn min_angles(mesh: &Mesh, coords: &[f64]) -> Vec<f64> {
     (0..mesh.num_cells()).map(|c| points(mesh, coords, c).min_angle_deg()).collect()
 }

@@ -27,6 +27,7 @@ mod write;
 
 pub use read::{parse_vtu, read_vtu};
 #[cfg(test)]
+#[cfg(test)]
 pub(crate) use write::signed_measure;
 pub use write::{write_deformed, write_deformed_data, write_vtu};
 

@@ -1,7 +1,7 @@
 //! The `.vtu` writer: ASCII, shortest round-trip floats.
 
 use super::{CellField, PointField};
-use crate::geometry::CellType;
+use crate::geometry::CellPoints;
 use crate::io::{check_data, io_err, IoError};
 use crate::mesh::{Mesh, MeshData};
 use std::fmt::Write as _;
@@ -105,9 +105,9 @@ fn push_tuples(s: &mut String, values: &[f64], comps: usize) {
 
 /// Writes `reference` moved by `displacement` (`dim` values per vertex), with point data
 /// `displacement` and cell data `region` (Int32), `area_ratio` in 2D or `volume_ratio` in 3D
-/// (deformed over reference signed measure), `inverted` (1 where the deformed signed measure is
-/// not positive) and `min_angle` (degrees: the smallest corner angle of the cell in 2D, of its
-/// faces in 3D; 0 for inverted cells).
+/// (deformed over reference signed measure), `inverted` (1 where a corner Jacobian of the
+/// deformed cell is not positive) and `min_angle` (degrees: the smallest angle between two edges
+/// at a corner; 0 for inverted cells).
 pub fn write_deformed(path: &Path, reference: &Mesh, displacement: &[f64]) -> Result<(), IoError> {
     write_deformed_data(path, &reference.to_data(), displacement)
 }
@@ -129,10 +129,11 @@ pub fn write_deformed_data(path: &Path, data: &MeshData, displacement: &[f64]) -
     let (mut ratio, mut inverted, mut min_angle) =
         (Vec::with_capacity(m), Vec::with_capacity(m), Vec::with_capacity(m));
     for c in 0..m {
-        let a1 = signed_measure(&moved, c);
-        ratio.push(a1 / signed_measure(data, c));
-        inverted.push(i32::from(a1 <= 0.0));
-        min_angle.push(if a1 > 0.0 { min_corner_angle_deg(&moved, c) } else { 0.0 });
+        let (p0, p1) = (cell_points(data, c), cell_points(&moved, c));
+        ratio.push(p1.signed_measure() / p0.signed_measure());
+        let bad = !(p1.min_corner_jacobian() > 0.0);
+        inverted.push(i32::from(bad));
+        min_angle.push(if bad { 0.0 } else { p1.min_angle_deg() });
     }
     let regions = if data.regions.is_empty() { vec![0; m] } else { data.regions.clone() };
     write_vtu(
@@ -148,53 +149,12 @@ pub fn write_deformed_data(path: &Path, data: &MeshData, displacement: &[f64]) -
     )
 }
 
-/// The polygons whose corners are measured: the cell itself in 2D, its faces in 3D.
-fn polygons(ty: CellType) -> &'static [&'static [u8]] {
-    match ty {
-        CellType::Triangle => &[&[0, 1, 2]],
-        CellType::Quad => &[&[0, 1, 2, 3]],
-        _ => ty.faces(),
-    }
-}
-
-/// Signed area (2D, of the polygon of the corners) or volume (3D, by the divergence theorem over
-/// the faces, each a fan of triangles from its first corner) of cell `c`.
+/// Signed area (2D) or volume (3D) of cell `c` (the geometry module's).
+#[cfg(test)]
 pub(crate) fn signed_measure(d: &MeshData, c: usize) -> f64 {
-    let cell = d.cell(c);
-    let p = |k: u8| d.point(cell[k as usize] as usize);
-    let mut sum = 0.0;
-    for poly in polygons(d.cell_types[c]) {
-        for k in 1..poly.len() - 1 {
-            let (a, b, e) = (p(poly[0]), p(poly[k]), p(poly[k + 1]));
-            sum += if d.dim == 2 {
-                0.5 * ((b[0] - a[0]) * (e[1] - a[1]) - (b[1] - a[1]) * (e[0] - a[0]))
-            } else {
-                let cross = [b[1] * e[2] - b[2] * e[1], b[2] * e[0] - b[0] * e[2], b[0] * e[1] - b[1] * e[0]];
-                (a[0] * cross[0] + a[1] * cross[1] + a[2] * cross[2]) / 6.0
-            };
-        }
-    }
-    sum
+    cell_points(d, c).signed_measure()
 }
 
-/// The smallest corner angle of cell `c`'s polygons, degrees.
-fn min_corner_angle_deg(d: &MeshData, c: usize) -> f64 {
-    let cell = d.cell(c);
-    let p = |k: u8| d.point(cell[k as usize] as usize);
-    let dot = |u: &[f64], v: &[f64]| u.iter().zip(v).map(|(x, y)| x * y).sum::<f64>();
-    let mut min = f64::INFINITY;
-    for poly in polygons(d.cell_types[c]) {
-        let len = poly.len();
-        for k in 0..len {
-            let (o, a, b) = (p(poly[k]), p(poly[(k + len - 1) % len]), p(poly[(k + 1) % len]));
-            let (mut u, mut v) = ([0.0; 3], [0.0; 3]);
-            for i in 0..d.dim {
-                (u[i], v[i]) = (a[i] - o[i], b[i] - o[i]);
-            }
-            let uv = dot(&u, &v);
-            let sin = (dot(&u, &u) * dot(&v, &v) - uv * uv).max(0.0).sqrt();
-            min = min.min(sin.atan2(uv));
-        }
-    }
-    min.to_degrees()
+fn cell_points(d: &MeshData, c: usize) -> CellPoints {
+    CellPoints::gather(d.cell_types[c], d.cell(c), &d.coords, d.dim)
 }
