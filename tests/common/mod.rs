@@ -145,7 +145,29 @@ pub fn annulus(nr: usize, nt: usize, r0: f64, r1: f64, ratio: f64) -> Mesh {
 
 use glam::DVec2;
 use meshmove::bc::{P, Z};
-use meshmove::{Method, Solver};
+use meshmove::{Method, RigidMotion, Solver};
+
+/// Flat 2D values (x0, y0, x1, y1, …: coordinates, displacements) as one vector per vertex.
+pub fn to_vec2(flat: &[f64]) -> Vec<DVec2> {
+    assert_eq!(flat.len() % 2, 0, "not 2D values");
+    flat.chunks_exact(2).map(|p| DVec2::new(p[0], p[1])).collect()
+}
+
+/// One vector per vertex as flat 2D values (x0, y0, x1, y1, …).
+pub fn to_flat(v: &[DVec2]) -> Vec<f64> {
+    v.iter().flat_map(|p| p.to_array()).collect()
+}
+
+/// The displacement of a rigid motion at a 2D point.
+pub fn rigid_at(m: &RigidMotion, x: DVec2) -> DVec2 {
+    let d = m.displacement(&x.to_array());
+    DVec2::new(d[0], d[1])
+}
+
+/// A 2D rigid motion: rotation by `angle` about `center`, then translation by `translation`.
+pub fn planar(translation: DVec2, angle: f64, center: DVec2) -> RigidMotion {
+    RigidMotion::planar(translation.to_array(), angle, center.to_array())
+}
 
 /// A smooth, non-linear boundary displacement field, 1-periodic in x so it suits linked sides
 /// (read only where prescribed).
@@ -206,7 +228,8 @@ pub fn direct_solve(solver: &Solver, c: usize, d: &[f64]) -> Vec<f64> {
     out
 }
 
-/// Per-unknown values of component `c` of a per-vertex field.
-pub fn at_dofs(solver: &Solver, field: &[DVec2], c: usize) -> Vec<f64> {
-    solver.hierarchy().levels[0].dofs.dof_vertex.iter().map(|&v| field[v as usize][c]).collect()
+/// Per-unknown values of component `c` of a per-vertex field (`dim` values per vertex).
+pub fn at_dofs(solver: &Solver, field: &[f64], c: usize) -> Vec<f64> {
+    let dim = solver.mesh().dim();
+    solver.hierarchy().levels[0].dofs.dof_vertex.iter().map(|&v| field[v as usize * dim + c]).collect()
 }
