@@ -1,3 +1,4 @@
+#![deny(missing_docs)]
 //! meshmove: moves the interior of an unstructured mesh when its boundaries move.
 //!
 //! The biharmonic mesh deformation of Helenbrook (2001), beside the Laplacian and spring-analogy
@@ -19,7 +20,7 @@
 //! // prescription applies, and the value is read from the displacement array.
 //! let sol = solver.solve(&motion).unwrap();
 //! assert!(sol.report.converged);
-//! assert!(sol.displacement[4].y > 0.0);
+//! assert!(sol.displacement[2 * 4 + 1] > 0.0);
 //! ```
 
 /// A module of the solver's internals: public (and hidden from the documentation) only with
@@ -29,6 +30,7 @@ macro_rules! internal_mod {
     ($($name:ident),*) => {$(
         #[cfg(feature = "internals")]
         #[doc(hidden)]
+        #[allow(missing_docs)]
         pub mod $name;
         #[cfg(not(feature = "internals"))]
         mod $name;
@@ -50,8 +52,10 @@ pub mod solver;
 pub use bc::{BoundaryConditions, InterfaceVariant, Kind, Link};
 pub use error::{Error, Result};
 pub use geometry::CellType;
-pub use mesh::{IndexBase, Mesh, MeshData, MeshError, PatchFace};
+pub use mesh::{IndexBase, Mesh, MeshData, MeshError, PatchFace, Quality};
 pub use motion::{Motion, RigidMotion};
+pub use multigrid::coarsen::CoarsenParams;
+pub use multigrid::hierarchy::{CoarseOperator, HierarchyParams};
 pub use multigrid::solve::{Criterion, Mode, Report, SolveParams};
 pub use operator::Method;
 pub use solver::{Options, ReferenceMode, Solution, Solver, StepReport};
