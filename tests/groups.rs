@@ -58,10 +58,10 @@ fn one_group_equals_separate_components() {
             lev.op.rhs(&lev.flags[c], &dp, None, &mut b[c * n..(c + 1) * n], &mut s);
         }
         let p = SolveParams { tol: 1e-11, ..Default::default() };
-        let mut joint = vec![0.0; 2 * n];
+        let mut joint = vec![0.0f64; 2 * n];
         let rj = solve(h, 0..2, &p, &b, &mut joint, 1.0);
         assert!(rj.converged, "{method:?}: joint solve did not converge");
-        let mut sep = vec![0.0; 2 * n];
+        let mut sep = vec![0.0f64; 2 * n];
         for c in 0..2 {
             let r = solve(h, c..c + 1, &p, &b[c * n..(c + 1) * n], &mut sep[c * n..(c + 1) * n], 1.0);
             assert!(r.converged);
