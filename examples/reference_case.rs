@@ -11,7 +11,6 @@
 //! The set-ups here must match the examples operation for operation: same mesh, same boundary
 //! conditions, same per-step boundary displacement expressions.
 
-use glam::DVec2;
 use meshmove::cases::meshes::*;
 use meshmove::{BoundaryConditions, InterfaceVariant, Kind, Motion, Options, Solver};
 use std::f64::consts::PI;
@@ -29,15 +28,15 @@ fn free_surface_case(out: &Path) {
 }
 
 /// Moves `s` step by step as `meshmove_solver_move` does and writes the final mesh.
-fn stepped(mut s: Solver, steps: usize, bdisp: impl Fn(usize, &Solver) -> Vec<DVec2>, out: &Path) {
+fn stepped(mut s: Solver, steps: usize, bdisp: impl Fn(usize, &Solver) -> Vec<f64>, out: &Path) {
     for n in 1..=steps {
         let d = bdisp(n, &s);
         let sol = s.solve(&Motion::from_displacement(d)).unwrap();
-        let moved: Vec<DVec2> = s.mesh().coords().iter().zip(&sol.displacement).map(|(a, b)| *a + *b).collect();
+        let moved: Vec<f64> = s.mesh().coords().iter().zip(&sol.displacement).map(|(a, b)| *a + *b).collect();
         s.set_reference(moved).unwrap();
     }
-    let nv = s.mesh().num_vertices();
-    write_deformed(out, s.mesh(), &vec![DVec2::ZERO; nv]);
+    let n = s.mesh().coords().len();
+    write_deformed(out, s.mesh(), &vec![0.0; n]);
 }
 
 /// Cylinder in a channel, h = 1/8, cylinder y(t) = 0.25 sin(2π t / 20) over 20 steps of dt = 1
@@ -56,9 +55,9 @@ fn fv_cylinder_case(out: &Path) {
             let t1 = n as f64 * dt;
             let t0 = (n - 1) as f64 * dt;
             let dy = amp * ((w * t1).sin() - (w * t0).sin());
-            let mut d = vec![DVec2::ZERO; s.mesh().num_vertices()];
+            let mut d = vec![0.0; s.mesh().coords().len()];
             for &v in &cyl {
-                d[v as usize].y = dy;
+                d[2 * v as usize + 1] = dy;
             }
             d
         },
@@ -82,10 +81,10 @@ fn fv_interface_case(out: &Path) {
         s,
         15,
         |_, s| {
-            let mut d = vec![DVec2::ZERO; s.mesh().num_vertices()];
+            let mut d = vec![0.0; s.mesh().coords().len()];
             for &v in &iface {
-                let x = s.mesh().coords()[v as usize].x;
-                d[v as usize].y = 0.25 * (2.0 * PI * x).cos() / 15.0;
+                let x = s.mesh().point(v as usize)[0];
+                d[2 * v as usize + 1] = 0.25 * (2.0 * PI * x).cos() / 15.0;
             }
             d
         },
@@ -93,10 +92,9 @@ fn fv_interface_case(out: &Path) {
     );
 }
 
-/// `meshmove::io::write_deformed` of a displacement per vertex.
-fn write_deformed(out: &Path, mesh: &meshmove::Mesh, displacement: &[DVec2]) {
-    let flat: Vec<f64> = displacement.iter().flat_map(|d| d.to_array()).collect();
-    meshmove::io::write_deformed(out, mesh, &flat).unwrap();
+/// `meshmove::io::write_deformed` of a displacement per vertex (`dim` values per vertex).
+fn write_deformed(out: &Path, mesh: &meshmove::Mesh, displacement: &[f64]) {
+    meshmove::io::write_deformed(out, mesh, displacement).unwrap();
 }
 
 fn compare(a: &Path, b: &Path, tol: f64) -> bool {

@@ -82,7 +82,7 @@ fn l1_bound_dominates_rows_and_sweeps_contract() {
 fn bare_diagonal_diverges_where_the_l1_bound_does_not() {
     let mesh = structured_rectangle(14, 14, 0.0, 1.0, 0.0, 1.0);
     let mut bcs = BoundaryConditions::new();
-    bcs.default_kind = [Kind::Clamped; 2];
+    bcs.default_kind = [Kind::Clamped; 3];
     let s = Solver::new(&mesh, &bcs, Options::default()).unwrap();
     let lev = &s.hierarchy().levels[0];
     let (free, a) = dense_a(&s, 1);
