@@ -1,6 +1,11 @@
 //! Quad and mixed triangle/quad meshes: linear displacement fields reproduced exactly by every
 //! method (the Q1 stiffness and lumped mass keep linear fields in the discrete solution).
 
+mod common;
+
+use common::{at_dofs, direct_solve, to_flat, wavy};
+use meshmove::cases::report::{patch_measures, run_case};
+use meshmove::cases::setups::{case, Scale};
 use meshmove::{BoundaryConditions, CellType, Kind, Mesh, MeshData, Method, Motion, Options, Solver};
 
 /// An n × n grid on [0,1]², perturbed inside, quads (or, with `mixed`, the left half split
@@ -81,4 +86,51 @@ fn non_convex_quads_are_refused() {
     d.push_cell(CellType::Quad, &[0, 1, 2, 3], 0);
     let e = Mesh::from_data(&d).unwrap_err();
     assert!(e.to_string().contains("not convex"), "{e}");
+}
+
+/// The multigrid solution on quad and mixed meshes equals a dense direct solve of the same
+/// discrete system, for every method, with FIXED and CLAMPED walls.
+#[test]
+fn quads_and_mixed_meshes_match_direct_solve() {
+    for mixed in [false, true] {
+        let mesh = grid(12, mixed);
+        let field = to_flat(&mesh.points_2d().iter().map(|&x| wavy(x)).collect::<Vec<_>>());
+        for kind in [Kind::Fixed, Kind::Clamped] {
+            let mut bcs = BoundaryConditions::new();
+            bcs.set_kinds(1, kind);
+            for method in [Method::Biharmonic, Method::Laplacian, Method::Spring] {
+                let mut o = Options { method, ..Default::default() };
+                o.solve.tol = 1e-13;
+                let s = Solver::new(&mesh, &bcs, o).unwrap();
+                assert!(s.num_levels() >= 2, "no coarse level");
+                let sol = s.solve(&Motion::from_displacement(field.clone())).unwrap();
+                for c in 0..2 {
+                    let mg = at_dofs(&s, &sol.displacement, c);
+                    let direct = direct_solve(&s, c, &mg);
+                    let scale = direct.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+                    let err = mg.iter().zip(&direct).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+                    assert!(scale > 1e-3 && err <= 1e-10 * scale, "mixed={mixed} {kind:?} {method:?} {c}: {err:e}");
+                }
+            }
+        }
+    }
+}
+
+/// The boundary-layer finding of the paper on the hybrid mesh (the 15 wall layers as quads):
+/// biharmonic and spring valid with the wall layer kept, the Laplacian inverts.
+#[test]
+fn boundary_layer_finding_holds_on_the_hybrid_mesh() {
+    let setup = case("boundary_layer_cylinder_hybrid", Scale::Paper).unwrap();
+    assert!(setup.mesh.cell_types().contains(&CellType::Quad));
+    assert!(setup.mesh.cell_types().contains(&CellType::Triangle));
+    for method in [Method::Biharmonic, Method::Laplacian, Method::Spring] {
+        let r = run_case(&setup, method, &Options::default()).unwrap();
+        if method == Method::Laplacian {
+            assert!(r.inverted > 500, "Laplacian: {} inverted", r.inverted);
+            continue;
+        }
+        assert_eq!(r.inverted, 0, "{method:?}");
+        let pm = patch_measures(&setup.mesh, &r.coords, setup.moved_patch, None);
+        assert!(pm.area_ratio.0 > 0.99 && pm.area_ratio.1 < 1.01, "{method:?}: wall cells {:?}", pm.area_ratio);
+    }
 }
