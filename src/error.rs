@@ -3,17 +3,30 @@
 use crate::mesh::MeshError;
 use thiserror::Error;
 
+/// Everything that can go wrong in meshmove; each variant's message names the offending item.
 #[derive(Debug, Clone, PartialEq, Error)]
 #[non_exhaustive]
 pub enum Error {
+    /// The mesh is invalid.
     #[error("invalid mesh: {0}")]
     Mesh(#[from] MeshError),
+    /// The boundary conditions do not fit the mesh (an unknown patch, a link without partners, …); the
+    /// message says which.
     #[error("invalid boundary conditions: {0}")]
     Bc(String),
+    /// A displacement component is undetermined: a connected part of the mesh has no vertex where it
+    /// is prescribed.
     #[error("ill-posed problem: component {component} has no prescribed vertex{detail}")]
-    IllPosed { component: &'static str, detail: String },
+    IllPosed {
+        /// The undetermined component: `"x"`, `"y"` or `"z"`.
+        component: &'static str,
+        /// The rest of the message: the part of the mesh (when there are several) and the remedy.
+        detail: String,
+    },
+    /// An argument or option is out of its range; the message says which.
     #[error("invalid argument: {0}")]
     InvalidArgument(String),
+    /// The multigrid hierarchy could not be built (the coarsener refused its input).
     #[error("multigrid hierarchy could not be built: {0}")]
     Coarsening(String),
     /// The iteration diverged, or conjugate gradients broke down (pᵀAp ≤ 0 or not finite).
@@ -25,8 +38,10 @@ pub enum Error {
     /// The reference mesh of a step has cells of non-positive area: nothing was solved on it.
     #[error("tangled reference mesh: {0}")]
     Tangled(String),
+    /// A mesh file could not be read or written.
     #[error("mesh file: {0}")]
     Io(#[from] crate::io::IoError),
 }
 
+/// The crate's result type, with [`enum@Error`] as the default error.
 pub type Result<T, E = Error> = std::result::Result<T, E>;

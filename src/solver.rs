@@ -49,13 +49,18 @@ pub enum ReferenceMode {
     Original,
 }
 
+/// How a [`Solver`] is built and how it solves; the default is the biharmonic, solved by CG with
+/// W-cycles to a relative residual of 1e-8, one thread per core, no sub-stepping.
 #[derive(Clone, Debug, Default)]
 pub struct Options {
+    /// The equation that moves the mesh (fixed when the solver is made).
     pub method: Method,
+    /// How each solve iterates and when it stops (changeable with [`Solver::set_solve_params`]).
     pub solve: SolveParams,
     /// Worker threads of the solver's own pool (0: one per available core). All of a call's work
     /// runs there, never on rayon's global pool; results do not depend on the count.
     pub threads: usize,
+    /// How the multigrid levels are built (fixed when the solver is made).
     pub hierarchy: HierarchyParams,
     /// Automatic sub-stepping: a step whose result would invert a cell, fall below
     /// `min_volume_ratio`, or not converge is split in halves, up to this many sub-steps per step.
@@ -85,6 +90,8 @@ struct Undo {
     hierarchy: Option<Hierarchy>,
 }
 
+/// A mesh mover for one mesh and one set of boundary conditions: the multigrid hierarchy is built
+/// once, then each call turns a prescribed [`Motion`] into the displacement of every vertex.
 pub struct Solver {
     opts: Options,
     bcs: BoundaryConditions,
@@ -101,6 +108,10 @@ pub struct Solver {
 }
 
 impl Solver {
+    /// Checks the options, the boundary conditions against `mesh` and that no cell is inverted,
+    /// then builds the multigrid hierarchy on the solver's own threads. Errors: an invalid option,
+    /// boundary conditions that do not fit the mesh or leave a component undetermined, a tangled
+    /// mesh, or a hierarchy that cannot be built.
     pub fn new(mesh: &Mesh, bcs: &BoundaryConditions, opts: Options) -> Result<Solver> {
         check_options(&opts)?;
         bcs.check(mesh)?;
@@ -132,6 +143,7 @@ impl Solver {
         }
     }
 
+    /// The options in force.
     pub fn options(&self) -> &Options {
         &self.opts
     }
@@ -168,6 +180,7 @@ impl Solver {
         Ok(())
     }
 
+    /// The number of multigrid levels, the fine one included.
     pub fn num_levels(&self) -> usize {
         self.hierarchy.levels.len()
     }

@@ -32,12 +32,25 @@ use thiserror::Error;
 #[derive(Debug, Error)]
 #[non_exhaustive]
 pub enum IoError {
+    /// The file could not be opened, read or written.
     #[error("{}: {source}", path.display())]
-    Io { path: PathBuf, source: std::io::Error },
+    Io {
+        /// The file's path as the caller gave it.
+        path: PathBuf,
+        /// The operating system's error.
+        source: std::io::Error,
+    },
     /// A malformed file. `line` is 1-based, 0 inside binary data; `offset` is the byte offset in
     /// the file where known. The message names the section or element and what was expected.
     #[error("{}{message}", where_(*line, *offset))]
-    Parse { line: usize, offset: Option<usize>, message: String },
+    Parse {
+        /// The line of the error (1-based), or 0 inside binary data.
+        line: usize,
+        /// The byte offset of the error in the file (0-based), where known.
+        offset: Option<usize>,
+        /// What is wrong: the section or element, and what was expected.
+        message: String,
+    },
     /// A well-formed file with something this crate does not handle (a format version, an
     /// element type, compressed data, ...).
     #[error("unsupported: {0}")]

@@ -2,56 +2,221 @@
 
 use thiserror::Error;
 
+/// Why [`Mesh::from_data`](super::Mesh::from_data) or [`Mesh::triangles`](super::Mesh::triangles)
+/// refuses a mesh.
+///
+/// Cells, vertices and tagged faces are numbered from 0 in the order given, whatever the caller's
+/// [`IndexBase`](super::IndexBase); only the `index`, `base` and `end` fields of the out-of-range
+/// variants are in the caller's numbering.
 #[derive(Debug, Clone, PartialEq, Error)]
 #[non_exhaustive]
 pub enum MeshError {
+    /// The mesh has no vertices or no cells.
     #[error("the mesh has no vertices or no cells")]
     Empty,
+    /// A coordinate is NaN or infinite.
     #[error("vertex {vertex} has a non-finite coordinate: component {component} is {value}")]
-    NonFiniteCoordinate { vertex: usize, component: usize, value: f64 },
+    NonFiniteCoordinate {
+        /// The offending vertex (0-based).
+        vertex: usize,
+        /// The offending component: 0 for x, 1 for y, 2 for z.
+        component: usize,
+        /// The value found: NaN or an infinity.
+        value: f64,
+    },
+    /// The number of coordinate values is not a multiple of the dimension.
     #[error("{values} coordinate values are not a whole number of {dim}D points")]
-    CoordinateCount { values: usize, dim: usize },
+    CoordinateCount {
+        /// The number of coordinate values given.
+        values: usize,
+        /// The mesh dimension.
+        dim: usize,
+    },
+    /// The cell offsets are not `n_cells + 1` values ascending from 0 to the number of corner indices.
     #[error("cell offsets: {offsets} given for {cells} cells and {vertices} corner indices (n_cells + 1 ascending offsets from 0 to the corner count are expected)")]
-    CellOffsets { cells: usize, offsets: usize, vertices: usize },
+    CellOffsets {
+        /// The number of cells (the number of cell types given).
+        cells: usize,
+        /// The number of offsets given.
+        offsets: usize,
+        /// The number of corner indices given.
+        vertices: usize,
+    },
+    /// The tagged-face offsets are not `n_faces + 1` values ascending from 0 to the number of face
+    /// vertex indices.
     #[error("face offsets: {offsets} given for {faces} faces and {vertices} vertex indices (n_faces + 1 ascending offsets from 0 to the vertex count are expected)")]
-    FaceOffsets { faces: usize, offsets: usize, vertices: usize },
+    FaceOffsets {
+        /// The number of tagged faces (the number of patch ids given).
+        faces: usize,
+        /// The number of offsets given.
+        offsets: usize,
+        /// The number of face vertex indices given.
+        vertices: usize,
+    },
+    /// A cell's number of corners does not match its type.
     #[error("cell {cell} is a {cell_type} with {count} corners")]
-    CornerCount { cell: usize, cell_type: crate::geometry::CellType, count: i64 },
+    CornerCount {
+        /// The offending cell (0-based).
+        cell: usize,
+        /// The cell's type.
+        cell_type: crate::geometry::CellType,
+        /// The number of corners given: the difference of the cell's two offsets (negative when
+        /// they descend).
+        count: i64,
+    },
+    /// A cell's type has no element kernels yet.
     #[error("cell {cell} is a {cell_type}: this cell type is not supported yet")]
-    CellTypeNotSupported { cell: usize, cell_type: crate::geometry::CellType },
+    CellTypeNotSupported {
+        /// The offending cell (0-based).
+        cell: usize,
+        /// The unsupported type.
+        cell_type: crate::geometry::CellType,
+    },
+    /// Once the mesh is oriented, a corner of a cell has a non-positive Jacobian: the cell is not
+    /// convex or it is folded.
     #[error("cell {cell} (a {cell_type}) has a corner with a non-positive Jacobian: it is not convex or it is folded")]
-    InvertedCorner { cell: usize, cell_type: crate::geometry::CellType },
+    InvertedCorner {
+        /// The offending cell (0-based).
+        cell: usize,
+        /// The cell's type.
+        cell_type: crate::geometry::CellType,
+    },
+    /// A cell refers to a vertex index outside the vertex range.
     #[error("cell {cell} refers to vertex index {index}, outside {base}..{end} (index base {base})")]
-    IndexOutOfRange { cell: usize, index: i64, base: i64, end: i64 },
+    IndexOutOfRange {
+        /// The offending cell (0-based).
+        cell: usize,
+        /// The index as the caller gave it.
+        index: i64,
+        /// The caller's index base: 0 or 1 (always 0 for [`MeshData`](super::MeshData)).
+        base: i64,
+        /// One past the last valid index: the number of vertices plus `base`.
+        end: i64,
+    },
+    /// A cell lists the same vertex twice.
     #[error("cell {cell} repeats vertex {vertex}")]
-    RepeatedVertex { cell: usize, vertex: usize },
+    RepeatedVertex {
+        /// The offending cell (0-based).
+        cell: usize,
+        /// The repeated vertex (0-based).
+        vertex: usize,
+    },
+    /// A vertex belongs to no cell, so it has no equation to move it.
     #[error("vertex {vertex} is not used by any cell")]
-    UnusedVertex { vertex: usize },
+    UnusedVertex {
+        /// The first unused vertex (0-based).
+        vertex: usize,
+    },
+    /// A cell has zero or non-finite area or volume (relative to its longest edge, so the test does
+    /// not depend on the mesh's scale).
     #[error("cell {cell} has zero area or volume ({measure:e})")]
-    DegenerateCell { cell: usize, measure: f64 },
+    DegenerateCell {
+        /// The first degenerate cell (0-based).
+        cell: usize,
+        /// The cell's signed area (2D) or volume (3D), in the units of the coordinates.
+        measure: f64,
+    },
+    /// Cells of both orientations are present: a cell is inverted or the mesh folds over itself.
     #[error(
         "cell {cell} is oriented against the rest of the mesh ({negative} cells negatively oriented (clockwise in 2D), \
          {positive} positively): a cell is inverted or the mesh folds over itself"
     )]
-    InconsistentOrientation { cell: usize, negative: usize, positive: usize },
+    InconsistentOrientation {
+        /// The first cell of the smaller orientation group, or of the negative one on a tie (0-based).
+        cell: usize,
+        /// The number of negatively oriented cells (clockwise in 2D).
+        negative: usize,
+        /// The number of positively oriented cells (counter-clockwise in 2D).
+        positive: usize,
+    },
+    /// Two cells lie on the same side of their shared face: the mesh overlaps itself.
     #[error("cells {first} and {second} lie on the same side of their shared face {face:?}: the mesh overlaps itself")]
-    Overlap { first: usize, second: usize, face: Vec<u32> },
+    Overlap {
+        /// One of the two cells (0-based).
+        first: usize,
+        /// The other cell (0-based).
+        second: usize,
+        /// The shared face's vertices (0-based, sorted).
+        face: Vec<u32>,
+    },
+    /// Two cells have the same set of vertices.
     #[error("cells {first} and {second} have the same vertices")]
-    RepeatedCell { first: usize, second: usize },
+    RepeatedCell {
+        /// One of the two cells (0-based).
+        first: usize,
+        /// The other cell (0-based).
+        second: usize,
+    },
+    /// More than two cells share a face.
     #[error("face {face:?} is shared by {cells} cells; at most two may share a face")]
-    NonManifoldFace { face: Vec<u32>, cells: usize },
+    NonManifoldFace {
+        /// The face's vertices (0-based, sorted).
+        face: Vec<u32>,
+        /// The number of cells sharing it.
+        cells: usize,
+    },
+    /// A tagged face refers to a vertex index outside the vertex range.
     #[error("tagged face {edge} refers to vertex index {index}, outside {base}..{end}")]
-    TaggedIndexOutOfRange { edge: usize, index: i64, base: i64, end: i64 },
+    TaggedIndexOutOfRange {
+        /// The offending tagged face (an edge in 2D), by its position in the caller's list (0-based).
+        edge: usize,
+        /// The index as the caller gave it.
+        index: i64,
+        /// The caller's index base: 0 or 1 (always 0 for [`MeshData`](super::MeshData)).
+        base: i64,
+        /// One past the last valid index: the number of vertices plus `base`.
+        end: i64,
+    },
+    /// A tagged face is not a face of any cell (or it has fewer than 2 or more than 4 vertices).
     #[error("tagged face {face} {vertices:?} is not a face of any cell")]
-    TaggedFaceNotAFace { face: usize, vertices: Vec<u32> },
+    TaggedFaceNotAFace {
+        /// The offending tagged face, by its position in the caller's list (0-based).
+        face: usize,
+        /// Its vertices (0-based, in the order given).
+        vertices: Vec<u32>,
+    },
+    /// The same face is tagged twice, with different patch ids.
     #[error("tagged face {face} {vertices:?} is tagged twice, with patches {first} and {second}")]
-    TaggedFaceTwice { face: usize, vertices: Vec<u32>, first: i32, second: i32 },
+    TaggedFaceTwice {
+        /// The second tagging of the face, by its position in the caller's list (0-based).
+        face: usize,
+        /// Its vertices (0-based, in the order given).
+        vertices: Vec<u32>,
+        /// The patch id of the earlier tagging.
+        first: i32,
+        /// The patch id of the later tagging.
+        second: i32,
+    },
+    /// The number of region ids is neither 0 nor the number of cells.
     #[error("{regions} region ids given for {cells} cells")]
-    RegionCount { regions: usize, cells: usize },
+    RegionCount {
+        /// The number of region ids given.
+        regions: usize,
+        /// The number of cells.
+        cells: usize,
+    },
+    /// The mesh dimension is neither 2 nor 3.
     #[error("a mesh of dimension {dim}: meshmove handles 2 and 3")]
-    Dimension { dim: usize },
+    Dimension {
+        /// The dimension given.
+        dim: usize,
+    },
+    /// A cell's type is not of the mesh's dimension (a triangle in a 3D mesh, say).
     #[error("cell {cell} is a {cell_type}, which is not a cell of a {dim}D mesh")]
-    CellTypeNotInDimension { cell: usize, cell_type: crate::geometry::CellType, dim: usize },
+    CellTypeNotInDimension {
+        /// The offending cell (0-based).
+        cell: usize,
+        /// The cell's type.
+        cell_type: crate::geometry::CellType,
+        /// The mesh dimension.
+        dim: usize,
+    },
+    /// The mesh has more vertices than 32-bit vertex indices can number.
     #[error("the mesh has {vertices} vertices; at most {max} are supported")]
-    TooLarge { vertices: usize, max: usize },
+    TooLarge {
+        /// The number of vertices given.
+        vertices: usize,
+        /// The largest number of vertices supported (`u32::MAX - 1`).
+        max: usize,
+    },
 }

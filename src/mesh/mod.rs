@@ -3,7 +3,7 @@
 //!
 //! Cells are stored as CSR lists with a [`CellType`] each, in VTK's local corner order; faces
 //! (segments in 2D, triangles and quads in 3D) likewise. Everything downstream works on the
-//! per-cell element contributions of [`crate::geometry`] and on adjacency derived from the
+//! per-cell element contributions of `crate::geometry` and on adjacency derived from the
 //! cells, so nothing outside the geometry module knows the dimension or the cell type.
 
 mod data;
@@ -77,7 +77,7 @@ impl Csr {
 /// layout of C and Fortran hosts, with no vector type of a third-party crate in the API. The
 /// dimension is a run-time value rather than a type parameter: hosts choose it at run time, one
 /// `Solver` type serves both, and the dimension never appears in the solver's inner loops (they
-/// run on scalar sparse rows; only the cell kernels of [`crate::geometry`] see points).
+/// run on scalar sparse rows; only the cell kernels of `crate::geometry` see points).
 #[derive(Clone, Debug)]
 pub struct Mesh {
     dim: usize,

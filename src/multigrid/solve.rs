@@ -30,11 +30,19 @@ pub enum Criterion {
     MaxCorrection,
 }
 
+/// How a solve iterates and when it stops; the default is CG preconditioned by W-cycles, to a
+/// relative residual of 1e-8, in at most 500 iterations.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SolveParams {
+    /// The iteration: preconditioned CG (the default) or the paper's stationary W-cycles.
     pub mode: Mode,
+    /// The stopping test `tol` applies to.
     pub criterion: Criterion,
+    /// The tolerance: of the relative residual, or of the largest correction as a fraction of the
+    /// largest prescribed displacement (see [`Criterion`]).
     pub tol: f64,
+    /// The most W-cycles (paper-faithful mode) or CG iterations (default mode) a solve runs,
+    /// restarts included; a solve that reaches it unconverged reports `converged: false`.
     pub max_cycles: usize,
     /// Chebyshev degree of the default mode's smoother on the finest level; None picks per method.
     pub cheb_degree: Option<usize>,
@@ -78,6 +86,8 @@ impl SolveParams {
         }
     }
 
+    /// The shape of one W-cycle for `method` in this mode: Chebyshev smoothing of the degrees of
+    /// [`cheb_defaults`](Self::cheb_defaults) (default mode), or the paper's Jacobi sweep.
     pub fn cycle_params(&self, method: Method) -> CycleParams {
         match self.mode {
             Mode::Default => {
@@ -98,10 +108,13 @@ pub struct Report {
     pub max_correction: f64,
     /// ‖b − A x‖₂ / ‖b‖₂ at the end (0 when b = 0).
     pub rel_residual: f64,
+    /// True when the criterion is met (for the relative residual, by the true residual, not CG's
+    /// updated one).
     pub converged: bool,
     /// Conjugate gradients broke down: pᵀAp was not positive and finite at this iteration (the
     /// operator is not positive definite, e.g. on a tangled reference mesh).
     pub breakdown: Option<usize>,
+    /// Wall-clock time of the solve, in seconds (summed over the groups of a combined report).
     pub seconds: f64,
     /// (max correction, relative residual) after each cycle.
     pub history: Vec<(f64, f64)>,

@@ -28,6 +28,7 @@ pub struct StepReport {
     pub cycles: usize,
     /// Final relative residual of the larger component.
     pub rel_residual: f64,
+    /// True when the solve reached its tolerance.
     pub converged: bool,
     /// The hierarchy was rebuilt from this sub-step's reference (a reused one stalled).
     pub rebuilt: bool,
@@ -37,6 +38,7 @@ pub struct StepReport {
     pub min_volume_ratio: f64,
     /// Smallest angle of any cell, degrees.
     pub min_angle_deg: f64,
+    /// Wall-clock time of this attempt's solve (a hierarchy rebuild included), in seconds.
     pub seconds: f64,
     /// The result became the new mesh (false: rejected and split, or the call failed here).
     pub accepted: bool,

@@ -37,6 +37,7 @@ use crate::mesh::{Mesh, MeshData};
 /// A field with one value per vertex.
 #[derive(Clone, Copy, Debug)]
 pub enum PointField<'a> {
+    /// One value per vertex, written as a one-component `Float64` array.
     Scalar(&'a [f64]),
     /// The values and the number of components per vertex (tuples one after another). Two
     /// components are written as three, z = 0 (ParaView's vectors are 3D).
@@ -46,7 +47,9 @@ pub enum PointField<'a> {
 /// A field with one value per cell.
 #[derive(Clone, Copy, Debug)]
 pub enum CellField<'a> {
+    /// One floating-point value per cell, written as a `Float64` array.
     F64(&'a [f64]),
+    /// One integer per cell (regions, flags), written as an `Int32` array.
     I32(&'a [i32]),
 }
 
@@ -55,8 +58,11 @@ pub enum CellField<'a> {
 /// stored one after another).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct VtuData {
+    /// The points (z dropped for a 2D mesh), the cells and their regions; not validated.
     pub mesh: MeshData,
+    /// The `<PointData>` arrays in file order: (name, values, components per vertex).
     pub point_data: Vec<(String, Vec<f64>, usize)>,
+    /// The `<CellData>` arrays in file order, `region` included: (name, values, components per cell).
     pub cell_data: Vec<(String, Vec<f64>, usize)>,
 }
 
