@@ -153,7 +153,7 @@ fn done(p: &SolveParams, max_corr: f64, rel: f64, scale: f64) -> bool {
 /// initial guess in `x`; `b` and `x` hold one block of n values per component, and the group is
 /// one system: one set of CG scalars over all its blocks. `scale` is the largest prescribed
 /// displacement (for the max-correction criterion).
-pub(crate) fn solve(h: &Hierarchy, comps: Range<usize>, p: &SolveParams, b: &[f64], x: &mut [f64], scale: f64) -> Report {
+pub fn solve(h: &Hierarchy, comps: Range<usize>, p: &SolveParams, b: &[f64], x: &mut [f64], scale: f64) -> Report {
     let t0 = std::time::Instant::now();
     let bnorm = dot(b, b).sqrt();
     let mut rep = Report::default();
