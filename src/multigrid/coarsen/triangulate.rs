@@ -1,6 +1,29 @@
-//! Retriangulating the kept vertices: constrained Delaunay, inside/outside and regions.
+//! Retriangulating the kept vertices, in parts: the constrained Delaunay triangulation of the
+//! kept points and segments, the inside faces by a flood fill from the exterior, the checks of
+//! the coarse cells, the patch segments on them, and the regions.
 
 use super::*;
+
+/// One attempt's outcome: a value, or what to fix before the next attempt.
+type Attempt<T> = std::result::Result<T, Failure>;
+
+/// The value of an attempt's step, or the step's failure returned from the enclosing function.
+macro_rules! attempt {
+    ($e:expr) => {
+        match $e {
+            Ok(v) => v,
+            Err(failure) => return Ok(Err(failure)),
+        }
+    };
+}
+
+/// The kept vertices in coarse numbering.
+struct Kept {
+    /// Coarse vertex i is fine vertex `fine_vertex[i]`.
+    fine_vertex: Vec<u32>,
+    /// The coarse number of each fine vertex (`u32::MAX` when not kept).
+    coarse_of: Vec<u32>,
+}
 
 /// Triangulates the kept points with the segments as constraints and builds the coarse mesh.
 pub(super) fn triangulate(
@@ -9,7 +32,7 @@ pub(super) fn triangulate(
     kept: &[bool],
     segments: &[Segment],
     f: &Features,
-) -> Result<std::result::Result<CoarseMesh, Failure>> {
+) -> Result<Attempt<CoarseMesh>> {
     let x = fine.xy_all();
     // Exact capacities here and for the cells: the coarse level keeps these for the solver's life.
     let mut fine_vertex: Vec<u32> = Vec::with_capacity(kept.iter().filter(|&&k| k).count());
@@ -18,6 +41,43 @@ pub(super) fn triangulate(
     for (i, &v) in fine_vertex.iter().enumerate() {
         coarse_of[v as usize] = i as u32;
     }
+    let k = Kept { fine_vertex, coarse_of };
+    let (cdt, coarse_of_handle) = attempt!(constrained_delaunay(&x, &k, segments)?);
+    // Segments in coarse numbering, keyed for lookup.
+    let mut seg_of: HashMap<u64, usize> = HashMap::with_capacity(segments.len());
+    for (i, s) in segments.iter().enumerate() {
+        seg_of.insert(edge_key(k.coarse_of[s.a as usize], k.coarse_of[s.b as usize]), i);
+    }
+    let cells = attempt!(inside_cells(&cdt, &coarse_of_handle, &seg_of, segments));
+    let cx: Vec<DVec2> = k.fine_vertex.iter().map(|&v| x[v as usize]).collect();
+    let area = |t: &[u32; 3]| {
+        let [a, b, c] = t.map(|v| cx[v as usize]);
+        0.5 * (b - a).perp_dot(c - a)
+    };
+    attempt!(check_cells(&cells, &cx, &k, f, &area));
+    // Boundary of the triangulation = boundary segments; interface segments have two cells.
+    let Some(edges) = EdgeCells::build(&cells) else {
+        return Ok(Err(Failure::Stop));
+    };
+    let patch_edges = attempt!(patch_segments(&cells, &edges, segments, &k.coarse_of));
+    let regions = regions(fine, &cells, &cx, &edges, &seg_of, &area);
+    let coarse_links = links
+        .iter()
+        .filter(|l| kept[l[0] as usize] && kept[l[1] as usize])
+        .map(|l| [k.coarse_of[l[0] as usize], k.coarse_of[l[1] as usize]])
+        .collect();
+    let mesh = Mesh::from_triangles(&cx, &cells, regions, &patch_edges);
+    Ok(Ok(CoarseMesh { mesh, fine_vertex: k.fine_vertex, links: coarse_links }))
+}
+
+/// The constrained Delaunay triangulation of the kept points (in their order) with the segments
+/// as constraints, and the coarse vertex of each of its vertex handles.
+fn constrained_delaunay(
+    x: &[DVec2],
+    k: &Kept,
+    segments: &[Segment],
+) -> Result<Attempt<(ConstrainedDelaunayTriangulation<Point2<f64>>, Vec<u32>)>> {
+    let (fine_vertex, coarse_of) = (&k.fine_vertex, &k.coarse_of);
     let nc = fine_vertex.len();
     // Bulk loading keeps the vertex order (and is far faster than inserting one by one).
     let points: Vec<Point2<f64>> = fine_vertex.iter().map(|&v| Point2::new(x[v as usize].x, x[v as usize].y)).collect();
@@ -49,12 +109,6 @@ pub(super) fn triangulate(
     if !order_kept {
         return Err(Error::Coarsening("the triangulation reordered the vertices".into()));
     }
-    // Segments in coarse numbering, keyed for lookup.
-    let mut seg_of: HashMap<u64, usize> = HashMap::with_capacity(segments.len());
-    for (k, s) in segments.iter().enumerate() {
-        let (a, b) = (coarse_of[s.a as usize], coarse_of[s.b as usize]);
-        seg_of.insert(edge_key(a, b), k);
-    }
     let mut bad_chains = Vec::new();
     for s in segments {
         let (ha, hb) = (handles[coarse_of[s.a as usize] as usize], handles[coarse_of[s.b as usize] as usize]);
@@ -76,10 +130,20 @@ pub(super) fn triangulate(
     if cdt.num_constraints() != segments.len() {
         return Ok(Err(Failure::Stop));
     }
+    Ok(Ok((cdt, coarse_of_handle)))
+}
+
+/// The faces of `cdt` inside the coarse domain, as counter-clockwise triangles in coarse
+/// numbering: a flood fill from the exterior in which crossing a boundary segment toggles.
+fn inside_cells(
+    cdt: &ConstrainedDelaunayTriangulation<Point2<f64>>,
+    coarse_of_handle: &[u32],
+    seg_of: &HashMap<u64, usize>,
+    segments: &[Segment],
+) -> Attempt<Vec<[u32; 3]>> {
     let cv = |h: FixedVertexHandle| coarse_of_handle[h.index()];
     let segment_at = |a: u32, b: u32| seg_of.get(&edge_key(a, b)).map(|&k| &segments[k]);
 
-    // Inside/outside by flood fill from the exterior: crossing a boundary segment toggles.
     let nf = cdt.num_all_faces();
     let mut inside: Vec<Option<bool>> = vec![None; nf];
     inside[0] = Some(false);
@@ -98,7 +162,7 @@ pub(super) fn triangulate(
                         inside[fh.index()] = Some(state);
                         queue.push(fh.index());
                     }
-                    Some(s) if s != state => return Ok(Err(Failure::Stop)),
+                    Some(s) if s != state => return Err(Failure::Stop),
                     _ => {}
                 }
             }
@@ -126,7 +190,7 @@ pub(super) fn triangulate(
                     inside[gi] = Some(state);
                     queue.push(gi);
                 }
-                Some(t) if t != state => return Ok(Err(Failure::Stop)),
+                Some(t) if t != state => return Err(Failure::Stop),
                 _ => {}
             }
         }
@@ -138,60 +202,75 @@ pub(super) fn triangulate(
         match inside[fh.index()] {
             Some(true) => cells.push(cdt.face(*fh).vertices().map(|v| cv(v.fix()))),
             Some(false) => {}
-            None => return Ok(Err(Failure::Stop)),
+            None => return Err(Failure::Stop),
         }
     }
     if cells.is_empty() {
-        return Ok(Err(Failure::Stop));
+        return Err(Failure::Stop);
     }
-    let cx: Vec<DVec2> = fine_vertex.iter().map(|&v| x[v as usize]).collect();
-    // Every kept vertex must be in an inside cell; an interior point outside is dropped.
+    Ok(cells)
+}
+
+/// Every kept vertex must be in an inside cell (an interior point outside is dropped and the
+/// attempt repeated), and every cell must have a positive area.
+fn check_cells(
+    cells: &[[u32; 3]],
+    cx: &[DVec2],
+    k: &Kept,
+    f: &Features,
+    area: &impl Fn(&[u32; 3]) -> f64,
+) -> Attempt<()> {
+    let nc = cx.len();
     let mut used = vec![false; nc];
-    for t in &cells {
+    for t in cells {
         for &v in t {
             used[v as usize] = true;
         }
     }
-    let unused: Vec<u32> = (0..nc).filter(|&i| !used[i]).map(|i| fine_vertex[i]).collect();
+    let unused: Vec<u32> = (0..nc).filter(|&i| !used[i]).map(|i| k.fine_vertex[i]).collect();
     if unused.iter().any(|&v| f.on_feature[v as usize]) {
-        return Ok(Err(Failure::Stop));
+        return Err(Failure::Stop);
     }
     if !unused.is_empty() {
-        return Ok(Err(Failure::Points(unused)));
+        return Err(Failure::Points(unused));
     }
     // Positive areas.
     let (mut lo, mut hi) = (cx[0], cx[0]);
-    for &p in &cx {
+    for &p in cx {
         lo = lo.min(p);
         hi = hi.max(p);
     }
     let min_area = 1e-14 * (hi - lo).length_squared();
-    let area = |t: &[u32; 3]| {
-        let [a, b, c] = t.map(|v| cx[v as usize]);
-        0.5 * (b - a).perp_dot(c - a)
-    };
     if cells.iter().any(|t| area(t).is_nan() || area(t) <= min_area) {
-        return Ok(Err(Failure::Stop));
+        return Err(Failure::Stop);
     }
-    // Boundary of the triangulation = boundary segments; interface segments have two cells.
-    let Some(edges) = EdgeCells::build(&cells) else {
-        return Ok(Err(Failure::Stop));
-    };
+    Ok(())
+}
+
+/// The coarse patch faces: each segment an edge of the coarse cells, a boundary segment on the
+/// triangulation's boundary (oriented with the domain on its left) and an interface segment
+/// between two cells; the triangulation's boundary must be made of boundary segments only.
+fn patch_segments(
+    cells: &[[u32; 3]],
+    edges: &EdgeCells,
+    segments: &[Segment],
+    coarse_of: &[u32],
+) -> Attempt<Vec<([u32; 2], i32, bool)>> {
     let mut patch_edges: Vec<([u32; 2], i32, bool)> = Vec::with_capacity(segments.len());
     let mut boundary_segments = 0;
     for s in segments {
         let (a, b) = (coarse_of[s.a as usize], coarse_of[s.b as usize]);
         let Some([c0, c1]) = edges.get(a, b) else {
-            return Ok(Err(Failure::Stop));
+            return Err(Failure::Stop);
         };
         if s.interior {
             if c1 == u32::MAX {
-                return Ok(Err(Failure::Stop));
+                return Err(Failure::Stop);
             }
             patch_edges.push(([a, b], s.patch, true));
         } else {
             if c1 != u32::MAX {
-                return Ok(Err(Failure::Stop));
+                return Err(Failure::Stop);
             }
             boundary_segments += 1;
             let t = cells[c0 as usize];
@@ -201,10 +280,21 @@ pub(super) fn triangulate(
     }
     let boundary_edges = edges.edges.iter().filter(|e| e.1[1] == u32::MAX).count();
     if boundary_edges != boundary_segments {
-        return Ok(Err(Failure::Stop));
+        return Err(Failure::Stop);
     }
-    // Regions: components of inside faces not separated by segments, each given the region of
-    // the fine cell under the centroid of its largest face.
+    Ok(patch_edges)
+}
+
+/// Regions: components of inside faces not separated by segments, each given the region of the
+/// fine cell under the centroid of its largest face.
+fn regions(
+    fine: &Mesh,
+    cells: &[[u32; 3]],
+    cx: &[DVec2],
+    edges: &EdgeCells,
+    seg_of: &HashMap<u64, usize>,
+    area: &impl Fn(&[u32; 3]) -> f64,
+) -> Vec<i32> {
     let ncell = cells.len();
     let mut comp = vec![u32::MAX; ncell];
     let mut regions = vec![0i32; ncell];
@@ -251,10 +341,5 @@ pub(super) fn triangulate(
             regions[c] = r;
         }
     }
-    let coarse_links = links
-        .iter()
-        .filter(|l| kept[l[0] as usize] && kept[l[1] as usize])
-        .map(|l| [coarse_of[l[0] as usize], coarse_of[l[1] as usize]])
-        .collect();
-    Ok(Ok(CoarseMesh { mesh: Mesh::from_triangles(&cx, &cells, regions, &patch_edges), fine_vertex, links: coarse_links }))
+    regions
 }
