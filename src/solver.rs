@@ -362,7 +362,9 @@ impl Solver {
         let lev = self.hierarchy.fine();
         let vals = motion.vertex_values(&lev.mesh);
         let scale = Self::scale(&vals);
-        let mut displacement = vec![0.0; lev.mesh.coords().len()];
+        // Each group's solution on the unknowns; the per-vertex field is made after the last
+        // solve, so it does not add to the memory of the solves.
+        let mut solved: Vec<(Range<usize>, Vec<f64>)> = Vec::new();
         let mut report: Option<Report> = None;
         for comps in self.hierarchy.groups() {
             let name = group_name(comps.clone());
@@ -383,11 +385,15 @@ impl Solver {
                 )));
             }
             Self::add_prescribed(lev, comps.clone(), &vals, &mut x);
-            Self::to_vertices(lev, comps, &x, &mut displacement);
+            solved.push((comps, x));
             report = Some(match report {
                 None => rep,
                 Some(r) => Report::merge(r, rep),
             });
+        }
+        let mut displacement = vec![0.0; lev.mesh.coords().len()];
+        for (comps, x) in solved {
+            Self::to_vertices(lev, comps, &x, &mut displacement);
         }
         if let Some(i) = displacement.iter().position(|d| !d.is_finite()) {
             return Err(Error::Diverged(format!("the displacement of vertex {} is not finite", i / lev.dim())));

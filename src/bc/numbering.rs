@@ -74,7 +74,7 @@ pub(crate) fn reverse_cuthill_mckee(n: usize, cells: &Csr) -> Vec<u32> {
 fn adjacency(n: usize, cells: &Csr) -> (Vec<u32>, Vec<u32>) {
     let around = VertexCells::build(n, cells);
     let mut ptr = vec![0u32; n + 1];
-    let mut adj = Vec::with_capacity(cells.items.len());
+    let mut adj = Vec::with_capacity(cells.items().len());
     let mut row: Vec<u32> = Vec::new();
     for v in 0..n {
         row.clear();

@@ -42,27 +42,66 @@ pub struct PatchFace<'a> {
     pub interior: bool,
 }
 
-/// CSR lists: item `i` is `items[ptr[i]..ptr[i + 1]]`.
+/// Lists of vertex indices: item `i` is `items[i * stride..(i + 1) * stride]` while every item
+/// has the same length (a mesh of one cell type, every coarse level), else
+/// `items[ptr[i]..ptr[i + 1]]`. The offsets of a single-type mesh are not stored: at 4 bytes a
+/// cell on every level they would be a twentieth of the solver's memory.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub(crate) struct Csr {
-    pub(crate) ptr: Vec<u32>,
-    pub(crate) items: Vec<u32>,
+    /// Offsets (`len + 1` of them) once the items differ in length; empty before.
+    ptr: Vec<u32>,
+    items: Vec<u32>,
+    /// The common length of the items while `ptr` is empty (0 before the first push).
+    stride: u32,
+    len: u32,
 }
 
 impl Csr {
     pub(crate) fn new() -> Csr {
-        Csr { ptr: vec![0], items: Vec::new() }
+        Csr::default()
     }
+    /// The number of items.
     pub(crate) fn len(&self) -> usize {
-        self.ptr.len() - 1
+        self.len as usize
     }
+    /// Item `i`.
     #[inline]
     pub(crate) fn get(&self, i: usize) -> &[u32] {
-        &self.items[self.ptr[i] as usize..self.ptr[i + 1] as usize]
+        if self.ptr.is_empty() {
+            let s = self.stride as usize;
+            &self.items[i * s..(i + 1) * s]
+        } else {
+            &self.items[self.ptr[i] as usize..self.ptr[i + 1] as usize]
+        }
     }
+    /// Item `i`, to change in place (its length is kept).
+    pub(crate) fn get_mut(&mut self, i: usize) -> &mut [u32] {
+        let r = if self.ptr.is_empty() {
+            let s = self.stride as usize;
+            i * s..(i + 1) * s
+        } else {
+            self.ptr[i] as usize..self.ptr[i + 1] as usize
+        };
+        &mut self.items[r]
+    }
+    /// All items, one after another.
+    pub(crate) fn items(&self) -> &[u32] {
+        &self.items
+    }
+    /// Appends an item.
     pub(crate) fn push(&mut self, items: &[u32]) {
+        let n = items.len() as u32;
+        if self.ptr.is_empty() && self.len > 0 && n != self.stride {
+            self.ptr = (0..=self.len).map(|i| i * self.stride).collect();
+        }
+        if self.len == 0 {
+            self.stride = n;
+        }
         self.items.extend_from_slice(items);
-        self.ptr.push(self.items.len() as u32);
+        self.len += 1;
+        if !self.ptr.is_empty() {
+            self.ptr.push(self.items.len() as u32);
+        }
     }
     fn shrink(&mut self) {
         self.ptr.shrink_to_fit();

@@ -168,9 +168,9 @@ pub(crate) struct VertexCells {
 
 impl VertexCells {
     pub(crate) fn build(nv: usize, cells: &Csr) -> VertexCells {
-        let total = u32::try_from(cells.items.len()).expect("vertex-cell incidence: more than 2^32 corners");
+        let total = u32::try_from(cells.items().len()).expect("vertex-cell incidence: more than 2^32 corners");
         let mut ptr = vec![0u32; nv + 1];
-        for &v in &cells.items {
+        for &v in cells.items() {
             ptr[v as usize + 1] += 1;
         }
         for i in 0..nv {

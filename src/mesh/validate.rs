@@ -78,8 +78,7 @@ fn cells(d: &MeshData, n: usize) -> Result<Csr, MeshError> {
     if off.len() != nc + 1 || off[0] != 0 || off[nc] as usize != d.cell_vertices.len() {
         return Err(MeshError::CellOffsets { cells: nc, offsets: off.len(), vertices: d.cell_vertices.len() });
     }
-    let mut out = Csr { ptr: Vec::with_capacity(nc + 1), items: Vec::with_capacity(d.cell_vertices.len()) };
-    out.ptr.push(0);
+    let mut out = Csr::new();
     for (c, &ty) in d.cell_types.iter().enumerate() {
         if ty.dim() != d.dim {
             return Err(MeshError::CellTypeNotInDimension { cell: c, cell_type: ty, dim: d.dim });
@@ -107,7 +106,7 @@ fn cells(d: &MeshData, n: usize) -> Result<Csr, MeshError> {
 /// Every vertex must belong to a cell: a lone vertex has no equation to move it.
 fn all_used(cells: &Csr, n: usize) -> Result<(), MeshError> {
     let mut used = vec![false; n];
-    cells.items.iter().for_each(|&v| used[v as usize] = true);
+    cells.items().iter().for_each(|&v| used[v as usize] = true);
     match used.iter().position(|u| !u) {
         Some(vertex) => Err(MeshError::UnusedVertex { vertex }),
         None => Ok(()),
@@ -139,14 +138,14 @@ fn orient(coords: &[f64], dim: usize, types: &[CellType], cells: &mut Csr) -> Re
         return Err(MeshError::InconsistentOrientation { cell, negative: neg, positive: pos });
     }
     for (c, &ty) in types.iter().enumerate() {
-        let r = cells.ptr[c] as usize..cells.ptr[c + 1] as usize;
         if neg > 0 {
-            let old: Vec<u32> = cells.items[r.clone()].to_vec();
+            let cell = cells.get_mut(c);
+            let old = cell.to_vec();
             for (k, &f) in ty.flipped().iter().enumerate() {
-                cells.items[r.start + k] = old[f as usize];
+                cell[k] = old[f as usize];
             }
         }
-        let g = CellPoints::gather(ty, &cells.items[r], coords, dim);
+        let g = CellPoints::gather(ty, cells.get(c), coords, dim);
         if g.min_corner_jacobian() <= 0.0 {
             return Err(MeshError::InvertedCorner { cell: c, cell_type: ty });
         }
