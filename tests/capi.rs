@@ -279,27 +279,7 @@ fn quads_and_3d_are_unsupported_until_the_core_handles_them() {
             assert!(last().contains("quad"), "{}", last());
         }
         // One tetrahedron, its four faces tagged (NULL face offsets: triangles in 3D).
-        let xyz = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0];
-        let faces = [0, 1, 3, 1, 2, 3, 2, 0, 3, 0, 2, 1];
-        let tet = meshmove_cell_type::Tetra as i32;
-        let s = meshmove_mesh_create(
-            3,
-            4,
-            xyz.as_ptr(),
-            1,
-            null(),
-            4,
-            [0, 1, 2, 3].as_ptr(),
-            [tet].as_ptr(),
-            4,
-            null(),
-            12,
-            faces.as_ptr(),
-            [1, 1, 1, 2].as_ptr(),
-            null(),
-            0,
-            &mut m,
-        );
+        let (s, m) = tetrahedron(3, None, &[0, 1, 3, 1, 2, 3, 2, 0, 3, 0, 2, 1], &[1, 1, 1, 2]);
         if s == meshmove_status::Ok {
             assert_eq!(meshmove_mesh_free(m), meshmove_status::Ok);
         } else {
@@ -307,67 +287,48 @@ fn quads_and_3d_are_unsupported_until_the_core_handles_them() {
             assert!(last().contains("3D"), "{}", last());
         }
         // 3D face sizes and indices are checked by the C layer whatever the core supports.
-        let s = meshmove_mesh_create(
-            3,
-            4,
-            xyz.as_ptr(),
-            1,
-            null(),
-            4,
-            [0, 1, 2, 3].as_ptr(),
-            [tet].as_ptr(),
-            2,
-            [0, 3, 5].as_ptr(),
-            5,
-            [0, 1, 3, 1, 2].as_ptr(),
-            [1, 1].as_ptr(),
-            null(),
-            0,
-            &mut m,
-        );
+        let (s, _) = tetrahedron(3, Some(&[0, 3, 5]), &[0, 1, 3, 1, 2], &[1, 1]);
         assert_eq!(s, meshmove_status::InvalidArgument);
         assert!(last().contains("give face 1 2 vertices; a face of a 3D mesh has [3, 4]"), "{}", last());
-        let s = meshmove_mesh_create(
-            3,
-            4,
-            xyz.as_ptr(),
-            1,
-            null(),
-            4,
-            [0, 1, 2, 3].as_ptr(),
-            [tet].as_ptr(),
-            1,
-            null(),
-            3,
-            [0, 1, 4].as_ptr(),
-            [1].as_ptr(),
-            null(),
-            0,
-            &mut m,
-        );
+        let (s, _) = tetrahedron(3, None, &[0, 1, 4], &[1]);
         assert_eq!(s, meshmove_status::InvalidMesh);
         assert!(last().contains("tagged face 0 refers to vertex index 4, outside 0..4"), "{}", last());
-        let s = meshmove_mesh_create(
-            4,
-            4,
-            xyz.as_ptr(),
-            1,
-            null(),
-            4,
-            [0, 1, 2, 3].as_ptr(),
-            [tet].as_ptr(),
-            0,
-            null(),
-            0,
-            null(),
-            null(),
-            null(),
-            0,
-            &mut m,
-        );
+        let (s, _) = tetrahedron(4, None, &[], &[]);
         assert_eq!(s, meshmove_status::InvalidArgument);
         assert!(last().contains("dim is 4"), "{}", last());
     }
+}
+
+/// The generic call on one tetrahedron (told it is in `dim` dimensions) with tagged faces.
+fn tetrahedron(
+    dim: i32,
+    offsets: Option<&[i32]>,
+    faces: &[i32],
+    patches: &[i32],
+) -> (meshmove_status, *mut meshmove_mesh) {
+    let xyz = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0];
+    let mut m = null_mut();
+    let s = unsafe {
+        meshmove_mesh_create(
+            dim,
+            4,
+            xyz.as_ptr(),
+            1,
+            null(),
+            4,
+            [0, 1, 2, 3].as_ptr(),
+            [meshmove_cell_type::Tetra as i32].as_ptr(),
+            patches.len() as i32,
+            offsets.map_or(null(), |o| o.as_ptr()),
+            faces.len() as i32,
+            faces.as_ptr(),
+            patches.as_ptr(),
+            null(),
+            0,
+            &mut m,
+        )
+    };
+    (s, m)
 }
 
 #[test]

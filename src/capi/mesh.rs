@@ -536,36 +536,42 @@ unsafe fn out_array<'a>(
     Ok(Some(unsafe { slice_mut(p, n, what) }?))
 }
 
-/// Copies a CSR list (`offsets`, `vertices` plus `base`) and one value per item (`per_item`)
-/// into the caller's optional arrays, every length checked before anything is written.
+/// `meshmove_mesh_get_cells` (`faces` false) and `_get_faces`: copies the cells' (faces') CSR list,
+/// vertex indices plus `index_base`, and one value per cell (face: its type, its patch) into the
+/// caller's optional arrays, every length checked before anything is written.
 ///
 /// # Safety
 /// Each non-NULL pointer of `outs` must hold its stated number of writable `int32_t`.
-unsafe fn copy_lists(
-    offsets: &[u32],
-    vertices: &[u32],
-    per_item: &[i32],
-    base: i32,
-    names: [&str; 3],
-    of: &str,
+unsafe fn get_lists(
+    mesh: *const meshmove_mesh,
+    index_base: i32,
+    faces: bool,
     outs: [(i32, *mut i32); 3],
 ) -> Result<(), CError> {
+    let m = get(mesh, "mesh")?;
+    let base = handles::index_base(index_base)?;
+    let d = m.to_data();
+    let (offsets, vertices, per_item, what, last) = if faces {
+        (&d.face_offsets, &d.face_vertices, d.face_patch.clone(), "faces", "patches")
+    } else {
+        let types = d.cell_types.iter().map(|t| i32::from(t.vtk_id())).collect();
+        (&d.cell_offsets, &d.cell_vertices, types, "cells", "types")
+    };
+    let of = format!("the mesh has {} {what} and {} vertex indices in them", per_item.len(), vertices.len());
     let wants = [offsets.len(), vertices.len(), per_item.len()];
     let mut arrays = Vec::with_capacity(3);
-    for ((len, p), (want, what)) in outs.into_iter().zip(wants.into_iter().zip(names)) {
+    for ((len, p), (want, name)) in outs.into_iter().zip(wants.into_iter().zip(["offsets", "connectivity", last])) {
         // SAFETY: the caller guarantees a non-NULL `p` holds `len` writable elements.
-        arrays.push(unsafe { out_array(p, len, want, what, of) }?);
+        arrays.push(unsafe { out_array(p, len, want, name, &of) }?);
     }
     let values: [Box<dyn Iterator<Item = i32>>; 3] = [
         Box::new(offsets.iter().map(|&o| o as i32)),
         Box::new(vertices.iter().map(|&v| v as i32 + base)),
-        Box::new(per_item.iter().copied()),
+        Box::new(per_item.into_iter()),
     ];
     for (a, v) in arrays.into_iter().zip(values) {
-        if let Some(a) = a {
-            for (o, x) in a.iter_mut().zip(v) {
-                *o = x;
-            }
+        for (o, x) in a.into_iter().flatten().zip(v) {
+            *o = x;
         }
     }
     Ok(())
@@ -592,23 +598,9 @@ pub unsafe extern "C" fn meshmove_mesh_get_cells(
     types: *mut i32,
 ) -> meshmove_status {
     ffi_body!(meshmove_mesh_get_cells, {
-        let m = get(mesh, "mesh")?;
-        let base = handles::index_base(index_base)?;
-        let d = m.to_data();
-        let ids: Vec<i32> = d.cell_types.iter().map(|t| i32::from(t.vtk_id())).collect();
-        let of = format!("the mesh has {} cells and {} cell vertex indices", d.num_cells(), d.cell_vertices.len());
+        let outs = [(num_offsets, offsets), (num_connectivity, connectivity), (num_types, types)];
         // SAFETY: the caller guarantees each non-NULL array holds its stated length.
-        unsafe {
-            copy_lists(
-                &d.cell_offsets,
-                &d.cell_vertices,
-                &ids,
-                base,
-                ["offsets", "connectivity", "types"],
-                &of,
-                [(num_offsets, offsets), (num_connectivity, connectivity), (num_types, types)],
-            )
-        }
+        unsafe { get_lists(mesh, index_base, false, outs) }
     })
 }
 
@@ -633,22 +625,9 @@ pub unsafe extern "C" fn meshmove_mesh_get_faces(
     patches: *mut i32,
 ) -> meshmove_status {
     ffi_body!(meshmove_mesh_get_faces, {
-        let m = get(mesh, "mesh")?;
-        let base = handles::index_base(index_base)?;
-        let d = m.to_data();
-        let of = format!("the mesh has {} faces and {} face vertex indices", d.num_faces(), d.face_vertices.len());
+        let outs = [(num_offsets, offsets), (num_connectivity, connectivity), (num_patches, patches)];
         // SAFETY: the caller guarantees each non-NULL array holds its stated length.
-        unsafe {
-            copy_lists(
-                &d.face_offsets,
-                &d.face_vertices,
-                &d.face_patch,
-                base,
-                ["offsets", "connectivity", "patches"],
-                &of,
-                [(num_offsets, offsets), (num_connectivity, connectivity), (num_patches, patches)],
-            )
-        }
+        unsafe { get_lists(mesh, index_base, true, outs) }
     })
 }
 
