@@ -9,10 +9,8 @@
     do {                                                                                   \
         meshmove_status st_ = (call);                                                      \
         if (st_ != MESHMOVE_STATUS_OK) {                                                   \
-            char msg_[1024];                                                               \
-            meshmove_last_error_message(msg_, sizeof msg_, NULL);                          \
             fprintf(stderr, "%s:%d: %s -> %s: %s\n", __FILE__, __LINE__, #call,            \
-                    meshmove_status_name(st_), msg_);                                      \
+                    meshmove_status_name(st_), meshmove_last_error());                     \
             exit(1);                                                                       \
         }                                                                                  \
     } while (0)

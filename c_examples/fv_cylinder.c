@@ -1,6 +1,7 @@
 /* A small cell-centred finite-volume code (a passive scalar advected by u = (1, 0) and diffused,
- * ALE form) on the channel [0,8]x[-1,1] around a cylinder that oscillates vertically,
- * y_c(t) = 0.25 sin(2 pi t / 20). The mesh is moved every time step by ONE call,
+ * ALE form) on the box [0,2]x[-1,1] around a cylinder of diameter 1 at (1, 0) that oscillates
+ * vertically, y_c(t) = 0.25 sin(2 pi t / 20). The code owns its mesh (an O-grid of triangles,
+ * made below and handed to meshmove as arrays) and moves it every time step by ONE call,
  *     meshmove_solver_move(solver, 2 * nv, boundary_displacement, xy, &report, &quality);
  * exactly where a spring mover used to be called. The run is made with SPRING and then with
  * BIHARMONIC: the only difference is the method argument of run().
@@ -13,6 +14,10 @@
 #include "check.h"
 
 #define STEPS 20
+#define NS 12          /* segments per side of the box */
+#define NT (4 * NS)    /* vertices per ring */
+#define NR 10          /* rings of cells between the cylinder and the box */
+enum { WALL = 1, CYLINDER = 2 };
 
 typedef struct {
     int32_t a, b;   /* vertices, a -> b with cell c0 on the left */
@@ -56,6 +61,40 @@ static face *build_faces(int32_t nc, const int32_t *cells, int32_t nv, int32_t *
     return f;
 }
 
+/* The O-grid: ring k (0 = the cylinder, NR = the box) has NT vertices, vertex k NT + t at the
+ * blend (1 - s) c + s q of the cylinder's point c at angle -3 pi / 4 + 2 pi t / NT and the box's
+ * point q at t / NS sides counter-clockwise from the corner (0, -1), s = k / NR. Each ring
+ * quad (k, t), (k, t+1), (k+1, t+1), (k+1, t) is two counter-clockwise triangles. The cylinder's
+ * and the box's edges are tagged CYLINDER and WALL. examples/reference_case.rs makes the same. */
+static void o_grid(double *xy, int32_t *cells, int32_t *edges, int32_t *patches) {
+    const double pi = 3.14159265358979323846;
+    int32_t k, t, c = 0;
+    for (k = 0; k <= NR; k++)
+        for (t = 0; t < NT; t++) {
+            double th = -0.75 * pi + 2.0 * pi * t / NT, u = 2.0 * (t % NS) / NS, s = (double)k / NR;
+            double cx = 1.0 + 0.5 * cos(th), cy = 0.5 * sin(th), qx, qy;
+            switch (t / NS) {
+            case 0: qx = u, qy = -1.0; break;
+            case 1: qx = 2.0, qy = -1.0 + u; break;
+            case 2: qx = 2.0 - u, qy = 1.0; break;
+            default: qx = 0.0, qy = 1.0 - u; break;
+            }
+            xy[2 * (k * NT + t)] = (1.0 - s) * cx + s * qx;
+            xy[2 * (k * NT + t) + 1] = (1.0 - s) * cy + s * qy;
+        }
+    for (k = 0; k < NR; k++)
+        for (t = 0; t < NT; t++) {
+            int32_t a = k * NT + t, b = k * NT + (t + 1) % NT, d = a + NT, e = b + NT;
+            int32_t tri[6] = {a, d, e, a, e, b};
+            memcpy(&cells[3 * c], tri, sizeof tri);
+            c += 2;
+        }
+    for (t = 0; t < NT; t++) {
+        edges[2 * t] = t, edges[2 * t + 1] = (t + 1) % NT, patches[t] = CYLINDER;
+        edges[2 * (NT + t)] = NR * NT + t, edges[2 * (NT + t) + 1] = NR * NT + (t + 1) % NT, patches[NT + t] = WALL;
+    }
+}
+
 static void cell_geometry(int32_t nc, const int32_t *cells, const double *xy, double *area, double *cen) {
     for (int32_t c = 0; c < nc; c++) {
         const double *p = xy + 2 * cells[3 * c], *q = xy + 2 * cells[3 * c + 1], *r = xy + 2 * cells[3 * c + 2];
@@ -69,27 +108,27 @@ static void cell_geometry(int32_t nc, const int32_t *cells, const double *xy, do
 static int run(int32_t method, const char *name, const char *vtu) {
     const double pi = 3.14159265358979323846, amp = 0.25, w = 2.0 * pi / STEPS;
     const double dt = 0.05, ux = 1.0, kappa = 1e-3;
-    meshmove_mesh *mesh = NULL;
-    CHECK(meshmove_mesh_create_case("cylinder_channel", 1.0 / 8.0, &mesh));
-    int32_t nv, nc, nf, ncyl;
-    CHECK(meshmove_mesh_sizes(mesh, &nv, &nc));
+    const int32_t nv = (NR + 1) * NT, nc = 2 * NR * NT, ncyl = NT; /* the cylinder: vertices 0 .. NT-1 */
+    int32_t nf;
     double *xy = malloc(sizeof(double) * 2 * (size_t)nv), *xo = malloc(sizeof(double) * 2 * (size_t)nv);
     double *bd = calloc(2 * (size_t)nv, sizeof(double));
-    int32_t *cells = malloc(sizeof(int32_t) * 3 * (size_t)nc), *cyl = malloc(sizeof(int32_t) * (size_t)nv);
-    CHECK(meshmove_mesh_get_coords(mesh, 2 * nv, xy));
-    CHECK(meshmove_mesh_get_cells(mesh, 0, 3 * nc, cells));
-    CHECK(meshmove_mesh_patch_vertices(mesh, MESHMOVE_CH_CYLINDER, 0, nv, cyl, &ncyl));
+    int32_t *cells = malloc(sizeof(int32_t) * 3 * (size_t)nc), *edges = malloc(sizeof(int32_t) * 4 * NT);
+    int32_t *patches = malloc(sizeof(int32_t) * 2 * NT);
+    o_grid(xy, cells, edges, patches);
+    meshmove_mesh *mesh = NULL;
+    CHECK(meshmove_mesh_create_triangles(nv, xy, nc, cells, 0, 2 * NT, edges, patches, NULL, &mesh));
     face *faces = build_faces(nc, cells, nv, &nf);
 
     meshmove_bcs *bcs = NULL;
     CHECK(meshmove_bcs_create(&bcs));
-    CHECK(meshmove_bcs_set_kinds(bcs, MESHMOVE_CH_WALL, MESHMOVE_KIND_FIXED));
-    CHECK(meshmove_bcs_set_kinds(bcs, MESHMOVE_CH_CYLINDER, MESHMOVE_KIND_CLAMPED));
-    meshmove_options opts;
-    CHECK(meshmove_options_default(&opts));
-    opts.method = method; /* <- the one argument that changes */
+    CHECK(meshmove_bcs_set_kinds(bcs, WALL, MESHMOVE_KIND_FIXED));
+    CHECK(meshmove_bcs_set_kinds(bcs, CYLINDER, MESHMOVE_KIND_CLAMPED));
+    meshmove_options *opts = NULL;
+    CHECK(meshmove_options_create(&opts));
+    CHECK(meshmove_options_set_method(opts, method)); /* <- the one argument that changes */
     meshmove_solver *solver = NULL;
-    CHECK(meshmove_solver_create(mesh, bcs, &opts, &solver));
+    CHECK(meshmove_solver_create(mesh, bcs, opts, &solver));
+    CHECK(meshmove_options_free(opts));
 
     double *ao = malloc(sizeof(double) * (size_t)nc), *an = malloc(sizeof(double) * (size_t)nc);
     double *cen = malloc(sizeof(double) * 2 * (size_t)nc), *ceno = malloc(sizeof(double) * 2 * (size_t)nc);
@@ -105,7 +144,7 @@ static int run(int32_t method, const char *name, const char *vtu) {
         /* The flow code's boundary motion: the cylinder moves by dy this step. */
         double dy = amp * (sin(w * n) - sin(w * (n - 1)));
         memset(bd, 0, sizeof(double) * 2 * (size_t)nv);
-        for (int32_t i = 0; i < ncyl; i++) bd[2 * cyl[i] + 1] = dy;
+        for (int32_t i = 0; i < ncyl; i++) bd[2 * i + 1] = dy;
         memcpy(xo, xy, sizeof(double) * 2 * (size_t)nv);
         memcpy(ceno, cen, sizeof(double) * 2 * (size_t)nc);
 
@@ -158,10 +197,10 @@ static int run(int32_t method, const char *name, const char *vtu) {
         }
         double area_err = fabs(total - domain) / domain;
         if (area_err > worst_area) worst_area = area_err;
-        if (qual.min_area_ratio < min_ratio) min_ratio = qual.min_area_ratio;
+        if (qual.min_volume_ratio < min_ratio) min_ratio = qual.min_volume_ratio;
         printf("  step %2d: %2d cycles, area error %.1e, inverted %d, min area ratio %.4f, min angle %5.2f, "
                "scalar %.6f in [%.3f, %.3f]\n",
-               n, rep.cycles, area_err, inverted, qual.min_area_ratio, qual.min_angle_deg, qtot, pmin, pmax);
+               n, rep.cycles, area_err, inverted, qual.min_volume_ratio, qual.min_angle_deg, qtot, pmin, pmax);
         if (area_err > 1e-12 || inverted || qual.inverted || !rep.converged) failed = 1;
     }
     if (worst_gcl > 1e-12) failed = 1;
@@ -172,7 +211,8 @@ static int run(int32_t method, const char *name, const char *vtu) {
     CHECK(meshmove_solver_free(solver));
     CHECK(meshmove_bcs_free(bcs));
     CHECK(meshmove_mesh_free(mesh));
-    free(xy), free(xo), free(bd), free(cells), free(cyl), free(faces), free(ao), free(an), free(cen), free(ceno);
+    free(xy), free(xo), free(bd), free(cells), free(edges), free(patches), free(faces), free(ao), free(an), free(cen);
+    free(ceno);
     free(q), free(phi), free(swept_sum);
     return failed;
 }

@@ -8,22 +8,70 @@
 //! reference_case compare A.vtu B.vtu TOL     # max |difference| of points and point data <= TOL
 //! ```
 //!
-//! The set-ups here must match the examples operation for operation: same mesh, same boundary
-//! conditions, same per-step boundary displacement expressions.
+//! The set-ups here must match the examples operation for operation: the same mesh, built from
+//! the same arrays (the grids of c_examples/box_grid.h and fortran_examples/box_grid.f90, the
+//! O-grid of c_examples/fv_cylinder.c), the same boundary conditions, the same per-step boundary
+//! displacement expressions.
 
-use meshmove::cases::meshes::*;
-use meshmove::{BoundaryConditions, InterfaceVariant, Kind, Motion, Options, Solver};
+use meshmove::{BoundaryConditions, InterfaceVariant, Kind, Mesh, Motion, Options, Solver};
+use meshmove::{CellType, MeshData};
 use std::f64::consts::PI;
 use std::path::Path;
 use std::process::exit;
 
-/// Free-surface case: h = 1/32, top y-displacement 0.25 cos(2πx), x-periodic sides.
+/// c_examples/box_grid.h (triangles): the box `[b0,b1]×[b2,b3]` in `nx × ny` squares of two
+/// triangles, vertex (i, j) at j (nx + 1) + i, its sides (bottom, right, top, left) tagged with
+/// `side` (0: untagged), in that order.
+fn box_grid(nx: u32, ny: u32, b: [f64; 4], side: [i32; 4]) -> MeshData {
+    let mut d = MeshData::new(2);
+    for j in 0..=ny {
+        for i in 0..=nx {
+            d.push_vertex(&[b[0] + (b[1] - b[0]) * i as f64 / nx as f64, b[2] + (b[3] - b[2]) * j as f64 / ny as f64]);
+        }
+    }
+    for j in 0..ny {
+        for i in 0..nx {
+            let a = j * (nx + 1) + i;
+            let (c, e) = (a + nx + 2, a + nx + 1);
+            d.push_cell(CellType::Triangle, &[a, a + 1, c], 0);
+            d.push_cell(CellType::Triangle, &[a, c, e], 0);
+        }
+    }
+    for (k, &p) in side.iter().enumerate().filter(|(_, &p)| p != 0) {
+        let (n, step) = if k % 2 == 0 { (nx, 1) } else { (ny, nx + 1) };
+        for i in 0..n {
+            let v = match k {
+                0 => i,
+                1 => i * (nx + 1) + nx,
+                2 => ny * (nx + 1) + i,
+                _ => i * (nx + 1),
+            };
+            d.push_face(&[v, v + step], p);
+        }
+    }
+    d
+}
+
+/// Free-surface case: the 32 × 32 grid of [0,1]×[−1,0], top y-displacement 0.25 cos(2πx),
+/// x-periodic sides; c_examples/free_surface.c and fortran_examples/free_surface.f90.
 fn free_surface_case(out: &Path) {
-    let case = meshmove::cases::setups::free_surface_case("free_surface", 1.0 / 32.0, 0.25, 1);
-    let (mesh, m) = (&case.mesh, &case.motion);
-    let s = Solver::new(mesh, &case.bcs, Options::default()).unwrap();
-    let sol = s.solve(m).unwrap();
-    write_deformed(out, mesh, &sol.displacement);
+    let (bottom, right, top, left) = (1, 2, 3, 4);
+    let n = 32;
+    let mesh = Mesh::from_data(&box_grid(n, n, [0.0, 1.0, -1.0, 0.0], [bottom, right, top, left])).unwrap();
+    let mut bcs = BoundaryConditions::new();
+    bcs.set_kinds(bottom, Kind::Fixed).set_kinds(top, Kind::Clamped);
+    for p in [left, right] {
+        bcs.set_kind(p, 0, Kind::Clamped).unwrap().set_kind(p, 1, Kind::Free).unwrap();
+    }
+    bcs.add_link(meshmove::Link::ByOffset { a: left, b: right, offset: [1.0, 0.0, 0.0], tol: 1e-9 });
+    let mut motion = Motion::zero(&mesh);
+    for i in 0..=n {
+        let v = (n * (n + 1) + i) as usize;
+        motion.displacement[2 * v + 1] = 0.25 * (2.0 * PI * mesh.point(v)[0]).cos();
+    }
+    let s = Solver::new(&mesh, &bcs, Options::default()).unwrap();
+    let sol = s.solve(&motion).unwrap();
+    meshmove::io::write_deformed(out, &mesh, &sol.displacement).unwrap();
     println!("free_surface: {} cycles, rel residual {:e}", sol.report.cycles, sol.report.rel_residual);
 }
 
@@ -32,20 +80,58 @@ fn stepped(mut s: Solver, steps: usize, bdisp: impl Fn(usize, &Solver) -> Vec<f6
     for n in 1..=steps {
         let d = bdisp(n, &s);
         let sol = s.solve(&Motion::from_displacement(d)).unwrap();
-        let moved: Vec<f64> = s.mesh().coords().iter().zip(&sol.displacement).map(|(a, b)| *a + *b).collect();
+        let moved: Vec<f64> = s.mesh().coords().iter().zip(&sol.displacement).map(|(a, b)| a + b).collect();
         s.set_reference(moved).unwrap();
     }
-    let n = s.mesh().coords().len();
-    write_deformed(out, s.mesh(), &vec![0.0; n]);
+    meshmove::io::write_deformed(out, s.mesh(), &vec![0.0; s.mesh().coords().len()]).unwrap();
 }
 
-/// Cylinder in a channel, h = 1/8, cylinder y(t) = 0.25 sin(2π t / 20) over 20 steps of dt = 1
-/// (biharmonic, walls FIXED, cylinder CLAMPED), as c_examples/fv_cylinder.c.
+/// c_examples/fv_cylinder.c's O-grid around the cylinder of diameter 1 at (1, 0) in the box
+/// [0,2]×[−1,1]: `nr` rings of cells, `4 ns` vertices per ring, the cylinder's edges on patch
+/// `cylinder` and the box's on patch `wall`.
+fn o_grid(ns: u32, nr: u32, wall: i32, cylinder: i32) -> MeshData {
+    let nt = 4 * ns;
+    let mut d = MeshData::new(2);
+    for k in 0..=nr {
+        for t in 0..nt {
+            let th = -0.75 * PI + 2.0 * PI * t as f64 / nt as f64;
+            let u = 2.0 * (t % ns) as f64 / ns as f64;
+            let s = k as f64 / nr as f64;
+            let (cx, cy) = (1.0 + 0.5 * th.cos(), 0.5 * th.sin());
+            let (qx, qy) = match t / ns {
+                0 => (u, -1.0),
+                1 => (2.0, -1.0 + u),
+                2 => (2.0 - u, 1.0),
+                _ => (0.0, 1.0 - u),
+            };
+            d.push_vertex(&[(1.0 - s) * cx + s * qx, (1.0 - s) * cy + s * qy]);
+        }
+    }
+    for k in 0..nr {
+        for t in 0..nt {
+            let (a, b) = (k * nt + t, k * nt + (t + 1) % nt);
+            d.push_cell(CellType::Triangle, &[a, a + nt, b + nt], 0);
+            d.push_cell(CellType::Triangle, &[a, b + nt, b], 0);
+        }
+    }
+    for t in 0..nt {
+        d.push_face(&[t, (t + 1) % nt], cylinder);
+    }
+    for t in 0..nt {
+        d.push_face(&[nr * nt + t, nr * nt + (t + 1) % nt], wall);
+    }
+    d
+}
+
+/// Cylinder in a box, the O-grid of 10 rings of 48 vertices, cylinder y(t) = 0.25 sin(2π t / 20)
+/// over 20 steps of dt = 1 (biharmonic, walls FIXED, cylinder CLAMPED), as
+/// c_examples/fv_cylinder.c.
 fn fv_cylinder_case(out: &Path) {
-    let mesh = cylinder_channel(1.0 / 8.0);
+    let (wall, cylinder) = (1, 2);
+    let mesh = Mesh::from_data(&o_grid(12, 10, wall, cylinder)).unwrap();
     let mut bcs = BoundaryConditions::new();
-    bcs.set_kinds(CH_WALL, Kind::Fixed).set_kinds(CH_CYLINDER, Kind::Clamped);
-    let cyl = mesh.patch_vertices(CH_CYLINDER);
+    bcs.set_kinds(wall, Kind::Fixed).set_kinds(cylinder, Kind::Clamped);
+    let cyl = mesh.patch_vertices(cylinder);
     let s = Solver::new(&mesh, &bcs, Options::default()).unwrap();
     let (amp, w, dt) = (0.25, 2.0 * PI / 20.0, 1.0);
     stepped(
@@ -66,16 +152,26 @@ fn fv_cylinder_case(out: &Path) {
 }
 
 /// Two regions, interface y = 0 raised to 0.25 cos(2πx) in 15 equal steps (paper Fig. 11),
-/// variant A (clamped each side), sides sliding in y; h = 1/16; as fortran_examples/fv_interface.f90.
+/// variant A (clamped each side), sides sliding in y, on the 16 × 32 grid of [0,1]×[−1,1] whose
+/// middle row is the interface; as fortran_examples/fv_interface.f90.
 fn fv_interface_case(out: &Path) {
-    let mesh = two_region_interface(1.0 / 16.0);
+    let (bottom, right, interface, left, top) = (1, 2, 3, 4, 5);
+    let (nx, ny) = (16, 32);
+    let mut data = box_grid(nx, ny, [0.0, 1.0, -1.0, 1.0], [bottom, right, top, left]);
+    let row = ny / 2 * (nx + 1);
+    for i in 0..nx {
+        data.push_face(&[row + i, row + i + 1], interface);
+    }
+    let nc = data.num_cells();
+    data.regions = (0..nc).map(|c| i32::from(c >= nc / 2)).collect();
+    let mesh = Mesh::from_data(&data).unwrap();
     let mut bcs = BoundaryConditions::new();
-    bcs.set_kinds(IF_BOTTOM, Kind::Fixed).set_kinds(IF_TOP, Kind::Fixed);
-    bcs.set_kinds(IF_INTERFACE, Kind::Clamped).set_interface(IF_INTERFACE, InterfaceVariant::Separate);
-    for p in [IF_LEFT, IF_RIGHT] {
+    bcs.set_kinds(bottom, Kind::Fixed).set_kinds(top, Kind::Fixed);
+    bcs.set_kinds(interface, Kind::Clamped).set_interface(interface, InterfaceVariant::Separate);
+    for p in [left, right] {
         bcs.set_kind(p, 1, Kind::Free).unwrap();
     }
-    let iface = mesh.patch_vertices(IF_INTERFACE);
+    let iface = mesh.patch_vertices(interface);
     let s = Solver::new(&mesh, &bcs, Options::default()).unwrap();
     stepped(
         s,
@@ -92,15 +188,10 @@ fn fv_interface_case(out: &Path) {
     );
 }
 
-/// `meshmove::io::write_deformed` of a displacement per vertex (`dim` values per vertex).
-fn write_deformed(out: &Path, mesh: &meshmove::Mesh, displacement: &[f64]) {
-    meshmove::io::write_deformed(out, mesh, displacement).unwrap();
-}
-
 fn compare(a: &Path, b: &Path, tol: f64) -> bool {
     let (a, b) = (meshmove::io::read_vtu(a).unwrap(), meshmove::io::read_vtu(b).unwrap());
     let (ma, mb) = (&a.mesh, &b.mesh);
-    let same_cells = (&ma.cell_types, &ma.cell_vertices) == (&mb.cell_types, &mb.cell_vertices);
+    let same_cells = ma.cell_types == mb.cell_types && ma.cell_vertices == mb.cell_vertices;
     if ma.coords.len() != mb.coords.len() || !same_cells {
         println!("meshes differ: {} vs {} points, cells equal: {same_cells}", ma.num_vertices(), mb.num_vertices());
         return false;

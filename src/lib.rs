@@ -37,9 +37,15 @@ macro_rules! internal_mod {
     )*};
 }
 
-internal_mod!(bc, cases, dense, multigrid, operator, sparse);
+internal_mod!(bc, dense, multigrid, operator, sparse);
 #[doc(hidden)]
 pub mod capi;
+/// The paper's cases (meshes, set-ups, reports): fixtures of the command line and the tests,
+/// compiled only with the `internals` feature.
+#[cfg(feature = "internals")]
+#[doc(hidden)]
+#[allow(missing_docs)]
+pub mod cases;
 pub mod error;
 mod geometry;
 pub mod io;

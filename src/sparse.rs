@@ -5,7 +5,9 @@
 
 mod product;
 
-pub use product::{matmul, triple_product};
+#[cfg(test)]
+pub use product::matmul;
+pub use product::triple_product;
 use rayon::prelude::*;
 
 /// Rows below this count are processed serially: rayon's overhead dominates on small levels.

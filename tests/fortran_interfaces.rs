@@ -1,7 +1,9 @@
 //! `include/meshmove.f90` against `include/meshmove.h`, mechanically: every C function has a
 //! `bind(c)` interface of the same name with the same number of arguments, each of a compatible
-//! type and passing (by value or by reference); every `bind(c)` type has the fields of its C
-//! struct in order; every named constant of the header has a Fortran parameter of the same value.
+//! type and passing (by value or by reference), and is called by the high-level module
+//! `meshmove`; every function returning a status is marked `MESHMOVE_MUST_USE`; every `bind(c)`
+//! type has the fields of its C struct in order; every named constant of the header has a Fortran
+//! parameter of the same value.
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -33,17 +35,28 @@ struct CType {
     ptr: usize,
 }
 
+/// The attribute macro in front of status-returning functions.
+const MUST_USE: &str = "MESHMOVE_MUST_USE";
+
 fn c_type(decl: &str) -> CType {
     let ptr = decl.matches('*').count();
     let words: Vec<&str> = decl
         .split(|c: char| c.is_whitespace() || c == '*')
-        .filter(|w| !w.is_empty() && *w != "const" && *w != "struct")
+        .filter(|w| !w.is_empty() && *w != "const" && *w != "struct" && *w != MUST_USE)
         .collect();
     CType { base: words.first().copied().unwrap_or("void").to_string(), ptr }
 }
 
-/// Every `meshmove_*` function of the header: name → (return type, parameter types).
-fn c_functions(h: &str) -> BTreeMap<String, (CType, Vec<CType>)> {
+/// A function of the header: its return type, parameter types, and whether it is marked
+/// `MESHMOVE_MUST_USE`.
+struct CFunction {
+    ret: CType,
+    params: Vec<CType>,
+    must_use: bool,
+}
+
+/// Every `meshmove_*` function of the header by name.
+fn c_functions(h: &str) -> BTreeMap<String, CFunction> {
     let mut out = BTreeMap::new();
     for stmt in c_code(h).split(';') {
         let stmt = stmt.rsplit(['{', '}']).next().unwrap().trim();
@@ -71,7 +84,9 @@ fn c_functions(h: &str) -> BTreeMap<String, (CType, Vec<CType>)> {
                 })
                 .collect()
         };
-        out.insert(name, (c_type(head[..name_at].trim()), args));
+        let ret = head[..name_at].trim();
+        let must_use = ret.split_whitespace().any(|w| w == MUST_USE);
+        out.insert(name, CFunction { ret: c_type(ret), params: args, must_use });
     }
     out
 }
@@ -174,8 +189,8 @@ fn fortran_interfaces(f: &str) -> BTreeMap<String, (String, Vec<FArg>)> {
     out
 }
 
-const STRUCTS: [&str; 4] = ["meshmove_options", "meshmove_report", "meshmove_quality", "meshmove_step_report"];
-const HANDLES: [&str; 3] = ["meshmove_mesh", "meshmove_bcs", "meshmove_solver"];
+const STRUCTS: [&str; 3] = ["meshmove_report", "meshmove_quality", "meshmove_step_report"];
+const HANDLES: [&str; 4] = ["meshmove_mesh", "meshmove_bcs", "meshmove_options", "meshmove_solver"];
 
 /// Whether a Fortran dummy can receive this C parameter.
 fn compatible(c: &CType, f: &FArg) -> bool {
@@ -203,7 +218,10 @@ fn every_c_function_has_a_matching_fortran_interface() {
     let f = fortran_interfaces(&read("include/meshmove.f90"));
     assert!(c.len() > 30, "parsed only {} C functions", c.len());
     let mut problems = Vec::new();
-    for (name, (ret, params)) in &c {
+    for (name, CFunction { ret, params, must_use }) in &c {
+        if (ret.base == "meshmove_status") != *must_use {
+            problems.push(format!("{name}: returns {ret:?}; MESHMOVE_MUST_USE: {must_use}"));
+        }
         let Some((fret, fargs)) = f.get(name) else {
             problems.push(format!("{name}: no bind(c) interface in meshmove.f90"));
             continue;
@@ -296,10 +314,10 @@ fn every_header_constant_has_a_fortran_parameter() {
             }
         }
     }
-    // #define MESHMOVE_X 3
+    // #define MESHMOVE_X 3 (numbers only: not the include guard nor the attribute macro)
     for l in raw.lines() {
         let w: Vec<&str> = l.split_whitespace().collect();
-        if w.len() == 3 && w[0] == "#define" && w[1].starts_with("MESHMOVE_") && w[1] != "MESHMOVE_H" {
+        if w.len() == 3 && w[0] == "#define" && w[1].starts_with("MESHMOVE_") && w[2].parse::<i64>().is_ok() {
             constants.insert(w[1].to_string(), w[2].to_string());
         }
     }
@@ -320,4 +338,28 @@ fn every_header_constant_has_a_fortran_parameter() {
         .map(|(n, v)| format!("{n} = {v} in the header, {:?} in meshmove.f90", fconst.get(n)))
         .collect();
     assert!(problems.is_empty(), "constants differ:\n  {}", problems.join("\n  "));
+}
+
+/// The module `meshmove` (the high-level layer) without comments.
+fn high_level_module(f: &str) -> String {
+    let start = f.find("\nmodule meshmove\n").expect("module meshmove");
+    f[start..].lines().map(|l| l.find('!').map_or(l, |i| &l[..i])).collect::<Vec<_>>().join("\n")
+}
+
+#[test]
+fn the_high_level_module_wraps_every_c_function() {
+    let c = c_functions(&read("include/meshmove.h"));
+    let module = high_level_module(&read("include/meshmove.f90"));
+    let missing: Vec<&String> = c
+        .keys()
+        .filter(|name| {
+            // a call: the name followed by an argument list
+            !module.match_indices(name.as_str()).any(|(i, _)| {
+                let after = module[i + name.len()..].trim_start();
+                let word_end = !module[i + name.len()..].starts_with(|ch: char| ch.is_alphanumeric() || ch == '_');
+                word_end && after.starts_with('(')
+            })
+        })
+        .collect();
+    assert!(missing.is_empty(), "module meshmove calls none of: {missing:?}");
 }

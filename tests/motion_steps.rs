@@ -39,7 +39,11 @@ fn ten_steps_reach_the_target_surface() {
     for method in [Method::Biharmonic, Method::Laplacian] {
         let mut s = Solver::new(&mesh, &bcs, Options { method, ..Default::default() }).unwrap();
         let topology = |s: &Solver| -> Vec<Vec<Vec<u32>>> {
-            s.hierarchy().levels.iter().map(|l| (0..l.mesh.num_cells()).map(|c| l.mesh.cell(c).to_vec()).collect()).collect()
+            s.hierarchy()
+                .levels
+                .iter()
+                .map(|l| (0..l.mesh.num_cells()).map(|c| l.mesh.cell(c).to_vec()).collect())
+                .collect()
         };
         let before = topology(&s);
         s.move_in_steps(&motion, 10).unwrap();

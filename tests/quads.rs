@@ -35,7 +35,9 @@ fn grid(n: usize, mixed: bool) -> Mesh {
         }
     }
     for k in 0..n {
-        for f in [[id(k, 0), id(k + 1, 0)], [id(n, k), id(n, k + 1)], [id(k, n), id(k + 1, n)], [id(0, k), id(0, k + 1)]] {
+        for f in
+            [[id(k, 0), id(k + 1, 0)], [id(n, k), id(n, k + 1)], [id(k, n), id(k + 1, n)], [id(0, k), id(0, k + 1)]]
+        {
             d.push_face(&f, 1);
         }
     }

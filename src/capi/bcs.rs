@@ -2,12 +2,13 @@
 
 use super::error::CError;
 use super::handles::{self, check_out, get_mut, hand_out, slice, Handle, Slot};
+use super::points;
 use super::status::meshmove_status;
 use super::types;
 use crate::{BoundaryConditions, Link};
 
-/// A boundary-condition set: a `meshmove_kind` per patch and component (patches not named are
-/// FIXED), links between patches, interface variants. It is checked against a mesh when a solver
+/// A boundary-condition set: a `meshmove_kind` per patch and displacement component (patches not
+/// named are FIXED), links between patches, interface variants. It is checked against a mesh when a solver
 /// is created, and copied into the solver (it may be freed afterwards).
 pub struct meshmove_bcs(Slot<BoundaryConditions>);
 
@@ -22,15 +23,18 @@ impl Handle for meshmove_bcs {
     }
 }
 
-/// Creates an empty boundary-condition set (every patch FIXED in both components).
+/// Creates an empty boundary-condition set (every patch FIXED in every component).
 ///
 /// # Safety
 /// `out` must be writable.
 #[no_mangle]
+#[must_use]
 pub unsafe extern "C" fn meshmove_bcs_create(out: *mut *mut meshmove_bcs) -> meshmove_status {
     ffi_body!(meshmove_bcs_create, {
-        check_out(out, "out")?;
-        hand_out(BoundaryConditions::new(), out)
+        // SAFETY: the caller guarantees `out` is NULL (refused) or writable.
+        unsafe { check_out(out, "out") }?;
+        // SAFETY: `out` passed `check_out`.
+        unsafe { hand_out(BoundaryConditions::new(), out) }
     })
 }
 
@@ -39,15 +43,18 @@ pub unsafe extern "C" fn meshmove_bcs_create(out: *mut *mut meshmove_bcs) -> mes
 /// # Safety
 /// `bcs` must be NULL or a pointer received from meshmove (checked).
 #[no_mangle]
+#[must_use]
 pub unsafe extern "C" fn meshmove_bcs_free(bcs: *mut meshmove_bcs) -> meshmove_status {
     ffi_body!(meshmove_bcs_free, { handles::free(bcs, "bcs") })
 }
 
-/// Sets the `meshmove_kind` of one component (0 = x, 1 = y) on `patch`.
+/// Sets the `meshmove_kind` of one displacement component (0 = x, 1 = y, 2 = z) on `patch`.
+/// A component the library cannot hold yet (z today) is refused.
 ///
 /// # Safety
 /// `bcs` must be a handle from meshmove (checked).
 #[no_mangle]
+#[must_use]
 pub unsafe extern "C" fn meshmove_bcs_set_kind(
     bcs: *mut meshmove_bcs,
     patch: i32,
@@ -57,19 +64,20 @@ pub unsafe extern "C" fn meshmove_bcs_set_kind(
     ffi_body!(meshmove_bcs_set_kind, {
         let mut b = get_mut(bcs, "bcs")?;
         let k = types::kind(kind)?;
-        if !(0..=1).contains(&component) {
-            return Err(CError::arg(format!("component {component} does not exist in 2D (0 = x, 1 = y)")));
+        if !(0..=2).contains(&component) {
+            return Err(CError::arg(format!("component {component} does not exist (0 = x, 1 = y, 2 = z)")));
         }
         b.set_kind(patch, component as usize, k)?;
         Ok(())
     })
 }
 
-/// Sets the same `meshmove_kind` for both components on `patch`.
+/// Sets the same `meshmove_kind` for every component on `patch`.
 ///
 /// # Safety
 /// `bcs` must be a handle from meshmove (checked).
 #[no_mangle]
+#[must_use]
 pub unsafe extern "C" fn meshmove_bcs_set_kinds(bcs: *mut meshmove_bcs, patch: i32, kind: i32) -> meshmove_status {
     ffi_body!(meshmove_bcs_set_kinds, {
         let mut b = get_mut(bcs, "bcs")?;
@@ -79,11 +87,12 @@ pub unsafe extern "C" fn meshmove_bcs_set_kinds(bcs: *mut meshmove_bcs, patch: i
     })
 }
 
-/// Sets the kind of patches never named (both components; default FIXED).
+/// Sets the kind of patches never named (every component; default FIXED).
 ///
 /// # Safety
 /// `bcs` must be a handle from meshmove (checked).
 #[no_mangle]
+#[must_use]
 pub unsafe extern "C" fn meshmove_bcs_set_default_kind(bcs: *mut meshmove_bcs, kind: i32) -> meshmove_status {
     ffi_body!(meshmove_bcs_set_default_kind, {
         let mut b = get_mut(bcs, "bcs")?;
@@ -93,24 +102,29 @@ pub unsafe extern "C" fn meshmove_bcs_set_default_kind(bcs: *mut meshmove_bcs, k
 }
 
 /// Links patch `patch_a` to `patch_b` periodically: every vertex v of `patch_a` is joined to the
-/// vertex of `patch_b` at v + (dx, dy), within `tol` (positive). Both patches must be matched
-/// completely; this is checked when the solver is created (`MESHMOVE_STATUS_INVALID_BCS`).
+/// vertex of `patch_b` at v + `offset`, within `tol` (positive). `offset` holds `dim` values, the
+/// mesh's dimension (2 or 3). Both patches must be matched completely; this is checked when the
+/// solver is created (`MESHMOVE_STATUS_INVALID_BCS`).
 ///
 /// # Safety
-/// `bcs` must be a handle from meshmove (checked).
+/// `bcs` must be a handle from meshmove (checked); `offset` must hold `dim` doubles.
 #[no_mangle]
+#[must_use]
 pub unsafe extern "C" fn meshmove_bcs_link_periodic(
     bcs: *mut meshmove_bcs,
     patch_a: i32,
     patch_b: i32,
-    dx: f64,
-    dy: f64,
+    dim: i32,
+    offset: *const f64,
     tol: f64,
 ) -> meshmove_status {
     ffi_body!(meshmove_bcs_link_periodic, {
         let mut b = get_mut(bcs, "bcs")?;
-        if !(dx.is_finite() && dy.is_finite()) {
-            return Err(CError::arg(format!("offset ({dx}, {dy}) is not finite")));
+        let dim = types::bounded(dim, "dim", 2, 3)?;
+        // SAFETY: the caller guarantees `offset` holds `dim` doubles.
+        let o = unsafe { slice(offset, dim, "offset") }?;
+        if !o.iter().all(|v| v.is_finite()) {
+            return Err(CError::arg(format!("offset {o:?} is not finite")));
         }
         if !(tol > 0.0 && tol.is_finite()) {
             return Err(CError::arg(format!("tol is {tol}; it must be positive and finite")));
@@ -118,7 +132,8 @@ pub unsafe extern "C" fn meshmove_bcs_link_periodic(
         if patch_a == patch_b {
             return Err(CError::arg(format!("a patch ({patch_a}) cannot be linked to itself")));
         }
-        b.add_link(Link::ByOffset { a: patch_a, b: patch_b, offset: [dx, dy, 0.0], tol });
+        let offset = points::vector(o, "offset")?;
+        b.add_link(Link::ByOffset { a: patch_a, b: patch_b, offset, tol });
         Ok(())
     })
 }
@@ -131,6 +146,7 @@ pub unsafe extern "C" fn meshmove_bcs_link_periodic(
 /// # Safety
 /// `bcs` must be a handle from meshmove; `pairs` must hold `2 num_pairs` integers.
 #[no_mangle]
+#[must_use]
 pub unsafe extern "C" fn meshmove_bcs_link_pairs(
     bcs: *mut meshmove_bcs,
     num_pairs: i32,
@@ -139,9 +155,10 @@ pub unsafe extern "C" fn meshmove_bcs_link_pairs(
 ) -> meshmove_status {
     ffi_body!(meshmove_bcs_link_pairs, {
         let mut b = get_mut(bcs, "bcs")?;
-        let base = handles::index_base(index_base)? as i32;
+        let base = handles::index_base(index_base)?;
         let n = types::bounded(num_pairs, "num_pairs", 1, crate::limits::MAX_VERTICES)?;
-        let p = slice(pairs, 2 * n, "pairs")?;
+        // SAFETY: the caller guarantees `pairs` holds `2 num_pairs` integers.
+        let p = unsafe { slice(pairs, 2 * n, "pairs") }?;
         let mut out = Vec::with_capacity(n);
         for (i, c) in p.chunks_exact(2).enumerate() {
             let conv = |v: i32| {
@@ -173,6 +190,7 @@ pub unsafe extern "C" fn meshmove_bcs_link_pairs(
 /// # Safety
 /// `bcs` must be a handle from meshmove (checked).
 #[no_mangle]
+#[must_use]
 pub unsafe extern "C" fn meshmove_bcs_set_interface(
     bcs: *mut meshmove_bcs,
     patch: i32,

@@ -9,7 +9,7 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 /// Major version of the library this header belongs to (compare with `meshmove_version`).
 pub const MESHMOVE_VERSION_MAJOR: i32 = 0;
 /// Minor version of the library this header belongs to.
-pub const MESHMOVE_VERSION_MINOR: i32 = 1;
+pub const MESHMOVE_VERSION_MINOR: i32 = 2;
 /// Patch version of the library this header belongs to.
 pub const MESHMOVE_VERSION_PATCH: i32 = 0;
 
@@ -29,6 +29,9 @@ impl CError {
     }
     pub(crate) fn null(what: &str) -> Self {
         Self::new(meshmove_status::NullPointer, format!("`{what}` is NULL"))
+    }
+    pub(crate) fn unsupported(msg: impl Into<String>) -> Self {
+        Self::new(meshmove_status::Unsupported, msg)
     }
 }
 
@@ -92,6 +95,7 @@ pub(crate) fn guard(name: &str, f: impl FnOnce() -> Result<(), CError>) -> meshm
 /// # Safety
 /// `buf` must point to `buf_len` writable bytes; `needed` must be NULL or valid.
 #[no_mangle]
+#[must_use]
 pub unsafe extern "C" fn meshmove_last_error_message(
     buf: *mut c_char,
     buf_len: usize,
@@ -102,7 +106,11 @@ pub unsafe extern "C" fn meshmove_last_error_message(
             let l = l.borrow();
             let bytes = l.as_bytes();
             if !needed.is_null() {
-                *needed = bytes.len() + 1;
+                if super::handles::check_aligned(needed, "needed").is_err() {
+                    return meshmove_status::InvalidArgument;
+                }
+                // SAFETY: `needed` is not NULL and aligned; the caller guarantees it is writable.
+                unsafe { *needed = bytes.len() + 1 };
             }
             if buf_len == 0 {
                 return if bytes.is_empty() { meshmove_status::Ok } else { meshmove_status::BufferTooSmall };
@@ -115,8 +123,12 @@ pub unsafe extern "C" fn meshmove_last_error_message(
             while n < bytes.len() && n > 0 && (bytes[n] & 0xC0) == 0x80 {
                 n -= 1;
             }
-            std::ptr::copy_nonoverlapping(bytes.as_ptr(), buf as *mut u8, n);
-            *buf.add(n) = 0;
+            // SAFETY: the caller guarantees `buf_len` writable bytes at `buf`, and n + 1 <= buf_len;
+            // `bytes` is this thread's message, which cannot overlap the caller's buffer.
+            unsafe {
+                std::ptr::copy_nonoverlapping(bytes.as_ptr(), buf as *mut u8, n);
+                *buf.add(n) = 0;
+            }
             if n < bytes.len() {
                 meshmove_status::BufferTooSmall
             } else {
@@ -149,6 +161,7 @@ pub extern "C" fn meshmove_status_name(status: i32) -> *const c_char {
 /// # Safety
 /// Non-NULL pointers must be valid for writing one `int32_t`.
 #[no_mangle]
+#[must_use]
 pub unsafe extern "C" fn meshmove_version(major: *mut i32, minor: *mut i32, patch: *mut i32) -> meshmove_status {
     ffi_body!(meshmove_version, {
         let parse = |s: &str| s.parse::<i32>().unwrap_or(-1);
@@ -158,8 +171,8 @@ pub unsafe extern "C" fn meshmove_version(major: *mut i32, minor: *mut i32, patc
             (patch, env!("CARGO_PKG_VERSION_PATCH")),
         ] {
             if !p.is_null() {
-                super::handles::check_aligned(p, "version")?;
-                *p = parse(v);
+                // SAFETY: the caller guarantees a non-NULL pointer is valid for one `int32_t`.
+                unsafe { super::handles::write_out(p, parse(v), "version") }?;
             }
         }
         Ok(())

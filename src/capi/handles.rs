@@ -71,20 +71,28 @@ fn slots<R>(f: impl FnOnce(&mut HashMap<usize, (TypeId, &'static str)>) -> R) ->
 }
 
 /// Boxes `payload` in a new slot, registers it and stores it in `*out`.
+///
+/// # Safety
+/// `out` must have passed `check_out` (not NULL, aligned) and be writable.
 pub(crate) unsafe fn hand_out<T: Handle>(payload: T::Payload, out: *mut *mut T) -> Result<(), CError> {
     let p = Box::into_raw(Box::new(T::from_slot(Slot::new(payload))));
     slots(|m| m.insert(p as usize, (TypeId::of::<T>(), T::NAME)));
-    *out = p;
+    // SAFETY: `out` is not NULL, aligned and writable (this function's contract).
+    unsafe { *out = p };
     Ok(())
 }
 
 /// Checks `out` before any work: not NULL, aligned; `*out` is set to NULL.
+///
+/// # Safety
+/// `out` must be NULL (an error) or writable.
 pub(crate) unsafe fn check_out<T>(out: *mut *mut T, what: &str) -> Result<(), CError> {
     if out.is_null() {
         return Err(CError::null(what));
     }
     check_aligned(out, what)?;
-    *out = std::ptr::null_mut();
+    // SAFETY: not NULL and aligned; the caller guarantees it is writable.
+    unsafe { *out = std::ptr::null_mut() };
     Ok(())
 }
 
@@ -261,6 +269,9 @@ pub(crate) fn count(n: i32, what: &str) -> Result<usize, CError> {
 }
 
 /// `len` elements at `p`; NULL is allowed only when `len` is 0.
+///
+/// # Safety
+/// A non-NULL `p` must point to `len` initialised elements that stay valid and unchanged for `'a`.
 pub(crate) unsafe fn slice<'a, T>(p: *const T, len: usize, what: &str) -> Result<&'a [T], CError> {
     if len == 0 {
         return Ok(&[]);
@@ -269,9 +280,15 @@ pub(crate) unsafe fn slice<'a, T>(p: *const T, len: usize, what: &str) -> Result
         return Err(CError::null(what));
     }
     check_aligned(p, what)?;
-    Ok(std::slice::from_raw_parts(p, len))
+    // SAFETY: not NULL, aligned, `len` elements (this function's contract).
+    Ok(unsafe { std::slice::from_raw_parts(p, len) })
 }
 
+/// `len` writable elements at `p`; NULL is allowed only when `len` is 0.
+///
+/// # Safety
+/// A non-NULL `p` must point to `len` initialised elements, writable and not otherwise accessed
+/// for `'a`.
 pub(crate) unsafe fn slice_mut<'a, T>(p: *mut T, len: usize, what: &str) -> Result<&'a mut [T], CError> {
     if len == 0 {
         return Ok(&mut []);
@@ -280,74 +297,54 @@ pub(crate) unsafe fn slice_mut<'a, T>(p: *mut T, len: usize, what: &str) -> Resu
         return Err(CError::null(what));
     }
     check_aligned(p, what)?;
-    Ok(std::slice::from_raw_parts_mut(p, len))
+    // SAFETY: not NULL, aligned, `len` writable elements (this function's contract).
+    Ok(unsafe { std::slice::from_raw_parts_mut(p, len) })
 }
 
-/// An interleaved (x0, y0, x1, y1, ...) array of exactly `2 nv` doubles, copied out.
-pub(crate) unsafe fn read_xy(p: *const f64, len: i32, nv: usize, what: &str) -> Result<Vec<f64>, CError> {
-    let n = count(len, &format!("{what} length"))?;
-    if n != 2 * nv {
-        return Err(CError::arg(format!(
-            "`{what}` has length {n}; the mesh has {nv} vertices, so 2 × {nv} = {} values are needed",
-            2 * nv
-        )));
-    }
-    let s = slice(p, n, what)?;
-    Ok(s.to_vec())
-}
-
-/// Checks an output array of exactly `2 nv` doubles (before any work is done).
-pub(crate) unsafe fn check_xy_out(p: *mut f64, len: i32, nv: usize, what: &str) -> Result<(), CError> {
-    let n = count(len, &format!("{what} length"))?;
-    if n != 2 * nv {
-        return Err(CError::arg(format!(
-            "`{what}` has length {n}; the mesh has {nv} vertices, so 2 × {nv} = {} values are needed",
-            2 * nv
-        )));
-    }
-    slice_mut(p, n, what)?;
-    Ok(())
-}
-
-/// Writes `v` interleaved into `p` (checked by `check_xy_out`).
-pub(crate) unsafe fn write_xy(p: *mut f64, v: &[f64]) {
-    std::slice::from_raw_parts_mut(p, v.len()).copy_from_slice(v);
-}
-
-pub(crate) fn finite_xy(v: &[f64], what: &str) -> Result<(), CError> {
-    match v.iter().position(|p| !p.is_finite()) {
-        Some(i) => Err(CError::arg(format!(
-            "`{what}` of vertex {} (0-based) is not finite ({}, {})",
-            i / 2,
-            v[i / 2 * 2],
-            v[i / 2 * 2 + 1]
-        ))),
-        None => Ok(()),
-    }
-}
-
+/// A NUL-terminated UTF-8 string argument.
+///
+/// # Safety
+/// `p` must be NULL (an error) or point to a NUL-terminated string valid for `'a`.
 pub(crate) unsafe fn path<'a>(p: *const c_char, what: &str) -> Result<&'a str, CError> {
     if p.is_null() {
         return Err(CError::null(what));
     }
-    CStr::from_ptr(p).to_str().map_err(|_| CError::arg(format!("`{what}` is not valid UTF-8")))
+    // SAFETY: not NULL; the caller guarantees a NUL-terminated string.
+    unsafe { CStr::from_ptr(p) }.to_str().map_err(|_| CError::arg(format!("`{what}` is not valid UTF-8")))
 }
 
-pub(crate) fn index_base(b: i32) -> Result<crate::IndexBase, CError> {
+/// The first index of the caller's vertex numbering: 0 (C) or 1 (Fortran).
+pub(crate) fn index_base(b: i32) -> Result<i32, CError> {
     match b {
-        0 => Ok(crate::IndexBase::Zero),
-        1 => Ok(crate::IndexBase::One),
+        0 | 1 => Ok(b),
         _ => Err(CError::arg(format!("index base is {b}; it must be 0 (C) or 1 (Fortran)"))),
     }
 }
 
+/// Writes one value to a required output.
+///
+/// # Safety
+/// `p` must be NULL (an error) or valid for writing one `T`.
 pub(crate) unsafe fn write_out<T>(p: *mut T, v: T, what: &str) -> Result<(), CError> {
     if p.is_null() {
         return Err(CError::null(what));
     }
     check_aligned(p, what)?;
-    p.write(v);
+    // SAFETY: not NULL, aligned; the caller guarantees it is writable.
+    unsafe { p.write(v) };
     Ok(())
+}
+
+/// Writes one value to an optional output (NULL: nothing is written).
+///
+/// # Safety
+/// `p` must be NULL or valid for writing one `T`.
+pub(crate) unsafe fn write_opt<T>(p: *mut T, v: T, what: &str) -> Result<(), CError> {
+    if p.is_null() {
+        return Ok(());
+    }
+    // SAFETY: not NULL; the caller guarantees it is writable.
+    unsafe { write_out(p, v, what) }
 }
 
 #[cfg(test)]
@@ -368,6 +365,7 @@ mod tests {
 
     fn make() -> *mut Thing {
         let mut p = std::ptr::null_mut();
+        // SAFETY: `p` is a local, writable pointer.
         unsafe { hand_out::<Thing>(vec![1, 2, 3], &mut p).unwrap() };
         p
     }

@@ -1,16 +1,24 @@
-//! `meshmove_mesh`: a validated triangle mesh with patches and regions.
+//! `meshmove_mesh`: a validated mesh (vertices, cells of any type as CSR lists, tagged faces,
+//! regions) built from the caller's plain arrays.
+//!
+//! The C layer checks every size, offset and index of the arrays, builds a 0-based
+//! [`MeshData`] and hands it to [`Mesh::from_data`], which validates the geometry. The mesh is
+//! read back through [`Mesh::to_data`], so nothing here depends on the dimension or cell types
+//! the core handles.
 
 use super::error::CError;
-use super::handles::{self, check_out, count, get, hand_out, path, slice, Handle, Slot};
+use super::handles::{self, check_out, count, get, hand_out, slice, slice_mut, Handle, Slot};
+use super::points;
 use super::status::meshmove_status;
-use super::types::bounded;
-use crate::cases::meshes;
-use crate::{Mesh, MeshError};
+use super::types::{self, bounded};
+use crate::geometry::CellType;
+use crate::mesh::MeshData;
+use crate::{limits, Mesh, MeshError};
 use std::ffi::c_char;
 
-/// An immutable triangle mesh (vertices, cells, boundary and interface patches, regions).
-/// Create with `meshmove_mesh_create`, `meshmove_mesh_create_case` or `meshmove_mesh_read_msh`;
-/// free with `meshmove_mesh_free`. A solver keeps its own copy: the mesh may be freed after
+/// An immutable mesh (vertices, cells, boundary and interface patches, regions). Create with
+/// `meshmove_mesh_create`, `meshmove_mesh_create_triangles` or `meshmove_mesh_read_msh`; free
+/// with `meshmove_mesh_free`. A solver keeps its own copy: the mesh may be freed after
 /// `meshmove_solver_create`.
 pub struct meshmove_mesh(Slot<Mesh>);
 
@@ -25,43 +33,295 @@ impl Handle for meshmove_mesh {
     }
 }
 
-/// `meshmove_mesh_create_case("free_surface", h)`: the bottom, y = −1.
-pub const MESHMOVE_FS_BOTTOM: i32 = 1;
-/// `"free_surface"`: the right side x = 1 (same y as the left side's vertices).
-pub const MESHMOVE_FS_RIGHT: i32 = 2;
-/// `"free_surface"`: the top y = 0, the free surface.
-pub const MESHMOVE_FS_TOP: i32 = 3;
-/// `"free_surface"`: the left side x = 0.
-pub const MESHMOVE_FS_LEFT: i32 = 4;
-/// `"two_region_interface"`: the bottom, y = −1.
-pub const MESHMOVE_IF_BOTTOM: i32 = 1;
-/// `"two_region_interface"`: both right sides, x = 1.
-pub const MESHMOVE_IF_RIGHT: i32 = 2;
-/// `"two_region_interface"`: the interface y = 0 (interior edges between regions 0 and 1).
-pub const MESHMOVE_IF_INTERFACE: i32 = 3;
-/// `"two_region_interface"`: both left sides, x = 0.
-pub const MESHMOVE_IF_LEFT: i32 = 4;
-/// `"two_region_interface"`: the top, y = +1.
-pub const MESHMOVE_IF_TOP: i32 = 5;
-/// `"cylinder_channel"`: the four channel walls of `[0,8]×[−1,1]`.
-pub const MESHMOVE_CH_WALL: i32 = 1;
-/// `"cylinder_channel"`: the cylinder of diameter 1 about (2, 0).
-pub const MESHMOVE_CH_CYLINDER: i32 = 2;
+/// A CSR list as the caller gave it: `offsets` (None: derived) and the vertex indices.
+struct Csr<'a> {
+    offsets: Option<&'a [i32]>,
+    vertices: &'a [i32],
+}
 
-/// Validates and creates a mesh (at most `MESHMOVE_MAX_VERTICES` vertices,
-/// `MESHMOVE_MAX_CELLS` cells and `MESHMOVE_MAX_VERTICES` tagged edges).
+/// The arrays of a mesh as the caller gave them, their lengths checked, in the caller's numbering.
+struct Arrays<'a> {
+    dim: usize,
+    coords: &'a [f64],
+    cell_types: &'a [i32],
+    cells: Csr<'a>,
+    faces: Csr<'a>,
+    face_patch: &'a [i32],
+    regions: Option<&'a [i32]>,
+    base: i32,
+}
+
+/// The number of vertices of a `dim`-dimensional mesh: at most `MESHMOVE_MAX_VERTICES`, and
+/// `dim × vertices` must fit an `int32_t` length.
+fn vertex_count(n: i32, dim: usize) -> Result<usize, CError> {
+    let max = limits::MAX_VERTICES.min(i32::MAX as usize / dim);
+    bounded(n, &format!("num_vertices (a {dim}D mesh)"), 0, max)
+}
+
+/// How many vertices a tagged face of a `dim`-dimensional mesh may have: those of the cells'
+/// sides, edges in 2D (2) and faces in 3D (3 or 4), from the cell types' tables.
+fn face_sizes(dim: usize) -> Vec<usize> {
+    let mut sizes: Vec<usize> = CellType::ALL
+        .iter()
+        .filter(|t| t.dim() == dim)
+        .flat_map(|t| {
+            if dim == 2 {
+                t.edges().iter().map(|e| e.len()).collect::<Vec<_>>()
+            } else {
+                t.faces().iter().map(|f| f.len()).collect()
+            }
+        })
+        .collect();
+    sizes.sort_unstable();
+    sizes.dedup();
+    sizes
+}
+
+/// Item `i` (0-based) in the caller's numbering.
+fn named(i: usize, base: i32) -> i64 {
+    i as i64 + i64::from(base)
+}
+
+/// Checks caller-given offsets of `n` items into `total` vertex indices: `n + 1` positions from
+/// 0 to `total`, never decreasing, each item's count accepted by `item_ok` (which names the
+/// problem). Returns them as the Rust mesh stores them.
+fn checked_offsets(
+    off: &[i32],
+    total: usize,
+    what: &str,
+    total_what: &str,
+    item_ok: impl Fn(usize, usize) -> Result<(), CError>,
+) -> Result<Vec<u32>, CError> {
+    if off[0] != 0 {
+        return Err(CError::arg(format!("`{what}[0]` is {}; offsets start at 0 (whatever the index base)", off[0])));
+    }
+    for (i, w) in off.windows(2).enumerate() {
+        if w[1] < w[0] {
+            return Err(CError::arg(format!("`{what}` decreases at entry {} ({} after {})", i + 1, w[1], w[0])));
+        }
+        item_ok(i, (w[1] - w[0]) as usize)?;
+    }
+    let last = off[off.len() - 1];
+    if last as usize != total {
+        return Err(CError::arg(format!("`{what}[{}]` is {last}; it must be {total_what}, {total}", off.len() - 1)));
+    }
+    Ok(off.iter().map(|&o| o as u32).collect())
+}
+
+/// Offsets from a count per item, checked against the length the caller stated.
+fn derived_offsets(counts: impl Iterator<Item = usize>, total: usize, explain: &str) -> Result<Vec<u32>, CError> {
+    let mut off = vec![0u32];
+    let mut at = 0usize;
+    for n in counts {
+        at += n;
+        off.push(at.min(u32::MAX as usize) as u32);
+    }
+    if at != total {
+        return Err(CError::arg(format!("{explain}: {at} vertex indices are needed, {total} were given")));
+    }
+    Ok(off)
+}
+
+/// Vertex indices in `base` to 0-based ones, each checked against `nv`; `err(item, index)` is the
+/// error for an index out of range in item `item` (0-based).
+fn vertex_indices(
+    offsets: &[u32],
+    vertices: &[i32],
+    nv: usize,
+    base: i32,
+    err: impl Fn(usize, i64) -> MeshError,
+) -> Result<Vec<u32>, MeshError> {
+    let mut out = Vec::with_capacity(vertices.len());
+    for (item, w) in offsets.windows(2).enumerate() {
+        for &v in &vertices[w[0] as usize..w[1] as usize] {
+            let i = i64::from(v) - i64::from(base);
+            if i < 0 || i >= nv as i64 {
+                return Err(err(item, i64::from(v)));
+            }
+            out.push(i as u32);
+        }
+    }
+    Ok(out)
+}
+
+/// Checks every size, offset, type and index of `a` and builds the 0-based [`MeshData`].
+fn mesh_data(a: &Arrays) -> Result<MeshData, CError> {
+    let (dim, base) = (a.dim, a.base);
+    let nv = a.coords.len() / dim;
+    let types: Vec<CellType> =
+        a.cell_types.iter().enumerate().map(|(c, &t)| types::cell_type(t, named(c, base))).collect::<Result<_, _>>()?;
+    let ncv = a.cells.vertices.len();
+    let cell_offsets = match a.cells.offsets {
+        Some(off) => checked_offsets(off, ncv, "cell_offsets", "num_cell_vertices", |c, n| {
+            let t = types[c];
+            if n == t.num_corners() {
+                return Ok(());
+            }
+            Err(CError::arg(format!(
+                "`cell_offsets` give cell {} {n} vertices; it is a {t} (type {}), which has {}",
+                named(c, base),
+                t.vtk_id(),
+                t.num_corners()
+            )))
+        })?,
+        None => derived_offsets(
+            types.iter().map(|t| t.num_corners()),
+            ncv,
+            "num_cell_vertices does not match the cell types (cell_offsets is NULL: every cell has the corners of its \
+             type)",
+        )?,
+    };
+    let nfv = a.faces.vertices.len();
+    let sizes = face_sizes(dim);
+    let face_offsets = match a.faces.offsets {
+        Some(off) => checked_offsets(off, nfv, "face_offsets", "num_face_vertices", |f, n| {
+            if sizes.contains(&n) {
+                return Ok(());
+            }
+            Err(CError::arg(format!(
+                "`face_offsets` give face {} {n} vertices; a face of a {dim}D mesh has {sizes:?}",
+                named(f, base),
+            )))
+        })?,
+        None => derived_offsets(
+            std::iter::repeat_n(dim, a.face_patch.len()),
+            nfv,
+            &format!(
+                "num_face_vertices does not match num_faces (face_offsets is NULL: every face has {dim} vertices)"
+            ),
+        )?,
+    };
+    let (b, end) = (i64::from(base), i64::from(base) + nv as i64);
+    let cell_vertices = vertex_indices(&cell_offsets, a.cells.vertices, nv, base, |cell, index| {
+        MeshError::IndexOutOfRange { cell, index, base: b, end }
+    })
+    .map_err(|e| in_base(e, base))?;
+    let face_vertices = vertex_indices(&face_offsets, a.faces.vertices, nv, base, |edge, index| {
+        MeshError::TaggedIndexOutOfRange { edge, index, base: b, end }
+    })
+    .map_err(|e| in_base(e, base))?;
+    Ok(MeshData {
+        dim,
+        coords: a.coords.to_vec(),
+        cell_types: types,
+        cell_offsets,
+        cell_vertices,
+        regions: a.regions.map(<[i32]>::to_vec).unwrap_or_default(),
+        face_offsets,
+        face_vertices,
+        face_patch: a.face_patch.to_vec(),
+    })
+}
+
+/// Builds the mesh of `a` and hands it out in `*out`.
+///
+/// # Safety
+/// `out` must have passed `check_out`.
+unsafe fn create(a: &Arrays, out: *mut *mut meshmove_mesh) -> Result<(), CError> {
+    let data = mesh_data(a)?;
+    let mesh = Mesh::from_data(&data).map_err(|e| in_base(e, a.base))?;
+    // SAFETY: `out` passed `check_out` (this function's contract).
+    unsafe { hand_out(mesh, out) }
+}
+
+/// Validates and creates a mesh of any dimension and cell types from plain arrays (copied).
+///
+/// - `dim`: 2 or 3. `coords`: `dim × num_vertices` doubles, interleaved (x0, y0, (z0,) x1, ...);
+///   at most `MESHMOVE_MAX_VERTICES` vertices (in 3D, `INT32_MAX / 3`).
+/// - Cells (at most `MESHMOVE_MAX_CELLS`): `cell_types` gives each cell's `meshmove_cell_type`
+///   (VTK's ids); cell c's corners, in VTK's local order for its type, are
+///   `cell_connectivity[cell_offsets[c] .. cell_offsets[c + 1]]`. `cell_offsets` holds
+///   `num_cells + 1` positions starting at 0 (whatever the index base) and ending at
+///   `num_cell_vertices`, the length of `cell_connectivity`; NULL when every cell's corner count
+///   follows from its type (it always does: the offsets are then derived).
+/// - Tagged faces (at most `MESHMOVE_MAX_VERTICES`): face f's vertices are
+///   `face_connectivity[face_offsets[f] .. face_offsets[f + 1]]` (2 in 2D, 3 or 4 in 3D), its
+///   patch `face_patch[f]`. `face_offsets`: `num_faces + 1` positions from 0 to
+///   `num_face_vertices`, or NULL when every face has `dim` vertices (segments in 2D, triangles
+///   in 3D). Boundary faces not tagged are on patch 0; a tagged interior face is an internal
+///   interface.
+/// - `cell_region`: NULL, or one region id per cell. `index_base`: the first vertex index, 0 (C)
+///   or 1 (Fortran).
+///
+/// Every size, offset, type and index is checked (`MESHMOVE_STATUS_INVALID_ARGUMENT` names the
+/// array and entry; an index out of range is `MESHMOVE_STATUS_INVALID_MESH`, naming the raw index
+/// and the base), then the geometry (`MESHMOVE_STATUS_INVALID_MESH` names the offending cell,
+/// face or vertex, numbered from `index_base`). A dimension or cell type the library does not
+/// handle yet is `MESHMOVE_STATUS_UNSUPPORTED`. On failure `*out` is NULL.
+///
+/// # Safety
+/// Each non-NULL array must hold the number of elements stated; `out` must be writable.
+#[no_mangle]
+#[must_use]
+pub unsafe extern "C" fn meshmove_mesh_create(
+    dim: i32,
+    num_vertices: i32,
+    coords: *const f64,
+    num_cells: i32,
+    cell_offsets: *const i32,
+    num_cell_vertices: i32,
+    cell_connectivity: *const i32,
+    cell_types: *const i32,
+    num_faces: i32,
+    face_offsets: *const i32,
+    num_face_vertices: i32,
+    face_connectivity: *const i32,
+    face_patch: *const i32,
+    cell_region: *const i32,
+    index_base: i32,
+    out: *mut *mut meshmove_mesh,
+) -> meshmove_status {
+    ffi_body!(meshmove_mesh_create, {
+        // SAFETY: the caller guarantees `out` is NULL (refused) or writable.
+        unsafe { check_out(out, "out") }?;
+        let dim = bounded(dim, "dim", 2, 3)?;
+        let nv = vertex_count(num_vertices, dim)?;
+        let nc = bounded(num_cells, "num_cells", 0, limits::MAX_CELLS)?;
+        let nf = bounded(num_faces, "num_faces", 0, limits::MAX_VERTICES)?;
+        let ncv = count(num_cell_vertices, "num_cell_vertices")?;
+        let nfv = count(num_face_vertices, "num_face_vertices")?;
+        let base = handles::index_base(index_base)?;
+        let optional = |p: *const i32| (!p.is_null()).then_some(p);
+        // SAFETY: the caller guarantees that each non-NULL array holds the number of elements
+        // stated by the counts (checked non-negative and bounded above); NULL is refused where
+        // an array is required and its length is not 0.
+        let a = unsafe {
+            Arrays {
+                dim,
+                coords: slice(coords, dim * nv, "coords")?,
+                cell_types: slice(cell_types, nc, "cell_types")?,
+                cells: Csr {
+                    offsets: optional(cell_offsets).map(|p| slice(p, nc + 1, "cell_offsets")).transpose()?,
+                    vertices: slice(cell_connectivity, ncv, "cell_connectivity")?,
+                },
+                faces: Csr {
+                    offsets: optional(face_offsets).map(|p| slice(p, nf + 1, "face_offsets")).transpose()?,
+                    vertices: slice(face_connectivity, nfv, "face_connectivity")?,
+                },
+                face_patch: slice(face_patch, nf, "face_patch")?,
+                regions: optional(cell_region).map(|p| slice(p, nc, "cell_region")).transpose()?,
+                base,
+            }
+        };
+        // SAFETY: `out` passed `check_out`.
+        unsafe { create(&a, out) }
+    })
+}
+
+/// Validates and creates a 2D triangle mesh: `meshmove_mesh_create` for the common case.
 ///
 /// `coords`: `2 num_vertices` doubles (x0, y0, x1, y1, ...). `cells`: `3 num_cells` vertex
 /// indices in `index_base` (0 for C, 1 for Fortran), either orientation. `tagged_edges`:
 /// `2 num_tagged` vertex indices and `tagged_patches`: `num_tagged` patch ids; boundary edges not
 /// tagged are on patch 0, a tagged interior edge is an internal interface. `regions`: NULL or one
-/// id per cell. The arrays are copied. On failure `*out` is NULL and the status says why
-/// (`MESHMOVE_STATUS_INVALID_MESH` names the offending cell, edge or vertex).
+/// id per cell. The arrays are copied; the checks and statuses are those of
+/// `meshmove_mesh_create`.
 ///
 /// # Safety
 /// Each non-NULL array must hold the number of elements stated; `out` must be writable.
 #[no_mangle]
-pub unsafe extern "C" fn meshmove_mesh_create(
+#[must_use]
+pub unsafe extern "C" fn meshmove_mesh_create_triangles(
     num_vertices: i32,
     coords: *const f64,
     num_cells: i32,
@@ -73,30 +333,60 @@ pub unsafe extern "C" fn meshmove_mesh_create(
     regions: *const i32,
     out: *mut *mut meshmove_mesh,
 ) -> meshmove_status {
-    ffi_body!(meshmove_mesh_create, {
-        check_out(out, "out")?;
-        let nv = bounded(num_vertices, "num_vertices", 0, crate::limits::MAX_VERTICES)?;
-        let nc = bounded(num_cells, "num_cells", 0, crate::limits::MAX_CELLS)?;
-        let nt = bounded(num_tagged, "num_tagged", 0, crate::limits::MAX_VERTICES)?;
+    ffi_body!(meshmove_mesh_create_triangles, {
+        // SAFETY: the caller guarantees `out` is NULL (refused) or writable.
+        unsafe { check_out(out, "out") }?;
+        let nv = vertex_count(num_vertices, 2)?;
+        let nc = bounded(num_cells, "num_cells", 0, limits::MAX_CELLS)?;
+        let nt = bounded(num_tagged, "num_tagged", 0, limits::MAX_VERTICES)?;
         let base = handles::index_base(index_base)?;
-        let xy = slice(coords, 2 * nv, "coords")?;
-        let cv = slice(cells, 3 * nc, "cells")?;
-        let te = slice(tagged_edges, 2 * nt, "tagged_edges")?;
-        let tp = slice(tagged_patches, nt, "tagged_patches")?;
-        let reg = if regions.is_null() { None } else { Some(slice(regions, nc, "regions")?) };
-        let xy: Vec<[f64; 2]> = xy.chunks_exact(2).map(|c| [c[0], c[1]]).collect();
-        let tris: Vec<[i32; 3]> = cv.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
-        let tagged: Vec<([i32; 2], i32)> = te.chunks_exact(2).zip(tp).map(|(e, &p)| ([e[0], e[1]], p)).collect();
-        let mesh = Mesh::triangles(&xy, &tris, base, &tagged, reg).map_err(|e| in_base(e, index_base))?;
-        hand_out(mesh, out)
+        let triangles = vec![CellType::Triangle.vtk_id() as i32; nc];
+        // SAFETY: the caller guarantees that each non-NULL array holds the number of elements
+        // stated (the counts are bounded, so 3 × cells and 2 × vertices fit); NULL is refused
+        // where an array is required and its length is not 0.
+        let a = unsafe {
+            Arrays {
+                dim: 2,
+                coords: slice(coords, 2 * nv, "coords")?,
+                cell_types: &triangles,
+                cells: Csr { offsets: None, vertices: slice(cells, 3 * nc, "cells")? },
+                faces: Csr { offsets: None, vertices: slice(tagged_edges, 2 * nt, "tagged_edges")? },
+                face_patch: slice(tagged_patches, nt, "tagged_patches")?,
+                regions: if regions.is_null() { None } else { Some(slice(regions, nc, "regions")?) },
+                base,
+            }
+        };
+        // SAFETY: `out` passed `check_out`.
+        unsafe { create(&a, out) }
     })
 }
 
-/// A mesh error in the caller's numbering: cells, vertices and tagged edges counted from `base`
-/// (the mesh's own messages count from 0).
+/// Vertices in the caller's numbering, as a list.
+fn listed(v: &[u32], base: i32) -> String {
+    let v: Vec<i64> = v.iter().map(|&v| named(v as usize, base)).collect();
+    format!("{v:?}")
+}
+
+/// A mesh error in the caller's numbering: cells, vertices and faces counted from `base` (the
+/// mesh's own messages count from 0). A dimension or a cell type of that dimension that the core
+/// rejects is one it does not handle yet: `MESHMOVE_STATUS_UNSUPPORTED` (the C layer has already
+/// checked that the dimension is 2 or 3 and every type is a known one).
 fn in_base(e: MeshError, base: i32) -> CError {
-    let n = |i: &usize| *i as i64 + i64::from(base);
+    let n = |i: &usize| named(*i, base);
     let msg = match &e {
+        MeshError::Dimension { dim } => {
+            return CError::unsupported(format!("a {dim}D mesh: this version of meshmove does not handle it yet"))
+        }
+        MeshError::CellTypeNotInDimension { cell, cell_type, dim } if cell_type.dim() == *dim => {
+            return CError::unsupported(format!(
+                "cell {} is a {cell_type}: this version of meshmove does not handle {cell_type} cells in {dim}D \
+                 meshes yet (numbered from {base}, as given)",
+                n(cell)
+            ))
+        }
+        MeshError::CellTypeNotInDimension { cell, cell_type, dim } => {
+            format!("cell {} is a {cell_type}, which is not a cell of a {dim}D mesh", n(cell))
+        }
         MeshError::NonFiniteCoordinate { vertex, component, value } => {
             format!("vertex {} has a non-finite coordinate: component {component} is {value}", n(vertex))
         }
@@ -105,63 +395,34 @@ fn in_base(e: MeshError, base: i32) -> CError {
         }
         MeshError::RepeatedVertex { cell, vertex } => format!("cell {} repeats vertex {}", n(cell), n(vertex)),
         MeshError::UnusedVertex { vertex } => format!("vertex {} is not used by any cell", n(vertex)),
-        MeshError::DegenerateCell { cell, measure } => format!("cell {} has zero area ({measure:e})", n(cell)),
+        MeshError::DegenerateCell { cell, measure } => {
+            format!("cell {} has zero area or volume ({measure:e})", n(cell))
+        }
         MeshError::NonManifoldFace { face, cells } => {
-            let f: Vec<i64> = face.iter().map(|&v| n(&(v as usize))).collect();
-            format!("face {f:?} is shared by {cells} cells; at most two may share a face")
+            format!("face {} is shared by {cells} cells; at most two may share a face", listed(face, base))
         }
         MeshError::TaggedIndexOutOfRange { edge, index, base, end } => {
-            format!("tagged edge {} refers to vertex index {index}, outside {base}..{end}", n(edge))
+            format!("tagged face {} refers to vertex index {index}, outside {base}..{end}", n(edge))
         }
         MeshError::TaggedFaceNotAFace { face, vertices } => {
-            let f: Vec<i64> = vertices.iter().map(|&v| n(&(v as usize))).collect();
-            format!("tagged edge {} {f:?} is not an edge of any cell", n(face))
+            format!("tagged face {} {} is not a face of any cell", n(face), listed(vertices, base))
         }
         MeshError::TaggedFaceTwice { face, vertices, first, second } => {
-            let f: Vec<i64> = vertices.iter().map(|&v| n(&(v as usize))).collect();
-            format!("tagged edge {} {f:?} is tagged twice, with patches {first} and {second}", n(face))
+            format!(
+                "tagged face {} {} is tagged twice, with patches {first} and {second}",
+                n(face),
+                listed(vertices, base)
+            )
         }
+        MeshError::Overlap { first, second, face } => format!(
+            "cells {} and {} lie on the same side of their shared face {}: the mesh overlaps itself",
+            n(first),
+            n(second),
+            listed(face, base)
+        ),
         _ => return e.into(),
     };
     CError::new(meshmove_status::InvalidMesh, format!("invalid mesh: {msg} (numbered from {base}, as given)"))
-}
-
-/// Creates one of the paper's test meshes with edge length about `h`: `"free_surface"`
-/// (`[0,1]×[−1,0]`, patches `MESHMOVE_FS_*`, 0 < h ≤ 1/2), `"two_region_interface"`
-/// (`[0,1]×[−1,1]`, regions 0 and 1, patches `MESHMOVE_IF_*`, 0 < h ≤ 1/2) or
-/// `"cylinder_channel"` (`[0,8]×[−1,1]` minus a cylinder, patches `MESHMOVE_CH_*`, 0 < h ≤ 1/4).
-/// h below 1/1024 is refused (the mesh would not fit in memory comfortably).
-///
-/// # Safety
-/// `name` must be NULL or a NUL-terminated string; `out` must be writable.
-#[no_mangle]
-pub unsafe extern "C" fn meshmove_mesh_create_case(
-    name: *const c_char,
-    h: f64,
-    out: *mut *mut meshmove_mesh,
-) -> meshmove_status {
-    ffi_body!(meshmove_mesh_create_case, {
-        check_out(out, "out")?;
-        let name = path(name, "name")?;
-        let hmax = match name {
-            "free_surface" | "two_region_interface" => 0.5,
-            "cylinder_channel" => 0.25,
-            _ => {
-                return Err(CError::arg(format!(
-                    "unknown case \"{name}\" (free_surface, two_region_interface, cylinder_channel)"
-                )))
-            }
-        };
-        if !(h >= 1.0 / 1024.0 && h <= hmax) {
-            return Err(CError::arg(format!("h is {h}; case \"{name}\" needs 1/1024 <= h <= {hmax}")));
-        }
-        let mesh = match name {
-            "free_surface" => meshes::free_surface(h),
-            "two_region_interface" => meshes::two_region_interface(h),
-            _ => meshes::cylinder_channel(h),
-        };
-        hand_out(mesh, out)
-    })
 }
 
 /// Reads a Gmsh `.msh` file (2.2 or 4.1, ASCII or binary): triangles become cells with their
@@ -170,12 +431,16 @@ pub unsafe extern "C" fn meshmove_mesh_create_case(
 /// # Safety
 /// `path` must be NULL or a NUL-terminated string; `out` must be writable.
 #[no_mangle]
+#[must_use]
 pub unsafe extern "C" fn meshmove_mesh_read_msh(path: *const c_char, out: *mut *mut meshmove_mesh) -> meshmove_status {
     ffi_body!(meshmove_mesh_read_msh, {
-        check_out(out, "out")?;
-        let p = handles::path(path, "path")?;
+        // SAFETY: the caller guarantees `out` is NULL (refused) or writable.
+        unsafe { check_out(out, "out") }?;
+        // SAFETY: the caller guarantees `path` is NULL (refused) or a NUL-terminated string.
+        let p = unsafe { handles::path(path, "path") }?;
         let m = crate::io::read_msh(std::path::Path::new(p))?;
-        hand_out(m.mesh, out)
+        // SAFETY: `out` passed `check_out`.
+        unsafe { hand_out(m.mesh, out) }
     })
 }
 
@@ -185,37 +450,72 @@ pub unsafe extern "C" fn meshmove_mesh_read_msh(path: *const c_char, out: *mut *
 /// # Safety
 /// `mesh` must be NULL or a pointer received from meshmove (checked against the live handles).
 #[no_mangle]
+#[must_use]
 pub unsafe extern "C" fn meshmove_mesh_free(mesh: *mut meshmove_mesh) -> meshmove_status {
     ffi_body!(meshmove_mesh_free, { handles::free(mesh, "mesh") })
 }
 
-/// Number of vertices and cells of a mesh (either pointer may be NULL).
+/// Writes counts to optional outputs (NULL: skipped): every pointer is checked before any is
+/// written.
+///
+/// # Safety
+/// Each non-NULL pointer must be valid for writing one `int32_t`.
+pub(crate) unsafe fn write_counts(outs: &[(*mut i32, usize, &str)]) -> Result<(), CError> {
+    for &(p, _, what) in outs {
+        if !p.is_null() {
+            handles::check_aligned(p, what)?;
+        }
+    }
+    for &(p, v, what) in outs {
+        // SAFETY: NULL or aligned and writable (this function's contract); counts are bounded by
+        // the `MESHMOVE_MAX_*` limits, so they fit.
+        unsafe { handles::write_opt(p, v.min(i32::MAX as usize) as i32, what) }?;
+    }
+    Ok(())
+}
+
+/// The sizes of a mesh (any pointer may be NULL): its dimension, vertices, cells, the length of
+/// its cell connectivity (what `meshmove_mesh_get_cells` returns), and its faces and their
+/// connectivity's length (every boundary and interface face, those on patch 0 included: what
+/// `meshmove_mesh_get_faces` returns).
 ///
 /// # Safety
 /// Non-NULL pointers must be writable.
 #[no_mangle]
+#[must_use]
 pub unsafe extern "C" fn meshmove_mesh_sizes(
     mesh: *const meshmove_mesh,
+    dim: *mut i32,
     num_vertices: *mut i32,
     num_cells: *mut i32,
+    num_cell_vertices: *mut i32,
+    num_faces: *mut i32,
+    num_face_vertices: *mut i32,
 ) -> meshmove_status {
     ffi_body!(meshmove_mesh_sizes, {
         let m = get(mesh, "mesh")?;
-        if !num_vertices.is_null() {
-            handles::write_out(num_vertices, m.num_vertices() as i32, "num_vertices")?;
+        let lists = [num_cell_vertices, num_faces, num_face_vertices].iter().any(|p| !p.is_null());
+        let d = if lists { m.to_data() } else { MeshData::default() };
+        // SAFETY: the caller guarantees non-NULL pointers are writable.
+        unsafe {
+            write_counts(&[
+                (dim, points::dim_of(&m), "dim"),
+                (num_vertices, m.num_vertices(), "num_vertices"),
+                (num_cells, m.num_cells(), "num_cells"),
+                (num_cell_vertices, d.cell_vertices.len(), "num_cell_vertices"),
+                (num_faces, d.num_faces(), "num_faces"),
+                (num_face_vertices, d.face_vertices.len(), "num_face_vertices"),
+            ])
         }
-        if !num_cells.is_null() {
-            handles::write_out(num_cells, m.num_cells() as i32, "num_cells")?;
-        }
-        Ok(())
     })
 }
 
-/// Copies the coordinates (x0, y0, x1, y1, ...) into `coords`, `len` = 2 × vertices.
+/// Copies the coordinates (x0, y0, (z0,) x1, ...) into `coords`, `len` = dim × vertices.
 ///
 /// # Safety
 /// `coords` must hold `len` doubles.
 #[no_mangle]
+#[must_use]
 pub unsafe extern "C" fn meshmove_mesh_get_coords(
     mesh: *const meshmove_mesh,
     len: i32,
@@ -223,43 +523,129 @@ pub unsafe extern "C" fn meshmove_mesh_get_coords(
 ) -> meshmove_status {
     ffi_body!(meshmove_mesh_get_coords, {
         let m = get(mesh, "mesh")?;
-        handles::check_xy_out(coords, len, m.num_vertices(), "coords")?;
-        handles::write_xy(coords, m.coords());
+        // SAFETY: the caller guarantees `coords` holds `len` doubles; `write` after `check_out`.
+        unsafe {
+            points::check_out(coords, len, points::dim_of(&m), m.num_vertices(), "coords")?;
+            points::write(coords, m.coords());
+        }
         Ok(())
     })
 }
 
-/// Copies the cells (3 vertex indices each, counter-clockwise, in `index_base`) into `cells`,
-/// `len` = 3 × cells.
+/// An optional output array: NULL with `len` 0 skips it, otherwise `len` must be `want`.
 ///
 /// # Safety
-/// `cells` must hold `len` integers.
+/// A non-NULL `p` must hold `len` writable elements.
+unsafe fn out_array<'a>(
+    p: *mut i32,
+    len: i32,
+    want: usize,
+    what: &str,
+    of: &str,
+) -> Result<Option<&'a mut [i32]>, CError> {
+    let n = count(len, &format!("{what} length"))?;
+    if p.is_null() && n == 0 {
+        return Ok(None);
+    }
+    if n != want {
+        return Err(CError::arg(format!("`{what}` has length {n}; {of}, so {want} are needed (or NULL with 0)")));
+    }
+    // SAFETY: `p` holds `len` = `n` writable elements (this function's contract).
+    Ok(Some(unsafe { slice_mut(p, n, what) }?))
+}
+
+/// `meshmove_mesh_get_cells` (`faces` false) and `_get_faces`: copies the cells' (faces') CSR list,
+/// vertex indices plus `index_base`, and one value per cell (face: its type, its patch) into the
+/// caller's optional arrays, every length checked before anything is written.
+///
+/// # Safety
+/// Each non-NULL pointer of `outs` must hold its stated number of writable `int32_t`.
+unsafe fn get_lists(
+    mesh: *const meshmove_mesh,
+    index_base: i32,
+    faces: bool,
+    outs: [(i32, *mut i32); 3],
+) -> Result<(), CError> {
+    let m = get(mesh, "mesh")?;
+    let base = handles::index_base(index_base)?;
+    let d = m.to_data();
+    let (offsets, vertices, per_item, what, last) = if faces {
+        (&d.face_offsets, &d.face_vertices, d.face_patch.clone(), "faces", "patches")
+    } else {
+        let types = d.cell_types.iter().map(|t| i32::from(t.vtk_id())).collect();
+        (&d.cell_offsets, &d.cell_vertices, types, "cells", "types")
+    };
+    let of = format!("the mesh has {} {what} and {} vertex indices in them", per_item.len(), vertices.len());
+    let wants = [offsets.len(), vertices.len(), per_item.len()];
+    let mut arrays = Vec::with_capacity(3);
+    for ((len, p), (want, name)) in outs.into_iter().zip(wants.into_iter().zip(["offsets", "connectivity", last])) {
+        // SAFETY: the caller guarantees a non-NULL `p` holds `len` writable elements.
+        arrays.push(unsafe { out_array(p, len, want, name, &of) }?);
+    }
+    let values: [Box<dyn Iterator<Item = i32>>; 3] = [
+        Box::new(offsets.iter().map(|&o| o as i32)),
+        Box::new(vertices.iter().map(|&v| v as i32 + base)),
+        Box::new(per_item.into_iter()),
+    ];
+    for (a, v) in arrays.into_iter().zip(values) {
+        for (o, x) in a.into_iter().flatten().zip(v) {
+            *o = x;
+        }
+    }
+    Ok(())
+}
+
+/// Copies the cells as `meshmove_mesh_create` takes them: `offsets` (`num_offsets` = cells + 1,
+/// from 0), `connectivity` (`num_connectivity` = the connectivity length of
+/// `meshmove_mesh_sizes`; vertex indices in `index_base`, every cell oriented like the first) and
+/// `types` (`num_types` = cells, `meshmove_cell_type` values). Any of the three may be NULL with
+/// its length 0 to skip it.
+///
+/// # Safety
+/// Each non-NULL array must hold its stated number of `int32_t`.
 #[no_mangle]
+#[must_use]
 pub unsafe extern "C" fn meshmove_mesh_get_cells(
     mesh: *const meshmove_mesh,
     index_base: i32,
-    len: i32,
-    cells: *mut i32,
+    num_offsets: i32,
+    offsets: *mut i32,
+    num_connectivity: i32,
+    connectivity: *mut i32,
+    num_types: i32,
+    types: *mut i32,
 ) -> meshmove_status {
     ffi_body!(meshmove_mesh_get_cells, {
-        let m = get(mesh, "mesh")?;
-        let b = handles::index_base(index_base)? as i32;
-        let n = count(len, "len")?;
-        if n != 3 * m.num_cells() {
-            return Err(CError::arg(format!(
-                "len is {n}; the mesh has {} cells, so {} are needed",
-                m.num_cells(),
-                3 * m.num_cells()
-            )));
-        }
-        let out = handles::slice_mut(cells, n, "cells")?;
-        for (i, o) in out.chunks_exact_mut(3).enumerate() {
-            let c = m.cell(i);
-            for k in 0..3 {
-                o[k] = c[k] as i32 + b;
-            }
-        }
-        Ok(())
+        let outs = [(num_offsets, offsets), (num_connectivity, connectivity), (num_types, types)];
+        // SAFETY: the caller guarantees each non-NULL array holds its stated length.
+        unsafe { get_lists(mesh, index_base, false, outs) }
+    })
+}
+
+/// Copies the faces on patches (every boundary face, on patch 0 when it was not tagged, and every
+/// tagged interior face) as `meshmove_mesh_create` takes them: `offsets` (`num_offsets` =
+/// faces + 1, from 0), `connectivity` (vertex indices in `index_base`; boundary faces oriented
+/// with the mesh on their left in 2D) and `patches` (`num_patches` = faces). Any of the three may
+/// be NULL with its length 0 to skip it.
+///
+/// # Safety
+/// Each non-NULL array must hold its stated number of `int32_t`.
+#[no_mangle]
+#[must_use]
+pub unsafe extern "C" fn meshmove_mesh_get_faces(
+    mesh: *const meshmove_mesh,
+    index_base: i32,
+    num_offsets: i32,
+    offsets: *mut i32,
+    num_connectivity: i32,
+    connectivity: *mut i32,
+    num_patches: i32,
+    patches: *mut i32,
+) -> meshmove_status {
+    ffi_body!(meshmove_mesh_get_faces, {
+        let outs = [(num_offsets, offsets), (num_connectivity, connectivity), (num_patches, patches)];
+        // SAFETY: the caller guarantees each non-NULL array holds its stated length.
+        unsafe { get_lists(mesh, index_base, true, outs) }
     })
 }
 
@@ -268,6 +654,7 @@ pub unsafe extern "C" fn meshmove_mesh_get_cells(
 /// # Safety
 /// `regions` must hold `len` integers.
 #[no_mangle]
+#[must_use]
 pub unsafe extern "C" fn meshmove_mesh_get_regions(
     mesh: *const meshmove_mesh,
     len: i32,
@@ -279,7 +666,8 @@ pub unsafe extern "C" fn meshmove_mesh_get_regions(
         if n != m.num_cells() {
             return Err(CError::arg(format!("len is {n}; the mesh has {} cells", m.num_cells())));
         }
-        handles::slice_mut(regions, n, "regions")?.copy_from_slice(m.regions());
+        // SAFETY: the caller guarantees `regions` holds `len` = `n` integers.
+        unsafe { slice_mut(regions, n, "regions") }?.copy_from_slice(m.regions());
         Ok(())
     })
 }
@@ -291,6 +679,7 @@ pub unsafe extern "C" fn meshmove_mesh_get_regions(
 /// # Safety
 /// `vertices` must hold `capacity` integers; `count` must be writable.
 #[no_mangle]
+#[must_use]
 pub unsafe extern "C" fn meshmove_mesh_patch_vertices(
     mesh: *const meshmove_mesh,
     patch: i32,
@@ -301,20 +690,22 @@ pub unsafe extern "C" fn meshmove_mesh_patch_vertices(
 ) -> meshmove_status {
     ffi_body!(meshmove_mesh_patch_vertices, {
         let m = get(mesh, "mesh")?;
-        let b = handles::index_base(index_base)? as i32;
+        let b = handles::index_base(index_base)?;
         let cap = handles::count(capacity, "capacity")?;
         if count.is_null() {
             return Err(CError::null("count"));
         }
         let v = m.patch_vertices(patch);
-        handles::write_out(count, v.len() as i32, "count")?;
+        // SAFETY: `count` is not NULL; the caller guarantees it is writable.
+        unsafe { handles::write_out(count, v.len() as i32, "count") }?;
         if cap < v.len() {
             return Err(CError::new(
                 meshmove_status::BufferTooSmall,
                 format!("patch {patch} has {} vertices; capacity is {cap}", v.len()),
             ));
         }
-        let out = handles::slice_mut(vertices, v.len(), "vertices")?;
+        // SAFETY: the caller guarantees `vertices` holds `capacity` >= `v.len()` integers.
+        let out = unsafe { slice_mut(vertices, v.len(), "vertices") }?;
         for (o, &x) in out.iter_mut().zip(&v) {
             *o = x as i32 + b;
         }
@@ -322,13 +713,14 @@ pub unsafe extern "C" fn meshmove_mesh_patch_vertices(
     })
 }
 
-/// Writes the mesh moved by `displacement` (`len` = 2 × vertices; NULL with `len` 0 for none)
+/// Writes the mesh moved by `displacement` (`len` = dim × vertices; NULL with `len` 0 for none)
 /// as a VTK `.vtu` file with point data `displacement` and cell data `region`, `area_ratio`,
 /// `inverted` and `min_angle`.
 ///
 /// # Safety
 /// `path` must be a NUL-terminated string; `displacement` must hold `len` doubles.
 #[no_mangle]
+#[must_use]
 pub unsafe extern "C" fn meshmove_mesh_write_vtu(
     mesh: *const meshmove_mesh,
     path: *const c_char,
@@ -337,18 +729,32 @@ pub unsafe extern "C" fn meshmove_mesh_write_vtu(
 ) -> meshmove_status {
     ffi_body!(meshmove_mesh_write_vtu, {
         let m = get(mesh, "mesh")?;
-        let p = handles::path(path, "path")?;
-        write_vtu(&m, p, len, displacement)
+        // SAFETY: the caller guarantees `path` is a NUL-terminated string and `displacement`
+        // holds `len` doubles.
+        unsafe { write_vtu(&m, path, len, displacement) }
     })
 }
 
-pub(crate) unsafe fn write_vtu(m: &Mesh, p: &str, len: i32, displacement: *const f64) -> Result<(), CError> {
+/// `meshmove_mesh_write_vtu` and `meshmove_solver_write_vtu`: `m` moved by `displacement`.
+///
+/// # Safety
+/// `path` must be NULL (refused) or a NUL-terminated string; a non-NULL `displacement` must hold
+/// `len` doubles.
+pub(crate) unsafe fn write_vtu(
+    m: &Mesh,
+    path: *const c_char,
+    len: i32,
+    displacement: *const f64,
+) -> Result<(), CError> {
+    // SAFETY: this function's contract.
+    let p = unsafe { handles::path(path, "path") }?;
     let d = if len == 0 && displacement.is_null() {
-        vec![0.0; m.coords().len()]
+        points::zeros(m.dim(), m.num_vertices())
     } else {
-        handles::read_xy(displacement, len, m.num_vertices(), "displacement")?
+        // SAFETY: `displacement` holds `len` doubles (this function's contract).
+        unsafe { points::read(displacement, len, points::dim_of(m), m.num_vertices(), "displacement") }?
     };
-    handles::finite_xy(&d, "displacement")?;
+    points::finite_in(&d, m.dim(), "displacement")?;
     crate::io::write_deformed(std::path::Path::new(p), m, &d)?;
     Ok(())
 }

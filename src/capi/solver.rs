@@ -3,10 +3,12 @@
 
 use super::bcs::meshmove_bcs;
 use super::error::CError;
-use super::handles::{self, check_out, check_xy_out, count, get, get_mut, hand_out, read_xy, write_xy, Handle, Slot};
-use super::mesh::meshmove_mesh;
+use super::handles::{self, check_out, count, get, get_mut, hand_out, Handle, Slot};
+use super::mesh::{meshmove_mesh, write_counts};
+use super::options::meshmove_options;
+use super::points::{self, Points};
 use super::status::meshmove_status;
-use super::types::{self, meshmove_options, meshmove_quality, meshmove_report, meshmove_step_report};
+use super::types::{self, meshmove_quality, meshmove_report, meshmove_step_report};
 use crate::{Motion, RigidMotion, Solver};
 use std::ffi::c_char;
 
@@ -19,7 +21,7 @@ pub struct meshmove_solver(Slot<SolverState>);
 pub(crate) struct SolverState {
     solver: Solver,
     rigid: Vec<(i32, RigidMotion)>,
-    last: Vec<f64>,
+    last: Points,
 }
 
 impl Handle for meshmove_solver {
@@ -37,13 +39,32 @@ impl SolverState {
     fn nv(&self) -> usize {
         self.solver.mesh().num_vertices()
     }
-    fn motion(&self, d: Vec<f64>) -> Motion {
+    fn dim(&self) -> usize {
+        points::dim_of(self.solver.mesh())
+    }
+    /// Reads a flat `dim × vertices` array of this solver's mesh.
+    ///
+    /// # Safety
+    /// A non-NULL `p` must hold `len` doubles.
+    unsafe fn read(&self, p: *const f64, len: i32, what: &str) -> Result<Points, CError> {
+        // SAFETY: this function's contract.
+        unsafe { points::read(p, len, self.dim(), self.nv(), what) }
+    }
+    /// Checks a flat `dim × vertices` output array of this solver's mesh.
+    ///
+    /// # Safety
+    /// A non-NULL `p` must hold `len` writable doubles.
+    unsafe fn check_out(&self, p: *mut f64, len: i32, what: &str) -> Result<(), CError> {
+        // SAFETY: this function's contract.
+        unsafe { points::check_out(p, len, self.dim(), self.nv(), what) }
+    }
+    fn motion(&self, d: Points) -> Motion {
         Motion { displacement: d, rigid: self.rigid.clone() }
     }
     /// Puts the reference mesh back to `before` after a failed call changed it, so that the
     /// failure leaves the solver as it was. The operators are re-evaluated there (the same
     /// values as before the call).
-    fn restore(&mut self, before: Option<Vec<f64>>, e: CError) -> CError {
+    fn restore(&mut self, before: Option<Points>, e: CError) -> CError {
         match before {
             Some(b) => match self.solver.set_reference(b) {
                 Ok(()) => e,
@@ -51,17 +72,6 @@ impl SolverState {
             },
             None => e,
         }
-    }
-}
-
-/// Every output must be finite or the call fails (and writes nothing).
-fn finite_out(v: &[f64], what: &str) -> Result<(), CError> {
-    match v.iter().position(|p| !p.is_finite()) {
-        Some(i) => Err(CError::new(
-            meshmove_status::Diverged,
-            format!("the {what} of vertex {} (0-based) is not finite; nothing was written", i / 2),
-        )),
-        None => Ok(()),
     }
 }
 
@@ -114,20 +124,24 @@ fn check_opt_out<T>(p: *mut T, what: &str) -> Result<(), CError> {
     }
 }
 
+/// Writes the report to an optional output.
+///
+/// # Safety
+/// `p` must be NULL or writable.
 unsafe fn report_out(p: *mut meshmove_report, r: &crate::Report) -> Result<(), CError> {
-    if !p.is_null() {
-        handles::write_out(p, meshmove_report::from(r), "report")?;
-    }
-    Ok(())
+    // SAFETY: this function's contract.
+    unsafe { handles::write_opt(p, meshmove_report::from(r), "report") }
 }
 
 /// Creates a solver for `mesh` and `bcs` (both copied; they may be freed afterwards) with
-/// `options` (NULL for the defaults). Checks the boundary conditions against the mesh (unknown
-/// patches, links that do not match, ill-posed components) and builds the multigrid hierarchy.
+/// `options` (NULL for the defaults; copied). Checks the boundary conditions against the mesh
+/// (unknown patches, links that do not match, ill-posed components) and builds the multigrid
+/// hierarchy.
 ///
 /// # Safety
-/// `mesh` and `bcs` must be handles from meshmove (checked); `options` NULL or valid; `out` writable.
+/// `mesh`, `bcs` and a non-NULL `options` must be handles from meshmove (checked); `out` writable.
 #[no_mangle]
+#[must_use]
 pub unsafe extern "C" fn meshmove_solver_create(
     mesh: *const meshmove_mesh,
     bcs: *const meshmove_bcs,
@@ -135,18 +149,15 @@ pub unsafe extern "C" fn meshmove_solver_create(
     out: *mut *mut meshmove_solver,
 ) -> meshmove_status {
     ffi_body!(meshmove_solver_create, {
-        check_out(out, "out")?;
+        // SAFETY: the caller guarantees `out` is NULL (refused) or writable.
+        unsafe { check_out(out, "out") }?;
         let m = get(mesh, "mesh")?;
         let b = get(bcs, "bcs")?;
-        let o = if options.is_null() {
-            meshmove_options::default()
-        } else {
-            handles::check_aligned(options, "options")?;
-            *options
-        };
-        let solver = Solver::new(&m, &b, o.to_rust()?)?;
-        let nv = m.num_vertices();
-        hand_out::<meshmove_solver>(SolverState { solver, rigid: Vec::new(), last: vec![0.0; 2 * nv] }, out)
+        let o = if options.is_null() { crate::Options::default() } else { get(options, "options")?.clone() };
+        let solver = Solver::new(&m, &b, o)?;
+        let state = SolverState { solver, rigid: Vec::new(), last: points::zeros(m.dim(), m.num_vertices()) };
+        // SAFETY: `out` passed `check_out`.
+        unsafe { hand_out::<meshmove_solver>(state, out) }
     })
 }
 
@@ -155,53 +166,72 @@ pub unsafe extern "C" fn meshmove_solver_create(
 /// # Safety
 /// `solver` must be NULL or a pointer received from meshmove (checked).
 #[no_mangle]
+#[must_use]
 pub unsafe extern "C" fn meshmove_solver_free(solver: *mut meshmove_solver) -> meshmove_status {
     ffi_body!(meshmove_solver_free, { handles::free(solver, "solver") })
 }
 
-/// Number of vertices of the solver's mesh and of multigrid levels (either pointer may be NULL).
+/// The dimension and number of vertices of the solver's mesh, and the number of multigrid
+/// levels (any pointer may be NULL).
 ///
 /// # Safety
 /// Non-NULL pointers must be writable.
 #[no_mangle]
+#[must_use]
 pub unsafe extern "C" fn meshmove_solver_sizes(
     solver: *const meshmove_solver,
+    dim: *mut i32,
     num_vertices: *mut i32,
     num_levels: *mut i32,
 ) -> meshmove_status {
     ffi_body!(meshmove_solver_sizes, {
         let s = get(solver, "solver")?;
-        if !num_vertices.is_null() {
-            handles::write_out(num_vertices, s.nv() as i32, "num_vertices")?;
+        // SAFETY: the caller guarantees non-NULL pointers are writable.
+        unsafe {
+            write_counts(&[
+                (dim, s.dim(), "dim"),
+                (num_vertices, s.nv(), "num_vertices"),
+                (num_levels, s.solver.num_levels(), "num_levels"),
+            ])
         }
-        if !num_levels.is_null() {
-            handles::write_out(num_levels, s.solver.num_levels() as i32, "num_levels")?;
-        }
-        Ok(())
     })
 }
 
-/// Makes `patch` move rigidly in the following solves: rotation by `angle` (radians,
-/// counter-clockwise) about (`cx`, `cy`), then translation by (`tx`, `ty`). Its vertices then
+/// Makes `patch` move rigidly in the following solves: rotation by `rotation` about `center`,
+/// then translation by `translation`. `translation` and `center` hold `dim` values (the mesh's
+/// dimension); `rotation` holds the angle in 2D (1 value, radians, counter-clockwise) and the
+/// rotation vector in 3D (3 values: the unit axis times the angle). The patch's vertices then
 /// ignore the displacement array; on a CLAMPED patch the held wall spacing rotates with the body.
-/// Setting a patch again replaces its motion.
+/// Setting a patch again replaces its motion. A rigid motion of a 3D mesh is
+/// `MESHMOVE_STATUS_UNSUPPORTED` until the library handles 3D motions.
 ///
 /// # Safety
-/// `solver` must be a handle from meshmove (checked).
+/// `solver` must be a handle from meshmove (checked); the arrays must hold the values stated.
 #[no_mangle]
+#[must_use]
 pub unsafe extern "C" fn meshmove_solver_set_rigid_motion(
     solver: *mut meshmove_solver,
     patch: i32,
-    tx: f64,
-    ty: f64,
-    angle: f64,
-    cx: f64,
-    cy: f64,
+    translation: *const f64,
+    rotation: *const f64,
+    center: *const f64,
 ) -> meshmove_status {
     ffi_body!(meshmove_solver_set_rigid_motion, {
         let mut s = get_mut(solver, "solver")?;
-        if ![tx, ty, angle, cx, cy].iter().all(|v| v.is_finite()) {
-            return Err(CError::arg(format!("rigid motion of patch {patch} is not finite")));
+        let dim = s.dim();
+        // SAFETY: the caller guarantees `translation` and `center` hold `dim` doubles and
+        // `rotation` 1 (2D) or 3 (3D).
+        let (t, r, c) = unsafe {
+            (
+                handles::slice(translation, dim, "translation")?,
+                handles::slice(rotation, points::rotation_len(dim), "rotation")?,
+                handles::slice(center, dim, "center")?,
+            )
+        };
+        if !t.iter().chain(r).chain(c).all(|v| v.is_finite()) {
+            return Err(CError::arg(format!(
+                "rigid motion of patch {patch} is not finite (translation {t:?}, rotation {r:?}, center {c:?})"
+            )));
         }
         if s.solver.mesh().patch_ids().binary_search(&patch).is_err() {
             return Err(CError::arg(format!(
@@ -209,7 +239,7 @@ pub unsafe extern "C" fn meshmove_solver_set_rigid_motion(
                 s.solver.mesh().patch_ids()
             )));
         }
-        let m = RigidMotion::planar([tx, ty], angle, [cx, cy]);
+        let m = points::rigid_motion(dim, t, r, c)?;
         s.rigid.retain(|(p, _)| *p != patch);
         s.rigid.push((patch, m));
         Ok(())
@@ -221,6 +251,7 @@ pub unsafe extern "C" fn meshmove_solver_set_rigid_motion(
 /// # Safety
 /// `solver` must be a handle from meshmove (checked).
 #[no_mangle]
+#[must_use]
 pub unsafe extern "C" fn meshmove_solver_clear_rigid_motions(solver: *mut meshmove_solver) -> meshmove_status {
     ffi_body!(meshmove_solver_clear_rigid_motions, {
         get_mut(solver, "solver")?.rigid.clear();
@@ -230,7 +261,7 @@ pub unsafe extern "C" fn meshmove_solver_clear_rigid_motions(solver: *mut meshmo
 
 /// Solves for the displacement of every vertex to the options' tolerance.
 ///
-/// `prescribed`: `len` = 2 × vertices doubles, read only where a component is prescribed (FIXED
+/// `prescribed`: `len` = dim × vertices doubles, read only where a component is prescribed (FIXED
 /// or CLAMPED, not on rigidly moving patches). `guess`: NULL, or an initial displacement of the
 /// same length (e.g. the previous step's). `displacement` receives the result (may be the same
 /// array as `prescribed` or `guess`). `report` may be NULL.
@@ -242,6 +273,7 @@ pub unsafe extern "C" fn meshmove_solver_clear_rigid_motions(solver: *mut meshmo
 /// # Safety
 /// Arrays must hold `len` doubles; `solver` must be a handle from meshmove (checked).
 #[no_mangle]
+#[must_use]
 pub unsafe extern "C" fn meshmove_solver_solve(
     solver: *mut meshmove_solver,
     len: i32,
@@ -252,16 +284,21 @@ pub unsafe extern "C" fn meshmove_solver_solve(
 ) -> meshmove_status {
     ffi_body!(meshmove_solver_solve, {
         let mut s = get_mut(solver, "solver")?;
-        let nv = s.nv();
         check_opt_out(report, "report")?;
-        check_xy_out(displacement, len, nv, "displacement")?;
-        let d = read_xy(prescribed, len, nv, "prescribed")?;
-        let g = if guess.is_null() { None } else { Some(read_xy(guess, len, nv, "guess")?) };
+        // SAFETY: the caller guarantees the arrays hold `len` doubles (`guess` may be NULL).
+        let (d, g) = unsafe {
+            s.check_out(displacement, len, "displacement")?;
+            let g = if guess.is_null() { None } else { Some(s.read(guess, len, "guess")?) };
+            (s.read(prescribed, len, "prescribed")?, g)
+        };
         let sol = s.solver.solve_report(&s.motion(d), g.as_deref())?;
-        finite_out(&sol.displacement, "displacement")?;
+        points::finite_out(&sol.displacement, s.dim(), "displacement")?;
         finite_report(&sol.report)?;
-        report_out(report, &sol.report)?;
-        write_xy(displacement, &sol.displacement);
+        // SAFETY: `report` is NULL or writable (contract); `displacement` passed `check_out`.
+        unsafe {
+            report_out(report, &sol.report)?;
+            points::write(displacement, &sol.displacement);
+        }
         s.last = sol.displacement;
         if !sol.report.converged {
             return Err(not_converged(&sol.report, "the unconverged displacement was written"));
@@ -271,12 +308,13 @@ pub unsafe extern "C" fn meshmove_solver_solve(
 }
 
 /// Runs exactly one multigrid cycle of the solver's mode, from `displacement` (read and
-/// overwritten, `len` = 2 × vertices), for codes that run a fixed number of cycles per step.
+/// overwritten, `len` = dim × vertices), for codes that run a fixed number of cycles per step.
 /// `report` (may be NULL) gives the correction and residual after the cycle.
 ///
 /// # Safety
 /// Arrays must hold `len` doubles; `solver` must be a handle from meshmove (checked).
 #[no_mangle]
+#[must_use]
 pub unsafe extern "C" fn meshmove_solver_cycle(
     solver: *mut meshmove_solver,
     len: i32,
@@ -286,16 +324,20 @@ pub unsafe extern "C" fn meshmove_solver_cycle(
 ) -> meshmove_status {
     ffi_body!(meshmove_solver_cycle, {
         let mut s = get_mut(solver, "solver")?;
-        let nv = s.nv();
         check_opt_out(report, "report")?;
-        check_xy_out(displacement, len, nv, "displacement")?;
-        let d = read_xy(prescribed, len, nv, "prescribed")?;
-        let mut x = read_xy(displacement, len, nv, "displacement")?;
+        // SAFETY: the caller guarantees the arrays hold `len` doubles.
+        let (d, mut x) = unsafe {
+            s.check_out(displacement, len, "displacement")?;
+            (s.read(prescribed, len, "prescribed")?, s.read(displacement, len, "displacement")?)
+        };
         let r = s.solver.cycle(&s.motion(d), &mut x)?;
-        finite_out(&x, "displacement")?;
+        points::finite_out(&x, s.dim(), "displacement")?;
         finite_report(&r)?;
-        report_out(report, &r)?;
-        write_xy(displacement, &x);
+        // SAFETY: `report` is NULL or writable (contract); `displacement` passed `check_out`.
+        unsafe {
+            report_out(report, &r)?;
+            points::write(displacement, &x);
+        }
         s.last = x;
         Ok(())
     })
@@ -319,6 +361,7 @@ pub unsafe extern "C" fn meshmove_solver_cycle(
 /// # Safety
 /// Arrays must hold `len` doubles; `solver` must be a handle from meshmove (checked).
 #[no_mangle]
+#[must_use]
 pub unsafe extern "C" fn meshmove_solver_move(
     solver: *mut meshmove_solver,
     len: i32,
@@ -329,13 +372,14 @@ pub unsafe extern "C" fn meshmove_solver_move(
 ) -> meshmove_status {
     ffi_body!(meshmove_solver_move, {
         let mut s = get_mut(solver, "solver")?;
-        let nv = s.nv();
         check_opt_out(report, "report")?;
         check_opt_out(quality, "quality")?;
-        check_xy_out(coords, len, nv, "coords")?;
-        let d = read_xy(boundary_displacement, len, nv, "boundary_displacement")?;
-        let x = read_xy(coords, len, nv, "coords")?;
-        handles::finite_xy(&x, "coords")?;
+        // SAFETY: the caller guarantees the arrays hold `len` doubles.
+        let (d, x) = unsafe {
+            s.check_out(coords, len, "coords")?;
+            (s.read(boundary_displacement, len, "boundary_displacement")?, s.read(coords, len, "coords")?)
+        };
+        points::finite_in(&x, s.dim(), "coords")?;
         // Transactional: `advance_from` re-references at `coords` (when the code moved the mesh
         // itself) and solves in one transaction, restoring the solver when it fails; a result
         // with inverted cells is returned but not adopted.
@@ -343,7 +387,7 @@ pub unsafe extern "C" fn meshmove_solver_move(
         let sol = s.solver.advance_from(&x, &motion)?;
         // The positions the solver reached (checked finite inside its transaction).
         let moved = s.solver.last_valid_coords().to_vec();
-        finite_out(&moved, "moved position")?;
+        points::finite_out(&moved, s.dim(), "moved position")?;
         finite_report(&sol.report)?;
         let q = sol.quality;
         if !quality.is_null() {
@@ -360,11 +404,13 @@ pub unsafe extern "C" fn meshmove_solver_move(
                 ),
             )
         });
-        report_out(report, &sol.report)?;
-        if !quality.is_null() {
-            handles::write_out(quality, meshmove_quality::from(q), "quality")?;
+        // SAFETY: `report` and `quality` are NULL or writable (contract); `coords` passed
+        // `check_out`.
+        unsafe {
+            report_out(report, &sol.report)?;
+            handles::write_opt(quality, meshmove_quality::from(q), "quality")?;
+            points::write(coords, &moved);
         }
-        write_xy(coords, &moved);
         s.last = sol.displacement;
         e.map_or(Ok(()), Err)
     })
@@ -381,6 +427,7 @@ pub unsafe extern "C" fn meshmove_solver_move(
 /// # Safety
 /// `prescribed` must hold `len` doubles, `reports` `num_reports` structs.
 #[no_mangle]
+#[must_use]
 pub unsafe extern "C" fn meshmove_solver_move_in_steps(
     solver: *mut meshmove_solver,
     len: i32,
@@ -391,18 +438,19 @@ pub unsafe extern "C" fn meshmove_solver_move_in_steps(
 ) -> meshmove_status {
     ffi_body!(meshmove_solver_move_in_steps, {
         let mut s = get_mut(solver, "solver")?;
-        let nv = s.nv();
         let n = types::bounded(steps, "steps", 1, crate::limits::MAX_STEPS)?;
         let cap = count(num_reports, "num_reports")?;
-        let out = handles::slice_mut(reports, cap, "reports")?;
-        let d = read_xy(prescribed, len, nv, "prescribed")?;
+        // SAFETY: the caller guarantees `reports` holds `num_reports` structs and `prescribed`
+        // `len` doubles.
+        let (out, d) =
+            unsafe { (handles::slice_mut(reports, cap, "reports")?, s.read(prescribed, len, "prescribed")?) };
         let before = s.solver.current_coords().to_vec();
         let motion = s.motion(d);
         // `move_in_steps` restores the solver itself when it fails; its step reports stay.
         let r = s.solver.move_in_steps(&motion, n);
         r?;
         let steps: Vec<meshmove_step_report> = s.solver.step_reports().iter().map(meshmove_step_report::from).collect();
-        let checked = finite_out(s.solver.current_coords(), "moved position")
+        let checked = points::finite_out(s.solver.current_coords(), s.dim(), "moved position")
             .and_then(|()| steps.iter().try_for_each(types::finite_step_report));
         if let Err(e) = checked {
             return Err(s.restore(Some(before), e));
@@ -410,7 +458,7 @@ pub unsafe extern "C" fn meshmove_solver_move_in_steps(
         for (o, r) in out.iter_mut().zip(&steps) {
             *o = *r;
         }
-        s.last = s.solver.current_coords().iter().zip(&before).map(|(a, b)| a - b).collect();
+        s.last = points::difference(s.solver.current_coords(), &before);
         // The last step's result inverted cells (the method's honest answer without
         // sub-stepping): reported, never plain OK; the solver stays as before the call.
         match s.solver.step_reports().last() {
@@ -435,6 +483,7 @@ pub unsafe extern "C" fn meshmove_solver_move_in_steps(
 /// # Safety
 /// `reports` must hold `capacity` structs; `count` must be writable.
 #[no_mangle]
+#[must_use]
 pub unsafe extern "C" fn meshmove_solver_step_reports(
     solver: *const meshmove_solver,
     capacity: i32,
@@ -449,14 +498,17 @@ pub unsafe extern "C" fn meshmove_solver_step_reports(
         }
         let steps = s.solver.step_reports();
         let n = steps.len();
-        handles::write_out(count, n.min(i32::MAX as usize) as i32, "count")?;
+        // SAFETY: `count` is not NULL; the caller guarantees it is writable.
+        unsafe { handles::write_out(count, n.min(i32::MAX as usize) as i32, "count") }?;
         if cap < n {
             return Err(CError::new(
                 meshmove_status::BufferTooSmall,
                 format!("there are {n} step reports; capacity is {cap}"),
             ));
         }
-        for (o, r) in handles::slice_mut(reports, n, "reports")?.iter_mut().zip(steps) {
+        // SAFETY: the caller guarantees `reports` holds `capacity` >= `n` structs.
+        let out = unsafe { handles::slice_mut(reports, n, "reports") }?;
+        for (o, r) in out.iter_mut().zip(steps) {
             *o = meshmove_step_report::from(r);
         }
         Ok(())
@@ -473,6 +525,7 @@ pub unsafe extern "C" fn meshmove_solver_step_reports(
 /// # Safety
 /// `solver` must be a handle from meshmove (checked).
 #[no_mangle]
+#[must_use]
 pub unsafe extern "C" fn meshmove_solver_set_substepping(
     solver: *mut meshmove_solver,
     max_substeps: i32,
@@ -480,12 +533,7 @@ pub unsafe extern "C" fn meshmove_solver_set_substepping(
 ) -> meshmove_status {
     ffi_body!(meshmove_solver_set_substepping, {
         let mut s = get_mut(solver, "solver")?;
-        let n = types::bounded(max_substeps, "max_substeps", 0, crate::limits::MAX_SUBSTEPS)?;
-        if !(0.0..1.0).contains(&min_volume_ratio) {
-            return Err(CError::arg(format!(
-                "min_volume_ratio is {min_volume_ratio}; it must be at least 0 and below 1"
-            )));
-        }
+        let (n, min_volume_ratio) = types::substepping(max_substeps, min_volume_ratio)?;
         let mut o = s.solver.options().clone();
         o.max_substeps = n;
         o.min_volume_ratio = min_volume_ratio;
@@ -500,6 +548,7 @@ pub unsafe extern "C" fn meshmove_solver_set_substepping(
 /// # Safety
 /// `solver` must be a handle from meshmove (checked).
 #[no_mangle]
+#[must_use]
 pub unsafe extern "C" fn meshmove_solver_set_reference_mode(
     solver: *mut meshmove_solver,
     mode: i32,
@@ -513,12 +562,13 @@ pub unsafe extern "C" fn meshmove_solver_set_reference_mode(
     })
 }
 
-/// Makes `coords` (`len` = 2 × vertices, finite) the solver's reference mesh: the operators are
+/// Makes `coords` (`len` = dim × vertices, finite) the solver's reference mesh: the operators are
 /// re-evaluated there, the coarse topology is kept when it can be.
 ///
 /// # Safety
 /// `coords` must hold `len` doubles.
 #[no_mangle]
+#[must_use]
 pub unsafe extern "C" fn meshmove_solver_set_reference(
     solver: *mut meshmove_solver,
     len: i32,
@@ -526,19 +576,21 @@ pub unsafe extern "C" fn meshmove_solver_set_reference(
 ) -> meshmove_status {
     ffi_body!(meshmove_solver_set_reference, {
         let mut s = get_mut(solver, "solver")?;
-        let x = read_xy(coords, len, s.nv(), "coords")?;
-        handles::finite_xy(&x, "coords")?;
+        // SAFETY: the caller guarantees `coords` holds `len` doubles.
+        let x = unsafe { s.read(coords, len, "coords") }?;
+        points::finite_in(&x, s.dim(), "coords")?;
         s.solver.set_reference(x)?;
         Ok(())
     })
 }
 
 /// Copies the current positions (after `meshmove_solver_move` or `_move_in_steps`: the moved
-/// mesh) into `coords`, `len` = 2 × vertices.
+/// mesh) into `coords`, `len` = dim × vertices.
 ///
 /// # Safety
 /// `coords` must hold `len` doubles.
 #[no_mangle]
+#[must_use]
 pub unsafe extern "C" fn meshmove_solver_get_coords(
     solver: *const meshmove_solver,
     len: i32,
@@ -546,18 +598,22 @@ pub unsafe extern "C" fn meshmove_solver_get_coords(
 ) -> meshmove_status {
     ffi_body!(meshmove_solver_get_coords, {
         let s = get(solver, "solver")?;
-        check_xy_out(coords, len, s.nv(), "coords")?;
-        write_xy(coords, s.solver.current_coords());
+        // SAFETY: the caller guarantees `coords` holds `len` doubles; `write` after `check_out`.
+        unsafe {
+            s.check_out(coords, len, "coords")?;
+            points::write(coords, s.solver.current_coords());
+        }
         Ok(())
     })
 }
 
 /// Copies the displacement of the last solve, cycle or move (for `_move_in_steps`, the total)
-/// into `displacement`, `len` = 2 × vertices; zero before any.
+/// into `displacement`, `len` = dim × vertices; zero before any.
 ///
 /// # Safety
 /// `displacement` must hold `len` doubles.
 #[no_mangle]
+#[must_use]
 pub unsafe extern "C" fn meshmove_solver_get_displacement(
     solver: *const meshmove_solver,
     len: i32,
@@ -565,18 +621,23 @@ pub unsafe extern "C" fn meshmove_solver_get_displacement(
 ) -> meshmove_status {
     ffi_body!(meshmove_solver_get_displacement, {
         let s = get(solver, "solver")?;
-        check_xy_out(displacement, len, s.nv(), "displacement")?;
-        write_xy(displacement, &s.last);
+        // SAFETY: the caller guarantees `displacement` holds `len` doubles; `write` after
+        // `check_out`.
+        unsafe {
+            s.check_out(displacement, len, "displacement")?;
+            points::write(displacement, &s.last);
+        }
         Ok(())
     })
 }
 
-/// Quality of the reference mesh moved by `displacement` (`len` = 2 × vertices): inverted cells,
+/// Quality of the reference mesh moved by `displacement` (`len` = dim × vertices): inverted cells,
 /// area ratios, smallest angle.
 ///
 /// # Safety
 /// `displacement` must hold `len` doubles; `quality` must be writable.
 #[no_mangle]
+#[must_use]
 pub unsafe extern "C" fn meshmove_solver_quality(
     solver: *const meshmove_solver,
     len: i32,
@@ -588,20 +649,23 @@ pub unsafe extern "C" fn meshmove_solver_quality(
         if quality.is_null() {
             return Err(CError::null("quality"));
         }
-        let d = read_xy(displacement, len, s.nv(), "displacement")?;
-        handles::finite_xy(&d, "displacement")?;
+        // SAFETY: the caller guarantees `displacement` holds `len` doubles.
+        let d = unsafe { s.read(displacement, len, "displacement") }?;
+        points::finite_in(&d, s.dim(), "displacement")?;
         let q = s.solver.quality(&d);
         finite_quality(&q)?;
-        handles::write_out(quality, meshmove_quality::from(q), "quality")
+        // SAFETY: `quality` is not NULL; the caller guarantees it is writable.
+        unsafe { handles::write_out(quality, meshmove_quality::from(q), "quality") }
     })
 }
 
-/// Writes the reference mesh moved by `displacement` (`len` = 2 × vertices; NULL with `len` 0
+/// Writes the reference mesh moved by `displacement` (`len` = dim × vertices; NULL with `len` 0
 /// for the reference itself) as a `.vtu` file (see `meshmove_mesh_write_vtu`).
 ///
 /// # Safety
 /// `path` must be a NUL-terminated string; `displacement` must hold `len` doubles.
 #[no_mangle]
+#[must_use]
 pub unsafe extern "C" fn meshmove_solver_write_vtu(
     solver: *const meshmove_solver,
     path: *const c_char,
@@ -610,7 +674,8 @@ pub unsafe extern "C" fn meshmove_solver_write_vtu(
 ) -> meshmove_status {
     ffi_body!(meshmove_solver_write_vtu, {
         let s = get(solver, "solver")?;
-        let p = handles::path(path, "path")?;
-        super::mesh::write_vtu(s.solver.mesh(), p, len, displacement)
+        // SAFETY: the caller guarantees `path` is a NUL-terminated string and `displacement`
+        // holds `len` doubles.
+        unsafe { super::mesh::write_vtu(s.solver.mesh(), path, len, displacement) }
     })
 }

@@ -46,6 +46,9 @@ pub enum meshmove_status {
     /// The handle is in use by a call on another thread; nothing was done (try again later, or
     /// give each thread its own handle).
     Busy = 15,
+    /// The arguments are valid but this version of meshmove cannot do it yet (e.g. a rigid
+    /// motion of a 3D mesh, a cell type the core does not handle yet); the message says what.
+    Unsupported = 16,
 }
 
 impl From<&Error> for meshmove_status {
@@ -85,10 +88,11 @@ impl meshmove_status {
             meshmove_status::Tangled => c"MESHMOVE_STATUS_TANGLED",
             meshmove_status::Inverted => c"MESHMOVE_STATUS_INVERTED",
             meshmove_status::Busy => c"MESHMOVE_STATUS_BUSY",
+            meshmove_status::Unsupported => c"MESHMOVE_STATUS_UNSUPPORTED",
         }
     }
 
-    pub(crate) const ALL: [meshmove_status; 16] = [
+    pub(crate) const ALL: [meshmove_status; 17] = [
         meshmove_status::Ok,
         meshmove_status::NullPointer,
         meshmove_status::InvalidHandle,
@@ -105,5 +109,6 @@ impl meshmove_status {
         meshmove_status::Tangled,
         meshmove_status::Inverted,
         meshmove_status::Busy,
+        meshmove_status::Unsupported,
     ];
 }

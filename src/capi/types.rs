@@ -1,25 +1,27 @@
-//! Enumerations, the options struct and the report structs of the C ABI.
+//! Enumerations, bounds and the report structs of the C ABI.
 //!
 //! Enum arguments cross the boundary as `int32_t`; the enums below give the named values (fixed,
 //! never renumbered) and are converted with a check.
 
 use super::error::CError;
+use crate::geometry::CellType;
 use crate::limits;
 use crate::{Criterion, InterfaceVariant, Kind, Method, Mode};
 
 /// Most steps of one `meshmove_solver_move_in_steps` call.
 pub const MESHMOVE_MAX_STEPS: i32 = 1_000_000;
-/// Largest `meshmove_options.max_cycles`.
+/// Largest `max_cycles` of `meshmove_options_set_max_cycles`.
 pub const MESHMOVE_MAX_CYCLES: i32 = 1_000_000;
-/// Largest `meshmove_options.cheb_degree`.
+/// Largest Chebyshev degree of `meshmove_options_set_cheb_degree` and `_cheb_coarse_degree`.
 pub const MESHMOVE_MAX_CHEB_DEGREE: i32 = 64;
-/// Largest `meshmove_options.threads` (a fixed bound, the same on every machine).
+/// Largest `threads` of `meshmove_options_set_threads` (a fixed bound, the same on every machine).
 pub const MESHMOVE_MAX_THREADS: i32 = 1024;
 /// Largest `max_substeps` of `meshmove_solver_set_substepping`.
 pub const MESHMOVE_MAX_SUBSTEPS: i32 = 1_048_576;
-/// Most vertices of a mesh (2 × vertices must fit an `int32_t` length).
+/// Most vertices of a mesh (dim × vertices must also fit an `int32_t` length: in 3D at most
+/// `INT32_MAX / 3`).
 pub const MESHMOVE_MAX_VERTICES: i32 = 1_073_741_823;
-/// Most cells of a mesh (3 × cells must fit an `int32_t` length).
+/// Most cells of a mesh (the connectivity's length must also fit an `int32_t`).
 pub const MESHMOVE_MAX_CELLS: i32 = 715_827_882;
 
 // The header's numbers are the library's bounds (cbindgen needs literals to emit `#define`s).
@@ -41,7 +43,7 @@ pub(crate) fn bounded(v: i32, what: &str, min: usize, max: usize) -> Result<usiz
     }
 }
 
-/// Which equation moves the mesh (`meshmove_options.method`).
+/// Which equation moves the mesh (`meshmove_options_set_method`).
 #[repr(i32)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum meshmove_method {
@@ -53,7 +55,7 @@ pub enum meshmove_method {
     Spring = 2,
 }
 
-/// How the solver iterates (`meshmove_options.mode`).
+/// How the solver iterates (`meshmove_options_set_mode`).
 #[repr(i32)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum meshmove_mode {
@@ -63,7 +65,7 @@ pub enum meshmove_mode {
     PaperFaithful = 1,
 }
 
-/// When a solve stops (`meshmove_options.criterion`).
+/// When a solve stops (`meshmove_options_set_criterion`).
 #[repr(i32)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum meshmove_criterion {
@@ -107,31 +109,43 @@ pub enum meshmove_reference {
     Original = 1,
 }
 
-/// Solver options; fill with `meshmove_options_default` and change what you need.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct meshmove_options {
-    /// A `meshmove_method` value.
-    pub method: i32,
-    /// A `meshmove_mode` value.
-    pub mode: i32,
-    /// A `meshmove_criterion` value.
-    pub criterion: i32,
-    /// Worker threads of this solver, 0 ≤ threads ≤ `MESHMOVE_MAX_THREADS`; 0 is one per
-    /// available core. All of the solver's work runs on them (never on a shared global pool).
-    /// Results do not depend on it.
-    pub threads: i32,
-    /// Tolerance of the criterion (default 1e-8), positive and finite.
-    pub tol: f64,
-    /// Most cycles per solve (default 500), 1 ≤ max_cycles ≤ `MESHMOVE_MAX_CYCLES`.
-    pub max_cycles: i32,
-    /// Chebyshev smoother degree of the default mode, on every level; 0 picks per method
-    /// (default 0: biharmonic 6 on the finest level and 4 below, others 3 and 2), otherwise
-    /// 1 ≤ cheb_degree ≤ `MESHMOVE_MAX_CHEB_DEGREE`.
-    pub cheb_degree: i32,
-    /// 0 (default): fourth-kind Chebyshev, which needs no interval. Above 1: first-kind
-    /// Chebyshev on [λmax / cheb_lower_ratio, λmax].
-    pub cheb_lower_ratio: f64,
+/// The type of a cell in `meshmove_mesh_create`: VTK's cell type ids. Corners are in VTK's local
+/// order for the type.
+#[repr(i32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum meshmove_cell_type {
+    /// 3 corners (2D).
+    Triangle = 5,
+    /// 4 corners, counter-clockwise or clockwise like the rest of the mesh (2D).
+    Quad = 9,
+    /// 4 corners (3D).
+    Tetra = 10,
+    /// 8 corners: 0–3 the bottom face, 4–7 the top face above them (3D).
+    Hexahedron = 12,
+    /// 6 corners: triangle 0–1–2 and triangle 3–4–5 above it (3D).
+    Wedge = 13,
+    /// 5 corners: quad 0–1–2–3 and the apex 4 (3D).
+    Pyramid = 14,
+}
+
+// The header's values are the library's cell types (VTK ids).
+const _: () = {
+    assert!(meshmove_cell_type::Triangle as u8 == CellType::Triangle as u8);
+    assert!(meshmove_cell_type::Quad as u8 == CellType::Quad as u8);
+    assert!(meshmove_cell_type::Tetra as u8 == CellType::Tetra as u8);
+    assert!(meshmove_cell_type::Hexahedron as u8 == CellType::Hexahedron as u8);
+    assert!(meshmove_cell_type::Wedge as u8 == CellType::Wedge as u8);
+    assert!(meshmove_cell_type::Pyramid as u8 == CellType::Pyramid as u8);
+};
+
+/// A cell type id (`meshmove_cell_type`) of cell `cell` (numbered as the caller numbers).
+pub(crate) fn cell_type(t: i32, cell: i64) -> Result<CellType, CError> {
+    CellType::from_vtk(i64::from(t)).ok_or_else(|| {
+        CError::arg(format!(
+            "cell {cell} has type {t}, which is not a meshmove_cell_type (5 TRIANGLE, 9 QUAD, 10 TETRA, 12 \
+             HEXAHEDRON, 13 WEDGE, 14 PYRAMID)"
+        ))
+    })
 }
 
 /// What a solve did (AMGCL's report struct, with both stopping measures).
@@ -226,12 +240,12 @@ pub(crate) fn reference_mode(m: i32) -> Result<crate::ReferenceMode, CError> {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct meshmove_quality {
-    /// Cells whose signed area is not positive.
+    /// Cells whose signed volume (area in 2D) is not positive.
     pub inverted: i32,
-    /// Smallest deformed / reference cell area ratio (negative when a cell inverted).
-    pub min_area_ratio: f64,
-    /// Largest deformed / reference cell area ratio.
-    pub max_area_ratio: f64,
+    /// Smallest deformed / reference cell volume (area in 2D) ratio (negative when a cell inverted).
+    pub min_volume_ratio: f64,
+    /// Largest deformed / reference cell volume (area in 2D) ratio.
+    pub max_volume_ratio: f64,
     /// Smallest angle of any cell, degrees.
     pub min_angle_deg: f64,
 }
@@ -252,25 +266,9 @@ impl From<crate::mesh::quality::Quality> for meshmove_quality {
     fn from(q: crate::mesh::quality::Quality) -> Self {
         meshmove_quality {
             inverted: q.inverted.min(i32::MAX as usize) as i32,
-            min_area_ratio: q.min_area_ratio,
-            max_area_ratio: q.max_area_ratio,
+            min_volume_ratio: q.min_area_ratio,
+            max_volume_ratio: q.max_area_ratio,
             min_angle_deg: q.min_angle_deg,
-        }
-    }
-}
-
-impl Default for meshmove_options {
-    fn default() -> Self {
-        let o = crate::Options::default();
-        meshmove_options {
-            method: meshmove_method::Biharmonic as i32,
-            mode: meshmove_mode::Default as i32,
-            criterion: meshmove_criterion::RelativeResidual as i32,
-            threads: 0,
-            tol: o.solve.tol,
-            max_cycles: o.solve.max_cycles as i32,
-            cheb_degree: o.solve.cheb_degree.map_or(0, |d| d as i32),
-            cheb_lower_ratio: 0.0,
         }
     }
 }
@@ -292,72 +290,38 @@ pub(crate) fn interface(v: i32) -> Result<InterfaceVariant, CError> {
     }
 }
 
-impl meshmove_options {
-    /// Checked conversion to the Rust options.
-    pub(crate) fn to_rust(self) -> Result<crate::Options, CError> {
-        let method = match self.method {
-            0 => Method::Biharmonic,
-            1 => Method::Laplacian,
-            2 => Method::Spring,
-            m => {
-                return Err(CError::arg(format!(
-                    "options.method {m} is not a meshmove_method (0 BIHARMONIC, 1 LAPLACIAN, 2 SPRING)"
-                )))
-            }
-        };
-        let mode = match self.mode {
-            0 => Mode::Default,
-            1 => Mode::PaperFaithful,
-            m => {
-                return Err(CError::arg(format!(
-                    "options.mode {m} is not a meshmove_mode (0 DEFAULT, 1 PAPER_FAITHFUL)"
-                )))
-            }
-        };
-        let criterion = match self.criterion {
-            0 => Criterion::RelativeResidual,
-            1 => Criterion::MaxCorrection,
-            c => {
-                return Err(CError::arg(format!(
-                    "options.criterion {c} is not a meshmove_criterion (0 RELATIVE_RESIDUAL, 1 MAX_CORRECTION)"
-                )))
-            }
-        };
-        let threads = bounded(self.threads, "options.threads", 0, limits::MAX_THREADS)?;
-        let max_cycles = bounded(self.max_cycles, "options.max_cycles", 1, limits::MAX_CYCLES)?;
-        // 0 picks the per-method default, like cheb_lower_ratio.
-        let cheb_degree =
-            Some(bounded(self.cheb_degree, "options.cheb_degree", 0, limits::MAX_CHEB_DEGREE)?).filter(|&d| d > 0);
-        if !(self.tol > 0.0 && self.tol.is_finite()) {
-            return Err(CError::arg(format!("options.tol is {}; it must be positive and finite", self.tol)));
-        }
-        let ratio = self.cheb_lower_ratio;
-        let cheb_lower_ratio = if ratio == 0.0 {
-            None
-        } else if ratio > 1.0 && ratio.is_finite() {
-            Some(ratio)
-        } else {
-            return Err(CError::arg(format!(
-                "options.cheb_lower_ratio is {ratio}; it must be 0 (fourth kind) or above 1"
-            )));
-        };
-        let mut o = crate::Options { method, threads, ..Default::default() };
-        o.solve.mode = mode;
-        o.solve.criterion = criterion;
-        o.solve.tol = self.tol;
-        o.solve.max_cycles = max_cycles;
-        o.solve.cheb_degree = cheb_degree;
-        o.solve.cheb_lower_ratio = cheb_lower_ratio;
-        Ok(o)
+pub(crate) fn method(m: i32) -> Result<Method, CError> {
+    match m {
+        0 => Ok(Method::Biharmonic),
+        1 => Ok(Method::Laplacian),
+        2 => Ok(Method::Spring),
+        _ => Err(CError::arg(format!("method {m} is not a meshmove_method (0 BIHARMONIC, 1 LAPLACIAN, 2 SPRING)"))),
     }
 }
 
-/// Fills `*options` with the defaults (biharmonic, default mode, relative residual 1e-8, 500
-/// cycles, all cores).
-///
-/// # Safety
-/// `options` must be NULL (an error) or point to a writable `meshmove_options`.
-#[no_mangle]
-pub unsafe extern "C" fn meshmove_options_default(options: *mut meshmove_options) -> super::status::meshmove_status {
-    ffi_body!(meshmove_options_default, { super::handles::write_out(options, meshmove_options::default(), "options") })
+pub(crate) fn mode(m: i32) -> Result<Mode, CError> {
+    match m {
+        0 => Ok(Mode::Default),
+        1 => Ok(Mode::PaperFaithful),
+        _ => Err(CError::arg(format!("mode {m} is not a meshmove_mode (0 DEFAULT, 1 PAPER_FAITHFUL)"))),
+    }
+}
+
+pub(crate) fn criterion(c: i32) -> Result<Criterion, CError> {
+    match c {
+        0 => Ok(Criterion::RelativeResidual),
+        1 => Ok(Criterion::MaxCorrection),
+        _ => Err(CError::arg(format!(
+            "criterion {c} is not a meshmove_criterion (0 RELATIVE_RESIDUAL, 1 MAX_CORRECTION)"
+        ))),
+    }
+}
+
+/// The sub-stepping limits: 0 ≤ `max_substeps` ≤ `MESHMOVE_MAX_SUBSTEPS`, 0 ≤ `min_volume_ratio` < 1.
+pub(crate) fn substepping(max_substeps: i32, min_volume_ratio: f64) -> Result<(usize, f64), CError> {
+    let n = bounded(max_substeps, "max_substeps", 0, limits::MAX_SUBSTEPS)?;
+    if !(0.0..1.0).contains(&min_volume_ratio) {
+        return Err(CError::arg(format!("min_volume_ratio is {min_volume_ratio}; it must be at least 0 and below 1")));
+    }
+    Ok((n, min_volume_ratio))
 }

@@ -110,8 +110,7 @@ pub fn cylinder_channel_case(h: f64) -> CaseSetup {
     let mesh = cylinder_channel(h);
     let mut bcs = BoundaryConditions::new();
     bcs.set_kinds(CH_WALL, Kind::Fixed).set_kinds(CH_CYLINDER, Kind::Clamped);
-    let motion =
-        Motion::zero(&mesh).with_rigid(CH_CYLINDER, RigidMotion::translation([1.0, 0.0, 0.0]));
+    let motion = Motion::zero(&mesh).with_rigid(CH_CYLINDER, RigidMotion::translation([1.0, 0.0, 0.0]));
     CaseSetup {
         name: "cylinder_channel".into(),
         mesh,
@@ -140,15 +139,7 @@ fn bl_case(name: &str, mesh: Mesh) -> CaseSetup {
     bcs.set_kinds(BL_FAR, Kind::Fixed).set_kinds(BL_CYLINDER, Kind::Clamped);
     let t = [-4.5 / 2f64.sqrt(), 4.5 / 2f64.sqrt(), 0.0];
     let motion = Motion::zero(&mesh).with_rigid(BL_CYLINDER, RigidMotion::translation(t));
-    CaseSetup {
-        name: name.into(),
-        mesh,
-        bcs,
-        motion,
-        steps: 1,
-        moved_patch: BL_CYLINDER,
-        upper_region: None,
-    }
+    CaseSetup { name: name.into(), mesh, bcs, motion, steps: 1, moved_patch: BL_CYLINDER, upper_region: None }
 }
 
 /// The case called `name` (one of [`CASE_NAMES`]) at `scale`.

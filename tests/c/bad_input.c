@@ -1,6 +1,6 @@
-/* Every C entry point with bad input: NULL handles and arrays, negative and out-of-range counts
- * and indices, NaN coordinates, degenerate cells, unknown enum values, mismatched links, stale
- * and foreign handles. Each call must return the expected status and a message that names the
+/* Every C entry point with bad input: NULL handles and arrays, negative and out-of-range counts,
+ * offsets and indices, unknown cell types, NaN coordinates, degenerate cells, unknown enum values,
+ * options out of range, mismatched links, stale and foreign handles. Each call must return the expected status and a message that names the
  * problem. Run under valgrind by ctest: zero errors, nothing definitely lost. */
 #include <math.h>
 #include <stdio.h>
@@ -35,6 +35,12 @@ static void expect(int line, meshmove_status got, meshmove_status want, const ch
     }
 }
 #define EXPECT(call, want, needle) expect(__LINE__, (call), (want), (needle))
+
+/* meshmove_mesh_create_triangles without regions. */
+static meshmove_status create_tris(int32_t nv, const double *xy, int32_t nc, const int32_t *cells, int32_t base, int32_t nt,
+                            const int32_t *edges, const int32_t *patches, meshmove_mesh **out) {
+    return meshmove_mesh_create_triangles(nv, xy, nc, cells, base, nt, edges, patches, NULL, out);
+}
 #define OK MESHMOVE_STATUS_OK
 #define NUL MESHMOVE_STATUS_NULL_POINTER
 #define HANDLE MESHMOVE_STATUS_INVALID_HANDLE
@@ -46,76 +52,131 @@ int main(void) {
     int32_t cells[12] = {0, 1, 4, 1, 2, 4, 2, 3, 4, 3, 0, 4};
     int32_t cells1[12] = {1, 2, 5, 2, 3, 5, 3, 4, 5, 4, 1, 5};
     int32_t tedge[2] = {1, 2}, tpatch[1] = {2};
-    meshmove_mesh *mesh = NULL, *m2 = NULL;
+    meshmove_mesh *mesh = NULL, *m2 = NULL, *m3 = NULL;
     meshmove_bcs *bcs = NULL;
     meshmove_solver *solver = NULL;
     double d[10] = {0}, out[10];
     int32_t n, buf[8];
     meshmove_report rep;
     meshmove_quality q;
-    meshmove_options o;
+    meshmove_options *o = NULL;
+    const int32_t T = MESHMOVE_CELL_TYPE_TRIANGLE, tris[4] = {T, T, T, T}, offs[5] = {0, 3, 6, 9, 12};
+    const double zero2[2] = {0.0, 0.0}, angle[1] = {0.0};
 
     /* free(NULL) is fine */
     EXPECT(meshmove_mesh_free(NULL), OK, NULL);
     EXPECT(meshmove_bcs_free(NULL), OK, NULL);
     EXPECT(meshmove_solver_free(NULL), OK, NULL);
+    EXPECT(meshmove_options_free(NULL), OK, NULL);
     EXPECT(meshmove_version(NULL, NULL, NULL), OK, NULL);
-    EXPECT(meshmove_options_default(NULL), NUL, "options");
+    EXPECT(meshmove_options_create(NULL), NUL, "out");
     if (strcmp(meshmove_status_name(4), "MESHMOVE_STATUS_INVALID_MESH") || strcmp(meshmove_status_name(-7), "MESHMOVE_STATUS_UNKNOWN")) {
         fprintf(stderr, "status names wrong\n");
         failures++;
     }
 
-    /* mesh_create */
-    EXPECT(meshmove_mesh_create(5, xy, 4, cells, 0, 1, tedge, tpatch, NULL, NULL), NUL, "out");
-    EXPECT(meshmove_mesh_create(5, NULL, 4, cells, 0, 1, tedge, tpatch, NULL, &mesh), NUL, "coords");
-    EXPECT(meshmove_mesh_create(5, xy, 4, NULL, 0, 1, tedge, tpatch, NULL, &mesh), NUL, "cells");
-    EXPECT(meshmove_mesh_create(5, xy, 4, cells, 0, 1, NULL, tpatch, NULL, &mesh), NUL, "tagged_edges");
-    EXPECT(meshmove_mesh_create(-5, xy, 4, cells, 0, 1, tedge, tpatch, NULL, &mesh), ARG, "num_vertices");
-    EXPECT(meshmove_mesh_create(5, xy, -1, cells, 0, 1, tedge, tpatch, NULL, &mesh), ARG, "num_cells");
-    EXPECT(meshmove_mesh_create(5, xy, 4, cells, 0, -1, tedge, tpatch, NULL, &mesh), ARG, "num_tagged");
-    EXPECT(meshmove_mesh_create(5, xy, 4, cells, 2, 1, tedge, tpatch, NULL, &mesh), ARG, "index base");
-    EXPECT(meshmove_mesh_create(0, xy, 0, cells, 0, 0, NULL, NULL, NULL, &mesh), MESHMOVE_STATUS_INVALID_MESH, "no vertices");
-    EXPECT(meshmove_mesh_create(4, xy, 4, cells, 0, 1, tedge, tpatch, NULL, &mesh), MESHMOVE_STATUS_INVALID_MESH, "vertex index 4");
-    EXPECT(meshmove_mesh_create(5, xy, 4, cells, 1, 1, tedge, tpatch, NULL, &mesh), MESHMOVE_STATUS_INVALID_MESH, "index");
+    /* mesh_create_triangles */
+    EXPECT(create_tris(5, xy, 4, cells, 0, 1, tedge, tpatch, NULL), NUL, "out");
+    EXPECT(create_tris(5, NULL, 4, cells, 0, 1, tedge, tpatch, &mesh), NUL, "coords");
+    EXPECT(create_tris(5, xy, 4, NULL, 0, 1, tedge, tpatch, &mesh), NUL, "cells");
+    EXPECT(create_tris(5, xy, 4, cells, 0, 1, NULL, tpatch, &mesh), NUL, "tagged_edges");
+    EXPECT(create_tris(-5, xy, 4, cells, 0, 1, tedge, tpatch, &mesh), ARG, "num_vertices");
+    EXPECT(create_tris(5, xy, -1, cells, 0, 1, tedge, tpatch, &mesh), ARG, "num_cells");
+    EXPECT(create_tris(5, xy, 4, cells, 0, -1, tedge, tpatch, &mesh), ARG, "num_tagged");
+    EXPECT(create_tris(5, xy, 4, cells, 2, 1, tedge, tpatch, &mesh), ARG, "index base");
+    EXPECT(create_tris(0, xy, 0, cells, 0, 0, NULL, NULL, &mesh), MESHMOVE_STATUS_INVALID_MESH, "no vertices");
+    EXPECT(create_tris(4, xy, 4, cells, 0, 1, tedge, tpatch, &mesh), MESHMOVE_STATUS_INVALID_MESH, "vertex index 4");
+    EXPECT(create_tris(5, xy, 4, cells, 1, 1, tedge, tpatch, &mesh), MESHMOVE_STATUS_INVALID_MESH, "index");
     xy[8] = NAN;
-    EXPECT(meshmove_mesh_create(5, xy, 4, cells, 0, 1, tedge, tpatch, NULL, &mesh), MESHMOVE_STATUS_INVALID_MESH, "non-finite");
+    EXPECT(create_tris(5, xy, 4, cells, 0, 1, tedge, tpatch, &mesh), MESHMOVE_STATUS_INVALID_MESH, "non-finite");
     xy[8] = 0.5;
     {
         double flat[6] = {0, 0, 1, 0, 2, 0};
         int32_t tri[3] = {0, 1, 2};
-        EXPECT(meshmove_mesh_create(3, flat, 1, tri, 0, 0, NULL, NULL, NULL, &mesh), MESHMOVE_STATUS_INVALID_MESH, "zero area");
+        EXPECT(create_tris(3, flat, 1, tri, 0, 0, NULL, NULL, &mesh), MESHMOVE_STATUS_INVALID_MESH, "zero area");
         int32_t rep3[3] = {0, 1, 1};
-        EXPECT(meshmove_mesh_create(3, flat, 1, rep3, 0, 0, NULL, NULL, NULL, &mesh), MESHMOVE_STATUS_INVALID_MESH, "repeats");
+        EXPECT(create_tris(3, flat, 1, rep3, 0, 0, NULL, NULL, &mesh), MESHMOVE_STATUS_INVALID_MESH, "repeats");
     }
     {
         int32_t bad_edge[2] = {0, 2};
-        EXPECT(meshmove_mesh_create(5, xy, 4, cells, 0, 1, bad_edge, tpatch, NULL, &mesh), MESHMOVE_STATUS_INVALID_MESH, "not an edge");
+        EXPECT(create_tris(5, xy, 4, cells, 0, 1, bad_edge, tpatch, &mesh), MESHMOVE_STATUS_INVALID_MESH, "not an edge");
     }
     if (mesh != NULL) { fprintf(stderr, "failed create left a handle\n"); failures++; }
-    EXPECT(meshmove_mesh_create(5, xy, 4, cells1, 1, 1, (int32_t[]){2, 3}, tpatch, NULL, &m2), OK, NULL);
-    EXPECT(meshmove_mesh_create(5, xy, 4, cells, 0, 1, tedge, tpatch, NULL, &mesh), OK, NULL);
+    EXPECT(create_tris(5, xy, 4, cells1, 1, 1, (int32_t[]){2, 3}, tpatch, &m2), OK, NULL);
 
-    /* create_case / read_msh */
-    EXPECT(meshmove_mesh_create_case(NULL, 0.1, &mesh), NUL, "name");
-    EXPECT(meshmove_mesh_create_case("nope", 0.1, &mesh), ARG, "unknown case");
-    EXPECT(meshmove_mesh_create_case("free_surface", -1.0, &mesh), ARG, "h is");
-    EXPECT(meshmove_mesh_create_case("free_surface", NAN, &mesh), ARG, "h is");
-    EXPECT(meshmove_mesh_create_case("cylinder_channel", 0.5, &mesh), ARG, "0.25");
-    EXPECT(meshmove_mesh_read_msh("/nonexistent/x.msh", &mesh), MESHMOVE_STATUS_IO, "nonexistent");
-    EXPECT(meshmove_mesh_read_msh(NULL, &mesh), NUL, "path");
-    /* the failed constructors above nulled `mesh`: recreate */
-    EXPECT(meshmove_mesh_create(5, xy, 4, cells, 0, 1, tedge, tpatch, NULL, &mesh), OK, NULL);
+    /* the generic mesh_create: every size, offset, type and index checked, each named */
+    EXPECT(meshmove_mesh_create(2, 5, xy, 4, offs, 12, cells, tris, 1, NULL, 2, tedge, tpatch, NULL, 0, NULL), NUL, "out");
+    EXPECT(meshmove_mesh_create(1, 5, xy, 4, offs, 12, cells, tris, 1, NULL, 2, tedge, tpatch, NULL, 0, &mesh), ARG, "dim is 1");
+    EXPECT(meshmove_mesh_create(4, 5, xy, 4, offs, 12, cells, tris, 1, NULL, 2, tedge, tpatch, NULL, 0, &mesh), ARG, "dim is 4");
+    EXPECT(meshmove_mesh_create(3, INT32_MAX / 3 + 1, xy, 4, offs, 12, cells, tris, 1, NULL, 2, tedge, tpatch, NULL, 0, &mesh), ARG,
+           "num_vertices (a 3D mesh)");
+    EXPECT(meshmove_mesh_create(2, 5, NULL, 4, offs, 12, cells, tris, 1, NULL, 2, tedge, tpatch, NULL, 0, &mesh), NUL, "coords");
+    EXPECT(meshmove_mesh_create(2, 5, xy, 4, offs, 12, NULL, tris, 1, NULL, 2, tedge, tpatch, NULL, 0, &mesh), NUL, "cell_connectivity");
+    EXPECT(meshmove_mesh_create(2, 5, xy, 4, offs, 12, cells, NULL, 1, NULL, 2, tedge, tpatch, NULL, 0, &mesh), NUL, "cell_types");
+    EXPECT(meshmove_mesh_create(2, 5, xy, 4, offs, -12, cells, tris, 1, NULL, 2, tedge, tpatch, NULL, 0, &mesh), ARG, "num_cell_vertices");
+    EXPECT(meshmove_mesh_create(2, 5, xy, 4, offs, 12, cells, tris, 1, NULL, -2, tedge, tpatch, NULL, 0, &mesh), ARG, "num_face_vertices");
+    EXPECT(meshmove_mesh_create(2, 5, xy, 4, offs, 12, cells, tris, -1, NULL, 2, tedge, tpatch, NULL, 0, &mesh), ARG, "num_faces");
+    EXPECT(meshmove_mesh_create(2, 5, xy, 4, offs, 12, cells, tris, 1, NULL, 2, tedge, NULL, NULL, 0, &mesh), NUL, "face_patch");
+    EXPECT(meshmove_mesh_create(2, 5, xy, 4, (int32_t[]){1, 3, 6, 9, 12}, 12, cells, tris, 1, NULL, 2, tedge, tpatch, NULL, 0, &mesh),
+           ARG, "`cell_offsets[0]` is 1");
+    EXPECT(meshmove_mesh_create(2, 5, xy, 4, (int32_t[]){0, 3, 7, 9, 12}, 12, cells, tris, 1, NULL, 2, tedge, tpatch, NULL, 0, &mesh),
+           ARG, "give cell 1 4 vertices");
+    EXPECT(meshmove_mesh_create(2, 5, xy, 4, (int32_t[]){0, 3, 2, 9, 12}, 12, cells, tris, 1, NULL, 2, tedge, tpatch, NULL, 0, &mesh),
+           ARG, "decreases");
+    EXPECT(meshmove_mesh_create(2, 5, xy, 4, offs, 11, cells, tris, 1, NULL, 2, tedge, tpatch, NULL, 0, &mesh), ARG,
+           "must be num_cell_vertices, 11");
+    EXPECT(meshmove_mesh_create(2, 5, xy, 4, NULL, 11, cells, tris, 1, NULL, 2, tedge, tpatch, NULL, 0, &mesh), ARG,
+           "12 vertex indices are needed, 11 were given");
+    EXPECT(meshmove_mesh_create(2, 5, xy, 4, NULL, 12, cells, (int32_t[]){T, 0, T, T}, 1, NULL, 2, tedge, tpatch, NULL, 0, &mesh), ARG,
+           "cell 1 has type 0");
+    EXPECT(meshmove_mesh_create(2, 5, xy, 4, NULL, 12, cells, (int32_t[]){T, T, T, -9}, 1, NULL, 2, tedge, tpatch, NULL, 1, &mesh), ARG,
+           "cell 4 has type -9");
+    EXPECT(meshmove_mesh_create(2, 5, xy, 4, NULL, 12, cells, tris, 1, (int32_t[]){0, 3}, 3, (int32_t[]){1, 2, 3}, tpatch, NULL, 0,
+               &mesh), ARG, "give face 0 3 vertices; a face of a 2D mesh has [2]");
+    EXPECT(meshmove_mesh_create(2, 5, xy, 4, NULL, 12, cells, tris, 1, NULL, 3, tedge, tpatch, NULL, 0, &mesh), ARG, "every face has 2");
+    EXPECT(meshmove_mesh_create(2, 5, xy, 4, NULL, 12, cells, tris, 1, NULL, 2, (int32_t[]){1, 5}, tpatch, NULL, 0, &mesh),
+           MESHMOVE_STATUS_INVALID_MESH, "tagged face 0 refers to vertex index 5, outside 0..5");
+    EXPECT(meshmove_mesh_create(2, 5, xy, 4, NULL, 12, cells1, tris, 1, NULL, 2, (int32_t[]){2, 3}, tpatch, NULL, 1, &mesh), OK, NULL);
+    EXPECT(meshmove_mesh_free(mesh), OK, NULL);
+    mesh = NULL;
+    EXPECT(meshmove_mesh_create(2, 5, xy, 4, NULL, 12, cells1, tris, 0, NULL, 0, NULL, NULL, NULL, 0, &mesh),
+           MESHMOVE_STATUS_INVALID_MESH, "cell 0 refers to vertex index 5, outside 0..5 (numbered from 0");
+    EXPECT(meshmove_mesh_create(2, 5, xy, 4, NULL, 13, (int32_t[]){0, 1, 2, 4, 1, 2, 4, 2, 3, 4, 3, 0, 4},
+                                (int32_t[]){MESHMOVE_CELL_TYPE_TETRA, T, T, T}, 0, NULL, 0, NULL, NULL, NULL, 0, &mesh),
+           MESHMOVE_STATUS_INVALID_MESH, "cell 0 is a tetrahedron, which is not a cell of a 2D mesh");
+    {
+        /* 4 vertices, 1 quad: a cell type the library may not handle yet */
+        int32_t quad[4] = {0, 1, 2, 3}, qt[1] = {MESHMOVE_CELL_TYPE_QUAD};
+        meshmove_status st = meshmove_mesh_create(2, 4, xy, 1, NULL, 4, quad, qt, 0, NULL, 0, NULL, NULL, NULL, 0, &mesh);
+        if (st == OK) {
+            EXPECT(meshmove_mesh_free(mesh), OK, NULL);
+            mesh = NULL;
+        } else
+            EXPECT(st, MESHMOVE_STATUS_UNSUPPORTED, "quad");
+    }
+    EXPECT(meshmove_mesh_create(2, 5, xy, 4, offs, 12, cells, tris, 1, NULL, 2, tedge, tpatch, NULL, 0, &mesh), OK, NULL);
+
+    /* read_msh */
+    EXPECT(meshmove_mesh_read_msh("/nonexistent/x.msh", &m3), MESHMOVE_STATUS_IO, "nonexistent");
+    EXPECT(meshmove_mesh_read_msh(NULL, &m3), NUL, "path");
 
     /* mesh queries */
-    EXPECT(meshmove_mesh_sizes(NULL, &n, &n), NUL, "mesh");
-    EXPECT(meshmove_mesh_sizes(mesh, &n, NULL), OK, NULL);
+    EXPECT(meshmove_mesh_sizes(NULL, &n, &n, NULL, NULL, NULL, NULL), NUL, "mesh");
+    EXPECT(meshmove_mesh_sizes(mesh, NULL, &n, NULL, NULL, NULL, NULL), OK, NULL);
+    EXPECT(meshmove_mesh_sizes(mesh, (int32_t *)((char *)buf + 1), NULL, NULL, NULL, NULL, NULL), ARG, "aligned");
     EXPECT(meshmove_mesh_get_coords(mesh, 9, out), ARG, "length 9");
     EXPECT(meshmove_mesh_get_coords(mesh, -2, out), ARG, "negative");
     EXPECT(meshmove_mesh_get_coords(mesh, 10, NULL), NUL, "coords");
     EXPECT(meshmove_mesh_get_coords(mesh, 10, out), OK, NULL);
-    EXPECT(meshmove_mesh_get_cells(mesh, 0, 11, buf), ARG, "len");
-    EXPECT(meshmove_mesh_get_cells(mesh, 3, 12, buf), ARG, "index base");
+    {
+        int32_t off[5], conn[12], ty[4];
+        EXPECT(meshmove_mesh_get_cells(mesh, 0, 5, off, 11, conn, 4, ty), ARG, "`connectivity` has length 11");
+        EXPECT(meshmove_mesh_get_cells(mesh, 0, 5, off, 12, NULL, 4, ty), NUL, "connectivity");
+        EXPECT(meshmove_mesh_get_cells(mesh, 3, 5, off, 12, conn, 4, ty), ARG, "index base");
+        EXPECT(meshmove_mesh_get_cells(mesh, 0, 0, NULL, 0, NULL, 0, NULL), OK, NULL);
+        EXPECT(meshmove_mesh_get_faces(mesh, 0, 4, off, 8, conn, 4, ty), ARG, "`offsets` has length 4");
+        EXPECT(meshmove_mesh_get_faces(mesh, 1, 5, off, 8, conn, 4, ty), OK, NULL);
+    }
     EXPECT(meshmove_mesh_get_regions(mesh, 3, buf), ARG, "len");
     EXPECT(meshmove_mesh_patch_vertices(mesh, 2, 0, 1, buf, &n), MESHMOVE_STATUS_BUFFER_TOO_SMALL, "capacity");
     if (n != 2) { fprintf(stderr, "patch 2 count %d\n", n); failures++; }
@@ -131,15 +192,19 @@ int main(void) {
     EXPECT(meshmove_bcs_create(NULL), NUL, "out");
     EXPECT(meshmove_bcs_create(&bcs), OK, NULL);
     EXPECT(meshmove_bcs_set_kind(NULL, 0, 0, MESHMOVE_KIND_FIXED), NUL, "bcs");
-    EXPECT(meshmove_bcs_set_kind(bcs, 0, 2, MESHMOVE_KIND_FIXED), ARG, "component 2");
+    EXPECT(meshmove_bcs_set_kind(bcs, 0, 2, MESHMOVE_KIND_FIXED), ARG, "component 2 does not exist in 2D");
+    EXPECT(meshmove_bcs_set_kind(bcs, 0, 3, MESHMOVE_KIND_FIXED), ARG, "component 3");
     EXPECT(meshmove_bcs_set_kind(bcs, 0, -1, MESHMOVE_KIND_FIXED), ARG, "component -1");
     EXPECT(meshmove_bcs_set_kind(bcs, 0, 0, 7), ARG, "kind 7");
     EXPECT(meshmove_bcs_set_kinds(bcs, 0, -3), ARG, "kind -3");
     EXPECT(meshmove_bcs_set_default_kind(bcs, 99), ARG, "kind 99");
     EXPECT(meshmove_bcs_set_interface(bcs, 3, 5), ARG, "interface variant 5");
-    EXPECT(meshmove_bcs_link_periodic(bcs, 1, 1, 1.0, 0.0, 1e-9), ARG, "itself");
-    EXPECT(meshmove_bcs_link_periodic(bcs, 1, 2, NAN, 0.0, 1e-9), ARG, "not finite");
-    EXPECT(meshmove_bcs_link_periodic(bcs, 1, 2, 1.0, 0.0, -1.0), ARG, "tol");
+    EXPECT(meshmove_bcs_link_periodic(bcs, 1, 1, 2, (double[]){1.0, 0.0}, 1e-9), ARG, "itself");
+    EXPECT(meshmove_bcs_link_periodic(bcs, 1, 2, 2, (double[]){NAN, 0.0}, 1e-9), ARG, "not finite");
+    EXPECT(meshmove_bcs_link_periodic(bcs, 1, 2, 2, (double[]){1.0, 0.0}, -1.0), ARG, "tol");
+    EXPECT(meshmove_bcs_link_periodic(bcs, 1, 2, 2, NULL, 1e-9), NUL, "offset");
+    EXPECT(meshmove_bcs_link_periodic(bcs, 1, 2, 5, (double[]){1.0, 0.0}, 1e-9), ARG, "dim is 5");
+    EXPECT(meshmove_bcs_link_periodic(bcs, 1, 2, 3, (double[]){1.0, 0.0, 0.0}, 1e-9), MESHMOVE_STATUS_UNSUPPORTED, "3D");
     EXPECT(meshmove_bcs_link_pairs(bcs, -1, buf, 0), ARG, "num_pairs");
     EXPECT(meshmove_bcs_link_pairs(bcs, 0, buf, 0), ARG, "num_pairs");
     EXPECT(meshmove_bcs_link_pairs(bcs, 1, NULL, 0), NUL, "pairs");
@@ -149,35 +214,39 @@ int main(void) {
     EXPECT(meshmove_bcs_set_kinds(bcs, 2, MESHMOVE_KIND_FIXED), OK, NULL);
 
     /* wrong handle types and unknown patches */
-    EXPECT(meshmove_mesh_sizes((meshmove_mesh *)bcs, &n, &n), HANDLE, "meshmove_bcs handle, not a meshmove_mesh");
+    EXPECT(meshmove_mesh_sizes((meshmove_mesh *)bcs, &n, &n, NULL, NULL, NULL, NULL), HANDLE,
+           "meshmove_bcs handle, not a meshmove_mesh");
     EXPECT(meshmove_bcs_free((meshmove_bcs *)mesh), HANDLE, "not a meshmove_bcs");
-    EXPECT(meshmove_mesh_sizes((meshmove_mesh *)xy, &n, &n), HANDLE, "not a meshmove_mesh handle made by meshmove");
+    EXPECT(meshmove_mesh_sizes((meshmove_mesh *)xy, &n, &n, NULL, NULL, NULL, NULL), HANDLE,
+           "not a meshmove_mesh handle made by meshmove");
+    EXPECT(meshmove_options_set_tol((meshmove_options *)bcs, 1.0), HANDLE, "meshmove_bcs handle, not a meshmove_options");
 
     /* solver_create */
     EXPECT(meshmove_solver_create(mesh, bcs, NULL, NULL), NUL, "out");
     EXPECT(meshmove_solver_create(NULL, bcs, NULL, &solver), NUL, "mesh");
     EXPECT(meshmove_solver_create(mesh, NULL, NULL, &solver), NUL, "bcs");
-    EXPECT(meshmove_options_default(&o), OK, NULL);
-    o.method = 3;
-    EXPECT(meshmove_solver_create(mesh, bcs, &o, &solver), ARG, "options.method 3");
-    meshmove_options_default(&o), o.mode = -1;
-    EXPECT(meshmove_solver_create(mesh, bcs, &o, &solver), ARG, "options.mode");
-    meshmove_options_default(&o), o.criterion = 2;
-    EXPECT(meshmove_solver_create(mesh, bcs, &o, &solver), ARG, "options.criterion");
-    meshmove_options_default(&o), o.tol = NAN;
-    EXPECT(meshmove_solver_create(mesh, bcs, &o, &solver), ARG, "options.tol");
-    meshmove_options_default(&o), o.threads = -2;
-    EXPECT(meshmove_solver_create(mesh, bcs, &o, &solver), ARG, "options.threads");
-    meshmove_options_default(&o), o.max_cycles = 0;
-    EXPECT(meshmove_solver_create(mesh, bcs, &o, &solver), ARG, "options.max_cycles");
-    meshmove_options_default(&o), o.max_cycles = MESHMOVE_MAX_CYCLES + 1;
-    EXPECT(meshmove_solver_create(mesh, bcs, &o, &solver), ARG, "options.max_cycles");
-    meshmove_options_default(&o), o.cheb_degree = MESHMOVE_MAX_CHEB_DEGREE + 1;
-    EXPECT(meshmove_solver_create(mesh, bcs, &o, &solver), ARG, "options.cheb_degree");
-    meshmove_options_default(&o), o.threads = MESHMOVE_MAX_THREADS + 1;
-    EXPECT(meshmove_solver_create(mesh, bcs, &o, &solver), ARG, "options.threads");
-    meshmove_options_default(&o), o.cheb_lower_ratio = 0.5;
-    EXPECT(meshmove_solver_create(mesh, bcs, &o, &solver), ARG, "cheb_lower_ratio");
+    /* options: every setter checks its value, names it and leaves the options as they were */
+    EXPECT(meshmove_options_create(&o), OK, NULL);
+    EXPECT(meshmove_options_set_method(NULL, 0), NUL, "options");
+    EXPECT(meshmove_options_set_method(o, 3), ARG, "method 3");
+    EXPECT(meshmove_options_set_mode(o, -1), ARG, "mode -1");
+    EXPECT(meshmove_options_set_criterion(o, 2), ARG, "criterion 2");
+    EXPECT(meshmove_options_set_tol(o, NAN), ARG, "tol is");
+    EXPECT(meshmove_options_set_tol(o, 0.0), ARG, "tol is 0");
+    EXPECT(meshmove_options_set_threads(o, -2), ARG, "threads is -2");
+    EXPECT(meshmove_options_set_threads(o, MESHMOVE_MAX_THREADS + 1), ARG, "threads is 1025");
+    EXPECT(meshmove_options_set_max_cycles(o, 0), ARG, "max_cycles is 0");
+    EXPECT(meshmove_options_set_max_cycles(o, MESHMOVE_MAX_CYCLES + 1), ARG, "max_cycles");
+    EXPECT(meshmove_options_set_cheb_degree(o, MESHMOVE_MAX_CHEB_DEGREE + 1), ARG, "cheb_degree is 65");
+    EXPECT(meshmove_options_set_cheb_coarse_degree(o, -1), ARG, "cheb_coarse_degree is -1");
+    EXPECT(meshmove_options_set_cheb_lower_ratio(o, 0.5), ARG, "cheb_lower_ratio");
+    EXPECT(meshmove_options_set_substepping(o, -1, 0.0), ARG, "max_substeps");
+    EXPECT(meshmove_options_set_substepping(o, 2, NAN), ARG, "min_volume_ratio");
+    EXPECT(meshmove_options_set_reference_mode(o, 7), ARG, "reference mode 7");
+    EXPECT(meshmove_solver_create(mesh, bcs, o, &solver), OK, NULL); /* the defaults, unchanged */
+    EXPECT(meshmove_solver_free(solver), OK, NULL);
+    solver = NULL;
+    EXPECT(meshmove_solver_create(mesh, bcs, (meshmove_options *)bcs, &solver), HANDLE, "not a meshmove_options");
     {
         meshmove_bcs *b2 = NULL;
         EXPECT(meshmove_bcs_create(&b2), OK, NULL);
@@ -190,7 +259,7 @@ int main(void) {
         EXPECT(meshmove_bcs_free(b2), OK, NULL);
         /* mismatched periodic link: patch 0 (three sides) cannot map onto patch 2 by (1, 0) */
         EXPECT(meshmove_bcs_create(&b2), OK, NULL);
-        EXPECT(meshmove_bcs_link_periodic(b2, 0, 2, 1.0, 0.0, 1e-9), OK, NULL);
+        EXPECT(meshmove_bcs_link_periodic(b2, 0, 2, 2, (double[]){1.0, 0.0}, 1e-9), OK, NULL);
         EXPECT(meshmove_solver_create(mesh, b2, NULL, &solver), MESHMOVE_STATUS_INVALID_BCS, NULL);
         EXPECT(meshmove_bcs_free(b2), OK, NULL);
         /* link pair index beyond the mesh */
@@ -202,10 +271,17 @@ int main(void) {
     EXPECT(meshmove_solver_create(mesh, bcs, NULL, &solver), OK, NULL);
 
     /* solver calls */
-    EXPECT(meshmove_solver_sizes(NULL, &n, &n), NUL, "solver");
-    EXPECT(meshmove_solver_sizes((meshmove_solver *)mesh, &n, &n), HANDLE, "meshmove_mesh handle");
-    EXPECT(meshmove_solver_set_rigid_motion(solver, 9, 0, 0, 0, 0, 0), ARG, "patch 9");
-    EXPECT(meshmove_solver_set_rigid_motion(solver, 2, NAN, 0, 0, 0, 0), ARG, "not finite");
+    EXPECT(meshmove_solver_sizes(NULL, &n, &n, &n), NUL, "solver");
+    EXPECT(meshmove_solver_sizes((meshmove_solver *)mesh, &n, &n, &n), HANDLE, "meshmove_mesh handle");
+    EXPECT(meshmove_solver_sizes(solver, &n, NULL, NULL), OK, NULL);
+    if (n != 2) { fprintf(stderr, "solver dim %d\n", n); failures++; }
+    EXPECT(meshmove_solver_set_rigid_motion(solver, 9, zero2, angle, zero2), ARG, "patch 9");
+    EXPECT(meshmove_solver_set_rigid_motion(solver, 2, (double[]){NAN, 0.0}, angle, zero2), ARG, "not finite");
+    EXPECT(meshmove_solver_set_rigid_motion(solver, 2, zero2, (double[]){INFINITY}, zero2), ARG, "not finite");
+    EXPECT(meshmove_solver_set_rigid_motion(solver, 2, NULL, angle, zero2), NUL, "translation");
+    EXPECT(meshmove_solver_set_rigid_motion(solver, 2, zero2, angle, NULL), NUL, "center");
+    EXPECT(meshmove_solver_set_rigid_motion(solver, 2, zero2, angle, zero2), OK, NULL);
+    EXPECT(meshmove_solver_clear_rigid_motions(solver), OK, NULL);
     EXPECT(meshmove_solver_clear_rigid_motions(NULL), NUL, "solver");
     EXPECT(meshmove_solver_solve(solver, 10, NULL, NULL, out, &rep), NUL, "prescribed");
     EXPECT(meshmove_solver_solve(solver, 10, d, NULL, NULL, &rep), NUL, "displacement");
@@ -280,6 +356,8 @@ int main(void) {
     EXPECT(meshmove_bcs_set_kinds(bcs, 0, MESHMOVE_KIND_FIXED), HANDLE, "already freed");
     EXPECT(meshmove_mesh_free(mesh), OK, NULL);
     EXPECT(meshmove_mesh_free(m2), OK, NULL);
+    EXPECT(meshmove_options_free(o), OK, NULL);
+    EXPECT(meshmove_options_set_method(o, 0), HANDLE, "already freed");
     EXPECT(meshmove_mesh_get_coords(mesh, 10, out), HANDLE, "already freed");
     EXPECT(meshmove_mesh_free(mesh), HANDLE, "already freed");
 

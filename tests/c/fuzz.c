@@ -22,7 +22,8 @@
 
 static uint64_t rng;
 static int failures = 0, calls = 0;
-static long seen[MESHMOVE_STATUS_BUSY + 1]; /* calls per status, printed at the end */
+#define LAST_STATUS MESHMOVE_STATUS_UNSUPPORTED
+static long seen[LAST_STATUS + 1]; /* calls per status, printed at the end */
 
 static uint64_t next(void) {
     rng ^= rng >> 12;
@@ -54,8 +55,8 @@ static double now(void) {
 static void check(meshmove_status s, const char *what) {
     const char *m = meshmove_last_error();
     calls++;
-    if ((int)s >= 0 && (int)s <= MESHMOVE_STATUS_BUSY) seen[s]++;
-    if ((int)s < 0 || (int)s > MESHMOVE_STATUS_BUSY || s == MESHMOVE_STATUS_PANIC) {
+    if ((int)s >= 0 && (int)s <= LAST_STATUS) seen[s]++;
+    if ((int)s < 0 || (int)s > LAST_STATUS || s == MESHMOVE_STATUS_PANIC) {
         fprintf(stderr, "%s: status %d (%s): %s\n", what, (int)s, meshmove_status_name(s), m);
         failures++;
     } else if ((s == MESHMOVE_STATUS_OK) != (m[0] == 0)) {
@@ -109,10 +110,13 @@ static int pick_solver(world *w, meshmove_solver **s) {
     }
 }
 
+/* A grid mesh through the triangle call or the generic one, with hostile counts, indices, base,
+ * offsets and cell types now and then. */
 static void grid_mesh(world *w, int k) {
-    int n = 3 + below(MAXN - 2), i, j, c = 0;
-    double xy[CAP];
+    int n = 3 + below(MAXN - 2), i, j, c = 0, generic = chance(50);
+    double xy[3 * MAXN * MAXN] = {0}; /* room for 3D: the generic call is sometimes told dim 3 */
     int32_t cells[6 * MAXN * MAXN], edges[2 * MAXN], patches[MAXN], regions[2 * MAXN * MAXN];
+    int32_t types[2 * MAXN * MAXN], offsets[2 * MAXN * MAXN + 1];
     meshmove_mesh *m = NULL;
     for (j = 0; j < n; j++)
         for (i = 0; i < n; i++) {
@@ -126,7 +130,11 @@ static void grid_mesh(world *w, int k) {
             regions[c] = regions[c + 1] = 0;
             c += 2;
         }
+    for (i = 0; i <= c; i++) offsets[i] = 3 * i;
+    for (i = 0; i < c; i++) types[i] = MESHMOVE_CELL_TYPE_TRIANGLE;
     if (chance(10)) cells[below(3 * c)] = count(n * n - 1); /* maybe out of range */
+    if (chance(10)) offsets[below(c + 1)] = count(3 * c);   /* maybe inconsistent */
+    if (chance(10)) types[below(c)] = chance(50) ? MESHMOVE_CELL_TYPE_QUAD : count(MESHMOVE_CELL_TYPE_TETRA);
     for (i = 0; i + 1 < n; i++) {
         edges[2 * i] = (n - 1) * n + i;
         edges[2 * i + 1] = (n - 1) * n + i + 1;
@@ -134,16 +142,24 @@ static void grid_mesh(world *w, int k) {
     }
     /* counts never exceed the arrays: only smaller or hostile values */
     {
-        int32_t nv = count(n * n), nc = count(c), nt = count(n - 1);
+        int32_t nv = count(n * n), nc = count(c), nt = count(n - 1), ncv = count(3 * c), base = chance(95) ? 0 : below(3);
         if (nv > n * n && nv != INT32_MAX) nv = n * n;
         if (nc > c && nc != INT32_MAX) nc = c;
         if (nt > n - 1 && nt != INT32_MAX) nt = n - 1;
-        check(meshmove_mesh_create(nv, chance(97) ? xy : NULL, nc, cells, chance(95) ? 0 : below(3), nt, edges, patches,
-                                   chance(20) ? regions : NULL, chance(98) ? &m : NULL),
-              "mesh_create");
+        if (ncv > 3 * c && ncv != INT32_MAX) ncv = 3 * c;
+        /* the faces' length: 2 nt when that fits, else the hostile count itself */
+        if (generic)
+            check(meshmove_mesh_create(chance(95) ? 2 : below(5), nv, chance(97) ? xy : NULL, nc, chance(50) ? offsets : NULL,
+                                       ncv, cells, types, nt, NULL, nt > 0 && nt <= n ? 2 * nt : nt, edges, patches, chance(20) ? regions : NULL,
+                                       base, chance(98) ? &m : NULL),
+                  "mesh_create");
+        else
+            check(meshmove_mesh_create_triangles(nv, chance(97) ? xy : NULL, nc, cells, base, nt, edges, patches,
+                                                 chance(20) ? regions : NULL, chance(98) ? &m : NULL),
+                  "mesh_create_triangles");
     }
     if (m) {
-        meshmove_mesh_free(w->mesh[k]);
+        check(meshmove_mesh_free(w->mesh[k]), "mesh_free replaced");
         w->mesh[k] = m;
     }
 }
@@ -161,10 +177,10 @@ static void solver_call(world *w) {
     if (len > CAP && len != INT32_MAX) len = CAP;
     memset(d, 0, sizeof d);
     memset(xy, 0, sizeof xy);
-    if (k >= 0) meshmove_solver_get_coords(s, 2 * nv, xy);
+    if (k >= 0) check(meshmove_solver_get_coords(s, 2 * nv, xy), "get_coords");
     for (i = 0; i < nv; i++)
         if (xy[2 * i + 1] > 0.999) d[2 * i] = value(0.01 * below(20));
-    if (k >= 0) meshmove_solver_get_coords(s, 2 * nv, before);
+    if (k >= 0) check(meshmove_solver_get_coords(s, 2 * nv, before), "get_coords");
     switch (below(11)) {
     case 0: st = meshmove_solver_solve(s, len, chance(97) ? d : NULL, chance(20) ? d : NULL, out, chance(50) ? &r : NULL);
         what = "solve";
@@ -190,13 +206,18 @@ static void solver_call(world *w) {
     case 5: st = meshmove_solver_get_displacement(s, len, chance(95) ? out : NULL); what = "get_displacement"; break;
     case 6: st = meshmove_solver_quality(s, len, d, chance(95) ? &q : NULL); what = "quality"; break;
     case 7: st = meshmove_solver_step_reports(s, count(4) % 5, sr, chance(95) ? &n : NULL); what = "step_reports"; break;
-    case 8: st = meshmove_solver_set_rigid_motion(s, below(4), value(0.01), 0.0, value(0.1), 0.5, 0.5); what = "set_rigid_motion"; break;
+    case 8: {
+        double t[3] = {value(0.01), 0.0, 0.0}, r[3] = {value(0.1), 0.0, 0.0}, c[3] = {0.5, 0.5, 0.0};
+        st = meshmove_solver_set_rigid_motion(s, below(4), t, chance(97) ? r : NULL, c);
+        what = "set_rigid_motion";
+        break;
+    }
     case 9: st = meshmove_solver_clear_rigid_motions(s); what = "clear_rigid_motions"; break;
-    default: st = meshmove_solver_sizes(s, &n, chance(50) ? &n : NULL); what = "sizes"; break;
+    default: st = meshmove_solver_sizes(s, chance(50) ? &n : NULL, &n, chance(50) ? &n : NULL); what = "sizes"; break;
     }
     check(st, what);
     if (k >= 0 && st != MESHMOVE_STATUS_OK && st != MESHMOVE_STATUS_NOT_CONVERGED) {
-        meshmove_solver_get_coords(s, 2 * nv, after);
+        check(meshmove_solver_get_coords(s, 2 * nv, after), "get_coords after");
         if (memcmp(before, after, sizeof(double) * 2 * (size_t)nv) != 0) {
             fprintf(stderr, "%s failed (%s) and changed the solver's reference\n", what, meshmove_status_name(st));
             failures++;
@@ -206,16 +227,24 @@ static void solver_call(world *w) {
 
 static void step(world *w) {
     int k = below(NH);
-    meshmove_options o;
+    meshmove_options *o = NULL;
     int32_t n, buf[CAP];
     double xy[CAP];
     switch (below(12)) {
     case 0: grid_mesh(w, k); break;
     case 1: {
-        static const double hs[] = {0.25, 0.5, 0.0, -1.0, NAN, 2.0};
+        /* one quad or tetrahedron with hostile offsets: a type the core may not handle yet */
+        static const double xyz[12] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 1};
+        int32_t conn[4] = {0, 1, 2, 3}, off[2] = {0, count(4)}, dim = chance(50) ? 2 : 3;
+        int32_t type[1] = {dim == 2 ? MESHMOVE_CELL_TYPE_QUAD : MESHMOVE_CELL_TYPE_TETRA};
         meshmove_mesh *m = NULL;
-        check(meshmove_mesh_create_case(chance(90) ? "free_surface" : "nope", hs[below(6)], &m), "create_case");
-        if (m) { meshmove_mesh_free(w->mesh[k]); w->mesh[k] = m; }
+        check(meshmove_mesh_create(dim, 4, xyz, 1, chance(50) ? off : NULL, count(4) % 5, conn, type, 0, NULL, 0, NULL,
+                                   NULL, NULL, 0, &m),
+              "mesh_create one cell");
+        if (m) {
+            check(meshmove_mesh_free(w->mesh[k]), "mesh_free replaced");
+            w->mesh[k] = m;
+        }
         break;
     }
     case 2: if (w->mesh[k] && chance(30)) {
@@ -226,11 +255,19 @@ static void step(world *w) {
         break;
     case 3: {
         meshmove_mesh *m = pick_mesh(w);
-        check(meshmove_mesh_sizes(m, &n, NULL), "mesh_sizes");
+        check(meshmove_mesh_sizes(m, NULL, &n, NULL, NULL, NULL, NULL), "mesh_sizes");
         if (m == w->mesh[k] && m) {
-            meshmove_mesh_sizes(m, &n, NULL);
+            int32_t nc = 0, ncv = 0;
+            check(meshmove_mesh_sizes(m, NULL, &n, &nc, &ncv, NULL, NULL), "mesh_sizes");
             check(meshmove_mesh_get_coords(m, count(2 * n), xy), "mesh_get_coords");
             check(meshmove_mesh_patch_vertices(m, below(3), below(3), count(8) % 16, buf, &n), "patch_vertices");
+            /* the lists: lengths at most the buffer's (or hostile), types skipped */
+            if (ncv + nc + 1 <= CAP) {
+                int32_t no = count(nc + 1), nn = count(ncv);
+                if (no > nc + 1 && no != INT32_MAX) no = nc + 1;
+                if (nn > ncv && nn != INT32_MAX) nn = ncv;
+                check(meshmove_mesh_get_cells(m, below(3), no, buf, nn, buf + nc + 1, 0, NULL), "mesh_get_cells");
+            }
         }
         break;
     }
@@ -238,24 +275,34 @@ static void step(world *w) {
         check(meshmove_bcs_set_kind(pick_bcs(w), below(3), below(4) - 1, below(4) - 1), "bcs_set_kind");
         break;
     case 5: check(meshmove_bcs_set_kinds(pick_bcs(w), below(3), below(4)), "bcs_set_kinds");
-        if (chance(20)) check(meshmove_bcs_link_periodic(pick_bcs(w), 0, below(3), value(1.0), 0.0, value(1e-9)), "link_periodic");
+        if (chance(20)) {
+            double off[3] = {value(1.0), 0.0, 0.0};
+            check(meshmove_bcs_link_periodic(pick_bcs(w), 0, below(3), 1 + below(3), off, value(1e-9)), "link_periodic");
+        }
         break;
     case 6: if (w->bcs[k] && chance(20)) { check(meshmove_bcs_free(w->bcs[k]), "bcs_free"); w->bcs[k] = NULL; }
         break;
     case 7: case 8: {
         meshmove_solver *s = NULL;
-        meshmove_options_default(&o);
-        o.threads = chance(90) ? 1 : count(2);
-        if (o.threads > 2) o.threads = chance(50) ? 2 : MESHMOVE_MAX_THREADS + 1;
-        o.max_cycles = chance(80) ? 50 : count(3);
-        o.cheb_degree = chance(90) ? below(5) : count(MESHMOVE_MAX_CHEB_DEGREE + 1);
-        o.method = chance(95) ? below(3) : 7;
-        o.tol = value(1e-8);
-        check(meshmove_solver_create(pick_mesh(w), pick_bcs(w), chance(90) ? &o : NULL, chance(98) ? &s : NULL), "solver_create");
+        int32_t threads = chance(90) ? 1 : count(2);
+        if (threads > 2) threads = chance(50) ? 2 : MESHMOVE_MAX_THREADS + 1;
+        check(meshmove_options_create(&o), "options_create");
+        /* a refused setter leaves the option as it was: threads stays 1 if it is refused */
+        check(meshmove_options_set_threads(o, 1), "options_set_threads");
+        check(meshmove_options_set_threads(o, threads), "options_set_threads");
+        check(meshmove_options_set_max_cycles(o, chance(80) ? 50 : count(3)), "options_set_max_cycles");
+        check(meshmove_options_set_cheb_degree(o, chance(90) ? below(5) : count(MESHMOVE_MAX_CHEB_DEGREE + 1)),
+              "options_set_cheb_degree");
+        check(meshmove_options_set_method(o, chance(95) ? below(3) : 7), "options_set_method");
+        check(meshmove_options_set_tol(o, value(1e-8)), "options_set_tol");
+        if (chance(10)) check(meshmove_options_set_substepping(o, count(4), value(0.1)), "options_set_substepping");
+        check(meshmove_solver_create(pick_mesh(w), pick_bcs(w), chance(90) ? o : NULL, chance(98) ? &s : NULL),
+              "solver_create");
+        check(meshmove_options_free(o), "options_free");
         if (s) {
             if (w->solver[k]) check(meshmove_solver_free(w->solver[k]), "solver_free");
             w->solver[k] = s;
-            meshmove_solver_sizes(s, &w->nv[k], NULL);
+            check(meshmove_solver_sizes(s, NULL, &w->nv[k], NULL), "solver_sizes");
         }
         break;
     }
@@ -274,7 +321,7 @@ static void step(world *w) {
 static void seed_world(world *w) {
     static double xy[2 * 16];
     static int32_t cells[3 * 18], edges[6] = {12, 13, 13, 14, 14, 15}, patches[3] = {1, 1, 1};
-    meshmove_options o;
+    meshmove_options *o = NULL;
     int i, j, c = 0;
     for (j = 0; j < 4; j++)
         for (i = 0; i < 4; i++) {
@@ -287,11 +334,12 @@ static void seed_world(world *w) {
             memcpy(&cells[3 * c], t, sizeof t);
             c += 2;
         }
-    meshmove_options_default(&o);
-    o.threads = 1;
-    check(meshmove_mesh_create(16, xy, 18, cells, 0, 3, edges, patches, NULL, &w->mesh[0]), "seed mesh");
+    check(meshmove_options_create(&o), "seed options");
+    check(meshmove_options_set_threads(o, 1), "seed threads");
+    check(meshmove_mesh_create_triangles(16, xy, 18, cells, 0, 3, edges, patches, NULL, &w->mesh[0]), "seed mesh");
     check(meshmove_bcs_create(&w->bcs[0]), "seed bcs");
-    check(meshmove_solver_create(w->mesh[0], w->bcs[0], &o, &w->solver[0]), "seed solver");
+    check(meshmove_solver_create(w->mesh[0], w->bcs[0], o, &w->solver[0]), "seed solver");
+    check(meshmove_options_free(o), "seed options free");
     w->nv[0] = 16;
 }
 
@@ -323,7 +371,7 @@ int main(int argc, char **argv) {
     }
     printf("fuzz: seed %llu, %ld sequences, %d calls, %d failures, %.1f s\n", (unsigned long long)seed, q, calls, failures,
            now() - t0);
-    for (k = 0; k <= MESHMOVE_STATUS_BUSY; k++)
+    for (k = 0; k <= LAST_STATUS; k++)
         if (seen[k]) printf("  %-34s %ld\n", meshmove_status_name(k), seen[k]);
     return failures != 0;
 }

@@ -22,7 +22,7 @@
 #include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
-#include "meshmove.h"
+#include "../../c_examples/box_grid.h"
 
 static int failures = 0, checks = 0;
 
@@ -96,26 +96,41 @@ static void make_grid(grid *g, int n) {
     }
 }
 
-/* A solver with `threads` workers on `m` (every patch FIXED); `m` is freed. */
-static meshmove_solver *solver_on(meshmove_mesh *m, int threads) {
+/* Options with `threads` workers (the caller frees them). */
+static meshmove_options *options_with(int threads) {
+    meshmove_options *o = NULL;
+    STATUS(meshmove_options_create(&o), MESHMOVE_STATUS_OK);
+    STATUS(meshmove_options_set_threads(o, threads), MESHMOVE_STATUS_OK);
+    return o;
+}
+
+/* A solver with options `o` on `m` (every patch FIXED); `m` is freed. */
+static meshmove_solver *solver_with(meshmove_mesh *m, const meshmove_options *o) {
     meshmove_bcs *b = NULL;
     meshmove_solver *s = NULL;
-    meshmove_options o;
-    meshmove_options_default(&o);
-    o.threads = threads;
     STATUS(meshmove_bcs_create(&b), MESHMOVE_STATUS_OK);
-    STATUS(meshmove_solver_create(m, b, &o, &s), MESHMOVE_STATUS_OK);
-    meshmove_bcs_free(b);
-    meshmove_mesh_free(m);
+    STATUS(meshmove_solver_create(m, b, o, &s), MESHMOVE_STATUS_OK);
+    STATUS(meshmove_bcs_free(b), MESHMOVE_STATUS_OK);
+    STATUS(meshmove_mesh_free(m), MESHMOVE_STATUS_OK);
     return s;
 }
 
-static meshmove_solver *grid_solver(const grid *g, int threads) {
-    meshmove_mesh *m = NULL;
-    STATUS(meshmove_mesh_create(g->nv, g->xy, g->nc, g->cells, 0, g->n - 1, g->edges, g->patches, NULL, &m),
-           MESHMOVE_STATUS_OK);
-    return solver_on(m, threads);
+/* A solver with `threads` workers on `m` (every patch FIXED); `m` is freed. */
+static meshmove_solver *solver_on(meshmove_mesh *m, int threads) {
+    meshmove_options *o = options_with(threads);
+    meshmove_solver *s = solver_with(m, o);
+    STATUS(meshmove_options_free(o), MESHMOVE_STATUS_OK);
+    return s;
 }
+
+static meshmove_mesh *grid_mesh(const grid *g) {
+    meshmove_mesh *m = NULL;
+    STATUS(meshmove_mesh_create_triangles(g->nv, g->xy, g->nc, g->cells, 0, g->n - 1, g->edges, g->patches, NULL, &m),
+           MESHMOVE_STATUS_OK);
+    return m;
+}
+
+static meshmove_solver *grid_solver(const grid *g, int threads) { return solver_on(grid_mesh(g), threads); }
 
 /* The grid's top moves right by 0.05. */
 static void top_shift(const grid *g, double *d) {
@@ -124,19 +139,25 @@ static void top_shift(const grid *g, double *d) {
     for (i = 0; i < g->n; i++) d[2 * ((g->n - 1) * g->n + i)] = 0.05;
 }
 
-/* A finer mesh whose solves take long enough to overlap with another thread's call. */
-static meshmove_solver *case_solver(double h, int threads, int *nv) {
+/* The box [0,1]x[-1,0] in n x n squares of two triangles (box_grid.h), its top y = 0 on patch 3. */
+static meshmove_mesh *box_mesh(int n, int *nv) {
+    box_grid g;
     meshmove_mesh *m = NULL;
-    STATUS(meshmove_mesh_create_case("free_surface", h, &m), MESHMOVE_STATUS_OK);
-    meshmove_mesh_sizes(m, nv, NULL);
-    return solver_on(m, threads);
+    box_grid_make(&g, n, n, (const double[]){0.0, 1.0, -1.0, 0.0}, 0, (const int32_t[]){1, 2, 3, 4});
+    STATUS(box_grid_mesh(&g, &m), MESHMOVE_STATUS_OK);
+    *nv = g.nv;
+    box_grid_free(&g);
+    return m;
 }
 
-/* The top (y = 0) of the free-surface case rises by 0.02 sin(pi x). */
-static double *case_motion(meshmove_solver *s, int nv) {
+/* A finer mesh whose solves take long enough to overlap with another thread's call. */
+static meshmove_solver *box_solver(int n, int threads, int *nv) { return solver_on(box_mesh(n, nv), threads); }
+
+/* The top (y = 0) of the box rises by 0.02 sin(pi x). */
+static double *box_motion(meshmove_solver *s, int nv) {
     double *d = calloc(2 * (size_t)nv, sizeof(double)), *xy = malloc(2 * (size_t)nv * sizeof(double));
     int v;
-    meshmove_solver_get_coords(s, 2 * nv, xy);
+    STATUS(meshmove_solver_get_coords(s, 2 * nv, xy), MESHMOVE_STATUS_OK);
     for (v = 0; v < nv; v++)
         if (xy[2 * v + 1] == 0.0) d[2 * v + 1] = 0.02 * sin(3.14159265358979 * xy[2 * v]);
     free(xy);
@@ -145,14 +166,14 @@ static double *case_motion(meshmove_solver *s, int nv) {
 
 static void test_one_thread(void) {
     int nv = 0, before = os_threads(), after;
-    meshmove_solver *s = case_solver(1.0 / 96, 1, &nv); /* above the rows run serially */
-    double *d = case_motion(s, nv), *out = malloc(2 * (size_t)nv * sizeof(double));
+    meshmove_solver *s = box_solver(96, 1, &nv); /* above the rows run serially */
+    double *d = box_motion(s, nv), *out = malloc(2 * (size_t)nv * sizeof(double));
     meshmove_report r;
     STATUS(meshmove_solver_solve(s, 2 * nv, d, NULL, out, &r), MESHMOVE_STATUS_OK);
     after = os_threads();
     /* the caller's thread and the solver's one worker */
     CHECK(after <= before + 1, "threads = 1: %d OS threads after a solve, %d before", after, before);
-    meshmove_solver_free(s);
+    STATUS(meshmove_solver_free(s), MESHMOVE_STATUS_OK);
     free(d);
     free(out);
 }
@@ -161,9 +182,9 @@ static void test_bounds(void) {
     grid g;
     meshmove_solver *s;
     meshmove_mesh *m = NULL;
-    meshmove_bcs *b = NULL;
-    meshmove_options o;
+    meshmove_options *o = NULL;
     double d[2 * 64], t0;
+    int32_t nd = 0;
     make_grid(&g, 3);
     s = grid_solver(&g, 1);
     top_shift(&g, d);
@@ -173,26 +194,32 @@ static void test_bounds(void) {
     STATUS(meshmove_solver_move_in_steps(s, 2 * g.nv, d, 200000000, 0, NULL), MESHMOVE_STATUS_INVALID_ARGUMENT);
     STATUS(meshmove_solver_move_in_steps(s, 2 * g.nv, d, MESHMOVE_MAX_STEPS + 1, 0, NULL),
            MESHMOVE_STATUS_INVALID_ARGUMENT);
-    STATUS(meshmove_mesh_create(INT32_MAX, g.xy, g.nc, g.cells, 0, 0, NULL, NULL, NULL, &m),
+    STATUS(meshmove_solver_sizes(s, &nd, NULL, NULL), MESHMOVE_STATUS_OK);
+    CHECK(nd == 2, "solver dim %d", nd);
+    STATUS(meshmove_solver_free(s), MESHMOVE_STATUS_OK);
+    STATUS(meshmove_mesh_create_triangles(INT32_MAX, g.xy, g.nc, g.cells, 0, 0, NULL, NULL, NULL, &m),
            MESHMOVE_STATUS_INVALID_ARGUMENT);
-    STATUS(meshmove_mesh_create(g.nv, g.xy, INT32_MAX, g.cells, 0, 0, NULL, NULL, NULL, &m),
+    STATUS(meshmove_mesh_create_triangles(g.nv, g.xy, INT32_MAX, g.cells, 0, 0, NULL, NULL, NULL, &m),
            MESHMOVE_STATUS_INVALID_ARGUMENT);
-    STATUS(meshmove_mesh_create(g.nv, g.xy, g.nc, g.cells, 0, g.n - 1, g.edges, g.patches, NULL, &m), MESHMOVE_STATUS_OK);
-    STATUS(meshmove_bcs_create(&b), MESHMOVE_STATUS_OK);
-    meshmove_options_default(&o);
-    o.cheb_degree = INT32_MAX;
-    STATUS(meshmove_solver_create(m, b, &o, &s), MESHMOVE_STATUS_INVALID_ARGUMENT);
+    /* the generic call: huge counts and lengths fail before anything is read or allocated */
+    STATUS(meshmove_mesh_create(3, INT32_MAX / 3 + 1, g.xy, g.nc, NULL, 3 * g.nc, g.cells, NULL, 0, NULL, 0, NULL, NULL,
+                                NULL, 0, &m),
+           MESHMOVE_STATUS_INVALID_ARGUMENT);
+    STATUS(meshmove_mesh_create(2, g.nv, g.xy, INT32_MAX, NULL, 3 * g.nc, g.cells, NULL, 0, NULL, 0, NULL, NULL, NULL, 0,
+                                &m),
+           MESHMOVE_STATUS_INVALID_ARGUMENT);
+    STATUS(meshmove_mesh_create(2, g.nv, g.xy, g.nc, NULL, 3 * g.nc, g.cells, NULL, INT32_MAX, NULL, 0, NULL, NULL, NULL,
+                                0, &m),
+           MESHMOVE_STATUS_INVALID_ARGUMENT);
+    STATUS(meshmove_options_create(&o), MESHMOVE_STATUS_OK);
+    STATUS(meshmove_options_set_cheb_degree(o, INT32_MAX), MESHMOVE_STATUS_INVALID_ARGUMENT);
     CHECK(strstr(msg(), "cheb_degree") != NULL, "message does not name cheb_degree");
-    meshmove_options_default(&o);
-    o.threads = INT32_MAX;
-    STATUS(meshmove_solver_create(m, b, &o, &s), MESHMOVE_STATUS_INVALID_ARGUMENT);
+    STATUS(meshmove_options_set_threads(o, INT32_MAX), MESHMOVE_STATUS_INVALID_ARGUMENT);
     CHECK(strstr(msg(), "threads") != NULL, "message does not name threads");
-    meshmove_options_default(&o);
-    o.max_cycles = INT32_MAX;
-    STATUS(meshmove_solver_create(m, b, &o, &s), MESHMOVE_STATUS_INVALID_ARGUMENT);
+    STATUS(meshmove_options_set_max_cycles(o, INT32_MAX), MESHMOVE_STATUS_INVALID_ARGUMENT);
+    STATUS(meshmove_options_set_substepping(o, INT32_MAX, 0.0), MESHMOVE_STATUS_INVALID_ARGUMENT);
     CHECK(now() - t0 < 1.0, "refusing out-of-bound arguments took %.2f s", now() - t0);
-    meshmove_bcs_free(b);
-    meshmove_mesh_free(m);
+    STATUS(meshmove_options_free(o), MESHMOVE_STATUS_OK);
 }
 
 /* After every failure the solver must give bitwise the displacement it gave before. */
@@ -205,7 +232,7 @@ static void same_as_before(meshmove_solver *s, const grid *g, const double *d, c
                 msg());
         failures++;
     }
-    meshmove_solver_get_coords(s, 2 * g->nv, xy);
+    STATUS(meshmove_solver_get_coords(s, 2 * g->nv, xy), MESHMOVE_STATUS_OK);
     checks++;
     if (memcmp(xy, g->xy, sizeof(double) * 2 * (size_t)g->nv) != 0) {
         fprintf(stderr, "line %d: after a failed call the reference changed\n", line);
@@ -249,7 +276,7 @@ static void test_transactional(int n) {
             CHECK(st != MESHMOVE_STATUS_OK, "%dx%d: set_reference with vertex %d moved by (%g, %g) was accepted", n, n, v,
                   dx, dy);
             if (st == MESHMOVE_STATUS_OK) {
-                meshmove_solver_set_reference(s, 2 * g.nv, g.xy);
+                STATUS(meshmove_solver_set_reference(s, 2 * g.nv, g.xy), MESHMOVE_STATUS_OK);
                 continue;
             }
             CHECK(st != MESHMOVE_STATUS_PANIC && strlen(msg()) > 0, "no message");
@@ -265,12 +292,12 @@ static void test_transactional(int n) {
                 x2[2 * v + 1] += dy;
                 CHECK(memcmp(x, x2, sizeof(double) * 2 * (size_t)g.nv) == 0, "a failed move wrote coords");
             }
-            if (st == MESHMOVE_STATUS_OK) meshmove_solver_set_reference(s, 2 * g.nv, g.xy);
+            if (st == MESHMOVE_STATUS_OK) STATUS(meshmove_solver_set_reference(s, 2 * g.nv, g.xy), MESHMOVE_STATUS_OK);
             same_as_before(s, &g, d, want, __LINE__);
         }
     }
     CHECK(failed > 0 && failed == tried, "%dx%d: %d of %d perturbations refused", n, n, failed, tried);
-    meshmove_solver_free(s);
+    STATUS(meshmove_solver_free(s), MESHMOVE_STATUS_OK);
 }
 
 static void test_non_finite(void) {
@@ -293,27 +320,14 @@ static void test_non_finite(void) {
     for (i = 0; i < 2 * g.nv && st == MESHMOVE_STATUS_OK; i++) CHECK(isfinite(out[i]), "solve returned OK with out[%d] = %g", i, out[i]);
     if (st == MESHMOVE_STATUS_OK)
         CHECK(isfinite(r.rel_residual) && isfinite(r.max_correction), "OK with a non-finite report");
-    meshmove_solver_free(s);
-}
-
-static meshmove_solver *grid_solver_with(const grid *g, const meshmove_options *o) {
-    meshmove_mesh *m = NULL;
-    meshmove_bcs *b = NULL;
-    meshmove_solver *s = NULL;
-    STATUS(meshmove_mesh_create(g->nv, g->xy, g->nc, g->cells, 0, g->n - 1, g->edges, g->patches, NULL, &m),
-           MESHMOVE_STATUS_OK);
-    STATUS(meshmove_bcs_create(&b), MESHMOVE_STATUS_OK);
-    STATUS(meshmove_solver_create(m, b, o, &s), MESHMOVE_STATUS_OK);
-    meshmove_bcs_free(b);
-    meshmove_mesh_free(m);
-    return s;
+    STATUS(meshmove_solver_free(s), MESHMOVE_STATUS_OK);
 }
 
 /* NOT_CONVERGED, INVERTED, step reports and the sub-stepping and reference-mode setters. */
 static void test_statuses(void) {
     grid g;
     meshmove_solver *s;
-    meshmove_options o;
+    meshmove_options *o = NULL;
     meshmove_report r;
     meshmove_quality q;
     meshmove_step_report sr[8];
@@ -326,19 +340,17 @@ static void test_statuses(void) {
     /* one cycle to 1e-14: not converged; _solve writes the result, _move writes nothing */
     {
         int nv = 0;
-        meshmove_solver *c;
+        meshmove_solver *c = NULL;
         double *cd, *cout, *cx, *cback;
-        meshmove_mesh *m = NULL;
+        meshmove_mesh *m = box_mesh(32, &nv);
         meshmove_bcs *b = NULL;
-        meshmove_options_default(&o);
-        o.threads = 1;
-        o.max_cycles = 1;
-        o.tol = 1e-14;
-        STATUS(meshmove_mesh_create_case("free_surface", 1.0 / 32, &m), MESHMOVE_STATUS_OK);
+        o = options_with(1);
+        STATUS(meshmove_options_set_max_cycles(o, 1), MESHMOVE_STATUS_OK);
+        STATUS(meshmove_options_set_tol(o, 1e-14), MESHMOVE_STATUS_OK);
         STATUS(meshmove_bcs_create(&b), MESHMOVE_STATUS_OK);
-        STATUS(meshmove_solver_create(m, b, &o, &c), MESHMOVE_STATUS_OK);
-        meshmove_mesh_sizes(m, &nv, NULL);
-        cd = case_motion(c, nv);
+        STATUS(meshmove_solver_create(m, b, o, &c), MESHMOVE_STATUS_OK);
+        STATUS(meshmove_options_free(o), MESHMOVE_STATUS_OK);
+        cd = box_motion(c, nv);
         cout = malloc(2 * (size_t)nv * sizeof(double));
         cx = malloc(2 * (size_t)nv * sizeof(double));
         cback = malloc(2 * (size_t)nv * sizeof(double));
@@ -347,15 +359,15 @@ static void test_statuses(void) {
         CHECK(strstr(msg(), "not converged") != NULL, "NOT_CONVERGED message");
         for (i = 0; i < 2 * nv && cout[i] != 12345.0; i++) continue;
         CHECK(i == 2 * nv && r.converged == 0 && r.cycles == 1, "NOT_CONVERGED solve did not write its result and report");
-        meshmove_mesh_get_coords(m, 2 * nv, cx);
+        STATUS(meshmove_mesh_get_coords(m, 2 * nv, cx), MESHMOVE_STATUS_OK);
         STATUS(meshmove_solver_move(c, 2 * nv, cd, cx, &r, &q), MESHMOVE_STATUS_NOT_CONVERGED);
-        meshmove_mesh_get_coords(m, 2 * nv, cback);
+        STATUS(meshmove_mesh_get_coords(m, 2 * nv, cback), MESHMOVE_STATUS_OK);
         CHECK(memcmp(cx, cback, sizeof(double) * 2 * (size_t)nv) == 0, "NOT_CONVERGED move wrote coords");
-        meshmove_solver_get_coords(c, 2 * nv, cx);
+        STATUS(meshmove_solver_get_coords(c, 2 * nv, cx), MESHMOVE_STATUS_OK);
         CHECK(memcmp(cx, cback, sizeof(double) * 2 * (size_t)nv) == 0, "NOT_CONVERGED move changed the solver");
-        meshmove_solver_free(c);
-        meshmove_bcs_free(b);
-        meshmove_mesh_free(m);
+        STATUS(meshmove_solver_free(c), MESHMOVE_STATUS_OK);
+        STATUS(meshmove_bcs_free(b), MESHMOVE_STATUS_OK);
+        STATUS(meshmove_mesh_free(m), MESHMOVE_STATUS_OK);
         free(cd);
         free(cout);
         free(cx);
@@ -363,16 +375,16 @@ static void test_statuses(void) {
     }
 
     /* the Laplacian sheared far: a converged result with inverted cells is INVERTED, written */
-    meshmove_options_default(&o);
-    o.threads = 1;
-    o.method = MESHMOVE_METHOD_LAPLACIAN;
-    s = grid_solver_with(&g, &o);
+    o = options_with(1);
+    STATUS(meshmove_options_set_method(o, MESHMOVE_METHOD_LAPLACIAN), MESHMOVE_STATUS_OK);
+    s = solver_with(grid_mesh(&g), o);
+    STATUS(meshmove_options_free(o), MESHMOVE_STATUS_OK);
     for (i = 0; i < 2 * g.nv; i++) d[i] *= 40.0; /* the top moves 2 to the right */
     memcpy(x, g.xy, sizeof x);
     STATUS(meshmove_solver_move(s, 2 * g.nv, d, x, &r, &q), MESHMOVE_STATUS_INVERTED);
     CHECK(q.inverted > 0 && r.converged == 1, "INVERTED without a count (%d) or unconverged", q.inverted);
     CHECK(x[2 * (g.nv - 1)] == g.xy[2 * (g.nv - 1)] + 2.0, "INVERTED move did not write coords");
-    meshmove_solver_get_coords(s, 2 * g.nv, back);
+    STATUS(meshmove_solver_get_coords(s, 2 * g.nv, back), MESHMOVE_STATUS_OK);
     CHECK(memcmp(back, g.xy, sizeof(double) * 2 * (size_t)g.nv) == 0, "INVERTED move changed the solver's reference");
     /* with sub-stepping: either a valid mesh (OK) or a failure that changes nothing */
     STATUS(meshmove_solver_set_substepping(s, MESHMOVE_MAX_SUBSTEPS + 1, 0.0), MESHMOVE_STATUS_INVALID_ARGUMENT);
@@ -387,7 +399,7 @@ static void test_statuses(void) {
         if (st == MESHMOVE_STATUS_OK) CHECK(q.inverted == 0, "OK with %d inverted cells", q.inverted);
         if (st != MESHMOVE_STATUS_OK) {
             CHECK(memcmp(x, g.xy, sizeof(double) * 2 * (size_t)g.nv) == 0, "a failed sub-stepped move wrote coords");
-            meshmove_solver_get_coords(s, 2 * g.nv, back);
+            STATUS(meshmove_solver_get_coords(s, 2 * g.nv, back), MESHMOVE_STATUS_OK);
             CHECK(memcmp(back, g.xy, sizeof(double) * 2 * (size_t)g.nv) == 0, "a failed move changed the solver");
         }
         STATUS(meshmove_solver_step_reports(s, 8, sr, &count), count > 8 ? MESHMOVE_STATUS_BUFFER_TOO_SMALL : MESHMOVE_STATUS_OK);
@@ -396,7 +408,7 @@ static void test_statuses(void) {
     STATUS(meshmove_solver_set_reference_mode(s, 2), MESHMOVE_STATUS_INVALID_ARGUMENT);
     STATUS(meshmove_solver_set_reference_mode(s, MESHMOVE_REFERENCE_ORIGINAL), MESHMOVE_STATUS_OK);
     STATUS(meshmove_solver_set_reference_mode(s, MESHMOVE_REFERENCE_INCREMENTAL), MESHMOVE_STATUS_OK);
-    meshmove_solver_free(s);
+    STATUS(meshmove_solver_free(s), MESHMOVE_STATUS_OK);
 
     /* three equal steps: three step reports, the first two copied into room for two */
     s = grid_solver(&g, 1);
@@ -408,7 +420,7 @@ static void test_statuses(void) {
     CHECK(count == 3, "%d step reports, want 3", count);
     STATUS(meshmove_solver_step_reports(s, 8, sr, &count), MESHMOVE_STATUS_OK);
     CHECK(count == 3 && sr[2].fraction == 1.0 && sr[2].converged == 1, "last step report wrong");
-    meshmove_solver_free(s);
+    STATUS(meshmove_solver_free(s), MESHMOVE_STATUS_OK);
 }
 
 /* ---- two threads on one solver ---- */
@@ -451,8 +463,8 @@ static void test_busy(void) {
     double *out;
     int busy_solve = 0, busy_free = 0, other = 0, freed = 0;
     memset(&sh, 0, sizeof sh);
-    sh.s = case_solver(1.0 / 64, 1, &sh.nv);
-    sh.d = case_motion(sh.s, sh.nv);
+    sh.s = box_solver(64, 1, &sh.nv);
+    sh.d = box_motion(sh.s, sh.nv);
     sh.rounds = 20;
     out = malloc(2 * (size_t)sh.nv * sizeof(double));
     pthread_create(&t, NULL, mover, &sh);
@@ -505,14 +517,13 @@ static void test_stale(void) {
     make_grid(&g, 3);
     top_shift(&g, d);
     /* a freed mesh, then as many new ones: none may get its address */
-    STATUS(meshmove_mesh_create(g.nv, g.xy, g.nc, g.cells, 0, 0, NULL, NULL, NULL, &m), MESHMOVE_STATUS_OK);
+    m = grid_mesh(&g);
     STATUS(meshmove_mesh_free(m), MESHMOVE_STATUS_OK);
     for (k = 0; k < 64; k++) {
-        fresh[k] = NULL;
-        STATUS(meshmove_mesh_create(g.nv, g.xy, g.nc, g.cells, 0, 0, NULL, NULL, NULL, &fresh[k]), MESHMOVE_STATUS_OK);
+        fresh[k] = grid_mesh(&g);
         CHECK(fresh[k] != m, "a new mesh got the address of a freed one");
     }
-    STATUS(meshmove_mesh_sizes(m, &n, NULL), MESHMOVE_STATUS_INVALID_HANDLE);
+    STATUS(meshmove_mesh_sizes(m, NULL, &n, NULL, NULL, NULL, NULL), MESHMOVE_STATUS_INVALID_HANDLE);
     CHECK(strstr(msg(), "freed") != NULL, "message does not say freed");
     STATUS(meshmove_mesh_free(m), MESHMOVE_STATUS_INVALID_HANDLE);
     for (k = 0; k < 64; k++) STATUS(meshmove_mesh_free(fresh[k]), MESHMOVE_STATUS_OK);
@@ -551,7 +562,7 @@ static int child_work(meshmove_solver *s, meshmove_mesh *m, meshmove_bcs *b, con
         fprintf(stderr, "child: new solver: %s\n", msg());
         bad = 1;
     }
-    meshmove_solver_free(s2);
+    if (meshmove_solver_free(s2) != MESHMOVE_STATUS_OK) bad = 1;
     return bad || failures;
 }
 
@@ -560,16 +571,15 @@ static void test_fork(int threads) {
     meshmove_mesh *m = NULL;
     meshmove_bcs *b = NULL;
     meshmove_solver *s = NULL;
-    meshmove_options o;
+    meshmove_options *o = options_with(threads);
     double d[2 * 64], want[2 * 64];
     pid_t pid;
     int status = 0;
     make_grid(&g, 4);
-    meshmove_options_default(&o);
-    o.threads = threads;
-    STATUS(meshmove_mesh_create(g.nv, g.xy, g.nc, g.cells, 0, g.n - 1, g.edges, g.patches, NULL, &m), MESHMOVE_STATUS_OK);
+    m = grid_mesh(&g);
     STATUS(meshmove_bcs_create(&b), MESHMOVE_STATUS_OK);
-    STATUS(meshmove_solver_create(m, b, &o, &s), MESHMOVE_STATUS_OK);
+    STATUS(meshmove_solver_create(m, b, o, &s), MESHMOVE_STATUS_OK);
+    STATUS(meshmove_options_free(o), MESHMOVE_STATUS_OK);
     top_shift(&g, d);
     STATUS(meshmove_solver_solve(s, 2 * g.nv, d, NULL, want, NULL), MESHMOVE_STATUS_OK);
     fflush(NULL);
@@ -584,8 +594,8 @@ static void test_fork(int threads) {
     /* the parent's solver is unaffected */
     STATUS(meshmove_solver_solve(s, 2 * g.nv, d, NULL, want, NULL), MESHMOVE_STATUS_OK);
     STATUS(meshmove_solver_free(s), MESHMOVE_STATUS_OK);
-    meshmove_bcs_free(b);
-    meshmove_mesh_free(m);
+    STATUS(meshmove_bcs_free(b), MESHMOVE_STATUS_OK);
+    STATUS(meshmove_mesh_free(m), MESHMOVE_STATUS_OK);
 }
 
 /* `hostile_c [GROUP]`: one group, or all of them. */

@@ -18,7 +18,7 @@ program consumer
   bd(2, 3) = 0.1d0   ! both top corners rise by 0.1; every other boundary vertex stays
   bd(2, 4) = 0.1d0
 
-  call mesh%create(xy, cells, edge, patch)
+  call mesh%create_triangles(xy, cells, edge, patch)
   call bcs%create()
   call solver%create(mesh, bcs)
   call solver%move(bd, xy)
