@@ -65,12 +65,12 @@ impl Dofs {
         let regions = mesh.regions();
         let mut used = vec![false; nv];
         let mut split_keys: Vec<(u32, i32)> = Vec::new();
-        for c in 0..mesh.num_cells() {
+        for (c, &region) in regions.iter().enumerate() {
             for &v in mesh.cell(c) {
                 let r = root[v as usize];
                 used[r as usize] = true;
                 if split[r as usize] {
-                    split_keys.push((r, regions[c]));
+                    split_keys.push((r, region));
                 }
             }
         }

@@ -26,9 +26,9 @@ pub(super) fn tet_volume(p: &[[f64; 3]]) -> f64 {
 pub(super) fn triangle_stiffness(p: &[[f64; 3]], k: &mut [f64]) {
     let p = [p2(&p[0]), p2(&p[1]), p2(&p[2])];
     let twice_area = (p[1] - p[0]).perp_dot(p[2] - p[0]);
-    for m in 0..3 {
+    for (m, k) in k[..3].iter_mut().enumerate() {
         let (i, j, o) = (m, (m + 1) % 3, (m + 2) % 3);
-        k[m] = -(0.5 * (p[i] - p[o]).dot(p[j] - p[o]) / twice_area);
+        *k = -(0.5 * (p[i] - p[o]).dot(p[j] - p[o]) / twice_area);
     }
 }
 

@@ -9,6 +9,11 @@ fn points(mesh: &Mesh, coords: &[f64], c: usize) -> CellPoints {
     CellPoints::gather(mesh.cell_type(c), mesh.cell(c), coords, mesh.dim())
 }
 
+/// A corner Jacobian that makes its cell inverted: not positive, or NaN.
+pub(crate) fn inverted_jacobian(j: f64) -> bool {
+    j.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater)
+}
+
 /// Signed area (2D) or volume (3D) of every cell of `mesh`'s topology at positions `coords`.
 pub fn signed_measures(mesh: &Mesh, coords: &[f64]) -> Vec<f64> {
     (0..mesh.num_cells()).map(|c| points(mesh, coords, c).signed_measure()).collect()
@@ -16,8 +21,7 @@ pub fn signed_measures(mesh: &Mesh, coords: &[f64]) -> Vec<f64> {
 
 /// True when cell `c` at positions `coords` is inverted: a corner Jacobian ≤ 0 (or NaN).
 pub(crate) fn is_inverted(mesh: &Mesh, coords: &[f64], c: usize) -> bool {
-    let j = points(mesh, coords, c).min_corner_jacobian();
-    !(j > 0.0)
+    inverted_jacobian(points(mesh, coords, c).min_corner_jacobian())
 }
 
 /// The cells of `mesh`'s topology inverted at positions `coords` (a corner Jacobian ≤ 0),
@@ -54,7 +58,7 @@ pub fn quality(mesh: &Mesh, deformed: &[f64]) -> Quality {
         let (p0, p1) = (points(mesh, mesh.coords(), c), points(mesh, deformed, c));
         let (a0, a1) = (p0.signed_measure(), p1.signed_measure());
         let r = a1 / a0;
-        q.inverted += usize::from(!(p1.min_corner_jacobian() > 0.0));
+        q.inverted += usize::from(inverted_jacobian(p1.min_corner_jacobian()));
         q.min_area_ratio = q.min_area_ratio.min(r);
         q.max_area_ratio = q.max_area_ratio.max(r);
         q.min_angle_deg = q.min_angle_deg.min(p1.min_angle_deg());

@@ -20,10 +20,13 @@ pub(crate) fn face_key(v: &[u32]) -> [u32; 4] {
     k
 }
 
+/// A cell and one of its local faces.
+pub(crate) type CellFace = (u32, u8);
+
 /// Every face of the mesh with the one or two cells beside it.
 pub(crate) struct FaceCells {
-    /// Sorted by key: (key, [(cell, local face)], second is `u32::MAX` on the boundary).
-    pub(crate) faces: Vec<([u32; 4], [(u32, u8); 2])>,
+    /// Sorted by key: (key, the cells beside it; the second is `u32::MAX` on the boundary).
+    pub(crate) faces: Vec<([u32; 4], [CellFace; 2])>,
 }
 
 /// The faces of all cells, paired: a face shared by more than two cells is an error, and so is

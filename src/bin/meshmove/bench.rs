@@ -96,7 +96,7 @@ fn case(mesh: &Mesh) -> (BoundaryConditions, Motion) {
         bcs.set_kind(p, 0, Kind::Clamped).expect("component 0").set_kind(p, 1, Kind::Free).expect("component 1");
     }
     bcs.add_link(Link::ByOffset { a: FS_LEFT, b: FS_RIGHT, offset: [1.0, 0.0, 0.0], tol: 1e-9 });
-    let mut motion = Motion::zero(&mesh);
+    let mut motion = Motion::zero(mesh);
     for v in mesh.patch_vertices(FS_TOP) {
         let x = mesh.point(v as usize)[0];
         motion.displacement[2 * v as usize + 1] = 0.25 * (std::f64::consts::TAU * x).cos();

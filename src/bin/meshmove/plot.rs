@@ -107,9 +107,9 @@ where
     let Frame { view, rect: r, clip } = frame;
     let (view, r, clip) = (view, *r, *clip);
     let inside = |c: &[u32]| !clip || c.iter().all(|&v| view.contains(coords[v as usize]));
-    for k in 0..mesh.num_cells() {
+    for (k, &bad) in inverted.iter().enumerate() {
         let c = mesh.cell(k);
-        if inverted[k] && inside(c) {
+        if bad && inside(c) {
             let pts: Vec<(i32, i32)> = c.iter().map(|&v| to_px(view, r, coords[v as usize])).collect();
             area.draw(&Polygon::new(pts, INVERTED_COLOUR.filled()))?;
         }

@@ -7,6 +7,9 @@ use super::*;
 /// One attempt's outcome: a value, or what to fix before the next attempt.
 type Attempt<T> = std::result::Result<T, Failure>;
 
+/// The coarse triangulation under construction.
+type Cdt = ConstrainedDelaunayTriangulation<Point2<f64>>;
+
 /// The value of an attempt's step, or the step's failure returned from the enclosing function.
 macro_rules! attempt {
     ($e:expr) => {
@@ -76,7 +79,7 @@ fn constrained_delaunay(
     x: &[DVec2],
     k: &Kept,
     segments: &[Segment],
-) -> Result<Attempt<(ConstrainedDelaunayTriangulation<Point2<f64>>, Vec<u32>)>> {
+) -> Result<Attempt<(Cdt, Vec<u32>)>> {
     let (fine_vertex, coarse_of) = (&k.fine_vertex, &k.coarse_of);
     let nc = fine_vertex.len();
     // Bulk loading keeps the vertex order (and is far faster than inserting one by one).
@@ -302,7 +305,7 @@ fn regions(
     // With one region there is nothing to look up: skip the point locator over the fine mesh.
     // The locator works on triangles: a fine mesh with other cells is located in their halves.
     let split = fine_regions.iter().any(|&r| r != fine_regions[0]).then(|| fine.split_into_triangles());
-    let locator = split.as_ref().map(|m| Locator::new(m));
+    let locator = split.as_ref().map(Locator::new);
     let fine_regions = split.as_ref().map_or(fine_regions, |m| m.regions());
     let mut stack = Vec::new();
     for start in 0..ncell {
