@@ -1,7 +1,7 @@
 /* The paper's first case through the C API: the box [0,1]x[-1,0], its top raised to
  * y = 0.25 cos(2 pi x), bottom FIXED, top CLAMPED, sides x-periodic (x CLAMPED, y FREE).
- * The mesh is the code's own: a 32 x 32 grid of triangles (box_grid.h), given to meshmove as
- * arrays. Usage: free_surface OUT.vtu   (ctest compares OUT.vtu with the Rust library's result) */
+ * The mesh is the code's own: a 32 x 32 grid of quads (box_grid.h), given to meshmove as
+ * arrays through the generic meshmove_mesh_create (VTK cell type 9). Usage: free_surface OUT.vtu   (ctest compares OUT.vtu with the Rust library's result) */
 #include <math.h>
 #include "box_grid.h"
 #include "check.h"
@@ -20,7 +20,7 @@ int main(int argc, char **argv) {
     }
 
     box_grid g;
-    box_grid_make(&g, 32, 32, (const double[]){0.0, 1.0, -1.0, 0.0}, 0, (const int32_t[]){BOTTOM, RIGHT, TOP, LEFT});
+    box_grid_make(&g, 32, 32, (const double[]){0.0, 1.0, -1.0, 0.0}, 1, (const int32_t[]){BOTTOM, RIGHT, TOP, LEFT});
     meshmove_mesh *mesh = NULL;
     CHECK(box_grid_mesh(&g, &mesh));
     int32_t dim, nv, nc;

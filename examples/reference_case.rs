@@ -1,8 +1,9 @@
 //! Reference results of the C and Fortran examples, computed through the Rust API, and the
-//! comparison ctest runs (`meshmove compare` stands in until the CLI lands):
+//! comparison ctest runs when the command line is not built (else `meshmove compare`):
 //!
 //! ```text
-//! reference_case free_surface OUT.vtu        # c_examples/free_surface.c, fortran_examples/free_surface.f90
+//! reference_case free_surface OUT.vtu        # fortran_examples/free_surface.f90 (triangles)
+//! reference_case free_surface_quads OUT.vtu  # c_examples/free_surface.c (quads)
 //! reference_case fv_cylinder OUT.vtu         # c_examples/fv_cylinder.c, biharmonic run
 //! reference_case fv_interface OUT.vtu        # fortran_examples/fv_interface.f90
 //! reference_case compare A.vtu B.vtu TOL     # max |difference| of points and point data <= TOL
@@ -22,7 +23,7 @@ use std::process::exit;
 /// c_examples/box_grid.h (triangles): the box `[b0,b1]×[b2,b3]` in `nx × ny` squares of two
 /// triangles, vertex (i, j) at j (nx + 1) + i, its sides (bottom, right, top, left) tagged with
 /// `side` (0: untagged), in that order.
-fn box_grid(nx: u32, ny: u32, b: [f64; 4], side: [i32; 4]) -> MeshData {
+fn box_grid(nx: u32, ny: u32, b: [f64; 4], side: [i32; 4], quads: bool) -> MeshData {
     let mut d = MeshData::new(2);
     for j in 0..=ny {
         for i in 0..=nx {
@@ -33,8 +34,12 @@ fn box_grid(nx: u32, ny: u32, b: [f64; 4], side: [i32; 4]) -> MeshData {
         for i in 0..nx {
             let a = j * (nx + 1) + i;
             let (c, e) = (a + nx + 2, a + nx + 1);
-            d.push_cell(CellType::Triangle, &[a, a + 1, c], 0);
-            d.push_cell(CellType::Triangle, &[a, c, e], 0);
+            if quads {
+                d.push_cell(CellType::Quad, &[a, a + 1, c, e], 0);
+            } else {
+                d.push_cell(CellType::Triangle, &[a, a + 1, c], 0);
+                d.push_cell(CellType::Triangle, &[a, c, e], 0);
+            }
         }
     }
     for (k, &p) in side.iter().enumerate().filter(|(_, &p)| p != 0) {
@@ -53,11 +58,12 @@ fn box_grid(nx: u32, ny: u32, b: [f64; 4], side: [i32; 4]) -> MeshData {
 }
 
 /// Free-surface case: the 32 × 32 grid of [0,1]×[−1,0], top y-displacement 0.25 cos(2πx),
-/// x-periodic sides; c_examples/free_surface.c and fortran_examples/free_surface.f90.
-fn free_surface_case(out: &Path) {
+/// x-periodic sides; as quads c_examples/free_surface.c, as triangles
+/// fortran_examples/free_surface.f90.
+fn free_surface_case(out: &Path, quads: bool) {
     let (bottom, right, top, left) = (1, 2, 3, 4);
     let n = 32;
-    let mesh = Mesh::from_data(&box_grid(n, n, [0.0, 1.0, -1.0, 0.0], [bottom, right, top, left])).unwrap();
+    let mesh = Mesh::from_data(&box_grid(n, n, [0.0, 1.0, -1.0, 0.0], [bottom, right, top, left], quads)).unwrap();
     let mut bcs = BoundaryConditions::new();
     bcs.set_kinds(bottom, Kind::Fixed).set_kinds(top, Kind::Clamped);
     for p in [left, right] {
@@ -157,7 +163,7 @@ fn fv_cylinder_case(out: &Path) {
 fn fv_interface_case(out: &Path) {
     let (bottom, right, interface, left, top) = (1, 2, 3, 4, 5);
     let (nx, ny) = (16, 32);
-    let mut data = box_grid(nx, ny, [0.0, 1.0, -1.0, 1.0], [bottom, right, top, left]);
+    let mut data = box_grid(nx, ny, [0.0, 1.0, -1.0, 1.0], [bottom, right, top, left], false);
     let row = ny / 2 * (nx + 1);
     for i in 0..nx {
         data.push_face(&[row + i, row + i + 1], interface);
@@ -219,7 +225,8 @@ fn compare(a: &Path, b: &Path, tol: f64) -> bool {
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     match args.iter().map(String::as_str).collect::<Vec<_>>().as_slice() {
-        ["free_surface", out] => free_surface_case(Path::new(out)),
+        ["free_surface", out] => free_surface_case(Path::new(out), false),
+        ["free_surface_quads", out] => free_surface_case(Path::new(out), true),
         ["fv_cylinder", out] => fv_cylinder_case(Path::new(out)),
         ["fv_interface", out] => fv_interface_case(Path::new(out)),
         ["compare", a, b, tol] => {
@@ -228,7 +235,10 @@ fn main() {
             }
         }
         _ => {
-            eprintln!("usage: reference_case free_surface|fv_cylinder|fv_interface OUT.vtu | compare A.vtu B.vtu TOL");
+            eprintln!(
+                "usage: reference_case free_surface|free_surface_quads|fv_cylinder|fv_interface OUT.vtu | compare A.vtu \
+                 B.vtu TOL"
+            );
             exit(2);
         }
     }

@@ -1,14 +1,9 @@
-/* A 4 x 4 QUAD mesh of the unit square through the generic meshmove_mesh_create, its boundary
- * moved by a linear field d(x, y) = A (x, y) + b: the biharmonic and the Laplacian reproduce a
- * linear field exactly, so every interior vertex must get it too (to 1e-10).
- *
- * Until the core handles quads, meshmove_mesh_create returns MESHMOVE_STATUS_UNSUPPORTED with a
- * message naming the quad: the test accepts exactly that, or success with the exact result, and
- * prints which. Once quads are supported, the accepting branch for UNSUPPORTED is to be removed
- * (marked QUADS below). Exit status 0 when the outcome is one of the two. */
+/* A 16 x 16 QUAD mesh of the unit square built from the test's own arrays through the generic
+ * meshmove_mesh_create, its boundary moved by a linear field d(x, y) = A (x, y) + b: the
+ * biharmonic and the Laplacian reproduce a linear field exactly (bilinear Q1 elements), so every
+ * interior vertex must get it too (to 1e-10). */
 #include <math.h>
 #include <stdio.h>
-#include <string.h>
 #include "../../c_examples/box_grid.h"
 
 static double linear(int k, double x, double y) {
@@ -49,23 +44,15 @@ int main(void) {
     meshmove_status st;
     int failed = 0;
     int32_t sizes[6];
-    box_grid_make(&g, 4, 4, (const double[]){0.0, 1.0, 0.0, 1.0}, 1, (const int32_t[]){1, 2, 3, 4});
+    box_grid_make(&g, 16, 16, (const double[]){0.0, 1.0, 0.0, 1.0}, 1, (const int32_t[]){1, 2, 3, 4});
     st = box_grid_mesh(&g, &mesh);
-    if (st == MESHMOVE_STATUS_UNSUPPORTED && strstr(meshmove_last_error(), "quad") != NULL) {
-        /* QUADS: not handled by the core yet. Remove this branch once quads are supported. */
-        printf("quads: not supported yet (%s): %s\n", meshmove_status_name(st), meshmove_last_error());
-        box_grid_free(&g);
-        return 0;
-    }
-    /* QUADS: from here on the quad mesh must work. */
     if (st != MESHMOVE_STATUS_OK) {
         fprintf(stderr, "quads: mesh_create returned %s: %s\n", meshmove_status_name(st), meshmove_last_error());
         box_grid_free(&g);
         return 1;
     }
-    printf("quads: supported\n");
     if (meshmove_mesh_sizes(mesh, &sizes[0], &sizes[1], &sizes[2], &sizes[3], &sizes[4], &sizes[5]) ||
-        sizes[0] != 2 || sizes[1] != 25 || sizes[2] != 16 || sizes[3] != 64 || sizes[4] != 16 || sizes[5] != 32) {
+        sizes[0] != 2 || sizes[1] != 289 || sizes[2] != 256 || sizes[3] != 1024 || sizes[4] != 64 || sizes[5] != 128) {
         fprintf(stderr, "quads: sizes %d %d %d %d %d %d\n", sizes[0], sizes[1], sizes[2], sizes[3], sizes[4], sizes[5]);
         failed = 1;
     }
