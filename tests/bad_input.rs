@@ -184,3 +184,21 @@ fn bad_motions_and_options_are_named() {
     o.solve.tol = -1.0;
     assert!(matches!(Solver::new(&mesh, &BoundaryConditions::new(), o), Err(Error::InvalidArgument(_))));
 }
+
+/// A periodic offset with a z component on a 2D mesh is refused when the solver resolves the
+/// link, naming the link (a 3-vector with z = 0 is fine).
+#[test]
+fn z_offset_on_a_2d_mesh_is_refused() {
+    let mesh = common::Grid::new(4, 4).mesh();
+    let mut ok = BoundaryConditions::new();
+    ok.set_kinds(common::BOTTOM, Kind::Fixed).set_kinds(common::TOP, Kind::Fixed);
+    for p in [common::LEFT, common::RIGHT] {
+        ok.set_kind(p, 1, Kind::Free).unwrap();
+    }
+    let mut bad = ok.clone();
+    ok.add_link(Link::ByOffset { a: common::LEFT, b: common::RIGHT, offset: [1.0, 0.0, 0.0], tol: 1e-9 });
+    assert!(Solver::new(&mesh, &ok, Options::default()).is_ok());
+    bad.add_link(Link::ByOffset { a: common::LEFT, b: common::RIGHT, offset: [1.0, 0.0, 0.5], tol: 1e-9 });
+    let e = Solver::new(&mesh, &bad, Options::default()).err().expect("refused");
+    assert!(e.to_string().contains("has a z component, and the mesh is 2D"), "{e}");
+}

@@ -25,6 +25,11 @@ fn by_offset(mesh: &Mesh, a: i32, b: i32, offset: [f64; 3], tol: f64) -> Result<
     if !(tol >= 0.0 && tol.is_finite() && offset.iter().all(|x| x.is_finite())) {
         return Err(Error::Bc(format!("link {a} -> {b}: offset and tolerance must be finite, tolerance ≥ 0")));
     }
+    if mesh.dim() == 2 && offset[2] != 0.0 {
+        return Err(Error::Bc(format!(
+            "link {a} -> {b}: the offset {offset:?} has a z component, and the mesh is 2D"
+        )));
+    }
     let (va, vb) = (mesh.patch_vertices(a), mesh.patch_vertices(b));
     if va.is_empty() || vb.is_empty() {
         return Err(Error::Bc(format!("link {a} -> {b}: patch {} has no vertex", if va.is_empty() { a } else { b })));

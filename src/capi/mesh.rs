@@ -590,14 +590,11 @@ unsafe fn get_lists(
         // SAFETY: the caller guarantees a non-NULL `p` holds `len` writable elements.
         arrays.push(unsafe { out_array(p, len, want, name, &of) }?);
     }
-    let values: [Box<dyn Iterator<Item = i32>>; 3] = [
-        Box::new(offsets.iter().map(|&o| o as i32)),
-        Box::new(vertices.iter().map(|&v| v as i32 + base)),
-        Box::new(per_item.into_iter()),
-    ];
-    for (a, v) in arrays.into_iter().zip(values) {
-        for (o, x) in a.into_iter().flatten().zip(v) {
-            *o = x;
+    let values: [Vec<i32>; 3] =
+        [offsets.iter().map(|&o| o as i32).collect(), vertices.iter().map(|&v| v as i32 + base).collect(), per_item];
+    for (a, v) in arrays.into_iter().zip(values.iter()) {
+        if let Some(a) = a {
+            a.copy_from_slice(v);
         }
     }
     Ok(())
