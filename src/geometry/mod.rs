@@ -79,6 +79,16 @@ impl CellPoints {
         }
     }
 
+    /// True when the cell is inverted (a corner Jacobian ≤ 0, or NaN), given its signed measure
+    /// `m` (a simplex has one Jacobian, proportional to its measure: no second evaluation).
+    pub(crate) fn inverted_with_measure(&self, m: f64) -> bool {
+        let j = match self.ty {
+            CellType::Triangle | CellType::Tetra => m,
+            _ => self.min_corner_jacobian(),
+        };
+        j.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater)
+    }
+
     /// The squared length of the cell's longest edge (the scale of degeneracy tests).
     pub(crate) fn longest_edge_squared(&self) -> f64 {
         self.ty.edges().iter().map(|e| dist2(&self.p[e[0] as usize], &self.p[e[1] as usize])).fold(0.0, f64::max)

@@ -58,7 +58,7 @@ pub fn quality(mesh: &Mesh, deformed: &[f64]) -> Quality {
         let (p0, p1) = (points(mesh, mesh.coords(), c), points(mesh, deformed, c));
         let (a0, a1) = (p0.signed_measure(), p1.signed_measure());
         let r = a1 / a0;
-        q.inverted += usize::from(inverted_jacobian(p1.min_corner_jacobian()));
+        q.inverted += usize::from(p1.inverted_with_measure(a1));
         q.min_area_ratio = q.min_area_ratio.min(r);
         q.max_area_ratio = q.max_area_ratio.max(r);
         q.min_angle_deg = q.min_angle_deg.min(p1.min_angle_deg());

@@ -69,13 +69,13 @@ impl<'a> Locator<'a> {
     /// Builds the bucket grid (about two cells per bucket).
     pub fn new(mesh: &'a Mesh) -> Locator<'a> {
         debug_assert!(mesh.cell_types().iter().all(|&t| t == crate::geometry::CellType::Triangle));
-        let coords = mesh.xy_all();
-        let cells: Vec<[u32; 3]> = (0..mesh.num_cells()).map(|c| mesh.tri(c)).collect();
+        let nc = mesh.num_cells();
+        let cells = || (0..nc).map(|c| mesh.tri(c));
         let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
-        for t in &cells {
-            for &v in t {
-                lo = lo.min(coords[v as usize]);
-                hi = hi.max(coords[v as usize]);
+        for t in cells() {
+            for v in t {
+                lo = lo.min(mesh.xy(v as usize));
+                hi = hi.max(mesh.xy(v as usize));
             }
         }
         if !lo.is_finite() {
@@ -83,13 +83,13 @@ impl<'a> Locator<'a> {
             hi = DVec2::ONE;
         }
         let ext = (hi - lo).max(DVec2::splat(1e-300));
-        let nb = (cells.len() / 2).max(1) as f64;
+        let nb = (nc / 2).max(1) as f64;
         let mut h = (ext.x * ext.y / nb).sqrt();
         if h.is_nan() || h <= 0.0 || !h.is_finite() {
             h = ext.x.max(ext.y);
         }
         // Cap the bucket count per direction (thin domains) to keep the grid O(cells).
-        let cap = (cells.len() + 1) as f64;
+        let cap = (nc + 1) as f64;
         h = h.max(ext.x / cap).max(ext.y / cap);
         let nx = ((ext.x / h).ceil() as usize).max(1);
         let ny = ((ext.y / h).ceil() as usize).max(1);
@@ -107,15 +107,15 @@ impl<'a> Locator<'a> {
         };
         // The buckets a cell's bounding box overlaps; computed in both passes rather than stored
         // (a list of them would be the largest allocation of a whole coarsening).
-        let range = |t: &[u32; 3]| {
-            let p = t.map(|v| coords[v as usize]);
+        let range = |t: [u32; 3]| {
+            let p = t.map(|v| mesh.xy(v as usize));
             let (a, b) = (p[0].min(p[1]).min(p[2]), p[0].max(p[1]).max(p[2]));
             let (i0, j0) = loc.bucket_of(a);
             let (i1, j1) = loc.bucket_of(b);
             [i0, j0, i1, j1]
         };
         let mut count = vec![0u32; nx * ny + 1];
-        for r in cells.iter().map(range) {
+        for r in cells().map(range) {
             for j in r[1]..=r[3] {
                 for i in r[0]..=r[2] {
                     count[j * nx + i + 1] += 1;
@@ -127,7 +127,7 @@ impl<'a> Locator<'a> {
         }
         let mut next = count.clone();
         let mut bucket_cells = vec![0u32; count[nx * ny] as usize];
-        for (c, r) in cells.iter().map(range).enumerate() {
+        for (c, r) in cells().map(range).enumerate() {
             for j in r[1]..=r[3] {
                 for i in r[0]..=r[2] {
                     let k = j * nx + i;
