@@ -245,10 +245,10 @@ fn the_generic_call_builds_the_same_mesh_and_checks_every_array() {
     }
 }
 
-/// The square as 4 quads through the generic create call works; a 3D cell type whose element
-/// kernels do not exist yet is said so (`UNSUPPORTED`), never a crash or a wrong mesh.
+/// The square as 4 quads and a tetrahedron through the generic create call; the C layer's checks
+/// of 3D faces.
 #[test]
-fn quads_work_and_3d_cells_are_unsupported_yet() {
+fn quads_and_tetrahedra_through_the_generic_call() {
     unsafe {
         // 3 × 3 vertices, 2 × 2 quads.
         let xy: Vec<f64> = (0..9).flat_map(|v| [(v % 3) as f64 * 0.5, (v / 3) as f64 * 0.5]).collect();
@@ -276,9 +276,13 @@ fn quads_work_and_3d_cells_are_unsupported_yet() {
         assert_eq!(s, meshmove_status::Ok, "{}", last());
         assert_eq!(meshmove_mesh_free(m), meshmove_status::Ok);
         // One tetrahedron, its four faces tagged (NULL face offsets: triangles in 3D).
-        let (s, _) = tetrahedron(3, None, &[0, 1, 3, 1, 2, 3, 2, 0, 3, 0, 2, 1], &[1, 1, 1, 2]);
-        assert_eq!(s, meshmove_status::Unsupported, "{}", last());
-        assert!(last().contains("tetrahedron") && last().contains("3D"), "{}", last());
+        let (s, m) = tetrahedron(3, None, &[0, 1, 3, 1, 2, 3, 2, 0, 3, 0, 2, 1], &[1, 1, 1, 2]);
+        assert_eq!(s, meshmove_status::Ok, "{}", last());
+        let mut sizes = [0i32; 6];
+        let [a, b, c, d, e, f] = sizes.each_mut();
+        assert_eq!(meshmove_mesh_sizes(m, a, b, c, d, e, f), meshmove_status::Ok);
+        assert_eq!(sizes, [3, 4, 1, 4, 4, 12]);
+        assert_eq!(meshmove_mesh_free(m), meshmove_status::Ok);
         // 3D face sizes and indices are checked by the C layer whatever the core supports.
         let (s, _) = tetrahedron(3, Some(&[0, 3, 5]), &[0, 1, 3, 1, 2], &[1, 1]);
         assert_eq!(s, meshmove_status::InvalidArgument);

@@ -216,3 +216,17 @@ fn failed_step_writes_the_last_valid_mesh_and_exits_4() {
     assert!(String::from_utf8_lossy(&o.stderr).contains("step 2.1 at 1.0000"), "{}", text(&o));
     let _ = std::fs::remove_dir_all(&d);
 }
+
+/// `deform`'s case file describes 2D motions: a 3D mesh is refused with a message, not moved
+/// wrongly.
+#[test]
+fn deform_refuses_a_3d_mesh() {
+    let dir = tmp("deform3d");
+    let mesh = format!("{}/tests/data/box_tets_41.msh", env!("CARGO_MANIFEST_DIR"));
+    let case = dir.join("case.toml");
+    std::fs::write(&case, "method = \"biharmonic\"\n").unwrap();
+    let out = dir.join("out.vtu");
+    let o = meshmove(&["deform", &mesh, "--config", case.to_str().unwrap(), "--output", out.to_str().unwrap()]);
+    assert!(!o.status.success());
+    assert!(text(&o).contains("a 3D mesh; `deform`'s case file describes 2D motions"), "{}", text(&o));
+}

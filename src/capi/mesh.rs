@@ -384,14 +384,6 @@ fn in_base(e: MeshError, base: i32) -> CError {
                 n(cell)
             ))
         }
-        MeshError::CellTypeNotSupported { cell, cell_type } => {
-            return CError::unsupported(format!(
-                "cell {} is a {cell_type}: this version of meshmove does not move {}D meshes of {cell_type} cells yet \
-                 (numbered from {base}, as given)",
-                n(cell),
-                cell_type.dim()
-            ))
-        }
         MeshError::CellTypeNotInDimension { cell, cell_type, dim } => {
             format!("cell {} is a {cell_type}, which is not a cell of a {dim}D mesh", n(cell))
         }

@@ -3,9 +3,11 @@
 //! A cell's corners are gathered into [`CellPoints`]; its element quantities (signed measure,
 //! corner Jacobians, the stiffness ∫∇φ_i·∇φ_j, the lumped mass ∫φ_i, angles) come from the
 //! module of its family: `simplex` (P1 triangles and tetrahedra) and `tensor` (Q1 quads and
-//! hexahedra). Rotations in D dimensions are in `rotation`.
+//! hexahedra); wedges and pyramids are averaged decompositions into tetrahedra (`decomposed`).
+//! Rotations in D dimensions are in `rotation`.
 
 mod cell_type;
+mod decomposed;
 pub(crate) mod rotation;
 mod simplex;
 mod tensor;
@@ -108,7 +110,9 @@ impl CellPoints {
         match self.ty {
             CellType::Triangle => simplex::triangle_stiffness(&self.p, k),
             CellType::Quad => tensor::quad_stiffness(&self.p, k),
-            t => unimplemented_cell(t),
+            CellType::Tetra => simplex::tet_stiffness(&self.p, k),
+            CellType::Hexahedron => tensor::hex_stiffness(&self.p, k),
+            t => decomposed::element(t, &self.p, Some(k), None),
         }
     }
 
@@ -117,20 +121,11 @@ impl CellPoints {
         match self.ty {
             CellType::Triangle => simplex::triangle_lumped_mass(&self.p, m),
             CellType::Quad => tensor::quad_lumped_mass(&self.p, m),
-            t => unimplemented_cell(t),
+            CellType::Tetra => simplex::tet_lumped_mass(&self.p, m),
+            CellType::Hexahedron => tensor::hex_lumped_mass(&self.p, m),
+            t => decomposed::element(t, &self.p, None, Some(m)),
         }
     }
-}
-
-/// The 3D cells' element kernels are not written yet: a mesh with such cells is refused by
-/// `Mesh::from_data`, so no kernel is ever asked for one.
-fn unimplemented_cell(t: CellType) -> ! {
-    unreachable!("no element kernel for {t} cells: the mesh constructor refuses them")
-}
-
-/// The cell types whose element kernels exist (the others are refused by `Mesh::from_data`).
-pub(crate) fn has_kernels(t: CellType) -> bool {
-    matches!(t, CellType::Triangle | CellType::Quad)
 }
 
 impl CellType {
@@ -140,7 +135,9 @@ impl CellType {
         match self {
             CellType::Triangle | CellType::Tetra => self.edges(),
             CellType::Quad => &[[0, 1], [1, 2], [2, 3], [3, 0], [0, 2], [1, 3]],
-            CellType::Hexahedron | CellType::Wedge | CellType::Pyramid => &ALL_PAIRS_8,
+            CellType::Hexahedron => &ALL_PAIRS_8,
+            CellType::Wedge => &ALL_PAIRS_6,
+            CellType::Pyramid => &ALL_PAIRS_5,
         }
     }
 
@@ -157,21 +154,25 @@ impl CellType {
     }
 }
 
-/// Every pair of up to eight corners (the 3D tensor cells take the pairs below their count).
-static ALL_PAIRS_8: [[u8; 2]; 28] = {
-    let mut out = [[0u8; 2]; 28];
-    let (mut i, mut k) = (0u8, 0usize);
-    while i < 8 {
+/// Every pair of `N` corners, (0,1), (0,2), …, (1,2), …, in that order (`M` = N (N − 1) / 2).
+const fn all_pairs<const N: usize, const M: usize>() -> [[u8; 2]; M] {
+    let mut out = [[0u8; 2]; M];
+    let (mut i, mut k) = (0, 0);
+    while i < N {
         let mut j = i + 1;
-        while j < 8 {
-            out[k] = [i, j];
+        while j < N {
+            out[k] = [i as u8, j as u8];
             k += 1;
             j += 1;
         }
         i += 1;
     }
     out
-};
+}
+
+static ALL_PAIRS_5: [[u8; 2]; 10] = all_pairs::<5, 10>();
+static ALL_PAIRS_6: [[u8; 2]; 15] = all_pairs::<6, 15>();
+static ALL_PAIRS_8: [[u8; 2]; 28] = all_pairs::<8, 28>();
 
 /// |a − b|², the same sum as `DVec2::distance_squared` in 2D (z terms are zero).
 #[inline]

@@ -20,6 +20,33 @@ pub(super) fn tet_volume(p: &[[f64; 3]]) -> f64 {
     dot3(&cross(&sub(&p[1], &p[0]), &sub(&p[2], &p[0])), &sub(&p[3], &p[0])) / 6.0
 }
 
+/// The gradients of a tetrahedron's four barycentric functions (independent of the corner
+/// order's orientation) and its signed volume.
+pub(super) fn tet_gradients(p: &[[f64; 3]]) -> ([[f64; 3]; 4], f64) {
+    let (e1, e2, e3) = (sub(&p[1], &p[0]), sub(&p[2], &p[0]), sub(&p[3], &p[0]));
+    let (c23, c31, c12) = (cross(&e2, &e3), cross(&e3, &e1), cross(&e1, &e2));
+    let det = dot3(&e1, &c23);
+    let g1 = c23.map(|x| x / det);
+    let g2 = c31.map(|x| x / det);
+    let g3 = c12.map(|x| x / det);
+    let g0 = [0, 1, 2].map(|i| -(g1[i] + g2[i] + g3[i]));
+    ([g0, g1, g2, g3], det / 6.0)
+}
+
+/// K_ij = V ∇λ_i·∇λ_j for the six edges of a tetrahedron, in `CellType::Tetra.edges()` order.
+pub(super) fn tet_stiffness(p: &[[f64; 3]], k: &mut [f64]) {
+    let (g, v) = tet_gradients(p);
+    for (m, &[i, j]) in super::CellType::Tetra.couplings().iter().enumerate() {
+        k[m] = v * dot3(&g[i as usize], &g[j as usize]);
+    }
+}
+
+/// A quarter of the volume at each corner.
+pub(super) fn tet_lumped_mass(p: &[[f64; 3]], m: &mut [f64]) {
+    let q = tet_volume(p) / 4.0;
+    m[..4].iter_mut().for_each(|m| *m = q);
+}
+
 /// K for the edges (0,1), (1,2), (2,0): −½ cot of the opposite angle, as
 /// −(e_oi · e_oj) / (2 · 2A).
 #[inline]
@@ -64,5 +91,12 @@ mod tests {
         assert!((triangle_min_angle_deg(&p) - 45.0).abs() < 1e-12);
         let t = [[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
         assert!((tet_volume(&t) - 1.0 / 6.0).abs() < 1e-16);
+        // The unit tetrahedron: the edges at the right-angled corner 0 carry −1/6, the others 0.
+        let mut k = [0.0; 6];
+        tet_stiffness(&t, &mut k);
+        let want = [-1.0 / 6.0, 0.0, -1.0 / 6.0, -1.0 / 6.0, 0.0, 0.0];
+        for m in 0..6 {
+            assert!((k[m] - want[m]).abs() < 1e-16, "{m}: {}", k[m]);
+        }
     }
 }

@@ -70,6 +70,77 @@ pub(super) fn quad_lumped_mass(p: &[[f64; 3]], m: &mut [f64]) {
     }
 }
 
+/// The reference corners of the trilinear hexahedron on [−1, 1]³, in VTK's order.
+const HEX_REF: [[f64; 3]; 8] = [
+    [-1.0, -1.0, -1.0],
+    [1.0, -1.0, -1.0],
+    [1.0, 1.0, -1.0],
+    [-1.0, 1.0, -1.0],
+    [-1.0, -1.0, 1.0],
+    [1.0, -1.0, 1.0],
+    [1.0, 1.0, 1.0],
+    [-1.0, 1.0, 1.0],
+];
+
+/// At a point ξ of the reference cube: the shape function values, their physical gradients and
+/// det J.
+fn hex_point(p: &[[f64; 3]], xi: [f64; 3]) -> ([f64; 8], [[f64; 3]; 8], f64) {
+    let mut n = [0.0; 8];
+    let mut g = [[0.0; 3]; 8];
+    for (k, r) in HEX_REF.iter().enumerate() {
+        let f = [1.0 + r[0] * xi[0], 1.0 + r[1] * xi[1], 1.0 + r[2] * xi[2]];
+        n[k] = 0.125 * f[0] * f[1] * f[2];
+        g[k] = [0.125 * r[0] * f[1] * f[2], 0.125 * r[1] * f[0] * f[2], 0.125 * r[2] * f[0] * f[1]];
+    }
+    let mut j = [[0.0; 3]; 3];
+    for k in 0..8 {
+        for a in 0..3 {
+            for b in 0..3 {
+                j[a][b] += p[k][a] * g[k][b];
+            }
+        }
+    }
+    // J⁻ᵀ by cofactors: (J⁻ᵀ)_ab = cof(J)_ab / det.
+    let col = |b: usize| [j[0][b], j[1][b], j[2][b]];
+    let (c0, c1, c2) = (cross(&col(1), &col(2)), cross(&col(2), &col(0)), cross(&col(0), &col(1)));
+    let det = dot3(&col(0), &c0);
+    // ∇φ = J⁻ᵀ ∇_ref φ = (c0 g_0 + c1 g_1 + c2 g_2) / det, the c's being the rows of det·J⁻¹ as
+    // columns of det·J⁻ᵀ.
+    let grad = g.map(|r| [0, 1, 2].map(|a| (c0[a] * r[0] + c1[a] * r[1] + c2[a] * r[2]) / det));
+    (n, grad, det)
+}
+
+/// The 2×2×2 Gauss points on [−1, 1]³ (weights 1).
+fn gauss2x2x2() -> impl Iterator<Item = [f64; 3]> {
+    let g = 1.0 / 3f64.sqrt();
+    (0..8).map(move |k| {
+        [if k & 1 == 0 { -g } else { g }, if k & 2 == 0 { -g } else { g }, if k & 4 == 0 { -g } else { g }]
+    })
+}
+
+/// K_ij = ∫∇φ_i·∇φ_j of the trilinear hexahedron for its 28 corner pairs, 2×2×2 Gauss.
+pub(super) fn hex_stiffness(p: &[[f64; 3]], k: &mut [f64]) {
+    let pairs = CellType::Hexahedron.couplings();
+    k[..pairs.len()].iter_mut().for_each(|k| *k = 0.0);
+    for xi in gauss2x2x2() {
+        let (_, g, det) = hex_point(p, xi);
+        for (m, &[i, j]) in pairs.iter().enumerate() {
+            k[m] += dot3(&g[i as usize], &g[j as usize]) * det;
+        }
+    }
+}
+
+/// ∫φ_i at each corner of the trilinear hexahedron, 2×2×2 Gauss.
+pub(super) fn hex_lumped_mass(p: &[[f64; 3]], m: &mut [f64]) {
+    m[..8].iter_mut().for_each(|m| *m = 0.0);
+    for xi in gauss2x2x2() {
+        let (n, _, det) = hex_point(p, xi);
+        for k in 0..8 {
+            m[k] += n[k] * det;
+        }
+    }
+}
+
 /// The corners adjacent to each corner, in the order that makes the corner's edge frame
 /// positively oriented (2D: next, previous; 3D: three edges).
 fn corner_frames(ty: CellType) -> &'static [&'static [u8]] {
@@ -172,5 +243,17 @@ mod tests {
         }
         assert_eq!(min_corner_jacobian(CellType::Hexahedron, &h), 1.0);
         assert_eq!(volume_by_faces(CellType::Hexahedron, &h), 1.0);
+        // The unit cube's trilinear element: mass 1/8 per corner, rows of K summing to zero,
+        // edge couplings 0, face diagonals −1/12, body diagonals −1/12 (the classic values).
+        let mut m = [0.0; 8];
+        hex_lumped_mass(&h, &mut m);
+        assert!(m.iter().all(|&m| (m - 0.125).abs() < 1e-15));
+        let mut k = [0.0; 28];
+        hex_stiffness(&h, &mut k);
+        for (idx, &[i, j]) in CellType::Hexahedron.couplings().iter().enumerate() {
+            let d: f64 = (0..3).map(|a| (h[i as usize][a] - h[j as usize][a]).abs()).sum();
+            let want = if d == 1.0 { 0.0 } else { -1.0 / 12.0 };
+            assert!((k[idx] - want).abs() < 1e-15, "pair {i}-{j}: {}", k[idx]);
+        }
     }
 }

@@ -64,14 +64,6 @@ pub enum MeshError {
         /// they descend).
         count: i64,
     },
-    /// A cell's type has no element kernels yet.
-    #[error("cell {cell} is a {cell_type}: this cell type is not supported yet")]
-    CellTypeNotSupported {
-        /// The offending cell (0-based).
-        cell: usize,
-        /// The unsupported type.
-        cell_type: crate::geometry::CellType,
-    },
     /// Once the mesh is oriented, a corner of a cell has a non-positive Jacobian: the cell is not
     /// convex or it is folded.
     #[error("cell {cell} (a {cell_type}) has a corner with a non-positive Jacobian: it is not convex or it is folded")]

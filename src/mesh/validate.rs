@@ -3,7 +3,7 @@
 
 use super::topology::{cell_faces, patch_faces};
 use super::{Csr, IndexBase, Mesh, MeshData, MeshError};
-use crate::geometry::{has_kernels, CellPoints, CellType};
+use crate::geometry::{CellPoints, CellType};
 
 /// Converts caller indices to 0-based vertices; on failure, the position and the raw index.
 pub(crate) fn indices<I: Copy + TryInto<i64>, const N: usize>(
@@ -82,9 +82,6 @@ fn cells(d: &MeshData, n: usize) -> Result<Csr, MeshError> {
     for (c, &ty) in d.cell_types.iter().enumerate() {
         if ty.dim() != d.dim {
             return Err(MeshError::CellTypeNotInDimension { cell: c, cell_type: ty, dim: d.dim });
-        }
-        if !has_kernels(ty) {
-            return Err(MeshError::CellTypeNotSupported { cell: c, cell_type: ty });
         }
         if off[c + 1] < off[c] || (off[c + 1] - off[c]) as usize != ty.num_corners() {
             return Err(MeshError::CornerCount { cell: c, cell_type: ty, count: off[c + 1] as i64 - off[c] as i64 });

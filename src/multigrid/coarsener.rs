@@ -24,10 +24,28 @@ pub(crate) trait Coarsener: Send + Sync {
     fn update(&self, t: &mut Transfer, fine: &Level, coarse: &Level);
 }
 
-/// The coarsener for meshes of dimension `dim`.
+/// The coarsener for meshes of dimension `dim`: the 2D Delaunay route, and none yet in 3D (a 3D
+/// hierarchy is its fine level alone, solved by the coarsest level's solve).
 pub(crate) fn coarsener_for(dim: usize, params: CoarsenParams) -> Result<Box<dyn Coarsener>> {
     match dim {
         2 => Ok(Box::new(Delaunay2d { params })),
-        _ => Err(Error::Coarsening(format!("no coarsener for {dim}D meshes yet"))),
+        3 => Ok(Box::new(NoCoarsening)),
+        _ => Err(Error::Coarsening(format!("no coarsener for {dim}D meshes"))),
+    }
+}
+
+/// Makes no coarse level: the hierarchy is the fine level alone, whose direct (up to
+/// `coarse_solve::DENSE_MAX` free unknowns) or polynomial solve preconditions CG.
+struct NoCoarsening;
+
+impl Coarsener for NoCoarsening {
+    fn coarsen(&self, _fine: &Mesh, _links: &[[u32; 2]]) -> Result<Option<CoarseMesh>> {
+        Ok(None)
+    }
+    fn transfer(&self, _fine: &Level, _coarse: &Level) -> Transfer {
+        unreachable!("no coarse level is ever made")
+    }
+    fn update(&self, _t: &mut Transfer, _fine: &Level, _coarse: &Level) {
+        unreachable!("no coarse level is ever made")
     }
 }

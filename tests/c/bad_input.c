@@ -145,14 +145,11 @@ int main(void) {
                                 (int32_t[]){MESHMOVE_CELL_TYPE_TETRA, T, T, T}, 0, NULL, 0, NULL, NULL, NULL, 0, &mesh),
            MESHMOVE_STATUS_INVALID_MESH, "cell 0 is a tetrahedron, which is not a cell of a 2D mesh");
     {
-        /* 4 vertices, 1 quad: a cell type the library may not handle yet */
+        /* 4 vertices, 1 quad */
         int32_t quad[4] = {0, 1, 2, 3}, qt[1] = {MESHMOVE_CELL_TYPE_QUAD};
-        meshmove_status st = meshmove_mesh_create(2, 4, xy, 1, NULL, 4, quad, qt, 0, NULL, 0, NULL, NULL, NULL, 0, &mesh);
-        if (st == OK) {
-            EXPECT(meshmove_mesh_free(mesh), OK, NULL);
-            mesh = NULL;
-        } else
-            EXPECT(st, MESHMOVE_STATUS_UNSUPPORTED, "quad");
+        EXPECT(meshmove_mesh_create(2, 4, xy, 1, NULL, 4, quad, qt, 0, NULL, 0, NULL, NULL, NULL, 0, &mesh), OK, NULL);
+        EXPECT(meshmove_mesh_free(mesh), OK, NULL);
+        mesh = NULL;
     }
     EXPECT(meshmove_mesh_create(2, 5, xy, 4, offs, 12, cells, tris, 1, NULL, 2, tedge, tpatch, NULL, 0, &mesh), OK, NULL);
 

@@ -157,6 +157,18 @@ fn kind(s: &str, what: &str) -> Result<Kind, String> {
 }
 
 fn read_mesh(path: &Path) -> Result<(Mesh, Vec<(i32, String)>), String> {
+    let (mesh, names) = read_any_mesh(path)?;
+    if mesh.dim() != 2 {
+        return Err(format!(
+            "mesh {}: a {}D mesh; `deform`'s case file describes 2D motions (2-vectors) only",
+            path.display(),
+            mesh.dim()
+        ));
+    }
+    Ok((mesh, names))
+}
+
+fn read_any_mesh(path: &Path) -> Result<(Mesh, Vec<(i32, String)>), String> {
     let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
     match ext.as_str() {
         "msh" => {
