@@ -170,8 +170,8 @@ enum meshmove_status
    */
   MESHMOVE_STATUS_BUSY = 15,
   /*
-   The arguments are valid but this version of meshmove cannot do it yet (e.g. a rigid
-   motion of a 3D mesh, a cell type the core does not handle yet); the message says what.
+   The arguments are valid but this version of meshmove cannot do it (kept for what later
+   versions add); the message says what.
    */
   MESHMOVE_STATUS_UNSUPPORTED = 16,
 };

@@ -368,21 +368,13 @@ fn listed(v: &[u32], base: i32) -> String {
 }
 
 /// A mesh error in the caller's numbering: cells, vertices and faces counted from `base` (the
-/// mesh's own messages count from 0). A dimension or a cell type of that dimension that the core
-/// rejects is one it does not handle yet: `MESHMOVE_STATUS_UNSUPPORTED` (the C layer has already
-/// checked that the dimension is 2 or 3 and every type is a known one).
+/// mesh's own messages count from 0). A dimension the core rejects is one it does not handle:
+/// `MESHMOVE_STATUS_UNSUPPORTED` (the C layer has already checked that it is 2 or 3).
 fn in_base(e: MeshError, base: i32) -> CError {
     let n = |i: &usize| named(*i, base);
     let msg = match &e {
         MeshError::Dimension { dim } => {
             return CError::unsupported(format!("a {dim}D mesh: this version of meshmove does not handle it yet"))
-        }
-        MeshError::CellTypeNotInDimension { cell, cell_type, dim } if cell_type.dim() == *dim => {
-            return CError::unsupported(format!(
-                "cell {} is a {cell_type}: this version of meshmove does not handle {cell_type} cells in {dim}D \
-                 meshes yet (numbered from {base}, as given)",
-                n(cell)
-            ))
         }
         MeshError::CellTypeNotInDimension { cell, cell_type, dim } => {
             format!("cell {} is a {cell_type}, which is not a cell of a {dim}D mesh", n(cell))

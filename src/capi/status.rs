@@ -46,8 +46,8 @@ pub enum meshmove_status {
     /// The handle is in use by a call on another thread; nothing was done (try again later, or
     /// give each thread its own handle).
     Busy = 15,
-    /// The arguments are valid but this version of meshmove cannot do it yet (e.g. a rigid
-    /// motion of a 3D mesh, a cell type the core does not handle yet); the message says what.
+    /// The arguments are valid but this version of meshmove cannot do it (kept for what later
+    /// versions add); the message says what.
     Unsupported = 16,
 }
 

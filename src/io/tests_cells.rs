@@ -135,8 +135,9 @@ fn solids_round_trip() {
     let text = std::fs::read_to_string(tmp("solids.msh")).unwrap();
     assert!(text.contains("\n7 6 2 3 3 2 6 10 3 7 11\n"), "{text}");
     assert!(text.contains("\n1 3 2 1 1 1 4 3 2\n") && text.contains("\n2 2 2 2 2 5 6 9\n"), "{text}");
-    // Only the core's Mesh is 2D for now: building one is its clear error.
-    assert!(matches!(parse_msh(text.as_bytes()), Err(IoError::Mesh(_))));
+    // The core builds the 3D mesh of mixed solids.
+    let m = parse_msh(text.as_bytes()).unwrap().mesh;
+    assert_eq!((m.dim(), m.num_cells()), (3, d.num_cells()));
 }
 
 #[test]
@@ -218,7 +219,9 @@ fn gmsh_41_box_of_tetrahedra() {
     let volume: f64 = (0..d.num_cells()).map(|c| signed_measure(&d, c)).sum();
     assert!((volume - 1.0).abs() < 1e-12, "{volume}");
     assert_patches(&d, &[(1, 0.0), (2, 1.0)]);
-    assert!(matches!(read_msh(&data("box_tets_41.msh")), Err(IoError::Mesh(_))));
+    let m = read_msh(&data("box_tets_41.msh")).unwrap().mesh;
+    assert_eq!((m.dim(), m.num_cells()), (3, d.num_cells()));
+    assert_eq!(m.patch_ids(), vec![0, 1, 2]);
 }
 
 /// Tagged faces on patches `(patch, z)` only, each lying in its plane z and covering the unit
