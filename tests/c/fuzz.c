@@ -76,7 +76,8 @@ typedef struct {
     meshmove_mesh *mesh[NH];
     meshmove_bcs *bcs[NH];
     meshmove_solver *solver[NH];
-    int nv[NH]; /* vertices of each solver's mesh */
+    int nv[NH];  /* vertices of each solver's mesh */
+    int dim[NH]; /* and its dimension */
     meshmove_mesh *stale_mesh;
     meshmove_solver *stale_solver;
 } world;
@@ -166,7 +167,8 @@ static void grid_mesh(world *w, int k) {
 
 static void solver_call(world *w) {
     meshmove_solver *s;
-    int k = pick_solver(w, &s), nv = k >= 0 ? w->nv[k] : MAXN * MAXN, len = count(2 * nv), i;
+    int k = pick_solver(w, &s), nv = k >= 0 ? w->nv[k] : MAXN * MAXN, dim = k >= 0 ? w->dim[k] : 2;
+    int len = count(dim * nv), i;
     double d[CAP], out[CAP], xy[CAP], before[CAP], after[CAP];
     meshmove_report r;
     meshmove_quality q;
@@ -177,29 +179,29 @@ static void solver_call(world *w) {
     if (len > CAP && len != INT32_MAX) len = CAP;
     memset(d, 0, sizeof d);
     memset(xy, 0, sizeof xy);
-    if (k >= 0) check(meshmove_solver_get_coords(s, 2 * nv, xy), "get_coords");
+    if (k >= 0) check(meshmove_solver_get_coords(s, dim * nv, xy), "get_coords");
     for (i = 0; i < nv; i++)
-        if (xy[2 * i + 1] > 0.999) d[2 * i] = value(0.01 * below(20));
-    if (k >= 0) check(meshmove_solver_get_coords(s, 2 * nv, before), "get_coords");
+        if (xy[dim * i + 1] > 0.999) d[dim * i] = value(0.01 * below(20));
+    if (k >= 0) check(meshmove_solver_get_coords(s, dim * nv, before), "get_coords");
     switch (below(11)) {
     case 0: st = meshmove_solver_solve(s, len, chance(97) ? d : NULL, chance(20) ? d : NULL, out, chance(50) ? &r : NULL);
         what = "solve";
-        if (st == MESHMOVE_STATUS_OK && !finite_all(out, 2 * nv)) { fprintf(stderr, "solve: OK, non-finite\n"); failures++; }
+        if (st == MESHMOVE_STATUS_OK && !finite_all(out, dim * nv)) { fprintf(stderr, "solve: OK, non-finite\n"); failures++; }
         break;
     case 1: memcpy(out, d, sizeof d);
         st = meshmove_solver_cycle(s, len, d, out, &r);
         what = "cycle";
-        if (st == MESHMOVE_STATUS_OK && (!finite_all(out, 2 * nv) || !isfinite(r.rel_residual))) { fprintf(stderr, "cycle: OK, non-finite\n"); failures++; }
+        if (st == MESHMOVE_STATUS_OK && (!finite_all(out, dim * nv) || !isfinite(r.rel_residual))) { fprintf(stderr, "cycle: OK, non-finite\n"); failures++; }
         break;
-    case 2: for (i = 0; i < 2 * nv; i++) out[i] = xy[i] + (chance(5) ? value(0.3 * (below(3) - 1)) : 0.0);
+    case 2: for (i = 0; i < dim * nv; i++) out[i] = xy[i] + (chance(5) ? value(0.3 * (below(3) - 1)) : 0.0);
         st = meshmove_solver_move(s, len, d, out, &r, chance(50) ? &q : NULL);
         what = "move";
-        if (st == MESHMOVE_STATUS_OK && !finite_all(out, 2 * nv)) { fprintf(stderr, "move: OK, non-finite\n"); failures++; }
+        if (st == MESHMOVE_STATUS_OK && !finite_all(out, dim * nv)) { fprintf(stderr, "move: OK, non-finite\n"); failures++; }
         break;
     case 3: st = meshmove_solver_move_in_steps(s, len, d, count(1 + below(3)), count(4) % 5, chance(80) ? sr : NULL);
         what = "move_in_steps";
         break;
-    case 4: for (i = 0; i < 2 * nv; i++) out[i] = xy[i] + (chance(10) ? value(0.5 * (below(3) - 1)) : 0.0);
+    case 4: for (i = 0; i < dim * nv; i++) out[i] = xy[i] + (chance(10) ? value(0.5 * (below(3) - 1)) : 0.0);
         st = meshmove_solver_set_reference(s, len, out);
         what = "set_reference";
         break;
@@ -217,8 +219,8 @@ static void solver_call(world *w) {
     }
     check(st, what);
     if (k >= 0 && st != MESHMOVE_STATUS_OK && st != MESHMOVE_STATUS_NOT_CONVERGED) {
-        check(meshmove_solver_get_coords(s, 2 * nv, after), "get_coords after");
-        if (memcmp(before, after, sizeof(double) * 2 * (size_t)nv) != 0) {
+        check(meshmove_solver_get_coords(s, dim * nv, after), "get_coords after");
+        if (memcmp(before, after, sizeof(double) * (size_t)dim * (size_t)nv) != 0) {
             fprintf(stderr, "%s failed (%s) and changed the solver's reference\n", what, meshmove_status_name(st));
             failures++;
         }
@@ -302,7 +304,7 @@ static void step(world *w) {
         if (s) {
             if (w->solver[k]) check(meshmove_solver_free(w->solver[k]), "solver_free");
             w->solver[k] = s;
-            check(meshmove_solver_sizes(s, NULL, &w->nv[k], NULL), "solver_sizes");
+            check(meshmove_solver_sizes(s, &w->dim[k], &w->nv[k], NULL), "solver_sizes");
         }
         break;
     }
@@ -341,6 +343,7 @@ static void seed_world(world *w) {
     check(meshmove_solver_create(w->mesh[0], w->bcs[0], o, &w->solver[0]), "seed solver");
     check(meshmove_options_free(o), "seed options free");
     w->nv[0] = 16;
+    w->dim[0] = 2;
 }
 
 int main(int argc, char **argv) {
