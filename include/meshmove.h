@@ -542,8 +542,8 @@ MESHMOVE_MUST_USE meshmove_status meshmove_bcs_create(struct meshmove_bcs **out)
 MESHMOVE_MUST_USE meshmove_status meshmove_bcs_free(struct meshmove_bcs *bcs);
 
 /*
- Sets the `meshmove_kind` of one displacement component (0 = x, 1 = y, 2 = z) on `patch`.
- A component the library cannot hold yet (z today) is refused.
+ Sets the `meshmove_kind` of one displacement component (0 = x, 1 = y, 2 = z) on `patch`. A
+ z kind is ignored on a 2D mesh.
 
  # Safety
  `bcs` must be a handle from meshmove (checked).
@@ -727,8 +727,9 @@ meshmove_status meshmove_mesh_create_triangles(int32_t num_vertices,
                                                struct meshmove_mesh **out);
 
 /*
- Reads a Gmsh `.msh` file (2.2 or 4.1, ASCII or binary): triangles become cells with their
- physical tag as region, lines tagged edges with their physical tag as patch.
+ Reads a Gmsh `.msh` file (2.2 or 4.1, ASCII or binary), 2D or 3D: the elements of the mesh's
+ dimension become cells with their physical tag as region, those one dimension lower tagged
+ faces with their physical tag as patch (Gmsh's prisms become VTK wedges).
 
  # Safety
  `path` must be NULL or a NUL-terminated string; `out` must be writable.

@@ -48,8 +48,8 @@ pub unsafe extern "C" fn meshmove_bcs_free(bcs: *mut meshmove_bcs) -> meshmove_s
     ffi_body!(meshmove_bcs_free, { handles::free(bcs, "bcs") })
 }
 
-/// Sets the `meshmove_kind` of one displacement component (0 = x, 1 = y, 2 = z) on `patch`.
-/// A component the library cannot hold yet (z today) is refused.
+/// Sets the `meshmove_kind` of one displacement component (0 = x, 1 = y, 2 = z) on `patch`. A
+/// z kind is ignored on a 2D mesh.
 ///
 /// # Safety
 /// `bcs` must be a handle from meshmove (checked).

@@ -417,8 +417,9 @@ fn in_base(e: MeshError, base: i32) -> CError {
     CError::new(meshmove_status::InvalidMesh, format!("invalid mesh: {msg} (numbered from {base}, as given)"))
 }
 
-/// Reads a Gmsh `.msh` file (2.2 or 4.1, ASCII or binary): triangles become cells with their
-/// physical tag as region, lines tagged edges with their physical tag as patch.
+/// Reads a Gmsh `.msh` file (2.2 or 4.1, ASCII or binary), 2D or 3D: the elements of the mesh's
+/// dimension become cells with their physical tag as region, those one dimension lower tagged
+/// faces with their physical tag as patch (Gmsh's prisms become VTK wedges).
 ///
 /// # Safety
 /// `path` must be NULL or a NUL-terminated string; `out` must be writable.

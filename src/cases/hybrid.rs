@@ -1,8 +1,7 @@
 //! 2D meshes with quads, as [`MeshData`]: a structured quad rectangle, and the boundary-layer
 //! cylinder with its wall layers as quads.
 //!
-//! They are plain arrays rather than a [`Mesh`](crate::mesh::Mesh): `Mesh::from_data` takes
-//! triangles only until the core handles every cell type.
+//! They are plain arrays, as a host code would hand them over; `Mesh::from_data` validates them.
 
 use super::cylinder::boundary_layer_parts;
 use super::meshes::{lerp_step, RECT_BOTTOM, RECT_LEFT, RECT_RIGHT, RECT_TOP};

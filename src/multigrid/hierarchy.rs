@@ -268,9 +268,9 @@ impl Hierarchy {
         &self.levels[0]
     }
 
-    /// The groups of components solved as one system: today every component alone (the
-    /// methods decouple them); a coupling condition between components (a slip wall) makes
-    /// them one group.
+    /// The groups of components solved as one system: every component alone, as the methods
+    /// decouple them (a condition that couples components, such as a slip wall, would make
+    /// them one group).
     pub fn groups(&self) -> Vec<Range<usize>> {
         (0..self.fine().dim()).map(|c| c..c + 1).collect()
     }
