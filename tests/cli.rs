@@ -217,16 +217,120 @@ fn failed_step_writes_the_last_valid_mesh_and_exits_4() {
     let _ = std::fs::remove_dir_all(&d);
 }
 
-/// `deform`'s case file describes 2D motions: a 3D mesh is refused with a message, not moved
-/// wrongly.
+/// `deform` moves a 3D mesh: the unit box of tetrahedra with its bottom and sides fixed and its
+/// top translated by 0.1 in z, as a rigid motion and as the resulting displacement field read
+/// back from the .vtu; the output has the moved top and no inverted cell.
 #[test]
-fn deform_refuses_a_3d_mesh() {
+fn deform_moves_a_3d_mesh() {
     let dir = tmp("deform3d");
     let mesh = format!("{}/tests/data/box_tets_41.msh", env!("CARGO_MANIFEST_DIR"));
+    let original = meshmove::io::read_msh(Path::new(&mesh)).unwrap().mesh;
+    assert_eq!(original.dim(), 3);
+    let check = |out: &Path| {
+        let d = meshmove::io::read_vtu(out).unwrap();
+        let (_, inverted, _) = d.cell_data.iter().find(|(n, _, _)| n == "inverted").expect("cell data `inverted`");
+        assert!(inverted.iter().all(|&x| x == 0.0), "inverted cells in {}", out.display());
+        let moved = d.to_mesh().unwrap();
+        assert_eq!(moved.dim(), 3);
+        let (x0, x1) = (original.coords(), moved.coords());
+        let mut top = 0;
+        for v in 0..original.num_vertices() {
+            let z0 = x0[3 * v + 2];
+            if (z0 - 1.0).abs() < 1e-12 {
+                top += 1;
+                assert!((x1[3 * v + 2] - 1.1).abs() < 1e-9, "top vertex {v} at z = {}", x1[3 * v + 2]);
+            } else if z0.abs() < 1e-12 {
+                assert!(x1[3 * v + 2].abs() < 1e-12, "bottom vertex {v} moved");
+            }
+        }
+        assert!(top >= 4);
+    };
     let case = dir.join("case.toml");
-    std::fs::write(&case, "method = \"biharmonic\"\n").unwrap();
+    std::fs::write(
+        &case,
+        "[[patch]]\npatch = \"bottom\"\nkind = \"fixed\"\n[[patch]]\npatch = 0\nkind = [\"fixed\", \"fixed\", \"fixed\"]\n\
+         [[patch]]\npatch = \"top\"\nkind = \"clamped\"\n[[motion]]\npatch = \"top\"\ntranslation = [0.0, 0.0, 0.1]\n",
+    )
+    .unwrap();
     let out = dir.join("out.vtu");
     let o = meshmove(&["deform", &mesh, "--config", case.to_str().unwrap(), "--output", out.to_str().unwrap()]);
-    assert!(!o.status.success());
-    assert!(text(&o).contains("a 3D mesh; `deform`'s case file describes 2D motions"), "{}", text(&o));
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    assert!(text(&o).contains("inverted cells  0"), "{}", text(&o));
+    check(&out);
+    // The same motion as the 3-component displacement of that result, on the top only.
+    let from_file = dir.join("file.toml");
+    std::fs::write(&from_file, "[[motion]]\npatch = \"top\"\nfile = \"out.vtu\"\n").unwrap();
+    let out2 = dir.join("out2.vtu");
+    let o = meshmove(&["deform", &mesh, "--config", from_file.to_str().unwrap(), "-o", out2.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    check(&out2);
+    // A rotation about z through the top's centre: needs `axis` in 3D.
+    let rot = dir.join("rot.toml");
+    std::fs::write(
+        &rot,
+        "[[motion]]\npatch = \"top\"\nrotation_deg = 10.0\naxis = [0, 0, 1]\ncenter = [0.5, 0.5, 1.0]\n",
+    )
+    .unwrap();
+    let o =
+        meshmove(&["deform", &mesh, "--config", rot.to_str().unwrap(), "-o", dir.join("rot.vtu").to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Every vector of the case file has the mesh's dimension: a 2-vector in a 3D case and a 3-vector
+/// in a 2D case are errors naming the key; `axis` is required in 3D and refused in 2D.
+#[test]
+fn deform_vectors_have_the_mesh_dimension() {
+    let d = tmp("vectors");
+    let box3 = format!("{}/tests/data/box_tets_41.msh", env!("CARGO_MANIFEST_DIR"));
+    let channel = example("channel.msh");
+    let cases = [
+        (
+            &box3,
+            "[[motion]]\npatch = \"top\"\ntranslation = [0.0, 0.1]\n",
+            "`translation` has 2 components; the mesh is 3D: expected 3",
+        ),
+        (
+            &box3,
+            "[[motion]]\npatch = 2\nrotation_deg = 5.0\ncenter = [0.5, 0.5]\naxis = [0, 0, 1]\n",
+            "`center` has 2 components",
+        ),
+        (
+            &box3,
+            "[[patch]]\npatch = 2\nkind = [\"fixed\", \"free\"]\n",
+            "`kind` has 2 components; the mesh is 3D: expected 3",
+        ),
+        (
+            &box3,
+            "[[link]]\na = 1\nb = 2\noffset = [0.0, 1.0]\n",
+            "`offset` has 2 components; the mesh is 3D: expected 3",
+        ),
+        (&box3, "[[motion]]\npatch = 2\nrotation_deg = 5.0\n", "needs `axis"),
+        (
+            &channel,
+            "[[motion]]\npatch = \"cylinder\"\ntranslation = [0.1, 0.0, 0.0]\n",
+            "`translation` has 3 components; the mesh is 2D: expected 2",
+        ),
+        (
+            &channel,
+            "[[link]]\na = 1\nb = 2\noffset = [1.0, 0.0, 0.0]\n",
+            "`offset` has 3 components; the mesh is 2D: expected 2",
+        ),
+        (
+            &channel,
+            "[[patch]]\npatch = 1\nkind = [\"fixed\", \"free\", \"free\"]\n",
+            "`kind` has 3 components; the mesh is 2D: expected 2",
+        ),
+        (&channel, "[[motion]]\npatch = 2\nrotation_deg = 5.0\naxis = [0, 0, 1]\n", "`axis` is for 3D meshes"),
+    ];
+    for (i, (mesh, cfg, want)) in cases.iter().enumerate() {
+        let p = d.join(format!("v{i}.toml"));
+        std::fs::write(&p, cfg).unwrap();
+        let out = d.join("o.vtu");
+        let o = meshmove(&["deform", mesh, "--config", p.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+        assert_eq!(o.status.code(), Some(1), "{cfg}: {}", text(&o));
+        assert!(text(&o).contains(want), "{cfg}: {}", text(&o));
+        assert!(!out.exists(), "{cfg}");
+    }
+    let _ = std::fs::remove_dir_all(&d);
 }

@@ -126,6 +126,14 @@ fn xy(x: &[f64], v: usize) -> DVec2 {
 
 /// The measures of [`PatchMeasures`] for `original` moved to `deformed`.
 pub fn patch_measures(original: &Mesh, deformed: &[f64], patch: i32, upper: Option<i32>) -> PatchMeasures {
+    if original.dim() != 2 {
+        // Heights over an edge are 2D measures: a 3D mesh has none.
+        return PatchMeasures {
+            spacing_variation: f64::NAN,
+            area_ratio: (f64::NAN, f64::NAN),
+            spacing_ratio_across: None,
+        };
+    }
     let a0 = signed_measures(original, original.coords());
     let a1 = signed_measures(original, deformed);
     let x0 = original.coords();

@@ -8,7 +8,6 @@
 //! failed (not converged, sub-stepping limit reached, tangled reference): the last valid mesh is
 //! written to `OUT.last-valid.vtu` beside the requested output.
 
-use glam::DVec2;
 use indicatif::{ProgressBar, ProgressStyle};
 use meshmove::cases::report::{patch_measures, run_case_with};
 use meshmove::cases::setups::CaseSetup;
@@ -56,7 +55,7 @@ enum PatchRef {
 #[serde(untagged)]
 enum KindSpec {
     Both(String),
-    PerComponent([String; 2]),
+    PerComponent(Vec<String>),
 }
 
 #[derive(Deserialize, Debug)]
@@ -71,7 +70,7 @@ struct PatchCfg {
 struct LinkCfg {
     a: PatchRef,
     b: PatchRef,
-    offset: [f64; 2],
+    offset: Vec<f64>,
     tol: Option<f64>,
 }
 
@@ -86,9 +85,10 @@ struct InterfaceCfg {
 #[serde(deny_unknown_fields)]
 struct MotionCfg {
     patch: Option<PatchRef>,
-    translation: Option<[f64; 2]>,
+    translation: Option<Vec<f64>>,
     rotation_deg: Option<f64>,
-    center: Option<[f64; 2]>,
+    axis: Option<Vec<f64>>,
+    center: Option<Vec<f64>>,
     file: Option<PathBuf>,
 }
 
@@ -156,24 +156,24 @@ fn kind(s: &str, what: &str) -> Result<Kind, String> {
     }
 }
 
-fn read_mesh(path: &Path) -> Result<(Mesh, Vec<(i32, String)>), String> {
-    let (mesh, names) = read_any_mesh(path)?;
-    if mesh.dim() != 2 {
-        return Err(format!(
-            "mesh {}: a {}D mesh; `deform`'s case file describes 2D motions (2-vectors) only",
-            path.display(),
-            mesh.dim()
-        ));
+/// A vector of the case file as 3 values: it must have `dim` components (the mesh's).
+fn vector(v: &[f64], dim: usize, what: &str, key: &str) -> Result<[f64; 3], String> {
+    if v.len() != dim {
+        return Err(format!("{what}: `{key}` has {} components; the mesh is {dim}D: expected {dim}", v.len()));
     }
-    Ok((mesh, names))
+    let mut out = [0.0; 3];
+    out[..dim].copy_from_slice(v);
+    Ok(out)
 }
 
-fn read_any_mesh(path: &Path) -> Result<(Mesh, Vec<(i32, String)>), String> {
+/// The mesh and the names of its patches (Gmsh physical groups of dimension `dim - 1`).
+fn read_mesh(path: &Path) -> Result<(Mesh, Vec<(i32, String)>), String> {
     let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
     match ext.as_str() {
         "msh" => {
             let m = read_msh(path).map_err(|e| format!("mesh {}: {e}", path.display()))?;
-            let names = m.physical_names.iter().filter(|(d, _, _)| *d == 1).map(|(_, t, n)| (*t, n.clone())).collect();
+            let pd = m.mesh.dim() as i32 - 1;
+            let names = m.physical_names.iter().filter(|(d, _, _)| *d == pd).map(|(_, t, n)| (*t, n.clone())).collect();
             Ok((m.mesh, names))
         }
         "vtu" => {
@@ -185,8 +185,9 @@ fn read_any_mesh(path: &Path) -> Result<(Mesh, Vec<(i32, String)>), String> {
     }
 }
 
-/// A displacement per vertex from a .vtu (point data `displacement`) or a CSV `vertex,dx,dy`.
-fn read_displacement(path: &Path, nv: usize) -> Result<Vec<Option<DVec2>>, String> {
+/// A displacement per vertex (`dim` components, the rest 0) from a .vtu (point data
+/// `displacement`) or a CSV `vertex,dx,dy` (2D) or `vertex,dx,dy,dz` (3D).
+fn read_displacement(path: &Path, nv: usize, dim: usize) -> Result<Vec<Option<[f64; 3]>>, String> {
     let what = format!("displacement file {}", path.display());
     let mut out = vec![None; nv];
     if path.extension().and_then(|e| e.to_str()) == Some("vtu") {
@@ -196,14 +197,16 @@ fn read_displacement(path: &Path, nv: usize) -> Result<Vec<Option<DVec2>>, Strin
             .iter()
             .find(|(n, _, _)| n == "displacement")
             .ok_or_else(|| format!("{what}: no point data `displacement`"))?;
-        if *k < 2 || v.len() != nv * k {
+        if *k < dim || v.len() != nv * k {
             return Err(format!(
                 "{what}: `displacement` has {} values of {k} components; the mesh has {nv} vertices",
                 v.len()
             ));
         }
         for (i, o) in out.iter_mut().enumerate() {
-            *o = Some(DVec2::new(v[i * k], v[i * k + 1]));
+            let mut d = [0.0; 3];
+            d[..dim].copy_from_slice(&v[i * k..i * k + dim]);
+            *o = Some(d);
         }
         return Ok(out);
     }
@@ -214,17 +217,20 @@ fn read_displacement(path: &Path, nv: usize) -> Result<Vec<Option<DVec2>>, Strin
             continue;
         }
         let f: Vec<&str> = line.split(',').map(str::trim).collect();
-        let bad = || format!("{what}: line {}: expected `vertex,dx,dy`, got `{line}`", ln + 1);
-        if f.len() != 3 {
+        let fields = ["vertex,dx,dy", "vertex,dx,dy,dz"][dim - 2];
+        let bad = || format!("{what}: line {}: expected `{fields}`, got `{line}`", ln + 1);
+        if f.len() != 1 + dim {
             return Err(bad());
         }
         let v: usize = f[0].parse().map_err(|_| bad())?;
-        let dx: f64 = f[1].parse().map_err(|_| bad())?;
-        let dy: f64 = f[2].parse().map_err(|_| bad())?;
-        if v >= nv || !dx.is_finite() || !dy.is_finite() {
+        let mut d = [0.0f64; 3];
+        for c in 0..dim {
+            d[c] = f[1 + c].parse().map_err(|_| bad())?;
+        }
+        if v >= nv || d.iter().any(|x| !x.is_finite()) {
             return Err(format!("{what}: line {}: vertex {v} (the mesh has {nv}) or a non-finite value", ln + 1));
         }
-        out[v] = Some(DVec2::new(dx, dy));
+        out[v] = Some(d);
     }
     Ok(out)
 }
@@ -234,6 +240,10 @@ fn build(args: &Args) -> Result<(CaseSetup, Options), String> {
     let cfg: Config = toml::from_str(&text).map_err(|e| format!("config {}: {e}", args.config.display()))?;
     let base = args.config.parent().unwrap_or(Path::new("."));
     let (mesh, names) = read_mesh(&args.mesh)?;
+    let dim = mesh.dim();
+    if dim != 2 && dim != 3 {
+        return Err(format!("mesh {}: a {dim}D mesh; `deform` moves 2D and 3D meshes", args.mesh.display()));
+    }
     let patches = Patches { ids: mesh.patch_ids(), names };
     let method = match cfg.method.as_deref().unwrap_or("biharmonic").to_ascii_lowercase().as_str() {
         "biharmonic" => Method::Biharmonic,
@@ -280,16 +290,24 @@ fn build(args: &Args) -> Result<(CaseSetup, Options), String> {
             KindSpec::Both(k) => {
                 bcs.set_kinds(id, kind(k, &what)?);
             }
-            KindSpec::PerComponent([kx, ky]) => {
-                bcs.set_kind(id, 0, kind(kx, &what)?).map_err(|e| e.to_string())?;
-                bcs.set_kind(id, 1, kind(ky, &what)?).map_err(|e| e.to_string())?;
+            KindSpec::PerComponent(ks) => {
+                if ks.len() != dim {
+                    return Err(format!(
+                        "{what}: `kind` has {} components; the mesh is {dim}D: expected {dim}",
+                        ks.len()
+                    ));
+                }
+                for (c, k) in ks.iter().enumerate() {
+                    bcs.set_kind(id, c, kind(k, &what)?).map_err(|e| e.to_string())?;
+                }
             }
         }
     }
     for (i, l) in cfg.link.iter().enumerate() {
         let what = format!("config: [[link]] {}", i + 1);
         let (a, b) = (patches.resolve(&l.a, &what)?, patches.resolve(&l.b, &what)?);
-        bcs.add_link(Link::ByOffset { a, b, offset: [l.offset[0], l.offset[1], 0.0], tol: l.tol.unwrap_or(1e-9) });
+        let offset = vector(&l.offset, dim, &what, "offset")?;
+        bcs.add_link(Link::ByOffset { a, b, offset, tol: l.tol.unwrap_or(1e-9) });
     }
     for (i, f) in cfg.interface.iter().enumerate() {
         let what = format!("config: [[interface]] {}", i + 1);
@@ -324,23 +342,22 @@ fn build(args: &Args) -> Result<(CaseSetup, Options), String> {
             (None, false) => return Err(format!("{what}: give `translation`/`rotation_deg` or a displacement `file`")),
             (None, true) => {
                 let p = patch.ok_or_else(|| format!("{what}: a rigid motion needs `patch`"))?;
-                let r = RigidMotion::planar(
-                    m.translation.unwrap_or([0.0; 2]),
-                    m.rotation_deg.unwrap_or(0.0).to_radians(),
-                    m.center.unwrap_or([0.0; 2]),
-                );
+                let r = rigid_motion(m, dim, &what)?;
                 motion = motion.with_rigid(p, r);
             }
             (Some(f), false) => {
-                let d = read_displacement(&base.join(f), mesh.num_vertices())?;
+                if m.axis.is_some() {
+                    return Err(format!("{what}: `axis` belongs to a rigid motion, not to a `file`"));
+                }
+                let d = read_displacement(&base.join(f), mesh.num_vertices(), dim)?;
                 if let Some(p) = patch {
-                    for c in 0..2 {
+                    for c in 0..dim {
                         let moves = mesh.patch_vertices(p).iter().any(|&v| d[v as usize].is_some_and(|d| d[c] != 0.0));
                         if moves && bcs.kind(p, c) == Kind::Free {
                             return Err(format!(
                                 "{what}: the file moves patch {} in {}, which is FREE there: make it fixed or clamped",
                                 patches.name(p),
-                                ["x", "y"][c]
+                                ["x", "y", "z"][c]
                             ));
                         }
                     }
@@ -349,8 +366,7 @@ fn build(args: &Args) -> Result<(CaseSetup, Options), String> {
                 for (v, dv) in d.iter().enumerate() {
                     if let Some(dv) = dv {
                         if only.as_ref().is_none_or(|o| o.binary_search(&(v as u32)).is_ok()) {
-                            motion.displacement[2 * v] = dv.x;
-                            motion.displacement[2 * v + 1] = dv.y;
+                            motion.displacement[dim * v..dim * (v + 1)].copy_from_slice(&dv[..dim]);
                         }
                     }
                 }
@@ -362,8 +378,42 @@ fn build(args: &Args) -> Result<(CaseSetup, Options), String> {
     Ok((CaseSetup { name, mesh, bcs, motion, steps, moved_patch, upper_region: None }, opts))
 }
 
+/// The rigid motion of a `[[motion]]`: in 2D `rotation_deg` about z; in 3D `rotation_deg` about
+/// `axis` (normalised), both through `center`.
+fn rigid_motion(m: &MotionCfg, dim: usize, what: &str) -> Result<RigidMotion, String> {
+    let translation = m.translation.as_deref().map(|t| vector(t, dim, what, "translation")).transpose()?;
+    let center = m.center.as_deref().map(|c| vector(c, dim, what, "center")).transpose()?;
+    let (translation, center) = (translation.unwrap_or([0.0; 3]), center.unwrap_or([0.0; 3]));
+    let angle = m.rotation_deg.unwrap_or(0.0).to_radians();
+    if dim == 2 {
+        if m.axis.is_some() {
+            return Err(format!("{what}: `axis` is for 3D meshes; a 2D rotation is about z"));
+        }
+        return Ok(RigidMotion::planar([translation[0], translation[1]], angle, [center[0], center[1]]));
+    }
+    let rotation = match (&m.axis, m.rotation_deg) {
+        (None, None) => [0.0; 3],
+        (None, Some(_)) => {
+            return Err(format!("{what}: a 3D rotation needs `axis = [ax, ay, az]` with `rotation_deg`"))
+        }
+        (Some(_), None) => return Err(format!("{what}: `axis` without `rotation_deg`")),
+        (Some(a), Some(_)) => {
+            let a = vector(a, 3, what, "axis")?;
+            let n = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+            if !(n > 0.0 && n.is_finite()) {
+                return Err(format!("{what}: `axis` must be a non-zero finite vector"));
+            }
+            a.map(|x| x / n * angle)
+        }
+    };
+    Ok(RigidMotion { translation, rotation, center })
+}
+
 pub fn run(args: Args) -> Result<ExitCode, String> {
     let (setup, opts) = build(&args)?;
+    if args.png.is_some() && setup.mesh.dim() != 2 {
+        return Err(format!("--png draws 2D meshes only; {} is a 3D mesh", args.mesh.display()));
+    }
     let bar = if setup.steps >= 5 { ProgressBar::new(setup.steps as u64) } else { ProgressBar::hidden() };
     bar.set_style(
         ProgressStyle::with_template("{bar:40} step {pos}/{len} {elapsed}").unwrap_or(ProgressStyle::default_bar()),
@@ -414,9 +464,13 @@ pub fn run(args: Args) -> Result<ExitCode, String> {
         opts.method, r.steps, r.cycles, r.seconds,
     );
     println!("inverted cells  {}", r.inverted);
-    println!("min area ratio  {:.4}", r.min_area_ratio);
+    if setup.mesh.dim() == 2 {
+        println!("min area ratio  {:.4}", r.min_area_ratio);
+    } else {
+        println!("min volume ratio {:.4}", r.min_area_ratio);
+    }
     println!("min angle       {:.2} deg", r.min_angle_deg);
-    if setup.moved_patch != 0 {
+    if setup.moved_patch != 0 && setup.mesh.dim() == 2 {
         let pm = patch_measures(&setup.mesh, &r.coords, setup.moved_patch, None);
         println!(
             "moved patch {}   spacing variation {:.4}, first-cell area ratio {:.4}..{:.4}",
