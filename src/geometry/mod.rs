@@ -96,11 +96,14 @@ impl CellPoints {
         self.ty.edges().iter().map(|e| dist2(&self.p[e[0] as usize], &self.p[e[1] as usize])).fold(0.0, f64::max)
     }
 
-    /// The smallest angle between two edges at a corner, in degrees (0 for an inverted corner).
+    /// The cell's smallest angle, in degrees: in 2D between two edges at a corner (0 for an
+    /// inverted corner), in 3D the smallest dihedral angle (between two faces at an edge), which
+    /// reads like the 2D angle and, unlike an edge angle, shows a sliver tetrahedron.
     pub(crate) fn min_angle_deg(&self) -> f64 {
         match self.ty {
             CellType::Triangle => simplex::triangle_min_angle_deg(&self.p),
-            _ => tensor::min_corner_angle_deg(self.ty, &self.p),
+            CellType::Quad => tensor::min_corner_angle_deg(self.ty, &self.p),
+            _ => tensor::min_dihedral_deg(self.ty, &self.p),
         }
     }
 

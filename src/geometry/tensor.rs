@@ -189,6 +189,42 @@ pub(super) fn volume_by_faces(ty: CellType, p: &[[f64; 3]]) -> f64 {
     sum / 6.0
 }
 
+/// The smallest interior dihedral angle of a 3D cell, degrees: at each edge, the angle between
+/// its two faces, each represented by the direction from the edge into the face (towards the
+/// face's corner next to the edge), orthogonal to the edge. A sliver tetrahedron, whose edge
+/// angles can all be fine, has a dihedral angle near 0 (or 180°).
+pub(super) fn min_dihedral_deg(ty: CellType, p: &[[f64; 3]]) -> f64 {
+    let mut min = 180.0f64;
+    for &[a, b] in ty.edges() {
+        let (pa, pb) = (&p[a as usize], &p[b as usize]);
+        let e = sub(pb, pa);
+        let ee = dot3(&e, &e);
+        let mut dirs = [[0.0; 3]; 2];
+        let mut found = 0;
+        for f in ty.faces() {
+            let n = f.len();
+            for k in 0..n {
+                let (u, v) = (f[k], f[(k + 1) % n]);
+                if (u, v) != (a, b) && (u, v) != (b, a) {
+                    continue;
+                }
+                // The face's corner after the edge: a vertex of the face off the edge, beside it.
+                let off = f[(k + 2) % n];
+                if found < 2 {
+                    let w = sub(&p[off as usize], pa);
+                    let t = dot3(&w, &e) / ee;
+                    dirs[found] = [w[0] - t * e[0], w[1] - t * e[1], w[2] - t * e[2]];
+                    found += 1;
+                }
+            }
+        }
+        let (u, v) = (&dirs[0], &dirs[1]);
+        let s = cross(u, v);
+        min = min.min(dot3(&s, &s).sqrt().atan2(dot3(u, v)).to_degrees());
+    }
+    min
+}
+
 /// The smallest angle between the two (2D) or three (3D) edges of any corner's frame, degrees.
 pub(super) fn min_corner_angle_deg(ty: CellType, p: &[[f64; 3]]) -> f64 {
     let mut min = 180.0f64;
@@ -243,6 +279,15 @@ mod tests {
         }
         assert_eq!(min_corner_jacobian(CellType::Hexahedron, &h), 1.0);
         assert_eq!(volume_by_faces(CellType::Hexahedron, &h), 1.0);
+        assert!((min_dihedral_deg(CellType::Hexahedron, &h) - 90.0).abs() < 1e-12);
+        // The unit right tetrahedron: 90° at its three right edges, arccos(1/√3) = 54.7356° where
+        // the slanted face meets the others; a sliver (four nearly coplanar corners) near 0.
+        let t = [[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+        let want = (1.0 / 3f64.sqrt()).acos().to_degrees();
+        assert!((min_dihedral_deg(CellType::Tetra, &t) - want).abs() < 1e-12);
+        let sliver = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.01], [0.0, 1.0, 0.0]];
+        assert!(min_dihedral_deg(CellType::Tetra, &sliver) < 2.0);
+        assert!(min_corner_angle_deg(CellType::Tetra, &sliver) > 40.0);
         // The unit cube's trilinear element: mass 1/8 per corner, rows of K summing to zero,
         // edge couplings 0, face diagonals −1/12, body diagonals −1/12 (the classic values).
         let mut m = [0.0; 8];
