@@ -487,17 +487,15 @@ pub unsafe extern "C" fn meshmove_mesh_sizes(
 ) -> meshmove_status {
     ffi_body!(meshmove_mesh_sizes, {
         let m = get(mesh, "mesh")?;
-        let lists = [num_cell_vertices, num_faces, num_face_vertices].iter().any(|p| !p.is_null());
-        let d = if lists { m.to_data() } else { MeshData::default() };
         // SAFETY: the caller guarantees non-NULL pointers are writable.
         unsafe {
             write_counts(&[
                 (dim, points::dim_of(&m), "dim"),
                 (num_vertices, m.num_vertices(), "num_vertices"),
                 (num_cells, m.num_cells(), "num_cells"),
-                (num_cell_vertices, d.cell_vertices.len(), "num_cell_vertices"),
-                (num_faces, d.num_faces(), "num_faces"),
-                (num_face_vertices, d.face_vertices.len(), "num_face_vertices"),
+                (num_cell_vertices, m.num_cell_corners(), "num_cell_vertices"),
+                (num_faces, m.num_patch_faces(), "num_faces"),
+                (num_face_vertices, m.num_patch_face_vertices(), "num_face_vertices"),
             ])
         }
     })
@@ -561,25 +559,36 @@ unsafe fn get_lists(
 ) -> Result<(), CError> {
     let m = get(mesh, "mesh")?;
     let base = handles::index_base(index_base)?;
-    let d = m.to_data();
-    let (offsets, vertices, per_item, what, last) = if faces {
-        (&d.face_offsets, &d.face_vertices, d.face_patch.clone(), "faces", "patches")
+    // The items (cells or patch faces), their vertex count together, and each one's vertices and
+    // value (its VTK type, or its patch).
+    let (n, corners, what, last) = if faces {
+        (m.num_patch_faces(), m.num_patch_face_vertices(), "faces", "patches")
     } else {
-        let types = d.cell_types.iter().map(|t| i32::from(t.vtk_id())).collect();
-        (&d.cell_offsets, &d.cell_vertices, types, "cells", "types")
+        (m.num_cells(), m.num_cell_corners(), "cells", "types")
     };
-    let of = format!("the mesh has {} {what} and {} vertex indices in them", per_item.len(), vertices.len());
-    let wants = [offsets.len(), vertices.len(), per_item.len()];
+    let item = |i: usize| if faces { m.patch_face(i).vertices } else { m.cell(i) };
+    let value = |i: usize| if faces { m.patch_face(i).patch } else { i32::from(m.cell_type(i).vtk_id()) };
+    let of = format!("the mesh has {n} {what} and {corners} vertex indices in them");
     let mut arrays = Vec::with_capacity(3);
-    for ((len, p), (want, name)) in outs.into_iter().zip(wants.into_iter().zip(["offsets", "connectivity", last])) {
+    for ((len, p), (want, name)) in outs.into_iter().zip([(n + 1, "offsets"), (corners, "connectivity"), (n, last)]) {
         // SAFETY: the caller guarantees a non-NULL `p` holds `len` writable elements.
         arrays.push(unsafe { out_array(p, len, want, name, &of) }?);
     }
-    let values: [Vec<i32>; 3] =
-        [offsets.iter().map(|&o| o as i32).collect(), vertices.iter().map(|&v| v as i32 + base).collect(), per_item];
-    for (a, v) in arrays.into_iter().zip(values.iter()) {
-        if let Some(a) = a {
-            a.copy_from_slice(v);
+    let [offsets, connectivity, values] = <[_; 3]>::try_from(arrays).expect("three arrays");
+    if let Some(o) = offsets {
+        o[0] = 0;
+        for i in 0..n {
+            o[i + 1] = o[i] + item(i).len() as i32;
+        }
+    }
+    if let Some(c) = connectivity {
+        for (c, &v) in c.iter_mut().zip((0..n).flat_map(item)) {
+            *c = v as i32 + base;
+        }
+    }
+    if let Some(t) = values {
+        for (i, t) in t.iter_mut().enumerate() {
+            *t = value(i);
         }
     }
     Ok(())

@@ -81,14 +81,18 @@ impl CellPoints {
         }
     }
 
-    /// True when the cell is inverted (a corner Jacobian ≤ 0, or NaN), given its signed measure
-    /// `m` (a simplex has one Jacobian, proportional to its measure: no second evaluation).
+    /// True when the cell is inverted: a corner Jacobian ≤ 0, or NaN.
+    pub(crate) fn is_inverted(&self) -> bool {
+        not_positive(self.min_corner_jacobian())
+    }
+
+    /// [`CellPoints::is_inverted`] given the cell's signed measure `m` (a simplex has one
+    /// Jacobian, proportional to its measure: no second evaluation).
     pub(crate) fn inverted_with_measure(&self, m: f64) -> bool {
-        let j = match self.ty {
-            CellType::Triangle | CellType::Tetra => m,
-            _ => self.min_corner_jacobian(),
-        };
-        j.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater)
+        match self.ty {
+            CellType::Triangle | CellType::Tetra => not_positive(m),
+            _ => self.is_inverted(),
+        }
     }
 
     /// The squared length of the cell's longest edge (the scale of degeneracy tests).
@@ -176,6 +180,11 @@ const fn all_pairs<const N: usize, const M: usize>() -> [[u8; 2]; M] {
 static ALL_PAIRS_5: [[u8; 2]; 10] = all_pairs::<5, 10>();
 static ALL_PAIRS_6: [[u8; 2]; 15] = all_pairs::<6, 15>();
 static ALL_PAIRS_8: [[u8; 2]; 28] = all_pairs::<8, 28>();
+
+/// Not above zero, or NaN.
+fn not_positive(x: f64) -> bool {
+    x.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater)
+}
 
 /// |a − b|², the same sum as `DVec2::distance_squared` in 2D (z terms are zero).
 #[inline]

@@ -240,6 +240,14 @@ impl Mesh {
     pub fn regions(&self) -> &[i32] {
         &self.regions
     }
+    /// The corners of all cells together (the length of the cells' connectivity list).
+    pub(crate) fn num_cell_corners(&self) -> usize {
+        self.cells.items().len()
+    }
+    /// The vertices of all patch faces together (the length of their connectivity list).
+    pub(crate) fn num_patch_face_vertices(&self) -> usize {
+        self.faces.items().len()
+    }
     /// Number of patch faces (boundary faces and tagged interior faces).
     pub fn num_patch_faces(&self) -> usize {
         self.face_patch.len()

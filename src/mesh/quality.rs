@@ -9,11 +9,6 @@ fn points(mesh: &Mesh, coords: &[f64], c: usize) -> CellPoints {
     CellPoints::gather(mesh.cell_type(c), mesh.cell(c), coords, mesh.dim())
 }
 
-/// A corner Jacobian that makes its cell inverted: not positive, or NaN.
-pub(crate) fn inverted_jacobian(j: f64) -> bool {
-    j.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater)
-}
-
 /// Signed area (2D) or volume (3D) of every cell of `mesh`'s topology at positions `coords`.
 pub fn signed_measures(mesh: &Mesh, coords: &[f64]) -> Vec<f64> {
     (0..mesh.num_cells()).map(|c| points(mesh, coords, c).signed_measure()).collect()
@@ -21,7 +16,7 @@ pub fn signed_measures(mesh: &Mesh, coords: &[f64]) -> Vec<f64> {
 
 /// True when cell `c` at positions `coords` is inverted: a corner Jacobian ≤ 0 (or NaN).
 pub(crate) fn is_inverted(mesh: &Mesh, coords: &[f64], c: usize) -> bool {
-    inverted_jacobian(points(mesh, coords, c).min_corner_jacobian())
+    points(mesh, coords, c).is_inverted()
 }
 
 /// The cells of `mesh`'s topology inverted at positions `coords` (a corner Jacobian ≤ 0),

@@ -186,7 +186,7 @@ fn do_step(s: &mut Solver, step: &Step, undo: &mut Undo) -> Result<()> {
         let q = &sol.quality;
         let valid = q.inverted == 0 && (!split || q.min_area_ratio >= s.opts.min_volume_ratio);
         if sol.report.converged && valid {
-            let moved: Vec<f64> = s.mesh().coords().iter().zip(&sol.displacement).map(|(x, d)| x + d).collect();
+            let moved: Vec<f64> = crate::solver::moved(s.mesh().coords(), &sol.displacement);
             s.set_reference_inner(moved.clone(), undo)?;
             rep.accepted = true;
             s.steps.push(rep);
@@ -205,7 +205,7 @@ fn do_step(s: &mut Solver, step: &Step, undo: &mut Undo) -> Result<()> {
             s.steps.push(rep);
             if end >= 1.0 && step.last {
                 s.steps.last_mut().expect("pushed").accepted = true;
-                s.last_valid = s.mesh().coords().iter().zip(&sol.displacement).map(|(x, d)| x + d).collect();
+                s.last_valid = crate::solver::moved(s.mesh().coords(), &sol.displacement);
                 return Ok(());
             }
             return Err(Error::Tangled(format!(
@@ -254,7 +254,7 @@ fn original_step(s: &mut Solver, step: &Step) -> Result<()> {
     let sol = s.solve_report(&total, None)?;
     let mut rep = report(step, 1, 1.0, &sol, false, t0);
     check_converged(&sol.report, Some((step.number, 1))).inspect_err(|_| s.steps.push(rep.clone()))?;
-    let moved: Vec<f64> = s.mesh().coords().iter().zip(&sol.displacement).map(|(x, d)| x + d).collect();
+    let moved: Vec<f64> = crate::solver::moved(s.mesh().coords(), &sol.displacement);
     if sol.quality.inverted > 0 && !step.last {
         s.steps.push(rep);
         return Err(Error::Tangled(format!(

@@ -130,8 +130,9 @@ pub fn write_deformed_data(path: &Path, data: &MeshData, displacement: &[f64]) -
         (Vec::with_capacity(m), Vec::with_capacity(m), Vec::with_capacity(m));
     for c in 0..m {
         let (p0, p1) = (cell_points(data, c), cell_points(&moved, c));
-        ratio.push(p1.signed_measure() / p0.signed_measure());
-        let bad = crate::mesh::quality::inverted_jacobian(p1.min_corner_jacobian());
+        let a1 = p1.signed_measure();
+        ratio.push(a1 / p0.signed_measure());
+        let bad = p1.inverted_with_measure(a1);
         inverted.push(i32::from(bad));
         min_angle.push(if bad { 0.0 } else { p1.min_angle_deg() });
     }
