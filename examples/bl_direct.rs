@@ -25,8 +25,8 @@ fn main() {
                 let (patch, m) = s.motion.rigid[0];
                 assert_eq!(s.bcs.kind(patch, c), Kind::Clamped);
                 let l: Vec<f64> =
-                    lev.dofs.dof_vertex.iter().map(|&v| m.displacement(lev.mesh.point(v as usize))[c]).collect();
-                for v in lev.mesh.patch_vertices(patch) {
+                    lev.dofs.dof_vertex.iter().map(|&v| m.displacement(lev.mesh().point(v as usize))[c]).collect();
+                for v in lev.mesh().patch_vertices(patch) {
                     let d = lev.dofs.vertex_dof[v as usize] as usize;
                     let (cols, vs) = lev.op.k.row(d);
                     gv[d] = cols.iter().zip(vs).map(|(&j, &a)| a * l[j as usize]).sum();

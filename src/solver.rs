@@ -131,7 +131,7 @@ impl Solver {
 
     /// The reference mesh (the mesh at the start of the step).
     pub fn mesh(&self) -> &Mesh {
-        &self.hierarchy.fine().mesh
+        self.hierarchy.fine().mesh()
     }
 
     /// The positions after the last step: the reference mesh, or in `ReferenceMode::Original`
@@ -360,7 +360,7 @@ impl Solver {
 
     fn solve_inner(&self, motion: &Motion, guess: Option<&[f64]>) -> Result<Solution> {
         let lev = self.hierarchy.fine();
-        let vals = motion.vertex_values(&lev.mesh);
+        let vals = motion.vertex_values(lev.mesh());
         let scale = Self::scale(&vals);
         // Each group's solution on the unknowns; the per-vertex field is made after the last
         // solve, so it does not add to the memory of the solves.
@@ -391,14 +391,14 @@ impl Solver {
                 Some(r) => Report::merge(r, rep),
             });
         }
-        let mut displacement = vec![0.0; lev.mesh.coords().len()];
+        let mut displacement = vec![0.0; lev.mesh().coords().len()];
         for (comps, x) in solved {
             Self::to_vertices(lev, comps, &x, &mut displacement);
         }
         if let Some(i) = displacement.iter().position(|d| !d.is_finite()) {
             return Err(Error::Diverged(format!("the displacement of vertex {} is not finite", i / lev.dim())));
         }
-        let quality = moved_quality(&lev.mesh, &displacement);
+        let quality = moved_quality(lev.mesh(), &displacement);
         Ok(Solution { displacement, report: report.expect("at least one component"), quality })
     }
 
@@ -420,7 +420,7 @@ impl Solver {
 
     fn cycle_inner(&self, motion: &Motion, displacement: &[f64]) -> Result<(Vec<f64>, Report)> {
         let lev = self.hierarchy.fine();
-        let vals = motion.vertex_values(&lev.mesh);
+        let vals = motion.vertex_values(lev.mesh());
         let cp = self.opts.solve.cycle_params(self.opts.method);
         let mut out = vec![0.0; displacement.len()];
         let mut report: Option<Report> = None;
@@ -482,7 +482,7 @@ impl Solver {
 
     /// Finite positions, one per vertex, no cell of non-positive area.
     pub(crate) fn check_reference(&self, coords: &[f64]) -> Result<()> {
-        let mesh = &self.hierarchy.fine().mesh;
+        let mesh = self.hierarchy.fine().mesh();
         if coords.len() != mesh.coords().len() {
             return Err(Error::InvalidArgument(format!(
                 "new reference needs {} values ({} vertices × {}), got {}",
@@ -495,11 +495,11 @@ impl Solver {
         if let Some(i) = coords.iter().position(|p| !p.is_finite()) {
             return Err(Error::InvalidArgument(format!("new reference: vertex {} is not finite", i / mesh.dim())));
         }
-        check_not_tangled(&self.hierarchy.fine().mesh, coords)
+        check_not_tangled(self.hierarchy.fine().mesh(), coords)
     }
 
     fn undo(&self) -> Undo {
-        Undo { coords: self.hierarchy.fine().mesh.coords().to_vec(), hierarchy: None }
+        Undo { coords: self.hierarchy.fine().mesh().coords().to_vec(), hierarchy: None }
     }
 
     /// Puts the solver back to the state `undo` recorded: the hierarchy it had (moved back to
@@ -508,7 +508,7 @@ impl Solver {
         if let Some(h) = undo.hierarchy {
             self.hierarchy = h;
         }
-        if self.hierarchy.fine().mesh.coords() != undo.coords.as_slice() {
+        if self.hierarchy.fine().mesh().coords() != undo.coords.as_slice() {
             let hierarchy = &mut self.hierarchy;
             let moved = self.pool.install(|| hierarchy.move_to(undo.coords));
             // The same topology at positions it had before: every coarse cell was valid there.
@@ -527,7 +527,7 @@ impl Solver {
 
     /// A new hierarchy built from `coords`, the old one kept in `undo` (the first time).
     fn rebuild(&mut self, coords: Vec<f64>, undo: &mut Undo) -> Result<()> {
-        let mesh = self.hierarchy.fine().mesh.with_coords(coords);
+        let mesh = self.hierarchy.fine().mesh().with_coords(coords);
         let pairs = self.hierarchy.fine().pairs.clone();
         let (bcs, method, hp) = (&self.bcs, self.opts.method, &self.opts.hierarchy);
         let built = self.pool.install(|| Hierarchy::build(&mesh, pairs, bcs, method, hp))??;
@@ -622,9 +622,10 @@ pub(crate) fn rigid_flux(h: &Hierarchy, bcs: &BoundaryConditions, motion: &Motio
         if bcs.kind(patch, c) != Kind::Clamped {
             continue;
         }
-        let l: Vec<f64> = lev.dofs.dof_vertex.iter().map(|&v| m.displacement(lev.mesh.point(v as usize))[c]).collect();
-        let mut on_patch = vec![false; lev.mesh.num_vertices()];
-        lev.mesh.patch_vertices(patch).iter().for_each(|&v| on_patch[v as usize] = true);
+        let l: Vec<f64> =
+            lev.dofs.dof_vertex.iter().map(|&v| m.displacement(lev.mesh().point(v as usize))[c]).collect();
+        let mut on_patch = vec![false; lev.mesh().num_vertices()];
+        lev.mesh().patch_vertices(patch).iter().for_each(|&v| on_patch[v as usize] = true);
         let g = g.get_or_insert_with(|| vec![0.0; lev.n()]);
         for (d, g) in g.iter_mut().enumerate() {
             if lev.dofs.vertices_of(d).iter().any(|&v| on_patch[v as usize]) {

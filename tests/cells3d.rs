@@ -100,13 +100,20 @@ fn linear(p: &[f64]) -> [f64; 3] {
     ]
 }
 
+/// Options that coarsen small test meshes down to a few dozen unknowns (several levels) and
+/// solve to 1e-13.
+fn multilevel(method: Method) -> Options {
+    let mut o = Options { method, ..Default::default() };
+    o.solve.tol = 1e-13;
+    o.hierarchy.coarsen.coarsest_unknowns = 40;
+    o
+}
+
 /// The whole boundary (patch 0) prescribed by `field`, `kind` for every component.
 fn run(mesh: &Mesh, method: Method, kind: Kind, field: impl Fn(&[f64]) -> [f64; 3]) -> (Solver, Vec<f64>) {
     let mut bcs = BoundaryConditions::new();
     bcs.set_kinds(0, kind);
-    let mut o = Options { method, ..Default::default() };
-    o.solve.tol = 1e-13;
-    let s = Solver::new(mesh, &bcs, o).unwrap();
+    let s = Solver::new(mesh, &bcs, multilevel(method)).unwrap();
     let mut motion = Motion::zero(mesh);
     for v in 0..mesh.num_vertices() {
         motion.displacement[3 * v..3 * v + 3].copy_from_slice(&field(mesh.point(v)));
@@ -141,10 +148,11 @@ fn every_cell_type_matches_a_direct_solve() {
         [0.02 * w.sin() + 0.01 * p[2] * p[2], 0.05 * w.cos() * p[1], 0.03 * (w * p[2]).sin()]
     };
     for kind in KINDS {
-        let m = mesh(kind, 4);
+        let m = mesh(kind, 8);
         for method in [Method::Biharmonic, Method::Laplacian, Method::Spring] {
             for bc in [Kind::Fixed, Kind::Clamped] {
                 let (s, d) = run(&m, method, bc, wavy);
+                assert!(s.hierarchy().levels.len() >= 3, "{kind:?}: {} levels", s.hierarchy().levels.len());
                 for c in 0..3 {
                     let mg = at_dofs(&s, &d, c);
                     let direct = direct_solve(&s, c, &mg);
@@ -153,6 +161,34 @@ fn every_cell_type_matches_a_direct_solve() {
                     assert!(scale > 1e-3 && err <= 1e-10 * scale, "{kind:?} {method:?} {bc:?} {c}: {err:e}");
                 }
             }
+        }
+    }
+}
+
+/// Every coarse level's interpolation reproduces linear fields at every fine unknown, inside
+/// and on the walls and edges of the cube (flat, so linear along them too).
+#[test]
+fn coarse_levels_interpolate_linear_fields_exactly() {
+    let lin = |p: &[f64]| 0.3 + 0.7 * p[0] - 1.1 * p[1] + 0.4 * p[2];
+    for kind in KINDS {
+        let m = mesh(kind, 8);
+        let mut bcs = BoundaryConditions::new();
+        bcs.set_kinds(0, Kind::Clamped);
+        let s = Solver::new(&m, &bcs, multilevel(Method::Biharmonic)).unwrap();
+        let levels = &s.hierarchy().levels;
+        assert!(levels.len() >= 3, "{kind:?}: {} levels", levels.len());
+        for l in 0..levels.len() - 1 {
+            let (fine, coarse) = (&levels[l], &levels[l + 1]);
+            let at = |lev: &meshmove::multigrid::hierarchy::Level| -> Vec<f64> {
+                lev.unknown_points().chunks_exact(3).map(lin).collect()
+            };
+            let p = &fine.down.as_ref().unwrap().prolong;
+            let mut y = vec![0.0; fine.n()];
+            p.mul_vec(&at(coarse), &mut y);
+            let err = y.iter().zip(at(fine)).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+            assert!(err < 1e-12, "{kind:?} level {l}: {err:e}");
+            let ratio = fine.n() as f64 / coarse.n() as f64;
+            assert!(ratio > 3.0, "{kind:?} level {l}: {} -> {} unknowns", fine.n(), coarse.n());
         }
     }
 }
@@ -167,9 +203,7 @@ fn a_rigid_boundary_motion_moves_the_mesh_rigidly() {
         let m = mesh(kind, 4);
         let mut bcs = BoundaryConditions::new();
         bcs.set_kinds(0, Kind::Clamped);
-        let mut o = Options::default();
-        o.solve.tol = 1e-13;
-        let s = Solver::new(&m, &bcs, o).unwrap();
+        let s = Solver::new(&m, &bcs, multilevel(Method::Biharmonic)).unwrap();
         let d = s.solve(&Motion::zero(&m).with_rigid(0, r)).unwrap().displacement;
         let err = (0..m.num_vertices())
             .map(|v| {

@@ -42,7 +42,7 @@ fn ten_steps_reach_the_target_surface() {
             s.hierarchy()
                 .levels
                 .iter()
-                .map(|l| (0..l.mesh.num_cells()).map(|c| l.mesh.cell(c).to_vec()).collect())
+                .map(|l| (0..l.mesh().num_cells()).map(|c| l.mesh().cell(c).to_vec()).collect())
                 .collect()
         };
         let before = topology(&s);
@@ -50,8 +50,8 @@ fn ten_steps_reach_the_target_surface() {
         // The coarse meshes followed the fine one: same cells, moved vertices.
         assert_eq!(before, topology(&s), "{method:?}: hierarchy rebuilt");
         assert_ne!(
-            s.hierarchy().levels[1].mesh.coords(),
-            Solver::new(&mesh, &bcs, Options::default()).unwrap().hierarchy().levels[1].mesh.coords()
+            s.hierarchy().levels[1].mesh().coords(),
+            Solver::new(&mesh, &bcs, Options::default()).unwrap().hierarchy().levels[1].mesh().coords()
         );
         let (start, end, d) = (mesh.points_2d(), s.mesh().points_2d(), to_vec2(&motion.displacement));
         for v in mesh.patch_vertices(FS_TOP) {
@@ -105,11 +105,11 @@ fn prolongation_is_exact_for_linear_fields_on_every_level() {
     let lin = |p: &[f64]| -1.7 * p[1] + 0.2;
     for l in 0..h.levels.len() - 1 {
         let (fine, coarse) = (&h.levels[l], &h.levels[l + 1]);
-        let xc: Vec<f64> = coarse.dofs.dof_vertex.iter().map(|&v| lin(coarse.mesh.point(v as usize))).collect();
+        let xc: Vec<f64> = coarse.dofs.dof_vertex.iter().map(|&v| lin(coarse.mesh().point(v as usize))).collect();
         let mut xf = vec![0.0; fine.n()];
         fine.down.as_ref().unwrap().prolong.mul_vec(&xc, &mut xf);
         for (d, &x) in xf.iter().enumerate() {
-            let p = fine.mesh.point(fine.dofs.dof_vertex[d] as usize);
+            let p = fine.mesh().point(fine.dofs.dof_vertex[d] as usize);
             assert!((x - lin(p)).abs() < 1e-12, "level {l} unknown {d}");
         }
     }

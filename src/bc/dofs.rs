@@ -156,6 +156,21 @@ impl Dofs {
         Dofs { n, vertex_dof, dof_vertex, shared_dofs, shared_ptr, shared_vertices, split_corners, split_regions }
     }
 
+    /// The unknowns of a level without a mesh: unknown i is its own vertex i.
+    pub(crate) fn identity(n: usize) -> Dofs {
+        let ids: Vec<u32> = (0..n as u32).collect();
+        Dofs {
+            n,
+            vertex_dof: ids.clone(),
+            dof_vertex: ids,
+            shared_dofs: Vec::new(),
+            shared_ptr: vec![0],
+            shared_vertices: Vec::new(),
+            split_corners: Vec::new(),
+            split_regions: Vec::new(),
+        }
+    }
+
     /// Every vertex of unknown `d` (several when linked), to gather flags from all.
     pub fn vertices_of(&self, d: usize) -> &[u32] {
         match self.shared_dofs.binary_search(&(d as u32)) {

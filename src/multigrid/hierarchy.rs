@@ -1,12 +1,14 @@
-//! The multigrid hierarchy: a mesh per level with its unknowns, flags, operator and the
-//! transfer to the next coarser level (docs/DESIGN.md §5).
+//! The multigrid hierarchy: per level its unknowns, flags, operator and the transfer to the next
+//! coarser level (docs/DESIGN.md §5). The finest level has the user's mesh; a coarse level has
+//! a coarse mesh (2D) or is a subset of the finer level's unknowns without a mesh.
 //!
-//! Coarse vertices are a subset of the fine ones, so when the fine mesh moves the coarse meshes
-//! follow it with their topology kept; only values are re-evaluated.
+//! Coarse vertices and unknowns are a subset of the fine ones, so when the fine mesh moves the
+//! coarse levels follow it with their topology kept; only values are re-evaluated.
 
 use super::coarse_solve::CoarseSolve;
 use super::coarsen::CoarsenParams;
-use super::coarsener::{coarsener_for, Coarsener};
+use super::coarsener::{coarsener_for, CoarseLevels, CoarseUnknowns, Coarsener};
+use super::lsq::Features;
 use super::restriction::Restriction;
 use super::smoother::{estimate_lambda_max, Problem};
 use crate::bc::{check_well_posed, component_flags, BoundaryConditions, Dofs};
@@ -34,14 +36,23 @@ pub struct Transfer {
 /// One level of the hierarchy. Per-component data (`flags`, `inv_d`, `lambda_max`, `coarse`)
 /// has one entry per component of the displacement.
 pub struct Level {
-    pub mesh: Mesh,
+    /// The level's mesh: the user's on the finest level, a coarse mesh from a coarsener that
+    /// makes them; None on a level of kept unknowns.
+    pub mesh: Option<Mesh>,
+    /// The positions of the unknowns of a level without a mesh (`dim` values each); empty
+    /// otherwise (`unknown_points` derives them from the mesh).
+    pub points: Vec<f64>,
+    /// What the least-squares coarsener knows of each unknown (boundary pieces, region); None
+    /// with the 2D coarse meshes.
+    pub(crate) features: Option<Features>,
     pub pairs: Vec<[u32; 2]>,
     pub dofs: Dofs,
     pub op: LevelOperator,
     pub flags: Vec<Vec<u8>>,
     pub inv_d: Vec<Vec<f64>>,
     pub lambda_max: Vec<f64>,
-    /// Vertex i of this level is vertex `parent_vertex[i]` of the next finer level.
+    /// Vertex i of this level is vertex `parent_vertex[i]` of the next finer level; on a level
+    /// without a mesh, unknown i is unknown `parent_vertex[i]` of the next finer level.
     pub parent_vertex: Vec<u32>,
     /// Transfer to the next coarser level; None on the coarsest.
     pub down: Option<Transfer>,
@@ -68,7 +79,9 @@ impl LevelParts {
     fn into_level(self, mesh: Mesh, pairs: Vec<[u32; 2]>, parent_vertex: Vec<u32>) -> Level {
         let LevelParts { dofs, op, flags } = self;
         let mut level = Level {
-            mesh,
+            mesh: Some(mesh),
+            points: Vec::new(),
+            features: None,
             pairs,
             dofs,
             op,
@@ -85,6 +98,38 @@ impl LevelParts {
 }
 
 impl Level {
+    /// The level kept from `fine`'s unknowns `c.kept`: their flags and positions, no mesh, the
+    /// Galerkin operator.
+    fn kept(fine: &Level, c: CoarseUnknowns) -> (Level, Transfer) {
+        let CoarseUnknowns { kept, features, transfer } = c;
+        let fine_points = fine.unknown_points();
+        let dim = fine.dim();
+        let points = kept.iter().flat_map(|&d| fine_points[d as usize * dim..(d as usize + 1) * dim].iter().copied()).collect();
+        let flags = fine.flags.iter().map(|f| kept.iter().map(|&d| f[d as usize]).collect()).collect();
+        let op = LevelOperator::galerkin(&fine.op, &transfer.prolong, &transfer.prolong.transpose());
+        let mut level = Level {
+            mesh: None,
+            points,
+            features: Some(features),
+            pairs: Vec::new(),
+            dofs: Dofs::identity(kept.len()),
+            op,
+            flags,
+            inv_d: Vec::new(),
+            lambda_max: Vec::new(),
+            parent_vertex: kept,
+            down: None,
+            coarse: None,
+        };
+        level.refresh_bounds();
+        (level, transfer)
+    }
+
+    /// The level's mesh; only for levels that have one (the finest always has).
+    pub fn mesh(&self) -> &Mesh {
+        self.mesh.as_ref().expect("a level with a mesh")
+    }
+
     fn refresh_bounds(&mut self) {
         // The components are independent: side by side, so small levels use several threads.
         let bounds = |c: usize| {
@@ -124,9 +169,10 @@ impl Level {
     /// region (or is a split copy of one), None on an unsplit interface.
     pub fn dof_regions(&self) -> Vec<Option<i32>> {
         // A vertex inside one region interpolates from that region's coarse cells only.
-        let mut vregion: Vec<Option<Option<i32>>> = vec![None; self.mesh.num_vertices()];
-        for (c, &r) in self.mesh.regions().iter().enumerate() {
-            for &v in self.mesh.cell(c) {
+        let mesh = self.mesh();
+        let mut vregion: Vec<Option<Option<i32>>> = vec![None; mesh.num_vertices()];
+        for (c, &r) in mesh.regions().iter().enumerate() {
+            for &v in mesh.cell(c) {
                 let e = &mut vregion[v as usize];
                 *e = match *e {
                     None => Some(Some(r)),
@@ -196,11 +242,13 @@ pub struct HierarchyParams {
     pub coarse_operator: CoarseOperator,
     /// Stop after this many levels (the paper used six).
     pub max_levels: usize,
+    /// How coarse levels are made.
+    pub coarse_levels: CoarseLevels,
 }
 
 impl Default for HierarchyParams {
     fn default() -> Self {
-        HierarchyParams { coarsen: CoarsenParams::default(), coarse_operator: CoarseOperator::Auto, max_levels: 20 }
+        HierarchyParams { coarsen: CoarsenParams::default(), coarse_operator: CoarseOperator::Auto, max_levels: 20, coarse_levels: CoarseLevels::Auto }
     }
 }
 
@@ -222,23 +270,25 @@ impl Hierarchy {
         method: Method,
         params: &HierarchyParams,
     ) -> Result<Hierarchy> {
-        let coarsener = coarsener_for(mesh.dim(), params.coarsen)?;
+        let coarsener = coarsener_for(mesh.dim(), params.coarse_levels, params.coarsen)?;
+        let galerkin = params.coarse_operator.galerkin(method);
         let mut levels: Vec<Level> = Vec::new();
         let (mut mesh, mut pairs, mut parent_vertex) = (mesh.clone(), pairs, Vec::new());
+        // Levels with meshes.
         loop {
             // A level's unknowns and operator do not depend on its coarsening, and both are
             // mostly serial work: on two threads they run side by side.
             let last = levels.len() + 1 >= params.max_levels;
             let (parts, cm) = rayon::join(
                 || LevelParts::build(&mesh, &pairs, bcs, method),
-                || if last { Ok(None) } else { coarsener.coarsen(&mesh, &pairs) },
+                || if last { Ok(None) } else { coarsener.coarsen_mesh(&mesh, &pairs) },
             );
             let mut level = parts.into_level(mesh, pairs, parent_vertex);
             match levels.last_mut() {
                 None => check_well_posed(&level.op.k, &level.flags, &level.dofs)?,
                 Some(fine) => {
                     let down = coarsener.transfer(fine, &level);
-                    if params.coarse_operator.galerkin(method) {
+                    if galerkin {
                         level.op = LevelOperator::galerkin(&fine.op, &down.prolong, &down.prolong.transpose());
                         level.refresh_bounds();
                     }
@@ -251,7 +301,16 @@ impl Hierarchy {
             };
             (mesh, pairs, parent_vertex) = (cm.mesh, cm.links, cm.fine_vertex);
         }
-        let galerkin = params.coarse_operator.galerkin(method);
+        // Levels of kept unknowns.
+        while levels.len() < params.max_levels {
+            let fine = levels.last_mut().expect("the finest level");
+            let Some(c) = coarsener.coarsen_unknowns(fine) else {
+                break;
+            };
+            let (level, down) = Level::kept(fine, c);
+            fine.down = Some(down);
+            levels.push(level);
+        }
         let mut h = Hierarchy { levels, method, galerkin, fresh: true, coarsener };
         h.build_coarse_solve()?;
         Ok(h)
@@ -278,23 +337,33 @@ impl Hierarchy {
     /// Re-evaluates every level at new fine-vertex positions, keeping the coarse topology.
     /// Returns false (and changes nothing) when a coarse cell would invert: the caller rebuilds.
     pub fn move_to(&mut self, fine_coords: Vec<f64>) -> Result<bool> {
-        let dim = self.fine().mesh.dim();
+        let dim = self.fine().dim();
+        // Per level: its mesh's vertex positions, or its unknowns' positions without a mesh.
         let mut coords = vec![fine_coords];
         for l in 1..self.levels.len() {
-            let prev = &coords[l - 1];
-            let c: Vec<f64> =
-                self.levels[l].parent_vertex.iter().flat_map(|&v| &prev[v as usize * dim..(v as usize + 1) * dim]).copied().collect();
-            let m = &self.levels[l].mesh;
-            if (0..m.num_cells()).any(|k| is_inverted(m, &c, k)) {
-                return Ok(false);
+            let (prev, finer, level) = (&coords[l - 1], &self.levels[l - 1], &self.levels[l]);
+            let at = |v: u32| &prev[v as usize * dim..(v as usize + 1) * dim];
+            let c: Vec<f64> = match (&finer.mesh, &level.mesh) {
+                // A kept unknown below a mesh is at its (first) vertex.
+                (Some(_), None) => level.parent_vertex.iter().flat_map(|&d| at(finer.dofs.dof_vertex[d as usize])).copied().collect(),
+                _ => level.parent_vertex.iter().flat_map(|&v| at(v)).copied().collect(),
+            };
+            if let Some(m) = &level.mesh {
+                if (0..m.num_cells()).any(|k| is_inverted(m, &c, k)) {
+                    return Ok(false);
+                }
             }
             coords.push(c);
         }
         for (l, c) in coords.into_iter().enumerate() {
             let level = &mut self.levels[l];
-            level.mesh = level.mesh.with_coords(c);
-            if l == 0 || !self.galerkin {
-                level.op.reassemble(&level.mesh, &level.dofs);
+            match &level.mesh {
+                Some(m) => level.mesh = Some(m.with_coords(c)),
+                None => level.points = c,
+            }
+            if l == 0 || (!self.galerkin && level.mesh.is_some()) {
+                let Level { mesh, op, dofs, .. } = level;
+                op.reassemble(mesh.as_ref().expect("a level with a mesh"), dofs);
             }
             if l > 0 {
                 // The transfer from the level above, then (Galerkin) this level's operator.
@@ -304,7 +373,7 @@ impl Hierarchy {
                 self.coarsener.update(&mut down, fine, coarse);
                 fine.down = Some(down);
                 let down = fine.down.as_ref().expect("just put back");
-                if self.galerkin {
+                if self.galerkin || coarse.mesh.is_none() {
                     coarse.op = LevelOperator::galerkin(&fine.op, &down.prolong, &down.prolong.transpose());
                 }
             }
@@ -320,7 +389,8 @@ impl Hierarchy {
         let mut s = String::from("level  unknowns     cells       nnz(K)\n");
         let (mut nsum, mut zsum) = (0usize, 0usize);
         for (l, lev) in self.levels.iter().enumerate() {
-            s += &format!("{l:>5} {:>9} {:>9} {:>12}\n", lev.n(), lev.mesh.num_cells(), lev.op.k.nnz());
+            let cells = lev.mesh.as_ref().map_or("-".to_string(), |m| m.num_cells().to_string());
+            s += &format!("{l:>5} {:>9} {cells:>9} {:>12}\n", lev.n(), lev.op.k.nnz());
             nsum += lev.n();
             zsum += lev.op.k.nnz();
         }

@@ -7,6 +7,7 @@ pub mod coarsen;
 pub mod coarsener;
 pub mod cycle;
 pub mod hierarchy;
+mod lsq;
 pub mod restriction;
 pub mod smoother;
 pub mod solve;

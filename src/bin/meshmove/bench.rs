@@ -111,7 +111,7 @@ const COMP: usize = 1;
 
 /// Right-hand side of component `c` (the solver's own, rebuilt for the alternatives).
 fn rhs(lev: &Level, motion: &Motion, c: usize) -> Vec<f64> {
-    let vals = motion.vertex_values(&lev.mesh);
+    let vals = motion.vertex_values(lev.mesh());
     let flags = &lev.flags[c];
     let dp: Vec<f64> = (0..lev.n())
         .map(|d| if flags[d] & P != 0 { vals[lev.dofs.dof_vertex[d] as usize * 2 + c] } else { 0.0 })

@@ -10,7 +10,7 @@ pub(crate) mod tests;
 mod locate;
 mod triangulate;
 
-use super::coarsener::Coarsener;
+use super::coarsener::{CoarseUnknowns, Coarsener};
 use super::hierarchy::{Level, Transfer};
 use super::restriction::Restriction;
 use crate::sparse::{offset, CsrMatrix};
@@ -31,14 +31,18 @@ pub(crate) struct Delaunay2d {
 }
 
 impl Coarsener for Delaunay2d {
-    fn coarsen(&self, fine: &Mesh, links: &[[u32; 2]]) -> Result<Option<CoarseMesh>> {
+    fn coarsen_mesh(&self, fine: &Mesh, links: &[[u32; 2]]) -> Result<Option<CoarseMesh>> {
         coarsen(fine, links, &self.params)
+    }
+
+    fn coarsen_unknowns(&self, _fine: &mut Level) -> Option<CoarseUnknowns> {
+        None
     }
 
     /// Locates the unknowns of `fine` in the cells of `coarse`. Runs with every finer level
     /// alive, so its temporaries (points, locations) go as soon as they are used.
     fn transfer(&self, fine: &Level, coarse: &Level) -> Transfer {
-        let locs = locate::locate(&coarse.mesh, &dof_points(fine), &fine.dof_regions());
+        let locs = locate::locate(coarse.mesh(), &dof_points(fine), &fine.dof_regions());
         let prolong = Arc::new(prolongation(coarse, &locs));
         let cells = locs.iter().map(|l| l.cell).collect();
         drop(locs);
@@ -49,7 +53,7 @@ impl Coarsener for Delaunay2d {
     /// New weights in the same coarse cells, for the fine unknowns at their new positions.
     fn update(&self, t: &mut Transfer, fine: &Level, coarse: &Level) {
         let mut locs: Vec<Location> = t.cells.iter().map(|&cell| Location { cell, weights: [0.0; 3] }).collect();
-        locate::update_weights(&coarse.mesh, &dof_points(fine), &mut locs);
+        locate::update_weights(coarse.mesh(), &dof_points(fine), &mut locs);
         t.prolong = Arc::new(prolongation(coarse, &locs));
         drop(locs);
         t.restrict = Restriction::new(Arc::clone(&t.prolong));
@@ -58,7 +62,7 @@ impl Coarsener for Delaunay2d {
 
 /// Positions of a level's unknowns.
 fn dof_points(l: &Level) -> Vec<DVec2> {
-    l.dofs.dof_vertex.iter().map(|&v| l.mesh.xy(v as usize)).collect()
+    l.dofs.dof_vertex.iter().map(|&v| l.mesh().xy(v as usize)).collect()
 }
 
 /// Row i interpolates fine unknown i from the unknowns of its coarse cell with the barycentric
@@ -70,7 +74,7 @@ fn prolongation(coarse: &Level, locs: &[Location]) -> CsrMatrix {
         (Vec::with_capacity(n + 1), Vec::with_capacity(3 * n), Vec::with_capacity(3 * n));
     row_ptr.push(0);
     for loc in locs {
-        let cd = coarse.dofs.cell_dofs(&coarse.mesh, loc.cell as usize);
+        let cd = coarse.dofs.cell_dofs(coarse.mesh(), loc.cell as usize);
         let mut corners = [0, 1, 2];
         corners.sort_by_key(|&k| cd[k]);
         let start = cols.len();
@@ -95,11 +99,15 @@ pub struct CoarsenParams {
     pub min_ratio: f64,
     /// A boundary vertex where the boundary turns by more than this (degrees) is always kept.
     pub corner_angle_deg: f64,
+    /// Coarsening by kept unknowns stops at a level of at most this many unknowns: the
+    /// coarsest level's dense solve is cheap there, and smaller Galerkin levels are nearly
+    /// dense.
+    pub coarsest_unknowns: usize,
 }
 
 impl Default for CoarsenParams {
     fn default() -> Self {
-        CoarsenParams { min_vertices: 10, min_ratio: 1.6, corner_angle_deg: 50.0 }
+        CoarsenParams { min_vertices: 10, min_ratio: 1.6, corner_angle_deg: 50.0, coarsest_unknowns: 400 }
     }
 }
 

@@ -1,0 +1,272 @@
+//! Where each unknown lies: inside the domain, or on smooth pieces of the boundary.
+//!
+//! A piece is a connected set of patch faces of one patch whose normals turn by less than the
+//! corner angle from face to neighbouring face (a sphere is one piece, a box's walls are six).
+//! An unknown on one piece lies on a surface (3D) or a curve (2D), on two pieces on a crease
+//! (3D) or at a corner (2D), on three or more at a corner. An unknown interpolates only from
+//! coarse unknowns that lie on every piece it lies on, so corrections along a wall stay on the
+//! wall and a prescribed component stays prescribed (docs/DESIGN.md §5).
+
+use crate::bc::Dofs;
+use crate::mesh::Mesh;
+use std::collections::HashMap;
+use std::sync::Arc;
+
+/// The pieces each unknown lies on, and its region, for one level.
+#[derive(Clone, Debug)]
+pub(crate) struct Features {
+    /// Sorted piece lists, interned; list 0 is empty (inside the domain).
+    sets: Arc<Vec<Vec<u32>>>,
+    /// The piece list of each unknown.
+    set_of: Vec<u32>,
+    /// The region of each unknown when it lies in one (or is one region's copy of a split
+    /// interface vertex); None on an interface shared by regions.
+    region: Vec<Option<i32>>,
+    /// The unknown stands for several vertices (linked by a periodic offset).
+    linked: Vec<bool>,
+    /// The offsets between linked vertices (both signs, and sums of two for the corners of
+    /// doubly periodic meshes): a linked unknown's neighbour may sit one offset away.
+    offsets: Arc<Vec<[f64; 3]>>,
+    /// Space dimension.
+    dim: usize,
+}
+
+impl Features {
+    /// The features of the unknowns `dofs` of `mesh` (with its link pairs and the regions of
+    /// the unknowns), pieces separated where normals turn by more than `corner_angle_deg`.
+    pub(crate) fn build(
+        mesh: &Mesh,
+        dofs: &Dofs,
+        pairs: &[[u32; 2]],
+        region: Vec<Option<i32>>,
+        corner_angle_deg: f64,
+    ) -> Features {
+        let dim = mesh.dim();
+        let faces: Vec<_> = mesh.patch_faces().collect();
+        let normals: Vec<[f64; 3]> = faces.iter().map(|f| unit_normal(mesh, f.vertices)).collect();
+        let mut parent: Vec<u32> = (0..faces.len() as u32).collect();
+        // Faces meeting at a ridge (a vertex in 2D, an edge in 3D) join when smooth there.
+        let cos_corner = corner_angle_deg.to_radians().cos();
+        let mut at_ridge: HashMap<[u32; 2], u32> = HashMap::new();
+        for (k, f) in faces.iter().enumerate() {
+            let nf = f.vertices.len();
+            for r in 0..nf {
+                let key = if dim == 2 {
+                    [f.vertices[r], u32::MAX]
+                } else {
+                    let (a, b) = (f.vertices[r], f.vertices[(r + 1) % nf]);
+                    [a.min(b), a.max(b)]
+                };
+                match at_ridge.entry(key) {
+                    std::collections::hash_map::Entry::Vacant(e) => {
+                        e.insert(k as u32);
+                    }
+                    std::collections::hash_map::Entry::Occupied(e) => {
+                        let j = *e.get() as usize;
+                        let g = &faces[j];
+                        if g.patch == f.patch && g.interior == f.interior && dot(normals[j], normals[k]) >= cos_corner {
+                            union(&mut parent, j as u32, k as u32);
+                        }
+                    }
+                }
+            }
+        }
+        // Linked vertices put their two sides' pieces together (a periodic side is one piece).
+        let mut vertex_piece = vec![u32::MAX; mesh.num_vertices()];
+        for (k, f) in faces.iter().enumerate() {
+            for &v in f.vertices {
+                vertex_piece[v as usize] = k as u32;
+            }
+        }
+        for &[a, b] in pairs {
+            let (fa, fb) = (vertex_piece[a as usize], vertex_piece[b as usize]);
+            if fa != u32::MAX && fb != u32::MAX {
+                let (na, nb) = (normals[fa as usize], normals[fb as usize]);
+                if dot(na, nb) <= -cos_corner {
+                    union(&mut parent, fa, fb);
+                }
+            }
+        }
+        // Pieces numbered by their first face.
+        let mut piece_of_root = vec![u32::MAX; faces.len()];
+        let mut n_pieces = 0u32;
+        let piece: Vec<u32> = (0..faces.len() as u32)
+            .map(|k| {
+                let r = find(&mut parent, k) as usize;
+                if piece_of_root[r] == u32::MAX {
+                    piece_of_root[r] = n_pieces;
+                    n_pieces += 1;
+                }
+                piece_of_root[r]
+            })
+            .collect();
+        let mut vertex_pieces: Vec<Vec<u32>> = vec![Vec::new(); mesh.num_vertices()];
+        for (k, f) in faces.iter().enumerate() {
+            for &v in f.vertices {
+                vertex_pieces[v as usize].push(piece[k]);
+            }
+        }
+        let mut sets = vec![Vec::new()];
+        let mut index: HashMap<Vec<u32>, u32> = HashMap::from([(Vec::new(), 0)]);
+        let mut linked = vec![false; dofs.n];
+        let set_of = (0..dofs.n)
+            .map(|d| {
+                let vs = dofs.vertices_of(d);
+                linked[d] = vs.len() > 1;
+                let mut s: Vec<u32> = vs.iter().flat_map(|&v| vertex_pieces[v as usize].iter().copied()).collect();
+                s.sort_unstable();
+                s.dedup();
+                *index.entry(s).or_insert_with_key(|s| {
+                    sets.push(s.clone());
+                    sets.len() as u32 - 1
+                })
+            })
+            .collect();
+        let offsets = link_offsets(mesh, pairs);
+        Features { sets: Arc::new(sets), set_of, region, linked, offsets: Arc::new(offsets), dim }
+    }
+
+    /// The features of the unknowns `kept` (ascending) of this level, for the next coarser one.
+    pub(crate) fn subset(&self, kept: &[u32]) -> Features {
+        let pick = |k: &u32| *k as usize;
+        Features {
+            sets: Arc::clone(&self.sets),
+            set_of: kept.iter().map(|k| self.set_of[pick(k)]).collect(),
+            region: kept.iter().map(|k| self.region[pick(k)]).collect(),
+            linked: kept.iter().map(|k| self.linked[pick(k)]).collect(),
+            offsets: Arc::clone(&self.offsets),
+            dim: self.dim,
+        }
+    }
+
+    /// The space dimension.
+    pub(crate) fn dim(&self) -> usize {
+        self.dim
+    }
+
+    /// The dimension of the feature unknown `d` lies on: the space's inside, one less per piece,
+    /// down to 0 (a corner).
+    pub(crate) fn feature_dim(&self, d: usize) -> usize {
+        let s = self.sets[self.set_of[d] as usize].len();
+        if s == 0 {
+            self.dim
+        } else {
+            self.dim.saturating_sub(s)
+        }
+    }
+
+    /// Whether unknown `u` may take part in interpolating unknown `v`: it lies on every piece
+    /// `v` lies on, and in `v`'s region (or on an interface of it).
+    #[inline]
+    pub(crate) fn donor_ok(&self, v: usize, u: usize) -> bool {
+        let (sv, su) = (self.set_of[v], self.set_of[u]);
+        let pieces_ok = sv == 0 || sv == su || is_subset(&self.sets[sv as usize], &self.sets[su as usize]);
+        pieces_ok && (self.region[v].is_none() || self.region[u].is_none() || self.region[u] == self.region[v])
+    }
+
+    /// The position of `u` relative to `v` given their stored positions: the difference, or for
+    /// a linked unknown the shortest of the differences shifted by a link offset.
+    #[inline]
+    pub(crate) fn relative(&self, v: usize, u: usize, pv: &[f64], pu: &[f64]) -> [f64; 3] {
+        let mut r = [0.0; 3];
+        for k in 0..self.dim {
+            r[k] = pu[k] - pv[k];
+        }
+        if !(self.linked[v] || self.linked[u]) {
+            return r;
+        }
+        let mut best = r;
+        for o in self.offsets.iter() {
+            let s = [r[0] + o[0], r[1] + o[1], r[2] + o[2]];
+            if dot(s, s) < dot(best, best) {
+                best = s;
+            }
+        }
+        best
+    }
+}
+
+fn find(parent: &mut [u32], mut v: u32) -> u32 {
+    while parent[v as usize] != v {
+        parent[v as usize] = parent[parent[v as usize] as usize];
+        v = parent[v as usize];
+    }
+    v
+}
+
+fn union(parent: &mut [u32], a: u32, b: u32) {
+    let (ra, rb) = (find(parent, a), find(parent, b));
+    parent[ra.max(rb) as usize] = ra.min(rb);
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn is_subset(a: &[u32], b: &[u32]) -> bool {
+    a.iter().all(|x| b.binary_search(x).is_ok())
+}
+
+/// The unit normal of a patch face: a segment's right-hand normal in 2D, Newell's normal of a
+/// polygon in 3D.
+fn unit_normal(mesh: &Mesh, vs: &[u32]) -> [f64; 3] {
+    let p = |k: usize| {
+        let q = mesh.point(vs[k % vs.len()] as usize);
+        [q[0], q[1], if q.len() > 2 { q[2] } else { 0.0 }]
+    };
+    let n = if mesh.dim() == 2 {
+        let (a, b) = (p(0), p(1));
+        [b[1] - a[1], a[0] - b[0], 0.0]
+    } else {
+        let mut n = [0.0; 3];
+        for k in 0..vs.len() {
+            let (a, b) = (p(k), p(k + 1));
+            n[0] += (a[1] - b[1]) * (a[2] + b[2]);
+            n[1] += (a[2] - b[2]) * (a[0] + b[0]);
+            n[2] += (a[0] - b[0]) * (a[1] + b[1]);
+        }
+        n
+    };
+    let l = dot(n, n).sqrt();
+    if l > 0.0 {
+        [n[0] / l, n[1] / l, n[2] / l]
+    } else {
+        n
+    }
+}
+
+/// The distinct offsets between linked vertices, both signs, and the sums of two different
+/// ones (a vertex on two periodic sides links across both).
+fn link_offsets(mesh: &Mesh, pairs: &[[u32; 2]]) -> Vec<[f64; 3]> {
+    let mut base: Vec<[f64; 3]> = Vec::new();
+    for &[a, b] in pairs {
+        let (pa, pb) = (mesh.point(a as usize), mesh.point(b as usize));
+        let mut o = [0.0; 3];
+        for k in 0..mesh.dim() {
+            o[k] = pa[k] - pb[k];
+        }
+        let scale = dot(o, o).sqrt();
+        let same = |q: &[f64; 3]| {
+            let d = [q[0] - o[0], q[1] - o[1], q[2] - o[2]];
+            dot(d, d).sqrt() <= 1e-6 * scale
+        };
+        if scale > 0.0 && !base.iter().any(same) {
+            base.push(o);
+        }
+    }
+    let mut all: Vec<[f64; 3]> = Vec::new();
+    for o in &base {
+        all.push(*o);
+        all.push([-o[0], -o[1], -o[2]]);
+    }
+    let singles = all.clone();
+    for (i, a) in singles.iter().enumerate() {
+        for b in &singles[i + 1..] {
+            let s = [a[0] + b[0], a[1] + b[1], a[2] + b[2]];
+            if dot(s, s) > 1e-12 * dot(*a, *a) {
+                all.push(s);
+            }
+        }
+    }
+    all
+}

@@ -1,0 +1,299 @@
+//! Interpolation weights: for each fine unknown, the smallest weights on nearby coarse unknowns
+//! that reproduce linear fields exactly along the unknown's feature.
+//!
+//! With donors x_j around x_v, offsets r_j = x_j − x_v in the feature's axes (all of space
+//! inside, the tangent plane on a wall, the line on a crease), the weights minimise
+//! Σ w_j² / ω_j subject to Σ w_j = 1 and Σ w_j r_j = 0, with ω_j = (h / |r_j|)² so near donors
+//! weigh more: w = Ω Aᵀ (A Ω Aᵀ)⁻¹ e₀ with A's rows 1 and the offsets. Inside a donor simplex
+//! this is the barycentric interpolation; more donors spread the weights. Donors are the kept
+//! neighbours first, then kept neighbours of neighbours by distance, added one at a time until
+//! the system is well conditioned and the weights are bounded (Σ|w| ≤ 2, no extrapolation far
+//! outside the donors).
+
+use super::Features;
+use crate::multigrid::hierarchy::Level;
+use crate::sparse::{offset, CsrMatrix};
+use rayon::prelude::*;
+use std::borrow::Cow;
+
+/// Rows per parallel task.
+const CHUNK: usize = 2048;
+/// Largest Σ|w| accepted while more donors remain.
+const MAX_ABS_SUM: f64 = 2.0;
+
+/// P: fine unknowns × the coarse unknowns `kept` (fine numbering, ascending). With `pattern` (the previous P), each row keeps its
+/// donors and only the weights are re-evaluated at the current positions.
+pub(super) fn prolongation(fine: &Level, kept: &[u32], pattern: Option<&CsrMatrix>) -> CsrMatrix {
+    let f = fine.features.as_ref().expect("a least-squares level has features");
+    let points = fine.unknown_points();
+    let dim = f.dim();
+    let n = fine.n();
+    let mut coarse_of = vec![u32::MAX; n];
+    for (c, &d) in kept.iter().enumerate() {
+        coarse_of[d as usize] = c as u32;
+    }
+    let ctx = Context { k: &fine.op.k, f, points: &points, dim, coarse_of: &coarse_of };
+    let chunks: Vec<(Vec<u32>, Vec<u32>, Vec<f64>)> = (0..n.div_ceil(CHUNK))
+        .into_par_iter()
+        .map(|c| {
+            let (mut lens, mut cols, mut vals) = (Vec::new(), Vec::new(), Vec::new());
+            let mut row = Vec::new();
+            let rows = c * CHUNK..((c + 1) * CHUNK).min(n);
+            for (v, &cv) in coarse_of[rows.clone()].iter().enumerate().map(|(k, cv)| (rows.start + k, cv)) {
+                row.clear();
+                if cv != u32::MAX {
+                    row.push((cv, 1.0));
+                } else {
+                    let donors: Vec<u32> = match pattern {
+                        Some(p) => p.row(v).0.iter().map(|&c| kept[c as usize]).collect(),
+                        None => ctx.choose(v),
+                    };
+                    ctx.row(v, &donors, &mut row);
+                }
+                lens.push(row.len() as u32);
+                for &(c, w) in &row {
+                    cols.push(c);
+                    vals.push(w);
+                }
+            }
+            (lens, cols, vals)
+        })
+        .collect();
+    let mut row_ptr = Vec::with_capacity(n + 1);
+    row_ptr.push(0);
+    let (mut cols, mut vals) = (Vec::new(), Vec::new());
+    for (lens, c, v) in chunks {
+        for l in lens {
+            row_ptr.push(row_ptr.last().expect("starts at 0") + l);
+        }
+        cols.extend(c);
+        vals.extend(v);
+    }
+    debug_assert_eq!(offset(cols.len()), *row_ptr.last().expect("n + 1 entries"));
+    CsrMatrix { nrows: n, ncols: kept.len(), row_ptr, cols, vals }
+}
+
+impl Level {
+    /// The position of each unknown: its (first) vertex's on a level with a mesh, else stored.
+    pub fn unknown_points(&self) -> Cow<'_, [f64]> {
+        match &self.mesh {
+            Some(m) => {
+                let dim = m.dim();
+                Cow::Owned(self.dofs.dof_vertex.iter().flat_map(|&v| m.point(v as usize)[..dim].iter().copied()).collect())
+            }
+            None => Cow::Borrowed(&self.points),
+        }
+    }
+}
+
+struct Context<'a> {
+    k: &'a CsrMatrix,
+    f: &'a Features,
+    points: &'a [f64],
+    dim: usize,
+    coarse_of: &'a [u32],
+}
+
+impl Context<'_> {
+    fn rel(&self, v: usize, u: usize) -> [f64; 3] {
+        let d = self.dim;
+        self.f.relative(v, u, &self.points[v * d..(v + 1) * d], &self.points[u * d..(u + 1) * d])
+    }
+
+    /// The donors of fine unknown `v` (fine numbering), ascending: its kept neighbours nearest
+    /// first, then (only when those do not determine a bounded fit) kept neighbours of
+    /// neighbours nearest first, one at a time.
+    fn choose(&self, v: usize) -> Vec<u32> {
+        let is_donor = |u: u32| self.coarse_of[u as usize] != u32::MAX && self.f.donor_ok(v, u as usize);
+        let dist = |u: u32| norm2(self.rel(v, u as usize));
+        let by_distance = |list: &mut Vec<u32>| list.sort_by(|&a, &b| dist(a).total_cmp(&dist(b)).then(a.cmp(&b)));
+        let row = self.k.row(v).0;
+        let mut cands: Vec<u32> = row.iter().copied().filter(|&u| u as usize != v && is_donor(u)).collect();
+        by_distance(&mut cands);
+        let fdim = self.f.feature_dim(v);
+        let near = cands.len();
+        if let Some(set) = self.first_bounded(v, &cands, near.max(fdim + 1).min(near).max(1)) {
+            return set;
+        }
+        let mut far: Vec<u32> = row
+            .iter()
+            .flat_map(|&w| self.k.row(w as usize).0.iter().copied())
+            .filter(|&u| u as usize != v && is_donor(u) && !cands[..near].contains(&u))
+            .collect();
+        far.sort_unstable();
+        far.dedup();
+        by_distance(&mut far);
+        cands.extend(far);
+        self.first_bounded(v, &cands, (near + 1).max(fdim + 1).min(cands.len())).unwrap_or_else(|| {
+            let mut set = cands;
+            set.sort_unstable();
+            set
+        })
+    }
+
+    /// The shortest prefix of `cands`, at least `start` long, whose fit exists with Σ|w| bounded;
+    /// ascending.
+    fn first_bounded(&self, v: usize, cands: &[u32], start: usize) -> Option<Vec<u32>> {
+        for m in start.max(1)..=cands.len() {
+            let mut set = cands[..m].to_vec();
+            set.sort_unstable();
+            if let Some(w) = self.fit(v, &set) {
+                if w.iter().map(|w| w.abs()).sum::<f64>() <= MAX_ABS_SUM {
+                    return Some(set);
+                }
+            }
+        }
+        None
+    }
+
+    /// Row `v` of P from `donors` (fine numbering, ascending): the fitted weights, or the
+    /// nearest donor alone when no fit exists (constants are still reproduced).
+    fn row(&self, v: usize, donors: &[u32], row: &mut Vec<(u32, f64)>) {
+        match self.fit(v, donors) {
+            Some(w) => row.extend(donors.iter().zip(w).map(|(&u, w)| (self.coarse_of[u as usize], w))),
+            None => {
+                let near = donors
+                    .iter()
+                    .copied()
+                    .min_by(|&a, &b| norm2(self.rel(v, a as usize)).total_cmp(&norm2(self.rel(v, b as usize))))
+                    .expect("every dropped unknown has a kept neighbour");
+                row.push((self.coarse_of[near as usize], 1.0));
+            }
+        }
+    }
+
+    /// The weights of `donors` for `v`, or None when they do not determine a linear field
+    /// along `v`'s feature.
+    fn fit(&self, v: usize, donors: &[u32]) -> Option<Vec<f64>> {
+        let m = donors.len();
+        let fdim = self.f.feature_dim(v);
+        let rel: Vec<[f64; 3]> = donors.iter().map(|&u| self.rel(v, u as usize)).collect();
+        if fdim == 0 || m == 0 {
+            return None;
+        }
+        let h2 = rel.iter().map(|&r| norm2(r)).fold(0.0, f64::max);
+        if h2 == 0.0 {
+            return None;
+        }
+        let h = h2.sqrt();
+        let axes = axes(&rel, fdim, self.dim);
+        let q = fdim + 1;
+        // a[r][j]: row r of A (1, then the offsets along the axes over h).
+        let a: Vec<[f64; 4]> = rel
+            .iter()
+            .map(|r| {
+                let mut c = [1.0, 0.0, 0.0, 0.0];
+                for (k, ax) in axes.iter().enumerate().take(fdim) {
+                    c[k + 1] = (r[0] * ax[0] + r[1] * ax[1] + r[2] * ax[2]) / h;
+                }
+                c
+            })
+            .collect();
+        let omega: Vec<f64> = rel.iter().map(|&r| h2 / norm2(r).max(1e-300 * h2)).collect();
+        let mut mat = [[0.0; 4]; 4];
+        for (c, &w) in a.iter().zip(&omega) {
+            for i in 0..q {
+                for j in 0..q {
+                    mat[i][j] += w * c[i] * c[j];
+                }
+            }
+        }
+        let lambda = solve_spd(mat, q)?;
+        Some(a.iter().zip(&omega).map(|(c, &w)| w * (0..q).map(|r| c[r] * lambda[r]).sum::<f64>()).collect())
+    }
+}
+
+fn norm2(r: [f64; 3]) -> f64 {
+    r[0] * r[0] + r[1] * r[1] + r[2] * r[2]
+}
+
+/// The feature's axes: the unit axes of space inside the domain, else the `fdim` principal
+/// directions of the donors' offsets (a wall's tangent plane, a crease's line).
+fn axes(rel: &[[f64; 3]], fdim: usize, dim: usize) -> [[f64; 3]; 3] {
+    let mut ax = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    if fdim >= dim {
+        return ax;
+    }
+    let mut c = [[0.0; 3]; 3];
+    for r in rel {
+        for i in 0..3 {
+            for j in 0..3 {
+                c[i][j] += r[i] * r[j];
+            }
+        }
+    }
+    let (vals, vecs) = symmetric_eigen3(c);
+    let mut idx = [0usize, 1, 2];
+    idx.sort_by(|&a, &b| vals[b].total_cmp(&vals[a]));
+    for (k, &i) in idx.iter().enumerate() {
+        ax[k] = [vecs[0][i], vecs[1][i], vecs[2][i]];
+    }
+    ax
+}
+
+/// Eigenvalues and eigenvectors (columns) of a symmetric 3×3 matrix by cyclic Jacobi rotations:
+/// a dozen sweeps at most, exact to rounding, no dependency for one small matrix per unknown.
+fn symmetric_eigen3(mut a: [[f64; 3]; 3]) -> ([f64; 3], [[f64; 3]; 3]) {
+    let mut v = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    for _ in 0..16 {
+        let off = a[0][1] * a[0][1] + a[0][2] * a[0][2] + a[1][2] * a[1][2];
+        let diag = a[0][0] * a[0][0] + a[1][1] * a[1][1] + a[2][2] * a[2][2];
+        if off <= 1e-30 * diag || off == 0.0 {
+            break;
+        }
+        for (p, q) in [(0, 1), (0, 2), (1, 2)] {
+            if a[p][q] == 0.0 {
+                continue;
+            }
+            let theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
+            let t = theta.signum() / (theta.abs() + (theta * theta + 1.0).sqrt());
+            let t = if theta == 0.0 { 1.0 } else { t };
+            let c = 1.0 / (t * t + 1.0).sqrt();
+            let s = t * c;
+            for row in a.iter_mut() {
+                let (akp, akq) = (row[p], row[q]);
+                row[p] = c * akp - s * akq;
+                row[q] = s * akp + c * akq;
+            }
+            let (ap, aq) = (a[p], a[q]);
+            for k in 0..3 {
+                a[p][k] = c * ap[k] - s * aq[k];
+                a[q][k] = s * ap[k] + c * aq[k];
+            }
+            for row in v.iter_mut() {
+                let (vp, vq) = (row[p], row[q]);
+                row[p] = c * vp - s * vq;
+                row[q] = s * vp + c * vq;
+            }
+        }
+    }
+    ([a[0][0], a[1][1], a[2][2]], v)
+}
+
+/// Solves M λ = e₀ for the leading q×q block of a symmetric positive semi-definite M by
+/// Cholesky; None when a pivot falls below 1e-9 of the largest diagonal (the donors do not span
+/// the feature).
+fn solve_spd(m: [[f64; 4]; 4], q: usize) -> Option<[f64; 4]> {
+    let scale = (0..q).map(|i| m[i][i]).fold(0.0, f64::max);
+    let mut l = [[0.0; 4]; 4];
+    for j in 0..q {
+        let d = m[j][j] - (0..j).map(|k| l[j][k] * l[j][k]).sum::<f64>();
+        if d.is_nan() || d <= 1e-9 * scale {
+            return None;
+        }
+        l[j][j] = d.sqrt();
+        for i in j + 1..q {
+            l[i][j] = (m[i][j] - (0..j).map(|k| l[i][k] * l[j][k]).sum::<f64>()) / l[j][j];
+        }
+    }
+    let mut y = [0.0; 4];
+    for i in 0..q {
+        let b = if i == 0 { 1.0 } else { 0.0 };
+        y[i] = (b - (0..i).map(|k| l[i][k] * y[k]).sum::<f64>()) / l[i][i];
+    }
+    let mut x = [0.0; 4];
+    for i in (0..q).rev() {
+        x[i] = (y[i] - (i + 1..q).map(|k| l[k][i] * x[k]).sum::<f64>()) / l[i][i];
+    }
+    Some(x)
+}
