@@ -6,15 +6,18 @@
 //! reference_case free_surface_quads OUT.vtu  # c_examples/free_surface.c (quads)
 //! reference_case fv_cylinder OUT.vtu         # c_examples/fv_cylinder.c, biharmonic run
 //! reference_case fv_interface OUT.vtu        # fortran_examples/fv_interface.f90
+//! reference_case fv_body3d OUT.vtu           # c_examples/fv_body3d.c (3D, hexahedra)
+//! reference_case free_surface3d OUT.vtu      # fortran_examples/free_surface3d.f90 (3D, hexahedra)
 //! reference_case compare A.vtu B.vtu TOL     # max |difference| of points and point data <= TOL
 //! ```
 //!
 //! The set-ups here must match the examples operation for operation: the same mesh, built from
 //! the same arrays (the grids of c_examples/box_grid.h and fortran_examples/box_grid.f90, the
-//! O-grid of c_examples/fv_cylinder.c), the same boundary conditions, the same per-step boundary
-//! displacement expressions.
+//! O-grid of c_examples/fv_cylinder.c, the hexahedral grids of c_examples/fv_body3d.c and
+//! fortran_examples/box_grid.f90), the same boundary conditions, the same per-step boundary
+//! displacement expressions and rigid motions.
 
-use meshmove::{BoundaryConditions, InterfaceVariant, Kind, Mesh, Motion, Options, Solver};
+use meshmove::{BoundaryConditions, InterfaceVariant, Kind, Mesh, Motion, Options, RigidMotion, Solver};
 use meshmove::{CellType, MeshData};
 use std::f64::consts::PI;
 use std::path::Path;
@@ -81,11 +84,12 @@ fn free_surface_case(out: &Path, quads: bool) {
     println!("free_surface: {} cycles, rel residual {:e}", sol.report.cycles, sol.report.rel_residual);
 }
 
-/// Moves `s` step by step as `meshmove_solver_move` does and writes the final mesh.
-fn stepped(mut s: Solver, steps: usize, bdisp: impl Fn(usize, &Solver) -> Vec<f64>, out: &Path) {
+/// Moves `s` step by step as `meshmove_solver_move` does (`motion(n, s)`: step n's motion) and
+/// writes the final mesh.
+fn stepped(mut s: Solver, steps: usize, motion: impl Fn(usize, &Solver) -> Motion, out: &Path) {
     for n in 1..=steps {
-        let d = bdisp(n, &s);
-        let sol = s.solve(&Motion::from_displacement(d)).unwrap();
+        let m = motion(n, &s);
+        let sol = s.solve(&m).unwrap();
         let moved: Vec<f64> = s.mesh().coords().iter().zip(&sol.displacement).map(|(a, b)| a + b).collect();
         s.set_reference(moved).unwrap();
     }
@@ -151,7 +155,7 @@ fn fv_cylinder_case(out: &Path) {
             for &v in &cyl {
                 d[2 * v as usize + 1] = dy;
             }
-            d
+            Motion::from_displacement(d)
         },
         out,
     );
@@ -188,7 +192,133 @@ fn fv_interface_case(out: &Path) {
                 let x = s.mesh().point(v as usize)[0];
                 d[2 * v as usize + 1] = 0.25 * (2.0 * PI * x).cos() / 15.0;
             }
-            d
+            Motion::from_displacement(d)
+        },
+        out,
+    );
+}
+
+/// The faces of a VTK hexahedron (local corners, right-hand normal out of the cell) and the grid
+/// direction of the neighbour behind each, in c_examples/fv_body3d.c's order.
+const HEX_FACE: [[usize; 4]; 6] = [[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 0, 4, 7]];
+const HEX_DIR: [[i64; 3]; 6] = [[0, 0, -1], [0, 0, 1], [0, -1, 0], [1, 0, 0], [0, 1, 0], [-1, 0, 0]];
+
+/// The structured hexahedral grid of c_examples/fv_body3d.c and fortran_examples/box_grid.f90:
+/// the box `lo`–`hi` in `n³` cells, without the cells `hole.0 .. hole.1` in each direction
+/// (and the vertices strictly inside them). Vertices (i, j, k) with i fastest, then j, then k;
+/// cells in the same order, corners (i,j,k) (i+1,j,k) (i+1,j+1,k) (i,j+1,k) and the same at
+/// k+1; tagged faces: for each cell in order, each of its faces in `HEX_FACE` order whose
+/// neighbour is outside the box or in the hole, on patch `patch(face, into the hole)`.
+fn hex_grid(
+    n: u32,
+    lo: [f64; 3],
+    hi: [f64; 3],
+    hole: Option<(u32, u32)>,
+    patch: impl Fn(usize, bool) -> i32,
+) -> MeshData {
+    let (a, b) = hole.unwrap_or((0, 0));
+    let hole_cell = |i: u32, j: u32, k: u32| [i, j, k].iter().all(|&x| x >= a && x < b);
+    let hole_vertex = |i: u32, j: u32, k: u32| [i, j, k].iter().all(|&x| x > a && x < b);
+    let mut d = MeshData::new(3);
+    let m = (n + 1) as usize;
+    let mut vid = vec![u32::MAX; m * m * m];
+    for k in 0..=n {
+        for j in 0..=n {
+            for i in 0..=n {
+                if !hole_vertex(i, j, k) {
+                    let x: Vec<f64> =
+                        (0..3).map(|c| lo[c] + (hi[c] - lo[c]) * [i, j, k][c] as f64 / n as f64).collect();
+                    vid[(k as usize * m + j as usize) * m + i as usize] = d.push_vertex(&x);
+                }
+            }
+        }
+    }
+    let nn = n as usize;
+    let mut cid = vec![usize::MAX; nn * nn * nn];
+    let mut corners = Vec::new();
+    for k in 0..nn {
+        for j in 0..nn {
+            for i in 0..nn {
+                if hole_cell(i as u32, j as u32, k as u32) {
+                    continue;
+                }
+                cid[(k * nn + j) * nn + i] = corners.len();
+                let c: [u32; 8] = std::array::from_fn(|l| {
+                    let (di, dj, dk) = ([1, 2, 5, 6].contains(&l), [2, 3, 6, 7].contains(&l), l >= 4);
+                    vid[((k + dk as usize) * m + j + dj as usize) * m + i + di as usize]
+                });
+                d.push_cell(CellType::Hexahedron, &c, 0);
+                corners.push(c);
+            }
+        }
+    }
+    for k in 0..nn {
+        for j in 0..nn {
+            for i in 0..nn {
+                let c = cid[(k * nn + j) * nn + i];
+                if c == usize::MAX {
+                    continue;
+                }
+                for (side, (f, dir)) in HEX_FACE.iter().zip(HEX_DIR).enumerate() {
+                    let q = [i as i64 + dir[0], j as i64 + dir[1], k as i64 + dir[2]];
+                    let inside = q.iter().all(|&x| x >= 0 && x < n as i64);
+                    let into_hole = inside && hole_cell(q[0] as u32, q[1] as u32, q[2] as u32);
+                    if !inside || into_hole {
+                        d.push_face(&f.map(|l| corners[c][l]), patch(side, into_hole));
+                    }
+                }
+            }
+        }
+    }
+    d
+}
+
+/// A cube pitching in a box, as c_examples/fv_body3d.c: the box [−1,1]³ in 16³ hexahedra
+/// without the body [−0.25,0.25]³, walls FIXED, body CLAMPED, the body turned about y through
+/// its centre by θ(t) = 10° sin(2π t / 20), one rigid motion per step, 20 steps (biharmonic).
+fn fv_body3d_case(out: &Path) {
+    let (wall, body) = (1, 2);
+    let mesh =
+        Mesh::from_data(&hex_grid(16, [-1.0; 3], [1.0; 3], Some((6, 10)), |_, b| if b { body } else { wall })).unwrap();
+    let mut bcs = BoundaryConditions::new();
+    bcs.set_kinds(wall, Kind::Fixed).set_kinds(body, Kind::Clamped);
+    let s = Solver::new(&mesh, &bcs, Options::default()).unwrap();
+    let (amp, w) = (10.0 * PI / 180.0, 2.0 * PI / 20.0);
+    stepped(
+        s,
+        20,
+        |n, s| {
+            let dth = amp * ((w * n as f64).sin() - (w * (n - 1) as f64).sin());
+            let r = RigidMotion { translation: [0.0; 3], rotation: [0.0, dth, 0.0], center: [0.0; 3] };
+            Motion::zero(s.mesh()).with_rigid(body, r)
+        },
+        out,
+    );
+}
+
+/// The free surface of a box of hexahedra, as fortran_examples/free_surface3d.f90: [0,1]²×[−1,0]
+/// in 8³ cells, the top raised to z = 0.15 cos(2πx) cos(2πy) in 5 equal steps, bottom FIXED,
+/// top CLAMPED, the sides sliding (normal component CLAMPED, the others FREE).
+fn free_surface3d_case(out: &Path) {
+    let (bottom, top, xside, yside) = (1, 2, 3, 4);
+    let sides = [bottom, top, yside, xside, yside, xside];
+    let mesh = Mesh::from_data(&hex_grid(8, [0.0, 0.0, -1.0], [1.0, 1.0, 0.0], None, |f, _| sides[f])).unwrap();
+    let mut bcs = BoundaryConditions::new();
+    bcs.set_kinds(bottom, Kind::Fixed).set_kinds(top, Kind::Clamped);
+    bcs.set_kinds(xside, Kind::Free).set_kind(xside, 0, Kind::Clamped).unwrap();
+    bcs.set_kinds(yside, Kind::Free).set_kind(yside, 1, Kind::Clamped).unwrap();
+    let tops = mesh.patch_vertices(top);
+    let s = Solver::new(&mesh, &bcs, Options::default()).unwrap();
+    stepped(
+        s,
+        5,
+        |_, s| {
+            let mut d = vec![0.0; s.mesh().coords().len()];
+            for &v in &tops {
+                let p = s.mesh().point(v as usize);
+                d[3 * v as usize + 2] = 0.15 * (2.0 * PI * p[0]).cos() * (2.0 * PI * p[1]).cos() / 5.0;
+            }
+            Motion::from_displacement(d)
         },
         out,
     );
@@ -229,6 +359,8 @@ fn main() {
         ["free_surface_quads", out] => free_surface_case(Path::new(out), true),
         ["fv_cylinder", out] => fv_cylinder_case(Path::new(out)),
         ["fv_interface", out] => fv_interface_case(Path::new(out)),
+        ["fv_body3d", out] => fv_body3d_case(Path::new(out)),
+        ["free_surface3d", out] => free_surface3d_case(Path::new(out)),
         ["compare", a, b, tol] => {
             if !compare(Path::new(a), Path::new(b), tol.parse().expect("tolerance")) {
                 exit(1);
@@ -236,8 +368,8 @@ fn main() {
         }
         _ => {
             eprintln!(
-                "usage: reference_case free_surface|free_surface_quads|fv_cylinder|fv_interface OUT.vtu | compare A.vtu \
-                 B.vtu TOL"
+                "usage: reference_case CASE OUT.vtu | compare A.vtu B.vtu TOL (CASE: free_surface, \
+                 free_surface_quads, fv_cylinder, fv_interface, fv_body3d, free_surface3d)"
             );
             exit(2);
         }
