@@ -202,8 +202,7 @@ pub unsafe extern "C" fn meshmove_solver_sizes(
 /// dimension); `rotation` holds the angle in 2D (1 value, radians, counter-clockwise) and the
 /// rotation vector in 3D (3 values: the unit axis times the angle). The patch's vertices then
 /// ignore the displacement array; on a CLAMPED patch the held wall spacing rotates with the body.
-/// Setting a patch again replaces its motion. A rigid motion of a 3D mesh is
-/// `MESHMOVE_STATUS_UNSUPPORTED` until the library handles 3D motions.
+/// Setting a patch again replaces its motion.
 ///
 /// # Safety
 /// `solver` must be a handle from meshmove (checked); the arrays must hold the values stated.
@@ -343,7 +342,7 @@ pub unsafe extern "C" fn meshmove_solver_cycle(
     })
 }
 
-/// The drop-in call replacing a spring mover: given the boundary displacement (`len` = 2 ×
+/// The drop-in call replacing a spring mover: given the boundary displacement (`len` = dim ×
 /// vertices, read only where prescribed), solves and adds the displacement of every vertex to
 /// `coords` in place; the moved mesh becomes the solver's reference for the next call.
 ///
