@@ -421,7 +421,7 @@ impl Solver {
     fn cycle_inner(&self, motion: &Motion, displacement: &[f64]) -> Result<(Vec<f64>, Report)> {
         let lev = self.hierarchy.fine();
         let vals = motion.vertex_values(lev.mesh());
-        let cp = self.opts.solve.cycle_params(self.opts.method);
+        let cp = self.opts.solve.cycle_params(&self.hierarchy);
         let mut out = vec![0.0; displacement.len()];
         let mut report: Option<Report> = None;
         for comps in self.hierarchy.groups() {

@@ -323,6 +323,11 @@ impl Hierarchy {
         Ok(())
     }
 
+    /// Whether some level has no mesh (a level of kept unknowns).
+    pub fn has_kept_levels(&self) -> bool {
+        self.levels.iter().any(|l| l.mesh.is_none())
+    }
+
     pub fn fine(&self) -> &Level {
         &self.levels[0]
     }

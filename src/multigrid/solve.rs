@@ -70,31 +70,39 @@ impl Default for SolveParams {
 
 impl SolveParams {
     /// Per-method defaults of the default mode's smoother: fourth-kind Chebyshev of degree 6 on
-    /// the finest level and 4 below for the biharmonic, 3 and 2 for the Laplacian and spring.
+    /// the finest level and 4 below for the biharmonic, 3 and 2 for the Laplacian and spring;
+    /// for the biharmonic on levels of kept unknowns (`kept`, every 3D hierarchy) 8 on every level.
     ///
     /// Why these: on the wall layer of the boundary-layer cylinder the fourth kind converges at
     /// degree 4 (20 CG iterations) where the first kind on [λmax/10, λmax] stalls, degree 6/4
     /// takes 16, and lower coarse degrees are slower there (6/3: 19, 6/2: 29); on the other cases
     /// the iteration counts equal the first kind's at degree 6 (9, 9, 8, 8) at 0.85× its time
     /// (biharmonic) and 0.76× (Laplacian, 5–6 iterations at 3/2). The measurements are in
-    /// docs/perf-history.md.
-    pub fn cheb_defaults(&self, method: Method) -> (usize, usize) {
-        let (fine, coarse) = if method == Method::Biharmonic { (6, 4) } else { (3, 2) };
+    /// docs/perf-history.md. With Galerkin levels of kept unknowns the biharmonic's coarse
+    /// operator K_c V_c⁻¹ K_c is further from PᵀAP and more smoothing pays: on a cube of
+    /// tetrahedra (36k vertices) 6/4 takes 14 iterations, 8/8 11 at 0.8× the time, and on a
+    /// graded 2D mesh (an ellipse in a box, 15k vertices, FIXED) 12 instead of 21 (8/6: 15).
+    pub fn cheb_defaults(&self, method: Method, kept: bool) -> (usize, usize) {
+        let (fine, coarse) = match (method, kept) {
+            (Method::Biharmonic, false) => (6, 4),
+            (Method::Biharmonic, true) => (8, 8),
+            _ => (3, 2),
+        };
         match self.cheb_degree {
             Some(d) => (d, self.cheb_coarse_degree.unwrap_or(d)),
             None => (fine, self.cheb_coarse_degree.unwrap_or(coarse)),
         }
     }
 
-    /// The shape of one W-cycle for `method` in this mode: Chebyshev smoothing of the degrees of
+    /// The shape of one W-cycle on `h` in this mode: Chebyshev smoothing of the degrees of
     /// [`cheb_defaults`](Self::cheb_defaults) (default mode), or the paper's Jacobi sweep.
-    pub fn cycle_params(&self, method: Method) -> CycleParams {
+    pub fn cycle_params(&self, h: &Hierarchy) -> CycleParams {
         match self.mode {
             Mode::Default => {
-                let (fine, coarse) = self.cheb_defaults(method);
+                let (fine, coarse) = self.cheb_defaults(h.method, h.has_kept_levels());
                 CycleParams::chebyshev(fine, coarse, self.cheb_lower_ratio)
             }
-            Mode::PaperFaithful => CycleParams::paper(method),
+            Mode::PaperFaithful => CycleParams::paper(h.method),
         }
     }
 }
@@ -165,7 +173,7 @@ pub fn solve(h: &Hierarchy, comps: Range<usize>, p: &SolveParams, b: &[f64], x: 
     let mut ws = Workspace::new(h);
     let run = Run { h, comps: comps.clone(), p, b, bnorm, scale };
     let lev = h.fine();
-    let mut cp = p.cycle_params(h.method);
+    let mut cp = p.cycle_params(h);
     let mut boost = 0;
     for restart in 0..=TRUE_RESIDUAL_RESTARTS {
         match p.mode {
@@ -240,7 +248,7 @@ impl Run<'_> {
     fn stationary(&self, x: &mut [f64], ws: &mut Workspace, rep: &mut Report) {
         let Run { h, p, b, .. } = *self;
         let comps = self.comps.clone();
-        let cp = p.cycle_params(h.method);
+        let cp = p.cycle_params(h);
         let lev = h.fine();
         let mut r = vec![0.0; b.len()];
         for k in rep.history.len() + 1..=p.max_cycles {

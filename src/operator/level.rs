@@ -55,8 +55,15 @@ impl LevelOperator {
     pub fn galerkin(fine: &LevelOperator, prolong: &CsrMatrix, restrict: &CsrMatrix) -> Self {
         let mut k = triple_product(restrict, &fine.k, prolong);
         close_diagonal(&mut k);
+        // V_c = P₊ᵀ V: the positive weights only, so a coarse mass stays positive where a
+        // least-squares P has negative weights (PᵀV could vanish or turn negative there, and
+        // K_c V_c⁻¹ K_c with it); with P ≥ 0, as barycentric weights are, it is PᵀV.
+        let mass = fine.mass();
         let mut v = vec![0.0; restrict.nrows];
-        restrict.mul_vec(&fine.mass(), &mut v);
+        restrict.map_rows(&mut v, |c| {
+            let (rows, w) = restrict.row(c);
+            rows.iter().zip(w).map(|(&i, &w)| w.max(0.0) * mass[i as usize]).sum()
+        });
         let inv_v = v.iter().map(|&v| 1.0 / v).collect();
         let fuse = fuse_plan(fine.method, &k);
         LevelOperator { method: fine.method, k, inv_v, fuse }

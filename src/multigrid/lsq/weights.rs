@@ -199,7 +199,13 @@ impl Context<'_> {
             }
         }
         let lambda = solve_spd(mat, q)?;
-        Some(a.iter().zip(&omega).map(|(c, &w)| w * (0..q).map(|r| c[r] * lambda[r]).sum::<f64>()).collect())
+        let w: Vec<f64> = a.iter().zip(&omega).map(|(c, &w)| w * (0..q).map(|r| c[r] * lambda[r]).sum::<f64>()).collect();
+        // The constraints hold to rounding, or the donors were too nearly degenerate.
+        let exact = (0..q).all(|r| {
+            let target = if r == 0 { 1.0 } else { 0.0 };
+            (a.iter().zip(&w).map(|(c, w)| c[r] * w).sum::<f64>() - target).abs() <= 1e-10
+        });
+        exact.then_some(w)
     }
 }
 
@@ -271,14 +277,15 @@ fn symmetric_eigen3(mut a: [[f64; 3]; 3]) -> ([f64; 3], [[f64; 3]; 3]) {
 }
 
 /// Solves M λ = e₀ for the leading q×q block of a symmetric positive semi-definite M by
-/// Cholesky; None when a pivot falls below 1e-9 of the largest diagonal (the donors do not span
-/// the feature).
+/// Cholesky; None when a pivot falls below 1e-6 of the largest diagonal: the donors' spread
+/// across some direction of the feature is under a thousandth of their distance, and the
+/// weights would be huge and cancel.
 fn solve_spd(m: [[f64; 4]; 4], q: usize) -> Option<[f64; 4]> {
     let scale = (0..q).map(|i| m[i][i]).fold(0.0, f64::max);
     let mut l = [[0.0; 4]; 4];
     for j in 0..q {
         let d = m[j][j] - (0..j).map(|k| l[j][k] * l[j][k]).sum::<f64>();
-        if d.is_nan() || d <= 1e-9 * scale {
+        if d.is_nan() || d <= 1e-6 * scale {
             return None;
         }
         l[j][j] = d.sqrt();
