@@ -22,8 +22,6 @@ pub const BOX_LEFT: i32 = 4;
 pub const BOX_FRONT: i32 = 5;
 /// Box meshes: the side y = y1.
 pub const BOX_BACK: i32 = 6;
-/// The six box patches, in the order bottom, right, top, left, front, back.
-pub const BOX_PATCHES: [i32; 6] = [BOX_BOTTOM, BOX_RIGHT, BOX_TOP, BOX_LEFT, BOX_FRONT, BOX_BACK];
 
 /// The cells a structured box is made of.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
