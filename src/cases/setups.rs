@@ -12,7 +12,7 @@ use std::f64::consts::TAU;
 
 /// The case names of the CLI's `results.csv`, in order: the 2D cases, then the 3D ones
 /// ([`super::setups3d`]).
-pub const CASE_NAMES: [&str; 14] = [
+pub const CASE_NAMES: [&str; 17] = [
     "free_surface_a0.1",
     "free_surface_a0.25",
     "free_surface_a0.25_10steps",
@@ -26,6 +26,9 @@ pub const CASE_NAMES: [&str; 14] = [
     "free_surface_3d_tets_a0.1",
     "free_surface_3d_hexes_a0.1",
     "free_surface_3d_prisms_a0.1",
+    "free_surface_3d_tets_a0.25",
+    "free_surface_3d_hexes_a0.25",
+    "free_surface_3d_prisms_a0.25",
     "boundary_layer_cylinder_3d",
 ];
 

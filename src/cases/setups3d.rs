@@ -2,7 +2,8 @@
 //! hexahedra and prisms, and the boundary-layer cylinder extruded in z. Their motions and
 //! boundary conditions are the 2D cases' (setups.rs) with the third component added.
 //!
-//! Names: `free_surface_3d_{tets,hexes,prisms}_a{A}` and `boundary_layer_cylinder_3d`.
+//! Names: `free_surface_3d_{tets,hexes,prisms}_a{A}` (A = 0.1 and 0.25, one step) and
+//! `boundary_layer_cylinder_3d`.
 
 use super::meshes::{BL_CYLINDER, BL_FAR};
 use super::meshes3d::*;
@@ -34,6 +35,10 @@ pub fn boundary_layer_cylinder_3d_layers(scale: Scale) -> usize {
         Scale::Quick => 1,
     }
 }
+
+/// The amplitudes of the free-surface cube cases of `CASE_NAMES`: the 2D case's two (one step
+/// each).
+pub const FREE_SURFACE_3D_AMPLITUDES: [f64; 2] = [0.1, 0.25];
 
 /// The name of the free-surface cube case: `free_surface_3d_{cells}_a{a}`.
 pub fn free_surface_3d_name(cells: BoxCells, a: f64) -> String {
@@ -120,6 +125,7 @@ pub fn case3d(name: &str, scale: Scale) -> Option<CaseSetup> {
     let n = free_surface_3d_cells(scale);
     BoxCells::ALL
         .into_iter()
-        .find(|&c| name == free_surface_3d_name(c, 0.1))
-        .map(|c| free_surface_3d_case(c, n, 0.1, 1))
+        .flat_map(|c| FREE_SURFACE_3D_AMPLITUDES.map(|a| (c, a)))
+        .find(|&(c, a)| name == free_surface_3d_name(c, a))
+        .map(|(c, a)| free_surface_3d_case(c, n, a, 1))
 }

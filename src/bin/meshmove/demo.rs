@@ -9,7 +9,9 @@ use meshmove::cases::amplitude::largest_valid_amplitude;
 use meshmove::cases::meshes3d::BoxCells;
 use meshmove::cases::report::{method_name, run_case, run_case_reference, CaseResult, METHODS};
 use meshmove::cases::setups::{case, free_surface_case, CaseSetup, Scale, CASE_NAMES};
-use meshmove::cases::setups3d::{free_surface_3d_case, free_surface_3d_cells, free_surface_3d_name};
+use meshmove::cases::setups3d::{
+    free_surface_3d_case, free_surface_3d_cells, free_surface_3d_name, FREE_SURFACE_3D_AMPLITUDES,
+};
 use meshmove::mesh::signed_measures;
 use meshmove::{Criterion, Method, Mode, Options, Solver};
 use plotters::style::RGBColor;
@@ -71,8 +73,12 @@ fn case_title(name: &str) -> String {
         "boundary_layer_cylinder" => "Boundary-layer cylinder, moved 4.5 D",
         "boundary_layer_cylinder_3d" => "Boundary-layer cylinder extruded in z (hexes and wedges), moved 4.5 D",
         other => {
-            if let Some(c) = BoxCells::ALL.into_iter().find(|&c| other == free_surface_3d_name(c, 0.1)) {
-                return format!("Free surface 3D, unit cube of {}, A = 0.1, one step", cells_title(c));
+            let box_case = BoxCells::ALL
+                .into_iter()
+                .flat_map(|c| FREE_SURFACE_3D_AMPLITUDES.map(|a| (c, a)))
+                .find(|&(c, a)| other == free_surface_3d_name(c, a));
+            if let Some((c, a)) = box_case {
+                return format!("Free surface 3D, unit cube of {}, A = {a}, one step", cells_title(c));
             }
             other
         }
