@@ -64,7 +64,7 @@ pub fn free_surface_3d_bcs() -> BoundaryConditions {
     bcs
 }
 
-/// The free surface on the unit cube [0,1]³ of `n`³ grid cubes made of `cells`: bottom FIXED,
+/// The free surface on the unit cube \[0,1\]³ of `n`³ grid cubes made of `cells`: bottom FIXED,
 /// sides sliding ([`free_surface_3d_bcs`]), the top (z = 1) CLAMPED and moved vertically by
 /// `a` cos 2πx cos 2πy in `steps` equal steps.
 pub fn free_surface_3d_case(cells: BoxCells, n: usize, a: f64, steps: usize) -> CaseSetup {
