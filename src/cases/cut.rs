@@ -93,23 +93,42 @@ pub fn patch_section(mesh: &Mesh, coords: &[f64], patch: i32, axis: usize, value
     out
 }
 
-/// A plane normal to `axis` through the middle of `coords`' extent (3 per vertex) along it, moved
-/// half-way to the next vertex coordinate when vertices lie on it (a structured grid's middle
-/// plane), so that no vertex lies on the plane.
-pub fn middle_plane(coords: &[f64], axis: usize) -> f64 {
+/// A plane normal to `axis` at `target`, moved half-way to the next vertex coordinate of
+/// `coords` (3 per vertex) when vertices lie on it (a structured grid's middle plane; at the
+/// largest coordinate, half-way to the one before), so that no vertex lies on the plane.
+pub fn plane_off_vertices(coords: &[f64], axis: usize, target: f64) -> f64 {
     let mut c: Vec<f64> = coords.iter().skip(axis).step_by(3).copied().collect();
     c.sort_by(f64::total_cmp);
     c.dedup();
-    let (lo, hi) = (c[0], c[c.len() - 1]);
-    let mid = 0.5 * (lo + hi);
-    let eps = 1e-9 * (hi - lo).max(f64::MIN_POSITIVE);
-    match c.iter().position(|&x| x > mid - eps) {
-        Some(k) if (c[k] - mid).abs() <= eps => match c.get(k + 1) {
-            Some(next) => 0.5 * (c[k] + next),
-            None => mid,
+    let eps = 1e-9 * (c[c.len() - 1] - c[0]).max(f64::MIN_POSITIVE);
+    match c.iter().position(|&x| x > target - eps) {
+        Some(k) if (c[k] - target).abs() <= eps => match (c.get(k + 1), k.checked_sub(1)) {
+            (Some(next), _) => 0.5 * (c[k] + next),
+            (None, Some(before)) => 0.5 * (c[before] + c[k]),
+            (None, None) => target,
         },
-        _ => mid,
+        _ => target,
     }
+}
+
+/// A plane normal to `axis` through the middle of `coords`' extent along it, off the vertices
+/// ([`plane_off_vertices`]).
+pub fn middle_plane(coords: &[f64], axis: usize) -> f64 {
+    let (lo, hi) =
+        coords.iter().skip(axis).step_by(3).fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| (a.min(x), b.max(x)));
+    plane_off_vertices(coords, axis, 0.5 * (lo + hi))
+}
+
+/// A plane normal to `axis` through the centroid of `patch`'s vertices (a moved body or
+/// surface), off the vertices ([`plane_off_vertices`]); through the middle of the mesh when the
+/// patch has no vertex.
+pub fn plane_through_patch(mesh: &Mesh, axis: usize, patch: i32) -> f64 {
+    let v = mesh.patch_vertices(patch);
+    if v.is_empty() {
+        return middle_plane(mesh.coords(), axis);
+    }
+    let target = v.iter().map(|&v| mesh.point(v as usize)[axis]).sum::<f64>() / v.len() as f64;
+    plane_off_vertices(mesh.coords(), axis, target)
 }
 
 #[cfg(test)]
@@ -134,6 +153,9 @@ mod tests {
             let m = Mesh::from_data(&structured_box(cells, [4, 4, 4], [0.0, 1.0, 0.0, 2.0, -1.0, 0.0])).unwrap();
             let y = middle_plane(m.coords(), 1);
             assert_eq!(y, 1.25, "{cells:?}: the middle y = 1 is a grid plane: half-way to 1.5");
+            assert_eq!(plane_through_patch(&m, 1, BOX_TOP), 1.25);
+            assert_eq!(plane_through_patch(&m, 2, BOX_TOP), -0.125, "{cells:?}: below the top");
+            assert_eq!(plane_off_vertices(m.coords(), 0, 0.3), 0.3);
             let secs = cell_sections(&m, m.coords(), 1, y);
             let total: f64 = secs.iter().map(|s| area(&s.polygon).abs()).sum();
             assert!((total - 1.0).abs() < 1e-12, "{cells:?}: {total}");

@@ -24,7 +24,8 @@ pub struct Args {
     /// Output directory (created if missing).
     #[arg(long)]
     out: PathBuf,
-    /// Coarse meshes (h = 1/12 instead of 1/32): a smoke run of a few seconds.
+    /// Coarse meshes (h = 1/12 instead of 1/32, cubes of 6³ instead of 16³, one layer of the
+    /// extruded cylinder instead of 4): a smoke run of about 10 s.
     #[arg(long)]
     quick: bool,
     /// Width of the pictures in pixels.

@@ -1,4 +1,4 @@
-//! Pictures of deformed 3D meshes: a plane section through the middle of the mesh, each cut cell
+//! Pictures of deformed 3D meshes: a plane section through the moved patch, each cut cell
 //! drawn as its section polygon and filled by its volume ratio (deformed over original) on a
 //! logarithmic blue–white–green scale with a colour bar, inverted cells red, the moved patch's
 //! section blue. The caption says which plane and states the whole mesh's inverted cells and
@@ -9,7 +9,7 @@ use crate::plot::{
     INVERTED_COLOUR, PATCH_COLOUR,
 };
 use glam::DVec2;
-use meshmove::cases::cut::{cell_sections, middle_plane, patch_section, section_axes, CellSection};
+use meshmove::cases::cut::{cell_sections, patch_section, plane_through_patch, section_axes, CellSection};
 use meshmove::mesh::{inverted_cells, signed_measures};
 use meshmove::{Mesh, Motion};
 use plotters::prelude::*;
@@ -129,7 +129,8 @@ where
 }
 
 /// The section picture of a deformed 3D mesh: `mesh` (the original) at `coords`, cut by the plane
-/// normal to `axis` through the middle of the original mesh ([`middle_plane`]); `title`, then the
+/// normal to `axis` through the centroid of the original `moved_patch`, moved off the vertices
+/// ([`plane_through_patch`]); `title`, then the
 /// whole mesh's inverted cells and smallest volume ratio, the plane, and `extra` lines. The
 /// section of `moved_patch` is drawn blue; when it is small in the picture (a body in a large
 /// domain), a framed inset of 1.5 times its size around it is drawn in the top-right corner.
@@ -141,7 +142,7 @@ pub fn section_png(
     width: u32,
 ) -> Result<(), Err> {
     register_font()?;
-    let value = middle_plane(mesh.coords(), axis);
+    let value = plane_through_patch(mesh, axis, moved_patch);
     let sections = cell_sections(mesh, coords, axis, value);
     let before = signed_measures(mesh, mesh.coords());
     let after = signed_measures(mesh, coords);
