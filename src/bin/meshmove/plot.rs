@@ -233,8 +233,9 @@ pub fn deformed_png(
     mesh_png(path, (mesh, coords, &inverted), (view, inset), &note, width)
 }
 
-/// The picture `meshmove deform --png FILE` writes: the whole deformed mesh, titled with the
-/// case's name, the method and the step count, its moved patch drawn blue.
+/// The picture `meshmove deform --png FILE` writes: the whole deformed mesh (3D: its section
+/// through the moved patch, [`crate::plot3d::section_png`]), titled with the case's name, the
+/// method and the step count, its moved patch drawn blue.
 pub fn case_png(
     path: &Path,
     setup: &meshmove::cases::setups::CaseSetup,
@@ -243,6 +244,11 @@ pub fn case_png(
     steps: usize,
 ) -> Result<(), String> {
     let title = format!("{}: {method:?}, {steps} step(s)", setup.name).to_lowercase();
+    if setup.mesh.dim() == 3 {
+        let axis = crate::plot3d::section_axis(&setup.mesh, &setup.motion);
+        return crate::plot3d::section_png(path, (&setup.mesh, coords), (title, &[]), (axis, setup.moved_patch), 800)
+            .map_err(|e| format!("{}: {e}", path.display()));
+    }
     let (highlight, extra) = match setup.moved_patch {
         0 => (Vec::new(), Vec::new()),
         p => (patch_edges(&setup.mesh, p), vec![format!("blue: the moved patch ({p})")]),
