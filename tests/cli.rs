@@ -31,20 +31,31 @@ fn demo_quick_writes_results_csv_and_pictures() {
     let lines: Vec<&str> = csv.lines().collect();
     assert_eq!(
         lines[0],
-        "case,method,steps,inverted,min_area_ratio,min_angle_deg,spacing_variation,cycles,seconds,max_y_upper"
+        "case,method,steps,inverted,min_area_ratio,min_angle_deg,spacing_variation,cycles,seconds,max_y_upper,dim"
     );
-    // The header and 10 cases × 3 methods (the hybrid boundary-layer cylinder was added as the
-    // tenth case: 28 lines before).
-    assert_eq!(lines.len(), 31, "{csv}");
+    // The header and 17 cases (10 in 2D, 7 in 3D) × 3 methods.
+    assert_eq!(lines.len(), 52, "{csv}");
     for l in &lines[1..] {
-        assert_eq!(l.split(',').count(), 10, "{l}");
+        assert_eq!(l.split(',').count(), 11, "{l}");
     }
+    assert_eq!(lines.iter().filter(|l| l.ends_with(",3")).count(), 21, "{csv}");
+    assert!(lines.iter().any(|l| l.starts_with("free_surface_3d_prisms_a0.1,biharmonic,1,0,")));
+    assert!(lines.iter().any(|l| l.starts_with("boundary_layer_cylinder_3d,spring,1,0,")));
+    // The largest amplitude each method moves in one step: 4 free surfaces × 3 methods.
+    let amp = std::fs::read_to_string(d.join("largest_amplitude.csv")).unwrap();
+    assert_eq!(amp.lines().next(), Some("case,method,dim,largest_valid_a,first_inverted_a,cycles,seconds"));
+    assert_eq!(amp.lines().count(), 13, "{amp}");
     assert!(lines.iter().any(|l| l.starts_with("boundary_layer_cylinder,spring,")));
     assert!(lines.iter().any(|l| l.starts_with("deforming_interface_B,biharmonic,15,")));
     assert!(lines.iter().any(|l| l.starts_with("boundary_layer_cylinder_hybrid,laplacian,")));
-    for f in
-        ["convergence.png", "convergence.csv", "free_surface_a0.25_laplacian.png", "cylinder_channel_biharmonic.vtu"]
-    {
+    for f in [
+        "convergence.png",
+        "convergence.csv",
+        "free_surface_a0.25_laplacian.png",
+        "cylinder_channel_biharmonic.vtu",
+        "free_surface_3d_tets_a0.1_laplacian.png",
+        "boundary_layer_cylinder_3d_biharmonic.vtu",
+    ] {
         assert!(d.join(f).is_file(), "{f} missing");
     }
     let _ = std::fs::remove_dir_all(&d);

@@ -7,7 +7,7 @@ use crate::mesh::Mesh;
 use crate::operator::Method;
 use crate::solver::{Options, Solver, StepReport};
 use crate::Result;
-use glam::DVec2;
+use glam::{DVec2, DVec3};
 use std::collections::HashMap;
 use std::time::Instant;
 
@@ -27,9 +27,10 @@ pub const METHODS: [Method; 3] = [Method::Biharmonic, Method::Laplacian, Method:
 #[derive(Clone, Debug, PartialEq)]
 pub struct PatchMeasures {
     /// (max − min)/mean of h/h₀ over the cells touching the patch by an edge (h: the cell's height
-    /// over that edge, deformed; h₀ the same in the original mesh).
+    /// over that edge, deformed; h₀ the same in the original mesh). In 3D: by a face, h the cell's
+    /// volume over the face's area.
     pub spacing_variation: f64,
-    /// Smallest and largest deformed/original area ratio of those cells.
+    /// Smallest and largest deformed/original area (volume) ratio of those cells.
     pub area_ratio: (f64, f64),
     /// Interfaces: mean h/h₀ of the first cells above (region `upper`) over that below.
     pub spacing_ratio_across: Option<f64>,
@@ -39,6 +40,8 @@ pub struct PatchMeasures {
 #[derive(Clone, Debug)]
 pub struct CaseResult {
     pub case: String,
+    /// The mesh's dimension, 2 or 3.
+    pub dim: usize,
     pub method: Method,
     pub steps: usize,
     pub inverted: usize,
@@ -74,11 +77,11 @@ impl CaseResult {
 
     /// The CSV header of [`CaseResult::csv_row`].
     pub const CSV_HEADER: &'static str =
-        "case,method,steps,inverted,min_area_ratio,min_angle_deg,spacing_variation,cycles,seconds,max_y_upper";
+        "case,method,steps,inverted,min_area_ratio,min_angle_deg,spacing_variation,cycles,seconds,max_y_upper,dim";
 
     pub fn csv_row(&self) -> String {
         format!(
-            "{},{},{},{},{:.6},{:.4},{:.6},{},{:.4},{}",
+            "{},{},{},{},{:.6},{:.4},{:.6},{},{:.4},{},{}",
             self.case,
             method_name(self.method),
             self.steps,
@@ -88,7 +91,8 @@ impl CaseResult {
             self.patch.spacing_variation,
             self.cycles,
             self.seconds,
-            self.max_y_upper.map(|y| format!("{y:.6}")).unwrap_or_default()
+            self.max_y_upper.map(|y| format!("{y:.6}")).unwrap_or_default(),
+            self.dim
         )
     }
 }
@@ -126,13 +130,8 @@ fn xy(x: &[f64], v: usize) -> DVec2 {
 
 /// The measures of [`PatchMeasures`] for `original` moved to `deformed`.
 pub fn patch_measures(original: &Mesh, deformed: &[f64], patch: i32, upper: Option<i32>) -> PatchMeasures {
-    if original.dim() != 2 {
-        // Heights over an edge are 2D measures: a 3D mesh has none.
-        return PatchMeasures {
-            spacing_variation: f64::NAN,
-            area_ratio: (f64::NAN, f64::NAN),
-            spacing_ratio_across: None,
-        };
+    if original.dim() == 3 {
+        return patch_measures_3d(original, deformed, patch, upper);
     }
     let a0 = signed_measures(original, original.coords());
     let a1 = signed_measures(original, deformed);
@@ -150,6 +149,74 @@ pub fn patch_measures(original: &Mesh, deformed: &[f64], patch: i32, upper: Opti
         let ar = a1[c] / a0[c];
         rlo = rlo.min(ar);
         rhi = rhi.max(ar);
+        if let Some(u) = upper {
+            if original.regions()[c] == u {
+                up += r;
+                nup += 1;
+            } else {
+                down += r;
+                ndown += 1;
+            }
+        }
+    }
+    let mean = sum / n.max(1) as f64;
+    PatchMeasures {
+        spacing_variation: if n == 0 { 0.0 } else { (hi - lo) / mean },
+        area_ratio: (rlo, rhi),
+        spacing_ratio_across: (nup > 0 && ndown > 0).then(|| (up / nup as f64) / (down / ndown as f64)),
+    }
+}
+
+/// The cells touching `patch` (of a 3D mesh) by a face, with that face's vertices: (cell, face).
+pub fn patch_cells_3d(mesh: &Mesh, patch: i32) -> Vec<(usize, Vec<u32>)> {
+    let key = |v: &[u32]| {
+        let mut k = v.to_vec();
+        k.sort_unstable();
+        k
+    };
+    let on_patch: HashMap<Vec<u32>, Vec<u32>> =
+        mesh.patch_faces().filter(|f| f.patch == patch).map(|f| (key(f.vertices), f.vertices.to_vec())).collect();
+    let mut out = Vec::new();
+    for c in 0..mesh.num_cells() {
+        let cell = mesh.cell(c);
+        for f in mesh.cell_type(c).faces() {
+            let v: Vec<u32> = f.iter().map(|&k| cell[k as usize]).collect();
+            if let Some(face) = on_patch.get(&key(&v)) {
+                out.push((c, face.clone()));
+            }
+        }
+    }
+    out
+}
+
+/// The area of the (planar or warped) polygon `face` at positions `x` (3 per vertex): the length
+/// of its vector area.
+fn face_area(x: &[f64], face: &[u32]) -> f64 {
+    let p = |k: usize| {
+        let v = face[k % face.len()] as usize;
+        DVec3::new(x[3 * v], x[3 * v + 1], x[3 * v + 2])
+    };
+    (0..face.len()).map(|k| p(k).cross(p(k + 1))).sum::<DVec3>().length() / 2.0
+}
+
+/// [`patch_measures`] in 3D: a cell's height over its patch face is its volume over the face's
+/// area.
+fn patch_measures_3d(original: &Mesh, deformed: &[f64], patch: i32, upper: Option<i32>) -> PatchMeasures {
+    let v0 = signed_measures(original, original.coords());
+    let v1 = signed_measures(original, deformed);
+    let x0 = original.coords();
+    let (mut lo, mut hi, mut sum, mut n) = (f64::INFINITY, f64::NEG_INFINITY, 0.0, 0usize);
+    let (mut rlo, mut rhi) = (f64::INFINITY, f64::NEG_INFINITY);
+    let (mut up, mut nup, mut down, mut ndown) = (0.0, 0usize, 0.0, 0usize);
+    for (c, face) in patch_cells_3d(original, patch) {
+        let r = (v1[c] / face_area(deformed, &face)) / (v0[c] / face_area(x0, &face));
+        lo = lo.min(r);
+        hi = hi.max(r);
+        sum += r;
+        n += 1;
+        let vr = v1[c] / v0[c];
+        rlo = rlo.min(vr);
+        rhi = rhi.max(vr);
         if let Some(u) = upper {
             if original.regions()[c] == u {
                 up += r;
@@ -233,7 +300,7 @@ pub fn run_case_with(
         for c in 0..original.num_cells() {
             if original.regions()[c] == u {
                 for &v in original.cell(c) {
-                    m = m.max(coords[2 * v as usize + 1]);
+                    m = m.max(coords[original.dim() * v as usize + 1]);
                 }
             }
         }
@@ -241,6 +308,7 @@ pub fn run_case_with(
     });
     Ok(CaseResult {
         case: setup.name.clone(),
+        dim: original.dim(),
         method,
         steps: setup.steps,
         inverted: q.inverted,

@@ -10,8 +10,9 @@ use crate::mesh::Mesh;
 use crate::motion::{Motion, RigidMotion};
 use std::f64::consts::TAU;
 
-/// The case names of the CLI's `results.csv`, in order.
-pub const CASE_NAMES: [&str; 10] = [
+/// The case names of the CLI's `results.csv`, in order: the 2D cases, then the 3D ones
+/// ([`super::setups3d`]).
+pub const CASE_NAMES: [&str; 17] = [
     "free_surface_a0.1",
     "free_surface_a0.25",
     "free_surface_a0.25_10steps",
@@ -22,6 +23,13 @@ pub const CASE_NAMES: [&str; 10] = [
     "cylinder_channel",
     "boundary_layer_cylinder",
     "boundary_layer_cylinder_hybrid",
+    "free_surface_3d_tets_a0.1",
+    "free_surface_3d_hexes_a0.1",
+    "free_surface_3d_prisms_a0.1",
+    "free_surface_3d_tets_a0.25",
+    "free_surface_3d_hexes_a0.25",
+    "free_surface_3d_prisms_a0.25",
+    "boundary_layer_cylinder_3d",
 ];
 
 /// Mesh sizes: the paper's (docs/DESIGN.md §7) or coarse ones for quick smoke runs.
@@ -162,6 +170,6 @@ pub fn case(name: &str, scale: Scale) -> Option<CaseSetup> {
         "cylinder_channel" => cylinder_channel_case(hc),
         "boundary_layer_cylinder" => boundary_layer_cylinder_case(),
         "boundary_layer_cylinder_hybrid" => boundary_layer_cylinder_hybrid_case(),
-        _ => return None,
+        other => return super::setups3d::case3d(other, scale),
     })
 }

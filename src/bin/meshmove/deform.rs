@@ -411,9 +411,6 @@ fn rigid_motion(m: &MotionCfg, dim: usize, what: &str) -> Result<RigidMotion, St
 
 pub fn run(args: Args) -> Result<ExitCode, String> {
     let (setup, opts) = build(&args)?;
-    if args.png.is_some() && setup.mesh.dim() != 2 {
-        return Err(format!("--png draws 2D meshes only; {} is a 3D mesh", args.mesh.display()));
-    }
     let bar = if setup.steps >= 5 { ProgressBar::new(setup.steps as u64) } else { ProgressBar::hidden() };
     bar.set_style(
         ProgressStyle::with_template("{bar:40} step {pos}/{len} {elapsed}").unwrap_or(ProgressStyle::default_bar()),
@@ -470,11 +467,15 @@ pub fn run(args: Args) -> Result<ExitCode, String> {
         println!("min volume ratio {:.4}", r.min_area_ratio);
     }
     println!("min angle       {:.2} deg", r.min_angle_deg);
-    if setup.moved_patch != 0 && setup.mesh.dim() == 2 {
+    if setup.moved_patch != 0 {
         let pm = patch_measures(&setup.mesh, &r.coords, setup.moved_patch, None);
         println!(
-            "moved patch {}   spacing variation {:.4}, first-cell area ratio {:.4}..{:.4}",
-            setup.moved_patch, pm.spacing_variation, pm.area_ratio.0, pm.area_ratio.1
+            "moved patch {}   spacing variation {:.4}, first-cell {} ratio {:.4}..{:.4}",
+            setup.moved_patch,
+            pm.spacing_variation,
+            if setup.mesh.dim() == 2 { "area" } else { "volume" },
+            pm.area_ratio.0,
+            pm.area_ratio.1
         );
     }
     println!("wrote           {}", args.output.display());

@@ -1,11 +1,17 @@
-//! `meshmove demo --out DIR [--quick]`: every case of docs/DESIGN.md §7 with every method.
+//! `meshmove demo --out DIR [--quick]`: every case of docs/DESIGN.md §7 and their 3D versions
+//! with every method, and the largest free-surface amplitude each method moves in one step.
 
 use crate::plot::{deformed_png, patch_edges, semilog_png, Series, View};
 use crate::write_deformed;
 use glam::DVec2;
 use indicatif::{ProgressBar, ProgressStyle};
+use meshmove::cases::amplitude::largest_valid_amplitude;
+use meshmove::cases::meshes3d::BoxCells;
 use meshmove::cases::report::{method_name, run_case, run_case_reference, CaseResult, METHODS};
 use meshmove::cases::setups::{case, free_surface_case, CaseSetup, Scale, CASE_NAMES};
+use meshmove::cases::setups3d::{
+    free_surface_3d_case, free_surface_3d_cells, free_surface_3d_name, FREE_SURFACE_3D_AMPLITUDES,
+};
 use meshmove::mesh::signed_measures;
 use meshmove::{Criterion, Method, Mode, Options, Solver};
 use plotters::style::RGBColor;
@@ -18,7 +24,8 @@ pub struct Args {
     /// Output directory (created if missing).
     #[arg(long)]
     out: PathBuf,
-    /// Coarse meshes (h = 1/12 instead of 1/32): a smoke run of a few seconds.
+    /// Coarse meshes (h = 1/12 instead of 1/32, cubes of 6³ instead of 16³, one layer of the
+    /// extruded cylinder instead of 4): a smoke run of about 10 s.
     #[arg(long)]
     quick: bool,
     /// Width of the pictures in pixels.
@@ -65,9 +72,68 @@ fn case_title(name: &str) -> String {
         "deforming_interface_B" => "Deforming interface, variant B (continuous), 15 steps",
         "cylinder_channel" => "Cylinder in a channel, moved 1 D in x",
         "boundary_layer_cylinder" => "Boundary-layer cylinder, moved 4.5 D",
-        other => other,
+        "boundary_layer_cylinder_3d" => "Boundary-layer cylinder extruded in z (hexes and wedges), moved 4.5 D",
+        other => {
+            let box_case = BoxCells::ALL
+                .into_iter()
+                .flat_map(|c| FREE_SURFACE_3D_AMPLITUDES.map(|a| (c, a)))
+                .find(|&(c, a)| other == free_surface_3d_name(c, a));
+            if let Some((c, a)) = box_case {
+                return format!("Free surface 3D, unit cube of {}, A = {a}, one step", cells_title(c));
+            }
+            other
+        }
     };
     t.to_string()
+}
+
+/// The cells of a box mesh as a caption names them.
+fn cells_title(cells: BoxCells) -> &'static str {
+    match cells {
+        BoxCells::Tets => "tetrahedra",
+        BoxCells::Hexes => "hexahedra",
+        BoxCells::Prisms => "prisms",
+    }
+}
+
+/// The free surfaces whose largest valid amplitude the demo finds: the 2D one and the 3D cube of
+/// each cell kind, each at A = 0.1, with the name its `largest_amplitude.csv` rows carry.
+fn amplitude_cases(scale: Scale) -> Vec<(String, CaseSetup)> {
+    let h = if scale == Scale::Paper { 1.0 / 32.0 } else { 1.0 / 12.0 };
+    let mut out = vec![("free_surface".to_string(), free_surface_case("free_surface_a0.1", h, 0.1, 1))];
+    for cells in BoxCells::ALL {
+        let setup = free_surface_3d_case(cells, free_surface_3d_cells(scale), 0.1, 1);
+        out.push((format!("free_surface_3d_{}", cells.name()), setup));
+    }
+    out
+}
+
+/// `largest_amplitude.csv`: for each free surface and method, the largest A moved in one step
+/// without an inverted cell ([`largest_valid_amplitude`]: A scanned in steps of 0.05 up to 1,
+/// then bisected to 0.001).
+fn largest_amplitudes(dir: &Path, scale: Scale, bar: &ProgressBar) -> Result<String, String> {
+    let mut csv = String::from("case,method,dim,largest_valid_a,first_inverted_a,cycles,seconds\n");
+    for (name, setup) in amplitude_cases(scale) {
+        for method in METHODS {
+            bar.set_message(format!("largest A: {name} {}", method_name(method)));
+            let l = largest_valid_amplitude(&setup, 0.1, method, &Options::default(), (0.05, 1.0, 1e-3))
+                .map_err(|e| format!("largest A, {name} {method:?}: {e}"))?;
+            let _ = writeln!(
+                csv,
+                "{name},{},{},{:.4},{},{},{:.4}",
+                method_name(method),
+                setup.mesh.dim(),
+                l.largest_valid,
+                l.first_inverted.map(|a| format!("{a:.4}")).unwrap_or_default(),
+                l.cycles,
+                l.seconds
+            );
+            bar.inc(1);
+        }
+    }
+    let p = dir.join("largest_amplitude.csv");
+    std::fs::write(&p, &csv).map_err(|e| format!("{}: {e}", p.display()))?;
+    Ok(csv)
 }
 
 /// What the picture's window and blue edges are, when that needs saying.
@@ -82,11 +148,23 @@ fn view_notes(setup: &CaseSetup) -> Vec<String> {
     notes
 }
 
-/// One mesh picture, `DIR/{stem}.png`, titled with the case and `label` (the method).
+/// One mesh picture, `DIR/{stem}.png`, titled with the case and `label` (the method): a 2D mesh
+/// whole, a 3D mesh as its middle section ([`crate::plot3d::section_png`]).
 fn picture(dir: &Path, setup: &CaseSetup, coords: &[f64], stem: &str, label: &str, width: u32) -> Result<(), String> {
-    let (view, inset) = view_for(setup, coords);
     let path = dir.join(format!("{stem}.png"));
     let title = format!("{}: {label}", case_title(&setup.name));
+    if setup.mesh.dim() == 3 {
+        let axis = crate::plot3d::section_axis(&setup.mesh, &setup.motion);
+        return crate::plot3d::section_png(
+            &path,
+            (&setup.mesh, coords),
+            (title, &[]),
+            (axis, setup.moved_patch),
+            width,
+        )
+        .map_err(|e| format!("{}: {e}", path.display()));
+    }
+    let (view, inset) = view_for(setup, coords);
     let highlight = patch_edges(&setup.mesh, setup.moved_patch);
     let notes = view_notes(setup);
     deformed_png(&path, (&setup.mesh, coords), (title, &notes), &highlight, (Some(view), inset), width)
@@ -141,7 +219,8 @@ pub fn run(args: Args) -> Result<ExitCode, String> {
     let dir = &args.out;
     std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
     let scale = if args.quick { Scale::Quick } else { Scale::Paper };
-    let bar = ProgressBar::new((CASE_NAMES.len() * METHODS.len() + 1) as u64);
+    let bar =
+        ProgressBar::new((CASE_NAMES.len() * METHODS.len() + 1 + amplitude_cases(scale).len() * METHODS.len()) as u64);
     bar.set_style(
         ProgressStyle::with_template("{bar:40} {pos}/{len} {elapsed} {msg}").unwrap_or(ProgressStyle::default_bar()),
     );
@@ -201,10 +280,12 @@ pub fn run(args: Args) -> Result<ExitCode, String> {
     bar.set_message("convergence plot");
     convergence(dir, scale, args.width)?;
     bar.inc(1);
+    let amplitudes = largest_amplitudes(dir, scale, &bar)?;
     bar.finish_and_clear();
     let p = dir.join("results.csv");
     std::fs::write(&p, &csv).map_err(|e| format!("{}: {e}", p.display()))?;
     print!("{csv}");
+    print!("{amplitudes}");
     println!("wrote {}", dir.display());
     Ok(ExitCode::SUCCESS)
 }

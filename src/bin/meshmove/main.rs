@@ -7,6 +7,7 @@ mod compare;
 mod deform;
 mod demo;
 mod plot;
+mod plot3d;
 
 use clap::{Parser, Subcommand};
 use meshmove::Mesh;

@@ -18,10 +18,10 @@ const FONT_BYTES: &[u8] = include_bytes!("../../../assets/fonts/LiberationSans-R
 pub const INVERTED_COLOUR: RGBColor = RGBColor(220, 30, 30);
 /// Colour of the highlighted edges (the moved patch or interface).
 pub const PATCH_COLOUR: RGBColor = RGBColor(20, 80, 220);
-const EDGE_COLOUR: RGBColor = RGBColor(40, 40, 40);
+pub(crate) const EDGE_COLOUR: RGBColor = RGBColor(40, 40, 40);
 
 /// Registers the embedded font once per process (the pictures cannot draw text before).
-fn register_font() -> Result<(), Err> {
+pub(crate) fn register_font() -> Result<(), Err> {
     static ONCE: Once = Once::new();
     let mut result = Ok(());
     ONCE.call_once(|| {
@@ -32,7 +32,7 @@ fn register_font() -> Result<(), Err> {
 }
 
 /// Text height in pixels for a picture `width` pixels wide.
-fn font_px(width: u32) -> i32 {
+pub(crate) fn font_px(width: u32) -> i32 {
     (width as i32 / 42).clamp(11, 26)
 }
 
@@ -60,7 +60,7 @@ impl View {
     pub fn centred(c: DVec2, half: f64) -> View {
         View { x0: c.x - half, x1: c.x + half, y0: c.y - half, y1: c.y + half }
     }
-    fn contains(&self, p: DVec2) -> bool {
+    pub fn contains(&self, p: DVec2) -> bool {
         p.x >= self.x0 && p.x <= self.x1 && p.y >= self.y0 && p.y <= self.y1
     }
 }
@@ -73,7 +73,7 @@ pub struct Annotation<'a> {
 }
 
 /// Pixel rectangle (left, top, width, height).
-type Rect = (i32, i32, i32, i32);
+pub(crate) type Rect = (i32, i32, i32, i32);
 
 /// Where a mesh is drawn: the world window, the pixel rectangle it maps to, and whether only the
 /// cells entirely inside the window are drawn (an inset).
@@ -83,14 +83,14 @@ struct Frame {
     clip: bool,
 }
 
-fn to_px(v: &View, r: Rect, p: DVec2) -> (i32, i32) {
+pub(crate) fn to_px(v: &View, r: Rect, p: DVec2) -> (i32, i32) {
     let sx = r.2 as f64 / (v.x1 - v.x0);
     let sy = r.3 as f64 / (v.y1 - v.y0);
     let s = sx.min(sy);
     (r.0 + ((p.x - v.x0) * s).round() as i32, r.1 + r.3 - ((p.y - v.y0) * s).round() as i32)
 }
 
-type Err = Box<dyn std::error::Error>;
+pub(crate) type Err = Box<dyn std::error::Error>;
 
 /// The mesh's edges in `frame`, inverted cells filled, highlighted edges on top.
 fn draw_mesh<DB: DrawingBackend>(
@@ -146,12 +146,12 @@ fn line_px(k: usize, fs: i32) -> i32 {
 }
 
 /// Height in pixels of a caption of `n` lines, as [`draw_caption`] draws it.
-fn caption_height(n: usize, fs: i32) -> i32 {
+pub(crate) fn caption_height(n: usize, fs: i32) -> i32 {
     fs / 3 + (0..n).map(|k| line_px(k, fs) * 13 / 10).sum::<i32>() + fs / 3
 }
 
 /// Caption lines from the top of `area`, the first larger; returns the height used.
-fn draw_caption<DB: DrawingBackend>(
+pub(crate) fn draw_caption<DB: DrawingBackend>(
     area: &DrawingArea<DB, plotters::coord::Shift>,
     lines: &[String],
     fs: i32,
@@ -233,8 +233,9 @@ pub fn deformed_png(
     mesh_png(path, (mesh, coords, &inverted), (view, inset), &note, width)
 }
 
-/// The picture `meshmove deform --png FILE` writes: the whole deformed mesh, titled with the
-/// case's name, the method and the step count, its moved patch drawn blue.
+/// The picture `meshmove deform --png FILE` writes: the whole deformed mesh (3D: its section
+/// through the moved patch, [`crate::plot3d::section_png`]), titled with the case's name, the
+/// method and the step count, its moved patch drawn blue.
 pub fn case_png(
     path: &Path,
     setup: &meshmove::cases::setups::CaseSetup,
@@ -243,6 +244,11 @@ pub fn case_png(
     steps: usize,
 ) -> Result<(), String> {
     let title = format!("{}: {method:?}, {steps} step(s)", setup.name).to_lowercase();
+    if setup.mesh.dim() == 3 {
+        let axis = crate::plot3d::section_axis(&setup.mesh, &setup.motion);
+        return crate::plot3d::section_png(path, (&setup.mesh, coords), (title, &[]), (axis, setup.moved_patch), 800)
+            .map_err(|e| format!("{}: {e}", path.display()));
+    }
     let (highlight, extra) = match setup.moved_patch {
         0 => (Vec::new(), Vec::new()),
         p => (patch_edges(&setup.mesh, p), vec![format!("blue: the moved patch ({p})")]),
@@ -329,7 +335,7 @@ pub fn semilog_png(
 
 /// Writes an RGB buffer as PNG with indexed colour and best compression: the 256 most frequent
 /// colours form the palette and any other (anti-aliased text edges) takes its nearest entry.
-fn save_png(path: &Path, rgb: &[u8], width: u32, height: u32) -> Result<(), Err> {
+pub(crate) fn save_png(path: &Path, rgb: &[u8], width: u32, height: u32) -> Result<(), Err> {
     let mut counts: std::collections::HashMap<[u8; 3], usize> = std::collections::HashMap::new();
     for px in rgb.chunks_exact(3) {
         *counts.entry([px[0], px[1], px[2]]).or_default() += 1;
