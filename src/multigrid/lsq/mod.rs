@@ -3,13 +3,13 @@
 //!
 //! No permissively licensed 3D constrained tetrahedraliser exists to rebuild coarse meshes as
 //! the 2D coarsener does, and interpolation needs none: a coarse level keeps a maximal
-//! independent set of the fine unknowns (`select`), each fine unknown interpolates from coarse
-//! unknowns of its neighbourhood with the smallest weights that reproduce linear fields exactly
+//! independent set of the strongly coupled fine unknowns (`select`, `strong`), each fine
+//! unknown interpolates from coarse unknowns of its neighbourhood with the smallest weights that reproduce linear fields exactly
 //! along the feature it lies on (`weights`: the whole space inside, the tangent plane on a
 //! wall, the line on a crease), and the coarse operators are Galerkin products PᵀKP and PᵀV.
 //! Linear exactness is what the biharmonic needs (docs/DESIGN.md §5); aggregation without it
 //! does not converge mesh-independently. Coarse unknowns are fine unknowns, so a moved fine
-//! mesh moves them too: the weights are re-evaluated with the same neighbours.
+//! mesh moves them too: the interpolation is chosen again at the new positions.
 
 mod features;
 mod weights;
@@ -21,6 +21,7 @@ use super::coarsener::{CoarseUnknowns, Coarsener};
 use super::hierarchy::{Level, Transfer};
 use super::restriction::Restriction;
 use crate::mesh::Mesh;
+use crate::sparse::CsrMatrix;
 use crate::Result;
 use std::sync::Arc;
 
@@ -46,7 +47,8 @@ impl Coarsener for LeastSquares {
                 Some(Features::build(mesh, &fine.dofs, &fine.pairs, regions, self.params.corner_angle_deg));
         }
         let features = fine.features.as_ref().expect("just built");
-        let kept = select(&fine.op.k, features);
+        let points = fine.unknown_points();
+        let kept = select(&fine.op.k, features, &points);
         let nc = kept.len();
         if nc < self.params.min_vertices || (n as f64) < self.params.min_ratio * nc as f64 {
             return None;
@@ -61,34 +63,58 @@ impl Coarsener for LeastSquares {
     }
 
     fn update(&self, t: &mut Transfer, fine: &Level, coarse: &Level) {
-        t.prolong = Arc::new(weights::prolongation(fine, &coarse.parent_vertex, Some(&t.prolong)));
+        t.prolong = Arc::new(weights::prolongation(fine, &coarse.parent_vertex));
         t.restrict = Restriction::new(Arc::clone(&t.prolong));
     }
 }
 
 /// The transfer from `fine` to its unknowns `kept`.
 fn transfer(fine: &Level, kept: &[u32]) -> Transfer {
-    let prolong = Arc::new(weights::prolongation(fine, kept, None));
+    let prolong = Arc::new(weights::prolongation(fine, kept));
     let restrict = Restriction::new(Arc::clone(&prolong));
     Transfer { cells: Vec::new(), prolong, restrict }
 }
 
-/// The kept unknowns, ascending: a maximal independent set of K's graph, greedy in the order
-/// corners, creases, walls, inside (each by index), where an unknown is dropped when a
-/// neighbour that may interpolate it (`Features::donor_ok`) is already kept. Every dropped
-/// unknown thus has a kept neighbour to interpolate from, and features are coarsened along
-/// themselves: every other vertex of a crease, an independent set of a wall.
-fn select(k: &crate::sparse::CsrMatrix, f: &Features) -> Vec<u32> {
+/// The kept unknowns, ascending: a maximal independent set of the strong couplings of K's graph
+/// (`strong`), greedy in the order corners, creases, walls, inside (each by index), where an
+/// unknown is dropped when a strongly coupled neighbour that may interpolate it
+/// (`Features::donor_ok`) is already kept. Every dropped unknown thus has a kept neighbour to
+/// interpolate from, features are coarsened along themselves (every other vertex of a crease,
+/// an independent set of a wall), and thin cells are coarsened across their thickness only.
+fn select(k: &CsrMatrix, f: &Features, points: &[f64]) -> Vec<u32> {
     let n = k.nrows;
+    let dim = f.dim();
     let mut order: Vec<u32> = (0..n as u32).collect();
     order.sort_by_key(|&d| (f.feature_dim(d as usize), d));
     let mut kept = vec![false; n];
+    let at = |d: usize| &points[d * dim..(d + 1) * dim];
     for &v in &order {
         let v = v as usize;
-        let (cols, _) = k.row(v);
-        if !cols.iter().any(|&u| u as usize != v && kept[u as usize] && f.donor_ok(v, u as usize)) {
+        let rel = |u: usize| f.relative(v, u, at(v), at(u));
+        if !strong(k, v, rel).any(|u| kept[u as usize] && f.donor_ok(v, u as usize)) {
             kept[v] = true;
         }
     }
     (0..n as u32).filter(|&d| kept[d as usize]).collect()
+}
+
+/// How much farther than the nearest neighbour a neighbour may be and still count as strongly
+/// coupled. Within a cell of moderate aspect ratio every neighbour does (a cube's diagonal is
+/// √3 of its edge); across a thin layer only the neighbours through its thickness do.
+const STRONG_REACH: f64 = 2.0;
+
+/// The neighbours of `v` in K's graph (not `v`) within `STRONG_REACH` times the nearest one's
+/// distance, `rel(u)` giving u's offset from `v`. The stiffness couples neighbours as the
+/// inverse square of their distance, so the near ones are the strong ones; K's own entries are
+/// no guide, as a trilinear hexahedron couples face neighbours by zero.
+pub(super) fn strong(k: &CsrMatrix, v: usize, rel: impl Fn(usize) -> [f64; 3]) -> impl Iterator<Item = u32> + '_ {
+    let cols = k.row(v).0;
+    let d2: Vec<f64> = cols.iter().map(|&u| if u as usize == v { f64::INFINITY } else { norm2(rel(u as usize)) }).collect();
+    let nearest = d2.iter().copied().fold(f64::INFINITY, f64::min);
+    let reach = STRONG_REACH * STRONG_REACH * nearest;
+    cols.iter().zip(d2).filter(move |&(_, d)| d <= reach).map(|(&u, _)| u)
+}
+
+fn norm2(r: [f64; 3]) -> f64 {
+    r[0] * r[0] + r[1] * r[1] + r[2] * r[2]
 }

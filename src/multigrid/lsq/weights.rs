@@ -21,9 +21,10 @@ const CHUNK: usize = 2048;
 /// Largest Σ|w| accepted while more donors remain.
 const MAX_ABS_SUM: f64 = 2.0;
 
-/// P: fine unknowns × the coarse unknowns `kept` (fine numbering, ascending). With `pattern` (the previous P), each row keeps its
-/// donors and only the weights are re-evaluated at the current positions.
-pub(super) fn prolongation(fine: &Level, kept: &[u32], pattern: Option<&CsrMatrix>) -> CsrMatrix {
+/// P: fine unknowns × the coarse unknowns `kept` (fine numbering, ascending), donors and weights
+/// chosen at the current positions (a moved mesh may need other donors: a set that lay in the
+/// plane of its unknown, across a thin layer, no longer does).
+pub(super) fn prolongation(fine: &Level, kept: &[u32]) -> CsrMatrix {
     let f = fine.features.as_ref().expect("a least-squares level has features");
     let points = fine.unknown_points();
     let dim = f.dim();
@@ -44,11 +45,7 @@ pub(super) fn prolongation(fine: &Level, kept: &[u32], pattern: Option<&CsrMatri
                 if cv != u32::MAX {
                     row.push((cv, 1.0));
                 } else {
-                    let donors: Vec<u32> = match pattern {
-                        Some(p) => p.row(v).0.iter().map(|&c| kept[c as usize]).collect(),
-                        None => ctx.choose(v),
-                    };
-                    ctx.row(v, &donors, &mut row);
+                    ctx.row(v, &ctx.choose(v), &mut row);
                 }
                 lens.push(row.len() as u32);
                 for &(c, w) in &row {
@@ -100,15 +97,17 @@ impl Context<'_> {
         self.f.relative(v, u, &self.points[v * d..(v + 1) * d], &self.points[u * d..(u + 1) * d])
     }
 
-    /// The donors of fine unknown `v` (fine numbering), ascending: its kept neighbours nearest
-    /// first, then (only when those do not determine a bounded fit) kept neighbours of
-    /// neighbours nearest first, one at a time.
+    /// The donors of fine unknown `v` (fine numbering), ascending: its strongly coupled kept
+    /// neighbours (`strong`) nearest first, then (only when those do not determine a bounded
+    /// fit) its other kept neighbours and kept neighbours of neighbours, nearest first, one at a
+    /// time.
     fn choose(&self, v: usize) -> Vec<u32> {
         let is_donor = |u: u32| self.coarse_of[u as usize] != u32::MAX && self.f.donor_ok(v, u as usize);
         let dist = |u: u32| norm2(self.rel(v, u as usize));
         let by_distance = |list: &mut Vec<u32>| list.sort_by(|&a, &b| dist(a).total_cmp(&dist(b)).then(a.cmp(&b)));
         let row = self.k.row(v).0;
-        let mut cands: Vec<u32> = row.iter().copied().filter(|&u| u as usize != v && is_donor(u)).collect();
+        let mut cands: Vec<u32> =
+            super::strong(self.k, v, |u| self.rel(v, u)).filter(|&u| is_donor(u)).collect();
         by_distance(&mut cands);
         let fdim = self.f.feature_dim(v);
         let near = cands.len();
@@ -117,7 +116,8 @@ impl Context<'_> {
         }
         let mut far: Vec<u32> = row
             .iter()
-            .flat_map(|&w| self.k.row(w as usize).0.iter().copied())
+            .copied()
+            .chain(row.iter().flat_map(|&w| self.k.row(w as usize).0.iter().copied()))
             .filter(|&u| u as usize != v && is_donor(u) && !cands[..near].contains(&u))
             .collect();
         far.sort_unstable();
@@ -176,15 +176,20 @@ impl Context<'_> {
             return None;
         }
         let h = h2.sqrt();
-        let axes = axes(&rel, fdim, self.dim);
-        let q = fdim + 1;
+        // The feature's axes from the donors' spread; the fit uses those across which the
+        // donors spread (all of them, unless the donors lie in a plane or on a line through
+        // `v`, as across a thin layer), and is then checked exact along all of them.
+        let (axes, spread) = principal_axes(&rel);
+        let k = (0..fdim).filter(|&i| spread[i] > SPREAD * spread[0]).count();
+        let q = k + 1;
         // a[r][j]: row r of A (1, then the offsets along the axes over h).
+        let along = |r: &[f64; 3], ax: &[f64; 3]| (r[0] * ax[0] + r[1] * ax[1] + r[2] * ax[2]) / h;
         let a: Vec<[f64; 4]> = rel
             .iter()
             .map(|r| {
                 let mut c = [1.0, 0.0, 0.0, 0.0];
-                for (k, ax) in axes.iter().enumerate().take(fdim) {
-                    c[k + 1] = (r[0] * ax[0] + r[1] * ax[1] + r[2] * ax[2]) / h;
+                for (i, ax) in axes.iter().enumerate().take(k) {
+                    c[i + 1] = along(r, ax);
                 }
                 c
             })
@@ -200,26 +205,26 @@ impl Context<'_> {
         }
         let lambda = solve_spd(mat, q)?;
         let w: Vec<f64> = a.iter().zip(&omega).map(|(c, &w)| w * (0..q).map(|r| c[r] * lambda[r]).sum::<f64>()).collect();
-        // The constraints hold to rounding, or the donors were too nearly degenerate.
-        let exact = (0..q).all(|r| {
-            let target = if r == 0 { 1.0 } else { 0.0 };
-            (a.iter().zip(&w).map(|(c, w)| c[r] * w).sum::<f64>() - target).abs() <= 1e-10
-        });
-        exact.then_some(w)
+        // Constants and linear fields along every axis of the feature hold to rounding, or the
+        // donors were too nearly degenerate (or `v` lies off their plane or line).
+        let sum_ok = (w.iter().sum::<f64>() - 1.0).abs() <= 1e-10;
+        let linear_ok = axes.iter().take(fdim).all(|ax| rel.iter().zip(&w).map(|(r, w)| w * along(r, ax)).sum::<f64>().abs() <= 1e-10);
+        (sum_ok && linear_ok).then_some(w)
     }
 }
+
+/// Smallest spread (eigenvalue of the donors' offset moments) across an axis, relative to the
+/// largest, for the fit to use that axis: a thousandth of the donors' extent squared.
+const SPREAD: f64 = 1e-6;
 
 fn norm2(r: [f64; 3]) -> f64 {
     r[0] * r[0] + r[1] * r[1] + r[2] * r[2]
 }
 
-/// The feature's axes: the unit axes of space inside the domain, else the `fdim` principal
-/// directions of the donors' offsets (a wall's tangent plane, a crease's line).
-fn axes(rel: &[[f64; 3]], fdim: usize, dim: usize) -> [[f64; 3]; 3] {
-    let mut ax = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
-    if fdim >= dim {
-        return ax;
-    }
+/// The principal axes of the offsets `rel` (unit vectors, by decreasing spread) and their
+/// spreads Σ (r·a)²: on a wall the first two span its tangent plane, on a crease the first is
+/// its line.
+fn principal_axes(rel: &[[f64; 3]]) -> ([[f64; 3]; 3], [f64; 3]) {
     let mut c = [[0.0; 3]; 3];
     for r in rel {
         for i in 0..3 {
@@ -231,10 +236,7 @@ fn axes(rel: &[[f64; 3]], fdim: usize, dim: usize) -> [[f64; 3]; 3] {
     let (vals, vecs) = symmetric_eigen3(c);
     let mut idx = [0usize, 1, 2];
     idx.sort_by(|&a, &b| vals[b].total_cmp(&vals[a]));
-    for (k, &i) in idx.iter().enumerate() {
-        ax[k] = [vecs[0][i], vecs[1][i], vecs[2][i]];
-    }
-    ax
+    (idx.map(|i| [vecs[0][i], vecs[1][i], vecs[2][i]]), idx.map(|i| vals[i].max(0.0)))
 }
 
 /// Eigenvalues and eigenvectors (columns) of a symmetric 3×3 matrix by cyclic Jacobi rotations:
