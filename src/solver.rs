@@ -7,7 +7,7 @@
 //! a reference mesh with a cell of non-positive area is `Error::Tangled` before anything is
 //! solved on it, and a call that fails leaves the solver exactly as it was.
 
-use crate::bc::{resolve_links, BoundaryConditions, Kind, COMPONENT, P};
+use crate::bc::{resolve_links, BoundaryConditions, Kind, SlipWalls, COMPONENT, P};
 use crate::mesh::quality::{inverted_cells, quality, Quality};
 use crate::motion::Motion;
 use crate::multigrid::cycle::{cycle, Workspace};
@@ -22,6 +22,7 @@ use crate::{Error, Mesh, Result};
 use std::ops::Range;
 use std::time::Instant;
 
+mod slip;
 mod steps;
 
 pub use steps::StepReport;
@@ -105,6 +106,8 @@ pub struct Solver {
     /// The last valid mesh the last `advance` or `move_in_steps` call reached (empty before the
     /// first).
     last_valid: Vec<f64>,
+    /// The shapes of the SLIP walls, from the mesh the solver was made with (None without).
+    walls: Option<SlipWalls>,
 }
 
 impl Solver {
@@ -120,7 +123,8 @@ impl Solver {
         let pool = Pool::new(opts.threads)?;
         let hierarchy = pool.install(|| Hierarchy::build(mesh, pairs, bcs, opts.method, &opts.hierarchy))??;
         let (steps, last_valid) = (Vec::new(), Vec::new());
-        Ok(Solver { opts, bcs: bcs.clone(), hierarchy, pool, total: None, steps, last_valid })
+        let walls = SlipWalls::new(mesh, bcs);
+        Ok(Solver { opts, bcs: bcs.clone(), hierarchy, pool, total: None, steps, last_valid, walls })
     }
 
     /// Runs `f` on the solver's threads: every part of a call's work, so the thread count set
@@ -219,6 +223,7 @@ impl Solver {
         let mesh = self.mesh();
         motion.check(mesh)?;
         for &(patch, m) in &motion.rigid {
+            // A SLIP patch takes the normal part of its motion.
             for (c, name) in COMPONENT.iter().enumerate() {
                 if self.bcs.kind(patch, c) != Kind::Free {
                     continue;
@@ -330,8 +335,14 @@ impl Solver {
         let lev = self.hierarchy.fine();
         let (n, dim) = (lev.n(), lev.dim());
         let (mut b, mut x) = (vec![0.0; comps.len() * n], vec![0.0; comps.len() * n]);
-        for (k, c) in comps.enumerate() {
-            let (dp, g) = self.prescribed(motion, vals, c)?;
+        // Slip walls: the system is for w = d − g, g the prescribed normal parts, in the free
+        // subspace: b = Π (−A g − A_{U,P} d_P), w₀ = Π (guess − g).
+        let normal = Self::normal_parts(lev, &comps, vals);
+        for (k, c) in comps.clone().enumerate() {
+            let (mut dp, g) = self.prescribed(motion, vals, c)?;
+            if let Some(gn) = &normal {
+                dp.iter_mut().zip(&gn[k * n..(k + 1) * n]).for_each(|(d, g)| *d += g);
+            }
             Self::rhs(lev, c, &dp, g.as_deref(), &mut b[k * n..(k + 1) * n])?;
             if let Some(gv) = guess {
                 let flags = &lev.flags[c];
@@ -342,12 +353,30 @@ impl Solver {
                 }
             }
         }
+        if let (Some(gn), Some(s)) = (&normal, lev.slip.as_ref()) {
+            x.iter_mut().zip(gn).for_each(|(x, g)| *x -= g);
+            s.frames.project(n, &mut x);
+            s.frames.project(n, &mut b);
+        }
         Ok((b, x))
     }
 
-    /// Adds the prescribed values to the P unknowns of the blocks `x` (the solve leaves them 0).
+    /// The prescribed normal parts at the slip unknowns when `comps` is the group slip walls
+    /// couple (see `slip::normal_parts`).
+    fn normal_parts(lev: &Level, comps: &Range<usize>, vals: &[f64]) -> Option<Vec<f64>> {
+        if comps.len() != lev.dim() || comps.len() < 2 {
+            return None;
+        }
+        slip::normal_parts(lev, vals)
+    }
+
+    /// Adds the prescribed values to the P unknowns of the blocks `x` (the solve leaves them 0),
+    /// and the prescribed normal parts to the slip unknowns.
     fn add_prescribed(lev: &Level, comps: Range<usize>, vals: &[f64], x: &mut [f64]) {
         let (n, dim) = (lev.n(), lev.dim());
+        if let Some(g) = Self::normal_parts(lev, &comps, vals) {
+            x.iter_mut().zip(&g).for_each(|(x, g)| *x += g);
+        }
         for (k, c) in comps.enumerate() {
             let flags = &lev.flags[c];
             for (i, x) in x[k * n..(k + 1) * n].iter_mut().enumerate() {
@@ -398,8 +427,23 @@ impl Solver {
         if let Some(i) = displacement.iter().position(|d| !d.is_finite()) {
             return Err(Error::Diverged(format!("the displacement of vertex {} is not finite", i / lev.dim())));
         }
+        let mut report = report.expect("at least one component");
+        self.onto_walls(motion, &vals, &mut displacement, &mut report);
         let quality = moved_quality(&lev.mesh, &displacement);
-        Ok(Solution { displacement, report: report.expect("at least one component"), quality })
+        Ok(Solution { displacement, report, quality })
+    }
+
+    /// Moves the slipped vertices of a result onto their walls (curved walls: the solve moves
+    /// them in the tangent planes) and reports the distances.
+    fn onto_walls(&self, motion: &Motion, vals: &[f64], displacement: &mut [f64], report: &mut Report) {
+        let Some(walls) = &self.walls else {
+            return;
+        };
+        let lev = self.hierarchy.fine();
+        let moving = slip::moving_patches(walls, lev, motion, vals);
+        let (after, before) = slip::onto_walls(walls, lev, &moving, displacement);
+        report.max_slip_offwall = after;
+        report.max_slip_correction = before;
     }
 
     /// One multigrid cycle of the solver's mode from `displacement` (read and overwritten, `dim`
@@ -430,7 +474,7 @@ impl Solver {
             let mut s = vec![0.0; lev.n()];
             let mut r = vec![0.0; b.len()];
             let before = x.clone();
-            let mut ws = Workspace::new(&self.hierarchy);
+            let mut ws = Workspace::new(&self.hierarchy, comps.len());
             cycle(&self.hierarchy, comps.clone(), &cp, &b, &mut x, Start::Guess, &mut ws);
             lev.residual(comps.clone(), &b, &x, &mut r, &mut s);
             let bn = crate::sparse::dot(&b, &b).sqrt();
@@ -456,6 +500,7 @@ impl Solver {
                 breakdown: None,
                 seconds: secs,
                 history: vec![(mc, rel)],
+                ..Default::default()
             };
             report = Some(match report {
                 None => rep,

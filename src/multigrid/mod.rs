@@ -8,5 +8,6 @@ pub mod coarsener;
 pub mod cycle;
 pub mod hierarchy;
 pub mod restriction;
+pub mod slip;
 pub mod smoother;
 pub mod solve;
