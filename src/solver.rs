@@ -390,7 +390,32 @@ impl Solver {
     fn solve_inner(&self, motion: &Motion, guess: Option<&[f64]>) -> Result<Solution> {
         let lev = self.hierarchy.fine();
         let vals = motion.vertex_values(&lev.mesh);
-        let scale = Self::scale(&vals);
+        let (mut displacement, mut report) = self.solve_groups(motion, &vals, guess)?;
+        if let Some(walls) = &self.walls {
+            // Curved slip walls: the solve slides vertices in the walls' tangent planes. Their
+            // second-order distances from the walls are prescribed as normal displacements in a
+            // second solve from the first result, so the interior follows the walls' curvature
+            // (moving only the wall vertices would squeeze the cells next to a wall at every
+            // step); what remains is moved onto the walls. Flat walls need no second solve.
+            let moving = slip::moving_patches(walls, lev, motion, &vals);
+            if let Some(on_wall) = slip::on_wall_values(walls, lev, &moving, &vals, &displacement) {
+                let (d, r) = self.solve_groups(motion, &on_wall, Some(&displacement))?;
+                displacement = d;
+                report = Report::chain(report, r);
+            }
+            let (after, before) = slip::onto_walls(walls, lev, &moving, &mut displacement);
+            report.max_slip_offwall = after;
+            report.max_slip_correction = before;
+        }
+        let quality = moved_quality(&lev.mesh, &displacement);
+        Ok(Solution { displacement, report, quality })
+    }
+
+    /// Solves every group of components for the prescribed values `vals` (`dim` per vertex),
+    /// from `guess`: the displacement of every vertex and the combined report.
+    fn solve_groups(&self, motion: &Motion, vals: &[f64], guess: Option<&[f64]>) -> Result<(Vec<f64>, Report)> {
+        let lev = self.hierarchy.fine();
+        let scale = Self::scale(vals);
         // Each group's solution on the unknowns; the per-vertex field is made after the last
         // solve, so it does not add to the memory of the solves.
         let mut solved: Vec<(Range<usize>, Vec<f64>)> = Vec::new();
@@ -398,7 +423,7 @@ impl Solver {
         for comps in self.hierarchy.groups() {
             let name = group_name(comps.clone());
             // One group at a time: only its right-hand side and iterate are alive (memory).
-            let (b, mut x) = self.group_system(motion, &vals, comps.clone(), guess)?;
+            let (b, mut x) = self.group_system(motion, vals, comps.clone(), guess)?;
             let rep = solve(&self.hierarchy, comps.clone(), &self.opts.solve, &b, &mut x, scale);
             drop(b);
             if let Some(k) = rep.breakdown {
@@ -413,7 +438,7 @@ impl Solver {
                     rep.rel_residual, rep.cycles
                 )));
             }
-            Self::add_prescribed(lev, comps.clone(), &vals, &mut x);
+            Self::add_prescribed(lev, comps.clone(), vals, &mut x);
             solved.push((comps, x));
             report = Some(match report {
                 None => rep,
@@ -427,23 +452,7 @@ impl Solver {
         if let Some(i) = displacement.iter().position(|d| !d.is_finite()) {
             return Err(Error::Diverged(format!("the displacement of vertex {} is not finite", i / lev.dim())));
         }
-        let mut report = report.expect("at least one component");
-        self.onto_walls(motion, &vals, &mut displacement, &mut report);
-        let quality = moved_quality(&lev.mesh, &displacement);
-        Ok(Solution { displacement, report, quality })
-    }
-
-    /// Moves the slipped vertices of a result onto their walls (curved walls: the solve moves
-    /// them in the tangent planes) and reports the distances.
-    fn onto_walls(&self, motion: &Motion, vals: &[f64], displacement: &mut [f64], report: &mut Report) {
-        let Some(walls) = &self.walls else {
-            return;
-        };
-        let lev = self.hierarchy.fine();
-        let moving = slip::moving_patches(walls, lev, motion, vals);
-        let (after, before) = slip::onto_walls(walls, lev, &moving, displacement);
-        report.max_slip_offwall = after;
-        report.max_slip_correction = before;
+        Ok((displacement, report.expect("at least one component")))
     }
 
     /// One multigrid cycle of the solver's mode from `displacement` (read and overwritten, `dim`

@@ -151,6 +151,21 @@ impl Report {
     }
 }
 
+impl Report {
+    /// The report of two solves run one after the other on the same system (the second from the
+    /// first's result): cycles, history and time added, the second's residual and verdict.
+    pub(crate) fn chain(a: Report, b: Report) -> Report {
+        Report {
+            cycles: a.cycles + b.cycles,
+            converged: a.converged && b.converged,
+            breakdown: a.breakdown.or(b.breakdown),
+            seconds: a.seconds + b.seconds,
+            history: a.history.into_iter().chain(b.history).collect(),
+            ..b
+        }
+    }
+}
+
 fn done(p: &SolveParams, max_corr: f64, rel: f64, scale: f64) -> bool {
     match p.criterion {
         Criterion::RelativeResidual => rel <= p.tol,

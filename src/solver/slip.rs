@@ -47,36 +47,69 @@ pub(super) fn moving_patches(walls: &SlipWalls, lev: &Level, motion: &Motion, va
     out
 }
 
+/// Each slipped vertex of a result that is to be moved onto its walls, with the walls it lies on
+/// and whether it is on an edge where walls meet: walls in `moving` are left alone, and so are
+/// unknowns with a prescribed component (moving them would change it).
+fn slipped<'a>(
+    walls: &'a SlipWalls,
+    lev: &'a Level,
+    moving: &'a [i32],
+) -> impl Iterator<Item = (usize, Vec<i32>, bool)> + 'a {
+    let s = lev.slip.as_ref();
+    let dofs = s.map(|s| s.frames.dofs.as_slice()).unwrap_or_default();
+    let dim = lev.dim();
+    dofs.iter().enumerate().filter(move |(_, &d)| (0..dim).all(|c| lev.flags[c][d as usize] & P == 0)).flat_map(
+        move |(k, &d)| {
+            let edge = s.expect("slip unknowns").frames.directions(k).len() > 1;
+            lev.dofs.vertices_of(d as usize).iter().filter_map(move |&v| {
+                let patches: Vec<i32> = walls.patches_of(v).filter(|p| moving.binary_search(p).is_err()).collect();
+                (!patches.is_empty()).then_some((v as usize, patches, edge))
+            })
+        },
+    )
+}
+
+/// The prescribed values of a second solve that puts the slipped vertices of the result
+/// `displacement` on their walls: `vals` with each slipped vertex's value replaced by its
+/// displacement to the closest point of its walls (the solve reads its normal part). None when
+/// every slipped vertex is on its walls already (flat walls).
+pub(super) fn on_wall_values(
+    walls: &SlipWalls,
+    lev: &Level,
+    moving: &[i32],
+    vals: &[f64],
+    displacement: &[f64],
+) -> Option<Vec<f64>> {
+    let dim = lev.dim();
+    let mut out = vals.to_vec();
+    let mut far = false;
+    for (v, patches, edge) in slipped(walls, lev, moving) {
+        let x0 = lev.mesh.point(v);
+        let mut p: Vec<f64> = (0..dim).map(|c| x0[c] + displacement[v * dim + c]).collect();
+        let scale = p.iter().fold(1.0f64, |m, x| m.max(x.abs()));
+        far |= walls.distance(&patches, edge, &p) > ON_WALL * scale;
+        walls.project(&patches, edge, &mut p);
+        (0..dim).for_each(|c| out[v * dim + c] = p[c] - x0[c]);
+    }
+    far.then_some(out)
+}
+
+/// A slipped vertex this close to its wall (relative to its coordinates) is on it: rounding.
+const ON_WALL: f64 = 1e-13;
+
 /// Moves every slipped vertex of the result onto its walls (`displacement`: `dim` values per
-/// vertex, from the positions of `lev`'s mesh). Walls in `moving` are left alone, and so are
-/// unknowns with a prescribed component (the projection would change it). Returns the largest
-/// distance from the walls after and before: (`max_slip_offwall`, `max_slip_correction`).
+/// vertex, from the positions of `lev`'s mesh). Returns the largest distance from the walls
+/// after and before: (`max_slip_offwall`, `max_slip_correction`).
 pub(super) fn onto_walls(walls: &SlipWalls, lev: &Level, moving: &[i32], displacement: &mut [f64]) -> (f64, f64) {
-    let Some(s) = lev.slip.as_ref() else {
-        return (0.0, 0.0);
-    };
     let dim = lev.dim();
     let (mut after, mut before) = (0.0f64, 0.0f64);
-    let mut patches: Vec<i32> = Vec::new();
-    for (k, &d) in s.frames.dofs.iter().enumerate() {
-        if (0..dim).any(|c| lev.flags[c][d as usize] & P != 0) {
-            continue;
-        }
-        let edge = s.frames.directions(k).len() > 1;
-        for &v in lev.dofs.vertices_of(d as usize) {
-            patches.clear();
-            patches.extend(walls.patches_of(v).filter(|p| moving.binary_search(p).is_err()));
-            if patches.is_empty() {
-                continue;
-            }
-            let v = v as usize;
-            let x0 = lev.mesh.point(v);
-            let mut p: Vec<f64> = (0..dim).map(|c| x0[c] + displacement[v * dim + c]).collect();
-            before = before.max(walls.distance(&patches, edge, &p));
-            walls.project(&patches, edge, &mut p);
-            after = after.max(walls.distance(&patches, edge, &p));
-            (0..dim).for_each(|c| displacement[v * dim + c] = p[c] - x0[c]);
-        }
+    for (v, patches, edge) in slipped(walls, lev, moving) {
+        let x0 = lev.mesh.point(v);
+        let mut p: Vec<f64> = (0..dim).map(|c| x0[c] + displacement[v * dim + c]).collect();
+        before = before.max(walls.distance(&patches, edge, &p));
+        walls.project(&patches, edge, &mut p);
+        after = after.max(walls.distance(&patches, edge, &p));
+        (0..dim).for_each(|c| displacement[v * dim + c] = p[c] - x0[c]);
     }
     (after, before)
 }

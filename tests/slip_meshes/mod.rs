@@ -85,6 +85,19 @@ fn wobble(i: [usize; 3], k: f64) -> f64 {
 /// range of columns and rows) removed (the body), interior vertices jittered by `jitter` of a
 /// cell, then rotated by `angle` about the origin. Patches: BOTTOM, TOP, LEFT, RIGHT, BODY.
 pub fn channel(nx: usize, ny: usize, len: f64, hole: [[usize; 2]; 2], jitter: f64, angle: f64) -> Mesh {
+    let (s, c) = angle.sin_cos();
+    channel_mapped(nx, ny, len, hole, jitter, |x, y| [c * x - s * y, s * x + c * y])
+}
+
+/// The channel of `channel`, its points (x, y) of [0, len] × [0, 1] mapped by `map`.
+pub fn channel_mapped(
+    nx: usize,
+    ny: usize,
+    len: f64,
+    hole: [[usize; 2]; 2],
+    jitter: f64,
+    map: impl Fn(f64, f64) -> [f64; 2],
+) -> Mesh {
     let g = Grid { dim: 2, n: [nx, ny, 0] };
     let mut cells = Vec::new();
     for j in 0..ny {
@@ -116,7 +129,7 @@ pub fn channel(nx: usize, ny: usize, len: f64, hole: [[usize; 2]; 2], jitter: f6
             BODY
         }
     };
-    let (h, (s, c)) = (len / nx as f64, angle.sin_cos());
+    let h = len / nx as f64;
     let place = |i: [usize; 3], inside: bool| {
         let mut x = i[0] as f64 * h;
         let mut y = i[1] as f64 / ny as f64;
@@ -124,7 +137,7 @@ pub fn channel(nx: usize, ny: usize, len: f64, hole: [[usize; 2]; 2], jitter: f6
             x += jitter * h * wobble(i, 0.71);
             y += jitter / ny as f64 * wobble(i, 1.37);
         }
-        vec![c * x - s * y, s * x + c * y]
+        map(x, y).to_vec()
     };
     build(&g, cells, faces, tag, place)
 }

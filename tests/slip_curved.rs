@@ -1,0 +1,141 @@
+//! SLIP walls that are curved (docs/DESIGN.md §4 "Slip walls"): slipped vertices stay on the wall
+//! (its original faces, or the analytic shape the caller gives), and a body turning inside a
+//! slip wall keeps the mesh far better than a fixed wall.
+
+mod common;
+mod slip_meshes;
+
+use meshmove::bc::SlipSurface;
+use meshmove::mesh::quality;
+use meshmove::{BoundaryConditions, Kind, Link, Mesh, Method, Motion, Options, RigidMotion, Solver};
+
+const METHODS: [Method; 3] = [Method::Biharmonic, Method::Laplacian, Method::Spring];
+
+/// The annulus 1 ≤ r ≤ 3, the inner circle turned by 90° in 10 steps, the outer one `outer`:
+/// returns the moved positions.
+fn turned_annulus(mesh: &Mesh, method: Method, outer: Kind, circle: bool) -> (Vec<f64>, f64) {
+    let mut bcs = BoundaryConditions::new();
+    bcs.set_kinds(common::INNER, Kind::Clamped).set_kinds(common::OUTER, outer);
+    if circle {
+        bcs.set_slip_surface(
+            common::OUTER,
+            SlipSurface::new(|x| {
+                let r = (x[0] * x[0] + x[1] * x[1]).sqrt();
+                [3.0 * x[0] / r, 3.0 * x[1] / r, 0.0]
+            }),
+        );
+    }
+    let mut solver = Solver::new(mesh, &bcs, Options { method, ..Default::default() }).unwrap();
+    let turn = RigidMotion::planar([0.0, 0.0], std::f64::consts::FRAC_PI_2, [0.0, 0.0]);
+    let reports = solver.move_in_steps(&Motion::zero(mesh).with_rigid(common::INNER, turn), 10).unwrap();
+    let offwall = reports.iter().map(|r| r.max_slip_offwall).fold(0.0, f64::max);
+    (solver.mesh().coords().to_vec(), offwall)
+}
+
+/// Largest |r − 3| over the outer circle's vertices at positions `x`.
+fn off_circle(mesh: &Mesh, x: &[f64]) -> f64 {
+    mesh.patch_vertices(common::OUTER)
+        .iter()
+        .map(|&v| ((x[2 * v as usize].powi(2) + x[2 * v as usize + 1].powi(2)).sqrt() - 3.0).abs())
+        .fold(0.0, f64::max)
+}
+
+/// The outer circle's vertices turn with the body when it slips (0.2 of the body's turn for the
+/// Laplacian, whose exact answer is u_θ = ω (r + 9/r) / 10, not a rigid rotation).
+fn outer_turn(mesh: &Mesh, x: &[f64]) -> f64 {
+    let vs = mesh.patch_vertices(common::OUTER);
+    let turn: f64 = vs
+        .iter()
+        .map(|&v| {
+            let (p, q) = (mesh.point(v as usize), &x[2 * v as usize..2 * v as usize + 2]);
+            (p[0] * q[1] - p[1] * q[0]).atan2(p[0] * q[0] + p[1] * q[1])
+        })
+        .sum();
+    turn / vs.len() as f64
+}
+
+#[test]
+fn a_body_turning_inside_a_slip_circle() {
+    let (nt, nr) = (96, 16);
+    let mesh = common::annulus(nr, nt, 1.0, 3.0, 1.1);
+    let chord = 3.0 * (1.0 - (std::f64::consts::PI / nt as f64).cos());
+    for method in METHODS {
+        let (fixed, _) = turned_annulus(&mesh, method, Kind::Fixed, false);
+        let (slip, offwall) = turned_annulus(&mesh, method, Kind::Slip, false);
+        let (qf, qs) = (quality(&mesh, &fixed), quality(&mesh, &slip));
+        let (d, turn) = (off_circle(&mesh, &slip), outer_turn(&mesh, &slip).to_degrees());
+        println!(
+            "{method:?}: FIXED min area ratio {:.3}, min angle {:.1}°, inverted {}; SLIP {:.3}, {:.1}°, inverted {}; \
+             outer circle turned {turn:.1}°, off the circle {d:.2e} (chord error {chord:.2e}), off its faces {offwall:.1e}",
+            qf.min_area_ratio, qf.min_angle_deg, qf.inverted, qs.min_area_ratio, qs.min_angle_deg, qs.inverted
+        );
+        assert_eq!(qs.inverted, 0, "{method:?}");
+        assert!(qs.min_angle_deg > 1.4 * qf.min_angle_deg && qs.min_area_ratio > qf.min_area_ratio, "{method:?}");
+        assert!(d <= chord + 1e-12, "{method:?}: {d:e} off the circle");
+        assert!(offwall < 1e-12, "{method:?}: {offwall:e} off the polygon");
+        assert!(turn > 5.0, "{method:?}: the outer wall slides");
+        // With the circle itself as the wall: on it to rounding.
+        let (exact, offwall) = turned_annulus(&mesh, method, Kind::Slip, true);
+        let d = off_circle(&mesh, &exact);
+        assert!(d < 1e-12 && offwall < 1e-12, "{method:?}: {d:e}");
+    }
+}
+
+/// The bump 0.25 exp(−(x − 2)² / 0.4) under a channel [0, 4] × [0, 1], periodic along x (the
+/// bump is symmetric, so the ends match); the lower wall slips,
+/// a body above it moves along it by 1.2 in 8 steps.
+fn bump(x: f64) -> f64 {
+    0.25 * (-(x - 2.0) * (x - 2.0) / 0.4).exp()
+}
+
+#[test]
+fn vertices_sliding_over_a_bump_stay_on_it() {
+    use slip_meshes::*;
+    let (nx, ny) = (64, 16);
+    let mesh = channel_mapped(nx, ny, 4.0, [[10, 14], [9, 12]], 0.2, |x, y| [x, bump(x) + y * (1.0 - bump(x))]);
+    // The chord error of each wall segment: the largest vertical gap between bump and chord.
+    let h = 4.0 / nx as f64;
+    let chord = (0..nx)
+        .map(|i| {
+            let (a, b) = (i as f64 * h, (i + 1) as f64 * h);
+            (0..=50)
+                .map(|k| {
+                    let x = a + (b - a) * k as f64 / 50.0;
+                    let lin = bump(a) + (bump(b) - bump(a)) * (x - a) / (b - a);
+                    (bump(x) - lin).abs()
+                })
+                .fold(0.0, f64::max)
+        })
+        .fold(0.0, f64::max);
+    for method in METHODS {
+        let mut bcs = BoundaryConditions::new();
+        bcs.set_kinds(BOTTOM, Kind::Slip).set_kinds(BODY, Kind::Clamped);
+        bcs.set_kinds(TOP, Kind::Slip).set_kinds(LEFT, Kind::Free).set_kinds(RIGHT, Kind::Free);
+        bcs.add_link(Link::ByOffset { a: LEFT, b: RIGHT, offset: [4.0, 0.0, 0.0], tol: 1e-9 });
+        let mut solver = Solver::new(&mesh, &bcs, Options { method, ..Default::default() }).unwrap();
+        let m = Motion::zero(&mesh).with_rigid(BODY, RigidMotion::translation([1.2, 0.0, 0.0]));
+        let reports = solver.move_in_steps(&m, 8).unwrap();
+        let x = solver.mesh().coords();
+        let gap = mesh
+            .patch_vertices(BOTTOM)
+            .iter()
+            .map(|&v| (x[2 * v as usize + 1] - bump(x[2 * v as usize])).abs())
+            .fold(0.0, f64::max);
+        let offwall = reports.iter().map(|r| r.max_slip_offwall).fold(0.0, f64::max);
+        let q = quality(&mesh, x);
+        let slid = mesh
+            .patch_vertices(BOTTOM)
+            .iter()
+            .map(|&v| (x[2 * v as usize] - mesh.point(v as usize)[0]).abs())
+            .fold(0.0, f64::max);
+        println!(
+            "{method:?}: wall vertices slid up to {slid:.3}, {gap:.2e} from the bump (chord error {chord:.2e}), \
+             {offwall:.1e} from its faces; min area ratio {:.3}",
+            q.min_area_ratio
+        );
+        assert!(slid > 0.1, "{method:?}: the wall vertices slide");
+        assert!(gap <= chord + 1e-12, "{method:?}: {gap:e} from the bump, chord error {chord:e}");
+        assert!(offwall < 1e-12, "{method:?}: {offwall:e}");
+        assert_eq!(q.inverted, 0);
+    }
+}
