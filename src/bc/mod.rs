@@ -140,6 +140,12 @@ impl BoundaryConditions {
         self
     }
 
+    /// Removes the analytic shape of a SLIP patch (its original faces are its wall again).
+    pub fn remove_slip_surface(&mut self, patch: i32) -> &mut Self {
+        self.surfaces.remove(&patch);
+        self
+    }
+
     /// The analytic shape of a SLIP patch, if one was given.
     pub fn slip_surface(&self, patch: i32) -> Option<&SlipSurface> {
         self.surfaces.get(&patch)
