@@ -474,7 +474,6 @@ impl Solver {
     fn cycle_inner(&self, motion: &Motion, displacement: &[f64]) -> Result<(Vec<f64>, Report)> {
         let lev = self.hierarchy.fine();
         let vals = motion.vertex_values(&lev.mesh);
-        let cp = self.opts.solve.cycle_params(self.opts.method);
         let mut out = vec![0.0; displacement.len()];
         let mut report: Option<Report> = None;
         for comps in self.hierarchy.groups() {
@@ -484,6 +483,8 @@ impl Solver {
             let mut r = vec![0.0; b.len()];
             let before = x.clone();
             let mut ws = Workspace::new(&self.hierarchy, comps.len());
+            let mut cp = self.opts.solve.cycle_params(self.opts.method);
+            crate::multigrid::slip::cycle_for(&self.hierarchy, &comps, &self.opts.solve, &mut cp);
             cycle(&self.hierarchy, comps.clone(), &cp, &b, &mut x, Start::Guess, &mut ws);
             lev.residual(comps.clone(), &b, &x, &mut r, &mut s);
             let bn = crate::sparse::dot(&b, &b).sqrt();

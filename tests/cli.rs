@@ -33,15 +33,15 @@ fn demo_quick_writes_results_csv_and_pictures() {
         lines[0],
         "case,method,steps,inverted,min_area_ratio,min_angle_deg,spacing_variation,cycles,seconds,max_y_upper"
     );
-    // The header and 10 cases × 3 methods (the hybrid boundary-layer cylinder was added as the
-    // tenth case: 28 lines before).
-    assert_eq!(lines.len(), 31, "{csv}");
+    // The header and 12 cases × 3 methods.
+    assert_eq!(lines.len(), 37, "{csv}");
     for l in &lines[1..] {
         assert_eq!(l.split(',').count(), 10, "{l}");
     }
     assert!(lines.iter().any(|l| l.starts_with("boundary_layer_cylinder,spring,")));
     assert!(lines.iter().any(|l| l.starts_with("deforming_interface_B,biharmonic,15,")));
     assert!(lines.iter().any(|l| l.starts_with("boundary_layer_cylinder_hybrid,laplacian,")));
+    assert!(lines.iter().any(|l| l.starts_with("cylinder_channel_1.5D_slip,biharmonic,1,")));
     for f in
         ["convergence.png", "convergence.csv", "free_surface_a0.25_laplacian.png", "cylinder_channel_biharmonic.vtu"]
     {

@@ -11,7 +11,7 @@ use crate::motion::{Motion, RigidMotion};
 use std::f64::consts::TAU;
 
 /// The case names of the CLI's `results.csv`, in order.
-pub const CASE_NAMES: [&str; 10] = [
+pub const CASE_NAMES: [&str; 12] = [
     "free_surface_a0.1",
     "free_surface_a0.25",
     "free_surface_a0.25_10steps",
@@ -22,6 +22,8 @@ pub const CASE_NAMES: [&str; 10] = [
     "cylinder_channel",
     "boundary_layer_cylinder",
     "boundary_layer_cylinder_hybrid",
+    "cylinder_channel_1.5D_fixed",
+    "cylinder_channel_1.5D_slip",
 ];
 
 /// Mesh sizes: the paper's (docs/DESIGN.md §7) or coarse ones for quick smoke runs.
@@ -122,6 +124,17 @@ pub fn cylinder_channel_case(h: f64) -> CaseSetup {
     }
 }
 
+/// The cylinder of `cylinder_channel_case` moved 1.5 D along the channel in one step, the
+/// channel's walls (all four sides) `walls`: FIXED, or SLIP (its vertices slide along the walls,
+/// the corners stay).
+pub fn cylinder_channel_far(h: f64, walls: Kind) -> CaseSetup {
+    let mut c = cylinder_channel_case(h);
+    c.name = format!("cylinder_channel_1.5D_{}", if walls == Kind::Slip { "slip" } else { "fixed" });
+    c.bcs.set_kinds(CH_WALL, walls);
+    c.motion = Motion::zero(&c.mesh).with_rigid(CH_CYLINDER, RigidMotion::translation([1.5, 0.0, 0.0]));
+    c
+}
+
 /// [−10,20]×[−10,10] with the wall-layer cylinder moved 4.5 D along (−1, 1)/√2 by a rigid
 /// translation; far field FIXED, cylinder CLAMPED.
 pub fn boundary_layer_cylinder_case() -> CaseSetup {
@@ -160,6 +173,8 @@ pub fn case(name: &str, scale: Scale) -> Option<CaseSetup> {
             interface_case("deforming_interface_B", h, InterfaceVariant::Continuous, deformed, 15)
         }
         "cylinder_channel" => cylinder_channel_case(hc),
+        "cylinder_channel_1.5D_fixed" => cylinder_channel_far(hc, Kind::Fixed),
+        "cylinder_channel_1.5D_slip" => cylinder_channel_far(hc, Kind::Slip),
         "boundary_layer_cylinder" => boundary_layer_cylinder_case(),
         "boundary_layer_cylinder_hybrid" => boundary_layer_cylinder_hybrid_case(),
         _ => return None,
