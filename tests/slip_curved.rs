@@ -139,3 +139,71 @@ fn vertices_sliding_over_a_bump_stay_on_it() {
         assert_eq!(q.inverted, 0);
     }
 }
+
+/// "reaches 90°," or where a run of `a_sphere_turning_inside_a_slip_sphere` stopped.
+fn stop_text(stop: Option<usize>, inverted: usize) -> String {
+    stop.map_or("reaches 90°,".to_string(), |k| format!("inverts {inverted} cells at step {k} ({}°); at step {}:", 9 * k, k - 1))
+}
+
+/// The 3D analogue: a sphere turned by 90° about z in 10 steps inside a spherical shell whose
+/// outer sphere (radius 3) is SLIP or FIXED.
+#[test]
+fn a_sphere_turning_inside_a_slip_sphere() {
+    use meshmove::cases::meshes3d::{sphere_shell, SH_INNER, SH_OUTER};
+    let mesh = sphere_shell(6, 4, 1.0, 3.0, 1.2);
+    let off_sphere = |x: &[f64]| {
+        mesh.patch_vertices(SH_OUTER)
+            .iter()
+            .map(|&v| {
+                let p = &x[3 * v as usize..3 * v as usize + 3];
+                ((p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt() - 3.0).abs()
+            })
+            .fold(0.0, f64::max)
+    };
+    let turn = RigidMotion { translation: [0.0; 3], rotation: [0.0, 0.0, std::f64::consts::FRAC_PI_2], center: [0.0; 3] };
+    for method in [Method::Biharmonic, Method::Laplacian] {
+        let mut run = |outer: Kind, sphere: bool| {
+            let mut bcs = BoundaryConditions::new();
+            bcs.set_kinds(SH_INNER, Kind::Clamped).set_kinds(SH_OUTER, outer);
+            if sphere {
+                bcs.set_slip_surface(SH_OUTER, SlipSurface::new(|x| {
+                    let r = (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt();
+                    [3.0 * x[0] / r, 3.0 * x[1] / r, 3.0 * x[2] / r]
+                }));
+            }
+            let mut s = Solver::new(&mesh, &bcs, Options { method, ..Default::default() }).unwrap();
+            let done = s.move_in_steps(&Motion::zero(&mesh).with_rigid(SH_INNER, turn), 10);
+            let reps = s.step_reports().to_vec();
+            let offwall = reps.iter().filter(|r| r.accepted).map(|r| r.max_slip_offwall).fold(0.0, f64::max);
+            // A failed run: where it stopped (the last step's result, inverted cells and all).
+            let stopped = done.is_err().then(|| reps.last().map_or(0, |r| r.step));
+            (s.last_valid_coords().to_vec(), offwall, stopped, reps.last().map_or(0, |r| r.inverted))
+        };
+        let (fixed, _, fixed_stop, fixed_inv) = run(Kind::Fixed, false);
+        let (slip, offwall, slip_stop, slip_inv) = run(Kind::Slip, false);
+        let (qf, qs) = (quality(&mesh, &fixed), quality(&mesh, &slip));
+        let d = off_sphere(&slip);
+        println!(
+            "3D {method:?}: FIXED {} min volume ratio {:.3}, min angle {:.1}°; SLIP {} min volume ratio {:.3}, min angle \
+             {:.1}°, outer sphere {d:.2e} off the sphere, {offwall:.1e} off its faces",
+            stop_text(fixed_stop, fixed_inv),
+            qf.min_area_ratio,
+            qf.min_angle_deg,
+            stop_text(slip_stop, slip_inv),
+            qs.min_area_ratio,
+            qs.min_angle_deg
+        );
+        assert!(offwall < 1e-12, "{method:?}: {offwall:e}");
+        if method == Method::Biharmonic {
+            assert_eq!(slip_stop, None, "SLIP reaches 90°");
+            assert!(qs.min_angle_deg > 1.5 * qf.min_angle_deg && qs.min_area_ratio > qf.min_area_ratio);
+            let (exact, offwall, _, _) = run(Kind::Slip, true);
+            assert!(off_sphere(&exact) < 1e-12 && offwall < 1e-12, "{method:?}");
+        } else {
+            // The Laplacian twists the hexahedra next to the turning sphere until their corners
+            // fold, with either wall; with SLIP far fewer of them, and no earlier.
+            assert!(slip_stop.unwrap_or(11) >= fixed_stop.unwrap_or(11));
+            assert!(slip_stop != fixed_stop || slip_inv * 4 < fixed_inv, "{slip_inv} vs {fixed_inv}");
+        }
+    }
+}

@@ -6,5 +6,6 @@ mod cylinder;
 mod free_surface;
 pub mod hybrid;
 pub mod meshes;
+pub mod meshes3d;
 pub mod report;
 pub mod setups;
