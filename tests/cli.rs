@@ -33,8 +33,8 @@ fn demo_quick_writes_results_csv_and_pictures() {
         lines[0],
         "case,method,steps,inverted,min_area_ratio,min_angle_deg,spacing_variation,cycles,seconds,max_y_upper"
     );
-    // The header and 12 cases × 3 methods.
-    assert_eq!(lines.len(), 37, "{csv}");
+    // The header and 14 cases × 3 methods.
+    assert_eq!(lines.len(), 43, "{csv}");
     for l in &lines[1..] {
         assert_eq!(l.split(',').count(), 10, "{l}");
     }
@@ -42,6 +42,7 @@ fn demo_quick_writes_results_csv_and_pictures() {
     assert!(lines.iter().any(|l| l.starts_with("deforming_interface_B,biharmonic,15,")));
     assert!(lines.iter().any(|l| l.starts_with("boundary_layer_cylinder_hybrid,laplacian,")));
     assert!(lines.iter().any(|l| l.starts_with("cylinder_channel_1.5D_slip,biharmonic,1,")));
+    assert!(lines.iter().any(|l| l.starts_with("sphere_channel_1.5D_slip,laplacian,1,")));
     for f in
         ["convergence.png", "convergence.csv", "free_surface_a0.25_laplacian.png", "cylinder_channel_biharmonic.vtu"]
     {

@@ -142,7 +142,9 @@ fn vertices_sliding_over_a_bump_stay_on_it() {
 
 /// "reaches 90°," or where a run of `a_sphere_turning_inside_a_slip_sphere` stopped.
 fn stop_text(stop: Option<usize>, inverted: usize) -> String {
-    stop.map_or("reaches 90°,".to_string(), |k| format!("inverts {inverted} cells at step {k} ({}°); at step {}:", 9 * k, k - 1))
+    stop.map_or("reaches 90°,".to_string(), |k| {
+        format!("inverts {inverted} cells at step {k} ({}°); at step {}:", 9 * k, k - 1)
+    })
 }
 
 /// The 3D analogue: a sphere turned by 90° about z in 10 steps inside a spherical shell whose
@@ -160,16 +162,20 @@ fn a_sphere_turning_inside_a_slip_sphere() {
             })
             .fold(0.0, f64::max)
     };
-    let turn = RigidMotion { translation: [0.0; 3], rotation: [0.0, 0.0, std::f64::consts::FRAC_PI_2], center: [0.0; 3] };
+    let turn =
+        RigidMotion { translation: [0.0; 3], rotation: [0.0, 0.0, std::f64::consts::FRAC_PI_2], center: [0.0; 3] };
     for method in [Method::Biharmonic, Method::Laplacian] {
-        let mut run = |outer: Kind, sphere: bool| {
+        let run = |outer: Kind, sphere: bool| {
             let mut bcs = BoundaryConditions::new();
             bcs.set_kinds(SH_INNER, Kind::Clamped).set_kinds(SH_OUTER, outer);
             if sphere {
-                bcs.set_slip_surface(SH_OUTER, SlipSurface::new(|x| {
-                    let r = (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt();
-                    [3.0 * x[0] / r, 3.0 * x[1] / r, 3.0 * x[2] / r]
-                }));
+                bcs.set_slip_surface(
+                    SH_OUTER,
+                    SlipSurface::new(|x| {
+                        let r = (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt();
+                        [3.0 * x[0] / r, 3.0 * x[1] / r, 3.0 * x[2] / r]
+                    }),
+                );
             }
             let mut s = Solver::new(&mesh, &bcs, Options { method, ..Default::default() }).unwrap();
             let done = s.move_in_steps(&Motion::zero(&mesh).with_rigid(SH_INNER, turn), 10);

@@ -62,6 +62,20 @@ impl SlipFrames {
         }
     }
 
+    /// As `project`, on a vector given as one slice of n values per component.
+    pub fn project_blocks(&self, blocks: &mut [&mut [f64]]) {
+        debug_assert_eq!(blocks.len(), self.dim);
+        for (k, &d) in self.dofs.iter().enumerate() {
+            let mut v = [0.0; 3];
+            (0..self.dim).for_each(|c| v[c] = blocks[c][d as usize]);
+            for e in self.directions(k) {
+                let a = dot(e, &v);
+                (0..3).for_each(|c| v[c] -= a * e[c]);
+            }
+            (0..self.dim).for_each(|c| blocks[c][d as usize] = v[c]);
+        }
+    }
+
     /// The prescribed part of a displacement `v` at slip unknown number `k`: its components along
     /// the constrained directions, Σ (e · v) e.
     pub fn normal_part(&self, k: usize, v: &[f64; 3]) -> [f64; 3] {

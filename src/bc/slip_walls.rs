@@ -64,6 +64,8 @@ struct PlWall {
     /// Simplices of each grid cell, as CSR.
     ptr: Vec<u32>,
     items: Vec<u32>,
+    /// Some simplex has an open side.
+    open: bool,
 }
 
 impl PlWall {
@@ -88,7 +90,8 @@ impl PlWall {
         let mut cells = [1usize; 3];
         (0..dim).for_each(|c| cells[c] = (ext[c] / h) as usize + 1);
         let mut pairs: Vec<(u32, u32)> = Vec::new();
-        let mut wall = PlWall { dim, simplices, lo, h, cells, ptr: Vec::new(), items: Vec::new() };
+        let open = simplices.iter().any(|s| s.1 != 0);
+        let mut wall = PlWall { dim, simplices, lo, h, cells, ptr: Vec::new(), items: Vec::new(), open };
         for (k, (s, _)) in wall.simplices.iter().enumerate() {
             let (mut a, mut b) = ([usize::MAX; 3], [0usize; 3]);
             for p in corners(s) {
@@ -153,9 +156,9 @@ impl PlWall {
                     }
                 }
             }
-            // One ring more than strictly needed: an open side's extension may reach out of its
-            // simplex's cells.
-            let reach = (r as f64 - 1.0) * self.h;
+            // With open sides, one ring more than strictly needed: an open side's extension may
+            // reach out of its simplex's cells.
+            let reach = (r as f64 - f64::from(u8::from(self.open))) * self.h;
             if reach > 0.0 && best_d2 <= reach * reach {
                 break;
             }

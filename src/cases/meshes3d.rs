@@ -47,7 +47,8 @@ impl Builder {
 
     /// The mesh, each boundary face tagged by `tag(its corner points)`.
     fn mesh(self, tag: impl Fn(&[[f64; 3]]) -> i32) -> Mesh {
-        const QUADS: [[usize; 4]; 6] = [[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [2, 3, 7, 6], [0, 4, 7, 3], [1, 2, 6, 5]];
+        const QUADS: [[usize; 4]; 6] =
+            [[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [2, 3, 7, 6], [0, 4, 7, 3], [1, 2, 6, 5]];
         let mut count: BTreeMap<[u32; 4], (usize, [u32; 4])> = BTreeMap::new();
         for h in &self.hexes {
             for q in QUADS {
@@ -94,7 +95,16 @@ fn cubed_layers(b: &mut Builder, k: usize, layers: usize, at: impl Fn(usize, f64
             for j in 0..k {
                 for l in 0..layers {
                     let p = |di: usize, dj: usize, dl: usize| at(f, s(i + di), s(j + dj), l + dl);
-                    b.hex([p(0, 0, 0), p(1, 0, 0), p(1, 1, 0), p(0, 1, 0), p(0, 0, 1), p(1, 0, 1), p(1, 1, 1), p(0, 1, 1)]);
+                    b.hex([
+                        p(0, 0, 0),
+                        p(1, 0, 0),
+                        p(1, 1, 0),
+                        p(0, 1, 0),
+                        p(0, 0, 1),
+                        p(1, 0, 1),
+                        p(1, 1, 1),
+                        p(0, 1, 1),
+                    ]);
                 }
             }
         }

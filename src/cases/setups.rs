@@ -11,7 +11,7 @@ use crate::motion::{Motion, RigidMotion};
 use std::f64::consts::TAU;
 
 /// The case names of the CLI's `results.csv`, in order.
-pub const CASE_NAMES: [&str; 12] = [
+pub const CASE_NAMES: [&str; 14] = [
     "free_surface_a0.1",
     "free_surface_a0.25",
     "free_surface_a0.25_10steps",
@@ -24,6 +24,8 @@ pub const CASE_NAMES: [&str; 12] = [
     "boundary_layer_cylinder_hybrid",
     "cylinder_channel_1.5D_fixed",
     "cylinder_channel_1.5D_slip",
+    "sphere_channel_1.5D_fixed",
+    "sphere_channel_1.5D_slip",
 ];
 
 /// Mesh sizes: the paper's (docs/DESIGN.md §7) or coarse ones for quick smoke runs.
@@ -135,6 +137,26 @@ pub fn cylinder_channel_far(h: f64, walls: Kind) -> CaseSetup {
     c
 }
 
+/// 3D: a sphere of diameter 0.4 at (1.6, 0, 0) in the duct [0, 4] × [−1, 1] × [−1, 1] (hexahedra,
+/// `meshes3d::sphere_channel`), moved 1.5 D along the duct in one step; the sphere CLAMPED, the
+/// duct's walls and ends `walls` (SLIP: they slide, their edges along the edges, the corners stay).
+pub fn sphere_channel_case(walls: Kind) -> CaseSetup {
+    use super::meshes3d::{sphere_channel, SC_SPHERE, SC_WALL};
+    let mesh = sphere_channel(10, 4.0, 1.6, 0.4, 2, 3);
+    let mut bcs = BoundaryConditions::new();
+    bcs.set_kinds(SC_WALL, walls).set_kinds(SC_SPHERE, Kind::Clamped);
+    let motion = Motion::zero(&mesh).with_rigid(SC_SPHERE, RigidMotion::translation([0.6, 0.0, 0.0]));
+    CaseSetup {
+        name: format!("sphere_channel_1.5D_{}", if walls == Kind::Slip { "slip" } else { "fixed" }),
+        mesh,
+        bcs,
+        motion,
+        steps: 1,
+        moved_patch: SC_SPHERE,
+        upper_region: None,
+    }
+}
+
 /// [−10,20]×[−10,10] with the wall-layer cylinder moved 4.5 D along (−1, 1)/√2 by a rigid
 /// translation; far field FIXED, cylinder CLAMPED.
 pub fn boundary_layer_cylinder_case() -> CaseSetup {
@@ -175,6 +197,8 @@ pub fn case(name: &str, scale: Scale) -> Option<CaseSetup> {
         "cylinder_channel" => cylinder_channel_case(hc),
         "cylinder_channel_1.5D_fixed" => cylinder_channel_far(hc, Kind::Fixed),
         "cylinder_channel_1.5D_slip" => cylinder_channel_far(hc, Kind::Slip),
+        "sphere_channel_1.5D_fixed" => sphere_channel_case(Kind::Fixed),
+        "sphere_channel_1.5D_slip" => sphere_channel_case(Kind::Slip),
         "boundary_layer_cylinder" => boundary_layer_cylinder_case(),
         "boundary_layer_cylinder_hybrid" => boundary_layer_cylinder_hybrid_case(),
         _ => return None,

@@ -197,14 +197,8 @@ fn coupled_lambda_max(level: &Level) -> f64 {
 /// Moves the blocks of `x` and `d` (one per component) into the free subspace.
 fn project_blocks(frames: &SlipFrames, n: usize, x: &mut [f64], w: &mut [Scratch]) {
     frames.project(n, x);
-    let mut v = vec![0.0; frames.dim * n];
-    for (k, s) in w.iter().enumerate() {
-        v[k * n..(k + 1) * n].copy_from_slice(&s.d);
-    }
-    frames.project(n, &mut v);
-    for (k, s) in w.iter_mut().enumerate() {
-        s.d.copy_from_slice(&v[k * n..(k + 1) * n]);
-    }
+    let mut d: Vec<&mut [f64]> = w.iter_mut().map(|s| s.d.as_mut_slice()).collect();
+    frames.project_blocks(&mut d);
 }
 
 /// One application of the smoother `sm` to the coupled group `comps` of `level`: every component's

@@ -180,7 +180,10 @@ pub fn run(args: Args) -> Result<ExitCode, String> {
                 (Some(_), Some(last)) => format!("{}, stopped at step {}", method_title(method), last.step),
                 _ => method_title(method).to_string(),
             };
-            picture(dir, &setup, &r.coords, &stem, &label, args.width)?;
+            // Pictures are 2D; a 3D case has its .vtu.
+            if setup.mesh.dim() == 2 {
+                picture(dir, &setup, &r.coords, &stem, &label, args.width)?;
+            }
             if unconverged > 0 {
                 // What the method gives: every step solved exactly (slow, independent of the
                 // multigrid), written beside the multigrid's result as *_exact.{vtu,png}.
