@@ -35,7 +35,8 @@ module meshmove_c
   integer(c_int32_t), parameter :: MESHMOVE_MODE_DEFAULT = 0, MESHMOVE_MODE_PAPER_FAITHFUL = 1
   integer(c_int32_t), parameter :: MESHMOVE_CRITERION_RELATIVE_RESIDUAL = 0, MESHMOVE_CRITERION_MAX_CORRECTION = 1
   ! meshmove_kind, meshmove_interface
-  integer(c_int32_t), parameter :: MESHMOVE_KIND_FIXED = 0, MESHMOVE_KIND_CLAMPED = 1, MESHMOVE_KIND_FREE = 2
+  integer(c_int32_t), parameter :: MESHMOVE_KIND_FIXED = 0, MESHMOVE_KIND_CLAMPED = 1, MESHMOVE_KIND_FREE = 2, &
+    MESHMOVE_KIND_SLIP = 3
   integer(c_int32_t), parameter :: MESHMOVE_INTERFACE_SEPARATE = 0, MESHMOVE_INTERFACE_CONTINUOUS = 1
   ! meshmove_reference
   integer(c_int32_t), parameter :: MESHMOVE_REFERENCE_INCREMENTAL = 0, MESHMOVE_REFERENCE_ORIGINAL = 1
@@ -50,6 +51,7 @@ module meshmove_c
     integer(c_int32_t) :: cycles
     real(c_double) :: max_correction, rel_residual, seconds
     integer(c_int32_t) :: converged
+    real(c_double) :: max_slip_offwall
   end type
   type, bind(c) :: meshmove_quality
     integer(c_int32_t) :: inverted
@@ -63,6 +65,7 @@ module meshmove_c
     integer(c_int32_t) :: converged, rebuilt, inverted
     real(c_double) :: min_volume_ratio, min_angle_deg, seconds
     integer(c_int32_t) :: accepted
+    real(c_double) :: max_slip_offwall
   end type
 
   interface
@@ -266,6 +269,13 @@ module meshmove_c
       type(c_ptr), value :: bcs
       integer(c_int32_t), value :: patch, variant
     end function
+    integer(c_int32_t) function meshmove_bcs_set_slip_surface(bcs, patch, closest, user_data) bind(c)
+      import :: c_int32_t, c_ptr, c_funptr
+      type(c_ptr), value :: bcs
+      integer(c_int32_t), value :: patch
+      type(c_funptr), value :: closest
+      type(c_ptr), value :: user_data
+    end function
     ! ---- solver
     integer(c_int32_t) function meshmove_solver_create(mesh, bcs, options, out) bind(c)
       import :: c_int32_t, c_ptr
@@ -392,7 +402,7 @@ module meshmove
     MESHMOVE_MAX_SUBSTEPS, MESHMOVE_MAX_VERTICES, MESHMOVE_MAX_CELLS, MESHMOVE_METHOD_BIHARMONIC, &
     MESHMOVE_METHOD_LAPLACIAN, MESHMOVE_METHOD_SPRING, MESHMOVE_MODE_DEFAULT, MESHMOVE_MODE_PAPER_FAITHFUL, &
     MESHMOVE_CRITERION_RELATIVE_RESIDUAL, MESHMOVE_CRITERION_MAX_CORRECTION, MESHMOVE_KIND_FIXED, &
-    MESHMOVE_KIND_CLAMPED, MESHMOVE_KIND_FREE, MESHMOVE_INTERFACE_SEPARATE, MESHMOVE_INTERFACE_CONTINUOUS, &
+    MESHMOVE_KIND_CLAMPED, MESHMOVE_KIND_FREE, MESHMOVE_KIND_SLIP, MESHMOVE_INTERFACE_SEPARATE, MESHMOVE_INTERFACE_CONTINUOUS, &
     MESHMOVE_REFERENCE_INCREMENTAL, MESHMOVE_REFERENCE_ORIGINAL, MESHMOVE_CELL_TYPE_TRIANGLE, &
     MESHMOVE_CELL_TYPE_QUAD, MESHMOVE_CELL_TYPE_TETRA, MESHMOVE_CELL_TYPE_HEXAHEDRON, MESHMOVE_CELL_TYPE_WEDGE, &
     MESHMOVE_CELL_TYPE_PYRAMID, MESHMOVE_VERSION_MAJOR, MESHMOVE_VERSION_MINOR, MESHMOVE_VERSION_PATCH
@@ -431,6 +441,7 @@ module meshmove
     procedure :: link_periodic => bcs_link_periodic
     procedure :: link_pairs => bcs_link_pairs
     procedure :: set_interface => bcs_set_interface
+    procedure :: set_slip_surface => bcs_set_slip_surface
   end type
 
   !> Solver options: create (the defaults), set what you need, pass to mm_solver%create, free.
@@ -1189,6 +1200,25 @@ contains
     integer, intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     call check(meshmove_bcs_set_interface(self%h, patch, variant), "bcs_set_interface", stat)
+    if (present(errmsg)) call message(errmsg)
+  end subroutine
+
+  !> The analytic shape of SLIP patch `patch`: `closest = c_funloc(f)` of a bind(c) subroutine
+  !> f(user_data, dim, x, out) with `type(c_ptr), value :: user_data`, `integer(c_int32_t), value
+  !> :: dim`, `real(c_double), intent(in) :: x(dim)`, `real(c_double), intent(out) :: out(dim)`
+  !> that writes the wall's closest point to x; `c_null_funptr` removes it. `user_data` (default
+  !> c_null_ptr) is handed back to f.
+  subroutine bcs_set_slip_surface(self, patch, closest, user_data, stat, errmsg)
+    class(mm_bcs), intent(inout) :: self
+    integer(c_int32_t), intent(in) :: patch
+    type(c_funptr), intent(in) :: closest
+    type(c_ptr), intent(in), optional :: user_data
+    integer, intent(out), optional :: stat
+    character(len=:), allocatable, intent(out), optional :: errmsg
+    type(c_ptr) :: ud
+    ud = c_null_ptr
+    if (present(user_data)) ud = user_data
+    call check(meshmove_bcs_set_slip_surface(self%h, patch, closest, ud), "bcs_set_slip_surface", stat)
     if (present(errmsg)) call message(errmsg)
   end subroutine
 

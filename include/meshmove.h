@@ -282,6 +282,12 @@ enum meshmove_kind
    The vertex moves (zero-flux conditions).
    */
   MESHMOVE_KIND_FREE = 2,
+  /*
+   The vertex slides along its wall: the displacement normal to the wall is prescribed, the
+   tangential components are free. A kind of the whole patch: set it for every component
+   (`meshmove_bcs_set_kinds`).
+   */
+  MESHMOVE_KIND_SLIP = 3,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
@@ -419,6 +425,16 @@ typedef struct meshmove_options meshmove_options;
 typedef struct meshmove_solver meshmove_solver;
 
 /*
+ The closest point of a wall to a point: called with the caller's `user_data`, the dimension,
+ the point's `dim` coordinates, and `dim` doubles to write the closest point of the wall into.
+ It is called from the solver's threads, one call at a time, during `meshmove_solver_*` calls.
+ */
+typedef void (*meshmove_closest_point)(void *user_data,
+                                       int32_t dim,
+                                       const double *x,
+                                       double *closest);
+
+/*
  What a solve did (AMGCL's report struct, with both stopping measures).
  */
 typedef struct meshmove_report {
@@ -442,6 +458,11 @@ typedef struct meshmove_report {
    1 if both components met the criterion, else 0.
    */
   int32_t converged;
+  /*
+   SLIP walls: the largest distance of a slipped vertex from its wall in the result (0
+   without slip walls).
+   */
+  double max_slip_offwall;
 } meshmove_report;
 
 /*
@@ -519,6 +540,10 @@ typedef struct meshmove_step_report {
    call failed here.
    */
   int32_t accepted;
+  /*
+   SLIP walls: the largest distance of a slipped vertex from its wall after this sub-step.
+   */
+  double max_slip_offwall;
 } meshmove_step_report;
 
 #ifdef __cplusplus
@@ -618,6 +643,22 @@ MESHMOVE_MUST_USE
 meshmove_status meshmove_bcs_set_interface(struct meshmove_bcs *bcs,
                                            int32_t patch,
                                            int32_t variant);
+
+/*
+ Gives the SLIP patch `patch` an analytic shape: after each solve its slipped vertices are moved
+ to `closest(user_data, dim, x, out)` instead of onto the patch's original faces (a circle, a
+ cylinder, a CAD surface). `closest` NULL removes the shape. The callback must be safe to call
+ from the solver's threads, and `user_data` valid while a solver made with these conditions
+ lives. A callback that writes a non-finite point leaves the vertex where the solve put it.
+
+ # Safety
+ `bcs` must be a handle from meshmove (checked); `closest` a function of the declared type.
+ */
+MESHMOVE_MUST_USE
+meshmove_status meshmove_bcs_set_slip_surface(struct meshmove_bcs *bcs,
+                                              int32_t patch,
+                                              meshmove_closest_point closest,
+                                              void *user_data);
 
 /*
  Copies the message of the last failed call on this thread into `buf` (`buf_len` bytes,

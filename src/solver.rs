@@ -7,7 +7,7 @@
 //! a reference mesh with a cell of non-positive area is `Error::Tangled` before anything is
 //! solved on it, and a call that fails leaves the solver exactly as it was.
 
-use crate::bc::{resolve_links, BoundaryConditions, Kind, COMPONENT, P};
+use crate::bc::{resolve_links, BoundaryConditions, Kind, SlipWalls, COMPONENT, P};
 use crate::mesh::quality::{inverted_cells, quality, Quality};
 use crate::motion::Motion;
 use crate::multigrid::cycle::{cycle, Workspace};
@@ -22,6 +22,7 @@ use crate::{Error, Mesh, Result};
 use std::ops::Range;
 use std::time::Instant;
 
+mod slip;
 mod steps;
 
 pub use steps::StepReport;
@@ -105,6 +106,8 @@ pub struct Solver {
     /// The last valid mesh the last `advance` or `move_in_steps` call reached (empty before the
     /// first).
     last_valid: Vec<f64>,
+    /// The shapes of the SLIP walls, from the mesh the solver was made with (None without).
+    walls: Option<SlipWalls>,
 }
 
 impl Solver {
@@ -120,7 +123,8 @@ impl Solver {
         let pool = Pool::new(opts.threads)?;
         let hierarchy = pool.install(|| Hierarchy::build(mesh, pairs, bcs, opts.method, &opts.hierarchy))??;
         let (steps, last_valid) = (Vec::new(), Vec::new());
-        Ok(Solver { opts, bcs: bcs.clone(), hierarchy, pool, total: None, steps, last_valid })
+        let walls = SlipWalls::new(mesh, bcs);
+        Ok(Solver { opts, bcs: bcs.clone(), hierarchy, pool, total: None, steps, last_valid, walls })
     }
 
     /// Runs `f` on the solver's threads: every part of a call's work, so the thread count set
@@ -219,6 +223,7 @@ impl Solver {
         let mesh = self.mesh();
         motion.check(mesh)?;
         for &(patch, m) in &motion.rigid {
+            // A SLIP patch takes the normal part of its motion.
             for (c, name) in COMPONENT.iter().enumerate() {
                 if self.bcs.kind(patch, c) != Kind::Free {
                     continue;
@@ -330,8 +335,14 @@ impl Solver {
         let lev = self.hierarchy.fine();
         let (n, dim) = (lev.n(), lev.dim());
         let (mut b, mut x) = (vec![0.0; comps.len() * n], vec![0.0; comps.len() * n]);
-        for (k, c) in comps.enumerate() {
-            let (dp, g) = self.prescribed(motion, vals, c)?;
+        // Slip walls: the system is for w = d − g, g the prescribed normal parts, in the free
+        // subspace: b = Π (−A g − A_{U,P} d_P), w₀ = Π (guess − g).
+        let normal = Self::normal_parts(lev, &comps, vals);
+        for (k, c) in comps.clone().enumerate() {
+            let (mut dp, g) = self.prescribed(motion, vals, c)?;
+            if let Some(gn) = &normal {
+                dp.iter_mut().zip(&gn[k * n..(k + 1) * n]).for_each(|(d, g)| *d += g);
+            }
             Self::rhs(lev, c, &dp, g.as_deref(), &mut b[k * n..(k + 1) * n])?;
             if let Some(gv) = guess {
                 let flags = &lev.flags[c];
@@ -342,12 +353,30 @@ impl Solver {
                 }
             }
         }
+        if let (Some(gn), Some(s)) = (&normal, lev.slip.as_ref()) {
+            x.iter_mut().zip(gn).for_each(|(x, g)| *x -= g);
+            s.frames.project(n, &mut x);
+            s.frames.project(n, &mut b);
+        }
         Ok((b, x))
     }
 
-    /// Adds the prescribed values to the P unknowns of the blocks `x` (the solve leaves them 0).
+    /// The prescribed normal parts at the slip unknowns when `comps` is the group slip walls
+    /// couple (see `slip::normal_parts`).
+    fn normal_parts(lev: &Level, comps: &Range<usize>, vals: &[f64]) -> Option<Vec<f64>> {
+        if comps.len() != lev.dim() || comps.len() < 2 {
+            return None;
+        }
+        slip::normal_parts(lev, vals)
+    }
+
+    /// Adds the prescribed values to the P unknowns of the blocks `x` (the solve leaves them 0),
+    /// and the prescribed normal parts to the slip unknowns.
     fn add_prescribed(lev: &Level, comps: Range<usize>, vals: &[f64], x: &mut [f64]) {
         let (n, dim) = (lev.n(), lev.dim());
+        if let Some(g) = Self::normal_parts(lev, &comps, vals) {
+            x.iter_mut().zip(&g).for_each(|(x, g)| *x += g);
+        }
         for (k, c) in comps.enumerate() {
             let flags = &lev.flags[c];
             for (i, x) in x[k * n..(k + 1) * n].iter_mut().enumerate() {
@@ -361,7 +390,32 @@ impl Solver {
     fn solve_inner(&self, motion: &Motion, guess: Option<&[f64]>) -> Result<Solution> {
         let lev = self.hierarchy.fine();
         let vals = motion.vertex_values(lev.mesh());
-        let scale = Self::scale(&vals);
+        let (mut displacement, mut report) = self.solve_groups(motion, &vals, guess)?;
+        if let Some(walls) = &self.walls {
+            // Curved slip walls: the solve slides vertices in the walls' tangent planes. Their
+            // second-order distances from the walls are prescribed as normal displacements in a
+            // second solve from the first result, so the interior follows the walls' curvature
+            // (moving only the wall vertices would squeeze the cells next to a wall at every
+            // step); what remains is moved onto the walls. Flat walls need no second solve.
+            let moving = slip::moving_patches(walls, lev, motion, &vals);
+            if let Some(on_wall) = slip::on_wall_values(walls, lev, &moving, &vals, &displacement) {
+                let (d, r) = self.solve_groups(motion, &on_wall, Some(&displacement))?;
+                displacement = d;
+                report = Report::chain(report, r);
+            }
+            let (after, before) = slip::onto_walls(walls, lev, &moving, &mut displacement);
+            report.max_slip_offwall = after;
+            report.max_slip_correction = before;
+        }
+        let quality = moved_quality(lev.mesh(), &displacement);
+        Ok(Solution { displacement, report, quality })
+    }
+
+    /// Solves every group of components for the prescribed values `vals` (`dim` per vertex),
+    /// from `guess`: the displacement of every vertex and the combined report.
+    fn solve_groups(&self, motion: &Motion, vals: &[f64], guess: Option<&[f64]>) -> Result<(Vec<f64>, Report)> {
+        let lev = self.hierarchy.fine();
+        let scale = Self::scale(vals);
         // Each group's solution on the unknowns; the per-vertex field is made after the last
         // solve, so it does not add to the memory of the solves.
         let mut solved: Vec<(Range<usize>, Vec<f64>)> = Vec::new();
@@ -369,7 +423,7 @@ impl Solver {
         for comps in self.hierarchy.groups() {
             let name = group_name(comps.clone());
             // One group at a time: only its right-hand side and iterate are alive (memory).
-            let (b, mut x) = self.group_system(motion, &vals, comps.clone(), guess)?;
+            let (b, mut x) = self.group_system(motion, vals, comps.clone(), guess)?;
             let rep = solve(&self.hierarchy, comps.clone(), &self.opts.solve, &b, &mut x, scale);
             drop(b);
             if let Some(k) = rep.breakdown {
@@ -384,7 +438,7 @@ impl Solver {
                     rep.rel_residual, rep.cycles
                 )));
             }
-            Self::add_prescribed(lev, comps.clone(), &vals, &mut x);
+            Self::add_prescribed(lev, comps.clone(), vals, &mut x);
             solved.push((comps, x));
             report = Some(match report {
                 None => rep,
@@ -398,8 +452,7 @@ impl Solver {
         if let Some(i) = displacement.iter().position(|d| !d.is_finite()) {
             return Err(Error::Diverged(format!("the displacement of vertex {} is not finite", i / lev.dim())));
         }
-        let quality = moved_quality(lev.mesh(), &displacement);
-        Ok(Solution { displacement, report: report.expect("at least one component"), quality })
+        Ok((displacement, report.expect("at least one component")))
     }
 
     /// One multigrid cycle of the solver's mode from `displacement` (read and overwritten, `dim`
@@ -421,7 +474,6 @@ impl Solver {
     fn cycle_inner(&self, motion: &Motion, displacement: &[f64]) -> Result<(Vec<f64>, Report)> {
         let lev = self.hierarchy.fine();
         let vals = motion.vertex_values(lev.mesh());
-        let cp = self.opts.solve.cycle_params(&self.hierarchy);
         let mut out = vec![0.0; displacement.len()];
         let mut report: Option<Report> = None;
         for comps in self.hierarchy.groups() {
@@ -430,7 +482,9 @@ impl Solver {
             let mut s = vec![0.0; lev.n()];
             let mut r = vec![0.0; b.len()];
             let before = x.clone();
-            let mut ws = Workspace::new(&self.hierarchy);
+            let mut ws = Workspace::new(&self.hierarchy, comps.len());
+            let mut cp = self.opts.solve.cycle_params(&self.hierarchy);
+            crate::multigrid::slip::cycle_for(&self.hierarchy, &comps, &self.opts.solve, &mut cp);
             cycle(&self.hierarchy, comps.clone(), &cp, &b, &mut x, Start::Guess, &mut ws);
             lev.residual(comps.clone(), &b, &x, &mut r, &mut s);
             let bn = crate::sparse::dot(&b, &b).sqrt();
@@ -456,6 +510,7 @@ impl Solver {
                 breakdown: None,
                 seconds: secs,
                 history: vec![(mc, rel)],
+                ..Default::default()
             };
             report = Some(match report {
                 None => rep,

@@ -15,6 +15,14 @@ fn bench_writes_csv_with_every_solver() {
     assert!(status.status.success(), "bench failed: {}", String::from_utf8_lossy(&status.stderr));
     let stdout = String::from_utf8_lossy(&status.stdout);
     assert!(stdout.contains("ratio to ours"), "table printed:\n{stdout}");
+    // The slip-wall comparison: SLIP within 1.3× the iterations of FIXED walls.
+    let slip = std::fs::read_to_string(out.join("slip.csv")).expect("slip.csv written");
+    assert!(slip.starts_with("method,vertices,levels,fixed_iterations,slip_iterations"));
+    for l in slip.lines().skip(1) {
+        let f: Vec<f64> = l.split(',').skip(1).map(|v| v.parse().unwrap()).collect();
+        assert!(f[3] <= 1.3 * f[2], "slip iterations: {l}");
+    }
+    assert_eq!(slip.lines().count(), 4, "{slip}");
     let csv = std::fs::read_to_string(out.join("bench.csv")).expect("bench.csv written");
     let mut lines = csv.lines();
     assert_eq!(

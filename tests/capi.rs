@@ -106,8 +106,8 @@ fn null_and_stale_handles_are_statuses() {
         };
         assert_eq!(sizes(b as *const meshmove_mesh, &mut n), meshmove_status::InvalidHandle);
         assert!(last().contains("meshmove_bcs handle"), "{}", last());
-        assert_eq!(meshmove_bcs_set_kinds(b, 0, 3), meshmove_status::InvalidArgument);
-        assert!(last().contains("kind 3"));
+        assert_eq!(meshmove_bcs_set_kinds(b, 0, 4), meshmove_status::InvalidArgument);
+        assert!(last().contains("kind 4"));
         assert_eq!(meshmove_mesh_free(m), meshmove_status::Ok);
         assert_eq!(meshmove_mesh_free(m), meshmove_status::InvalidHandle);
         assert!(last().contains("meshmove_mesh handle that was already freed"), "{}", last());
@@ -451,5 +451,92 @@ fn a_busy_handle_is_refused_and_a_freed_one_stays_refused() {
         }
         let name = CStr::from_ptr(meshmove_status_name(meshmove_status::Busy as i32));
         assert_eq!(name.to_str().unwrap(), "MESHMOVE_STATUS_BUSY");
+    }
+}
+
+/// The closest point of the circle of radius `*user` about the origin (a C callback).
+unsafe extern "C" fn circle(user: *mut std::ffi::c_void, dim: i32, x: *const f64, out: *mut f64) {
+    let (r, calls) = unsafe { &*(user as *const (f64, std::sync::atomic::AtomicUsize)) };
+    calls.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    assert_eq!(dim, 2);
+    let p = unsafe { std::slice::from_raw_parts(x, 2) };
+    let len = (p[0] * p[0] + p[1] * p[1]).sqrt();
+    unsafe { std::slice::from_raw_parts_mut(out, 2) }.copy_from_slice(&[r * p[0] / len, r * p[1] / len]);
+}
+
+/// An annulus through the C ABI, its outer circle MESHMOVE_KIND_SLIP with the circle as a
+/// callback: the inner circle turned by 0.3 moves the outer vertices along the circle, exactly
+/// on it, and the report says how far off they are.
+#[test]
+fn slip_wall_with_a_c_callback() {
+    let (nr, nt) = (6usize, 40usize);
+    let mut xy = Vec::new();
+    for i in 0..=nr {
+        let r = 1.0 + 2.0 * i as f64 / nr as f64;
+        for k in 0..nt {
+            let a = std::f64::consts::TAU * k as f64 / nt as f64;
+            xy.extend([r * a.cos(), r * a.sin()]);
+        }
+    }
+    let id = |i: usize, k: usize| (i * nt + k % nt) as i32;
+    let (mut cells, mut edges, mut patches) = (Vec::new(), Vec::new(), Vec::new());
+    for i in 0..nr {
+        for k in 0..nt {
+            cells.extend([id(i, k), id(i + 1, k), id(i + 1, k + 1), id(i, k), id(i + 1, k + 1), id(i, k + 1)]);
+        }
+    }
+    for k in 0..nt {
+        edges.extend([id(0, k), id(0, k + 1), id(nr, k), id(nr, k + 1)]);
+        patches.extend([1, 2]);
+    }
+    let nv = xy.len() / 2;
+    let (mut m, mut b, mut s) = (null_mut(), null_mut(), null_mut());
+    unsafe {
+        let st = meshmove_mesh_create_triangles(
+            nv as i32,
+            xy.as_ptr(),
+            (cells.len() / 3) as i32,
+            cells.as_ptr(),
+            0,
+            patches.len() as i32,
+            edges.as_ptr(),
+            patches.as_ptr(),
+            null(),
+            &mut m,
+        );
+        assert_eq!(st, meshmove_status::Ok, "{}", last());
+        assert_eq!(meshmove_bcs_create(&mut b), meshmove_status::Ok);
+        assert_eq!(meshmove_bcs_set_kinds(b, 1, meshmove_kind::Clamped as i32), meshmove_status::Ok);
+        assert_eq!(meshmove_bcs_set_kinds(b, 2, 3), meshmove_status::Ok);
+        assert_eq!(meshmove_bcs_set_kinds(b, 2, 4), meshmove_status::InvalidArgument);
+        let user = (3.0f64, std::sync::atomic::AtomicUsize::new(0));
+        let ptr = &user as *const _ as *mut std::ffi::c_void;
+        assert_eq!(meshmove_bcs_set_slip_surface(b, 2, Some(circle), ptr), meshmove_status::Ok);
+        assert_eq!(meshmove_solver_create(m, b, null(), &mut s), meshmove_status::Ok, "{}", last());
+        let mut bd = vec![0.0; 2 * nv];
+        let (c, sn) = (0.3f64.cos(), 0.3f64.sin());
+        for k in 0..nt {
+            let (x, y) = (xy[2 * k], xy[2 * k + 1]);
+            bd[2 * k] = c * x - sn * y - x;
+            bd[2 * k + 1] = sn * x + c * y - y;
+        }
+        let mut coords = xy.clone();
+        let (mut rep, mut q) = (meshmove_report::default(), meshmove_quality::default());
+        let st = meshmove_solver_move(s, 2 * nv as i32, bd.as_ptr(), coords.as_mut_ptr(), &mut rep, &mut q);
+        assert_eq!(st, meshmove_status::Ok, "{}", last());
+        assert!(user.1.load(std::sync::atomic::Ordering::Relaxed) >= nt, "the callback was called");
+        assert!(rep.max_slip_offwall < 1e-12, "{rep:?}");
+        let outer = (0..nt).map(|k| id(nr, k) as usize);
+        let (mut off, mut slid) = (0.0f64, 0.0f64);
+        for v in outer {
+            let (x, y) = (coords[2 * v], coords[2 * v + 1]);
+            off = off.max(((x * x + y * y).sqrt() - 3.0).abs());
+            slid = slid.max((x - xy[2 * v]).abs() + (y - xy[2 * v + 1]).abs());
+        }
+        assert!(off < 1e-12 && slid > 0.01, "off the circle {off:e}, slid {slid}");
+        assert_eq!(q.inverted, 0);
+        assert_eq!(meshmove_solver_free(s), meshmove_status::Ok);
+        assert_eq!(meshmove_bcs_free(b), meshmove_status::Ok);
+        assert_eq!(meshmove_mesh_free(m), meshmove_status::Ok);
     }
 }

@@ -33,12 +33,12 @@ fn demo_quick_writes_results_csv_and_pictures() {
         lines[0],
         "case,method,steps,inverted,min_area_ratio,min_angle_deg,spacing_variation,cycles,seconds,max_y_upper,dim"
     );
-    // The header and 17 cases (10 in 2D, 7 in 3D) × 3 methods.
-    assert_eq!(lines.len(), 52, "{csv}");
+    // The header and 21 cases (12 in 2D, 9 in 3D) × 3 methods.
+    assert_eq!(lines.len(), 64, "{csv}");
     for l in &lines[1..] {
         assert_eq!(l.split(',').count(), 11, "{l}");
     }
-    assert_eq!(lines.iter().filter(|l| l.ends_with(",3")).count(), 21, "{csv}");
+    assert_eq!(lines.iter().filter(|l| l.ends_with(",3")).count(), 27, "{csv}");
     assert!(lines.iter().any(|l| l.starts_with("free_surface_3d_prisms_a0.1,biharmonic,1,0,")));
     assert!(lines.iter().any(|l| l.starts_with("boundary_layer_cylinder_3d,spring,1,0,")));
     // The largest amplitude each method moves in one step: 4 free surfaces × 3 methods.
@@ -48,6 +48,8 @@ fn demo_quick_writes_results_csv_and_pictures() {
     assert!(lines.iter().any(|l| l.starts_with("boundary_layer_cylinder,spring,")));
     assert!(lines.iter().any(|l| l.starts_with("deforming_interface_B,biharmonic,15,")));
     assert!(lines.iter().any(|l| l.starts_with("boundary_layer_cylinder_hybrid,laplacian,")));
+    assert!(lines.iter().any(|l| l.starts_with("cylinder_channel_1.5D_slip,biharmonic,1,")));
+    assert!(lines.iter().any(|l| l.starts_with("sphere_channel_1.5D_slip,laplacian,1,")));
     for f in [
         "convergence.png",
         "convergence.csv",

@@ -202,6 +202,10 @@ fn compatible(c: &CType, f: &FArg) -> bool {
         _ => None,
     };
     let cptr_value = f.ty == "type(c_ptr)" && f.value;
+    // Callbacks: a function pointer typedef, passed by value.
+    if c.ptr == 0 && c.base == "meshmove_closest_point" {
+        return f.ty == "type(c_funptr)" && f.value;
+    }
     match c.ptr {
         0 => f.value && scalar(&c.base) == Some(f.ty.as_str()),
         1 if HANDLES.contains(&c.base.as_str()) => cptr_value,

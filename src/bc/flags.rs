@@ -17,7 +17,9 @@ pub(crate) fn component_flags(mesh: &Mesh, dofs: &Dofs, bcs: &BoundaryConditions
         let f = match bcs.kind(e.patch, component) {
             Kind::Fixed => P | Z,
             Kind::Clamped => P,
-            Kind::Free => 0,
+            // The normal is prescribed through the level's slip frames (`bc::slip`), which make
+            // the components one coupled system; no component alone is prescribed.
+            Kind::Free | Kind::Slip => 0,
         };
         for &v in e.vertices {
             vflags[v as usize] |= f;

@@ -6,11 +6,16 @@ mod dofs;
 mod flags;
 mod links;
 mod numbering;
+mod slip;
+mod slip_walls;
 mod well_posed;
 
 pub use dofs::Dofs;
 pub(crate) use flags::component_flags;
 pub use flags::{P, Z};
+pub use slip::SlipFrames;
+pub(crate) use slip::{fine_slip_frames, inherit_slip_frames};
+pub use slip_walls::{SlipSurface, SlipWalls};
 pub(crate) use links::resolve_links;
 pub(crate) use well_posed::{check_well_posed, COMPONENT};
 
@@ -29,6 +34,10 @@ pub enum Kind {
     Clamped,
     /// ∇d·n = 0 and ∇³d·n = 0: the vertex moves (no flag).
     Free,
+    /// The vertex slides along its wall: the displacement normal to the wall is prescribed, the
+    /// tangential components are free (docs/DESIGN.md §4). A kind of the whole patch: every
+    /// component of a SLIP patch must be SLIP ([`BoundaryConditions::set_kinds`]).
+    Slip,
 }
 
 /// How an internal interface between two regions couples them (docs/DESIGN.md §4).
@@ -68,6 +77,9 @@ pub struct BoundaryConditions {
     pub default_kind: [Kind; MAX_DIM],
     pub(crate) links: Vec<Link>,
     interfaces: BTreeMap<i32, InterfaceVariant>,
+    /// Analytic shapes of SLIP walls (closest point), by patch; a SLIP patch without one is
+    /// projected onto its original faces.
+    surfaces: BTreeMap<i32, SlipSurface>,
 }
 
 impl Default for BoundaryConditions {
@@ -77,6 +89,7 @@ impl Default for BoundaryConditions {
             default_kind: [Kind::Fixed; MAX_DIM],
             links: Vec::new(),
             interfaces: BTreeMap::new(),
+            surfaces: BTreeMap::new(),
         }
     }
 }
@@ -120,6 +133,29 @@ impl BoundaryConditions {
         self
     }
 
+    /// Gives the SLIP patch `patch` an analytic shape: after each solve its slipped vertices are
+    /// moved to `surface`'s closest point instead of onto the patch's original faces.
+    pub fn set_slip_surface(&mut self, patch: i32, surface: SlipSurface) -> &mut Self {
+        self.surfaces.insert(patch, surface);
+        self
+    }
+
+    /// Removes the analytic shape of a SLIP patch (its original faces are its wall again).
+    pub fn remove_slip_surface(&mut self, patch: i32) -> &mut Self {
+        self.surfaces.remove(&patch);
+        self
+    }
+
+    /// The analytic shape of a SLIP patch, if one was given.
+    pub fn slip_surface(&self, patch: i32) -> Option<&SlipSurface> {
+        self.surfaces.get(&patch)
+    }
+
+    /// True when the patch is SLIP (in its first component: `check` makes sure in all).
+    pub fn is_slip(&self, patch: i32) -> bool {
+        self.kind(patch, 0) == Kind::Slip
+    }
+
     /// Patches whose shared vertices are split per region (variant A).
     pub(crate) fn split_patches(&self) -> Vec<i32> {
         self.interfaces.iter().filter(|(_, &v)| v == InterfaceVariant::Separate).map(|(&p, _)| p).collect()
@@ -129,9 +165,25 @@ impl BoundaryConditions {
     /// and prescribe both components.
     pub fn check(&self, mesh: &Mesh) -> Result<()> {
         let ids = mesh.patch_ids();
-        for &p in self.kinds.keys().chain(self.interfaces.keys()) {
+        for &p in self.kinds.keys().chain(self.interfaces.keys()).chain(self.surfaces.keys()) {
             if ids.binary_search(&p).is_err() {
                 return Err(Error::Bc(format!("patch {p} is not in the mesh (patches: {ids:?})")));
+            }
+        }
+        let dim = mesh.dim();
+        let patches = ids.iter().copied().chain(self.kinds.keys().copied());
+        for p in patches {
+            let slip = (0..dim).filter(|&c| self.kind(p, c) == Kind::Slip).count();
+            if slip != 0 && slip != dim {
+                return Err(Error::Bc(format!(
+                    "patch {p} is SLIP in {slip} of its {dim} components: SLIP is a kind of the whole patch (the \
+                     normal is prescribed, the tangential components are free), set it for every component"
+                )));
+            }
+        }
+        for &p in self.surfaces.keys() {
+            if !self.is_slip(p) {
+                return Err(Error::Bc(format!("patch {p} has a slip surface but is not SLIP")));
             }
         }
         for p in self.split_patches() {
@@ -139,9 +191,10 @@ impl BoundaryConditions {
                 return Err(Error::Bc(format!("interface patch {p} has no interior face between two cells")));
             }
             for c in 0..mesh.dim() {
-                if self.kind(p, c) == Kind::Free {
+                if matches!(self.kind(p, c), Kind::Free | Kind::Slip) {
                     return Err(Error::Bc(format!(
-                        "interface patch {p} is split (variant A) but component {c} is FREE: each side must prescribe the position"
+                        "interface patch {p} is split (variant A) but component {c} is {}: each side must prescribe the position",
+                        format!("{:?}", self.kind(p, c)).to_uppercase()
                     )));
                 }
             }

@@ -5,7 +5,9 @@ use super::handles::{self, check_out, get_mut, hand_out, slice, Handle, Slot};
 use super::points;
 use super::status::meshmove_status;
 use super::types;
+use crate::bc::SlipSurface;
 use crate::{BoundaryConditions, Link};
+use std::ffi::c_void;
 
 /// A boundary-condition set: a `meshmove_kind` per patch and displacement component (patches not
 /// named are FIXED), links between patches, interface variants. It is checked against a mesh when a solver
@@ -200,6 +202,66 @@ pub unsafe extern "C" fn meshmove_bcs_set_interface(
         let mut b = get_mut(bcs, "bcs")?;
         let v = types::interface(variant)?;
         b.set_interface(patch, v);
+        Ok(())
+    })
+}
+
+/// The closest point of a wall to a point: called with the caller's `user_data`, the dimension,
+/// the point's `dim` coordinates, and `dim` doubles to write the closest point of the wall into.
+/// It is called from the solver's threads, one call at a time, during `meshmove_solver_*` calls.
+pub type meshmove_closest_point =
+    Option<unsafe extern "C" fn(user_data: *mut c_void, dim: i32, x: *const f64, closest: *mut f64)>;
+
+/// The caller's context pointer, handed back to its callback (the caller keeps it valid, and
+/// safe to use from the solver's threads, for as long as a solver made with these conditions
+/// lives).
+struct UserData(*mut c_void);
+// SAFETY: the pointer is only passed back to the caller's callback, which the caller makes safe
+// to call from the solver's threads (documented on `meshmove_bcs_set_slip_surface`).
+unsafe impl Send for UserData {}
+// SAFETY: as above; the solver calls the callback one call at a time.
+unsafe impl Sync for UserData {}
+
+/// Gives the SLIP patch `patch` an analytic shape: after each solve its slipped vertices are moved
+/// to `closest(user_data, dim, x, out)` instead of onto the patch's original faces (a circle, a
+/// cylinder, a CAD surface). `closest` NULL removes the shape. The callback must be safe to call
+/// from the solver's threads, and `user_data` valid while a solver made with these conditions
+/// lives. A callback that writes a non-finite point leaves the vertex where the solve put it.
+///
+/// # Safety
+/// `bcs` must be a handle from meshmove (checked); `closest` a function of the declared type.
+#[no_mangle]
+#[must_use]
+pub unsafe extern "C" fn meshmove_bcs_set_slip_surface(
+    bcs: *mut meshmove_bcs,
+    patch: i32,
+    closest: meshmove_closest_point,
+    user_data: *mut c_void,
+) -> meshmove_status {
+    ffi_body!(meshmove_bcs_set_slip_surface, {
+        let mut b = get_mut(bcs, "bcs")?;
+        let Some(f) = closest else {
+            b.remove_slip_surface(patch);
+            return Ok(());
+        };
+        let user = UserData(user_data);
+        b.set_slip_surface(
+            patch,
+            SlipSurface::new(move |x: &[f64]| {
+                let user = &user;
+                let mut out = [0.0f64; 3];
+                // SAFETY: the caller guarantees the callback and its context (documented above);
+                // x holds `dim` values and out has room for 3.
+                unsafe { f(user.0, x.len() as i32, x.as_ptr(), out.as_mut_ptr()) };
+                if out[..x.len()].iter().all(|v| v.is_finite()) {
+                    out
+                } else {
+                    let mut same = [0.0; 3];
+                    same[..x.len()].copy_from_slice(x);
+                    same
+                }
+            }),
+        );
         Ok(())
     })
 }

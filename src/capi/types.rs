@@ -85,6 +85,10 @@ pub enum meshmove_kind {
     Clamped = 1,
     /// The vertex moves (zero-flux conditions).
     Free = 2,
+    /// The vertex slides along its wall: the displacement normal to the wall is prescribed, the
+    /// tangential components are free. A kind of the whole patch: set it for every component
+    /// (`meshmove_bcs_set_kinds`).
+    Slip = 3,
 }
 
 /// How an internal interface patch couples its two regions.
@@ -162,6 +166,9 @@ pub struct meshmove_report {
     pub seconds: f64,
     /// 1 if both components met the criterion, else 0.
     pub converged: i32,
+    /// SLIP walls: the largest distance of a slipped vertex from its wall in the result (0
+    /// without slip walls).
+    pub max_slip_offwall: f64,
 }
 
 /// What one step (or automatic sub-step) of a move did.
@@ -193,6 +200,8 @@ pub struct meshmove_step_report {
     /// 1 if the result became the new mesh; 0 if it was rejected (and the step split), or the
     /// call failed here.
     pub accepted: i32,
+    /// SLIP walls: the largest distance of a slipped vertex from its wall after this sub-step.
+    pub max_slip_offwall: f64,
 }
 
 impl From<&crate::StepReport> for meshmove_step_report {
@@ -211,6 +220,7 @@ impl From<&crate::StepReport> for meshmove_step_report {
             min_angle_deg: r.min_angle_deg,
             seconds: r.seconds,
             accepted: i32::from(r.accepted),
+            max_slip_offwall: r.max_slip_offwall,
         }
     }
 }
@@ -258,6 +268,7 @@ impl From<&crate::Report> for meshmove_report {
             rel_residual: r.rel_residual,
             seconds: r.seconds,
             converged: i32::from(r.converged),
+            max_slip_offwall: r.max_slip_offwall,
         }
     }
 }
@@ -278,7 +289,8 @@ pub(crate) fn kind(k: i32) -> Result<Kind, CError> {
         0 => Ok(Kind::Fixed),
         1 => Ok(Kind::Clamped),
         2 => Ok(Kind::Free),
-        _ => Err(CError::arg(format!("kind {k} is not a meshmove_kind (0 FIXED, 1 CLAMPED, 2 FREE)"))),
+        3 => Ok(Kind::Slip),
+        _ => Err(CError::arg(format!("kind {k} is not a meshmove_kind (0 FIXED, 1 CLAMPED, 2 FREE, 3 SLIP)"))),
     }
 }
 

@@ -13,3 +13,4 @@ pub mod meshes3d;
 pub mod report;
 pub mod setups;
 pub mod setups3d;
+pub mod spheres3d;

@@ -11,8 +11,8 @@ use crate::motion::{Motion, RigidMotion};
 use std::f64::consts::TAU;
 
 /// The case names of the CLI's `results.csv`, in order: the 2D cases, then the 3D ones
-/// ([`super::setups3d`]).
-pub const CASE_NAMES: [&str; 17] = [
+/// ([`super::setups3d`]), then the slip-wall comparisons.
+pub const CASE_NAMES: [&str; 21] = [
     "free_surface_a0.1",
     "free_surface_a0.25",
     "free_surface_a0.25_10steps",
@@ -30,6 +30,10 @@ pub const CASE_NAMES: [&str; 17] = [
     "free_surface_3d_hexes_a0.25",
     "free_surface_3d_prisms_a0.25",
     "boundary_layer_cylinder_3d",
+    "cylinder_channel_1.5D_fixed",
+    "cylinder_channel_1.5D_slip",
+    "sphere_channel_1.5D_fixed",
+    "sphere_channel_1.5D_slip",
 ];
 
 /// Mesh sizes: the paper's (docs/DESIGN.md §7) or coarse ones for quick smoke runs.
@@ -130,6 +134,37 @@ pub fn cylinder_channel_case(h: f64) -> CaseSetup {
     }
 }
 
+/// The cylinder of `cylinder_channel_case` moved 1.5 D along the channel in one step, the
+/// channel's walls (all four sides) `walls`: FIXED, or SLIP (its vertices slide along the walls,
+/// the corners stay).
+pub fn cylinder_channel_far(h: f64, walls: Kind) -> CaseSetup {
+    let mut c = cylinder_channel_case(h);
+    c.name = format!("cylinder_channel_1.5D_{}", if walls == Kind::Slip { "slip" } else { "fixed" });
+    c.bcs.set_kinds(CH_WALL, walls);
+    c.motion = Motion::zero(&c.mesh).with_rigid(CH_CYLINDER, RigidMotion::translation([1.5, 0.0, 0.0]));
+    c
+}
+
+/// 3D: a sphere of diameter 0.4 at (1.6, 0, 0) in the duct [0, 4] × [−1, 1] × [−1, 1] (hexahedra,
+/// `spheres3d::sphere_channel`), moved 1.5 D along the duct in one step; the sphere CLAMPED, the
+/// duct's walls and ends `walls` (SLIP: they slide, their edges along the edges, the corners stay).
+pub fn sphere_channel_case(walls: Kind) -> CaseSetup {
+    use super::spheres3d::{sphere_channel, SC_SPHERE, SC_WALL};
+    let mesh = sphere_channel(10, 4.0, 1.6, 0.4, 2, 3);
+    let mut bcs = BoundaryConditions::new();
+    bcs.set_kinds(SC_WALL, walls).set_kinds(SC_SPHERE, Kind::Clamped);
+    let motion = Motion::zero(&mesh).with_rigid(SC_SPHERE, RigidMotion::translation([0.6, 0.0, 0.0]));
+    CaseSetup {
+        name: format!("sphere_channel_1.5D_{}", if walls == Kind::Slip { "slip" } else { "fixed" }),
+        mesh,
+        bcs,
+        motion,
+        steps: 1,
+        moved_patch: SC_SPHERE,
+        upper_region: None,
+    }
+}
+
 /// [−10,20]×[−10,10] with the wall-layer cylinder moved 4.5 D along (−1, 1)/√2 by a rigid
 /// translation; far field FIXED, cylinder CLAMPED.
 pub fn boundary_layer_cylinder_case() -> CaseSetup {
@@ -168,6 +203,10 @@ pub fn case(name: &str, scale: Scale) -> Option<CaseSetup> {
             interface_case("deforming_interface_B", h, InterfaceVariant::Continuous, deformed, 15)
         }
         "cylinder_channel" => cylinder_channel_case(hc),
+        "cylinder_channel_1.5D_fixed" => cylinder_channel_far(hc, Kind::Fixed),
+        "cylinder_channel_1.5D_slip" => cylinder_channel_far(hc, Kind::Slip),
+        "sphere_channel_1.5D_fixed" => sphere_channel_case(Kind::Fixed),
+        "sphere_channel_1.5D_slip" => sphere_channel_case(Kind::Slip),
         "boundary_layer_cylinder" => boundary_layer_cylinder_case(),
         "boundary_layer_cylinder_hybrid" => boundary_layer_cylinder_hybrid_case(),
         other => return super::setups3d::case3d(other, scale),

@@ -7,7 +7,7 @@ use crate::{Error, Result};
 
 /// Above this many free unknowns the coarsest level is smoothed, not factored (only when
 /// coarsening stopped early on an awkward mesh).
-const DENSE_MAX: usize = 1500;
+pub(super) const DENSE_MAX: usize = 1500;
 
 pub enum CoarseSolve {
     Dense {

@@ -4,6 +4,7 @@
 //! Coarse-level visits start from a zero correction (`Start::Zero`) and skip its residual.
 
 use super::hierarchy::Hierarchy;
+use super::slip;
 use super::smoother::{smooth, Scratch, Smoother, Start};
 use crate::bc::P;
 use crate::operator::Method;
@@ -85,12 +86,15 @@ impl CycleParams {
     }
 }
 
-/// Vectors of one level's visit. The finest level's right-hand side and iterate are the
-/// caller's, so its `b` and `x` stay empty.
+/// Vectors of one level's visit, for a group of g components. The finest level's right-hand
+/// side and iterate are the caller's, so its `b` and `x` stay empty.
 struct LevelWork {
     b: Vec<f64>,
     x: Vec<f64>,
-    scratch: Scratch,
+    /// The group's residual (g blocks) when g > 1; a single component uses its scratch's `r`.
+    r: Vec<f64>,
+    /// One smoother scratch per component of the group.
+    scratch: Vec<Scratch>,
 }
 
 pub(crate) struct Workspace {
@@ -98,15 +102,18 @@ pub(crate) struct Workspace {
 }
 
 impl Workspace {
-    pub(crate) fn new(h: &Hierarchy) -> Self {
+    /// Vectors for solving groups of up to `group` components on `h`.
+    pub(crate) fn new(h: &Hierarchy, group: usize) -> Self {
         let levels = h
             .levels
             .iter()
             .enumerate()
             .map(|(l, lev)| {
                 let n = lev.n();
-                let nbx = if l == 0 { 0 } else { n };
-                LevelWork { b: vec![0.0; nbx], x: vec![0.0; nbx], scratch: Scratch::new(n, h.method) }
+                let nbx = if l == 0 { 0 } else { group * n };
+                let nr = if group > 1 { group * n } else { 0 };
+                let scratch = (0..group).map(|_| Scratch::new(n, h.method)).collect();
+                LevelWork { b: vec![0.0; nbx], x: vec![0.0; nbx], r: vec![0.0; nr], scratch }
             })
             .collect();
         Workspace { levels }
@@ -114,15 +121,15 @@ impl Workspace {
 
     /// The finest level's scratch, free between cycles (for the outer iteration's products).
     pub(crate) fn fine(&mut self) -> &mut Scratch {
-        &mut self.levels[0].scratch
+        &mut self.levels[0].scratch[0]
     }
 }
 
 /// One cycle for the components `comps` on the finest level: x ← x + B(b − A x), or x = B b
 /// from `Start::Zero` (x's content ignored). `b` and `x` hold one block of n values per
-/// component; the cycle treats the blocks one after another (the methods' operators do not
-/// couple components). Returns the largest correction of the first fine-level smoothing sweep
-/// (the paper's convergence measure).
+/// component. Components the methods' operators do not couple run one after another, each its
+/// own cycle; a group coupled by slip walls runs as one (`multigrid::slip`). Returns the largest
+/// correction of the first fine-level smoothing sweep (the paper's convergence measure).
 pub(crate) fn cycle(
     h: &Hierarchy,
     comps: std::ops::Range<usize>,
@@ -132,19 +139,53 @@ pub(crate) fn cycle(
     start: Start,
     ws: &mut Workspace,
 ) -> f64 {
+    if slip::frames_for(h.fine(), &comps).is_some() {
+        return level_cycle(h, comps, p, 0, b, x, start, ws);
+    }
     let n = h.fine().n();
     let mut first = 0.0f64;
     for (k, c) in comps.enumerate() {
         let blk = k * n..(k + 1) * n;
-        first = first.max(level_cycle(h, c, p, 0, &b[blk.clone()], &mut x[blk], start, ws));
+        first = first.max(level_cycle(h, c..c + 1, p, 0, &b[blk.clone()], &mut x[blk], start, ws));
     }
     first
+}
+
+/// One smoothing application on level `l` for the group `comps` (blocks of n in `b` and `x`).
+#[allow(clippy::too_many_arguments)]
+fn smooth_group(
+    h: &Hierarchy,
+    comps: std::ops::Range<usize>,
+    p: &CycleParams,
+    l: usize,
+    b: &[f64],
+    x: &mut [f64],
+    w: &mut [Scratch],
+    start: Start,
+    measure: bool,
+) -> f64 {
+    let lev = &h.levels[l];
+    let sm = if l == 0 { p.smoother } else { p.coarse_smoother };
+    if slip::frames_for(lev, &comps).is_some() {
+        return slip::smooth_coupled(lev, comps, sm, p.l1_bound, b, x, w, start, measure);
+    }
+    let n = lev.n();
+    let mut m = 0.0f64;
+    for (k, c) in comps.enumerate() {
+        let mut pb = lev.problem(c);
+        if p.l1_bound {
+            pb.lambda_max = 1.0;
+        }
+        let blk = k * n..(k + 1) * n;
+        m = m.max(smooth(pb, sm, &b[blk.clone()], &mut x[blk], &mut w[k], start, measure));
+    }
+    m
 }
 
 #[allow(clippy::too_many_arguments)]
 fn level_cycle(
     h: &Hierarchy,
-    c: usize,
+    comps: std::ops::Range<usize>,
     p: &CycleParams,
     l: usize,
     b: &[f64],
@@ -153,48 +194,77 @@ fn level_cycle(
     ws: &mut Workspace,
 ) -> f64 {
     let lev = &h.levels[l];
-    let mut pb = lev.problem(c);
-    if p.l1_bound {
-        pb.lambda_max = 1.0;
-    }
+    let (n, g) = (lev.n(), comps.len());
     let Some(down) = &lev.down else {
-        let solve = &lev.coarse.as_ref().expect("coarsest level has its solve")[c];
-        solve.solve(pb, b, x, start, &mut ws.levels[l].scratch);
+        let work = &mut ws.levels[l];
+        if let Some(gc) = slip::frames_for(lev, &comps).and_then(|s| s.coarse.as_ref()) {
+            gc.solve(lev, comps, p.l1_bound, b, x, start, &mut work.r[..g * n], &mut work.scratch);
+            return 0.0;
+        }
+        for (k, c) in comps.enumerate() {
+            let mut pb = lev.problem(c);
+            if p.l1_bound {
+                pb.lambda_max = 1.0;
+            }
+            let solve = &lev.coarse.as_ref().expect("coarsest level has its solve")[c];
+            let blk = k * n..(k + 1) * n;
+            solve.solve(pb, &b[blk.clone()], &mut x[blk], start, &mut work.scratch[k]);
+        }
         return 0.0;
     };
-    let smoother = if l == 0 { p.smoother } else { p.coarse_smoother };
     let mut first = 0.0;
     let mut start = start;
     for k in 0..p.pre {
         // Only the first fine-level sweep's correction is reported (the paper's measure).
-        let m = smooth(pb, smoother, b, x, &mut ws.levels[l].scratch, start, l == 0 && k == 0);
+        let w = &mut ws.levels[l].scratch;
+        let m = smooth_group(h, comps.clone(), p, l, b, x, w, start, l == 0 && k == 0);
         start = Start::Guess;
         if k == 0 {
             first = m;
         }
     }
+    let nc = h.levels[l + 1].n();
     let mut bc = std::mem::take(&mut ws.levels[l + 1].b);
     let mut xc = std::mem::take(&mut ws.levels[l + 1].x);
     if start == Start::Zero {
         // No pre-smoothing from a zero start: the residual is b itself.
         x.iter_mut().for_each(|v| *v = 0.0);
-        down.restrict.mul_vec(b, &mut bc);
+        for k in 0..g {
+            down.restrict.mul_vec(&b[k * n..(k + 1) * n], &mut bc[k * nc..(k + 1) * nc]);
+        }
     } else {
-        let w = &mut ws.levels[l].scratch;
-        lev.op.residual(pb.flags, b, x, &mut w.r, &mut w.s);
-        down.restrict.mul_vec(&w.r, &mut bc);
+        let work = &mut ws.levels[l];
+        let w0 = &mut work.scratch[0];
+        let r: &mut [f64] = if g > 1 { &mut work.r } else { &mut w0.r };
+        lev.residual(comps.clone(), b, x, r, &mut w0.s);
+        for k in 0..g {
+            down.restrict.mul_vec(&r[k * n..(k + 1) * n], &mut bc[k * nc..(k + 1) * nc]);
+        }
     }
+    // Π_c Pᵀ: the coarse right-hand side in the coarse free subspace.
+    slip::project(&h.levels[l + 1], &comps, &mut bc[..g * nc]);
     for k in 0..p.gamma {
         let cstart = if k == 0 { Start::Zero } else { Start::Guess };
-        level_cycle(h, c, p, l + 1, &bc, &mut xc, cstart, ws);
+        level_cycle(h, comps.clone(), p, l + 1, &bc[..g * nc], &mut xc[..g * nc], cstart, ws);
     }
     // Add the interpolated correction, fused into one pass; prescribed unknowns keep theirs.
-    let (flags, prolong, xc_ref, wgt) = (pb.flags, &down.prolong, &xc, p.coarse_weight);
-    par_update(x, |i, xv| if flags[i] & P != 0 { xv } else { xv + wgt * prolong.row_dot(i, xc_ref) });
+    for (k, c) in comps.clone().enumerate() {
+        let (flags, prolong, xc_ref, wgt) = (&lev.flags[c], &down.prolong, &xc[k * nc..(k + 1) * nc], p.coarse_weight);
+        par_update(&mut x[k * n..(k + 1) * n], |i, xv| {
+            if flags[i] & P != 0 {
+                xv
+            } else {
+                xv + wgt * prolong.row_dot(i, xc_ref)
+            }
+        });
+    }
+    // Π_f P: the prolongated correction in the fine free subspace.
+    slip::project(lev, &comps, x);
     ws.levels[l + 1].b = bc;
     ws.levels[l + 1].x = xc;
     for _ in 0..p.post {
-        smooth(pb, smoother, b, x, &mut ws.levels[l].scratch, Start::Guess, false);
+        let w = &mut ws.levels[l].scratch;
+        smooth_group(h, comps.clone(), p, l, b, x, w, Start::Guess, false);
     }
     first
 }

@@ -10,6 +10,7 @@ use super::coarsen::CoarsenParams;
 use super::coarsener::{coarsener_for, CoarseLevels, CoarseUnknowns, Coarsener};
 use super::lsq::Features;
 use super::restriction::Restriction;
+use super::slip::{self, LevelSlip};
 use super::smoother::{estimate_lambda_max, Problem};
 use crate::bc::{check_well_posed, component_flags, BoundaryConditions, Dofs};
 use crate::mesh::quality::is_inverted;
@@ -58,6 +59,9 @@ pub struct Level {
     pub down: Option<Transfer>,
     /// Direct solve per component, on the coarsest level only.
     pub coarse: Option<Vec<CoarseSolve>>,
+    /// Slip walls: the constrained directions of the slip unknowns (`multigrid::slip`), built
+    /// from the mesh on the finest level and inherited below; None without slip walls.
+    pub slip: Option<LevelSlip>,
 }
 
 /// What a level computes from its mesh (everything but the mesh itself), so it can be built
@@ -78,7 +82,7 @@ impl LevelParts {
 
     fn into_level(self, mesh: Mesh, pairs: Vec<[u32; 2]>, parent_vertex: Vec<u32>) -> Level {
         let LevelParts { dofs, op, flags } = self;
-        let mut level = Level {
+        Level {
             mesh: Some(mesh),
             points: Vec::new(),
             features: None,
@@ -91,16 +95,16 @@ impl LevelParts {
             parent_vertex,
             down: None,
             coarse: None,
-        };
-        level.refresh_bounds();
-        level
+            slip: None,
+        }
+        // The slip frames may prescribe unknowns (`slip::attach`): bounds come after them.
     }
 }
 
 impl Level {
-    /// The level kept from `fine`'s unknowns `c.kept`: their flags and positions, no mesh, the
-    /// Galerkin operator.
-    fn kept(fine: &Level, c: CoarseUnknowns) -> (Level, Transfer) {
+    /// The level kept from `fine`'s unknowns `c.kept`: their flags, slip frames and positions,
+    /// no mesh, the Galerkin operator.
+    fn kept(fine: &Level, c: CoarseUnknowns, bcs: &BoundaryConditions) -> (Level, Transfer) {
         let CoarseUnknowns { kept, features, transfer } = c;
         let fine_points = fine.unknown_points();
         let dim = fine.dim();
@@ -120,7 +124,9 @@ impl Level {
             parent_vertex: kept,
             down: None,
             coarse: None,
+            slip: None,
         };
+        slip::attach(&mut level, Some(fine), bcs);
         level.refresh_bounds();
         (level, transfer)
     }
@@ -150,6 +156,7 @@ impl Level {
         let (inv_d, lambda_max) = (0..self.flags.len()).into_par_iter().map(bounds).unzip();
         self.inv_d = inv_d;
         self.lambda_max = lambda_max;
+        slip::equalise_bounds(self);
     }
 
     pub fn problem(&self, c: usize) -> Problem<'_> {
@@ -188,19 +195,21 @@ impl Level {
     /// `b`, `x` and `r`. `s` is scratch of length n.
     pub fn residual(&self, comps: Range<usize>, b: &[f64], x: &[f64], r: &mut [f64], s: &mut [f64]) {
         let n = self.n();
-        for (k, c) in comps.enumerate() {
+        for (k, c) in comps.clone().enumerate() {
             let blk = k * n..(k + 1) * n;
             self.op.residual(&self.flags[c], &b[blk.clone()], &x[blk.clone()], &mut r[blk], s);
         }
+        slip::project(self, &comps, r);
     }
 
     /// y = A x for the components `comps` (blocks as in `residual`).
     pub fn apply(&self, comps: Range<usize>, x: &[f64], y: &mut [f64], s: &mut [f64]) {
         let n = self.n();
-        for (k, c) in comps.enumerate() {
+        for (k, c) in comps.clone().enumerate() {
             let blk = k * n..(k + 1) * n;
             self.op.apply(&self.flags[c], &x[blk.clone()], &mut y[blk], s);
         }
+        slip::project(self, &comps, y);
     }
 }
 
@@ -284,8 +293,10 @@ impl Hierarchy {
                 || if last { Ok(None) } else { coarsener.coarsen_mesh(&mesh, &pairs) },
             );
             let mut level = parts.into_level(mesh, pairs, parent_vertex);
+            slip::attach(&mut level, levels.last(), bcs);
+            level.refresh_bounds();
             match levels.last_mut() {
-                None => check_well_posed(&level.op.k, &level.flags, &level.dofs)?,
+                None => check_well_posed(&level.op.k, &level.flags, &level.dofs, level.slip.as_ref().map(|s| &s.frames))?,
                 Some(fine) => {
                     let down = coarsener.transfer(fine, &level);
                     if galerkin {
@@ -307,7 +318,7 @@ impl Hierarchy {
             let Some(c) = coarsener.coarsen_unknowns(fine) else {
                 break;
             };
-            let (level, down) = Level::kept(fine, c);
+            let (level, down) = Level::kept(fine, c, bcs);
             fine.down = Some(down);
             levels.push(level);
         }
@@ -318,6 +329,12 @@ impl Hierarchy {
 
     fn build_coarse_solve(&mut self) -> Result<()> {
         let last = self.levels.last_mut().expect("one level at least");
+        if last.slip.is_some() {
+            // The components are one coupled system there (a component alone may have nothing
+            // prescribed and be singular).
+            last.coarse = Some(Vec::new());
+            return slip::attach_coarse_solve(last);
+        }
         let solves = (0..last.dim()).map(|c| CoarseSolve::new(last.problem(c), c)).collect::<Result<Vec<_>>>()?;
         last.coarse = Some(solves);
         Ok(())
@@ -333,9 +350,11 @@ impl Hierarchy {
     }
 
     /// The groups of components solved as one system: every component alone, as the methods
-    /// decouple them (a condition that couples components, such as a slip wall, would make
-    /// them one group).
+    /// decouple them, or all together when a slip wall couples them.
     pub fn groups(&self) -> Vec<Range<usize>> {
+        if self.fine().slip.as_ref().is_some_and(|s| !s.frames.dofs.is_empty()) {
+            return std::iter::once(0..self.fine().dim()).collect();
+        }
         (0..self.fine().dim()).map(|c| c..c + 1).collect()
     }
 
@@ -360,11 +379,30 @@ impl Hierarchy {
             }
             coords.push(c);
         }
-        for (l, c) in coords.into_iter().enumerate() {
+        // Per level: its moved mesh, or its unknowns' positions without a mesh.
+        let moved: Vec<(Option<Mesh>, Vec<f64>)> = self
+            .levels
+            .iter()
+            .zip(coords)
+            .map(|(l, c)| match &l.mesh {
+                Some(m) => (Some(m.with_coords(c)), Vec::new()),
+                None => (None, c),
+            })
+            .collect();
+        // The slip frames at the new positions; a changed wall structure needs a new hierarchy.
+        let meshes: Vec<Option<&Mesh>> = moved.iter().map(|(m, _)| m.as_ref()).collect();
+        let Some(mut frames) = slip::moved_frames(&self.levels, &meshes) else {
+            return Ok(false);
+        };
+        drop(meshes);
+        for (l, (m, points)) in moved.into_iter().enumerate() {
             let level = &mut self.levels[l];
-            match &level.mesh {
-                Some(m) => level.mesh = Some(m.with_coords(c)),
-                None => level.points = c,
+            match m {
+                Some(m) => level.mesh = Some(m),
+                None => level.points = points,
+            }
+            if !frames.is_empty() {
+                slip::set_frames(level, std::mem::take(&mut frames[l].0));
             }
             if l == 0 || (!self.galerkin && level.mesh.is_some()) {
                 let Level { mesh, op, dofs, .. } = level;

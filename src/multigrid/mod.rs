@@ -9,5 +9,6 @@ pub mod cycle;
 pub mod hierarchy;
 mod lsq;
 pub mod restriction;
+pub mod slip;
 pub mod smoother;
 pub mod solve;

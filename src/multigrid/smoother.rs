@@ -82,7 +82,7 @@ pub fn smooth(
 
 /// d = c · D⁻¹ (b − A x), then x ← x + d (x = d from a zero start): the first step of every
 /// smoother, with the residual fused into the pass (see `LevelOperator::step_with_residual`).
-fn first_step(pb: Problem, c: f64, b: &[f64], x: &mut [f64], w: &mut Scratch, start: Start) {
+pub(super) fn first_step(pb: Problem, c: f64, b: &[f64], x: &mut [f64], w: &mut Scratch, start: Start) {
     let inv_d = pb.inv_d;
     match start {
         Start::Zero => par_update2(x, &mut w.d, |i, _, _| {
@@ -94,7 +94,7 @@ fn first_step(pb: Problem, c: f64, b: &[f64], x: &mut [f64], w: &mut Scratch, st
 }
 
 /// d ← c1 d + c2 D⁻¹ (b − A x), then x ← x + d: one step of a polynomial smoother's recurrence.
-fn next_step(pb: Problem, c1: f64, c2: f64, b: &[f64], x: &mut [f64], w: &mut Scratch) {
+pub(super) fn next_step(pb: Problem, c1: f64, c2: f64, b: &[f64], x: &mut [f64], w: &mut Scratch) {
     let inv_d = pb.inv_d;
     pb.op.step_with_residual(pb.flags, b, x, &mut w.s, &mut w.d, |i, r, d| c1 * d + c2 * inv_d[i] * r);
 }
@@ -133,7 +133,7 @@ fn recurrence(
 
 /// Coefficients of the three-term Chebyshev recurrence for D⁻¹A x = D⁻¹b on [λmax / ratio,
 /// λmax] (Saad, Alg. 12.1): the first step's, then (c1, c2) of the others.
-fn first_kind(lambda_max: f64, degree: usize, lower_ratio: f64) -> (f64, impl Iterator<Item = (f64, f64)>) {
+pub(super) fn first_kind(lambda_max: f64, degree: usize, lower_ratio: f64) -> (f64, impl Iterator<Item = (f64, f64)>) {
     let lower = lambda_max / lower_ratio;
     let theta = 0.5 * (lambda_max + lower);
     let delta = 0.5 * (lambda_max - lower);
@@ -150,7 +150,7 @@ fn first_kind(lambda_max: f64, degree: usize, lower_ratio: f64) -> (f64, impl It
 /// Coefficients of the fourth-kind recurrence with ρ = λmax (Lottes 2023, Alg. 3 with all
 /// β = 1; the "optimised" β of that paper took 1–4 more CG iterations here):
 /// d₀ = 4/(3ρ) D⁻¹r₀, d_k = (2k−1)/(2k+3) d_{k−1} + (8k+4)/((2k+3)ρ) D⁻¹r_k.
-fn fourth_kind(rho: f64, degree: usize) -> (f64, impl Iterator<Item = (f64, f64)>) {
+pub(super) fn fourth_kind(rho: f64, degree: usize) -> (f64, impl Iterator<Item = (f64, f64)>) {
     let steps = (1..degree).map(move |k| {
         let k = k as f64;
         ((2.0 * k - 1.0) / (2.0 * k + 3.0), (8.0 * k + 4.0) / ((2.0 * k + 3.0) * rho))

@@ -126,6 +126,13 @@ pub struct Report {
     pub seconds: f64,
     /// (max correction, relative residual) after each cycle.
     pub history: Vec<(f64, f64)>,
+    /// Slip walls: the largest distance of a slipped vertex from its wall in the result (0
+    /// without slip walls). The original faces of the wall or its analytic shape measure it.
+    pub max_slip_offwall: f64,
+    /// Slip walls: the largest distance a slipped vertex was moved onto its wall after the solve
+    /// (the solve slides vertices along the wall's tangent planes, which a curved wall leaves by
+    /// a second-order distance).
+    pub max_slip_correction: f64,
 }
 
 impl Report {
@@ -146,6 +153,23 @@ impl Report {
                     (p.0.max(q.0), p.1.max(q.1))
                 })
                 .collect(),
+            max_slip_offwall: a.max_slip_offwall.max(b.max_slip_offwall),
+            max_slip_correction: a.max_slip_correction.max(b.max_slip_correction),
+        }
+    }
+}
+
+impl Report {
+    /// The report of two solves run one after the other on the same system (the second from the
+    /// first's result): cycles, history and time added, the second's residual and verdict.
+    pub(crate) fn chain(a: Report, b: Report) -> Report {
+        Report {
+            cycles: a.cycles + b.cycles,
+            converged: a.converged && b.converged,
+            breakdown: a.breakdown.or(b.breakdown),
+            seconds: a.seconds + b.seconds,
+            history: a.history.into_iter().chain(b.history).collect(),
+            ..b
         }
     }
 }
@@ -170,10 +194,11 @@ pub fn solve(h: &Hierarchy, comps: Range<usize>, p: &SolveParams, b: &[f64], x: 
         rep.converged = true;
         return rep;
     }
-    let mut ws = Workspace::new(h);
+    let mut ws = Workspace::new(h, comps.len());
     let run = Run { h, comps: comps.clone(), p, b, bnorm, scale };
     let lev = h.fine();
     let mut cp = p.cycle_params(h);
+    super::slip::cycle_for(h, &comps, p, &mut cp);
     let mut boost = 0;
     for restart in 0..=TRUE_RESIDUAL_RESTARTS {
         match p.mode {

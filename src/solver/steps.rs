@@ -38,6 +38,8 @@ pub struct StepReport {
     pub min_volume_ratio: f64,
     /// Smallest angle of any cell, degrees.
     pub min_angle_deg: f64,
+    /// Slip walls: the largest distance of a slipped vertex from its wall in the result.
+    pub max_slip_offwall: f64,
     /// Wall-clock time of this attempt's solve (a hierarchy rebuild included), in seconds.
     pub seconds: f64,
     /// The result became the new mesh (false: rejected and split, or the call failed here).
@@ -164,6 +166,7 @@ fn report(step: &Step, substep: usize, end: f64, sol: &Solution, rebuilt: bool, 
         inverted: q.inverted,
         min_volume_ratio: q.min_area_ratio,
         min_angle_deg: q.min_angle_deg,
+        max_slip_offwall: sol.report.max_slip_offwall,
         seconds: t0.elapsed().as_secs_f64(),
         accepted: false,
     }
@@ -280,5 +283,7 @@ fn summary(steps: &[StepReport], t0: Instant) -> Report {
         breakdown: None,
         seconds: t0.elapsed().as_secs_f64(),
         history: Vec::new(),
+        max_slip_offwall: acc.clone().map(|r| r.max_slip_offwall).fold(0.0, f64::max),
+        max_slip_correction: 0.0,
     }
 }

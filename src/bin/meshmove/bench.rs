@@ -1,11 +1,13 @@
 //! `meshmove bench`: every method, paper-faithful and default mode, against a direct sparse
 //! solve and the legacy Jacobi spring mover, on the free-surface case (docs/DESIGN.md §7) refined
-//! uniformly from about 16 thousand to 4 million vertices. Writes `DIR/bench.csv`, prints a table.
+//! uniformly from about 16 thousand to 4 million vertices. Writes `DIR/bench.csv`, prints a table;
+//! then iterations with SLIP walls against FIXED ones (`slip`, `DIR/slip.csv`).
 
 mod alloc;
 mod direct;
 mod extrapolate;
 mod jacobi;
+mod slip;
 
 use extrapolate::seconds_to_tol;
 use meshmove::bc::P;
@@ -433,6 +435,9 @@ pub fn run(a: &Args) -> Result<(), String> {
     let path = a.out.join("bench.csv");
     std::fs::write(&path, csv).map_err(|e| format!("{}: {e}", path.display()))?;
     print!("{}", table(&rows));
+    // Slip walls against fixed ones on the cylinder channel (its own sizes, up to a quarter of
+    // the largest free-surface mesh: its refinements grow the same way).
+    print!("{}", slip::run(&a.out, a.max_vertices / 4, a.tol)?);
     println!(
         "wall {:.1} s; peak resident set (VmHWM) {:.0} MB; bytes_per_vertex counts allocation by the solver (counting allocator)",
         t_all.elapsed().as_secs_f64(),

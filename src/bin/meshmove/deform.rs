@@ -152,7 +152,8 @@ fn kind(s: &str, what: &str) -> Result<Kind, String> {
         "fixed" => Ok(Kind::Fixed),
         "clamped" => Ok(Kind::Clamped),
         "free" => Ok(Kind::Free),
-        _ => Err(format!("{what}: kind `{s}` is not one of fixed, clamped, free")),
+        "slip" => Ok(Kind::Slip),
+        _ => Err(format!("{what}: kind `{s}` is not one of fixed, clamped, free, slip")),
     }
 }
 
@@ -467,6 +468,10 @@ pub fn run(args: Args) -> Result<ExitCode, String> {
         println!("min volume ratio {:.4}", r.min_area_ratio);
     }
     println!("min angle       {:.2} deg", r.min_angle_deg);
+    let offwall = r.reports.iter().filter(|x| x.accepted).map(|x| x.max_slip_offwall).fold(0.0, f64::max);
+    if setup.mesh.patch_ids().iter().any(|&p| setup.bcs.is_slip(p)) {
+        println!("slip walls      largest distance of a slipped vertex from its wall {offwall:.2e}");
+    }
     if setup.moved_patch != 0 {
         let pm = patch_measures(&setup.mesh, &r.coords, setup.moved_patch, None);
         println!(
@@ -497,7 +502,7 @@ pub fn run(args: Args) -> Result<ExitCode, String> {
 fn json_line(r: &StepReport) -> String {
     let num = |x: f64| if x.is_finite() { format!("{x:?}") } else { "null".into() };
     format!(
-        "{{\"step\":{},\"substep\":{},\"fraction\":{},\"cycles\":{},\"rel_residual\":{},\"converged\":{},\"rebuilt\":{},\"inverted\":{},\"min_volume_ratio\":{},\"min_angle_deg\":{},\"seconds\":{},\"accepted\":{}}}",
+        "{{\"step\":{},\"substep\":{},\"fraction\":{},\"cycles\":{},\"rel_residual\":{},\"converged\":{},\"rebuilt\":{},\"inverted\":{},\"min_volume_ratio\":{},\"min_angle_deg\":{},\"seconds\":{},\"accepted\":{},\"max_slip_offwall\":{}}}",
         r.step,
         r.substep,
         num(r.fraction),
@@ -509,6 +514,7 @@ fn json_line(r: &StepReport) -> String {
         num(r.min_volume_ratio),
         num(r.min_angle_deg),
         num(r.seconds),
-        r.accepted
+        r.accepted,
+        num(r.max_slip_offwall)
     )
 }

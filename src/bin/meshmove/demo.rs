@@ -47,6 +47,9 @@ fn view_for(setup: &CaseSetup, coords: &[f64]) -> (View, Option<View>) {
         }
         // The part of the channel around the cylinder (the rest barely moves).
         "cylinder_channel" => (View { x0: 0.5, x1: 4.5, y0: -1.02, y1: 1.02 }, None),
+        "cylinder_channel_1.5D_fixed" | "cylinder_channel_1.5D_slip" => {
+            (View { x0: 0.5, x1: 5.0, y0: -1.02, y1: 1.02 }, None)
+        }
         _ => (View::around(coords, 0.01), None),
     }
 }
@@ -71,6 +74,8 @@ fn case_title(name: &str) -> String {
         "deforming_interface_A" => "Deforming interface, variant A (separate), 15 steps",
         "deforming_interface_B" => "Deforming interface, variant B (continuous), 15 steps",
         "cylinder_channel" => "Cylinder in a channel, moved 1 D in x",
+        "cylinder_channel_1.5D_fixed" => "Cylinder in a channel, moved 1.5 D in x, walls FIXED",
+        "cylinder_channel_1.5D_slip" => "Cylinder in a channel, moved 1.5 D in x, walls SLIP",
         "boundary_layer_cylinder" => "Boundary-layer cylinder, moved 4.5 D",
         "boundary_layer_cylinder_3d" => "Boundary-layer cylinder extruded in z (hexes and wedges), moved 4.5 D",
         other => {
@@ -142,6 +147,9 @@ fn view_notes(setup: &CaseSetup) -> Vec<String> {
     notes.push(if setup.upper_region.is_some() { "blue: the interface" } else { "blue: the moved patch" }.to_string());
     match setup.name.as_str() {
         "cylinder_channel" => notes[0].push_str("; cropped to x from 0.5 to 4.5 of the channel [0, 8] x [-1, 1]"),
+        "cylinder_channel_1.5D_fixed" | "cylinder_channel_1.5D_slip" => {
+            notes[0].push_str("; cropped to x from 0.5 to 5 of the channel [0, 8] x [-1, 1]")
+        }
         "boundary_layer_cylinder" => notes[0].push_str("; inset (blue frame): 1.5 D x 1.5 D around the cylinder"),
         _ => {}
     }

@@ -1,0 +1,346 @@
+//! Slip frames (docs/DESIGN.md §4, "Slip walls"): for every unknown on a SLIP wall, the
+//! directions its displacement is constrained in (the wall's normal; two normals on a 3D edge
+//! where two walls meet), orthonormal, from the area-weighted normals of the reference mesh's
+//! wall faces.
+//!
+//! The solve works in the subspace these directions leave free: Π projects them out of each
+//! slip unknown's vector (all components together), the operator is Π A Π and the values along
+//! the directions are prescribed. Coarse levels inherit the frames of the fine unknowns their
+//! vertices are (coarse vertices are fine vertices).
+
+use super::{BoundaryConditions, Dofs, P};
+use crate::Mesh;
+
+/// Two wall faces at a vertex belong to one wall (one constrained direction) when their normals
+/// differ by less than this angle; beyond it the vertex is on a feature (a corner, an edge) where
+/// two walls meet and each wall constrains its own direction. 30° separates the polygon of a
+/// coarsely meshed circle (12 segments or more) from the corners of a box.
+pub const FEATURE_ANGLE_DEG: f64 = 30.0;
+
+/// A direction whose part orthogonal to the directions already constrained is shorter than this
+/// (relative) adds nothing: it lies in their span.
+const SPAN_TOL: f64 = 1e-6;
+
+/// The constrained directions of the slip unknowns of one level.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SlipFrames {
+    /// Components of a displacement (2 or 3).
+    pub dim: usize,
+    /// The slip unknowns, ascending.
+    pub dofs: Vec<u32>,
+    /// Constrained directions of slip unknown k: `dirs[ptr[k]..ptr[k + 1]]`, orthonormal, and
+    /// orthogonal to the axes of the components the unknown has prescribed (P).
+    ptr: Vec<u32>,
+    dirs: Vec<[f64; 3]>,
+    /// Unknowns on a slip wall whose constraints span every direction (a 2D corner between two
+    /// walls, a 3D corner of three): prescribed in every component (P), not slip.
+    pub pinned: Vec<u32>,
+}
+
+impl SlipFrames {
+    /// The constrained directions of slip unknown number `k` (an index into `dofs`).
+    pub fn directions(&self, k: usize) -> &[[f64; 3]] {
+        &self.dirs[self.ptr[k] as usize..self.ptr[k + 1] as usize]
+    }
+
+    /// The directions of unknown `d`, if it is a slip unknown.
+    pub fn directions_of(&self, d: u32) -> Option<&[[f64; 3]]> {
+        self.dofs.binary_search(&d).ok().map(|k| self.directions(k))
+    }
+
+    /// u ← Π u: the constrained directions removed from every slip unknown of `u`, a vector of
+    /// `dim` blocks of `n` values (component-major).
+    pub fn project(&self, n: usize, u: &mut [f64]) {
+        debug_assert_eq!(u.len(), self.dim * n);
+        for (k, &d) in self.dofs.iter().enumerate() {
+            let mut v = self.gather(n, u, d);
+            for e in self.directions(k) {
+                let a = dot(e, &v);
+                (0..3).for_each(|c| v[c] -= a * e[c]);
+            }
+            self.scatter(n, u, d, &v);
+        }
+    }
+
+    /// As `project`, on a vector given as one slice of n values per component.
+    pub fn project_blocks(&self, blocks: &mut [&mut [f64]]) {
+        debug_assert_eq!(blocks.len(), self.dim);
+        for (k, &d) in self.dofs.iter().enumerate() {
+            let mut v = [0.0; 3];
+            (0..self.dim).for_each(|c| v[c] = blocks[c][d as usize]);
+            for e in self.directions(k) {
+                let a = dot(e, &v);
+                (0..3).for_each(|c| v[c] -= a * e[c]);
+            }
+            (0..self.dim).for_each(|c| blocks[c][d as usize] = v[c]);
+        }
+    }
+
+    /// The prescribed part of a displacement `v` at slip unknown number `k`: its components along
+    /// the constrained directions, Σ (e · v) e.
+    pub fn normal_part(&self, k: usize, v: &[f64; 3]) -> [f64; 3] {
+        let mut out = [0.0; 3];
+        for e in self.directions(k) {
+            let a = dot(e, v);
+            (0..3).for_each(|c| out[c] += a * e[c]);
+        }
+        out
+    }
+
+    /// A basis of the free (tangential) directions of slip unknown number `k`, given the
+    /// components `p_axes` it has prescribed: orthonormal, orthogonal to both.
+    pub fn tangents(&self, k: usize, prescribed: &[bool]) -> Vec<[f64; 3]> {
+        let mut taken: Vec<[f64; 3]> = self.directions(k).to_vec();
+        taken.extend((0..self.dim).filter(|&c| prescribed[c]).map(axis));
+        let mut out = Vec::new();
+        for c in 0..self.dim {
+            if let Some(t) = orthogonal_part(&axis(c), &taken, self.dim) {
+                taken.push(t);
+                out.push(t);
+            }
+        }
+        out
+    }
+
+    fn gather(&self, n: usize, u: &[f64], d: u32) -> [f64; 3] {
+        let mut v = [0.0; 3];
+        (0..self.dim).for_each(|c| v[c] = u[c * n + d as usize]);
+        v
+    }
+
+    fn scatter(&self, n: usize, u: &mut [f64], d: u32, v: &[f64; 3]) {
+        (0..self.dim).for_each(|c| u[c * n + d as usize] = v[c]);
+    }
+}
+
+fn dot(a: &[f64; 3], b: &[f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn axis(c: usize) -> [f64; 3] {
+    let mut e = [0.0; 3];
+    e[c] = 1.0;
+    e
+}
+
+/// The unit part of `v` orthogonal to the orthonormal `basis`, or None when `v` lies in its span.
+fn orthogonal_part(v: &[f64; 3], basis: &[[f64; 3]], dim: usize) -> Option<[f64; 3]> {
+    let len0 = dot(v, v).sqrt();
+    if basis.len() >= dim || len0 == 0.0 {
+        return None;
+    }
+    let mut w = *v;
+    // Twice, for orthogonality to rounding (classical Gram–Schmidt, reorthogonalised).
+    for _ in 0..2 {
+        for b in basis {
+            let a = dot(b, &w);
+            (0..3).for_each(|c| w[c] -= a * b[c]);
+        }
+    }
+    let len = dot(&w, &w).sqrt();
+    (len > SPAN_TOL * len0).then(|| w.map(|x| x / len))
+}
+
+/// The area vector of a boundary face (2D: the segment's right-hand normal times its length; 3D:
+/// Newell's vector, the polygon's normal times its area), pointing out of the domain.
+pub(crate) fn face_area_vector(mesh: &Mesh, vertices: &[u32]) -> [f64; 3] {
+    let p = |k: usize| -> [f64; 3] {
+        let x = mesh.point(vertices[k % vertices.len()] as usize);
+        [x[0], x[1], if x.len() > 2 { x[2] } else { 0.0 }]
+    };
+    if mesh.dim() == 2 {
+        let (a, b) = (p(0), p(1));
+        return [b[1] - a[1], a[0] - b[0], 0.0];
+    }
+    let mut n = [0.0; 3];
+    for k in 0..vertices.len() {
+        let (a, b) = (p(k), p(k + 1));
+        n[0] += (a[1] - b[1]) * (a[2] + b[2]);
+        n[1] += (a[2] - b[2]) * (a[0] + b[0]);
+        n[2] += (a[0] - b[0]) * (a[1] + b[1]);
+    }
+    n.map(|x| 0.5 * x)
+}
+
+/// Groups area vectors into walls: a vector joins the first wall whose summed normal is within
+/// `FEATURE_ANGLE_DEG` of it (either orientation), else starts a wall. Returns each wall's unit
+/// normal, heaviest wall first (ties in order of appearance).
+fn walls(normals: &[[f64; 3]]) -> Vec<[f64; 3]> {
+    let cos_feature = FEATURE_ANGLE_DEG.to_radians().cos();
+    let mut sums: Vec<[f64; 3]> = Vec::new();
+    let mut weights: Vec<f64> = Vec::new();
+    for a in normals {
+        let len = dot(a, a).sqrt();
+        if len == 0.0 {
+            continue;
+        }
+        let found = sums.iter().position(|s| dot(s, a).abs() >= cos_feature * len * dot(s, s).sqrt());
+        match found {
+            Some(k) => {
+                let sign = if dot(&sums[k], a) < 0.0 { -1.0 } else { 1.0 };
+                (0..3).for_each(|c| sums[k][c] += sign * a[c]);
+                weights[k] += len;
+            }
+            None => {
+                sums.push(*a);
+                weights.push(len);
+            }
+        }
+    }
+    let mut order: Vec<usize> = (0..sums.len()).collect();
+    order.sort_by(|&i, &j| weights[j].total_cmp(&weights[i]).then(i.cmp(&j)));
+    order
+        .into_iter()
+        .filter_map(|k| {
+            let s = sums[k];
+            let l = dot(&s, &s).sqrt();
+            (l > 0.0).then(|| s.map(|x| x / l))
+        })
+        .collect()
+}
+
+/// What the frames of a level add to its flags and directions, before they are stored.
+struct Builder {
+    dim: usize,
+    dofs: Vec<u32>,
+    ptr: Vec<u32>,
+    dirs: Vec<[f64; 3]>,
+    pinned: Vec<u32>,
+}
+
+impl Builder {
+    fn new(dim: usize) -> Builder {
+        Builder { dim, dofs: Vec::new(), ptr: vec![0], dirs: Vec::new(), pinned: Vec::new() }
+    }
+
+    /// Adds unknown `d` with its candidate wall normals, orthogonalised against the axes of its
+    /// prescribed components (`flags`, per component); an unknown whose constraints span every
+    /// direction is pinned, one with no constraint left is not slip.
+    fn push(&mut self, d: u32, normals: &[[f64; 3]], flags: &[Vec<u8>]) {
+        let dim = self.dim;
+        let prescribed: Vec<bool> = (0..dim).map(|c| flags[c][d as usize] & P != 0).collect();
+        if prescribed.iter().all(|&p| p) {
+            return;
+        }
+        let mut basis: Vec<[f64; 3]> = (0..dim).filter(|&c| prescribed[c]).map(axis).collect();
+        let mut dirs = Vec::new();
+        for nrm in normals {
+            if let Some(e) = orthogonal_part(nrm, &basis, dim) {
+                basis.push(e);
+                dirs.push(e);
+            }
+        }
+        if dirs.is_empty() {
+            return;
+        }
+        if basis.len() == dim {
+            self.pinned.push(d);
+            return;
+        }
+        self.dofs.push(d);
+        self.dirs.extend(dirs);
+        self.ptr.push(self.dirs.len() as u32);
+    }
+
+    /// The frames, with every pinned unknown made P in every component of `flags`; None when no
+    /// unknown is slip or pinned.
+    fn finish(self, flags: &mut [Vec<u8>]) -> Option<SlipFrames> {
+        for &d in &self.pinned {
+            flags.iter_mut().for_each(|f| f[d as usize] |= P);
+        }
+        if self.dofs.is_empty() && self.pinned.is_empty() {
+            return None;
+        }
+        let Builder { dim, dofs, ptr, dirs, pinned } = self;
+        Some(SlipFrames { dim, dofs, ptr, dirs, pinned })
+    }
+}
+
+/// The slip frames of the fine level: for every unknown with a vertex on a SLIP patch, the walls
+/// its vertices' SLIP faces form (`walls`), their normals as constrained directions. Pinned
+/// unknowns are made P in every component of `flags`. None when the conditions have no SLIP wall.
+pub(crate) fn fine_slip_frames(
+    mesh: &Mesh,
+    dofs: &Dofs,
+    bcs: &BoundaryConditions,
+    flags: &mut [Vec<u8>],
+) -> Option<SlipFrames> {
+    let dim = mesh.dim();
+    // Area vectors of the SLIP faces at each vertex, in face order (deterministic).
+    let mut at: Vec<(u32, [f64; 3])> = Vec::new();
+    for f in mesh.patch_faces() {
+        if !bcs.is_slip(f.patch) {
+            continue;
+        }
+        let a = face_area_vector(mesh, f.vertices);
+        at.extend(f.vertices.iter().map(|&v| (v, a)));
+    }
+    if at.is_empty() {
+        return None;
+    }
+    at.sort_by_key(|e| e.0);
+    let of = |v: u32| {
+        let lo = at.partition_point(|e| e.0 < v);
+        let hi = at.partition_point(|e| e.0 <= v);
+        &at[lo..hi]
+    };
+    let mut on_wall = vec![false; mesh.num_vertices()];
+    at.iter().for_each(|e| on_wall[e.0 as usize] = true);
+    let mut b = Builder::new(dim);
+    let mut normals: Vec<[f64; 3]> = Vec::new();
+    for d in 0..dofs.n {
+        let vs = dofs.vertices_of(d);
+        if !vs.iter().any(|&v| on_wall[v as usize]) {
+            continue;
+        }
+        normals.clear();
+        vs.iter().for_each(|&v| normals.extend(of(v).iter().map(|e| e.1)));
+        b.push(d as u32, &walls(&normals), flags);
+    }
+    b.finish(flags)
+}
+
+/// The slip frames of a coarse level whose unknown d is the fine level's unknown `fine_dof[d]`:
+/// each takes the directions of its fine unknown (re-orthogonalised against its own prescribed
+/// components), pinned fine unknowns stay pinned. Pinned unknowns are made P in `flags`.
+pub(crate) fn inherit_slip_frames(fine: &SlipFrames, fine_dof: &[u32], flags: &mut [Vec<u8>]) -> Option<SlipFrames> {
+    let mut b = Builder::new(fine.dim);
+    for (d, &fd) in fine_dof.iter().enumerate() {
+        if fine.pinned.binary_search(&fd).is_ok() {
+            let all: Vec<[f64; 3]> = (0..fine.dim).map(axis).collect();
+            b.push(d as u32, &all, flags);
+        } else if let Some(dirs) = fine.directions_of(fd) {
+            b.push(d as u32, dirs, flags);
+        }
+    }
+    b.finish(flags)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn walls_merge_a_curve_and_split_a_corner() {
+        let a = |t: f64| [t.cos(), t.sin(), 0.0];
+        // Two segments of a 16-gon: one wall; two sides of a box: two walls.
+        assert_eq!(walls(&[a(0.0), a(std::f64::consts::TAU / 16.0)]).len(), 1);
+        assert_eq!(walls(&[[1.0, 0.0, 0.0], [0.0, 2.0, 0.0]]).len(), 2);
+        // Opposite orientations of one plane: one wall.
+        assert_eq!(walls(&[[0.0, 0.0, 1.0], [0.0, 0.0, -3.0]]).len(), 1);
+    }
+
+    #[test]
+    fn projection_removes_the_normal_and_keeps_the_tangent() {
+        let s = 0.5f64.sqrt();
+        let f = SlipFrames { dim: 2, dofs: vec![1], ptr: vec![0, 1], dirs: vec![[s, s, 0.0]], pinned: vec![] };
+        // Two unknowns, blocks x then y.
+        let mut u = vec![7.0, 1.0, 9.0, 3.0];
+        f.project(2, &mut u);
+        assert_eq!((u[0], u[2]), (7.0, 9.0));
+        assert!((u[1] + u[3]).abs() < 1e-15 && (u[1] - (-1.0)).abs() < 1e-15);
+        let t = f.tangents(0, &[false, false]);
+        assert_eq!(t.len(), 1);
+        assert!(dot(&t[0], &[s, s, 0.0]).abs() < 1e-15);
+    }
+}

@@ -1,0 +1,413 @@
+//! The shapes of SLIP walls, to put slipped vertices back on them after a solve (docs/DESIGN.md
+//! §4, "Curved walls"): the solve moves a slip vertex in its wall's tangent plane, which leaves a
+//! curved wall by a second-order distance; the vertex is then moved to the closest point of the
+//! wall. The wall is the patch's original faces (piecewise linear, found through a uniform grid)
+//! or an analytic shape the caller gives as a closest-point function.
+
+use super::BoundaryConditions;
+use crate::geometry::{cross, dot3, sub};
+use crate::Mesh;
+use std::collections::BTreeMap;
+use std::sync::Arc;
+
+/// An analytic wall: a function from a point (`dim` coordinates) to the closest point of the wall
+/// (the first `dim` values are read). It is called from the solver's threads, one call at a time.
+#[derive(Clone)]
+pub struct SlipSurface(Arc<ClosestPoint>);
+
+/// A closest-point function: a point (`dim` coordinates) to the closest point of a wall.
+type ClosestPoint = dyn Fn(&[f64]) -> [f64; 3] + Send + Sync;
+
+/// A fan triangle (or a 2D segment) of a wall face: its mesh vertices and their positions.
+type FacePiece = ([u32; 3], [[f64; 3]; 3]);
+
+impl SlipSurface {
+    /// A wall given by its closest-point function.
+    pub fn new(closest: impl Fn(&[f64]) -> [f64; 3] + Send + Sync + 'static) -> SlipSurface {
+        SlipSurface(Arc::new(closest))
+    }
+
+    /// The closest point of the wall to `x`.
+    pub fn closest(&self, x: &[f64]) -> [f64; 3] {
+        (self.0)(x)
+    }
+}
+
+impl std::fmt::Debug for SlipSurface {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("SlipSurface(closure)")
+    }
+}
+
+/// Two surfaces are equal when they are the same closure.
+impl PartialEq for SlipSurface {
+    fn eq(&self, other: &Self) -> bool {
+        Arc::ptr_eq(&self.0, &other.0)
+    }
+}
+
+/// A simplex of a piecewise-linear wall: `dim` corners of 3 coordinates, and which of its sides
+/// are open (bit k: in 2D corner k, in 3D the edge from corner k to k + 1): where the union of
+/// the SLIP walls ends (a periodic end, an inlet), the wall is extended along its last face, so a
+/// vertex that slides past the end keeps its position instead of being pulled back to the end.
+type Simplex = ([[f64; 3]; 3], u8);
+
+/// A piecewise-linear wall: its faces as simplices (segments in 2D, triangles in 3D: a quad is
+/// cut along its first diagonal) and a uniform grid of their bounding boxes.
+#[derive(Clone, Debug)]
+struct PlWall {
+    dim: usize,
+    simplices: Vec<Simplex>,
+    lo: [f64; 3],
+    h: f64,
+    cells: [usize; 3],
+    /// Simplices of each grid cell, as CSR.
+    ptr: Vec<u32>,
+    items: Vec<u32>,
+    /// Some simplex has an open side.
+    open: bool,
+}
+
+impl PlWall {
+    fn new(dim: usize, simplices: Vec<Simplex>) -> PlWall {
+        let corners = |s: &[[f64; 3]; 3]| s[..dim].to_vec();
+        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        let mut diam = 0.0;
+        for (s, _) in &simplices {
+            for p in corners(s) {
+                for c in 0..3 {
+                    lo[c] = lo[c].min(p[c]);
+                    hi[c] = hi[c].max(p[c]);
+                }
+            }
+            diam += dot3(&sub(&s[1], &s[0]), &sub(&s[1], &s[0])).sqrt();
+        }
+        let nf = simplices.len().max(1) as f64;
+        let ext: Vec<f64> = (0..dim).map(|c| (hi[c] - lo[c]).max(0.0)).collect();
+        // Cells about a face wide, but no more than 8 per face in all.
+        let vol: f64 = ext.iter().map(|e| e.max(diam / nf)).product();
+        let h = (diam / nf).max((vol / (8.0 * nf)).powf(1.0 / dim as f64)).max(1e-300);
+        let mut cells = [1usize; 3];
+        (0..dim).for_each(|c| cells[c] = (ext[c] / h) as usize + 1);
+        let mut pairs: Vec<(u32, u32)> = Vec::new();
+        let open = simplices.iter().any(|s| s.1 != 0);
+        let mut wall = PlWall { dim, simplices, lo, h, cells, ptr: Vec::new(), items: Vec::new(), open };
+        for (k, (s, _)) in wall.simplices.iter().enumerate() {
+            let (mut a, mut b) = ([usize::MAX; 3], [0usize; 3]);
+            for p in corners(s) {
+                let i = wall.cell_of(&p);
+                for c in 0..3 {
+                    a[c] = a[c].min(i[c]);
+                    b[c] = b[c].max(i[c]);
+                }
+            }
+            for i in a[0]..=b[0] {
+                for j in a[1]..=b[1] {
+                    for l in a[2]..=b[2] {
+                        pairs.push((wall.index([i, j, l]) as u32, k as u32));
+                    }
+                }
+            }
+        }
+        let (ptr, items) = crate::sparse::bucket_by_key(cells.iter().product(), &pairs);
+        wall.ptr = ptr;
+        wall.items = items;
+        wall
+    }
+
+    fn cell_of(&self, p: &[f64; 3]) -> [usize; 3] {
+        let mut i = [0usize; 3];
+        for c in 0..self.dim {
+            let t = ((p[c] - self.lo[c]) / self.h).floor();
+            i[c] = (t.max(0.0) as usize).min(self.cells[c] - 1);
+        }
+        i
+    }
+
+    fn index(&self, i: [usize; 3]) -> usize {
+        (i[2] * self.cells[1] + i[1]) * self.cells[0] + i[0]
+    }
+
+    /// The closest point of the wall to `p`: rings of grid cells around p's cell, until the best
+    /// point found is nearer than any cell not yet searched.
+    fn closest(&self, p: &[f64; 3]) -> [f64; 3] {
+        let c0 = self.cell_of(p);
+        let (mut best, mut best_d2) = (*p, f64::INFINITY);
+        let rmax = *self.cells.iter().max().expect("three");
+        for r in 0..=rmax {
+            let lo = |c: usize| if c < self.dim { c0[c].saturating_sub(r) } else { 0 };
+            let hi = |c: usize| if c < self.dim { (c0[c] + r).min(self.cells[c] - 1) } else { 0 };
+            for i in lo(0)..=hi(0) {
+                for j in lo(1)..=hi(1) {
+                    for l in lo(2)..=hi(2) {
+                        let ring = [i.abs_diff(c0[0]), j.abs_diff(c0[1]), l.abs_diff(c0[2])];
+                        if ring.iter().max() != Some(&r) {
+                            continue;
+                        }
+                        let k = self.index([i, j, l]);
+                        for &s in &self.items[self.ptr[k] as usize..self.ptr[k + 1] as usize] {
+                            let q = self.closest_on(s as usize, p);
+                            let d = sub(&q, p);
+                            let d2 = dot3(&d, &d);
+                            if d2 < best_d2 {
+                                (best, best_d2) = (q, d2);
+                            }
+                        }
+                    }
+                }
+            }
+            // With open sides, one ring more than strictly needed: an open side's extension may
+            // reach out of its simplex's cells.
+            let reach = (r as f64 - f64::from(u8::from(self.open))) * self.h;
+            if reach > 0.0 && best_d2 <= reach * reach {
+                break;
+            }
+        }
+        best
+    }
+
+    fn closest_on(&self, s: usize, p: &[f64; 3]) -> [f64; 3] {
+        let (t, open) = &self.simplices[s];
+        if self.dim == 2 {
+            closest_on_line(&t[0], &t[1], p, (open & 1 != 0, open & 2 != 0))
+        } else {
+            closest_on_triangle(t, *open, p)
+        }
+    }
+}
+
+fn lerp(a: &[f64; 3], b: &[f64; 3], t: f64) -> [f64; 3] {
+    [0, 1, 2].map(|c| a[c] + t * (b[c] - a[c]))
+}
+
+fn closest_on_segment(a: &[f64; 3], b: &[f64; 3], p: &[f64; 3]) -> [f64; 3] {
+    closest_on_line(a, b, p, (false, false))
+}
+
+/// The closest point to p of segment ab, extended past a or b when that end is open.
+fn closest_on_line(a: &[f64; 3], b: &[f64; 3], p: &[f64; 3], open: (bool, bool)) -> [f64; 3] {
+    let ab = sub(b, a);
+    let l2 = dot3(&ab, &ab);
+    if l2 == 0.0 {
+        return *a;
+    }
+    let t = dot3(&sub(p, a), &ab) / l2;
+    let lo = if open.0 { f64::NEG_INFINITY } else { 0.0 };
+    let hi = if open.1 { f64::INFINITY } else { 1.0 };
+    lerp(a, b, t.clamp(lo, hi))
+}
+
+/// The closest point of triangle t to p (Ericson, Real-Time Collision Detection, 5.1.5): its
+/// projection on the plane when that is inside, or outside only across open edges (bit k of
+/// `open`: edge k → k + 1); else the closest point of the nearest edge it is outside of.
+fn closest_on_triangle(t: &[[f64; 3]; 3], open: u8, p: &[f64; 3]) -> [f64; 3] {
+    let (a, b, c) = (&t[0], &t[1], &t[2]);
+    let n = cross(&sub(b, a), &sub(c, a));
+    let n2 = dot3(&n, &n);
+    let mut outside = [true; 3];
+    if n2 > 0.0 {
+        let q = {
+            let s = dot3(&sub(p, a), &n) / n2;
+            [0, 1, 2].map(|k| p[k] - s * n[k])
+        };
+        for k in 0..3 {
+            let (u, v) = (&t[k], &t[(k + 1) % 3]);
+            outside[k] = dot3(&cross(&sub(v, u), &sub(&q, u)), &n) < 0.0;
+        }
+        if (0..3).all(|k| !outside[k] || open & (1 << k) != 0) {
+            return q;
+        }
+    }
+    let d2 = |q: &[f64; 3]| dot3(&sub(q, p), &sub(q, p));
+    (0..3)
+        .filter(|&k| outside[k] && open & (1 << k) == 0)
+        .map(|k| closest_on_segment(&t[k], &t[(k + 1) % 3], p))
+        .min_by(|x, y| d2(x).total_cmp(&d2(y)))
+        .unwrap_or(*a)
+}
+
+/// The shape of one SLIP patch.
+#[derive(Clone, Debug)]
+enum Shape {
+    Faces(PlWall),
+    Analytic(SlipSurface),
+}
+
+/// The shapes of every SLIP patch of a mesh, taken when the solver is made (the original walls).
+#[derive(Clone, Debug)]
+pub struct SlipWalls {
+    dim: usize,
+    shapes: BTreeMap<i32, Shape>,
+    /// The SLIP patches of each vertex that has any, sorted by vertex.
+    vertex_patches: Vec<(u32, i32)>,
+}
+
+impl SlipWalls {
+    /// The walls of `mesh`'s SLIP patches under `bcs`; None when there is none.
+    pub fn new(mesh: &Mesh, bcs: &BoundaryConditions) -> Option<SlipWalls> {
+        let dim = mesh.dim();
+        let mut faces: BTreeMap<i32, Vec<FacePiece>> = BTreeMap::new();
+        let mut vertex_patches = Vec::new();
+        let pt = |v: u32| {
+            let x = mesh.point(v as usize);
+            [x[0], x[1], if dim > 2 { x[2] } else { 0.0 }]
+        };
+        for f in mesh.patch_faces() {
+            if !bcs.is_slip(f.patch) {
+                continue;
+            }
+            vertex_patches.extend(f.vertices.iter().map(|&v| (v, f.patch)));
+            let list = faces.entry(f.patch).or_default();
+            let vs = f.vertices;
+            if dim == 2 {
+                list.push(([vs[0], vs[1], u32::MAX], [pt(vs[0]), pt(vs[1]), [0.0; 3]]));
+            } else {
+                // A fan from the first corner: a quad's two triangles share its first diagonal.
+                for k in 1..vs.len() - 1 {
+                    list.push(([vs[0], vs[k], vs[k + 1]], [pt(vs[0]), pt(vs[k]), pt(vs[k + 1])]));
+                }
+            }
+        }
+        if faces.is_empty() {
+            return None;
+        }
+        // Sides used once in the union of the SLIP walls are open: corners in 2D, edges in 3D.
+        let side = |t: &[u32; 3], k: usize| -> (u32, u32) {
+            if dim == 2 {
+                (t[k], u32::MAX)
+            } else {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                (a.min(b), a.max(b))
+            }
+        };
+        let mut sides: Vec<(u32, u32)> =
+            faces.values().flatten().flat_map(|(t, _)| (0..dim).map(move |k| side(t, k))).collect();
+        sides.sort_unstable();
+        let used_once = |s: (u32, u32)| {
+            let lo = sides.partition_point(|&e| e < s);
+            sides[lo..].iter().take_while(|&&e| e == s).count() == 1
+        };
+        vertex_patches.sort_unstable();
+        vertex_patches.dedup();
+        let shapes = faces
+            .into_iter()
+            .map(|(p, s)| {
+                let shape = match bcs.slip_surface(p) {
+                    Some(a) => Shape::Analytic(a.clone()),
+                    None => {
+                        let simplices = s
+                            .iter()
+                            .map(|(t, x)| (*x, (0..dim).filter(|&k| used_once(side(t, k))).fold(0u8, |m, k| m | 1 << k)))
+                            .collect();
+                        Shape::Faces(PlWall::new(dim, simplices))
+                    }
+                };
+                (p, shape)
+            })
+            .collect();
+        Some(SlipWalls { dim, shapes, vertex_patches })
+    }
+
+    /// The SLIP patches vertex `v` lies on.
+    pub fn patches_of(&self, v: u32) -> impl Iterator<Item = i32> + '_ {
+        let lo = self.vertex_patches.partition_point(|e| e.0 < v);
+        self.vertex_patches[lo..].iter().take_while(move |e| e.0 == v).map(|e| e.1)
+    }
+
+    /// The closest point of patch `patch`'s wall to `x` (`dim` coordinates).
+    pub fn closest(&self, patch: i32, x: &[f64]) -> [f64; 3] {
+        let dim = self.dim;
+        let mut p = [0.0; 3];
+        p[..dim].copy_from_slice(&x[..dim]);
+        match &self.shapes[&patch] {
+            Shape::Faces(w) => w.closest(&p),
+            Shape::Analytic(s) => {
+                let mut q = s.closest(&p[..dim]);
+                q[dim..].iter_mut().for_each(|v| *v = 0.0);
+                q
+            }
+        }
+    }
+
+    /// The distance of `x` from the walls of `patches`: from the farther wall on an `edge`
+    /// (`project`), else from their union.
+    pub fn distance(&self, patches: &[i32], edge: bool, x: &[f64]) -> f64 {
+        if !edge {
+            return dist(&self.closest_of(patches, x), x, self.dim);
+        }
+        patches.iter().map(|&p| dist(&self.closest(p, x), x, self.dim)).fold(0.0, f64::max)
+    }
+
+    /// The closest point to `x` of the union of the walls of `patches`.
+    pub fn closest_of(&self, patches: &[i32], x: &[f64]) -> [f64; 3] {
+        let d = |q: &[f64; 3]| dist(q, x, self.dim);
+        patches.iter().map(|&p| self.closest(p, x)).min_by(|a, b| d(a).total_cmp(&d(b))).expect("a patch")
+    }
+
+    /// Moves `x` onto the walls of `patches`. `edge`: x lies where the walls meet at an angle
+    /// (a 3D edge between two walls): alternating projections onto each wall, which converge
+    /// linearly, at least as cos² of the angle between them (`FEATURE_ANGLE_DEG` or more);
+    /// otherwise the closest point of their union (one smooth wall made of several patches).
+    pub fn project(&self, patches: &[i32], edge: bool, x: &mut [f64]) {
+        let dim = self.dim;
+        if !edge {
+            let q = self.closest_of(patches, x);
+            x[..dim].copy_from_slice(&q[..dim]);
+            return;
+        }
+        let rounds = 200;
+        for _ in 0..rounds {
+            let mut moved = 0.0f64;
+            for &p in patches {
+                let q = self.closest(p, x);
+                moved = moved.max(dist(&q, x, dim));
+                x[..dim].copy_from_slice(&q[..dim]);
+            }
+            let scale = x[..dim].iter().fold(1.0f64, |m, v| m.max(v.abs()));
+            if moved <= 1e-15 * scale {
+                break;
+            }
+        }
+    }
+}
+
+fn dist(a: &[f64; 3], x: &[f64], dim: usize) -> f64 {
+    (0..dim).map(|c| (a[c] - x[c]) * (a[c] - x[c])).sum::<f64>().sqrt()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn closest_points_on_a_triangle() {
+        let (a, b, c) = ([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]);
+        let t = [a, b, c];
+        assert_eq!(closest_on_triangle(&t, 0, &[0.2, 0.3, 5.0]), [0.2, 0.3, 0.0]);
+        assert_eq!(closest_on_triangle(&t, 0, &[-1.0, -1.0, 1.0]), [0.0, 0.0, 0.0]);
+        let q = closest_on_triangle(&t, 0, &[1.0, 1.0, 0.0]);
+        assert!((q[0] - 0.5).abs() < 1e-15 && (q[1] - 0.5).abs() < 1e-15);
+        // Open across its hypotenuse: the plane goes on.
+        assert_eq!(closest_on_triangle(&t, 2, &[1.0, 1.0, 0.5]), [1.0, 1.0, 0.0]);
+    }
+
+    #[test]
+    fn grid_search_finds_the_nearest_segment_of_a_polygon() {
+        let n = 200;
+        let pt = |k: usize| {
+            let t = std::f64::consts::TAU * k as f64 / n as f64;
+            [3.0 * t.cos(), 3.0 * t.sin(), 0.0]
+        };
+        let segs: Vec<[[f64; 3]; 3]> = (0..n).map(|k| [pt(k), pt(k + 1), [0.0; 3]]).collect();
+        let w = PlWall::new(2, segs.iter().map(|s| (*s, 0)).collect());
+        for p in [[3.1, 0.05, 0.0], [-2.0, 0.3, 0.0], [0.0, -7.0, 0.0], [0.3, 0.1, 0.0]] {
+            let got = w.closest(&p);
+            let want = segs
+                .iter()
+                .map(|s| closest_on_segment(&s[0], &s[1], &p))
+                .min_by(|x, y| dot3(&sub(x, &p), &sub(x, &p)).total_cmp(&dot3(&sub(y, &p), &sub(y, &p))))
+                .unwrap();
+            assert!(dist(&got, &want, 2) < 1e-14, "{p:?}: {got:?} vs {want:?}");
+        }
+    }
+}

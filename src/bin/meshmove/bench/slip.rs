@@ -1,0 +1,56 @@
+//! The bench's slip-wall comparison: the cylinder in a channel moved 1.5 D, its walls FIXED or
+//! SLIP (docs/DESIGN.md §4 "Slip walls"), refined while under `--max-vertices`: CG iterations and
+//! solve time of each method with each wall, and their ratio. Writes `DIR/slip.csv`.
+
+use meshmove::cases::setups::cylinder_channel_far;
+use meshmove::{Kind, Method, Options, SolveParams, Solver};
+use std::fmt::Write as _;
+use std::path::Path;
+
+pub const HEADER: &str = "method,vertices,levels,fixed_iterations,slip_iterations,fixed_solve_s,slip_solve_s";
+
+/// Runs the comparison up to `max_vertices`, to the relative residual `tol`; returns the table.
+pub fn run(out: &Path, max_vertices: usize, tol: f64) -> Result<String, String> {
+    let mut csv = format!("{HEADER}\n");
+    let mut table = String::from(
+        "slip walls: cylinder channel moved 1.5 D, walls FIXED vs SLIP\n\
+         method        vertices lev  it FIXED  it SLIP  ratio   solve_s FIXED  SLIP\n",
+    );
+    let setups = [Kind::Fixed, Kind::Slip].map(|k| cylinder_channel_far(1.0 / 12.0, k));
+    let mut meshes = vec![setups[0].mesh.clone()];
+    while meshes.last().map_or(0, |m| 4 * m.num_vertices()) <= max_vertices {
+        let next = meshes.last().expect("one").refine_uniform();
+        meshes.push(next);
+    }
+    for mesh in &meshes {
+        for method in [Method::Biharmonic, Method::Laplacian, Method::Spring] {
+            let mut its = [0usize; 2];
+            let mut secs = [0.0f64; 2];
+            let mut levels = 0;
+            for (k, s) in setups.iter().enumerate() {
+                let opts = Options { method, solve: SolveParams { tol, ..Default::default() }, ..Default::default() };
+                let solver = Solver::new(mesh, &s.bcs, opts).map_err(|e| format!("slip bench: {e}"))?;
+                let motion = meshmove::Motion::zero(mesh).with_rigid(s.moved_patch, s.motion.rigid[0].1);
+                let sol = solver.solve(&motion).map_err(|e| format!("slip bench, {method:?}: {e}"))?;
+                its[k] = sol.report.cycles;
+                secs[k] = sol.report.seconds;
+                levels = solver.num_levels();
+            }
+            let name = format!("{method:?}").to_lowercase();
+            let nv = mesh.num_vertices();
+            let _ = writeln!(csv, "{name},{nv},{levels},{},{},{:.4},{:.4}", its[0], its[1], secs[0], secs[1]);
+            let _ = writeln!(
+                table,
+                "{name:<13} {nv:>8} {levels:>3} {:>9} {:>8} {:>6.2} {:>12.4} {:>6.4}",
+                its[0],
+                its[1],
+                its[1] as f64 / its[0].max(1) as f64,
+                secs[0],
+                secs[1]
+            );
+        }
+    }
+    let path = out.join("slip.csv");
+    std::fs::write(&path, csv).map_err(|e| format!("{}: {e}", path.display()))?;
+    Ok(table)
+}
