@@ -33,9 +33,9 @@ fn demo_quick_writes_results_csv_and_pictures() {
         lines[0],
         "case,method,steps,inverted,min_area_ratio,min_angle_deg,spacing_variation,cycles,seconds,max_y_upper"
     );
-    // The header and 10 cases × 3 methods (the hybrid boundary-layer cylinder was added as the
-    // tenth case: 28 lines before).
-    assert_eq!(lines.len(), 31, "{csv}");
+    // The header and 14 cases × 3 methods (ten 2D cases, the sphere channel and the pitching
+    // spheroid with two rows each).
+    assert_eq!(lines.len(), 43, "{csv}");
     for l in &lines[1..] {
         assert_eq!(l.split(',').count(), 10, "{l}");
     }

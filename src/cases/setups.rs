@@ -11,7 +11,7 @@ use crate::motion::{Motion, RigidMotion};
 use std::f64::consts::TAU;
 
 /// The case names of the CLI's `results.csv`, in order.
-pub const CASE_NAMES: [&str; 10] = [
+pub const CASE_NAMES: [&str; 14] = [
     "free_surface_a0.1",
     "free_surface_a0.25",
     "free_surface_a0.25_10steps",
@@ -22,6 +22,10 @@ pub const CASE_NAMES: [&str; 10] = [
     "cylinder_channel",
     "boundary_layer_cylinder",
     "boundary_layer_cylinder_hybrid",
+    "sphere_channel_0.5",
+    "sphere_channel_1.0",
+    "pitching_spheroid_1step",
+    "pitching_spheroid_10steps",
 ];
 
 /// Mesh sizes: the paper's (docs/DESIGN.md §7) or coarse ones for quick smoke runs.
@@ -162,6 +166,6 @@ pub fn case(name: &str, scale: Scale) -> Option<CaseSetup> {
         "cylinder_channel" => cylinder_channel_case(hc),
         "boundary_layer_cylinder" => boundary_layer_cylinder_case(),
         "boundary_layer_cylinder_hybrid" => boundary_layer_cylinder_hybrid_case(),
-        _ => return None,
+        other => return super::bodies3d::case(other, scale),
     })
 }
