@@ -1,5 +1,6 @@
 //! The 3D body cases (sphere channel, pitching spheroid) with every method, as a table:
-//! `cargo run --release --example bodies3d_run [quick|paper] [name filter]` (docs/RESULTS.md).
+//! `cargo run --release --example bodies3d_run [quick|paper] [case filter] [method filter]`
+//! (docs/RESULTS.md).
 use meshmove::cases::ogrid::{measure, OG_BODY};
 use meshmove::cases::report::{method_name, run_case, METHODS};
 use meshmove::cases::setups::{case, Scale};
@@ -8,6 +9,7 @@ use meshmove::Options;
 fn main() {
     let scale = if std::env::args().nth(1).as_deref() == Some("quick") { Scale::Quick } else { Scale::Paper };
     let filter = std::env::args().nth(2).unwrap_or_default();
+    let method_filter = std::env::args().nth(3).unwrap_or_default();
     let names = ["sphere_channel_0.5", "sphere_channel_1.0", "pitching_spheroid_1step", "pitching_spheroid_10steps"];
     let names = names.into_iter().filter(|n| n.contains(filter.as_str()));
     println!(
@@ -18,7 +20,7 @@ fn main() {
         let s = case(name, scale).expect("a case");
         let st = measure(&s.mesh, OG_BODY);
         eprintln!("{name}: original min dihedral {:.2}, max edge ratio {:.2}", st.min_angle_deg, st.max_edge_ratio);
-        for m in METHODS {
+        for m in METHODS.into_iter().filter(|&m| method_name(m).contains(method_filter.as_str())) {
             let r = run_case(&s, m, &Options::default()).expect("run");
             println!(
                 "| {name} | {} | {} | {} | {} | {:.3} | {:.2} | {} | {:.1} |{}",

@@ -29,12 +29,13 @@ pub fn sphere_channel_sizes(scale: Scale) -> (f64, f64) {
     }
 }
 
-/// The pitching spheroid's wall and far sizes at `scale`: (0.03, 0.3) (about 60k vertices),
-/// (0.075, 0.6) for quick runs.
+/// The pitching spheroid's wall and far sizes at `scale`: (0.03, 0.3) (about 67k vertices),
+/// (0.1, 0.75) for quick runs (about 4k vertices, three cells across a quarter of the
+/// spheroid's girth: a smoke test of the command line, not a resolved body).
 pub fn pitching_spheroid_sizes(scale: Scale) -> (f64, f64) {
     match scale {
         Scale::Paper => (0.03, 0.3),
-        Scale::Quick => (0.075, 0.6),
+        Scale::Quick => (0.1, 0.75),
     }
 }
 
