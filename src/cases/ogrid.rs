@@ -27,10 +27,11 @@
 //! With wall size h_w, far size h_f and semi-axes s_d: `n_d` = max(2, ⌈π s_d / (2 h_w)⌉) (so the
 //! body's surface spacing is about h_w: a quarter of the circumference over n_d cells); the inner
 //! box's half-size is n_d h_f / 2 (its spacing h_f), reduced to fit the box. The shell's layer
-//! count grows like ln(h_f / h_w) / ln(growth) plus the layers at the cap. So a 3D sphere mesh has
+//! count is about ln(h_f / h_w) / ln(growth) growing layers plus the layers at the cap (about
+//! as many as the inner box's cells across its half-diagonal, so ∝ n). So a 3D sphere mesh has
 //! 6 n² × layers hexahedra in the shell plus the tensor blocks: at a fixed h_f / h_w and a box
-//! that fits the inner box, vertices grow like n³ ∝ (r / h_w)³ (n = 16, h_f / h_w = 3 in the
-//! sphere channel: 35k vertices; h_f / h_w = 50 in [−20,20]³: about 20k vertices at n = 12). The
+//! that fits the inner box, vertices grow like n³ ∝ (r / h_w)³ (the sphere channel, n = 16,
+//! h_f / h_w = 3: 34,700 hexahedral vertices; h_f / h_w = 50 in [−20,20]³, n = 11: 19,944). The
 //! tetrahedral mesh adds one vertex per hexahedron (about twice the vertices) and has 12
 //! tetrahedra per hexahedron. In 2D vertices grow like n² ∝ (r / h_w)².
 //! [`OgridPlan::num_vertices`] gives the exact count without building the mesh;
