@@ -3,6 +3,7 @@
 //! measurements of a run (`report`).
 
 pub mod amplitude;
+pub mod bodies3d;
 mod cdt;
 pub mod cut;
 mod cylinder;
@@ -10,6 +11,7 @@ mod free_surface;
 pub mod hybrid;
 pub mod meshes;
 pub mod meshes3d;
+pub mod ogrid;
 pub mod report;
 pub mod setups;
 pub mod setups3d;

@@ -11,8 +11,8 @@ use crate::motion::{Motion, RigidMotion};
 use std::f64::consts::TAU;
 
 /// The case names of the CLI's `results.csv`, in order: the 2D cases, then the 3D ones
-/// ([`super::setups3d`]), then the slip-wall comparisons.
-pub const CASE_NAMES: [&str; 21] = [
+/// ([`super::setups3d`], [`super::bodies3d`]), then the slip-wall comparisons.
+pub const CASE_NAMES: [&str; 25] = [
     "free_surface_a0.1",
     "free_surface_a0.25",
     "free_surface_a0.25_10steps",
@@ -30,6 +30,10 @@ pub const CASE_NAMES: [&str; 21] = [
     "free_surface_3d_hexes_a0.25",
     "free_surface_3d_prisms_a0.25",
     "boundary_layer_cylinder_3d",
+    "sphere_channel_0.5",
+    "sphere_channel_1.0",
+    "pitching_spheroid_1step",
+    "pitching_spheroid_10steps",
     "cylinder_channel_1.5D_fixed",
     "cylinder_channel_1.5D_slip",
     "sphere_channel_1.5D_fixed",
@@ -209,6 +213,6 @@ pub fn case(name: &str, scale: Scale) -> Option<CaseSetup> {
         "sphere_channel_1.5D_slip" => sphere_channel_case(Kind::Slip),
         "boundary_layer_cylinder" => boundary_layer_cylinder_case(),
         "boundary_layer_cylinder_hybrid" => boundary_layer_cylinder_hybrid_case(),
-        other => return super::setups3d::case3d(other, scale),
+        other => return super::setups3d::case3d(other, scale).or_else(|| super::bodies3d::case(other, scale)),
     })
 }
