@@ -190,6 +190,15 @@ fn bench_writes_the_peer_case_that_deform_runs() {
         }
     }
     assert_eq!(top, 25);
+    // The OpenFOAM case: 4³ cells, 3·4²·3 = 144 internal faces and 6·4² = 96 boundary faces, the
+    // top's 25 displacements; our moved points written beside OpenFOAM's as time 2.
+    let owner = std::fs::read_to_string(dir.join("foam/constant/polyMesh/owner")).unwrap();
+    assert!(owner.contains("nPoints:125  nCells:64  nFaces:240  nInternalFaces:144"), "{owner}");
+    let disp = std::fs::read_to_string(dir.join("foam/0/pointDisplacement")).unwrap();
+    assert!(disp.contains("nonuniform List<vector>\n25\n(\n(0 0 0.1)\n"), "{disp}");
+    bench(&dir, &["--peer-points", out.to_str().unwrap()]);
+    let points = std::fs::read_to_string(dir.join("foam/2/polyMesh/points")).unwrap();
+    assert!(points.contains("\n125\n(\n(0.0 0.0 0.0)\n"), "{points}");
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -103,6 +103,10 @@ pub struct Args {
     /// scripts/peer-openfoam.sh.
     #[arg(long, value_name = "CELLS")]
     pub peer_case: Option<usize>,
+    /// Instead of running: write the points of this .vtu (`meshmove deform`'s result on the peer
+    /// case's box.msh) as time 2 of the OpenFOAM case in --out/foam, for `checkMesh -time 2`.
+    #[arg(long, value_name = "VTU")]
+    pub peer_points: Option<PathBuf>,
 }
 
 /// One csv row.
@@ -493,6 +497,9 @@ pub fn run(a: &Args) -> Result<(), String> {
     if let Some(n) = a.peer_case {
         std::fs::create_dir_all(&a.out).map_err(|e| format!("{}: {e}", a.out.display()))?;
         return peer::write_case(&a.out, n);
+    }
+    if let Some(vtu) = &a.peer_points {
+        return peer::write_points(vtu, &a.out.join("foam"));
     }
     let has = |p: Part| a.parts.contains(&p);
     // The smallest mesh is cheap to build; checking against it first keeps a too-small
