@@ -47,6 +47,15 @@ pub enum Part {
     Graded,
 }
 
+/// The cells of a 3D box.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BoxKind {
+    /// Hexahedra.
+    Hex,
+    /// Freudenthal tetrahedra.
+    Tet,
+}
+
 #[derive(clap::Args, Debug)]
 pub struct Args {
     /// Directory for bench.csv (created if missing).
@@ -60,6 +69,9 @@ pub struct Args {
     /// a quarter of an hour; 2000000 adds the 1.95M boxes (about half an hour more, 2–3 GB).
     #[arg(long, default_value_t = 300_000)]
     pub max_vertices_3d: usize,
+    /// The 3D boxes' cells, comma separated: hex, tet.
+    #[arg(long, value_delimiter = ',', default_value = "hex,tet")]
+    pub box_cells: Vec<BoxKind>,
     /// Cells per side of the smallest 3D box ((n + 1)³ vertices; 31 gives 32768).
     #[arg(long, default_value_t = cases::BASE_N_3D)]
     pub cells_3d: usize,
@@ -575,16 +587,18 @@ pub fn run(a: &Args) -> Result<(), String> {
             continue;
         }
         for cells in [BoxCells::Hexes, BoxCells::Tets] {
-            if !run3d && cells == BoxCells::Tets {
+            let wanted = a.box_cells.contains(if cells == BoxCells::Hexes { &BoxKind::Hex } else { &BoxKind::Tet });
+            // The steps run on the hexahedral box whichever boxes the 3D part runs.
+            let steps_here = step && cells == BoxCells::Hexes;
+            if !(run3d && wanted) && !steps_here {
                 continue;
             }
             let case = cases::free_surface_box(n, cells);
             eprintln!("{} {nv} vertices", case.name);
-            if run3d {
+            if run3d && wanted {
                 run_case(a, &case, Levels::Default, &pools, &mut rows, &mut failed)?;
             }
-            // Steps on the hexahedral box.
-            if step && cells == BoxCells::Hexes {
+            if steps_here {
                 steps::run(a, &case, &last[0], &mut rows).map_or_else(|e| failed.push(e), |s| stepped.push(s));
                 steps_done[1] += 1;
             }
