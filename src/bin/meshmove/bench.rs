@@ -619,7 +619,7 @@ pub fn run(a: &Args) -> Result<(), String> {
     }
     let path = a.out.join("bench.csv");
     std::fs::write(&path, csv).map_err(|e| format!("{}: {e}", path.display()))?;
-    print!("{}", table::table(&rows));
+    print!("{}", table::table(&rows, a.tol));
     print!("{}", steps::table(&stepped));
     for f in &failed {
         println!("FAILED: {f}");

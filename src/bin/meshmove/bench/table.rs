@@ -27,7 +27,9 @@ fn distinct<T: PartialEq + Copy>(rows: &[Row], key: impl Fn(&Row) -> T) -> Vec<T
     out
 }
 
-pub fn table(rows: &[Row]) -> String {
+/// The table of every row; a multigrid row that stopped above `tol` (at its cycle limit) says
+/// so in place of a ratio.
+pub fn table(rows: &[Row], tol: f64) -> String {
     let rows: Vec<Row> = rows.iter().filter(|r| !r.solver.contains("-step")).cloned().collect();
     let rows = &rows[..];
     let find = |case: &str, name: &str, nv: usize, t: usize| {
@@ -51,6 +53,7 @@ pub fn table(rows: &[Row]) -> String {
         "rel_res",
     );
     for r in rows {
+        let stopped = r.solver.contains("-mg") && !r.solver.ends_with("-paper") && r.rel_residual > tol;
         let ratio = ours(r.solver)
             .and_then(|o| find(r.case, o, r.vertices, r.threads))
             .map(|o| match r.est_solve_s {
@@ -61,6 +64,7 @@ pub fn table(rows: &[Row]) -> String {
                 None => format!("{:.1}x", r.solve_s / o.solve_s),
             })
             .unwrap_or_default();
+        let ratio = if stopped { format!("NOT converged ({} iterations) {ratio}", r.iterations) } else { ratio };
         let _ = writeln!(
             s,
             "{:<16} {:<20} {:>8} {:>3} {:>3} {:>8.3} {:>9.5} {:>6} {:>9.3} {:>8.0} {:>6.0} {:>9.1e}  {}",
