@@ -590,7 +590,7 @@ pub fn run(a: &Args) -> Result<(), String> {
             let wanted = a.box_cells.contains(if cells == BoxCells::Hexes { &BoxKind::Hex } else { &BoxKind::Tet });
             // The steps run on the hexahedral box whichever boxes the 3D part runs.
             let steps_here = step && cells == BoxCells::Hexes;
-            if !(run3d && wanted) && !steps_here {
+            if !(steps_here || run3d && wanted) {
                 continue;
             }
             let case = cases::free_surface_box(n, cells);
