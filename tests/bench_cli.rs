@@ -1,18 +1,58 @@
-//! `meshmove bench` runs on the smallest mesh and writes bench.csv with the header and a
-//! row for every solver.
+//! `meshmove bench` runs on the smallest meshes and writes bench.csv with the header and
+//! a row for every solver: the 2D free surface (with least-squares coarse levels too), the 3D
+//! boxes, the time-stepping rows; and it writes the 3D peer case that `meshmove deform` runs.
 
-use std::process::Command;
+use std::path::Path;
+use std::process::{Command, Output};
+
+const HEADER: &str =
+    "case,solver,vertices,threads,levels,setup_s,cycle_s,iterations,solve_s,work_units,bytes_per_vertex,rel_residual";
+
+fn bench(out: &Path, args: &[&str]) -> Output {
+    let run = Command::new(env!("CARGO_BIN_EXE_meshmove"))
+        .args(["bench", "--out"])
+        .arg(out)
+        .args(args)
+        .output()
+        .expect("meshmove runs");
+    assert!(run.status.success(), "bench failed: {}", String::from_utf8_lossy(&run.stderr));
+    run
+}
+
+/// The csv's rows, each checked: 12 fields, every one after the case and solver a number.
+fn rows(csv: &str) -> Vec<Vec<String>> {
+    let mut lines = csv.lines();
+    assert_eq!(lines.next(), Some(HEADER));
+    let rows: Vec<Vec<String>> = lines.map(|l| l.split(',').map(str::to_string).collect()).collect();
+    for r in &rows {
+        assert_eq!(r.len(), 12, "row {r:?}");
+        for v in &r[2..] {
+            assert!(v.parse::<f64>().is_ok(), "not a number: {v} in {r:?}");
+        }
+    }
+    rows
+}
+
+fn num(r: &[String], i: usize) -> f64 {
+    r[i].parse().unwrap()
+}
 
 #[test]
 fn bench_writes_csv_with_every_solver() {
     let out = std::env::temp_dir().join(format!("meshmove-bench-{}", std::process::id()));
-    let status = Command::new(env!("CARGO_BIN_EXE_meshmove"))
-        .args(["bench", "--out"])
-        .arg(&out)
-        .args(["--max-vertices", "20000", "--threads", "1,2", "--jacobi-cap-s", "1", "--paper-cap-s", "0.05"])
-        .output()
-        .expect("meshmove runs");
-    assert!(status.status.success(), "bench failed: {}", String::from_utf8_lossy(&status.stderr));
+    let args = [
+        "--parts",
+        "2d,lsq",
+        "--max-vertices",
+        "20000",
+        "--threads",
+        "1,2",
+        "--jacobi-cap-s",
+        "1",
+        "--paper-cap-s",
+        "0.05",
+    ];
+    let status = bench(&out, &args);
     let stdout = String::from_utf8_lossy(&status.stdout);
     assert!(stdout.contains("ratio to ours"), "table printed:\n{stdout}");
     // The slip-wall comparison: SLIP within 1.3× the iterations of FIXED walls.
@@ -24,18 +64,10 @@ fn bench_writes_csv_with_every_solver() {
     }
     assert_eq!(slip.lines().count(), 4, "{slip}");
     let csv = std::fs::read_to_string(out.join("bench.csv")).expect("bench.csv written");
-    let mut lines = csv.lines();
-    assert_eq!(
-        lines.next(),
-        Some("solver,vertices,threads,levels,setup_s,cycle_s,iterations,solve_s,work_units,bytes_per_vertex,rel_residual")
-    );
-    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
-    for r in &rows {
-        assert_eq!(r.len(), 11, "row {r:?}");
-        for v in &r[1..] {
-            assert!(v.parse::<f64>().is_ok(), "not a number: {v} in {r:?}");
-        }
-    }
+    let all = rows(&csv);
+    assert!(all.iter().all(|r| r[0] == "free-surface-2d"), "{all:?}");
+    // From here on the 2D checks, the case column dropped.
+    let rows: Vec<Vec<&str>> = all.iter().map(|r| r[1..].iter().map(String::as_str).collect()).collect();
     for name in [
         "biharmonic-mg",
         "biharmonic-mg-paper",
@@ -60,9 +92,124 @@ fn bench_writes_csv_with_every_solver() {
     // then gives its ratio as a lower bound with an estimate, never as a finished solve.
     let paper = rows.iter().find(|r| r[0] == "biharmonic-mg-paper").expect("paper row");
     assert!(paper[10].parse::<f64>().unwrap() > 1e-8, "{paper:?}");
-    let line = stdout.lines().find(|l| l.starts_with("biharmonic-mg-paper")).expect("paper line");
+    let line = stdout.lines().find(|l| l.contains(" biharmonic-mg-paper ")).expect("paper line");
     assert!(line.contains(">= ") && line.contains("(capped; est. "), "{line}");
+    // Least-squares coarse levels: every method, at the largest thread count only, converged,
+    // and compared with the default in their own table.
+    for name in ["biharmonic-mg-lsq", "laplacian-mg-lsq", "spring-mg-lsq"] {
+        let r: Vec<_> = rows.iter().filter(|r| r[0] == name).collect();
+        assert_eq!(r.len(), 1, "{name}: {r:?}");
+        assert_eq!(r[0][2], "2");
+        assert!(r[0][10].parse::<f64>().unwrap() <= 1e-8, "{r:?}");
+    }
+    assert!(stdout.contains("coarse levels: least squares (lsq) against the default"), "{stdout}");
+    let line = stdout.lines().find(|l| l.contains(" biharmonic ") && l.contains(" / ")).expect("lsq line");
+    assert!(line.starts_with("free-surface-2d"), "{line}");
     let _ = std::fs::remove_dir_all(&out);
+}
+
+/// The 3D rows on small boxes (--cells-3d 11: 1728 vertices) and the time-stepping rows.
+#[test]
+fn bench_3d_and_steps_rows() {
+    let out = std::env::temp_dir().join(format!("meshmove-bench-3d-{}", std::process::id()));
+    let args = ["--parts", "3d,steps", "--max-vertices", "20000", "--cells-3d", "11", "--max-vertices-3d", "2000"];
+    let run = bench(&out, &[&args[..], &["--threads", "1,2"]].concat());
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    let rows = rows(&std::fs::read_to_string(out.join("bench.csv")).expect("bench.csv written"));
+    let find = |case: &str, solver: &str| -> Vec<&Vec<String>> {
+        rows.iter().filter(|r| r[0] == case && r[1] == solver).collect()
+    };
+    for case in ["box-hex-3d", "box-tet-3d"] {
+        for solver in ["biharmonic-mg", "laplacian-mg", "spring-mg"] {
+            let r = find(case, solver);
+            // Both thread counts, 1728 vertices, converged, the same iterations on both.
+            assert_eq!(r.len(), 2, "{case} {solver}: {r:?}");
+            assert!(r.iter().all(|r| r[2] == "1728" && num(r, 11) <= 1e-8), "{r:?}");
+            assert_eq!(r[0][7], r[1][7], "{r:?}");
+        }
+        for solver in ["biharmonic-direct", "laplacian-direct"] {
+            let r = find(case, solver);
+            assert_eq!(r.len(), 1, "{case} {solver}: {r:?}");
+            assert!(num(r[0], 11) <= 1e-12, "{r:?}");
+        }
+        // No paper-faithful or Jacobi rows in 3D.
+        assert!(rows.iter().all(|r| r[0] != case || !(r[1].ends_with("-paper") || r[1] == "spring-jacobi")));
+    }
+    // The biharmonic's iterations: within the goal of 12 (measured: hexahedra 5, tetrahedra 10).
+    for case in ["box-hex-3d", "box-tet-3d"] {
+        let it: usize = find(case, "biharmonic-mg")[0][7].parse().unwrap();
+        assert!(it <= 12, "{case}: {it} iterations");
+    }
+    // Steps: the 2D free surface (16.8k) and the hexahedral box, three rows each, at the
+    // largest thread count, converged.
+    for case in ["free-surface-2d", "box-hex-3d"] {
+        for solver in ["biharmonic-step1", "biharmonic-step-median", "biharmonic-step-worst"] {
+            let r = find(case, solver);
+            assert_eq!(r.len(), 1, "{case} {solver}: {r:?}");
+            assert!(r[0][3] == "2" && num(r[0], 11) <= 1e-8 && num(r[0], 7) >= 1.0, "{r:?}");
+        }
+        let line = stdout.lines().find(|l| l.starts_with(case) && l.contains(" / ")).expect("steps line");
+        // Ten iteration counts at the end of the line.
+        let its: Vec<&str> = line.split("  ").last().unwrap().split_whitespace().collect();
+        assert_eq!(its.len(), 10, "{line}");
+    }
+    assert!(stdout.contains("time stepping: biharmonic, the motion in 10 steps"), "{stdout}");
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+/// `--peer-case N` writes the hexahedral box, its motion and case file, and `meshmove deform`
+/// moves the box's top by 0.1 cos 2πx cos 2πy.
+#[test]
+fn bench_writes_the_peer_case_that_deform_runs() {
+    let dir = std::env::temp_dir().join(format!("meshmove-bench-peer-{}", std::process::id()));
+    bench(&dir, &["--peer-case", "4"]);
+    for f in ["box.msh", "top.csv", "case.toml"] {
+        assert!(dir.join(f).is_file(), "{f}");
+    }
+    let top = std::fs::read_to_string(dir.join("top.csv")).unwrap();
+    assert_eq!(top.lines().count(), 1 + 25, "{top}");
+    let out = dir.join("out.vtu");
+    let run = Command::new(env!("CARGO_BIN_EXE_meshmove"))
+        .arg("deform")
+        .arg(dir.join("box.msh"))
+        .arg("--config")
+        .arg(dir.join("case.toml"))
+        .arg("-o")
+        .arg(&out)
+        .output()
+        .expect("meshmove runs");
+    assert!(run.status.success(), "deform failed: {}", String::from_utf8_lossy(&run.stderr));
+    let moved = meshmove::io::read_vtu(&out).unwrap();
+    let (_, d, nc) = moved.point_data.iter().find(|f| f.0 == "displacement").expect("displacement");
+    assert_eq!(*nc, 3);
+    // The written positions are the moved ones: top vertices at 1 + 0.1 cos 2πx cos 2πy.
+    let m = &moved.mesh;
+    let mut top = 0;
+    for v in 0..m.num_vertices() {
+        let p = m.point(v);
+        let z0 = p[2] - d[3 * v + 2];
+        if (z0 - 1.0).abs() < 1e-12 {
+            let (x, y) = (p[0] - d[3 * v], p[1] - d[3 * v + 1]);
+            let want = 0.1 * (std::f64::consts::TAU * x).cos() * (std::f64::consts::TAU * y).cos();
+            assert!(
+                (d[3 * v + 2] - want).abs() < 1e-12 && d[3 * v].abs() < 1e-12,
+                "vertex {v}: {:?}",
+                &d[3 * v..3 * v + 3]
+            );
+            top += 1;
+        }
+    }
+    assert_eq!(top, 25);
+    // The OpenFOAM case: 4³ cells, 3·4²·3 = 144 internal faces and 6·4² = 96 boundary faces, the
+    // top's 25 displacements; our moved points written beside OpenFOAM's as time 2.
+    let owner = std::fs::read_to_string(dir.join("foam/constant/polyMesh/owner")).unwrap();
+    assert!(owner.contains("nPoints:125  nCells:64  nFaces:240  nInternalFaces:144"), "{owner}");
+    let disp = std::fs::read_to_string(dir.join("foam/0/pointDisplacement")).unwrap();
+    assert!(disp.contains("nonuniform List<vector>\n25\n(\n(0 0 0.1)\n"), "{disp}");
+    bench(&dir, &["--peer-points", out.to_str().unwrap()]);
+    let points = std::fs::read_to_string(dir.join("foam/2/polyMesh/points")).unwrap();
+    assert!(points.contains("\n125\n(\n(0.0 0.0 0.0)\n"), "{points}");
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// A bad option is refused before anything runs: exit status 1, a message naming the option,
@@ -81,6 +228,8 @@ fn bench_refuses_bad_options_before_running() {
         (&["--threads", "1,0"], "--threads"),
         (&["--max-vertices", "0"], "--max-vertices"),
         (&["--max-vertices", "16000"], "below the smallest bench mesh"),
+        (&["--cells-3d", "1"], "--cells-3d"),
+        (&["--peer-case", "0"], "--peer-case"),
     ];
     for (i, (args, names)) in cases.iter().enumerate() {
         let out = std::env::temp_dir().join(format!("meshmove-bench-bad-{}-{i}", std::process::id()));

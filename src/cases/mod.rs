@@ -4,6 +4,7 @@
 
 pub mod amplitude;
 pub mod bodies3d;
+pub mod boxes;
 mod cdt;
 pub mod cut;
 mod cylinder;

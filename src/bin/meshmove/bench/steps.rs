@@ -1,0 +1,175 @@
+//! The time-stepping rows: what a host pays per time step. One biharmonic solver is built, then
+//! the case's motion is applied in [`STEPS`] equal increments by `Solver::advance`, the call a
+//! host makes every time step on the mesh of the previous step (each call re-evaluates K and V
+//! on the moved mesh, keeping the coarse topology, then solves for the increment). The rows are
+//! step 1, the median step and the worst step by the call's wall time.
+
+use super::cases::Case;
+use super::{alloc, op_seconds, report, Row, RowBase};
+use meshmove::{Method, Options, SolveParams, Solver};
+use std::fmt::Write as _;
+use std::time::Instant;
+
+/// Steps of the motion.
+pub const STEPS: usize = 10;
+
+/// One step's measurements.
+#[derive(Clone, Debug)]
+pub struct Step {
+    /// CG iterations.
+    pub iterations: usize,
+    pub rel_residual: f64,
+    /// Wall time of the `advance` call.
+    pub total_s: f64,
+    /// Of which the solve (`StepReport::seconds`, summed over sub-steps).
+    pub solve_s: f64,
+    /// Sub-steps (1 unless the step was split) and hierarchy rebuilds.
+    pub substeps: usize,
+    pub rebuilt: bool,
+}
+
+/// One time-stepping run.
+pub struct Stepped {
+    pub case: &'static str,
+    pub vertices: usize,
+    pub threads: usize,
+    /// `Solver::new`, once.
+    pub setup_s: f64,
+    pub steps: Vec<Step>,
+    /// Counted allocation over construction and every step, per vertex.
+    pub bytes_per_vertex: f64,
+    /// Smallest cell volume ratio of the final mesh against the original one.
+    pub min_volume_ratio: f64,
+}
+
+impl Stepped {
+    /// Indices of step 1, the median step and the worst step by wall time.
+    fn picks(&self) -> [(usize, &'static str); 3] {
+        let mut order: Vec<usize> = (0..self.steps.len()).collect();
+        order.sort_by(|&i, &j| self.steps[i].total_s.total_cmp(&self.steps[j].total_s));
+        [
+            (0, "biharmonic-step1"),
+            (order[order.len() / 2], "biharmonic-step-median"),
+            (*order.last().expect("steps"), "biharmonic-step-worst"),
+        ]
+    }
+}
+
+/// Builds the solver at the pool's thread count, advances it [`STEPS`] times, and pushes the
+/// three rows: `setup_s` the part of the call outside the solve (re-referencing, quality),
+/// `solve_s` the solve, `iterations` its CG iterations; the step's cost is their sum.
+pub fn run(
+    a: &super::Args,
+    case: &Case,
+    (threads, pool): &(usize, rayon::ThreadPool),
+    rows: &mut Vec<Row>,
+) -> Result<Stepped, String> {
+    let nv = case.mesh.num_vertices();
+    let original = case.mesh.coords().to_vec();
+    let base = alloc::start();
+    pool.install(|| {
+        let t = Instant::now();
+        let opts = Options {
+            method: Method::Biharmonic,
+            solve: SolveParams { tol: a.tol, ..Default::default() },
+            threads: *threads,
+            ..Default::default()
+        };
+        let mut solver = Solver::new(&case.mesh, &case.bcs, opts)
+            .map_err(|e| format!("{} steps at {nv} vertices: {e}", case.name))?;
+        let setup_s = t.elapsed().as_secs_f64();
+        let op_s = op_seconds(solver.hierarchy().fine(), case.comp);
+        let levels = solver.num_levels();
+        let mut steps = Vec::with_capacity(STEPS);
+        for i in 0..STEPS {
+            let inc = case.motion.increment(i, STEPS);
+            let t = Instant::now();
+            let sol = solver.advance(&inc).map_err(|e| format!("{} step {}: {e}", case.name, i + 1))?;
+            let total_s = t.elapsed().as_secs_f64();
+            let reps = solver.step_reports();
+            steps.push(Step {
+                iterations: sol.report.cycles,
+                rel_residual: sol.report.rel_residual,
+                total_s,
+                solve_s: reps.iter().map(|r| r.seconds).sum(),
+                substeps: reps.len(),
+                rebuilt: reps.iter().any(|r| r.rebuilt),
+            });
+        }
+        let bytes_per_vertex = alloc::peak_above(base) as f64 / nv as f64;
+        let q = meshmove::mesh::quality(&case.mesh.with_coords(original), solver.current_coords());
+        let stepped = Stepped {
+            case: case.name,
+            vertices: nv,
+            threads: *threads,
+            setup_s,
+            steps,
+            bytes_per_vertex,
+            min_volume_ratio: q.min_area_ratio,
+        };
+        let rb = RowBase { case: case.name, vertices: nv, threads: *threads, levels, op_s };
+        for (i, name) in stepped.picks() {
+            let s = &stepped.steps[i];
+            rows.push(rb.row(name, s.solve_s, s.iterations, s.rel_residual, bytes_per_vertex, s.total_s - s.solve_s));
+            report(rows.last().expect("row"));
+        }
+        Ok(stepped)
+    })
+}
+
+/// The steps of every run: setup once, then per step its iterations and seconds.
+pub fn table(runs: &[Stepped]) -> String {
+    let mut s = String::new();
+    if runs.is_empty() {
+        return s;
+    }
+    let _ = writeln!(
+        s,
+        "\ntime stepping: biharmonic, the motion in {STEPS} steps by Solver::advance (re-referenced each step)\n\
+         {:<16} {:>8} {:>3} {:>8} {:>22} {:>22} {:>22} {:>6} {:>9}  iterations per step",
+        "case",
+        "vertices",
+        "thr",
+        "setup_s",
+        "step 1: it / s (reref)",
+        "median: it / s (reref)",
+        "worst: it / s (reref)",
+        "B/vert",
+        "min vol"
+    );
+    for r in runs {
+        let picks = r.picks();
+        let cell = |i: usize| {
+            let st = &r.steps[i];
+            format!("{} / {:.3} ({:.3})", st.iterations, st.total_s, st.total_s - st.solve_s)
+        };
+        let its: Vec<String> = r
+            .steps
+            .iter()
+            .map(|st| {
+                let mark = if st.substeps > 1 || st.rebuilt { "*" } else { "" };
+                format!("{}{mark}", st.iterations)
+            })
+            .collect();
+        let _ = writeln!(
+            s,
+            "{:<16} {:>8} {:>3} {:>8.3} {:>22} {:>22} {:>22} {:>6.0} {:>9.4}  {}",
+            r.case,
+            r.vertices,
+            r.threads,
+            r.setup_s,
+            cell(picks[0].0),
+            cell(picks[1].0),
+            cell(picks[2].0),
+            r.bytes_per_vertex,
+            r.min_volume_ratio,
+            its.join(" ")
+        );
+    }
+    let _ = writeln!(
+        s,
+        "(s: the advance call; reref: of which outside the solve, K and V re-evaluated on the moved mesh; \
+         * a step split or its hierarchy rebuilt; min vol: final mesh against the original)"
+    );
+    s
+}
