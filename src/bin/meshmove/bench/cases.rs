@@ -93,6 +93,7 @@ pub fn free_surface_box(n: usize, cells: BoxCells) -> Case {
     let name = match cells {
         BoxCells::Hexes => "box-hex-3d",
         BoxCells::Tets => "box-tet-3d",
+        BoxCells::Prisms => "box-prism-3d",
     };
     Case { name, mesh, bcs: box_bcs(), motion, comp: 2 }
 }
