@@ -11,7 +11,7 @@ use crate::motion::{Motion, RigidMotion};
 pub const SPHERE_CENTER: [f64; 3] = [2.0, 0.0, 0.0];
 /// [`sphere_channel_mesh`]: the sphere's radius.
 pub const SPHERE_RADIUS: f64 = 0.5;
-/// [`sphere_channel_mesh`]: the channel [0,6]×[−1.5,1.5]².
+/// [`sphere_channel_mesh`]: the channel \[0,6\]×\[−1.5,1.5\]².
 pub const CHANNEL: [[f64; 2]; 3] = [[0.0, 6.0], [-1.5, 1.5], [-1.5, 1.5]];
 /// [`pitching_spheroid_mesh`]: the spheroid's semi-axes (centred at the origin).
 pub const SPHEROID_AXES: [f64; 3] = [0.6, 0.15, 0.15];
