@@ -136,21 +136,29 @@ pub fn patch_measures(original: &Mesh, deformed: &[f64], patch: i32, upper: Opti
     let a0 = signed_measures(original, original.coords());
     let a1 = signed_measures(original, deformed);
     let x0 = original.coords();
+    let cells = patch_cells(original, patch).into_iter().map(|(c, a, b)| {
+        let (a, b) = (a as usize, b as usize);
+        let r = height(a1[c], xy(deformed, a), xy(deformed, b)) / height(a0[c], xy(x0, a), xy(x0, b));
+        (c, r, a1[c] / a0[c])
+    });
+    measures(cells, original.regions(), upper)
+}
+
+/// The measures from each cell on the patch: (cell, its height ratio over the patch, its
+/// area or volume ratio).
+fn measures(cells: impl Iterator<Item = (usize, f64, f64)>, regions: &[i32], upper: Option<i32>) -> PatchMeasures {
     let (mut lo, mut hi, mut sum, mut n) = (f64::INFINITY, f64::NEG_INFINITY, 0.0, 0usize);
     let (mut rlo, mut rhi) = (f64::INFINITY, f64::NEG_INFINITY);
     let (mut up, mut nup, mut down, mut ndown) = (0.0, 0usize, 0.0, 0usize);
-    for (c, a, b) in patch_cells(original, patch) {
-        let (a, b) = (a as usize, b as usize);
-        let r = height(a1[c], xy(deformed, a), xy(deformed, b)) / height(a0[c], xy(x0, a), xy(x0, b));
+    for (c, r, ar) in cells {
         lo = lo.min(r);
         hi = hi.max(r);
         sum += r;
         n += 1;
-        let ar = a1[c] / a0[c];
         rlo = rlo.min(ar);
         rhi = rhi.max(ar);
         if let Some(u) = upper {
-            if original.regions()[c] == u {
+            if regions[c] == u {
                 up += r;
                 nup += 1;
             } else {
@@ -205,34 +213,11 @@ fn patch_measures_3d(original: &Mesh, deformed: &[f64], patch: i32, upper: Optio
     let v0 = signed_measures(original, original.coords());
     let v1 = signed_measures(original, deformed);
     let x0 = original.coords();
-    let (mut lo, mut hi, mut sum, mut n) = (f64::INFINITY, f64::NEG_INFINITY, 0.0, 0usize);
-    let (mut rlo, mut rhi) = (f64::INFINITY, f64::NEG_INFINITY);
-    let (mut up, mut nup, mut down, mut ndown) = (0.0, 0usize, 0.0, 0usize);
-    for (c, face) in patch_cells_3d(original, patch) {
+    let cells = patch_cells_3d(original, patch).into_iter().map(|(c, face)| {
         let r = (v1[c] / face_area(deformed, &face)) / (v0[c] / face_area(x0, &face));
-        lo = lo.min(r);
-        hi = hi.max(r);
-        sum += r;
-        n += 1;
-        let vr = v1[c] / v0[c];
-        rlo = rlo.min(vr);
-        rhi = rhi.max(vr);
-        if let Some(u) = upper {
-            if original.regions()[c] == u {
-                up += r;
-                nup += 1;
-            } else {
-                down += r;
-                ndown += 1;
-            }
-        }
-    }
-    let mean = sum / n.max(1) as f64;
-    PatchMeasures {
-        spacing_variation: if n == 0 { 0.0 } else { (hi - lo) / mean },
-        area_ratio: (rlo, rhi),
-        spacing_ratio_across: (nup > 0 && ndown > 0).then(|| (up / nup as f64) / (down / ndown as f64)),
-    }
+        (c, r, v1[c] / v0[c])
+    });
+    measures(cells, original.regions(), upper)
 }
 
 /// Runs `setup` with `method` and `opts` (its method is overridden): `steps` solves, the reference
