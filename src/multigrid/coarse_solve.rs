@@ -9,6 +9,20 @@ use crate::{Error, Result};
 /// coarsening stopped early on an awkward mesh).
 pub(super) const DENSE_MAX: usize = 1500;
 
+/// The Cholesky factor of the dense m×m matrix `a` assembled column by column from operator
+/// products, its rounding symmetrised first so Cholesky sees an exactly symmetric matrix; None
+/// when it is not positive definite.
+pub(super) fn symmetric_cholesky(m: usize, mut a: Vec<f64>) -> Option<Cholesky> {
+    for i in 0..m {
+        for j in 0..i {
+            let v = 0.5 * (a[i * m + j] + a[j * m + i]);
+            a[i * m + j] = v;
+            a[j * m + i] = v;
+        }
+    }
+    Cholesky::new(m, &a)
+}
+
 pub enum CoarseSolve {
     Dense {
         free: Vec<u32>,
@@ -43,17 +57,9 @@ impl CoarseSolve {
                 a[ii * m + jj] = y[i as usize];
             }
         }
-        // Symmetrise the rounding so Cholesky sees an exactly symmetric matrix.
-        for i in 0..m {
-            for j in 0..i {
-                let v = 0.5 * (a[i * m + j] + a[j * m + i]);
-                a[i * m + j] = v;
-                a[j * m + i] = v;
-            }
-        }
         // Every connected part has a prescribed vertex (checked on the fine level first), so a
         // coarsest operator that is not positive definite comes from the geometry of the levels.
-        let chol = Cholesky::new(m, &a).ok_or_else(|| {
+        let chol = symmetric_cholesky(m, a).ok_or_else(|| {
             Error::Coarsening(format!(
                 "the coarsest level's {} operator is not positive definite ({m} free unknowns): a coarse cell is \
                  degenerate or inverted",

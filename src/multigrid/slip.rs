@@ -16,7 +16,7 @@
 //!
 //! The cycle stays symmetric on the subspace, so it preconditions CG as before.
 
-use super::coarse_solve::DENSE_MAX;
+use super::coarse_solve::{symmetric_cholesky, DENSE_MAX};
 use super::cycle::CycleParams;
 use super::hierarchy::{Hierarchy, Level};
 use super::solve::{Mode, SolveParams};
@@ -337,14 +337,7 @@ impl GroupCoarse {
             }
             first = last;
         }
-        for i in 0..m {
-            for j in 0..i {
-                let v = 0.5 * (a[i * m + j] + a[j * m + i]);
-                a[i * m + j] = v;
-                a[j * m + i] = v;
-            }
-        }
-        let chol = Cholesky::new(m, &a).ok_or_else(|| {
+        let chol = symmetric_cholesky(m, a).ok_or_else(|| {
             Error::Coarsening(format!(
                 "the coarsest level's coupled slip operator is not positive definite ({m} free directions): a coarse \
                  cell is degenerate or inverted, or the slip walls leave a direction free"

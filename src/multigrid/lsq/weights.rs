@@ -45,7 +45,7 @@ pub(super) fn prolongation(fine: &Level, kept: &[u32]) -> CsrMatrix {
                 if cv != u32::MAX {
                     row.push((cv, 1.0));
                 } else {
-                    ctx.row(v, &ctx.choose(v), &mut row);
+                    ctx.row(v, ctx.choose(v), &mut row);
                 }
                 lens.push(row.len() as u32);
                 for &(c, w) in &row {
@@ -97,22 +97,24 @@ impl Context<'_> {
         self.f.relative(v, u, &self.points[v * d..(v + 1) * d], &self.points[u * d..(u + 1) * d])
     }
 
-    /// The donors of fine unknown `v` (fine numbering), ascending: its strongly coupled kept
-    /// neighbours (`strong`) nearest first, then (only when those do not determine a bounded
-    /// fit) its other kept neighbours and kept neighbours of neighbours, nearest first, one at a
-    /// time.
-    fn choose(&self, v: usize) -> Vec<u32> {
+    /// The donors of fine unknown `v` (fine numbering), ascending, and their fitted weights (None:
+    /// no fit exists): its strongly coupled kept neighbours (`strong`) nearest first, then (only
+    /// when those do not determine a bounded fit) its other kept neighbours and kept neighbours
+    /// of neighbours, nearest first, one at a time.
+    fn choose(&self, v: usize) -> (Vec<u32>, Option<Vec<f64>>) {
         let is_donor = |u: u32| self.coarse_of[u as usize] != u32::MAX && self.f.donor_ok(v, u as usize);
-        let dist = |u: u32| norm2(self.rel(v, u as usize));
-        let by_distance = |list: &mut Vec<u32>| list.sort_by(|&a, &b| dist(a).total_cmp(&dist(b)).then(a.cmp(&b)));
+        // Nearest first (ties by index), each distance computed once.
+        let by_distance = |list: Vec<u32>| -> Vec<u32> {
+            let mut keyed: Vec<(f64, u32)> = list.into_iter().map(|u| (norm2(self.rel(v, u as usize)), u)).collect();
+            keyed.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            keyed.into_iter().map(|(_, u)| u).collect()
+        };
         let row = self.k.row(v).0;
-        let mut cands: Vec<u32> =
-            super::strong(self.k, v, |u| self.rel(v, u)).filter(|&u| is_donor(u)).collect();
-        by_distance(&mut cands);
+        let mut cands = by_distance(super::strong(self.k, v, |u| self.rel(v, u)).filter(|&u| is_donor(u)).collect());
         let fdim = self.f.feature_dim(v);
         let near = cands.len();
-        if let Some(set) = self.first_bounded(v, &cands, near.max(fdim + 1).min(near).max(1)) {
-            return set;
+        if let Some(found) = self.first_bounded(v, &cands, near.max(fdim + 1).min(near).max(1)) {
+            return found;
         }
         let mut far: Vec<u32> = row
             .iter()
@@ -122,34 +124,33 @@ impl Context<'_> {
             .collect();
         far.sort_unstable();
         far.dedup();
-        by_distance(&mut far);
-        cands.extend(far);
+        cands.extend(by_distance(far));
         self.first_bounded(v, &cands, (near + 1).max(fdim + 1).min(cands.len())).unwrap_or_else(|| {
-            let mut set = cands;
-            set.sort_unstable();
-            set
+            cands.sort_unstable();
+            let w = self.fit(v, &cands);
+            (cands, w)
         })
     }
 
-    /// The shortest prefix of `cands`, at least `start` long, whose fit exists with Σ|w| bounded;
-    /// ascending.
-    fn first_bounded(&self, v: usize, cands: &[u32], start: usize) -> Option<Vec<u32>> {
+    /// The shortest prefix of `cands`, at least `start` long, whose fit exists with Σ|w| bounded:
+    /// its donors ascending and their weights.
+    fn first_bounded(&self, v: usize, cands: &[u32], start: usize) -> Option<(Vec<u32>, Option<Vec<f64>>)> {
         for m in start.max(1)..=cands.len() {
             let mut set = cands[..m].to_vec();
             set.sort_unstable();
             if let Some(w) = self.fit(v, &set) {
                 if w.iter().map(|w| w.abs()).sum::<f64>() <= MAX_ABS_SUM {
-                    return Some(set);
+                    return Some((set, Some(w)));
                 }
             }
         }
         None
     }
 
-    /// Row `v` of P from `donors` (fine numbering, ascending): the fitted weights, or the
+    /// Row `v` of P from `donors` (fine numbering, ascending) and their `weights`, or the
     /// nearest donor alone when no fit exists (constants are still reproduced).
-    fn row(&self, v: usize, donors: &[u32], row: &mut Vec<(u32, f64)>) {
-        match self.fit(v, donors) {
+    fn row(&self, v: usize, (donors, weights): (Vec<u32>, Option<Vec<f64>>), row: &mut Vec<(u32, f64)>) {
+        match weights {
             Some(w) => row.extend(donors.iter().zip(w).map(|(&u, w)| (self.coarse_of[u as usize], w))),
             None => {
                 let near = donors
