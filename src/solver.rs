@@ -108,6 +108,17 @@ pub struct Solver {
     last_valid: Vec<f64>,
     /// The shapes of the SLIP walls, from the mesh the solver was made with (None without).
     walls: Option<SlipWalls>,
+    /// The hierarchy parameters with the coarse-level route resolved when the solver was made:
+    /// every rebuild takes the same route.
+    built_with: HierarchyParams,
+}
+
+/// The hierarchy parameters of `opts` with the coarse-level route resolved for the dimension and
+/// the mode the solver starts in.
+fn hierarchy_params(opts: &Options, dim: usize) -> HierarchyParams {
+    let mut hp = opts.hierarchy.clone();
+    hp.coarse_levels = hp.coarse_levels.resolve(dim, opts.solve.mode);
+    hp
 }
 
 impl Solver {
@@ -121,10 +132,11 @@ impl Solver {
         check_not_tangled(mesh, mesh.coords())?;
         let pairs = resolve_links(mesh, &bcs.links)?;
         let pool = Pool::new(opts.threads)?;
-        let hierarchy = pool.install(|| Hierarchy::build(mesh, pairs, bcs, opts.method, &opts.hierarchy))??;
+        let built_with = hierarchy_params(&opts, mesh.dim());
+        let hierarchy = pool.install(|| Hierarchy::build(mesh, pairs, bcs, opts.method, &built_with))??;
         let (steps, last_valid) = (Vec::new(), Vec::new());
         let walls = SlipWalls::new(mesh, bcs);
-        Ok(Solver { opts, bcs: bcs.clone(), hierarchy, pool, total: None, steps, last_valid, walls })
+        Ok(Solver { opts, bcs: bcs.clone(), hierarchy, pool, total: None, steps, last_valid, walls, built_with })
     }
 
     /// Runs `f` on the solver's threads: every part of a call's work, so the thread count set
@@ -584,7 +596,7 @@ impl Solver {
     fn rebuild(&mut self, coords: Vec<f64>, undo: &mut Undo) -> Result<()> {
         let mesh = self.hierarchy.fine().mesh().with_coords(coords);
         let pairs = self.hierarchy.fine().pairs.clone();
-        let (bcs, method, hp) = (&self.bcs, self.opts.method, &self.opts.hierarchy);
+        let (bcs, method, hp) = (&self.bcs, self.opts.method, &self.built_with);
         let built = self.pool.install(|| Hierarchy::build(&mesh, pairs, bcs, method, hp))??;
         let old = std::mem::replace(&mut self.hierarchy, built);
         if undo.hierarchy.is_none() {

@@ -42,7 +42,7 @@ fn bench_writes_csv_with_every_solver() {
     let out = std::env::temp_dir().join(format!("meshmove-bench-{}", std::process::id()));
     let args = [
         "--parts",
-        "2d,lsq",
+        "2d,meshes",
         "--max-vertices",
         "20000",
         "--threads",
@@ -55,14 +55,16 @@ fn bench_writes_csv_with_every_solver() {
     let status = bench(&out, &args);
     let stdout = String::from_utf8_lossy(&status.stdout);
     assert!(stdout.contains("ratio to ours"), "table printed:\n{stdout}");
-    // The slip-wall comparison: SLIP within 1.3× the iterations of FIXED walls.
+    // The slip-wall comparison: with the default coarse levels SLIP within 1.3× the iterations
+    // of FIXED walls; coarse meshes beside them.
     let slip = std::fs::read_to_string(out.join("slip.csv")).expect("slip.csv written");
-    assert!(slip.starts_with("method,vertices,levels,fixed_iterations,slip_iterations"));
-    for l in slip.lines().skip(1) {
-        let f: Vec<f64> = l.split(',').skip(1).map(|v| v.parse().unwrap()).collect();
+    assert!(slip.starts_with("coarse_levels,method,vertices,levels,fixed_iterations,slip_iterations"));
+    for l in slip.lines().skip(1).filter(|l| l.starts_with("kept,")) {
+        let f: Vec<f64> = l.split(',').skip(2).map(|v| v.parse().unwrap()).collect();
         assert!(f[3] <= 1.3 * f[2], "slip iterations: {l}");
     }
-    assert_eq!(slip.lines().count(), 4, "{slip}");
+    assert_eq!(slip.lines().filter(|l| l.starts_with("kept,")).count(), 3, "{slip}");
+    assert_eq!(slip.lines().filter(|l| l.starts_with("meshes,")).count(), 3, "{slip}");
     let csv = std::fs::read_to_string(out.join("bench.csv")).expect("bench.csv written");
     let all = rows(&csv);
     assert!(all.iter().all(|r| r[0] == "free-surface-2d"), "{all:?}");
@@ -94,16 +96,16 @@ fn bench_writes_csv_with_every_solver() {
     assert!(paper[10].parse::<f64>().unwrap() > 1e-8, "{paper:?}");
     let line = stdout.lines().find(|l| l.contains(" biharmonic-mg-paper ")).expect("paper line");
     assert!(line.contains(">= ") && line.contains("(capped; est. "), "{line}");
-    // Least-squares coarse levels: every method, at the largest thread count only, converged,
-    // and compared with the default in their own table.
-    for name in ["biharmonic-mg-lsq", "laplacian-mg-lsq", "spring-mg-lsq"] {
+    // Coarse meshes: every method, at the largest thread count only, converged, and compared
+    // with the default kept unknowns in their own table.
+    for name in ["biharmonic-mg-meshes", "laplacian-mg-meshes", "spring-mg-meshes"] {
         let r: Vec<_> = rows.iter().filter(|r| r[0] == name).collect();
         assert_eq!(r.len(), 1, "{name}: {r:?}");
         assert_eq!(r[0][2], "2");
         assert!(r[0][10].parse::<f64>().unwrap() <= 1e-8, "{r:?}");
     }
-    assert!(stdout.contains("coarse levels: least squares (lsq) against the default"), "{stdout}");
-    let line = stdout.lines().find(|l| l.contains(" biharmonic ") && l.contains(" / ")).expect("lsq line");
+    assert!(stdout.contains("coarse levels: kept unknowns (default) against coarse meshes"), "{stdout}");
+    let line = stdout.lines().find(|l| l.contains(" biharmonic ") && l.contains(" / ")).expect("coarse levels line");
     assert!(line.starts_with("free-surface-2d"), "{line}");
     let _ = std::fs::remove_dir_all(&out);
 }

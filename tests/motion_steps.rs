@@ -6,7 +6,7 @@ use common::*;
 use glam::DVec2;
 use meshmove::cases::meshes::{FS_LEFT, FS_RIGHT, FS_TOP};
 use meshmove::cases::setups::free_surface_case;
-use meshmove::{BoundaryConditions, Kind, Method, Mode, Motion, Options, Solver};
+use meshmove::{BoundaryConditions, CoarseLevels, Kind, Method, Mode, Motion, Options, Solver};
 
 #[test]
 fn rigid_rotation_in_steps_lands_exactly() {
@@ -33,11 +33,18 @@ fn free_surface_setup() -> (meshmove::Mesh, BoundaryConditions, Motion) {
     (c.mesh, c.bcs, c.motion)
 }
 
+/// The options of `method` on coarse meshes (the route whose levels have cells to compare).
+fn remeshed(method: Method) -> Options {
+    let mut o = Options { method, ..Default::default() };
+    o.hierarchy.coarse_levels = CoarseLevels::Remeshed;
+    o
+}
+
 #[test]
 fn ten_steps_reach_the_target_surface() {
     let (mesh, bcs, motion) = free_surface_setup();
     for method in [Method::Biharmonic, Method::Laplacian] {
-        let mut s = Solver::new(&mesh, &bcs, Options { method, ..Default::default() }).unwrap();
+        let mut s = Solver::new(&mesh, &bcs, remeshed(method)).unwrap();
         let topology = |s: &Solver| -> Vec<Vec<Vec<u32>>> {
             s.hierarchy()
                 .levels
@@ -51,7 +58,7 @@ fn ten_steps_reach_the_target_surface() {
         assert_eq!(before, topology(&s), "{method:?}: hierarchy rebuilt");
         assert_ne!(
             s.hierarchy().levels[1].mesh().coords(),
-            Solver::new(&mesh, &bcs, Options::default()).unwrap().hierarchy().levels[1].mesh().coords()
+            Solver::new(&mesh, &bcs, remeshed(Method::Biharmonic)).unwrap().hierarchy().levels[1].mesh().coords()
         );
         let (start, end, d) = (mesh.points_2d(), s.mesh().points_2d(), to_vec2(&motion.displacement));
         for v in mesh.patch_vertices(FS_TOP) {
@@ -98,19 +105,20 @@ fn repeated_single_cycles_converge_to_the_solve() {
 #[test]
 fn prolongation_is_exact_for_linear_fields_on_every_level() {
     let (mesh, bcs, _) = free_surface_setup();
-    let s = Solver::new(&mesh, &bcs, Options::default()).unwrap();
-    let h = s.hierarchy();
-    assert!(h.levels.len() >= 3);
-    // Independent of x, so consistent with the merged periodic unknowns.
-    let lin = |p: &[f64]| -1.7 * p[1] + 0.2;
-    for l in 0..h.levels.len() - 1 {
-        let (fine, coarse) = (&h.levels[l], &h.levels[l + 1]);
-        let xc: Vec<f64> = coarse.dofs.dof_vertex.iter().map(|&v| lin(coarse.mesh().point(v as usize))).collect();
-        let mut xf = vec![0.0; fine.n()];
-        fine.down.as_ref().unwrap().prolong.mul_vec(&xc, &mut xf);
-        for (d, &x) in xf.iter().enumerate() {
-            let p = fine.mesh().point(fine.dofs.dof_vertex[d] as usize);
-            assert!((x - lin(p)).abs() < 1e-12, "level {l} unknown {d}");
+    for opts in [Options::default(), remeshed(Method::Biharmonic)] {
+        let s = Solver::new(&mesh, &bcs, opts).unwrap();
+        let h = s.hierarchy();
+        assert!(h.levels.len() >= 3);
+        // Independent of x, so consistent with the merged periodic unknowns.
+        let lin = |p: &[f64]| -1.7 * p[1] + 0.2;
+        for l in 0..h.levels.len() - 1 {
+            let (fine, coarse) = (&h.levels[l], &h.levels[l + 1]);
+            let xc: Vec<f64> = coarse.unknown_points().chunks_exact(2).map(lin).collect();
+            let mut xf = vec![0.0; fine.n()];
+            fine.down.as_ref().unwrap().prolong.mul_vec(&xc, &mut xf);
+            for (d, p) in fine.unknown_points().chunks_exact(2).enumerate() {
+                assert!((xf[d] - lin(p)).abs() < 1e-12, "level {l} unknown {d}");
+            }
         }
     }
 }

@@ -13,6 +13,7 @@
 use super::coarsen::{CoarseMesh, CoarsenParams, Delaunay2d};
 use super::hierarchy::{Level, Transfer};
 use super::lsq::{Features, LeastSquares};
+use super::solve::Mode;
 use crate::{Error, Mesh, Result};
 
 /// Makes the coarse levels of a hierarchy and their transfers.
@@ -44,7 +45,10 @@ pub(crate) struct CoarseUnknowns {
 /// How the coarse levels are made.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum CoarseLevels {
-    /// Coarse meshes in 2D, kept unknowns in 3D.
+    /// Kept unknowns, except in 2D in the paper-faithful mode, which keeps the paper's coarse
+    /// meshes. Kept unknowns carry graded meshes, re-referenced meshes and slip walls at the
+    /// iteration counts of uniform meshes, where coarse meshes need several times more (docs/
+    /// DESIGN.md §5 "Which route where").
     #[default]
     Auto,
     /// Coarse meshes by vertex removal and a constrained Delaunay triangulation of the kept
@@ -55,10 +59,21 @@ pub enum CoarseLevels {
     LeastSquares,
 }
 
-/// The coarsener for meshes of dimension `dim`.
+impl CoarseLevels {
+    /// The route `Auto` stands for on meshes of dimension `dim` solved in `mode`.
+    pub(crate) fn resolve(self, dim: usize, mode: Mode) -> CoarseLevels {
+        match (self, dim, mode) {
+            (CoarseLevels::Auto, 2, Mode::PaperFaithful) => CoarseLevels::Remeshed,
+            (CoarseLevels::Auto, _, _) => CoarseLevels::LeastSquares,
+            (kind, _, _) => kind,
+        }
+    }
+}
+
+/// The coarsener for meshes of dimension `dim` (`Auto` as in the default mode).
 pub(crate) fn coarsener_for(dim: usize, kind: CoarseLevels, params: CoarsenParams) -> Result<Box<dyn Coarsener>> {
     match (dim, kind) {
-        (2, CoarseLevels::Auto | CoarseLevels::Remeshed) => Ok(Box::new(Delaunay2d { params })),
+        (2, CoarseLevels::Remeshed) => Ok(Box::new(Delaunay2d { params })),
         (2 | 3, CoarseLevels::Auto | CoarseLevels::LeastSquares) => {
             Ok(Box::new(LeastSquares { params }))
         }

@@ -34,10 +34,10 @@ pub enum Part {
     /// The 2D free surface: every method, paper-faithful mode, direct solve, Jacobi mover.
     #[value(name = "2d")]
     Uniform2d,
-    /// The 2D free surface again with least-squares coarse levels (the 3D kind) instead of
-    /// coarse meshes.
-    #[value(name = "lsq")]
-    Lsq2d,
+    /// The 2D free surface again on coarse meshes (`CoarseLevels::Remeshed`) instead of the
+    /// default kept unknowns.
+    #[value(name = "meshes")]
+    Meshes2d,
     /// The 3D box of hexahedra and of tetrahedra: every method and the direct solve.
     #[value(name = "3d")]
     Uniform3d,
@@ -110,7 +110,7 @@ pub struct Args {
     #[arg(long, default_value_t = 1e-8)]
     pub tol: f64,
     /// The parts to run, comma separated.
-    #[arg(long, value_delimiter = ',', default_value = "2d,lsq,3d,steps,graded")]
+    #[arg(long, value_delimiter = ',', default_value = "2d,meshes,3d,steps,graded")]
     pub parts: Vec<Part>,
     /// Instead of running: write the 3D peer case (the hexahedral box of this many cells per
     /// side as box.msh, its motion as top.csv, the case as case.toml) to --out, for
@@ -201,22 +201,22 @@ fn op_seconds(lev: &Level, c: usize) -> f64 {
 /// How the coarse levels of a default-mode row are made.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Levels {
-    /// The dimension's default (`CoarseLevels::Auto`).
+    /// The default (`CoarseLevels::Auto`: kept unknowns).
     Default,
-    /// `CoarseLevels::LeastSquares` (the 2D comparison).
-    LeastSquares,
+    /// `CoarseLevels::Remeshed` (the 2D comparison).
+    Meshes,
 }
 
 fn name(method: Method, mode: Mode, levels: Levels) -> &'static str {
     match (method, mode, levels) {
         (Method::Biharmonic, Mode::Default, Levels::Default) => "biharmonic-mg",
-        (Method::Biharmonic, Mode::Default, Levels::LeastSquares) => "biharmonic-mg-lsq",
+        (Method::Biharmonic, Mode::Default, Levels::Meshes) => "biharmonic-mg-meshes",
         (Method::Biharmonic, Mode::PaperFaithful, _) => "biharmonic-mg-paper",
         (Method::Laplacian, Mode::Default, Levels::Default) => "laplacian-mg",
-        (Method::Laplacian, Mode::Default, Levels::LeastSquares) => "laplacian-mg-lsq",
+        (Method::Laplacian, Mode::Default, Levels::Meshes) => "laplacian-mg-meshes",
         (Method::Laplacian, Mode::PaperFaithful, _) => "laplacian-mg-paper",
         (Method::Spring, _, Levels::Default) => "spring-mg",
-        (Method::Spring, _, Levels::LeastSquares) => "spring-mg-lsq",
+        (Method::Spring, _, Levels::Meshes) => "spring-mg-meshes",
     }
 }
 
@@ -224,7 +224,7 @@ fn name(method: Method, mode: Mode, levels: Levels) -> &'static str {
 fn options(method: Method, solve: SolveParams, threads: usize, levels: Levels) -> Options {
     let coarse_levels = match levels {
         Levels::Default => CoarseLevels::Auto,
-        Levels::LeastSquares => CoarseLevels::LeastSquares,
+        Levels::Meshes => CoarseLevels::Remeshed,
     };
     Options {
         method,
@@ -570,8 +570,8 @@ pub fn run(a: &Args) -> Result<(), String> {
         if has(Part::Uniform2d) {
             run_case(a, &case, Levels::Default, &pools, &mut rows, &mut failed)?;
         }
-        if has(Part::Lsq2d) {
-            run_case(a, &case, Levels::LeastSquares, last, &mut rows, &mut failed)?;
+        if has(Part::Meshes2d) {
+            run_case(a, &case, Levels::Meshes, last, &mut rows, &mut failed)?;
         }
         if stepping && nv <= a.steps_max_vertices && steps_done[0] < 2 {
             steps::run(a, &case, &last[0], &mut rows).map_or_else(|e| failed.push(e), |s| stepped.push(s));
@@ -579,7 +579,7 @@ pub fn run(a: &Args) -> Result<(), String> {
         }
         // The next size is needed by the 2D parts, or by the steps while they have sizes to go.
         let more = has(Part::Uniform2d)
-            || has(Part::Lsq2d)
+            || has(Part::Meshes2d)
             || (stepping && steps_done[0] < 2 && 4 * nv <= a.steps_max_vertices);
         if 4 * nv > a.max_vertices || !more {
             break;
@@ -618,7 +618,7 @@ pub fn run(a: &Args) -> Result<(), String> {
             run_case(a, &case, Levels::Default, &pools, &mut rows, &mut failed)?;
             if case.mesh.dim() == 2 {
                 // Where the 2D routes part: graded meshes.
-                run_case(a, &case, Levels::LeastSquares, &pools, &mut rows, &mut failed)?;
+                run_case(a, &case, Levels::Meshes, &pools, &mut rows, &mut failed)?;
             }
         }
     }

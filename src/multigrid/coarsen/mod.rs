@@ -107,7 +107,7 @@ pub struct CoarsenParams {
 
 impl Default for CoarsenParams {
     fn default() -> Self {
-        CoarsenParams { min_vertices: 10, min_ratio: 1.6, corner_angle_deg: 50.0, coarsest_unknowns: 400 }
+        CoarsenParams { min_vertices: 10, min_ratio: 1.6, corner_angle_deg: 50.0, coarsest_unknowns: 150 }
     }
 }
 

@@ -1,20 +1,22 @@
 //! The bench's slip-wall comparison: the cylinder in a channel moved 1.5 D, its walls FIXED or
 //! SLIP (docs/DESIGN.md §4 "Slip walls"), refined while under `--max-vertices`: CG iterations and
-//! solve time of each method with each wall, and their ratio. Writes `DIR/slip.csv`.
+//! solve time of each method with each wall, and their ratio, on the default coarse levels (kept
+//! unknowns) and on coarse meshes. Writes `DIR/slip.csv`.
 
 use meshmove::cases::setups::cylinder_channel_far;
-use meshmove::{Kind, Method, Options, SolveParams, Solver};
+use meshmove::{CoarseLevels, Kind, Method, Options, SolveParams, Solver};
 use std::fmt::Write as _;
 use std::path::Path;
 
-pub const HEADER: &str = "method,vertices,levels,fixed_iterations,slip_iterations,fixed_solve_s,slip_solve_s";
+pub const HEADER: &str =
+    "coarse_levels,method,vertices,levels,fixed_iterations,slip_iterations,fixed_solve_s,slip_solve_s";
 
 /// Runs the comparison up to `max_vertices`, to the relative residual `tol`; returns the table.
 pub fn run(out: &Path, max_vertices: usize, tol: f64) -> Result<String, String> {
     let mut csv = format!("{HEADER}\n");
     let mut table = String::from(
         "slip walls: cylinder channel moved 1.5 D, walls FIXED vs SLIP\n\
-         method        vertices lev  it FIXED  it SLIP  ratio   solve_s FIXED  SLIP\n",
+         coarse  method        vertices lev  it FIXED  it SLIP  ratio   solve_s FIXED  SLIP\n",
     );
     let setups = [Kind::Fixed, Kind::Slip].map(|k| cylinder_channel_far(1.0 / 12.0, k));
     let mut meshes = vec![setups[0].mesh.clone()];
@@ -22,13 +24,18 @@ pub fn run(out: &Path, max_vertices: usize, tol: f64) -> Result<String, String> 
         let next = meshes.last().expect("one").refine_uniform();
         meshes.push(next);
     }
+    let routes = [("kept", CoarseLevels::Auto), ("meshes", CoarseLevels::Remeshed)];
     for mesh in &meshes {
-        for method in [Method::Biharmonic, Method::Laplacian, Method::Spring] {
+        for ((route, coarse_levels), method) in
+            routes.into_iter().flat_map(|r| [Method::Biharmonic, Method::Laplacian, Method::Spring].map(|m| (r, m)))
+        {
             let mut its = [0usize; 2];
             let mut secs = [0.0f64; 2];
             let mut levels = 0;
             for (k, s) in setups.iter().enumerate() {
-                let opts = Options { method, solve: SolveParams { tol, ..Default::default() }, ..Default::default() };
+                let mut opts =
+                    Options { method, solve: SolveParams { tol, ..Default::default() }, ..Default::default() };
+                opts.hierarchy.coarse_levels = coarse_levels;
                 let solver = Solver::new(mesh, &s.bcs, opts).map_err(|e| format!("slip bench: {e}"))?;
                 let motion = meshmove::Motion::zero(mesh).with_rigid(s.moved_patch, s.motion.rigid[0].1);
                 let sol = solver.solve(&motion).map_err(|e| format!("slip bench, {method:?}: {e}"))?;
@@ -38,10 +45,10 @@ pub fn run(out: &Path, max_vertices: usize, tol: f64) -> Result<String, String> 
             }
             let name = format!("{method:?}").to_lowercase();
             let nv = mesh.num_vertices();
-            let _ = writeln!(csv, "{name},{nv},{levels},{},{},{:.4},{:.4}", its[0], its[1], secs[0], secs[1]);
+            let _ = writeln!(csv, "{route},{name},{nv},{levels},{},{},{:.4},{:.4}", its[0], its[1], secs[0], secs[1]);
             let _ = writeln!(
                 table,
-                "{name:<13} {nv:>8} {levels:>3} {:>9} {:>8} {:>6.2} {:>12.4} {:>6.4}",
+                "{route:<7} {name:<13} {nv:>8} {levels:>3} {:>9} {:>8} {:>6.2} {:>12.4} {:>6.4}",
                 its[0],
                 its[1],
                 its[1] as f64 / its[0].max(1) as f64,

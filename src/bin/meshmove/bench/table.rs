@@ -1,6 +1,6 @@
 //! The printed tables: every row with its time ratio to our default multigrid solve of the same
 //! system; per case and size the biharmonic's cost against the Laplacian's, per vertex and per
-//! thread count; and the least-squares coarse levels against the default ones.
+//! thread count; and coarse meshes against the default kept unknowns.
 
 use super::Row;
 use std::fmt::Write as _;
@@ -8,9 +8,9 @@ use std::fmt::Write as _;
 /// The default multigrid row an alternative is compared with.
 fn ours(solver: &str) -> Option<&'static str> {
     match solver {
-        "biharmonic-mg-paper" | "biharmonic-direct" | "biharmonic-mg-lsq" => Some("biharmonic-mg"),
-        "laplacian-mg-paper" | "laplacian-direct" | "laplacian-mg-lsq" => Some("laplacian-mg"),
-        "spring-jacobi" | "spring-mg-lsq" => Some("spring-mg"),
+        "biharmonic-mg-paper" | "biharmonic-direct" | "biharmonic-mg-meshes" => Some("biharmonic-mg"),
+        "laplacian-mg-paper" | "laplacian-direct" | "laplacian-mg-meshes" => Some("laplacian-mg"),
+        "spring-jacobi" | "spring-mg-meshes" => Some("spring-mg"),
         _ => None,
     }
 }
@@ -117,31 +117,31 @@ pub fn table(rows: &[Row], tol: f64) -> String {
             );
         }
     }
-    s += &lsq_table(rows);
+    s += &meshes_table(rows);
     s
 }
 
-/// Least-squares coarse levels (`-mg-lsq`) against the default ones of the same case, size and
+/// Coarse meshes (`-mg-meshes`) against the default kept unknowns of the same case, size and
 /// thread count: iterations, solve and setup seconds, bytes per vertex.
-fn lsq_table(rows: &[Row]) -> String {
+fn meshes_table(rows: &[Row]) -> String {
     let mut s = String::new();
-    let lsq: Vec<&Row> = rows.iter().filter(|r| r.solver.ends_with("-mg-lsq")).collect();
-    if lsq.is_empty() {
+    let meshes: Vec<&Row> = rows.iter().filter(|r| r.solver.ends_with("-mg-meshes")).collect();
+    if meshes.is_empty() {
         return s;
     }
     let _ = writeln!(
         s,
-        "\ncoarse levels: least squares (lsq) against the default\n{:<16} {:<12} {:>8} {:>3} {:>11} {:>17} {:>17} {:>11}",
+        "\ncoarse levels: kept unknowns (default) against coarse meshes\n{:<16} {:<12} {:>8} {:>3} {:>11} {:>17} {:>17} {:>11}",
         "case", "method", "vertices", "thr", "iter", "solve_s", "setup_s", "B/vert"
     );
-    for r in lsq {
+    for r in meshes {
         let Some(d) = ours(r.solver).and_then(|o| {
             rows.iter()
                 .find(|q| q.case == r.case && q.solver == o && q.vertices == r.vertices && q.threads == r.threads)
         }) else {
             continue;
         };
-        let method = r.solver.trim_end_matches("-mg-lsq");
+        let method = r.solver.trim_end_matches("-mg-meshes");
         let _ = writeln!(
             s,
             "{:<16} {:<12} {:>8} {:>3} {:>5} / {:<3} {:>7.3} / {:<7.3} {:>7.3} / {:<7.3} {:>5.0} / {:<4.0}",
@@ -149,16 +149,16 @@ fn lsq_table(rows: &[Row]) -> String {
             method,
             r.vertices,
             r.threads,
-            r.iterations,
             d.iterations,
-            r.solve_s,
+            r.iterations,
             d.solve_s,
-            r.setup_s,
+            r.solve_s,
             d.setup_s,
-            r.bytes_per_vertex,
-            d.bytes_per_vertex
+            r.setup_s,
+            d.bytes_per_vertex,
+            r.bytes_per_vertex
         );
     }
-    let _ = writeln!(s, "(each pair: lsq / default)");
+    let _ = writeln!(s, "(each pair: kept unknowns / coarse meshes)");
     s
 }
