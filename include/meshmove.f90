@@ -1207,7 +1207,8 @@ contains
   !> f(user_data, dim, x, out) with `type(c_ptr), value :: user_data`, `integer(c_int32_t), value
   !> :: dim`, `real(c_double), intent(in) :: x(dim)`, `real(c_double), intent(out) :: out(dim)`
   !> that writes the wall's closest point to x; `c_null_funptr` removes it. `user_data` (default
-  !> c_null_ptr) is handed back to f.
+  !> c_null_ptr) is handed back to f. The shape is where the wall is in the mesh a solver is made
+  !> with; a wall moved rigidly carries it along (f is asked in the wall's original frame).
   subroutine bcs_set_slip_surface(self, patch, closest, user_data, stat, errmsg)
     class(mm_bcs), intent(inout) :: self
     integer(c_int32_t), intent(in) :: patch

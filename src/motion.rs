@@ -87,6 +87,26 @@ impl RigidMotion {
         RigidMotion { translation, rotation: compose(&self.rotation, &next.rotation, dim), center: c1 }
     }
 
+    /// The motion that undoes this one: x = R⁻¹(y − c − t) + c, a rotation by the opposite
+    /// vector about the moved centre c + t, then the translation −t.
+    pub fn inverse(&self) -> RigidMotion {
+        RigidMotion {
+            translation: self.translation.map(|t| -t),
+            rotation: self.rotation.map(|w| -w),
+            center: [0, 1, 2].map(|i| self.center[i] + self.translation[i]),
+        }
+    }
+
+    /// Where the motion takes the point `x` (2 or 3 coordinates; the rest of the result 0).
+    pub fn apply(&self, x: &[f64]) -> [f64; 3] {
+        let d = self.displacement(x);
+        let mut y = [0.0; 3];
+        for (i, xi) in x.iter().enumerate() {
+            y[i] = xi + d[i];
+        }
+        y
+    }
+
     /// True when the motion moves nothing.
     pub fn is_identity(&self) -> bool {
         self.rotation == [0.0; 3] && self.translation == [0.0; 3]

@@ -106,7 +106,8 @@ pub struct Solver {
     /// The last valid mesh the last `advance` or `move_in_steps` call reached (empty before the
     /// first).
     last_valid: Vec<f64>,
-    /// The shapes of the SLIP walls, from the mesh the solver was made with (None without).
+    /// The shapes of the SLIP walls, from the mesh the solver was made with, and where the walls
+    /// moved rigidly since are (None without SLIP walls).
     walls: Option<SlipWalls>,
     /// The hierarchy parameters with the coarse-level route resolved when the solver was made:
     /// every rebuild takes the same route.
@@ -190,7 +191,7 @@ impl Solver {
             if x.as_slice() != self.mesh().coords() {
                 self.set_reference(x)?;
             }
-            self.total = None;
+            self.drop_total();
         }
         self.opts = opts;
         Ok(())
@@ -409,13 +410,16 @@ impl Solver {
             // second solve from the first result, so the interior follows the walls' curvature
             // (moving only the wall vertices would squeeze the cells next to a wall at every
             // step); what remains is moved onto the walls. Flat walls need no second solve.
-            let moving = slip::moving_patches(walls, lev, motion, &vals);
-            if let Some(on_wall) = slip::on_wall_values(walls, lev, &moving, &vals, &displacement) {
+            // A wall moved rigidly is placed where the motion takes it; a deformed one is left
+            // alone (its shape is not known).
+            let at = walls.placed_by(&motion.rigid);
+            let deformed = slip::deformed_patches(walls, lev, motion, &vals);
+            if let Some(on_wall) = slip::on_wall_values(walls, &at, lev, &deformed, &vals, &displacement) {
                 let (d, r) = self.solve_groups(motion, &on_wall, Some(&displacement))?;
                 displacement = d;
                 report = Report::chain(report, r);
             }
-            let (after, before) = slip::onto_walls(walls, lev, &moving, &mut displacement);
+            let (after, before) = slip::onto_walls(walls, &at, lev, &deformed, &mut displacement);
             report.max_slip_offwall = after;
             report.max_slip_correction = before;
         }
@@ -541,7 +545,7 @@ impl Solver {
         let r = self.set_reference_inner(coords, &mut undo);
         match r {
             // In `ReferenceMode::Original` the new reference is the new original mesh.
-            Ok(()) => self.total = None,
+            Ok(()) => self.drop_total(),
             Err(_) => self.restore(undo),
         }
         r
@@ -563,6 +567,14 @@ impl Solver {
             return Err(Error::InvalidArgument(format!("new reference: vertex {} is not finite", i / mesh.dim())));
         }
         check_not_tangled(self.hierarchy.fine().mesh(), coords)
+    }
+
+    /// Forgets the total motion of `ReferenceMode::Original` (the current mesh becomes the
+    /// original one); the slip walls it moved rigidly stay where it took them.
+    fn drop_total(&mut self) {
+        if let (Some((m, _)), Some(w)) = (self.total.take(), self.walls.as_mut()) {
+            w.move_walls(&m.rigid);
+        }
     }
 
     fn undo(&self) -> Undo {

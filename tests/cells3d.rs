@@ -105,7 +105,7 @@ fn linear(p: &[f64]) -> [f64; 3] {
 fn multilevel(method: Method) -> Options {
     let mut o = Options { method, ..Default::default() };
     o.solve.tol = 1e-13;
-    o.hierarchy.coarsen.coarsest_unknowns = 40;
+    o.hierarchy.coarsen.coarsest_unknowns = Some(40);
     o
 }
 

@@ -230,3 +230,79 @@ fn slip_results_do_not_depend_on_the_thread_count() {
     let (a, b) = (run(1), run(2));
     assert!(a.iter().zip(&b).all(|(x, y)| x.to_bits() == y.to_bits()));
 }
+
+/// The distance of `x` from the polygon whose corners are `corners` (closed).
+fn off_polygon(corners: &[[f64; 2]], x: [f64; 2]) -> f64 {
+    let mut best = f64::MAX;
+    for k in 0..corners.len() {
+        let (a, b) = (corners[k], corners[(k + 1) % corners.len()]);
+        let (ab, ax) = ([b[0] - a[0], b[1] - a[1]], [x[0] - a[0], x[1] - a[1]]);
+        let t = ((ab[0] * ax[0] + ab[1] * ax[1]) / (ab[0] * ab[0] + ab[1] * ab[1])).clamp(0.0, 1.0);
+        best = best.min((ax[0] - t * ab[0]).hypot(ax[1] - t * ab[1]));
+    }
+    best
+}
+
+/// A moving curved slip wall: the inner circle of the annulus 1 ≤ r ≤ 3 is SLIP and moves rigidly
+/// (translated by (0.4, 0.2) and turned by 30° in 8 steps; the outer circle FIXED). After every
+/// step each inner vertex lies on the polygon of the original inner faces carried along by the
+/// motion so far (to rounding), within the chord error of the moved circle, and on the moved
+/// circle itself when it is given as the wall; in both reference modes.
+#[test]
+fn vertices_stay_on_a_moving_slip_circle() {
+    let (nt, nr) = (64, 12);
+    let mesh = common::annulus(nr, nt, 1.0, 3.0, 1.1);
+    let chord = 1.0 - (std::f64::consts::PI / nt as f64).cos();
+    let inner = mesh.patch_vertices(common::INNER);
+    let ring: Vec<[f64; 2]> = {
+        // The inner circle's vertices in order of angle: the polygon of its faces.
+        let mut r: Vec<[f64; 2]> =
+            inner.iter().map(|&v| [mesh.point(v as usize)[0], mesh.point(v as usize)[1]]).collect();
+        r.sort_by(|a, b| a[1].atan2(a[0]).total_cmp(&b[1].atan2(b[0])));
+        r
+    };
+    let whole = RigidMotion::planar([0.4, 0.2], 30f64.to_radians(), [0.0, 0.0]);
+    let steps = 8;
+    for reference in [meshmove::ReferenceMode::Incremental, meshmove::ReferenceMode::Original] {
+        for analytic in [false, true] {
+            let mut bcs = BoundaryConditions::new();
+            bcs.set_kinds(common::INNER, Kind::Slip).set_kinds(common::OUTER, Kind::Fixed);
+            if analytic {
+                // The circle where it is in the mesh the solver is made with.
+                bcs.set_slip_surface(
+                    common::INNER,
+                    SlipSurface::new(|x| {
+                        let r = x[0].hypot(x[1]);
+                        [x[0] / r, x[1] / r, 0.0]
+                    }),
+                );
+            }
+            let opts = Options { method: Method::Biharmonic, reference, ..Default::default() };
+            let mut solver = Solver::new(&mesh, &bcs, opts).unwrap();
+            for k in 0..steps {
+                let sol =
+                    solver.advance(&Motion::zero(&mesh).with_rigid(common::INNER, whole.increment(k, steps))).unwrap();
+                assert_eq!(sol.quality.inverted, 0);
+                // Where the motion so far takes the circle.
+                let done = whole.between(0.0, (k + 1) as f64 / steps as f64);
+                let polygon: Vec<[f64; 2]> = ring.iter().map(|p| done.apply(p)).map(|q| [q[0], q[1]]).collect();
+                let centre = done.apply(&[0.0, 0.0]);
+                let x = solver.current_coords();
+                let (mut off_faces, mut off_circle) = (0.0f64, 0.0f64);
+                for &v in &inner {
+                    let p = [x[2 * v as usize], x[2 * v as usize + 1]];
+                    off_faces = off_faces.max(off_polygon(&polygon, p));
+                    off_circle = off_circle.max(((p[0] - centre[0]).hypot(p[1] - centre[1]) - 1.0).abs());
+                }
+                let what = format!("{reference:?}, analytic {analytic}, step {}", k + 1);
+                assert!(sol.report.max_slip_offwall < 1e-12, "{what}: report {:e}", sol.report.max_slip_offwall);
+                if analytic {
+                    assert!(off_circle < 1e-12, "{what}: {off_circle:e} off the moved circle");
+                } else {
+                    assert!(off_faces < 1e-12, "{what}: {off_faces:e} off the moved faces");
+                    assert!(off_circle <= chord + 1e-12, "{what}: {off_circle:e} off the moved circle");
+                }
+            }
+        }
+    }
+}

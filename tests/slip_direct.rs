@@ -129,7 +129,7 @@ fn annulus_multigrid_matches_direct() {
     let routes = [(CoarseLevels::LeastSquares, 40), (CoarseLevels::Remeshed, 150)];
     for ((route, coarsest), method) in routes.into_iter().flat_map(|r| ALL_METHODS.map(|m| (r, m))) {
         let mut o = Options { method, ..Default::default() };
-        (o.hierarchy.coarse_levels, o.hierarchy.coarsen.coarsest_unknowns) = (route, coarsest);
+        (o.hierarchy.coarse_levels, o.hierarchy.coarsen.coarsest_unknowns) = (route, Some(coarsest));
         let s = Solver::new(&mesh, &bcs, o).unwrap();
         assert!(s.num_levels() >= 3, "{route:?} {method:?}: {} levels", s.num_levels());
         let h = s.hierarchy();

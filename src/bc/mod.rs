@@ -15,7 +15,7 @@ pub(crate) use flags::component_flags;
 pub use flags::{P, Z};
 pub use slip::SlipFrames;
 pub(crate) use slip::{fine_slip_frames, inherit_slip_frames};
-pub use slip_walls::{SlipSurface, SlipWalls};
+pub use slip_walls::{Placements, SlipSurface, SlipWalls};
 pub(crate) use links::resolve_links;
 pub(crate) use well_posed::{check_well_posed, COMPONENT};
 
@@ -134,7 +134,9 @@ impl BoundaryConditions {
     }
 
     /// Gives the SLIP patch `patch` an analytic shape: after each solve its slipped vertices are
-    /// moved to `surface`'s closest point instead of onto the patch's original faces.
+    /// moved to `surface`'s closest point instead of onto the patch's original faces. The shape
+    /// is where the wall is in the mesh a solver is made with; a wall moved rigidly carries it
+    /// along (the closure is asked in the wall's original frame).
     pub fn set_slip_surface(&mut self, patch: i32, surface: SlipSurface) -> &mut Self {
         self.surfaces.insert(patch, surface);
         self

@@ -2,10 +2,12 @@
 //! §4, "Curved walls"): the solve moves a slip vertex in its wall's tangent plane, which leaves a
 //! curved wall by a second-order distance; the vertex is then moved to the closest point of the
 //! wall. The wall is the patch's original faces (piecewise linear, found through a uniform grid)
-//! or an analytic shape the caller gives as a closest-point function.
+//! or an analytic shape the caller gives as a closest-point function, both where the wall was in
+//! the mesh the solver was made with; a wall that moves rigidly carries its shape along.
 
 use super::BoundaryConditions;
 use crate::geometry::{cross, dot3, sub};
+use crate::motion::RigidMotion;
 use crate::Mesh;
 use std::collections::BTreeMap;
 use std::sync::Arc;
@@ -240,7 +242,12 @@ pub struct SlipWalls {
     shapes: BTreeMap<i32, Shape>,
     /// The SLIP patches of each vertex that has any, sorted by vertex.
     vertex_patches: Vec<(u32, i32)>,
+    /// The walls moved rigidly since their shapes were taken: the motion that took each there.
+    placed: Placements,
 }
+
+/// Where walls are: for each wall moved rigidly, the motion from where its shape was taken.
+pub type Placements = BTreeMap<i32, RigidMotion>;
 
 impl SlipWalls {
     /// The walls of `mesh`'s SLIP patches under `bcs`; None when there is none.
@@ -305,7 +312,36 @@ impl SlipWalls {
                 (p, shape)
             })
             .collect();
-        Some(SlipWalls { dim, shapes, vertex_patches })
+        Some(SlipWalls { dim, shapes, vertex_patches, placed: Placements::new() })
+    }
+
+    /// Where the walls are now.
+    pub fn placements(&self) -> &Placements {
+        &self.placed
+    }
+
+    /// Puts the walls back where `placed` says (undoing a call that moved them).
+    pub fn set_placements(&mut self, placed: Placements) {
+        self.placed = placed;
+    }
+
+    /// Where the walls are after the rigid motions `rigid` of patches (the SLIP ones among them
+    /// move their walls).
+    pub fn placed_by(&self, rigid: &[(i32, RigidMotion)]) -> Placements {
+        let mut at = self.placed.clone();
+        for (p, m) in rigid.iter().filter(|(p, _)| self.shapes.contains_key(p)) {
+            let next = match at.get(p) {
+                Some(before) => before.then(m, self.dim),
+                None => *m,
+            };
+            at.insert(*p, next);
+        }
+        at
+    }
+
+    /// Moves the walls by the rigid motions `rigid` of patches (an accepted step).
+    pub fn move_walls(&mut self, rigid: &[(i32, RigidMotion)]) {
+        self.placed = self.placed_by(rigid);
     }
 
     /// The SLIP patches vertex `v` lies on.
@@ -314,8 +350,20 @@ impl SlipWalls {
         self.vertex_patches[lo..].iter().take_while(move |e| e.0 == v).map(|e| e.1)
     }
 
-    /// The closest point of patch `patch`'s wall to `x` (`dim` coordinates).
-    pub fn closest(&self, patch: i32, x: &[f64]) -> [f64; 3] {
+    /// The closest point of patch `patch`'s wall, placed as `at` says, to `x` (`dim`
+    /// coordinates): the point is taken back to where the wall's shape was taken, the closest
+    /// point found there and carried forward.
+    pub fn closest(&self, at: &Placements, patch: i32, x: &[f64]) -> [f64; 3] {
+        let dim = self.dim;
+        let Some(m) = at.get(&patch) else {
+            return self.closest_in_place(patch, x);
+        };
+        let back = m.inverse().apply(&x[..dim]);
+        m.apply(&self.closest_in_place(patch, &back[..dim])[..dim])
+    }
+
+    /// The closest point of patch `patch`'s wall where its shape was taken.
+    fn closest_in_place(&self, patch: i32, x: &[f64]) -> [f64; 3] {
         let dim = self.dim;
         let mut p = [0.0; 3];
         p[..dim].copy_from_slice(&x[..dim]);
@@ -331,27 +379,27 @@ impl SlipWalls {
 
     /// The distance of `x` from the walls of `patches`: from the farther wall on an `edge`
     /// (`project`), else from their union.
-    pub fn distance(&self, patches: &[i32], edge: bool, x: &[f64]) -> f64 {
+    pub fn distance(&self, at: &Placements, patches: &[i32], edge: bool, x: &[f64]) -> f64 {
         if !edge {
-            return dist(&self.closest_of(patches, x), x, self.dim);
+            return dist(&self.closest_of(at, patches, x), x, self.dim);
         }
-        patches.iter().map(|&p| dist(&self.closest(p, x), x, self.dim)).fold(0.0, f64::max)
+        patches.iter().map(|&p| dist(&self.closest(at, p, x), x, self.dim)).fold(0.0, f64::max)
     }
 
     /// The closest point to `x` of the union of the walls of `patches`.
-    pub fn closest_of(&self, patches: &[i32], x: &[f64]) -> [f64; 3] {
+    pub fn closest_of(&self, at: &Placements, patches: &[i32], x: &[f64]) -> [f64; 3] {
         let d = |q: &[f64; 3]| dist(q, x, self.dim);
-        patches.iter().map(|&p| self.closest(p, x)).min_by(|a, b| d(a).total_cmp(&d(b))).expect("a patch")
+        patches.iter().map(|&p| self.closest(at, p, x)).min_by(|a, b| d(a).total_cmp(&d(b))).expect("a patch")
     }
 
     /// Moves `x` onto the walls of `patches`. `edge`: x lies where the walls meet at an angle
     /// (a 3D edge between two walls): alternating projections onto each wall, which converge
     /// linearly, at least as cos² of the angle between them (`FEATURE_ANGLE_DEG` or more);
     /// otherwise the closest point of their union (one smooth wall made of several patches).
-    pub fn project(&self, patches: &[i32], edge: bool, x: &mut [f64]) {
+    pub fn project(&self, at: &Placements, patches: &[i32], edge: bool, x: &mut [f64]) {
         let dim = self.dim;
         if !edge {
-            let q = self.closest_of(patches, x);
+            let q = self.closest_of(at, patches, x);
             x[..dim].copy_from_slice(&q[..dim]);
             return;
         }
@@ -359,7 +407,7 @@ impl SlipWalls {
         for _ in 0..rounds {
             let mut moved = 0.0f64;
             for &p in patches {
-                let q = self.closest(p, x);
+                let q = self.closest(at, p, x);
                 moved = moved.max(dist(&q, x, dim));
                 x[..dim].copy_from_slice(&q[..dim]);
             }

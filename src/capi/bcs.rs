@@ -224,7 +224,9 @@ unsafe impl Sync for UserData {}
 
 /// Gives the SLIP patch `patch` an analytic shape: after each solve its slipped vertices are moved
 /// to `closest(user_data, dim, x, out)` instead of onto the patch's original faces (a circle, a
-/// cylinder, a CAD surface). `closest` NULL removes the shape. The callback must be safe to call
+/// cylinder, a CAD surface), described where the wall is in the mesh a solver is made with: a
+/// wall the motion moves rigidly carries the shape along (the callback is asked in the wall's
+/// original frame). `closest` NULL removes the shape. The callback must be safe to call
 /// from the solver's threads, and `user_data` valid while a solver made with these conditions
 /// lives. A callback that writes a non-finite point leaves the vertex where the solve put it.
 ///

@@ -1,8 +1,9 @@
 //! Slip walls at the solver (docs/DESIGN.md §4, "Slip walls"): the prescribed normal part of the
 //! displacement at every slip unknown, and after the solve the slipped vertices moved from their
-//! walls' tangent planes onto the walls themselves.
+//! walls' tangent planes onto the walls themselves, where the walls are (a wall moved rigidly
+//! carries its shape along).
 
-use crate::bc::{SlipWalls, P};
+use crate::bc::{Placements, SlipWalls, P};
 use crate::motion::Motion;
 use crate::multigrid::hierarchy::Level;
 
@@ -26,14 +27,19 @@ pub(super) fn normal_parts(lev: &Level, vals: &[f64]) -> Option<Vec<f64>> {
     Some(g)
 }
 
-/// The SLIP patches `motion` moves (a rigid motion, or a displacement with a normal part at one
-/// of their vertices): their walls move with them, so their original shape no longer holds.
-pub(super) fn moving_patches(walls: &SlipWalls, lev: &Level, motion: &Motion, vals: &[f64]) -> Vec<i32> {
+/// The SLIP patches `motion` deforms: a displacement with a normal part at a vertex that lies on
+/// no rigidly moved patch. Their shape no longer holds; a rigidly moved wall keeps its shape and
+/// is placed where the motion takes it.
+pub(super) fn deformed_patches(walls: &SlipWalls, lev: &Level, motion: &Motion, vals: &[f64]) -> Vec<i32> {
     let dim = lev.dim();
-    let mut out: Vec<i32> = motion.rigid.iter().map(|&(p, _)| p).collect();
+    let rigid = |p: i32| motion.rigid.iter().any(|&(q, _)| q == p);
+    let mut out: Vec<i32> = Vec::new();
     if let Some(s) = lev.slip.as_ref() {
         for (k, &d) in s.frames.dofs.iter().enumerate() {
             for &v in lev.dofs.vertices_of(d as usize) {
+                if walls.patches_of(v).any(rigid) {
+                    continue;
+                }
                 let mut x = [0.0; 3];
                 x[..dim].copy_from_slice(&vals[v as usize * dim..(v as usize + 1) * dim]);
                 if s.frames.normal_part(k, &x).iter().any(|&a| a != 0.0) {
@@ -48,12 +54,12 @@ pub(super) fn moving_patches(walls: &SlipWalls, lev: &Level, motion: &Motion, va
 }
 
 /// Each slipped vertex of a result that is to be moved onto its walls, with the walls it lies on
-/// and whether it is on an edge where walls meet: walls in `moving` are left alone, and so are
+/// and whether it is on an edge where walls meet: walls in `deformed` are left alone, and so are
 /// unknowns with a prescribed component (moving them would change it).
 fn slipped<'a>(
     walls: &'a SlipWalls,
     lev: &'a Level,
-    moving: &'a [i32],
+    deformed: &'a [i32],
 ) -> impl Iterator<Item = (usize, Vec<i32>, bool)> + 'a {
     let s = lev.slip.as_ref();
     let dofs = s.map(|s| s.frames.dofs.as_slice()).unwrap_or_default();
@@ -62,7 +68,7 @@ fn slipped<'a>(
         move |(k, &d)| {
             let edge = s.expect("slip unknowns").frames.directions(k).len() > 1;
             lev.dofs.vertices_of(d as usize).iter().filter_map(move |&v| {
-                let patches: Vec<i32> = walls.patches_of(v).filter(|p| moving.binary_search(p).is_err()).collect();
+                let patches: Vec<i32> = walls.patches_of(v).filter(|p| deformed.binary_search(p).is_err()).collect();
                 (!patches.is_empty()).then_some((v as usize, patches, edge))
             })
         },
@@ -70,25 +76,26 @@ fn slipped<'a>(
 }
 
 /// The prescribed values of a second solve that puts the slipped vertices of the result
-/// `displacement` on their walls: `vals` with each slipped vertex's value replaced by its
-/// displacement to the closest point of its walls (the solve reads its normal part). None when
-/// every slipped vertex is on its walls already (flat walls).
+/// `displacement` on their walls (placed as `at` says): `vals` with each slipped vertex's value
+/// replaced by its displacement to the closest point of its walls (the solve reads its normal
+/// part). None when every slipped vertex is on its walls already (flat walls).
 pub(super) fn on_wall_values(
     walls: &SlipWalls,
+    at: &Placements,
     lev: &Level,
-    moving: &[i32],
+    deformed: &[i32],
     vals: &[f64],
     displacement: &[f64],
 ) -> Option<Vec<f64>> {
     let dim = lev.dim();
     let mut out = vals.to_vec();
     let mut far = false;
-    for (v, patches, edge) in slipped(walls, lev, moving) {
+    for (v, patches, edge) in slipped(walls, lev, deformed) {
         let x0 = lev.mesh().point(v);
         let mut p: Vec<f64> = (0..dim).map(|c| x0[c] + displacement[v * dim + c]).collect();
         let scale = p.iter().fold(1.0f64, |m, x| m.max(x.abs()));
-        far |= walls.distance(&patches, edge, &p) > ON_WALL * scale;
-        walls.project(&patches, edge, &mut p);
+        far |= walls.distance(at, &patches, edge, &p) > ON_WALL * scale;
+        walls.project(at, &patches, edge, &mut p);
         (0..dim).for_each(|c| out[v * dim + c] = p[c] - x0[c]);
     }
     far.then_some(out)
@@ -97,18 +104,25 @@ pub(super) fn on_wall_values(
 /// A slipped vertex this close to its wall (relative to its coordinates) is on it: rounding.
 const ON_WALL: f64 = 1e-13;
 
-/// Moves every slipped vertex of the result onto its walls (`displacement`: `dim` values per
-/// vertex, from the positions of `lev`'s mesh). Returns the largest distance from the walls
-/// after and before: (`max_slip_offwall`, `max_slip_correction`).
-pub(super) fn onto_walls(walls: &SlipWalls, lev: &Level, moving: &[i32], displacement: &mut [f64]) -> (f64, f64) {
+/// Moves every slipped vertex of the result onto its walls, placed as `at` says
+/// (`displacement`: `dim` values per vertex, from the positions of `lev`'s mesh). Returns the
+/// largest distance from the walls after and before: (`max_slip_offwall`,
+/// `max_slip_correction`).
+pub(super) fn onto_walls(
+    walls: &SlipWalls,
+    at: &Placements,
+    lev: &Level,
+    deformed: &[i32],
+    displacement: &mut [f64],
+) -> (f64, f64) {
     let dim = lev.dim();
     let (mut after, mut before) = (0.0f64, 0.0f64);
-    for (v, patches, edge) in slipped(walls, lev, moving) {
+    for (v, patches, edge) in slipped(walls, lev, deformed) {
         let x0 = lev.mesh().point(v);
         let mut p: Vec<f64> = (0..dim).map(|c| x0[c] + displacement[v * dim + c]).collect();
-        before = before.max(walls.distance(&patches, edge, &p));
-        walls.project(&patches, edge, &mut p);
-        after = after.max(walls.distance(&patches, edge, &p));
+        before = before.max(walls.distance(at, &patches, edge, &p));
+        walls.project(at, &patches, edge, &mut p);
+        after = after.max(walls.distance(at, &patches, edge, &p));
         (0..dim).for_each(|c| displacement[v * dim + c] = p[c] - x0[c]);
     }
     (after, before)

@@ -130,7 +130,7 @@ fn rebase(s: &mut Solver, x: &[f64], undo: &mut Undo) -> Result<()> {
     if x != s.mesh().coords() {
         s.set_reference_inner(x.to_vec(), undo)?;
     }
-    s.total = None;
+    s.drop_total();
     Ok(())
 }
 
@@ -145,10 +145,14 @@ fn run<T>(
     s.last_valid = s.current_coords().to_vec();
     let mut undo = s.undo();
     let total = s.total.clone();
+    let placed = s.walls.as_ref().map(|w| w.placements().clone());
     let r = f(s, &mut undo);
     if !r.as_ref().is_ok_and(keep) {
         s.restore(undo);
         s.total = total;
+        if let (Some(w), Some(p)) = (s.walls.as_mut(), placed) {
+            w.set_placements(p);
+        }
     }
     r
 }
@@ -191,6 +195,9 @@ fn do_step(s: &mut Solver, step: &Step, undo: &mut Undo) -> Result<()> {
         if sol.report.converged && valid {
             let moved: Vec<f64> = crate::solver::moved(s.mesh().coords(), &sol.displacement);
             s.set_reference_inner(moved.clone(), undo)?;
+            if let Some(w) = s.walls.as_mut() {
+                w.move_walls(&part.rigid);
+            }
             rep.accepted = true;
             s.steps.push(rep);
             s.last_valid = moved;

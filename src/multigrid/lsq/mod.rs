@@ -37,7 +37,7 @@ impl Coarsener for LeastSquares {
 
     fn coarsen_unknowns(&self, fine: &mut Level) -> Option<CoarseUnknowns> {
         let n = fine.n();
-        if n <= self.params.coarsest_unknowns.max(self.params.min_vertices) {
+        if n <= self.params.coarsest_unknowns_for(fine.dim()).max(self.params.min_vertices) {
             return None;
         }
         if fine.features.is_none() {
