@@ -269,8 +269,11 @@ impl Solver {
             }
             let vs = lev.dofs.vertices_of(d);
             let v0 = vals[vs[0] as usize * dim + c];
-            // Linked vertices are one unknown: they must be told the same thing.
-            for &v in &vs[1..] {
+            // Linked vertices are one unknown: they must be told the same thing. A component a
+            // slip wall normal to its axis prescribes reads its first vertex, as a slip wall's
+            // normal part does.
+            let by_wall = lev.slip.as_ref().and_then(|s| s.frames.axes_of(d as u32)).is_some_and(|m| m & 1 << c != 0);
+            for &v in vs[1..].iter().filter(|_| !by_wall) {
                 let vv = vals[v as usize * dim + c];
                 if (vv - v0).abs() > 1e-9 * (1.0 + v0.abs().max(vv.abs())) {
                     return Err(Error::InvalidArgument(format!(

@@ -9,7 +9,7 @@ mod slip_meshes;
 
 use meshmove::bc::{P, Z};
 use meshmove::multigrid::solve::{solve, SolveParams};
-use meshmove::{BoundaryConditions, CoarseLevels, Kind, Link, Method, Motion, Options, Solver};
+use meshmove::{BoundaryConditions, CoarseLevels, Kind, Link, Mesh, Method, Motion, Options, Solver};
 
 const ALL_METHODS: [Method; 3] = [Method::Biharmonic, Method::Laplacian, Method::Spring];
 
@@ -135,7 +135,10 @@ fn annulus_multigrid_matches_direct() {
         let h = s.hierarchy();
         let lev = h.fine();
         let frames = &lev.slip.as_ref().unwrap().frames;
-        assert_eq!(frames.dofs.len(), 48);
+        // The four vertices on the axes have axis normals (their components prescribed), the
+        // others frames; the hierarchy is coupled.
+        assert_eq!((frames.dofs.len(), frames.axes.len()), (44, 4));
+        assert_eq!(h.groups().len(), 1);
         for (k, &d) in frames.dofs.iter().enumerate() {
             let x = mesh.point(lev.dofs.dof_vertex[d as usize] as usize);
             let e = frames.directions(k)[0];
@@ -206,12 +209,21 @@ fn slanted_channel_solver_matches_direct() {
     }
 }
 
-/// 3D: a duct with four slip walls (edges with two constrained directions) given a displacement
-/// with normal parts; the solver equals the direct solve.
+/// 3D: a duct with four slip walls given a displacement with normal parts, its walls normal to
+/// the axes (each component solved apart) and turned by 20° about the duct's axis (edges with
+/// two constrained directions, the components coupled); the solver equals the direct solve.
 #[test]
 fn duct_solver_matches_direct() {
     use slip_meshes::*;
-    let mesh = duct([6, 4, 4], 2.0, [[2, 4], [1, 3], [1, 3]], 0.25);
+    let straight = duct([6, 4, 4], 2.0, [[2, 4], [1, 3], [1, 3]], 0.25);
+    for mesh in [turned_about_x(&straight, 20f64.to_radians()), straight] {
+        duct_against_direct(&mesh);
+    }
+}
+
+fn duct_against_direct(mesh: &Mesh) {
+    use slip_meshes::*;
+    let mesh = mesh.clone();
     let mut bcs = BoundaryConditions::new();
     for p in [BOTTOM, TOP, FRONT, BACK] {
         bcs.set_kinds(p, Kind::Slip);
@@ -229,6 +241,10 @@ fn duct_solver_matches_direct() {
         let mut o = Options { method, ..Default::default() };
         o.solve.tol = 1e-13;
         let solver = Solver::new(&mesh, &bcs, o).unwrap();
+        let frames = &solver.hierarchy().fine().slip.as_ref().expect("slip frames").frames;
+        let coupled = (0..frames.dofs.len()).any(|k| frames.directions(k).len() == 2);
+        let apart = frames.axes.iter().any(|&(_, mask)| mask.count_ones() == 2);
+        assert!(coupled != apart && coupled == (solver.hierarchy().groups().len() == 1));
         let sol = solver.solve(&motion).unwrap();
         let lev = solver.hierarchy().fine();
         let (g, w) = direct(&solver, &motion.vertex_values(&mesh));
@@ -238,7 +254,7 @@ fn duct_solver_matches_direct() {
             .map(|(v, cc)| sol.displacement[v as usize * 3 + cc])
             .collect();
         let err = max_diff(&got, &want);
-        println!("duct {method:?}: {} iterations, error {err:.2e}", sol.report.cycles);
+        println!("duct (coupled {coupled}) {method:?}: {} iterations, error {err:.2e}", sol.report.cycles);
         assert!(err < 1e-10 * max_abs(&want), "{method:?}: error {err:e}");
     }
 }

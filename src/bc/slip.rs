@@ -21,6 +21,10 @@ pub const FEATURE_ANGLE_DEG: f64 = 30.0;
 /// (relative) adds nothing: it lies in their span.
 const SPAN_TOL: f64 = 1e-6;
 
+/// A unit direction whose other components are at most this is a coordinate axis: the rounding
+/// of an area vector summed over faces normal to the axis.
+const AXIS_TOL: f64 = 1e-13;
+
 /// The constrained directions of the slip unknowns of one level.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SlipFrames {
@@ -35,12 +39,23 @@ pub struct SlipFrames {
     /// Unknowns on a slip wall whose constraints span every direction (a 2D corner between two
     /// walls, a 3D corner of three): prescribed in every component (P), not slip.
     pub pinned: Vec<u32>,
+    /// Slip unknowns whose constrained directions are coordinate axes (walls normal to an axis:
+    /// a straight channel's, a box's, a symmetry plane), with the mask of those axes: the
+    /// components along them are prescribed (P) and the others free, which is the same
+    /// constraint, so these unknowns do not couple the components and a mesh whose slip walls
+    /// are all such is solved one component at a time. Ascending.
+    pub axes: Vec<(u32, u8)>,
 }
 
 impl SlipFrames {
     /// The constrained directions of slip unknown number `k` (an index into `dofs`).
     pub fn directions(&self, k: usize) -> &[[f64; 3]] {
         &self.dirs[self.ptr[k] as usize..self.ptr[k + 1] as usize]
+    }
+
+    /// The mask of the axes unknown `d`'s walls prescribe, if it is an axis unknown.
+    pub fn axes_of(&self, d: u32) -> Option<u8> {
+        self.axes.binary_search_by_key(&d, |e| e.0).ok().map(|k| self.axes[k].1)
     }
 
     /// The directions of unknown `d`, if it is a slip unknown.
@@ -206,17 +221,27 @@ struct Builder {
     ptr: Vec<u32>,
     dirs: Vec<[f64; 3]>,
     pinned: Vec<u32>,
+    axes: Vec<(u32, u8)>,
+}
+
+/// The mask of the coordinate axes `dirs` are, or None when one of them is not an axis.
+fn axis_mask(dirs: &[[f64; 3]]) -> Option<u8> {
+    dirs.iter().try_fold(0u8, |mask, e| {
+        let c = (0..3).max_by(|&a, &b| e[a].abs().total_cmp(&e[b].abs())).expect("three components");
+        (0..3).all(|k| k == c || e[k].abs() <= AXIS_TOL).then_some(mask | 1 << c)
+    })
 }
 
 impl Builder {
     fn new(dim: usize) -> Builder {
-        Builder { dim, dofs: Vec::new(), ptr: vec![0], dirs: Vec::new(), pinned: Vec::new() }
+        Builder { dim, dofs: Vec::new(), ptr: vec![0], dirs: Vec::new(), pinned: Vec::new(), axes: Vec::new() }
     }
 
     /// Adds unknown `d` with its candidate wall normals, orthogonalised against the axes of its
     /// prescribed components (`flags`, per component); an unknown whose constraints span every
-    /// direction is pinned, one with no constraint left is not slip.
-    fn push(&mut self, d: u32, normals: &[[f64; 3]], flags: &[Vec<u8>]) {
+    /// direction is pinned, one with no constraint left is not slip, one whose constraints are
+    /// coordinate axes is an axis unknown when `axes_ok`.
+    fn push(&mut self, d: u32, normals: &[[f64; 3]], flags: &[Vec<u8>], axes_ok: bool) {
         let dim = self.dim;
         let prescribed: Vec<bool> = (0..dim).map(|c| flags[c][d as usize] & P != 0).collect();
         if prescribed.iter().all(|&p| p) {
@@ -237,22 +262,30 @@ impl Builder {
             self.pinned.push(d);
             return;
         }
+        if let Some(mask) = axis_mask(&dirs).filter(|_| axes_ok) {
+            self.axes.push((d, mask));
+            return;
+        }
         self.dofs.push(d);
         self.dirs.extend(dirs);
         self.ptr.push(self.dirs.len() as u32);
     }
 
-    /// The frames, with every pinned unknown made P in every component of `flags`; None when no
-    /// unknown is slip or pinned.
+    /// The frames, with every pinned unknown made P in every component of `flags` and every
+    /// unknown on walls normal to axes in those axes' components; None when no unknown is slip
+    /// or pinned.
     fn finish(self, flags: &mut [Vec<u8>]) -> Option<SlipFrames> {
         for &d in &self.pinned {
             flags.iter_mut().for_each(|f| f[d as usize] |= P);
         }
-        if self.dofs.is_empty() && self.pinned.is_empty() {
+        for &(d, mask) in &self.axes {
+            flags.iter_mut().enumerate().filter(|(c, _)| mask & 1 << c != 0).for_each(|(_, f)| f[d as usize] |= P);
+        }
+        if self.dofs.is_empty() && self.pinned.is_empty() && self.axes.is_empty() {
             return None;
         }
-        let Builder { dim, dofs, ptr, dirs, pinned } = self;
-        Some(SlipFrames { dim, dofs, ptr, dirs, pinned })
+        let Builder { dim, dofs, ptr, dirs, pinned, axes } = self;
+        Some(SlipFrames { dim, dofs, ptr, dirs, pinned, axes })
     }
 }
 
@@ -295,22 +328,26 @@ pub(crate) fn fine_slip_frames(
         }
         normals.clear();
         vs.iter().for_each(|&v| normals.extend(of(v).iter().map(|e| e.1)));
-        b.push(d as u32, &walls(&normals), flags);
+        b.push(d as u32, &walls(&normals), flags, true);
     }
     b.finish(flags)
 }
 
 /// The slip frames of a coarse level whose unknown d is the fine level's unknown `fine_dof[d]`:
 /// each takes the directions of its fine unknown (re-orthogonalised against its own prescribed
-/// components), pinned fine unknowns stay pinned. Pinned unknowns are made P in `flags`.
+/// components), pinned fine unknowns stay pinned, axis ones axis and framed ones framed. Pinned
+/// unknowns are made P in `flags`, axis ones in their axes' components.
 pub(crate) fn inherit_slip_frames(fine: &SlipFrames, fine_dof: &[u32], flags: &mut [Vec<u8>]) -> Option<SlipFrames> {
     let mut b = Builder::new(fine.dim);
     for (d, &fd) in fine_dof.iter().enumerate() {
         if fine.pinned.binary_search(&fd).is_ok() {
             let all: Vec<[f64; 3]> = (0..fine.dim).map(axis).collect();
-            b.push(d as u32, &all, flags);
+            b.push(d as u32, &all, flags, false);
         } else if let Some(dirs) = fine.directions_of(fd) {
-            b.push(d as u32, dirs, flags);
+            b.push(d as u32, dirs, flags, false);
+        } else if let Some(mask) = fine.axes_of(fd) {
+            let dirs: Vec<[f64; 3]> = (0..fine.dim).filter(|c| mask & 1 << c != 0).map(axis).collect();
+            b.push(d as u32, &dirs, flags, true);
         }
     }
     b.finish(flags)
@@ -319,6 +356,14 @@ pub(crate) fn inherit_slip_frames(fine: &SlipFrames, fine_dof: &[u32], flags: &m
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn axis_directions_to_rounding() {
+        assert_eq!(axis_mask(&[[0.0, -1.0, 0.0]]), Some(0b010));
+        assert_eq!(axis_mask(&[[1.0, 3e-17, 0.0], [0.0, 0.0, 1.0]]), Some(0b101));
+        assert_eq!(axis_mask(&[[1.0, 1e-9, 0.0]]), None);
+        assert_eq!(axis_mask(&[[0.0, 1.0, 0.0], [0.6, 0.0, 0.8]]), None);
+    }
 
     #[test]
     fn walls_merge_a_curve_and_split_a_corner() {
@@ -333,7 +378,7 @@ mod tests {
     #[test]
     fn projection_removes_the_normal_and_keeps_the_tangent() {
         let s = 0.5f64.sqrt();
-        let f = SlipFrames { dim: 2, dofs: vec![1], ptr: vec![0, 1], dirs: vec![[s, s, 0.0]], pinned: vec![] };
+        let f = SlipFrames { dim: 2, dofs: vec![1], ptr: vec![0, 1], dirs: vec![[s, s, 0.0]], pinned: vec![], axes: vec![] };
         // Two unknowns, blocks x then y.
         let mut u = vec![7.0, 1.0, 9.0, 3.0];
         f.project(2, &mut u);

@@ -329,7 +329,7 @@ impl Hierarchy {
 
     fn build_coarse_solve(&mut self) -> Result<()> {
         let last = self.levels.last_mut().expect("one level at least");
-        if last.slip.is_some() {
+        if slip::coupled(last) {
             // The components are one coupled system there (a component alone may have nothing
             // prescribed and be singular).
             last.coarse = Some(Vec::new());
@@ -352,7 +352,7 @@ impl Hierarchy {
     /// The groups of components solved as one system: every component alone, as the methods
     /// decouple them, or all together when a slip wall couples them.
     pub fn groups(&self) -> Vec<Range<usize>> {
-        if self.fine().slip.as_ref().is_some_and(|s| !s.frames.dofs.is_empty()) {
+        if slip::coupled(self.fine()) {
             return std::iter::once(0..self.fine().dim()).collect();
         }
         (0..self.fine().dim()).map(|c| c..c + 1).collect()

@@ -37,6 +37,10 @@ pub struct LevelSlip {
     /// The conditions the fine level's frames come from, to remake them at a new reference (fine
     /// level only).
     bcs: Option<BoundaryConditions>,
+    /// The components are one coupled system: the finest level has slip unknowns with frames
+    /// (walls not normal to an axis). Without, the walls only prescribe components (axis walls,
+    /// pinned corners) and the components are solved apart. Every level has its finest's.
+    pub coupled: bool,
 }
 
 /// The finer level's unknown of each unknown of `level` (its vertex is a finer vertex, or on a
@@ -58,13 +62,14 @@ fn fine_dofs(level: &Level, fine: &Level) -> Vec<u32> {
 pub(super) fn attach(level: &mut Level, fine: Option<&Level>, bcs: &BoundaryConditions) {
     level.slip = match fine {
         None => fine_slip_frames(level.mesh.as_ref().expect("the finest level has a mesh"), &level.dofs, bcs, &mut level.flags)
-            .map(|frames| LevelSlip { frames, coarse: None, bcs: Some(bcs.clone()) }),
+            .map(|frames| LevelSlip { coupled: !frames.dofs.is_empty(), frames, coarse: None, bcs: Some(bcs.clone()) }),
         Some(f) => f.slip.as_ref().and_then(|s| {
             let map = fine_dofs(level, f);
             inherit_slip_frames(&s.frames, &map, &mut level.flags).map(|frames| LevelSlip {
                 frames,
                 coarse: None,
                 bcs: None,
+                coupled: s.coupled,
             })
         }),
     };
@@ -100,7 +105,7 @@ pub(super) fn moved_frames(levels: &[Level], meshes: &[Option<&Mesh>]) -> Option
         let old = level.slip.as_ref().map(|s| &s.frames);
         let same = match (old, &frames) {
             (None, None) => true,
-            (Some(a), Some(b)) => a.dofs == b.dofs && a.pinned == b.pinned,
+            (Some(a), Some(b)) => a.dofs == b.dofs && a.pinned == b.pinned && a.axes == b.axes,
             _ => false,
         };
         if !same || flags != level.flags {
@@ -119,10 +124,15 @@ pub(super) fn set_frames(level: &mut Level, frames: Option<SlipFrames>) {
     }
 }
 
-/// The frames of `level` when they apply to the components `comps` (the whole displacement: a
-/// slip wall couples every component).
+/// The frames of `level` when they apply to the components `comps` (the whole displacement of a
+/// coupled hierarchy: a slip wall with frames couples every component).
 pub(super) fn frames_for<'a>(level: &'a Level, comps: &Range<usize>) -> Option<&'a LevelSlip> {
-    level.slip.as_ref().filter(|_| comps.len() == level.dim() && comps.len() > 1)
+    level.slip.as_ref().filter(|s| s.coupled && comps.len() == level.dim() && comps.len() > 1)
+}
+
+/// The level's components are one coupled system (see `LevelSlip::coupled`).
+pub(super) fn coupled(level: &Level) -> bool {
+    level.slip.as_ref().is_some_and(|s| s.coupled)
 }
 
 /// The W-cycle of a coupled slip group: the biharmonic's coarse levels smoothed with the finest
@@ -147,7 +157,7 @@ pub(super) fn project(level: &Level, comps: &Range<usize>, u: &mut [f64]) {
 /// The same Jacobi diagonal for every free component of a slip unknown (the largest D of its
 /// components): D⁻¹ then commutes with Π, and a larger D keeps the l1 bound's A ≤ D.
 pub(super) fn equalise_bounds(level: &mut Level) {
-    let Some(s) = level.slip.as_ref() else {
+    let Some(s) = level.slip.as_ref().filter(|s| s.coupled) else {
         return;
     };
     for &d in &s.frames.dofs {
@@ -277,7 +287,7 @@ pub enum GroupCoarse {
 
 /// Builds the coupled coarse solve of `level` when it has slip frames.
 pub(super) fn attach_coarse_solve(level: &mut Level) -> Result<()> {
-    if level.slip.is_none() {
+    if !coupled(level) {
         return Ok(());
     }
     let gc = GroupCoarse::new(level)?;

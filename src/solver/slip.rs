@@ -35,14 +35,25 @@ pub(super) fn deformed_patches(walls: &SlipWalls, lev: &Level, motion: &Motion, 
     let rigid = |p: i32| motion.rigid.iter().any(|&(q, _)| q == p);
     let mut out: Vec<i32> = Vec::new();
     if let Some(s) = lev.slip.as_ref() {
-        for (k, &d) in s.frames.dofs.iter().enumerate() {
+        let f = &s.frames;
+        // Each slip unknown with whether a value x has a normal part there.
+        let framed = f.dofs.iter().enumerate().map(|(k, &d)| (d, Normal::Frame(k)));
+        let axes = f.axes.iter().map(|&(d, mask)| (d, Normal::Axes(mask)));
+        for (d, normal) in framed.chain(axes) {
             for &v in lev.dofs.vertices_of(d as usize) {
                 if walls.patches_of(v).any(rigid) {
                     continue;
                 }
-                let mut x = [0.0; 3];
-                x[..dim].copy_from_slice(&vals[v as usize * dim..(v as usize + 1) * dim]);
-                if s.frames.normal_part(k, &x).iter().any(|&a| a != 0.0) {
+                let x = &vals[v as usize * dim..(v as usize + 1) * dim];
+                let moved = match normal {
+                    Normal::Frame(k) => {
+                        let mut y = [0.0; 3];
+                        y[..dim].copy_from_slice(x);
+                        f.normal_part(k, &y).iter().any(|&a| a != 0.0)
+                    }
+                    Normal::Axes(mask) => (0..dim).any(|c| mask & 1 << c != 0 && x[c] != 0.0),
+                };
+                if moved {
                     out.extend(walls.patches_of(v));
                 }
             }
@@ -61,18 +72,30 @@ fn slipped<'a>(
     lev: &'a Level,
     deformed: &'a [i32],
 ) -> impl Iterator<Item = (usize, Vec<i32>, bool)> + 'a {
-    let s = lev.slip.as_ref();
-    let dofs = s.map(|s| s.frames.dofs.as_slice()).unwrap_or_default();
     let dim = lev.dim();
-    dofs.iter().enumerate().filter(move |(_, &d)| (0..dim).all(|c| lev.flags[c][d as usize] & P == 0)).flat_map(
-        move |(k, &d)| {
-            let edge = s.expect("slip unknowns").frames.directions(k).len() > 1;
+    // Each slip unknown: its constrained directions' count and the components its walls
+    // prescribe (those of walls normal to axes); another prescribed component excludes it.
+    let frames = lev.slip.as_ref().map(|s| &s.frames);
+    let framed =
+        frames.into_iter().flat_map(|f| f.dofs.iter().enumerate().map(|(k, &d)| (d, f.directions(k).len(), 0)));
+    let axes = frames.into_iter().flat_map(|f| f.axes.iter().map(|&(d, mask)| (d, mask.count_ones() as usize, mask)));
+    framed
+        .chain(axes)
+        .filter(move |&(d, _, mask)| (0..dim).all(|c| mask & 1 << c != 0 || lev.flags[c][d as usize] & P == 0))
+        .flat_map(move |(d, count, _)| {
             lev.dofs.vertices_of(d as usize).iter().filter_map(move |&v| {
                 let patches: Vec<i32> = walls.patches_of(v).filter(|p| deformed.binary_search(p).is_err()).collect();
-                (!patches.is_empty()).then_some((v as usize, patches, edge))
+                (!patches.is_empty()).then_some((v as usize, patches, count > 1))
             })
-        },
-    )
+        })
+}
+
+/// How a slip unknown's normal part is read: along its frame's directions (number `k` of the
+/// frames), or the components of the axes its walls are normal to.
+#[derive(Clone, Copy)]
+enum Normal {
+    Frame(usize),
+    Axes(u8),
 }
 
 /// The prescribed values of a second solve that puts the slipped vertices of the result
@@ -120,7 +143,15 @@ pub(super) fn onto_walls(
     for (v, patches, edge) in slipped(walls, lev, deformed) {
         let x0 = lev.mesh().point(v);
         let mut p: Vec<f64> = (0..dim).map(|c| x0[c] + displacement[v * dim + c]).collect();
-        before = before.max(walls.distance(at, &patches, edge, &p));
+        let off = walls.distance(at, &patches, edge, &p);
+        before = before.max(off);
+        // On its wall to rounding (a flat wall): left where the solve put it, which the
+        // closest-point arithmetic would move by rounding along the wall.
+        let scale = p.iter().fold(1.0f64, |m, x| m.max(x.abs()));
+        if off <= ON_WALL * scale {
+            after = after.max(off);
+            continue;
+        }
         walls.project(at, &patches, edge, &mut p);
         after = after.max(walls.distance(at, &patches, edge, &p));
         (0..dim).for_each(|c| displacement[v * dim + c] = p[c] - x0[c]);

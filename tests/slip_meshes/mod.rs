@@ -205,3 +205,10 @@ pub fn duct(n: [usize; 3], len: f64, hole: [[usize; 2]; 3], jitter: f64) -> Mesh
     };
     build(&g, cells, faces, tag, place)
 }
+
+/// `mesh` (3D) turned by `angle` about the x axis: a duct's walls slanted, its edges still along x.
+pub fn turned_about_x(mesh: &Mesh, angle: f64) -> Mesh {
+    let (s, c) = angle.sin_cos();
+    let x: Vec<f64> = mesh.coords().chunks(3).flat_map(|p| [p[0], c * p[1] - s * p[2], s * p[1] + c * p[2]]).collect();
+    mesh.with_coords(x)
+}
