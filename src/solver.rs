@@ -503,7 +503,7 @@ impl Solver {
             let before = x.clone();
             let mut ws = Workspace::new(&self.hierarchy, comps.len());
             let mut cp = self.opts.solve.cycle_params(&self.hierarchy);
-            crate::multigrid::slip::cycle_for(&self.hierarchy, &comps, &self.opts.solve, &mut cp);
+            crate::multigrid::slip::cycle_for(&self.hierarchy, &self.opts.solve, &mut cp);
             cycle(&self.hierarchy, comps.clone(), &cp, &b, &mut x, Start::Guess, &mut ws);
             lev.residual(comps.clone(), &b, &x, &mut r, &mut s);
             let bn = crate::sparse::dot(&b, &b).sqrt();

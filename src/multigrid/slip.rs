@@ -135,14 +135,15 @@ pub(super) fn coupled(level: &Level) -> bool {
     level.slip.as_ref().is_some_and(|s| s.coupled)
 }
 
-/// The W-cycle of a coupled slip group: the biharmonic's coarse levels smoothed with the finest
-/// level's degree (6) instead of 4, unless the caller chose the degrees. Natural (tangential)
-/// conditions on the walls make the rediscretised coarse operators' boundary rows a poorer match
-/// (measured on the cylinder channel with its walls SLIP, 6 levels: 15 CG iterations at the
-/// default degrees against 9 with FIXED walls, 10 with coarse degree 6; FREE walls: 18 and 10).
-pub(crate) fn cycle_for(h: &Hierarchy, comps: &Range<usize>, p: &SolveParams, cp: &mut CycleParams) {
-    let coupled = frames_for(h.fine(), comps).is_some();
-    if coupled && h.method == Method::Biharmonic && p.mode == Mode::Default && p.cheb_coarse_degree.is_none() {
+/// The W-cycle of a hierarchy with slip walls: the biharmonic's coarse levels smoothed with the
+/// finest level's degree (6 on coarse meshes) instead of 4, unless the caller chose the degrees
+/// (kept unknowns smooth every level at one degree already). Natural (tangential) conditions on
+/// the walls make the rediscretised coarse operators' boundary rows a poorer match (measured on
+/// the cylinder channel with its walls SLIP, 6 levels: 15 CG iterations at the default degrees
+/// against 9 with FIXED walls, 10 with coarse degree 6; FREE walls: 18 and 10).
+pub(crate) fn cycle_for(h: &Hierarchy, p: &SolveParams, cp: &mut CycleParams) {
+    let slip = h.fine().slip.is_some();
+    if slip && h.method == Method::Biharmonic && p.mode == Mode::Default && p.cheb_coarse_degree.is_none() {
         cp.coarse_smoother = cp.smoother;
     }
 }

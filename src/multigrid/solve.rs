@@ -198,7 +198,7 @@ pub fn solve(h: &Hierarchy, comps: Range<usize>, p: &SolveParams, b: &[f64], x: 
     let run = Run { h, comps: comps.clone(), p, b, bnorm, scale };
     let lev = h.fine();
     let mut cp = p.cycle_params(h);
-    super::slip::cycle_for(h, &comps, p, &mut cp);
+    super::slip::cycle_for(h, p, &mut cp);
     let mut boost = 0;
     for restart in 0..=TRUE_RESIDUAL_RESTARTS {
         match p.mode {
