@@ -169,6 +169,14 @@ fn bad_config_fails_with_a_message_naming_the_problem() {
             "already moved by [[motion]] 1",
         ),
         ("[[motion]]\npatch = 2\nfile = \"nope.csv\"\n", "nope.csv"),
+        ("[[patch]]\npatch = 2\nkind = \"clamped\"\nshape = \"circle\"\ncenter = [2, 0]\nradius = 0.5\n", "for a patch of kind \"slip\""),
+        ("[[patch]]\npatch = 2\nkind = \"slip\"\nshape = \"torus\"\n", "shape `torus` is not one of"),
+        ("[[patch]]\npatch = 2\nkind = \"slip\"\nshape = \"circle\"\ncenter = [2, 0]\n", "`radius` is required by shape `circle`"),
+        ("[[patch]]\npatch = 2\nkind = \"slip\"\nshape = \"circle\"\ncenter = [2, 0]\nradius = -1\n", "`radius` must be a positive"),
+        ("[[patch]]\npatch = 2\nkind = \"slip\"\nshape = \"line\"\npoint = [0, 0]\nnormal = [0, 0]\n", "`normal` is zero"),
+        ("[[patch]]\npatch = 2\nkind = \"slip\"\nshape = \"line\"\npoint = [0, 0]\nnormal = [0, 1]\nradius = 1\n", "`radius` is not a key of shape `line`"),
+        ("[[patch]]\npatch = 2\nkind = \"slip\"\nradius = 1\n", "`radius` belongs to a `shape`"),
+        ("[[patch]]\npatch = 2\nkind = \"slip\"\nshape = \"cylinder\"\n", "shape `cylinder` is for 3D meshes"),
         ("method = \n", "config"),
     ];
     for (i, (cfg, want)) in cases.iter().enumerate() {
@@ -346,4 +354,37 @@ fn deform_vectors_have_the_mesh_dimension() {
         assert!(!out.exists(), "{cfg}");
     }
     let _ = std::fs::remove_dir_all(&d);
+}
+
+/// A slip cylinder given its circle (`shape`) and moved along the channel in 4 steps: its
+/// vertices slide along the moved circle and end on it to rounding.
+#[test]
+fn a_slip_patch_with_an_analytic_shape_stays_on_it() {
+    let dir = tmp("shape");
+    let mesh = example("channel.msh");
+    let case = dir.join("case.toml");
+    std::fs::write(
+        &case,
+        "steps = 4\n[[patch]]\npatch = \"wall\"\nkind = \"slip\"\n[[patch]]\npatch = \"cylinder\"\nkind = \"slip\"\n\
+         shape = \"circle\"\ncenter = [2.0, 0.0]\nradius = 0.5\n[[motion]]\npatch = \"cylinder\"\ntranslation = [1.0, 0.2]\n",
+    )
+    .unwrap();
+    let out = dir.join("out.vtu");
+    let o = meshmove(&["deform", &mesh, "--config", case.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    let original = meshmove::io::read_msh(Path::new(&mesh)).unwrap().mesh;
+    let moved = meshmove::io::read_vtu(&out).unwrap().to_mesh().unwrap();
+    let on = original.patch_vertices(2);
+    assert_eq!(on.len(), 16);
+    let mut slid = 0.0f64;
+    for &v in &on {
+        let (p, q) = (original.point(v as usize), moved.point(v as usize));
+        let r = (q[0] - 3.0).hypot(q[1] - 0.2);
+        assert!((r - 0.5).abs() < 1e-12, "vertex {v}: {r} from the moved centre");
+        let a = |x: &[f64], c: [f64; 2]| (x[1] - c[1]).atan2(x[0] - c[0]);
+        slid = slid.max((a(q, [3.0, 0.2]) - a(p, [2.0, 0.0])).abs());
+    }
+    // The normal part of the motion moves the circle; the vertices slide along it.
+    assert!(slid > 1e-3, "the vertices slide along the circle: {slid}");
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -33,6 +33,56 @@ impl SlipSurface {
     pub fn closest(&self, x: &[f64]) -> [f64; 3] {
         (self.0)(x)
     }
+
+    /// A sphere (in 2D a circle) of `radius` about `center` (the first `dim` values are read).
+    /// The centre itself, which has no closest point, maps to the point in the first axis'
+    /// direction.
+    pub fn sphere(center: [f64; 3], radius: f64) -> SlipSurface {
+        SlipSurface::new(move |x| {
+            let mut d = [0.0; 3];
+            (0..x.len()).for_each(|c| d[c] = x[c] - center[c]);
+            let len = dot3(&d, &d).sqrt();
+            let u = if len > 0.0 { d.map(|v| v / len) } else { [1.0, 0.0, 0.0] };
+            let mut q = [0.0; 3];
+            (0..x.len()).for_each(|c| q[c] = center[c] + radius * u[c]);
+            q
+        })
+    }
+
+    /// An infinite circular cylinder (3D) of `radius` about the line through `center` along
+    /// `axis` (any non-zero length). A point on the axis maps to the point in the direction
+    /// of a fixed vector normal to the axis.
+    pub fn cylinder(center: [f64; 3], axis: [f64; 3], radius: f64) -> SlipSurface {
+        let len = dot3(&axis, &axis).sqrt();
+        let a = axis.map(|v| v / len);
+        // A fixed normal to the axis, for the points on it.
+        let pick = if a[0].abs() < 0.9 { [1.0, 0.0, 0.0] } else { [0.0, 1.0, 0.0] };
+        let n0 = cross(&a, &pick);
+        let n0 = n0.map(|v| v / dot3(&n0, &n0).sqrt());
+        SlipSurface::new(move |x| {
+            let mut d = [0.0; 3];
+            (0..x.len()).for_each(|c| d[c] = x[c] - center[c]);
+            let along = dot3(&d, &a);
+            let r = [0, 1, 2].map(|c| d[c] - along * a[c]);
+            let len = dot3(&r, &r).sqrt();
+            let u = if len > 0.0 { r.map(|v| v / len) } else { n0 };
+            [0, 1, 2].map(|c| center[c] + along * a[c] + radius * u[c])
+        })
+    }
+
+    /// A plane (in 2D a line) through `point` with the normal `normal` (any non-zero length).
+    pub fn plane(point: [f64; 3], normal: [f64; 3]) -> SlipSurface {
+        let len = dot3(&normal, &normal).sqrt();
+        let n = normal.map(|v| v / len);
+        SlipSurface::new(move |x| {
+            let mut d = [0.0; 3];
+            (0..x.len()).for_each(|c| d[c] = x[c] - point[c]);
+            let off = dot3(&d, &n);
+            let mut q = [0.0; 3];
+            (0..x.len()).for_each(|c| q[c] = x[c] - off * n[c]);
+            q
+        })
+    }
 }
 
 impl std::fmt::Debug for SlipSurface {
@@ -426,6 +476,23 @@ fn dist(a: &[f64; 3], x: &[f64], dim: usize) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn analytic_shapes_give_their_closest_points() {
+        let close = |s: &SlipSurface, x: &[f64], want: [f64; 3]| {
+            let q = s.closest(x);
+            assert!((0..3).all(|c| (q[c] - want[c]).abs() < 1e-15), "{x:?}: {q:?}, want {want:?}");
+        };
+        let circle = SlipSurface::sphere([1.0, 2.0, 0.0], 2.0);
+        close(&circle, &[4.0, 6.0], [1.0 + 1.2, 2.0 + 1.6, 0.0]);
+        close(&circle, &[1.0, 2.0], [3.0, 2.0, 0.0]);
+        let cyl = SlipSurface::cylinder([0.0, 0.0, 1.0], [0.0, 0.0, 5.0], 3.0);
+        close(&cyl, &[0.0, 2.0, 7.0], [0.0, 3.0, 7.0]);
+        let plane = SlipSurface::plane([0.0, 1.0, 0.0], [0.0, 2.0, 0.0]);
+        close(&plane, &[0.5, 3.0, -1.0], [0.5, 1.0, -1.0]);
+        let line = SlipSurface::plane([0.0, 0.0, 0.0], [1.0, 1.0, 0.0]);
+        close(&line, &[1.0, 0.0], [0.5, -0.5, 0.0]);
+    }
 
     #[test]
     fn closest_points_on_a_triangle() {

@@ -9,6 +9,7 @@
 //! written to `OUT.last-valid.vtu` beside the requested output.
 
 use indicatif::{ProgressBar, ProgressStyle};
+use meshmove::bc::SlipSurface;
 use meshmove::cases::report::{patch_measures, run_case_with};
 use meshmove::cases::setups::CaseSetup;
 use meshmove::io::{read_msh, read_vtu};
@@ -63,6 +64,13 @@ enum KindSpec {
 struct PatchCfg {
     patch: PatchRef,
     kind: KindSpec,
+    /// A slip patch's analytic wall: sphere (circle), cylinder or plane (line).
+    shape: Option<String>,
+    center: Option<Vec<f64>>,
+    radius: Option<f64>,
+    axis: Option<Vec<f64>>,
+    point: Option<Vec<f64>>,
+    normal: Option<Vec<f64>>,
 }
 
 #[derive(Deserialize, Debug)]
@@ -165,6 +173,64 @@ fn vector(v: &[f64], dim: usize, what: &str, key: &str) -> Result<[f64; 3], Stri
     let mut out = [0.0; 3];
     out[..dim].copy_from_slice(v);
     Ok(out)
+}
+
+/// The analytic wall of a `[[patch]]` entry, if it gives a `shape`: its keys checked against the
+/// shape (each required one given, finite, a positive radius, a non-zero axis or normal; no key
+/// of another shape).
+fn slip_shape(p: &PatchCfg, dim: usize, what: &str) -> Result<Option<SlipSurface>, String> {
+    let given = [("center", p.center.is_some()), ("radius", p.radius.is_some()), ("axis", p.axis.is_some())]
+        .into_iter()
+        .chain([("point", p.point.is_some()), ("normal", p.normal.is_some())]);
+    let Some(shape) = p.shape.as_deref().map(str::to_ascii_lowercase) else {
+        return match given.into_iter().find(|(_, g)| *g) {
+            Some((key, _)) => Err(format!("{what}: `{key}` belongs to a `shape`, and none is given")),
+            None => Ok(None),
+        };
+    };
+    let keys: &[&str] = match (shape.as_str(), dim) {
+        ("sphere" | "circle", _) => &["center", "radius"],
+        ("cylinder", 3) => &["center", "radius", "axis"],
+        ("plane" | "line", _) => &["point", "normal"],
+        ("cylinder", _) => return Err(format!("{what}: shape `cylinder` is for 3D meshes (a 2D wall is a circle)")),
+        (s, _) => return Err(format!("{what}: shape `{s}` is not one of sphere (circle), cylinder, plane (line)")),
+    };
+    for (key, is) in given {
+        if is != keys.contains(&key) {
+            let why = if is { "is not a key of" } else { "is required by" };
+            return Err(format!("{what}: `{key}` {why} shape `{shape}`"));
+        }
+    }
+    let finite = |v: [f64; 3], key: &str| {
+        if v.iter().all(|x| x.is_finite()) {
+            Ok(v)
+        } else {
+            Err(format!("{what}: `{key}` is not finite"))
+        }
+    };
+    let nonzero = |v: [f64; 3], key: &str| {
+        if finite(v, key)?.iter().any(|&x| x != 0.0) {
+            Ok(v)
+        } else {
+            Err(format!("{what}: `{key}` is zero"))
+        }
+    };
+    let vec = |v: &Option<Vec<f64>>, key: &str| vector(v.as_deref().unwrap_or_default(), dim, what, key);
+    let radius = || match p.radius {
+        Some(r) if r.is_finite() && r > 0.0 => Ok(r),
+        r => Err(format!("{what}: `radius` must be a positive number, got {r:?}")),
+    };
+    Ok(Some(match keys[0] {
+        "point" => {
+            SlipSurface::plane(finite(vec(&p.point, "point")?, "point")?, nonzero(vec(&p.normal, "normal")?, "normal")?)
+        }
+        _ if keys.len() == 3 => SlipSurface::cylinder(
+            finite(vec(&p.center, "center")?, "center")?,
+            nonzero(vec(&p.axis, "axis")?, "axis")?,
+            radius()?,
+        ),
+        _ => SlipSurface::sphere(finite(vec(&p.center, "center")?, "center")?, radius()?),
+    }))
 }
 
 /// The mesh and the names of its patches (Gmsh physical groups of dimension `dim - 1`).
@@ -302,6 +368,16 @@ fn build(args: &Args) -> Result<(CaseSetup, Options), String> {
                     bcs.set_kind(id, c, kind(k, &what)?).map_err(|e| e.to_string())?;
                 }
             }
+        }
+    }
+    for (i, p) in cfg.patch.iter().enumerate() {
+        let what = format!("config: [[patch]] {}", i + 1);
+        if let Some(surface) = slip_shape(p, dim, &what)? {
+            let id = patches.resolve(&p.patch, &what)?;
+            if !bcs.is_slip(id) {
+                return Err(format!("{what}: `shape` is for a patch of kind \"slip\""));
+            }
+            bcs.set_slip_surface(id, surface);
         }
     }
     for (i, l) in cfg.link.iter().enumerate() {
