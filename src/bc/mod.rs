@@ -13,7 +13,7 @@ mod well_posed;
 pub use dofs::Dofs;
 pub(crate) use flags::component_flags;
 pub use flags::{P, Z};
-pub use slip::SlipFrames;
+pub use slip::{Constraint, SlipFrames};
 pub(crate) use slip::{fine_slip_frames, inherit_slip_frames};
 pub use slip_walls::{Placements, SlipSurface, SlipWalls};
 pub(crate) use links::resolve_links;

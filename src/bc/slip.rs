@@ -47,7 +47,43 @@ pub struct SlipFrames {
     pub axes: Vec<(u32, u8)>,
 }
 
+/// How a slip unknown is constrained: by the directions of its frame (number `k` of `dofs`), or by
+/// the coordinate axes its walls are normal to (a mask of components, prescribed).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Constraint {
+    /// Frame `k`.
+    Frame(usize),
+    /// The components of the mask.
+    Axes(u8),
+}
+
 impl SlipFrames {
+    /// Every slip unknown, the framed ones first, then the axis ones, with its constraint.
+    pub fn constrained(&self) -> impl Iterator<Item = (u32, Constraint)> + '_ {
+        let framed = self.dofs.iter().enumerate().map(|(k, &d)| (d, Constraint::Frame(k)));
+        framed.chain(self.axes.iter().map(|&(d, mask)| (d, Constraint::Axes(mask))))
+    }
+
+    /// How many directions `c` constrains.
+    pub fn count(&self, c: Constraint) -> usize {
+        match c {
+            Constraint::Frame(k) => self.directions(k).len(),
+            Constraint::Axes(mask) => mask.count_ones() as usize,
+        }
+    }
+
+    /// Whether the displacement `v` (`dim` values) has a part along the directions `c` constrains.
+    pub fn has_normal_part(&self, c: Constraint, v: &[f64]) -> bool {
+        match c {
+            Constraint::Frame(k) => {
+                let mut y = [0.0; 3];
+                y[..self.dim].copy_from_slice(&v[..self.dim]);
+                self.normal_part(k, &y).iter().any(|&a| a != 0.0)
+            }
+            Constraint::Axes(mask) => (0..self.dim).any(|c| mask & 1 << c != 0 && v[c] != 0.0),
+        }
+    }
+
     /// The constrained directions of slip unknown number `k` (an index into `dofs`).
     pub fn directions(&self, k: usize) -> &[[f64; 3]] {
         &self.dirs[self.ptr[k] as usize..self.ptr[k + 1] as usize]

@@ -3,7 +3,7 @@
 //! walls' tangent planes onto the walls themselves, where the walls are (a wall moved rigidly
 //! carries its shape along).
 
-use crate::bc::{Placements, SlipWalls, P};
+use crate::bc::{Constraint, Placements, SlipWalls, P};
 use crate::motion::Motion;
 use crate::multigrid::hierarchy::Level;
 
@@ -35,25 +35,10 @@ pub(super) fn deformed_patches(walls: &SlipWalls, lev: &Level, motion: &Motion, 
     let rigid = |p: i32| motion.rigid.iter().any(|&(q, _)| q == p);
     let mut out: Vec<i32> = Vec::new();
     if let Some(s) = lev.slip.as_ref() {
-        let f = &s.frames;
-        // Each slip unknown with whether a value x has a normal part there.
-        let framed = f.dofs.iter().enumerate().map(|(k, &d)| (d, Normal::Frame(k)));
-        let axes = f.axes.iter().map(|&(d, mask)| (d, Normal::Axes(mask)));
-        for (d, normal) in framed.chain(axes) {
+        for (d, c) in s.frames.constrained() {
             for &v in lev.dofs.vertices_of(d as usize) {
-                if walls.patches_of(v).any(rigid) {
-                    continue;
-                }
                 let x = &vals[v as usize * dim..(v as usize + 1) * dim];
-                let moved = match normal {
-                    Normal::Frame(k) => {
-                        let mut y = [0.0; 3];
-                        y[..dim].copy_from_slice(x);
-                        f.normal_part(k, &y).iter().any(|&a| a != 0.0)
-                    }
-                    Normal::Axes(mask) => (0..dim).any(|c| mask & 1 << c != 0 && x[c] != 0.0),
-                };
-                if moved {
+                if !walls.patches_of(v).any(rigid) && s.frames.has_normal_part(c, x) {
                     out.extend(walls.patches_of(v));
                 }
             }
@@ -73,29 +58,19 @@ fn slipped<'a>(
     deformed: &'a [i32],
 ) -> impl Iterator<Item = (usize, Vec<i32>, bool)> + 'a {
     let dim = lev.dim();
-    // Each slip unknown: its constrained directions' count and the components its walls
-    // prescribe (those of walls normal to axes); another prescribed component excludes it.
     let frames = lev.slip.as_ref().map(|s| &s.frames);
-    let framed =
-        frames.into_iter().flat_map(|f| f.dofs.iter().enumerate().map(|(k, &d)| (d, f.directions(k).len(), 0)));
-    let axes = frames.into_iter().flat_map(|f| f.axes.iter().map(|&(d, mask)| (d, mask.count_ones() as usize, mask)));
-    framed
-        .chain(axes)
-        .filter(move |&(d, _, mask)| (0..dim).all(|c| mask & 1 << c != 0 || lev.flags[c][d as usize] & P == 0))
-        .flat_map(move |(d, count, _)| {
+    // A component prescribed other than by the unknown's own axis walls excludes it.
+    let own = |c: Constraint| if let Constraint::Axes(mask) = c { mask } else { 0 };
+    frames
+        .into_iter()
+        .flat_map(move |f| f.constrained().map(move |(d, c)| (d, own(c), f.count(c))))
+        .filter(move |&(d, mask, _)| (0..dim).all(|c| mask & 1 << c != 0 || lev.flags[c][d as usize] & P == 0))
+        .flat_map(move |(d, _, count)| {
             lev.dofs.vertices_of(d as usize).iter().filter_map(move |&v| {
                 let patches: Vec<i32> = walls.patches_of(v).filter(|p| deformed.binary_search(p).is_err()).collect();
                 (!patches.is_empty()).then_some((v as usize, patches, count > 1))
             })
         })
-}
-
-/// How a slip unknown's normal part is read: along its frame's directions (number `k` of the
-/// frames), or the components of the axes its walls are normal to.
-#[derive(Clone, Copy)]
-enum Normal {
-    Frame(usize),
-    Axes(u8),
 }
 
 /// The prescribed values of a second solve that puts the slipped vertices of the result
@@ -116,16 +91,18 @@ pub(super) fn on_wall_values(
     for (v, patches, edge) in slipped(walls, lev, deformed) {
         let x0 = lev.mesh().point(v);
         let mut p: Vec<f64> = (0..dim).map(|c| x0[c] + displacement[v * dim + c]).collect();
-        let scale = p.iter().fold(1.0f64, |m, x| m.max(x.abs()));
-        far |= walls.distance(at, &patches, edge, &p) > ON_WALL * scale;
+        far |= !on_wall(walls.distance(at, &patches, edge, &p), &p);
         walls.project(at, &patches, edge, &mut p);
         (0..dim).for_each(|c| out[v * dim + c] = p[c] - x0[c]);
     }
     far.then_some(out)
 }
 
-/// A slipped vertex this close to its wall (relative to its coordinates) is on it: rounding.
-const ON_WALL: f64 = 1e-13;
+/// Whether a slipped vertex at `p` is `off` from its wall by rounding only (1e-13 of its
+/// coordinates).
+fn on_wall(off: f64, p: &[f64]) -> bool {
+    off <= 1e-13 * p.iter().fold(1.0f64, |m, x| m.max(x.abs()))
+}
 
 /// Moves every slipped vertex of the result onto its walls, placed as `at` says
 /// (`displacement`: `dim` values per vertex, from the positions of `lev`'s mesh). Returns the
@@ -147,8 +124,7 @@ pub(super) fn onto_walls(
         before = before.max(off);
         // On its wall to rounding (a flat wall): left where the solve put it, which the
         // closest-point arithmetic would move by rounding along the wall.
-        let scale = p.iter().fold(1.0f64, |m, x| m.max(x.abs()));
-        if off <= ON_WALL * scale {
+        if on_wall(off, &p) {
             after = after.max(off);
             continue;
         }

@@ -188,10 +188,10 @@ fn slip_shape(p: &PatchCfg, dim: usize, what: &str) -> Result<Option<SlipSurface
             None => Ok(None),
         };
     };
-    let keys: &[&str] = match (shape.as_str(), dim) {
-        ("sphere" | "circle", _) => &["center", "radius"],
-        ("cylinder", 3) => &["center", "radius", "axis"],
-        ("plane" | "line", _) => &["point", "normal"],
+    let (kind, keys): (&str, &[&str]) = match (shape.as_str(), dim) {
+        ("sphere" | "circle", _) => ("sphere", &["center", "radius"]),
+        ("cylinder", 3) => ("cylinder", &["center", "radius", "axis"]),
+        ("plane" | "line", _) => ("plane", &["point", "normal"]),
         ("cylinder", _) => return Err(format!("{what}: shape `cylinder` is for 3D meshes (a 2D wall is a circle)")),
         (s, _) => return Err(format!("{what}: shape `{s}` is not one of sphere (circle), cylinder, plane (line)")),
     };
@@ -201,35 +201,23 @@ fn slip_shape(p: &PatchCfg, dim: usize, what: &str) -> Result<Option<SlipSurface
             return Err(format!("{what}: `{key}` {why} shape `{shape}`"));
         }
     }
-    let finite = |v: [f64; 3], key: &str| {
-        if v.iter().all(|x| x.is_finite()) {
-            Ok(v)
-        } else {
-            Err(format!("{what}: `{key}` is not finite"))
-        }
+    // A given key's vector, finite; a direction's also non-zero.
+    let point = |v: &Option<Vec<f64>>, key: &str| {
+        let x = vector(v.as_deref().unwrap_or_default(), dim, what, key)?;
+        x.iter().all(|c| c.is_finite()).then_some(x).ok_or_else(|| format!("{what}: `{key}` is not finite"))
     };
-    let nonzero = |v: [f64; 3], key: &str| {
-        if finite(v, key)?.iter().any(|&x| x != 0.0) {
-            Ok(v)
-        } else {
-            Err(format!("{what}: `{key}` is zero"))
-        }
+    let direction = |v: &Option<Vec<f64>>, key: &str| {
+        let x = point(v, key)?;
+        x.iter().any(|&c| c != 0.0).then_some(x).ok_or_else(|| format!("{what}: `{key}` is zero"))
     };
-    let vec = |v: &Option<Vec<f64>>, key: &str| vector(v.as_deref().unwrap_or_default(), dim, what, key);
     let radius = || match p.radius {
         Some(r) if r.is_finite() && r > 0.0 => Ok(r),
         r => Err(format!("{what}: `radius` must be a positive number, got {r:?}")),
     };
-    Ok(Some(match keys[0] {
-        "point" => {
-            SlipSurface::plane(finite(vec(&p.point, "point")?, "point")?, nonzero(vec(&p.normal, "normal")?, "normal")?)
-        }
-        _ if keys.len() == 3 => SlipSurface::cylinder(
-            finite(vec(&p.center, "center")?, "center")?,
-            nonzero(vec(&p.axis, "axis")?, "axis")?,
-            radius()?,
-        ),
-        _ => SlipSurface::sphere(finite(vec(&p.center, "center")?, "center")?, radius()?),
+    Ok(Some(match kind {
+        "sphere" => SlipSurface::sphere(point(&p.center, "center")?, radius()?),
+        "cylinder" => SlipSurface::cylinder(point(&p.center, "center")?, direction(&p.axis, "axis")?, radius()?),
+        _ => SlipSurface::plane(point(&p.point, "point")?, direction(&p.normal, "normal")?),
     }))
 }
 
