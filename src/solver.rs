@@ -11,6 +11,7 @@ use crate::bc::{resolve_links, BoundaryConditions, Kind, SlipWalls, COMPONENT, P
 use crate::mesh::quality::{inverted_cells, quality, Quality};
 use crate::motion::Motion;
 use crate::multigrid::cycle::{cycle, Workspace};
+use crate::multigrid::group::GroupOp;
 pub use crate::multigrid::hierarchy::CoarseOperator;
 use crate::multigrid::hierarchy::{Hierarchy, HierarchyParams, Level};
 use crate::multigrid::smoother::Start;
@@ -505,7 +506,7 @@ impl Solver {
             let mut cp = self.opts.solve.cycle_params(&self.hierarchy);
             crate::multigrid::slip::cycle_for(&self.hierarchy, &self.opts.solve, &mut cp);
             cycle(&self.hierarchy, comps.clone(), &cp, &b, &mut x, Start::Guess, &mut ws);
-            lev.residual(comps.clone(), &b, &x, &mut r, &mut s);
+            GroupOp::new(lev, comps.clone(), false).residual(&b, &x, &mut r, &mut s);
             let bn = crate::sparse::dot(&b, &b).sqrt();
             let rn = crate::sparse::dot(&r, &r).sqrt();
             // A zero right-hand side has nothing to reduce: its relative residual is its norm.

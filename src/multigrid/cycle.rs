@@ -3,8 +3,8 @@
 //! Work vectors are allocated once per solve (`Workspace`), not per cycle.
 //! Coarse-level visits start from a zero correction (`Start::Zero`) and skip its residual.
 
+use super::group::{block, block_mut, GroupOp};
 use super::hierarchy::Hierarchy;
-use super::slip;
 use super::smoother::{smooth, Scratch, Smoother, Start};
 use crate::bc::P;
 use crate::operator::Method;
@@ -91,7 +91,7 @@ impl CycleParams {
 struct LevelWork {
     b: Vec<f64>,
     x: Vec<f64>,
-    /// The group's residual (g blocks) when g > 1; a single component uses its scratch's `r`.
+    /// The group's residual (g blocks).
     r: Vec<f64>,
     /// One smoother scratch per component of the group.
     scratch: Vec<Scratch>,
@@ -111,9 +111,8 @@ impl Workspace {
             .map(|(l, lev)| {
                 let n = lev.n();
                 let nbx = if l == 0 { 0 } else { group * n };
-                let nr = if group > 1 { group * n } else { 0 };
                 let scratch = (0..group).map(|_| Scratch::new(n, h.method)).collect();
-                LevelWork { b: vec![0.0; nbx], x: vec![0.0; nbx], r: vec![0.0; nr], scratch }
+                LevelWork { b: vec![0.0; nbx], x: vec![0.0; nbx], r: vec![0.0; group * n], scratch }
             })
             .collect();
         Workspace { levels }
@@ -129,7 +128,7 @@ impl Workspace {
 /// from `Start::Zero` (x's content ignored). `b` and `x` hold one block of n values per
 /// component. Components the methods' operators do not couple run one after another, each its
 /// own cycle; a group coupled by slip walls runs as one (`multigrid::slip`). Returns the largest
-/// correction of the first fine-level smoothing sweep (the paper's convergence measure).
+/// correction of the first fine-level smoothing sweep (the paper's measure).
 pub(crate) fn cycle(
     h: &Hierarchy,
     comps: std::ops::Range<usize>,
@@ -139,47 +138,15 @@ pub(crate) fn cycle(
     start: Start,
     ws: &mut Workspace,
 ) -> f64 {
-    if slip::frames_for(h.fine(), &comps).is_some() {
+    if comps.len() == 1 || GroupOp::new(h.fine(), comps.clone(), false).frames().is_some() {
         return level_cycle(h, comps, p, 0, b, x, start, ws);
     }
     let n = h.fine().n();
     let mut first = 0.0f64;
     for (k, c) in comps.enumerate() {
-        let blk = k * n..(k + 1) * n;
-        first = first.max(level_cycle(h, c..c + 1, p, 0, &b[blk.clone()], &mut x[blk], start, ws));
+        first = first.max(level_cycle(h, c..c + 1, p, 0, block(b, n, k), block_mut(x, n, k), start, ws));
     }
     first
-}
-
-/// One smoothing application on level `l` for the group `comps` (blocks of n in `b` and `x`).
-#[allow(clippy::too_many_arguments)]
-fn smooth_group(
-    h: &Hierarchy,
-    comps: std::ops::Range<usize>,
-    p: &CycleParams,
-    l: usize,
-    b: &[f64],
-    x: &mut [f64],
-    w: &mut [Scratch],
-    start: Start,
-    measure: bool,
-) -> f64 {
-    let lev = &h.levels[l];
-    let sm = if l == 0 { p.smoother } else { p.coarse_smoother };
-    if slip::frames_for(lev, &comps).is_some() {
-        return slip::smooth_coupled(lev, comps, sm, p.l1_bound, b, x, w, start, measure);
-    }
-    let n = lev.n();
-    let mut m = 0.0f64;
-    for (k, c) in comps.enumerate() {
-        let mut pb = lev.problem(c);
-        if p.l1_bound {
-            pb.lambda_max = 1.0;
-        }
-        let blk = k * n..(k + 1) * n;
-        m = m.max(smooth(pb, sm, &b[blk.clone()], &mut x[blk], &mut w[k], start, measure));
-    }
-    m
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -194,30 +161,20 @@ fn level_cycle(
     ws: &mut Workspace,
 ) -> f64 {
     let lev = &h.levels[l];
-    let (n, g) = (lev.n(), comps.len());
+    let op = GroupOp::new(lev, comps.clone(), p.l1_bound);
+    let (n, g) = (op.n(), op.len());
+    let work = &mut ws.levels[l];
     let Some(down) = &lev.down else {
-        let work = &mut ws.levels[l];
-        if let Some(gc) = slip::frames_for(lev, &comps).and_then(|s| s.coarse.as_ref()) {
-            gc.solve(lev, comps, p.l1_bound, b, x, start, &mut work.r[..g * n], &mut work.scratch);
-            return 0.0;
-        }
-        for (k, c) in comps.enumerate() {
-            let mut pb = lev.problem(c);
-            if p.l1_bound {
-                pb.lambda_max = 1.0;
-            }
-            let solve = &lev.coarse.as_ref().expect("coarsest level has its solve")[c];
-            let blk = k * n..(k + 1) * n;
-            solve.solve(pb, &b[blk.clone()], &mut x[blk], start, &mut work.scratch[k]);
-        }
+        let solve = lev.coarse_solve(&comps).expect("coarsest level has its solve");
+        solve.solve(&op, b, x, start, &mut work.r[..g * n], &mut work.scratch);
         return 0.0;
     };
+    let sm = if l == 0 { p.smoother } else { p.coarse_smoother };
     let mut first = 0.0;
     let mut start = start;
     for k in 0..p.pre {
         // Only the first fine-level sweep's correction is reported (the paper's measure).
-        let w = &mut ws.levels[l].scratch;
-        let m = smooth_group(h, comps.clone(), p, l, b, x, w, start, l == 0 && k == 0);
+        let m = smooth(&op, sm, b, x, &mut work.scratch, start, l == 0 && k == 0);
         start = Start::Guess;
         if k == 0 {
             first = m;
@@ -226,31 +183,29 @@ fn level_cycle(
     let nc = h.levels[l + 1].n();
     let mut bc = std::mem::take(&mut ws.levels[l + 1].b);
     let mut xc = std::mem::take(&mut ws.levels[l + 1].x);
-    if start == Start::Zero {
+    let work = &mut ws.levels[l];
+    let r: &[f64] = if start == Start::Zero {
         // No pre-smoothing from a zero start: the residual is b itself.
         x.iter_mut().for_each(|v| *v = 0.0);
-        for k in 0..g {
-            down.restrict.mul_vec(&b[k * n..(k + 1) * n], &mut bc[k * nc..(k + 1) * nc]);
-        }
+        b
     } else {
-        let work = &mut ws.levels[l];
-        let w0 = &mut work.scratch[0];
-        let r: &mut [f64] = if g > 1 { &mut work.r } else { &mut w0.r };
-        lev.residual(comps.clone(), b, x, r, &mut w0.s);
-        for k in 0..g {
-            down.restrict.mul_vec(&r[k * n..(k + 1) * n], &mut bc[k * nc..(k + 1) * nc]);
-        }
+        op.residual(b, x, &mut work.r[..g * n], &mut work.scratch[0].s);
+        &work.r[..g * n]
+    };
+    for k in 0..g {
+        down.restrict.mul_vec(block(r, n, k), block_mut(&mut bc, nc, k));
     }
     // Π_c Pᵀ: the coarse right-hand side in the coarse free subspace.
-    slip::project(&h.levels[l + 1], &comps, &mut bc[..g * nc]);
+    let coarse = GroupOp::new(&h.levels[l + 1], comps.clone(), p.l1_bound);
+    coarse.project(&mut bc[..g * nc]);
     for k in 0..p.gamma {
         let cstart = if k == 0 { Start::Zero } else { Start::Guess };
         level_cycle(h, comps.clone(), p, l + 1, &bc[..g * nc], &mut xc[..g * nc], cstart, ws);
     }
     // Add the interpolated correction, fused into one pass; prescribed unknowns keep theirs.
-    for (k, c) in comps.clone().enumerate() {
-        let (flags, prolong, xc_ref, wgt) = (&lev.flags[c], &down.prolong, &xc[k * nc..(k + 1) * nc], p.coarse_weight);
-        par_update(&mut x[k * n..(k + 1) * n], |i, xv| {
+    for k in 0..g {
+        let (flags, prolong, xc_ref, wgt) = (op.flags(k), &down.prolong, block(&xc, nc, k), p.coarse_weight);
+        par_update(block_mut(x, n, k), |i, xv| {
             if flags[i] & P != 0 {
                 xv
             } else {
@@ -259,12 +214,11 @@ fn level_cycle(
         });
     }
     // Π_f P: the prolongated correction in the fine free subspace.
-    slip::project(lev, &comps, x);
+    op.project(x);
     ws.levels[l + 1].b = bc;
     ws.levels[l + 1].x = xc;
     for _ in 0..p.post {
-        let w = &mut ws.levels[l].scratch;
-        smooth_group(h, comps.clone(), p, l, b, x, w, Start::Guess, false);
+        smooth(&op, sm, b, x, &mut ws.levels[l].scratch, Start::Guess, false);
     }
     first
 }

@@ -11,7 +11,8 @@ use super::coarsener::{coarsener_for, CoarseLevels, CoarseUnknowns, Coarsener};
 use super::lsq::Features;
 use super::restriction::Restriction;
 use super::slip::{self, LevelSlip};
-use super::smoother::{estimate_lambda_max, Problem};
+use super::group::GroupOp;
+use super::smoother::estimate_lambda_max;
 use crate::bc::{check_well_posed, component_flags, BoundaryConditions, Dofs};
 use crate::mesh::quality::is_inverted;
 use crate::operator::{LevelOperator, Method};
@@ -57,8 +58,8 @@ pub struct Level {
     pub parent_vertex: Vec<u32>,
     /// Transfer to the next coarser level; None on the coarsest.
     pub down: Option<Transfer>,
-    /// Direct solve per component, on the coarsest level only.
-    pub coarse: Option<Vec<CoarseSolve>>,
+    /// The direct solve of each group (`groups`), on the coarsest level only.
+    pub coarse: Option<Vec<(Range<usize>, CoarseSolve)>>,
     /// Slip walls: the constrained directions of the slip unknowns (`multigrid::slip`), built
     /// from the mesh on the finest level and inherited below; None without slip walls.
     pub slip: Option<LevelSlip>,
@@ -138,29 +139,33 @@ impl Level {
 
     fn refresh_bounds(&mut self) {
         // The components are independent: side by side, so small levels use several threads.
-        let bounds = |c: usize| {
-            let inv_d = self.op.inv_l1_diag(&self.flags[c]);
-            // The l1 bound guarantees λmax(D⁻¹A) ≤ 1. For the second-order operators it is
-            // nearly tight (the same CG iteration counts as the estimate on the single-step
-            // cases, 2–6% more on the multi-step ones), and the estimate, redone at every
-            // re-evaluated step, costs about 2/3 of a Laplacian solve (30 products per level).
-            // The biharmonic's bound is looser (18 iterations instead of 16 on the
-            // boundary-layer cylinder), so it keeps the estimate.
-            let lambda_max = if self.op.method == Method::Biharmonic {
-                estimate_lambda_max(&self.op, &self.flags[c], &inv_d)
-            } else {
-                1.0
-            };
-            (inv_d, lambda_max)
+        self.inv_d = (0..self.flags.len()).into_par_iter().map(|c| self.op.inv_l1_diag(&self.flags[c])).collect();
+        // The l1 bound guarantees λmax(D⁻¹A) ≤ 1. For the second-order operators it is nearly
+        // tight (the CG iteration counts of the estimate, see docs/perf-history.md), and the
+        // estimate, redone at every re-evaluated step, costs a sizeable part of a Laplacian
+        // solve (30 products per level). The biharmonic's bound is looser, so it keeps the
+        // estimate.
+        self.lambda_max = if self.op.method == Method::Biharmonic {
+            let level = &*self;
+            (0..self.flags.len()).into_par_iter().map(|c| estimate_lambda_max(&GroupOp::new(level, c..c + 1, false))).collect()
+        } else {
+            vec![1.0; self.flags.len()]
         };
-        let (inv_d, lambda_max) = (0..self.flags.len()).into_par_iter().map(bounds).unzip();
-        self.inv_d = inv_d;
-        self.lambda_max = lambda_max;
         slip::equalise_bounds(self);
     }
 
-    pub fn problem(&self, c: usize) -> Problem<'_> {
-        Problem { op: &self.op, flags: &self.flags[c], inv_d: &self.inv_d[c], lambda_max: self.lambda_max[c] }
+    /// The groups of components solved as one system: every component alone, as the methods
+    /// decouple them, or all together when a slip wall couples them.
+    pub fn groups(&self) -> Vec<Range<usize>> {
+        if slip::coupled(self) {
+            return std::iter::once(0..self.dim()).collect();
+        }
+        (0..self.dim()).map(|c| c..c + 1).collect()
+    }
+
+    /// The coarsest level's solve of the group `comps`.
+    pub(crate) fn coarse_solve(&self, comps: &Range<usize>) -> Option<&CoarseSolve> {
+        self.coarse.as_ref()?.iter().find(|(g, _)| g == comps).map(|(_, s)| s)
     }
 
     pub fn n(&self) -> usize {
@@ -189,27 +194,6 @@ impl Level {
             }
         }
         (0..self.dofs.n).map(|d| self.dofs.region_of(d).or(vregion[self.dofs.dof_vertex[d] as usize].flatten())).collect()
-    }
-
-    /// r = b − A x for the components `comps`, whose blocks of n values follow each other in
-    /// `b`, `x` and `r`. `s` is scratch of length n.
-    pub fn residual(&self, comps: Range<usize>, b: &[f64], x: &[f64], r: &mut [f64], s: &mut [f64]) {
-        let n = self.n();
-        for (k, c) in comps.clone().enumerate() {
-            let blk = k * n..(k + 1) * n;
-            self.op.residual(&self.flags[c], &b[blk.clone()], &x[blk.clone()], &mut r[blk], s);
-        }
-        slip::project(self, &comps, r);
-    }
-
-    /// y = A x for the components `comps` (blocks as in `residual`).
-    pub fn apply(&self, comps: Range<usize>, x: &[f64], y: &mut [f64], s: &mut [f64]) {
-        let n = self.n();
-        for (k, c) in comps.clone().enumerate() {
-            let blk = k * n..(k + 1) * n;
-            self.op.apply(&self.flags[c], &x[blk.clone()], &mut y[blk], s);
-        }
-        slip::project(self, &comps, y);
     }
 }
 
@@ -329,13 +313,13 @@ impl Hierarchy {
 
     fn build_coarse_solve(&mut self) -> Result<()> {
         let last = self.levels.last_mut().expect("one level at least");
-        if slip::coupled(last) {
-            // The components are one coupled system there (a component alone may have nothing
-            // prescribed and be singular).
-            last.coarse = Some(Vec::new());
-            return slip::attach_coarse_solve(last);
-        }
-        let solves = (0..last.dim()).map(|c| CoarseSolve::new(last.problem(c), c)).collect::<Result<Vec<_>>>()?;
+        // A coupled group is one system there (a component alone may have nothing prescribed
+        // and be singular).
+        let solves = last
+            .groups()
+            .into_iter()
+            .map(|g| Ok((g.clone(), CoarseSolve::new(&GroupOp::new(last, g, false))?)))
+            .collect::<Result<Vec<_>>>()?;
         last.coarse = Some(solves);
         Ok(())
     }
@@ -349,13 +333,9 @@ impl Hierarchy {
         &self.levels[0]
     }
 
-    /// The groups of components solved as one system: every component alone, as the methods
-    /// decouple them, or all together when a slip wall couples them.
+    /// The groups of components solved as one system (see `Level::groups`).
     pub fn groups(&self) -> Vec<Range<usize>> {
-        if slip::coupled(self.fine()) {
-            return std::iter::once(0..self.fine().dim()).collect();
-        }
-        (0..self.fine().dim()).map(|c| c..c + 1).collect()
+        self.fine().groups()
     }
 
     /// Re-evaluates every level at new fine-vertex positions, keeping the coarse topology.

@@ -6,6 +6,7 @@ pub mod coarse_solve;
 pub mod coarsen;
 pub mod coarsener;
 pub mod cycle;
+pub mod group;
 pub mod hierarchy;
 mod lsq;
 pub mod restriction;

@@ -1,6 +1,7 @@
 //! Smoothers on one level: damped Jacobi with the l1 bound (paper Eq. 7) and Chebyshev
 //! acceleration of the same Jacobi iteration.
 
+use super::group::{block, block_mut, GroupOp};
 use crate::bc::P;
 use crate::operator::{LevelOperator, Method};
 use crate::sparse::{dot, max_abs, par_update2};
@@ -19,10 +20,9 @@ pub enum Smoother {
     Fourth { degree: usize },
 }
 
-/// Scratch of one level's smoother: the residual (restriction and coarse solves), the
-/// biharmonic's S (empty for the second-order methods, which have none) and the direction.
+/// Scratch of one block of a level's smoother: the biharmonic's S (empty for the second-order
+/// methods, which have none) and the step.
 pub struct Scratch {
-    pub r: Vec<f64>,
     pub s: Vec<f64>,
     pub d: Vec<f64>,
 }
@@ -30,7 +30,7 @@ pub struct Scratch {
 impl Scratch {
     pub fn new(n: usize, method: Method) -> Self {
         let ns = if method == Method::Biharmonic { n } else { 0 };
-        Scratch { r: vec![0.0; n], s: vec![0.0; ns], d: vec![0.0; n] }
+        Scratch { s: vec![0.0; ns], d: vec![0.0; n] }
     }
 }
 
@@ -54,35 +54,59 @@ pub enum Start {
     Zero,
 }
 
-/// One application of the smoother. With `measure`, returns the largest correction it made
-/// (an extra pass over the vector, so the hot path asks only where the value is reported);
-/// otherwise 0.
-pub fn smooth(
-    pb: Problem,
-    sm: Smoother,
-    b: &[f64],
-    x: &mut [f64],
-    w: &mut Scratch,
-    start: Start,
-    measure: bool,
-) -> f64 {
-    let lmax = pb.lambda_max;
+/// The first step's coefficient and the (c1, c2) of the others of `sm` for a given λmax.
+fn coefficients(sm: Smoother, lambda_max: f64) -> (f64, Vec<(f64, f64)>) {
     match sm {
-        Smoother::Jacobi { weight } => recurrence(pb, weight, std::iter::empty(), b, x, w, start, measure),
+        Smoother::Jacobi { weight } => (weight, Vec::new()),
         Smoother::Chebyshev { degree, lower_ratio } => {
-            let (c0, steps) = first_kind(lmax, degree, lower_ratio);
-            recurrence(pb, c0, steps, b, x, w, start, measure)
+            let (c0, steps) = first_kind(lambda_max, degree, lower_ratio);
+            (c0, steps.collect())
         }
         Smoother::Fourth { degree } => {
-            let (c0, steps) = fourth_kind(lmax, degree);
-            recurrence(pb, c0, steps, b, x, w, start, measure)
+            let (c0, steps) = fourth_kind(lambda_max, degree);
+            (c0, steps.collect())
         }
     }
 }
 
+/// One application of the smoother `sm` to the group `op`: a polynomial of D⁻¹A as a two-term
+/// recurrence (damped Jacobi is its one-step case), every block's step in lockstep and each
+/// step moved into the group's free subspace (for a coupled group, one polynomial of the
+/// group's λmax; D⁻¹ commutes with the projection there, see `multigrid::slip`). `w` holds one
+/// scratch per block. With `measure`, returns the largest correction it made (an extra pass
+/// over the vector, so the hot path asks only where the value is reported); otherwise 0.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn smooth(
+    op: &GroupOp,
+    sm: Smoother,
+    b: &[f64],
+    x: &mut [f64],
+    w: &mut [Scratch],
+    start: Start,
+    measure: bool,
+) -> f64 {
+    let (n, g) = (op.n(), op.len());
+    let w = &mut w[..g];
+    let coeffs: Vec<(f64, Vec<(f64, f64)>)> = (0..g).map(|k| coefficients(sm, op.lambda_max(k))).collect();
+    for (k, wk) in w.iter_mut().enumerate() {
+        first_step(op.problem(k), coeffs[k].0, block(b, n, k), block_mut(x, n, k), wk, start);
+    }
+    op.project_step(x, w);
+    let mut maxc = measured(measure, w);
+    for j in 0..coeffs[0].1.len() {
+        for (k, wk) in w.iter_mut().enumerate() {
+            let (c1, c2) = coeffs[k].1[j];
+            next_step(op.problem(k), c1, c2, block(b, n, k), block_mut(x, n, k), wk);
+        }
+        op.project_step(x, w);
+        maxc = maxc.max(measured(measure, w));
+    }
+    maxc
+}
+
 /// d = c · D⁻¹ (b − A x), then x ← x + d (x = d from a zero start): the first step of every
 /// smoother, with the residual fused into the pass (see `LevelOperator::step_with_residual`).
-pub(super) fn first_step(pb: Problem, c: f64, b: &[f64], x: &mut [f64], w: &mut Scratch, start: Start) {
+fn first_step(pb: Problem, c: f64, b: &[f64], x: &mut [f64], w: &mut Scratch, start: Start) {
     let inv_d = pb.inv_d;
     match start {
         Start::Zero => par_update2(x, &mut w.d, |i, _, _| {
@@ -94,41 +118,19 @@ pub(super) fn first_step(pb: Problem, c: f64, b: &[f64], x: &mut [f64], w: &mut 
 }
 
 /// d ← c1 d + c2 D⁻¹ (b − A x), then x ← x + d: one step of a polynomial smoother's recurrence.
-pub(super) fn next_step(pb: Problem, c1: f64, c2: f64, b: &[f64], x: &mut [f64], w: &mut Scratch) {
+fn next_step(pb: Problem, c1: f64, c2: f64, b: &[f64], x: &mut [f64], w: &mut Scratch) {
     let inv_d = pb.inv_d;
     pb.op.step_with_residual(pb.flags, b, x, &mut w.s, &mut w.d, |i, r, d| c1 * d + c2 * inv_d[i] * r);
 }
 
-/// The largest correction `d` of a step, when asked (an extra pass, so only where reported).
-fn measured(measure: bool, d: &[f64]) -> f64 {
-    if measure {
-        max_abs(d)
-    } else {
-        0.0
+/// The largest correction of a step over the blocks' `d`, when asked (an extra pass, so only
+/// where reported).
+fn measured(measure: bool, w: &[Scratch]) -> f64 {
+    match w {
+        _ if !measure => 0.0,
+        [one] => max_abs(&one.d),
+        _ => w.iter().map(|s| max_abs(&s.d)).fold(0.0, f64::max),
     }
-}
-
-/// A polynomial smoother as a two-term recurrence (damped Jacobi is its one-step case): the
-/// first step with coefficient `c0`, then one `next_step` per (c1, c2) pair. Returns the
-/// largest correction when `measure` is set.
-#[allow(clippy::too_many_arguments)]
-fn recurrence(
-    pb: Problem,
-    c0: f64,
-    steps: impl Iterator<Item = (f64, f64)>,
-    b: &[f64],
-    x: &mut [f64],
-    w: &mut Scratch,
-    start: Start,
-    measure: bool,
-) -> f64 {
-    first_step(pb, c0, b, x, w, start);
-    let mut maxc = measured(measure, &w.d);
-    for (c1, c2) in steps {
-        next_step(pb, c1, c2, b, x, w);
-        maxc = maxc.max(measured(measure, &w.d));
-    }
-    maxc
 }
 
 /// Coefficients of the three-term Chebyshev recurrence for D⁻¹A x = D⁻¹b on [λmax / ratio,
@@ -158,22 +160,23 @@ pub(super) fn fourth_kind(rho: f64, degree: usize) -> (f64, impl Iterator<Item =
     (4.0 / (3.0 * rho), steps)
 }
 
-/// Largest eigenvalue of D⁻¹A by power iteration from a fixed start (deterministic), padded by
-/// 10% and capped at 1, the l1 bound's guarantee.
-pub fn estimate_lambda_max(op: &LevelOperator, flags: &[u8], inv_d: &[f64]) -> f64 {
-    let n = op.n();
+/// Largest eigenvalue of D⁻¹ Π A on the group's free subspace by power iteration from a fixed
+/// start (deterministic), padded by 10% and capped at 1, the l1 bound's guarantee.
+pub(crate) fn estimate_lambda_max(op: &GroupOp) -> f64 {
+    let (n, g) = (op.n(), op.len());
     // A fixed, mode-rich start vector: a cheap hash of the index.
-    let mut x: Vec<f64> =
-        (0..n)
-            .map(|i| {
-                if flags[i] & P != 0 {
-                    0.0
-                } else {
-                    ((i as u64).wrapping_mul(2654435761) % 1000) as f64 / 1000.0 - 0.5
-                }
-            })
-            .collect();
-    let (mut y, mut s) = (vec![0.0; n], vec![0.0; n]);
+    let mut x: Vec<f64> = (0..g * n)
+        .map(|k| {
+            let (b, i) = (k / n, k % n);
+            if op.flags(b)[i] & P != 0 {
+                0.0
+            } else {
+                ((k as u64).wrapping_mul(2654435761) % 1000) as f64 / 1000.0 - 0.5
+            }
+        })
+        .collect();
+    op.project(&mut x);
+    let (mut y, mut s) = (vec![0.0; g * n], vec![0.0; n]);
     let mut lambda = 0.0;
     for _ in 0..15 {
         let nx = dot(&x, &x).sqrt();
@@ -181,8 +184,11 @@ pub fn estimate_lambda_max(op: &LevelOperator, flags: &[u8], inv_d: &[f64]) -> f
             return 1.0;
         }
         x.iter_mut().for_each(|v| *v /= nx);
-        op.apply(flags, &x, &mut y, &mut s);
-        y.iter_mut().zip(inv_d).for_each(|(y, d)| *y *= d);
+        op.apply_blocks(&x, &mut y, &mut s);
+        for k in 0..g {
+            block_mut(&mut y, n, k).iter_mut().zip(op.inv_d(k)).for_each(|(y, d)| *y *= d);
+        }
+        op.project(&mut y);
         lambda = dot(&y, &y).sqrt();
         std::mem::swap(&mut x, &mut y);
     }
@@ -194,7 +200,7 @@ mod tests {
     use super::*;
 
     /// The error polynomial p(λ) of a smoother's coefficients, run on the scalar problem
-    /// λ x = λ from x = 0 (D = 1), exactly as `recurrence` runs them.
+    /// λ x = λ from x = 0 (D = 1), exactly as `smooth` runs them.
     fn error_polynomial(c0: f64, steps: impl Iterator<Item = (f64, f64)>, lambda: f64) -> f64 {
         let mut d = c0 * lambda;
         let mut x = d;

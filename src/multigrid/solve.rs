@@ -2,6 +2,7 @@
 //! W-cycle as a preconditioner for conjugate gradients (the default, docs/DESIGN.md §5).
 
 use super::cycle::{cycle, CycleParams, Workspace};
+use super::group::GroupOp;
 use super::hierarchy::Hierarchy;
 use super::smoother::Start;
 use crate::operator::Method;
@@ -196,7 +197,7 @@ pub fn solve(h: &Hierarchy, comps: Range<usize>, p: &SolveParams, b: &[f64], x: 
     }
     let mut ws = Workspace::new(h, comps.len());
     let run = Run { h, comps: comps.clone(), p, b, bnorm, scale };
-    let lev = h.fine();
+    let lev = GroupOp::new(h.fine(), comps.clone(), false);
     let mut cp = p.cycle_params(h);
     super::slip::cycle_for(h, p, &mut cp);
     let mut boost = 0;
@@ -212,7 +213,7 @@ pub fn solve(h: &Hierarchy, comps: Range<usize>, p: &SolveParams, b: &[f64], x: 
             }
         }
         let mut r = vec![0.0; b.len()];
-        lev.residual(comps.clone(), b, x, &mut r, &mut ws.fine().s);
+        lev.residual(b, x, &mut r, &mut ws.fine().s);
         rep.rel_residual = dot(&r, &r).sqrt() / bnorm;
         // PCG's updated residual drifts from the true one by rounding: a solve is converged
         // when the true residual meets the tolerance, and restarts from it while cycles remain.
@@ -274,11 +275,11 @@ impl Run<'_> {
         let Run { h, p, b, .. } = *self;
         let comps = self.comps.clone();
         let cp = p.cycle_params(h);
-        let lev = h.fine();
+        let lev = GroupOp::new(h.fine(), comps.clone(), false);
         let mut r = vec![0.0; b.len()];
         for k in rep.history.len() + 1..=p.max_cycles {
             let mc = cycle(h, comps.clone(), &cp, b, x, Start::Guess, ws);
-            lev.residual(comps.clone(), b, x, &mut r, &mut ws.fine().s);
+            lev.residual(b, x, &mut r, &mut ws.fine().s);
             if self.record(rep, k, mc, &r) {
                 return;
             }
@@ -292,17 +293,17 @@ impl Run<'_> {
         let comps = self.comps.clone();
         let cp = *cp;
         let first = rep.history.len();
-        let lev = h.fine();
+        let lev = GroupOp::new(h.fine(), comps.clone(), false);
         let n = b.len();
         // Three vectors: the preconditioned residual z shares q's storage (q = A dir is spent
         // once r is updated), and the products' scratch S is the fine level's, free between
         // preconditioner applications.
         let (mut r, mut dir, mut q) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
-        lev.residual(comps.clone(), b, x, &mut r, &mut ws.fine().s);
+        lev.residual(b, x, &mut r, &mut ws.fine().s);
         cycle(h, comps.clone(), &cp, &r, &mut dir, Start::Zero, ws);
         let mut rz = dot(&r, &dir);
         for k in first + 1..=p.max_cycles {
-            lev.apply(comps.clone(), &dir, &mut q, &mut ws.fine().s);
+            lev.apply(&dir, &mut q, &mut ws.fine().s);
             let pq = dot(&dir, &q);
             if pq <= 0.0 || !pq.is_finite() {
                 // Not positive definite: the iterate is not improved by this direction. Reported

@@ -1,0 +1,137 @@
+//! What the cycle, the smoother, PCG and the coarsest solve see of one level: the operator of a
+//! group of components over a block vector (one block of n values per component, in the
+//! group's order). A component the methods' operators leave alone is a group of one; the
+//! components coupled by slip walls are one group whose products, residuals and smoothing steps
+//! are projected on the subspace the slip frames leave free (`multigrid::slip`).
+
+use super::hierarchy::Level;
+use super::slip;
+use super::smoother::{Problem, Scratch};
+use crate::bc::SlipFrames;
+use std::ops::Range;
+
+/// Block `k` of a group's vector of blocks of `n` values.
+pub(crate) fn block(v: &[f64], n: usize, k: usize) -> &[f64] {
+    &v[k * n..(k + 1) * n]
+}
+
+/// Block `k` of a group's vector of blocks of `n` values, to write.
+pub(crate) fn block_mut(v: &mut [f64], n: usize, k: usize) -> &mut [f64] {
+    &mut v[k * n..(k + 1) * n]
+}
+
+/// The operator of a group of components on one level, with the Jacobi bounds its smoother
+/// uses and the projection of its slip frames.
+#[derive(Clone, Copy)]
+pub(crate) struct GroupOp<'a> {
+    level: &'a Level,
+    /// The group's first component and its number of components.
+    first: usize,
+    len: usize,
+    /// The slip frames that couple the group; None for components solved apart.
+    frames: Option<&'a SlipFrames>,
+    /// Smooth with λmax = 1, the l1 bound's guarantee, instead of the level's estimate.
+    l1_bound: bool,
+}
+
+impl<'a> GroupOp<'a> {
+    /// The group `comps` of `level`; `l1_bound` as in `CycleParams::l1_bound`.
+    pub(crate) fn new(level: &'a Level, comps: Range<usize>, l1_bound: bool) -> Self {
+        let frames = slip::frames_for(level, &comps).map(|s| &s.frames);
+        GroupOp { level, first: comps.start, len: comps.len(), frames, l1_bound }
+    }
+
+    /// The level's unknowns (the length of one block).
+    pub(crate) fn n(&self) -> usize {
+        self.level.n()
+    }
+
+    /// The group's number of components (blocks).
+    pub(crate) fn len(&self) -> usize {
+        self.len
+    }
+
+    /// The group's components.
+    pub(crate) fn components(&self) -> Range<usize> {
+        self.first..self.first + self.len
+    }
+
+    /// The slip frames coupling the group, if any.
+    pub(crate) fn frames(&self) -> Option<&'a SlipFrames> {
+        self.frames
+    }
+
+    /// The level the group lives on.
+    pub(crate) fn level(&self) -> &'a Level {
+        self.level
+    }
+
+    /// The flags of the group's block `k`.
+    pub(crate) fn flags(&self, k: usize) -> &'a [u8] {
+        &self.level.flags[self.first + k]
+    }
+
+    /// The inverse Jacobi (l1) diagonal of block `k`.
+    pub(crate) fn inv_d(&self, k: usize) -> &'a [f64] {
+        &self.level.inv_d[self.first + k]
+    }
+
+    /// The λmax of D⁻¹A the smoother of block `k` is tuned to: 1 with the l1 bound, the group's
+    /// largest estimate for a coupled group (one polynomial for all its blocks), else the
+    /// component's own.
+    pub(crate) fn lambda_max(&self, k: usize) -> f64 {
+        if self.l1_bound {
+            1.0
+        } else if self.frames.is_some() {
+            self.components().map(|c| self.level.lambda_max[c]).fold(0.0, f64::max)
+        } else {
+            self.level.lambda_max[self.first + k]
+        }
+    }
+
+    /// Block `k`'s operator and bounds, as the smoother's steps take them.
+    pub(crate) fn problem(&self, k: usize) -> Problem<'a> {
+        Problem { op: &self.level.op, flags: self.flags(k), inv_d: self.inv_d(k), lambda_max: self.lambda_max(k) }
+    }
+
+    /// y = A x block by block, without the projection (the power iteration's and the dense
+    /// coarse matrix's product). `s` is scratch of length n.
+    pub(crate) fn apply_blocks(&self, x: &[f64], y: &mut [f64], s: &mut [f64]) {
+        let n = self.n();
+        for k in 0..self.len {
+            self.level.op.apply(self.flags(k), block(x, n, k), block_mut(y, n, k), s);
+        }
+    }
+
+    /// y = Π A x. `s` is scratch of length n.
+    pub(crate) fn apply(&self, x: &[f64], y: &mut [f64], s: &mut [f64]) {
+        self.apply_blocks(x, y, s);
+        self.project(y);
+    }
+
+    /// r = Π (b − A x). `s` is scratch of length n.
+    pub(crate) fn residual(&self, b: &[f64], x: &[f64], r: &mut [f64], s: &mut [f64]) {
+        let n = self.n();
+        for k in 0..self.len {
+            self.level.op.residual(self.flags(k), block(b, n, k), block(x, n, k), block_mut(r, n, k), s);
+        }
+        self.project(r);
+    }
+
+    /// u ← Π u (nothing for a group without slip frames).
+    pub(crate) fn project(&self, u: &mut [f64]) {
+        if let Some(f) = self.frames {
+            f.project(self.n(), u);
+        }
+    }
+
+    /// Moves a smoothing step into the free subspace: the iterate `x` and the blocks' steps `d`
+    /// in `w` (nothing for a group without slip frames).
+    pub(crate) fn project_step(&self, x: &mut [f64], w: &mut [Scratch]) {
+        if let Some(f) = self.frames {
+            f.project(self.n(), x);
+            let mut d: Vec<&mut [f64]> = w.iter_mut().map(|s| s.d.as_mut_slice()).collect();
+            f.project_blocks(&mut d);
+        }
+    }
+}
