@@ -12,6 +12,7 @@ use crate::mesh::quality::{inverted_cells, quality, Quality};
 use crate::motion::Motion;
 use crate::multigrid::cycle::{cycle, Workspace};
 use crate::multigrid::group::GroupOp;
+use crate::multigrid::policy::CycleParams;
 pub use crate::multigrid::hierarchy::CoarseOperator;
 use crate::multigrid::hierarchy::{Hierarchy, HierarchyParams, Level};
 use crate::multigrid::smoother::Start;
@@ -503,8 +504,7 @@ impl Solver {
             let mut r = vec![0.0; b.len()];
             let before = x.clone();
             let mut ws = Workspace::new(&self.hierarchy, comps.len());
-            let mut cp = self.opts.solve.cycle_params(&self.hierarchy);
-            crate::multigrid::slip::cycle_for(&self.hierarchy, &self.opts.solve, &mut cp);
+            let cp = CycleParams::resolve(&self.hierarchy, &self.opts.solve);
             cycle(&self.hierarchy, comps.clone(), &cp, &b, &mut x, Start::Guess, &mut ws);
             GroupOp::new(lev, comps.clone(), false).residual(&b, &x, &mut r, &mut s);
             let bn = crate::sparse::dot(&b, &b).sqrt();

@@ -13,7 +13,7 @@
 use super::coarsen::{CoarseMesh, CoarsenParams, Delaunay2d};
 use super::hierarchy::{Level, Transfer};
 use super::lsq::{Features, LeastSquares};
-use super::solve::Mode;
+use super::params::Mode;
 use crate::{Error, Mesh, Result};
 
 /// Makes the coarse levels of a hierarchy and their transfers.

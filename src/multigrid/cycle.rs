@@ -5,86 +5,10 @@
 
 use super::group::{block, block_mut, GroupOp};
 use super::hierarchy::Hierarchy;
-use super::smoother::{smooth, Scratch, Smoother, Start};
+pub use super::policy::CycleParams;
+use super::smoother::{smooth, Scratch, Start};
 use crate::bc::P;
-use crate::operator::Method;
 use crate::sparse::par_update;
-
-/// Shape of one cycle.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct CycleParams {
-    /// Coarse visits per level: 1 = V-cycle, 2 = W-cycle.
-    pub gamma: usize,
-    /// The smoother of the finest level.
-    pub smoother: Smoother,
-    /// The smoother of every coarser level.
-    pub coarse_smoother: Smoother,
-    pub pre: usize,
-    pub post: usize,
-    /// Scale of the prolongated coarse correction.
-    pub coarse_weight: f64,
-    /// Smooth with λmax = 1, the l1 bound's guarantee, instead of each level's power-iteration
-    /// estimate (a stalled solve's first remedy, see `stronger`).
-    pub l1_bound: bool,
-}
-
-impl CycleParams {
-    /// The paper's W-cycle: one Jacobi sweep with C = 0.9 before coarsening, none after.
-    ///
-    /// For the biharmonic the rediscretised coarse operator K_c M_c⁻¹ K_c is about half the
-    /// Galerkin PᵀAP, so a full coarse correction overshoots ≈ 2× and the cycle diverges
-    /// (measured on the free-surface case: factor 2.3 at h = 1/32, 173 at h = 1/128). We weight
-    /// the coarse correction by ½ instead of adding a post-sweep (docs/DESIGN.md §5 allows either): it
-    /// keeps the paper's sweep pattern and converges at 0.90–0.94 per cycle at every size. The
-    /// Laplacian's coarse operators do not overshoot; it keeps the full correction.
-    pub fn paper(method: Method) -> Self {
-        let coarse_weight = if method == Method::Biharmonic { 0.5 } else { 1.0 };
-        let smoother = Smoother::Jacobi { weight: 0.9 };
-        CycleParams { gamma: 2, smoother, coarse_smoother: smoother, pre: 1, post: 0, coarse_weight, l1_bound: false }
-    }
-
-    /// The preconditioner of the default mode: W-cycle with Chebyshev pre- and post-smoothing,
-    /// of the fourth kind, or of the first kind on [λmax / r, λmax] given `lower_ratio` r.
-    pub fn chebyshev(degree: usize, coarse_degree: usize, lower_ratio: Option<f64>) -> Self {
-        let smoother = |degree| match lower_ratio {
-            None => Smoother::Fourth { degree },
-            Some(lower_ratio) => Smoother::Chebyshev { degree, lower_ratio },
-        };
-        CycleParams {
-            gamma: 2,
-            smoother: smoother(degree),
-            coarse_smoother: smoother(coarse_degree),
-            pre: 1,
-            post: 1,
-            coarse_weight: 1.0,
-            l1_bound: false,
-        }
-    }
-}
-
-impl CycleParams {
-    /// The cycle for a stalled solve after `boosts` earlier strengthenings: Chebyshev degrees
-    /// ×1.6 (6 → 10 → 16 → 26), and at the second strengthening the same degree on [0, 1], the l1
-    /// bound's interval, instead of the estimated λmax. An estimate below the true λmax makes the
-    /// polynomial amplify the top of the spectrum and CG stagnates whatever the degree (measured
-    /// on a channel whose bottom is raised in 10 steps: stalled at a residual of 1e-4 from the
-    /// third step on at every degree, 18–77 iterations per step on [0, 1]); distorted cells that
-    /// only need more smoothing are served by the first, larger degree (the wall layer of the
-    /// boundary-layer cylinder: 16 iterations at degree 10).
-    pub fn stronger(&self, boosts: usize) -> Self {
-        if boosts == 1 && !self.l1_bound {
-            return CycleParams { l1_bound: true, ..*self };
-        }
-        let up = |sm: Smoother| match sm {
-            Smoother::Chebyshev { degree, lower_ratio } => {
-                Smoother::Chebyshev { degree: (degree * 8).div_ceil(5), lower_ratio }
-            }
-            Smoother::Fourth { degree } => Smoother::Fourth { degree: (degree * 8).div_ceil(5) },
-            other => other,
-        };
-        CycleParams { smoother: up(self.smoother), coarse_smoother: up(self.coarse_smoother), ..*self }
-    }
-}
 
 /// Vectors of one level's visit, for a group of g components. The finest level's right-hand
 /// side and iterate are the caller's, so its `b` and `x` stay empty.
@@ -169,7 +93,7 @@ fn level_cycle(
         solve.solve(&op, b, x, start, &mut work.r[..g * n], &mut work.scratch);
         return 0.0;
     };
-    let sm = if l == 0 { p.smoother } else { p.coarse_smoother };
+    let sm = p.smoother_at(l);
     let mut first = 0.0;
     let mut start = start;
     for k in 0..p.pre {

@@ -9,6 +9,8 @@ pub mod cycle;
 pub mod group;
 pub mod hierarchy;
 mod lsq;
+pub mod params;
+pub mod policy;
 pub mod restriction;
 pub mod slip;
 pub mod smoother;

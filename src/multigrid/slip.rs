@@ -16,11 +16,9 @@
 //!
 //! The cycle stays symmetric on the subspace, so it preconditions CG as before.
 
-use super::cycle::CycleParams;
 use super::group::GroupOp;
-use super::hierarchy::{Hierarchy, Level};
+use super::hierarchy::Level;
 use super::smoother::estimate_lambda_max;
-use super::solve::{Mode, SolveParams};
 use crate::bc::{component_flags, fine_slip_frames, inherit_slip_frames, BoundaryConditions, SlipFrames, P};
 use crate::operator::Method;
 use crate::Mesh;
@@ -127,19 +125,6 @@ pub(super) fn frames_for<'a>(level: &'a Level, comps: &Range<usize>) -> Option<&
 /// The level's components are one coupled system (see `LevelSlip::coupled`).
 pub(super) fn coupled(level: &Level) -> bool {
     level.slip.as_ref().is_some_and(|s| s.coupled)
-}
-
-/// The W-cycle of a hierarchy with slip walls: the biharmonic's coarse levels smoothed with the
-/// finest level's degree (6 on coarse meshes) instead of 4, unless the caller chose the degrees
-/// (kept unknowns smooth every level at one degree already). Natural (tangential) conditions on
-/// the walls make the rediscretised coarse operators' boundary rows a poorer match (measured on
-/// the cylinder channel with its walls SLIP, 6 levels: 15 CG iterations at the default degrees
-/// against 9 with FIXED walls, 10 with coarse degree 6; FREE walls: 18 and 10).
-pub(crate) fn cycle_for(h: &Hierarchy, p: &SolveParams, cp: &mut CycleParams) {
-    let slip = h.fine().slip.is_some();
-    if slip && h.method == Method::Biharmonic && p.mode == Mode::Default && p.cheb_coarse_degree.is_none() {
-        cp.coarse_smoother = cp.smoother;
-    }
 }
 
 /// The same Jacobi diagonal for every free component of a slip unknown (the largest D of its

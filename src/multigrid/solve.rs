@@ -1,112 +1,14 @@
 //! Solving one component to a tolerance: the paper's stationary W-cycle iteration, or the
 //! W-cycle as a preconditioner for conjugate gradients (the default, docs/DESIGN.md §5).
 
-use super::cycle::{cycle, CycleParams, Workspace};
+use super::cycle::{cycle, Workspace};
 use super::group::GroupOp;
 use super::hierarchy::Hierarchy;
+pub use super::params::{Criterion, Mode, SolveParams};
+use super::policy::CycleParams;
 use super::smoother::Start;
-use crate::operator::Method;
 use crate::sparse::{axpy, dot, max_abs, par_update};
 use std::ops::Range;
-
-/// How the solver iterates.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
-pub enum Mode {
-    /// Conjugate gradients preconditioned by a W-cycle with Chebyshev smoothing.
-    #[default]
-    Default,
-    /// The paper: stationary W-cycles, one Jacobi sweep with C = 0.9 (coarse correction halved
-    /// for the biharmonic, see `CycleParams::paper`).
-    PaperFaithful,
-}
-
-/// When to stop.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
-pub enum Criterion {
-    /// ‖b − A x‖₂ / ‖b‖₂ ≤ tol.
-    #[default]
-    RelativeResidual,
-    /// Largest vertex correction of the last cycle ≤ tol × largest prescribed displacement
-    /// (the paper's Fig. 8 measure).
-    MaxCorrection,
-}
-
-/// How a solve iterates and when it stops; the default is CG preconditioned by W-cycles, to a
-/// relative residual of 1e-8, in at most 500 iterations.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SolveParams {
-    /// The iteration: preconditioned CG (the default) or the paper's stationary W-cycles.
-    pub mode: Mode,
-    /// The stopping test `tol` applies to.
-    pub criterion: Criterion,
-    /// The tolerance: of the relative residual, or of the largest correction as a fraction of the
-    /// largest prescribed displacement (see [`Criterion`]).
-    pub tol: f64,
-    /// The most W-cycles (paper-faithful mode) or CG iterations (default mode) a solve runs,
-    /// restarts included; a solve that reaches it unconverged reports `converged: false`.
-    pub max_cycles: usize,
-    /// Chebyshev degree of the default mode's smoother on the finest level; None picks per method.
-    pub cheb_degree: Option<usize>,
-    /// Its degree on the coarse levels; None uses `cheb_degree` when that is set, else the
-    /// per-method default (see `cheb_defaults`).
-    pub cheb_coarse_degree: Option<usize>,
-    /// None (the default): the fourth-kind polynomial, which needs no lower bound. Some(r): the
-    /// classical first-kind polynomial on [λmax / r, λmax], r > 1.
-    pub cheb_lower_ratio: Option<f64>,
-}
-
-impl Default for SolveParams {
-    fn default() -> Self {
-        SolveParams {
-            mode: Mode::Default,
-            criterion: Criterion::RelativeResidual,
-            tol: 1e-8,
-            max_cycles: 500,
-            cheb_degree: None,
-            cheb_coarse_degree: None,
-            cheb_lower_ratio: None,
-        }
-    }
-}
-
-impl SolveParams {
-    /// Per-method defaults of the default mode's smoother: fourth-kind Chebyshev of degree 6 on
-    /// the finest level and 4 below for the biharmonic, 3 and 2 for the Laplacian and spring;
-    /// for the biharmonic on levels of kept unknowns (`kept`, every 3D hierarchy) 8 on every level.
-    ///
-    /// Why these: on the wall layer of the boundary-layer cylinder the fourth kind converges at
-    /// degree 4 (20 CG iterations) where the first kind on [λmax/10, λmax] stalls, degree 6/4
-    /// takes 16, and lower coarse degrees are slower there (6/3: 19, 6/2: 29); on the other cases
-    /// the iteration counts equal the first kind's at degree 6 (9, 9, 8, 8) at 0.85× its time
-    /// (biharmonic) and 0.76× (Laplacian, 5–6 iterations at 3/2). The measurements are in
-    /// docs/perf-history.md. With Galerkin levels of kept unknowns the biharmonic's coarse
-    /// operator K_c V_c⁻¹ K_c is further from PᵀAP and more smoothing pays: on a cube of
-    /// tetrahedra (36k vertices) 6/4 takes 14 iterations, 8/8 11 at 0.8× the time, and on a
-    /// graded 2D mesh (an ellipse in a box, 15k vertices, FIXED) 12 instead of 21 (8/6: 15).
-    pub fn cheb_defaults(&self, method: Method, kept: bool) -> (usize, usize) {
-        let (fine, coarse) = match (method, kept) {
-            (Method::Biharmonic, false) => (6, 4),
-            (Method::Biharmonic, true) => (8, 8),
-            _ => (3, 2),
-        };
-        match self.cheb_degree {
-            Some(d) => (d, self.cheb_coarse_degree.unwrap_or(d)),
-            None => (fine, self.cheb_coarse_degree.unwrap_or(coarse)),
-        }
-    }
-
-    /// The shape of one W-cycle on `h` in this mode: Chebyshev smoothing of the degrees of
-    /// [`cheb_defaults`](Self::cheb_defaults) (default mode), or the paper's Jacobi sweep.
-    pub fn cycle_params(&self, h: &Hierarchy) -> CycleParams {
-        match self.mode {
-            Mode::Default => {
-                let (fine, coarse) = self.cheb_defaults(h.method, h.has_kept_levels());
-                CycleParams::chebyshev(fine, coarse, self.cheb_lower_ratio)
-            }
-            Mode::PaperFaithful => CycleParams::paper(h.method),
-        }
-    }
-}
 
 /// What a solve did, per component or combined.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -198,8 +100,7 @@ pub fn solve(h: &Hierarchy, comps: Range<usize>, p: &SolveParams, b: &[f64], x: 
     let mut ws = Workspace::new(h, comps.len());
     let run = Run { h, comps: comps.clone(), p, b, bnorm, scale };
     let lev = GroupOp::new(h.fine(), comps.clone(), false);
-    let mut cp = p.cycle_params(h);
-    super::slip::cycle_for(h, p, &mut cp);
+    let mut cp = CycleParams::resolve(h, p);
     let mut boost = 0;
     for restart in 0..=TRUE_RESIDUAL_RESTARTS {
         match p.mode {
@@ -274,7 +175,7 @@ impl Run<'_> {
     fn stationary(&self, x: &mut [f64], ws: &mut Workspace, rep: &mut Report) {
         let Run { h, p, b, .. } = *self;
         let comps = self.comps.clone();
-        let cp = p.cycle_params(h);
+        let cp = CycleParams::resolve(h, p);
         let lev = GroupOp::new(h.fine(), comps.clone(), false);
         let mut r = vec![0.0; b.len()];
         for k in rep.history.len() + 1..=p.max_cycles {
