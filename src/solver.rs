@@ -506,7 +506,7 @@ impl Solver {
             let mut ws = Workspace::new(&self.hierarchy, comps.len());
             let cp = CycleParams::resolve(&self.hierarchy, &self.opts.solve);
             cycle(&self.hierarchy, comps.clone(), &cp, &b, &mut x, Start::Guess, &mut ws);
-            GroupOp::new(lev, comps.clone(), false).residual(&b, &x, &mut r, &mut s);
+            GroupOp::new(lev, comps.clone(), false).residual(&b, &mut x, &mut r, &mut s);
             let bn = crate::sparse::dot(&b, &b).sqrt();
             let rn = crate::sparse::dot(&r, &r).sqrt();
             // A zero right-hand side has nothing to reduce: its relative residual is its norm.

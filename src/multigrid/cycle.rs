@@ -121,11 +121,13 @@ fn level_cycle(
     }
     // Π_c Pᵀ: the coarse right-hand side in the coarse free subspace.
     let coarse = GroupOp::new(&h.levels[l + 1], comps.clone(), p.l1_bound);
+    coarse.accumulate(&mut bc[..g * nc]);
     coarse.project(&mut bc[..g * nc]);
     for k in 0..p.gamma {
         let cstart = if k == 0 { Start::Zero } else { Start::Guess };
         level_cycle(h, comps.clone(), p, l + 1, &bc[..g * nc], &mut xc[..g * nc], cstart, ws);
     }
+    coarse.exchange(&mut xc[..g * nc]);
     // Add the interpolated correction, fused into one pass; prescribed unknowns keep theirs.
     for k in 0..g {
         let (flags, prolong, xc_ref, wgt) = (op.flags(k), &down.prolong, block(&xc, nc, k), p.coarse_weight);

@@ -5,6 +5,7 @@
 //! are projected on the subspace the slip frames leave free (`multigrid::slip`).
 
 use super::hierarchy::Level;
+use super::layout::Layout;
 use super::slip;
 use super::smoother::{Problem, Scratch};
 use crate::bc::SlipFrames;
@@ -94,9 +95,44 @@ impl<'a> GroupOp<'a> {
         Problem { op: &self.level.op, flags: self.flags(k), inv_d: self.inv_d(k), lambda_max: self.lambda_max(k) }
     }
 
-    /// y = A x block by block, without the projection (the power iteration's and the dense
-    /// coarse matrix's product). `s` is scratch of length n.
-    pub(crate) fn apply_blocks(&self, x: &[f64], y: &mut [f64], s: &mut [f64]) {
+    /// Makes the halo of every block of `x` current (`Layout::exchange`) before an operator
+    /// reads it.
+    pub(crate) fn exchange(&self, x: &mut [f64]) {
+        let n = self.n();
+        debug_assert!(self.level.layout.owned() <= n, "a block holds its owned rows first");
+        for k in 0..self.len {
+            self.level.layout.exchange(block_mut(x, n, k));
+        }
+    }
+
+    /// Adds the halo rows of every block of `x` into their owners (`Layout::accumulate`), after
+    /// a transposed product wrote them.
+    pub(crate) fn accumulate(&self, x: &mut [f64]) {
+        let n = self.n();
+        for k in 0..self.len {
+            self.level.layout.accumulate(block_mut(x, n, k));
+        }
+    }
+
+    /// Σ aᵢ bᵢ over the group's vectors (every process's owned rows).
+    pub(crate) fn dot(&self, a: &[f64], b: &[f64]) -> f64 {
+        self.level.layout.dot(a, b)
+    }
+
+    /// ‖a‖₂ over the group's vector.
+    pub(crate) fn norm(&self, a: &[f64]) -> f64 {
+        self.dot(a, a).sqrt()
+    }
+
+    /// The largest |aᵢ| over the group's vector (NaN when any is NaN).
+    pub(crate) fn max_abs(&self, a: &[f64]) -> f64 {
+        self.level.layout.max_abs(a)
+    }
+
+    /// y = A x block by block, without the projection (the power iteration's product). `s` is
+    /// scratch of length n.
+    pub(crate) fn apply_blocks(&self, x: &mut [f64], y: &mut [f64], s: &mut [f64]) {
+        self.exchange(x);
         let n = self.n();
         for k in 0..self.len {
             self.level.op.apply(self.flags(k), block(x, n, k), block_mut(y, n, k), s);
@@ -104,13 +140,14 @@ impl<'a> GroupOp<'a> {
     }
 
     /// y = Π A x. `s` is scratch of length n.
-    pub(crate) fn apply(&self, x: &[f64], y: &mut [f64], s: &mut [f64]) {
+    pub(crate) fn apply(&self, x: &mut [f64], y: &mut [f64], s: &mut [f64]) {
         self.apply_blocks(x, y, s);
         self.project(y);
     }
 
     /// r = Π (b − A x). `s` is scratch of length n.
-    pub(crate) fn residual(&self, b: &[f64], x: &[f64], r: &mut [f64], s: &mut [f64]) {
+    pub(crate) fn residual(&self, b: &[f64], x: &mut [f64], r: &mut [f64], s: &mut [f64]) {
+        self.exchange(x);
         let n = self.n();
         for k in 0..self.len {
             self.level.op.residual(self.flags(k), block(b, n, k), block(x, n, k), block_mut(r, n, k), s);

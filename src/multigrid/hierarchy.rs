@@ -12,6 +12,7 @@ use super::lsq::Features;
 use super::restriction::Restriction;
 use super::slip::{self, LevelSlip};
 use super::group::GroupOp;
+use super::layout::Distribution;
 use super::smoother::estimate_lambda_max;
 use crate::bc::{check_well_posed, component_flags, BoundaryConditions, Dofs};
 use crate::mesh::quality::is_inverted;
@@ -63,6 +64,8 @@ pub struct Level {
     /// Slip walls: the constrained directions of the slip unknowns (`multigrid::slip`), built
     /// from the mesh on the finest level and inherited below; None without slip walls.
     pub slip: Option<LevelSlip>,
+    /// How the level's vectors are spread over processes (`multigrid::layout`).
+    pub(crate) layout: Distribution,
 }
 
 /// What a level computes from its mesh (everything but the mesh itself), so it can be built
@@ -83,6 +86,7 @@ impl LevelParts {
 
     fn into_level(self, mesh: Mesh, pairs: Vec<[u32; 2]>, parent_vertex: Vec<u32>) -> Level {
         let LevelParts { dofs, op, flags } = self;
+        let n = dofs.n;
         Level {
             mesh: Some(mesh),
             points: Vec::new(),
@@ -97,6 +101,7 @@ impl LevelParts {
             down: None,
             coarse: None,
             slip: None,
+            layout: Distribution::new(n),
         }
         // The slip frames may prescribe unknowns (`slip::attach`): bounds come after them.
     }
@@ -112,6 +117,7 @@ impl Level {
         let points = kept.iter().flat_map(|&d| fine_points[d as usize * dim..(d as usize + 1) * dim].iter().copied()).collect();
         let flags = fine.flags.iter().map(|f| kept.iter().map(|&d| f[d as usize]).collect()).collect();
         let op = LevelOperator::galerkin(&fine.op, &transfer.prolong, &transfer.prolong.transpose());
+        let layout = Distribution::new(kept.len());
         let mut level = Level {
             mesh: None,
             points,
@@ -126,6 +132,7 @@ impl Level {
             down: None,
             coarse: None,
             slip: None,
+            layout,
         };
         slip::attach(&mut level, Some(fine), bcs);
         level.refresh_bounds();

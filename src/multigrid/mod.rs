@@ -8,6 +8,7 @@ pub mod coarsener;
 pub mod cycle;
 pub mod group;
 pub mod hierarchy;
+mod layout;
 mod lsq;
 pub mod params;
 pub mod policy;

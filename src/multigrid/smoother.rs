@@ -4,7 +4,7 @@
 use super::group::{block, block_mut, GroupOp};
 use crate::bc::P;
 use crate::operator::{LevelOperator, Method};
-use crate::sparse::{dot, max_abs, par_update2};
+use crate::sparse::par_update2;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Smoother {
@@ -88,18 +88,22 @@ pub(crate) fn smooth(
     let (n, g) = (op.n(), op.len());
     let w = &mut w[..g];
     let coeffs: Vec<(f64, Vec<(f64, f64)>)> = (0..g).map(|k| coefficients(sm, op.lambda_max(k))).collect();
+    if start == Start::Guess {
+        op.exchange(x);
+    }
     for (k, wk) in w.iter_mut().enumerate() {
         first_step(op.problem(k), coeffs[k].0, block(b, n, k), block_mut(x, n, k), wk, start);
     }
     op.project_step(x, w);
-    let mut maxc = measured(measure, w);
+    let mut maxc = measured(op, measure, w);
     for j in 0..coeffs[0].1.len() {
+        op.exchange(x);
         for (k, wk) in w.iter_mut().enumerate() {
             let (c1, c2) = coeffs[k].1[j];
             next_step(op.problem(k), c1, c2, block(b, n, k), block_mut(x, n, k), wk);
         }
         op.project_step(x, w);
-        maxc = maxc.max(measured(measure, w));
+        maxc = maxc.max(measured(op, measure, w));
     }
     maxc
 }
@@ -125,11 +129,11 @@ fn next_step(pb: Problem, c1: f64, c2: f64, b: &[f64], x: &mut [f64], w: &mut Sc
 
 /// The largest correction of a step over the blocks' `d`, when asked (an extra pass, so only
 /// where reported).
-fn measured(measure: bool, w: &[Scratch]) -> f64 {
+fn measured(op: &GroupOp, measure: bool, w: &[Scratch]) -> f64 {
     match w {
         _ if !measure => 0.0,
-        [one] => max_abs(&one.d),
-        _ => w.iter().map(|s| max_abs(&s.d)).fold(0.0, f64::max),
+        [one] => op.max_abs(&one.d),
+        _ => w.iter().map(|s| op.max_abs(&s.d)).fold(0.0, f64::max),
     }
 }
 
@@ -179,17 +183,17 @@ pub(crate) fn estimate_lambda_max(op: &GroupOp) -> f64 {
     let (mut y, mut s) = (vec![0.0; g * n], vec![0.0; n]);
     let mut lambda = 0.0;
     for _ in 0..15 {
-        let nx = dot(&x, &x).sqrt();
+        let nx = op.norm(&x);
         if nx == 0.0 {
             return 1.0;
         }
         x.iter_mut().for_each(|v| *v /= nx);
-        op.apply_blocks(&x, &mut y, &mut s);
+        op.apply_blocks(&mut x, &mut y, &mut s);
         for k in 0..g {
             block_mut(&mut y, n, k).iter_mut().zip(op.inv_d(k)).for_each(|(y, d)| *y *= d);
         }
         op.project(&mut y);
-        lambda = dot(&y, &y).sqrt();
+        lambda = op.norm(&y);
         std::mem::swap(&mut x, &mut y);
     }
     (1.1 * lambda).clamp(0.05, 1.0)

@@ -7,7 +7,7 @@ use super::hierarchy::Hierarchy;
 pub use super::params::{Criterion, Mode, SolveParams};
 use super::policy::CycleParams;
 use super::smoother::Start;
-use crate::sparse::{axpy, dot, max_abs, par_update};
+use crate::sparse::{axpy, par_update};
 use std::ops::Range;
 
 /// What a solve did, per component or combined.
@@ -90,7 +90,8 @@ fn done(p: &SolveParams, max_corr: f64, rel: f64, scale: f64) -> bool {
 /// displacement (for the max-correction criterion).
 pub fn solve(h: &Hierarchy, comps: Range<usize>, p: &SolveParams, b: &[f64], x: &mut [f64], scale: f64) -> Report {
     let t0 = std::time::Instant::now();
-    let bnorm = dot(b, b).sqrt();
+    let lev = GroupOp::new(h.fine(), comps.clone(), false);
+    let bnorm = lev.norm(b);
     let mut rep = Report::default();
     if bnorm == 0.0 {
         x.iter_mut().for_each(|v| *v = 0.0);
@@ -98,8 +99,7 @@ pub fn solve(h: &Hierarchy, comps: Range<usize>, p: &SolveParams, b: &[f64], x: 
         return rep;
     }
     let mut ws = Workspace::new(h, comps.len());
-    let run = Run { h, comps: comps.clone(), p, b, bnorm, scale };
-    let lev = GroupOp::new(h.fine(), comps.clone(), false);
+    let run = Run { h, op: lev, comps: comps.clone(), p, b, bnorm, scale };
     let mut cp = CycleParams::resolve(h, p);
     let mut boost = 0;
     for restart in 0..=TRUE_RESIDUAL_RESTARTS {
@@ -115,7 +115,7 @@ pub fn solve(h: &Hierarchy, comps: Range<usize>, p: &SolveParams, b: &[f64], x: 
         }
         let mut r = vec![0.0; b.len()];
         lev.residual(b, x, &mut r, &mut ws.fine().s);
-        rep.rel_residual = dot(&r, &r).sqrt() / bnorm;
+        rep.rel_residual = lev.norm(&r) / bnorm;
         // PCG's updated residual drifts from the true one by rounding: a solve is converged
         // when the true residual meets the tolerance, and restarts from it while cycles remain.
         let true_ok = p.criterion != Criterion::RelativeResidual || rep.rel_residual <= p.tol;
@@ -153,6 +153,8 @@ const DIVERGED: f64 = 1e8;
 /// What both iterations share: the hierarchy, the components, the parameters and the system.
 struct Run<'a> {
     h: &'a Hierarchy,
+    /// The group's operator on the finest level.
+    op: GroupOp<'a>,
     comps: Range<usize>,
     p: &'a SolveParams,
     b: &'a [f64],
@@ -164,7 +166,7 @@ impl Run<'_> {
     /// Records cycle `k` (its largest correction and the residual `r`) in the report; true when
     /// the iteration should stop (converged or diverged).
     fn record(&self, rep: &mut Report, k: usize, max_corr: f64, r: &[f64]) -> bool {
-        let rel = dot(r, r).sqrt() / self.bnorm;
+        let rel = self.op.norm(r) / self.bnorm;
         rep.history.push((max_corr, rel));
         rep.cycles = k;
         rep.max_correction = max_corr;
@@ -176,7 +178,7 @@ impl Run<'_> {
         let Run { h, p, b, .. } = *self;
         let comps = self.comps.clone();
         let cp = CycleParams::resolve(h, p);
-        let lev = GroupOp::new(h.fine(), comps.clone(), false);
+        let lev = self.op;
         let mut r = vec![0.0; b.len()];
         for k in rep.history.len() + 1..=p.max_cycles {
             let mc = cycle(h, comps.clone(), &cp, b, x, Start::Guess, ws);
@@ -194,7 +196,7 @@ impl Run<'_> {
         let comps = self.comps.clone();
         let cp = *cp;
         let first = rep.history.len();
-        let lev = GroupOp::new(h.fine(), comps.clone(), false);
+        let lev = self.op;
         let n = b.len();
         // Three vectors: the preconditioned residual z shares q's storage (q = A dir is spent
         // once r is updated), and the products' scratch S is the fine level's, free between
@@ -202,10 +204,10 @@ impl Run<'_> {
         let (mut r, mut dir, mut q) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
         lev.residual(b, x, &mut r, &mut ws.fine().s);
         cycle(h, comps.clone(), &cp, &r, &mut dir, Start::Zero, ws);
-        let mut rz = dot(&r, &dir);
+        let mut rz = lev.dot(&r, &dir);
         for k in first + 1..=p.max_cycles {
-            lev.apply(&dir, &mut q, &mut ws.fine().s);
-            let pq = dot(&dir, &q);
+            lev.apply(&mut dir, &mut q, &mut ws.fine().s);
+            let pq = lev.dot(&dir, &q);
             if pq <= 0.0 || !pq.is_finite() {
                 // Not positive definite: the iterate is not improved by this direction. Reported
                 // (the caller turns it into an error), never taken as a zero update.
@@ -216,7 +218,7 @@ impl Run<'_> {
             let alpha = rz / pq;
             axpy(alpha, &dir, x);
             axpy(-alpha, &q, &mut r);
-            if self.record(rep, k, alpha.abs() * max_abs(&dir), &r) {
+            if self.record(rep, k, alpha.abs() * lev.max_abs(&dir), &r) {
                 return false;
             }
             let hist = &rep.history;
@@ -225,7 +227,7 @@ impl Run<'_> {
             }
             let z = &mut q;
             cycle(h, comps.clone(), &cp, &r, z, Start::Zero, ws);
-            let rz_new = dot(&r, z);
+            let rz_new = lev.dot(&r, z);
             let beta = rz_new / rz;
             rz = rz_new;
             let zr = &*z;
