@@ -5,16 +5,13 @@
 //! level's unknowns (chosen from the assembled level), and a transfer (prolongation P, fine
 //! unknowns × coarse unknowns, exact for linear fields, and its transpose) that it re-evaluates
 //! when the meshes move. The hierarchy does the rest (unknowns, flags, operators rediscretised
-//! or Galerkin PᵀKP, smoothers, coarse solve) without knowing how the levels were made. Two
-//! coarseners exist: vertex removal with a constrained Delaunay retriangulation and barycentric
-//! interpolation (2D, `coarsen`), and kept unknowns with least-squares interpolation (2D and
-//! 3D, `lsq`).
+//! or Galerkin PᵀKP, smoothers, coarse solve) without knowing how the levels were made. The
+//! coarseners implement this trait in their own modules; `multigrid::coarsener_for` picks one.
 
-use super::coarsen::{CoarseMesh, CoarsenParams, Delaunay2d};
+use super::coarsen::CoarseMesh;
 use super::hierarchy::{Level, Transfer};
-use super::lsq::{Features, LeastSquares};
-use super::params::Mode;
-use crate::{Error, Mesh, Result};
+use super::lsq::Features;
+use crate::{Mesh, Result};
 
 /// Makes the coarse levels of a hierarchy and their transfers.
 pub(crate) trait Coarsener: Send + Sync {
@@ -40,46 +37,4 @@ pub(crate) struct CoarseUnknowns {
     pub features: Features,
     /// The transfer from the fine level.
     pub transfer: Transfer,
-}
-
-/// How the coarse levels are made.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum CoarseLevels {
-    /// Kept unknowns, except in 2D in the paper-faithful mode, which keeps the paper's coarse
-    /// meshes. Kept unknowns carry graded meshes, re-referenced meshes and slip walls at the
-    /// iteration counts of uniform meshes, where coarse meshes need several times more (docs/
-    /// DESIGN.md §5 "Which route where").
-    #[default]
-    Auto,
-    /// Coarse meshes by vertex removal and a constrained Delaunay triangulation of the kept
-    /// vertices, barycentric interpolation (2D only).
-    Remeshed,
-    /// A maximal independent set of the unknowns on each level, least-squares interpolation
-    /// exact for linear fields, Galerkin coarse operators (2D and 3D).
-    LeastSquares,
-}
-
-impl CoarseLevels {
-    /// The route `Auto` stands for on meshes of dimension `dim` solved in `mode`.
-    pub(crate) fn resolve(self, dim: usize, mode: Mode) -> CoarseLevels {
-        match (self, dim, mode) {
-            (CoarseLevels::Auto, 2, Mode::PaperFaithful) => CoarseLevels::Remeshed,
-            (CoarseLevels::Auto, _, _) => CoarseLevels::LeastSquares,
-            (kind, _, _) => kind,
-        }
-    }
-}
-
-/// The coarsener for meshes of dimension `dim` (`Auto` as in the default mode).
-pub(crate) fn coarsener_for(dim: usize, kind: CoarseLevels, params: CoarsenParams) -> Result<Box<dyn Coarsener>> {
-    match (dim, kind) {
-        (2, CoarseLevels::Remeshed) => Ok(Box::new(Delaunay2d { params })),
-        (2 | 3, CoarseLevels::Auto | CoarseLevels::LeastSquares) => {
-            Ok(Box::new(LeastSquares { params }))
-        }
-        (3, CoarseLevels::Remeshed) => {
-            Err(Error::Coarsening("coarse meshes are made in 2D only; 3D meshes use kept unknowns".into()))
-        }
-        _ => Err(Error::Coarsening(format!("no coarsener for {dim}D meshes"))),
-    }
 }

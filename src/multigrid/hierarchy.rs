@@ -7,7 +7,8 @@
 
 use super::coarse_solve::CoarseSolve;
 use super::coarsen::CoarsenParams;
-use super::coarsener::{coarsener_for, CoarseLevels, CoarseUnknowns, Coarsener};
+use super::coarsener::{CoarseUnknowns, Coarsener};
+use super::{coarsener_for, CoarseLevels};
 use super::lsq::Features;
 use super::restriction::Restriction;
 use super::slip::{self, LevelSlip};
