@@ -195,22 +195,10 @@ fn orthogonal_part(v: &[f64; 3], basis: &[[f64; 3]], dim: usize) -> Option<[f64;
 /// The area vector of a boundary face (2D: the segment's right-hand normal times its length; 3D:
 /// Newell's vector, the polygon's normal times its area), pointing out of the domain.
 pub(crate) fn face_area_vector(mesh: &Mesh, vertices: &[u32]) -> [f64; 3] {
-    let p = |k: usize| -> [f64; 3] {
-        let x = mesh.point(vertices[k % vertices.len()] as usize);
+    crate::geometry::face_area_vector(mesh.dim(), vertices.len(), |k| {
+        let x = mesh.point(vertices[k] as usize);
         [x[0], x[1], if x.len() > 2 { x[2] } else { 0.0 }]
-    };
-    if mesh.dim() == 2 {
-        let (a, b) = (p(0), p(1));
-        return [b[1] - a[1], a[0] - b[0], 0.0];
-    }
-    let mut n = [0.0; 3];
-    for k in 0..vertices.len() {
-        let (a, b) = (p(k), p(k + 1));
-        n[0] += (a[1] - b[1]) * (a[2] + b[2]);
-        n[1] += (a[2] - b[2]) * (a[0] + b[0]);
-        n[2] += (a[0] - b[0]) * (a[1] + b[1]);
-    }
-    n.map(|x| 0.5 * x)
+    })
 }
 
 /// Groups area vectors into walls: a vector joins the first wall whose summed normal is within

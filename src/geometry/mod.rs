@@ -8,11 +8,13 @@
 
 mod cell_type;
 mod decomposed;
+mod face;
 pub(crate) mod rotation;
 mod simplex;
 mod tensor;
 
 pub use cell_type::{CellType, MAX_CORNERS};
+pub(crate) use face::face_area_vector;
 
 /// Up to `MAX_CORNERS` values, one per corner of a cell.
 #[derive(Clone, Copy, Debug)]

@@ -10,7 +10,6 @@
 
 use super::coarsen::CoarseMesh;
 use super::hierarchy::{Level, Transfer};
-use super::lsq::Features;
 use crate::{Mesh, Result};
 
 /// Makes the coarse levels of a hierarchy and their transfers.
@@ -19,22 +18,21 @@ pub(crate) trait Coarsener: Send + Sync {
     /// coarsener makes no meshes or coarsening should stop here. It runs beside the fine
     /// level's assembly.
     fn coarsen_mesh(&self, fine: &Mesh, links: &[[u32; 2]]) -> Result<Option<CoarseMesh>>;
-    /// The next coarser level as a subset of the assembled fine level's unknowns (it may
-    /// record the fine level's `features`), or None when this coarsener makes meshes or
-    /// coarsening should stop here.
-    fn coarsen_unknowns(&self, fine: &mut Level) -> Option<CoarseUnknowns>;
-    /// The transfer between `fine` and the `coarse` level made from it.
-    fn transfer(&self, fine: &Level, coarse: &Level) -> Transfer;
-    /// `t` re-evaluated after both levels moved (same topology).
-    fn update(&self, t: &mut Transfer, fine: &Level, coarse: &Level);
+    /// The next coarser level as a subset of the unknowns of the assembled level `l`, `fine`
+    /// (what the coarsener learns of them stays in its own state), or None when this
+    /// coarsener makes meshes or coarsening should stop here.
+    fn coarsen_unknowns(&mut self, l: usize, fine: &Level) -> Option<CoarseUnknowns>;
+    /// The transfer between level `l`, `fine`, and the `coarse` level made from it.
+    fn transfer(&mut self, l: usize, fine: &Level, coarse: &Level) -> Transfer;
+    /// `t`, the transfer below level `l`, re-evaluated after both levels moved (same
+    /// topology).
+    fn update(&self, l: usize, t: &mut Transfer, fine: &Level, coarse: &Level);
 }
 
 /// A coarse level without a mesh: some of the fine level's unknowns.
 pub(crate) struct CoarseUnknowns {
     /// The fine unknowns kept, ascending.
     pub kept: Vec<u32>,
-    /// What the coarsener knows about them (the pieces of boundary they lie on, their regions).
-    pub features: Features,
     /// The transfer from the fine level.
     pub transfer: Transfer,
 }

@@ -9,7 +9,6 @@ use super::coarse_solve::CoarseSolve;
 use super::coarsen::CoarsenParams;
 use super::coarsener::{CoarseUnknowns, Coarsener};
 use super::{coarsener_for, CoarseLevels};
-use super::lsq::Features;
 use super::restriction::Restriction;
 use super::slip::{self, LevelSlip};
 use super::group::GroupOp;
@@ -26,11 +25,7 @@ use std::sync::Arc;
 
 /// Interpolation from the next coarser level and its transpose.
 pub struct Transfer {
-    /// Where each fine unknown interpolates from, in the coarsener's terms (the 2D coarsener:
-    /// the coarse cell; its weights are in `prolong` and are recomputed from these cells when
-    /// the mesh moves).
-    pub cells: Vec<u32>,
-    /// Fine unknowns × coarse unknowns: barycentric weights in the coarse cell.
+    /// Fine unknowns × coarse unknowns: the coarsener's interpolation weights.
     pub prolong: Arc<CsrMatrix>,
     /// Its transpose, stored (pattern only, weights read from `prolong`) so restriction is a
     /// gather too.
@@ -46,9 +41,6 @@ pub struct Level {
     /// The positions of the unknowns of a level without a mesh (`dim` values each); empty
     /// otherwise (`unknown_points` derives them from the mesh).
     pub points: Vec<f64>,
-    /// What the least-squares coarsener knows of each unknown (boundary pieces, region); None
-    /// with the 2D coarse meshes.
-    pub(crate) features: Option<Features>,
     pub pairs: Vec<[u32; 2]>,
     pub dofs: Dofs,
     pub op: LevelOperator,
@@ -91,7 +83,6 @@ impl LevelParts {
         Level {
             mesh: Some(mesh),
             points: Vec::new(),
-            features: None,
             pairs,
             dofs,
             op,
@@ -112,7 +103,7 @@ impl Level {
     /// The level kept from `fine`'s unknowns `c.kept`: their flags, slip frames and positions,
     /// no mesh, the Galerkin operator.
     fn kept(fine: &Level, c: CoarseUnknowns, bcs: &BoundaryConditions) -> (Level, Transfer) {
-        let CoarseUnknowns { kept, features, transfer } = c;
+        let CoarseUnknowns { kept, transfer } = c;
         let fine_points = fine.unknown_points();
         let dim = fine.dim();
         let points = kept.iter().flat_map(|&d| fine_points[d as usize * dim..(d as usize + 1) * dim].iter().copied()).collect();
@@ -122,7 +113,6 @@ impl Level {
         let mut level = Level {
             mesh: None,
             points,
-            features: Some(features),
             pairs: Vec::new(),
             dofs: Dofs::identity(kept.len()),
             op,
@@ -211,11 +201,10 @@ pub enum CoarseOperator {
     /// Galerkin for the spring analogy, rediscretised otherwise.
     ///
     /// Rediscretised spring operators are far too soft on coarse levels (their 1/L² weights
-    /// shrink 4× per level): CG diverges on the free surface and takes 123 iterations on the
-    /// wall layer of the boundary-layer cylinder, where Galerkin takes 5 (free surface 66k /
-    /// 266k vertices: 4 / 5). The biharmonic and Laplacian converge
-    /// as fast rediscretised (12 / 8 / 9 and 5 / 5 / 5) and their solves are 1.4–1.6× cheaper
-    /// that way (sparser coarse operators), so they keep docs/DESIGN.md §5's rediscretisation.
+    /// shrink fourfold per level): CG diverges or stalls with them, and converges in a few
+    /// iterations with Galerkin ones. The biharmonic and Laplacian converge as fast
+    /// rediscretised and their solves are cheaper that way (sparser coarse operators), so they
+    /// keep docs/DESIGN.md §5's rediscretisation (measurements in docs/perf-history.md).
     #[default]
     Auto,
     /// K and V rediscretised on the coarse mesh (docs/DESIGN.md §5).
@@ -271,7 +260,7 @@ impl Hierarchy {
         method: Method,
         params: &HierarchyParams,
     ) -> Result<Hierarchy> {
-        let coarsener = coarsener_for(mesh.dim(), params.coarse_levels, params.coarsen)?;
+        let mut coarsener = coarsener_for(mesh.dim(), params.coarse_levels, params.coarsen)?;
         let galerkin = params.coarse_operator.galerkin(method);
         let mut levels: Vec<Level> = Vec::new();
         let (mut mesh, mut pairs, mut parent_vertex) = (mesh.clone(), pairs, Vec::new());
@@ -287,10 +276,11 @@ impl Hierarchy {
             let mut level = parts.into_level(mesh, pairs, parent_vertex);
             slip::attach(&mut level, levels.last(), bcs);
             level.refresh_bounds();
+            let l = levels.len();
             match levels.last_mut() {
                 None => check_well_posed(&level.op.k, &level.flags, &level.dofs, level.slip.as_ref().map(|s| &s.frames))?,
                 Some(fine) => {
-                    let down = coarsener.transfer(fine, &level);
+                    let down = coarsener.transfer(l - 1, fine, &level);
                     if galerkin {
                         level.op = LevelOperator::galerkin(&fine.op, &down.prolong, &down.prolong.transpose());
                         level.refresh_bounds();
@@ -306,12 +296,12 @@ impl Hierarchy {
         }
         // Levels of kept unknowns.
         while levels.len() < params.max_levels {
-            let fine = levels.last_mut().expect("the finest level");
-            let Some(c) = coarsener.coarsen_unknowns(fine) else {
+            let l = levels.len() - 1;
+            let Some(c) = coarsener.coarsen_unknowns(l, &levels[l]) else {
                 break;
             };
-            let (level, down) = Level::kept(fine, c, bcs);
-            fine.down = Some(down);
+            let (level, down) = Level::kept(&levels[l], c, bcs);
+            levels[l].down = Some(down);
             levels.push(level);
         }
         let mut h = Hierarchy { levels, method, galerkin, fresh: true, coarsener };
@@ -401,7 +391,7 @@ impl Hierarchy {
                 let (upper, rest) = self.levels.split_at_mut(l);
                 let (fine, coarse) = (&mut upper[l - 1], &mut rest[0]);
                 let mut down = fine.down.take().expect("not the coarsest level");
-                self.coarsener.update(&mut down, fine, coarse);
+                self.coarsener.update(l - 1, &mut down, fine, coarse);
                 fine.down = Some(down);
                 let down = fine.down.as_ref().expect("just put back");
                 if self.galerkin || coarse.mesh.is_none() {

@@ -54,10 +54,8 @@ impl CoarseLevels {
 /// The coarsener for meshes of dimension `dim` (`Auto` as in the default mode).
 pub(crate) fn coarsener_for(dim: usize, kind: CoarseLevels, params: CoarsenParams) -> Result<Box<dyn Coarsener>> {
     match (dim, kind) {
-        (2, CoarseLevels::Remeshed) => Ok(Box::new(Delaunay2d { params })),
-        (2 | 3, CoarseLevels::Auto | CoarseLevels::LeastSquares) => {
-            Ok(Box::new(LeastSquares { params }))
-        }
+        (2, CoarseLevels::Remeshed) => Ok(Box::new(Delaunay2d::new(params))),
+        (2 | 3, CoarseLevels::Auto | CoarseLevels::LeastSquares) => Ok(Box::new(LeastSquares::new(params))),
         (3, CoarseLevels::Remeshed) => {
             Err(Error::Coarsening("coarse meshes are made in 2D only; 3D meshes use kept unknowns".into()))
         }

@@ -14,9 +14,8 @@ pub enum Smoother {
     Chebyshev { degree: usize, lower_ratio: f64 },
     /// Fourth-kind Chebyshev polynomial of D⁻¹A of `degree` (Lottes 2023, "Optimal polynomial
     /// smoothers for multigrid V-cycles"): it damps all of (0, λmax] with weight on the high end,
-    /// so it needs no lower bound. Measured (CG iterations, biharmonic, degree 4 on every level):
-    /// the first kind on [λmax/10, λmax] stalls on the boundary-layer cylinder's wall layer (200,
-    /// unconverged); the fourth kind converges in 20 and keeps the free surface at 10–11.
+    /// so it needs no lower bound: on the boundary-layer cylinder's wall layer it converges where
+    /// the first kind stalls (docs/perf-history.md).
     Fourth { degree: usize },
 }
 
@@ -154,7 +153,7 @@ pub(super) fn first_kind(lambda_max: f64, degree: usize, lower_ratio: f64) -> (f
 }
 
 /// Coefficients of the fourth-kind recurrence with ρ = λmax (Lottes 2023, Alg. 3 with all
-/// β = 1; the "optimised" β of that paper took 1–4 more CG iterations here):
+/// β = 1; the "optimised" β of that paper took more CG iterations here, docs/perf-history.md):
 /// d₀ = 4/(3ρ) D⁻¹r₀, d_k = (2k−1)/(2k+3) d_{k−1} + (8k+4)/((2k+3)ρ) D⁻¹r_k.
 pub(super) fn fourth_kind(rho: f64, degree: usize) -> (f64, impl Iterator<Item = (f64, f64)>) {
     let steps = (1..degree).map(move |k| {

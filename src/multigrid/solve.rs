@@ -135,11 +135,10 @@ pub fn solve(h: &Hierarchy, comps: Range<usize>, p: &SolveParams, b: &[f64], x: 
 const TRUE_RESIDUAL_RESTARTS: usize = 2;
 
 /// PCG counts as stalled when, after `STALL_AFTER` iterations, the residual fell by less than
-/// this over the last `STALL_SPAN` (a rate above 0.72 per iteration; healthy solves run at
-/// 0.1–0.25). Measured case: the free surface re-meshed at half its biharmonic motion (min
-/// angle 7.7°, tests/convergence.rs) stalls at degree 6 (76k vertices: 500 iterations to 1e-5)
-/// and converges at degree 10 in 18 and degree 16 in 10: distorted cells need stronger
-/// smoothing, as the boundary-layer cylinder's wall layer did.
+/// this over the last `STALL_SPAN` (a rate per iteration well above a healthy solve's). The
+/// free surface re-meshed at half its biharmonic motion (tests/convergence.rs) stalls at the
+/// default degree and converges at higher ones: distorted cells need stronger smoothing
+/// (docs/perf-history.md, step 9).
 const STALL: f64 = 0.2;
 const STALL_AFTER: usize = 10;
 const STALL_SPAN: usize = 5;

@@ -5,8 +5,7 @@
 //! (`bc/numbering.rs`) keeps within the bandwidth `bw` of i. So S can be computed `bw` rows ahead
 //! of the second pass, and row i of K is read a second time while it is still in cache instead
 //! of from memory. A pass over K is bound by its arithmetic about as much as by memory, so the
-//! gain is modest: a 1.06M-vertex biharmonic solve is about 1.1× faster than with two passes
-//! (docs/perf-history.md, step 13).
+//! gain is modest on large meshes (docs/perf-history.md, step 13).
 //!
 //! In parallel the rows are cut into chunks of at least 2·`bw`. S next to a chunk's edges reads
 //! the iterate of the neighbouring chunk, which a smoothing step updates in place, so those S
@@ -21,9 +20,8 @@ use crate::bc::P;
 use crate::sparse::CsrMatrix;
 use rayon::prelude::*;
 
-/// Levels below this many rows keep the plain passes: below ≈ ½M rows K stays mostly in a 32 MiB
-/// L3 cache between the two passes, and fusing them gains nothing (266k vertices: 0.96–1.01×,
-/// against 1.1× at 1.06M).
+/// Levels below this many rows keep the plain passes: below that K stays mostly in a 32 MiB L3
+/// cache between the two passes, and fusing them gains nothing (docs/perf-history.md, step 13).
 const FUSE_MIN_ROWS: usize = 1 << 19;
 /// Rows of the second pass per block; S runs `bw` rows ahead of the block.
 const BLOCK: usize = 4096;

@@ -28,6 +28,15 @@ use triangulate::triangulate;
 /// interpolation in the coarse triangles.
 pub(crate) struct Delaunay2d {
     pub(crate) params: CoarsenParams,
+    /// Per level, the coarse cell each fine unknown interpolates from (its weights are
+    /// recomputed in these cells when the mesh moves).
+    cells: Vec<Vec<u32>>,
+}
+
+impl Delaunay2d {
+    pub(crate) fn new(params: CoarsenParams) -> Self {
+        Delaunay2d { params, cells: Vec::new() }
+    }
 }
 
 impl Coarsener for Delaunay2d {
@@ -35,24 +44,25 @@ impl Coarsener for Delaunay2d {
         coarsen(fine, links, &self.params)
     }
 
-    fn coarsen_unknowns(&self, _fine: &mut Level) -> Option<CoarseUnknowns> {
+    fn coarsen_unknowns(&mut self, _l: usize, _fine: &Level) -> Option<CoarseUnknowns> {
         None
     }
 
     /// Locates the unknowns of `fine` in the cells of `coarse`. Runs with every finer level
     /// alive, so its temporaries (points, locations) go as soon as they are used.
-    fn transfer(&self, fine: &Level, coarse: &Level) -> Transfer {
+    fn transfer(&mut self, l: usize, fine: &Level, coarse: &Level) -> Transfer {
         let locs = locate::locate(coarse.mesh(), &dof_points(fine), &fine.dof_regions());
         let prolong = Arc::new(prolongation(coarse, &locs));
-        let cells = locs.iter().map(|l| l.cell).collect();
+        self.cells.resize_with(self.cells.len().max(l + 1), Vec::new);
+        self.cells[l] = locs.iter().map(|l| l.cell).collect();
         drop(locs);
         let restrict = Restriction::new(Arc::clone(&prolong));
-        Transfer { cells, prolong, restrict }
+        Transfer { prolong, restrict }
     }
 
     /// New weights in the same coarse cells, for the fine unknowns at their new positions.
-    fn update(&self, t: &mut Transfer, fine: &Level, coarse: &Level) {
-        let mut locs: Vec<Location> = t.cells.iter().map(|&cell| Location { cell, weights: [0.0; 3] }).collect();
+    fn update(&self, l: usize, t: &mut Transfer, fine: &Level, coarse: &Level) {
+        let mut locs: Vec<Location> = self.cells[l].iter().map(|&cell| Location { cell, weights: [0.0; 3] }).collect();
         locate::update_weights(coarse.mesh(), &dof_points(fine), &mut locs);
         t.prolong = Arc::new(prolongation(coarse, &locs));
         drop(locs);
@@ -101,9 +111,8 @@ pub struct CoarsenParams {
     pub corner_angle_deg: f64,
     /// Coarsening by kept unknowns stops at a level of at most this many unknowns: the
     /// coarsest level's dense solve is cheap there, and smaller Galerkin levels are nearly
-    /// dense. None: 150 in 2D, 400 in 3D (measured: the same iterations with 60, 150 and 400
-    /// in 2D, where 150 saves a tenth of the memory on small meshes; in 3D a graded sphere of
-    /// 226k vertices needs 34 iterations with 150 and 24 with 400).
+    /// dense. None: 150 in 2D, 400 in 3D (docs/DESIGN.md §5 "Coarse levels" gives the
+    /// measurements behind them).
     pub coarsest_unknowns: Option<usize>,
 }
 

@@ -207,26 +207,10 @@ fn is_subset(a: &[u32], b: &[u32]) -> bool {
     a.iter().all(|x| b.binary_search(x).is_ok())
 }
 
-/// The unit normal of a patch face: a segment's right-hand normal in 2D, Newell's normal of a
-/// polygon in 3D.
+/// The unit normal of a patch face (`bc::face_area_vector` normalised: scaling by ½ is exact,
+/// so the unit vector does not depend on it).
 fn unit_normal(mesh: &Mesh, vs: &[u32]) -> [f64; 3] {
-    let p = |k: usize| {
-        let q = mesh.point(vs[k % vs.len()] as usize);
-        [q[0], q[1], if q.len() > 2 { q[2] } else { 0.0 }]
-    };
-    let n = if mesh.dim() == 2 {
-        let (a, b) = (p(0), p(1));
-        [b[1] - a[1], a[0] - b[0], 0.0]
-    } else {
-        let mut n = [0.0; 3];
-        for k in 0..vs.len() {
-            let (a, b) = (p(k), p(k + 1));
-            n[0] += (a[1] - b[1]) * (a[2] + b[2]);
-            n[1] += (a[2] - b[2]) * (a[0] + b[0]);
-            n[2] += (a[0] - b[0]) * (a[1] + b[1]);
-        }
-        n
-    };
+    let n = crate::bc::face_area_vector(mesh, vs);
     let l = dot(n, n).sqrt();
     if l > 0.0 {
         [n[0] / l, n[1] / l, n[2] / l]

@@ -28,6 +28,15 @@ use std::sync::Arc;
 /// The coarsener whose coarse levels are subsets of the fine unknowns.
 pub(crate) struct LeastSquares {
     pub(crate) params: CoarsenParams,
+    /// Per level, what the coarsener knows of its unknowns (the pieces of boundary they lie
+    /// on, their regions): built from the mesh of the last level that has one, subsets below.
+    features: Vec<Features>,
+}
+
+impl LeastSquares {
+    pub(crate) fn new(params: CoarsenParams) -> Self {
+        LeastSquares { params, features: Vec::new() }
+    }
 }
 
 impl Coarsener for LeastSquares {
@@ -35,44 +44,48 @@ impl Coarsener for LeastSquares {
         Ok(None)
     }
 
-    fn coarsen_unknowns(&self, fine: &mut Level) -> Option<CoarseUnknowns> {
+    fn coarsen_unknowns(&mut self, l: usize, fine: &Level) -> Option<CoarseUnknowns> {
         let n = fine.n();
         if n <= self.params.coarsest_unknowns_for(fine.dim()).max(self.params.min_vertices) {
             return None;
         }
-        if fine.features.is_none() {
-            let mesh = fine.mesh.as_ref().expect("the finest level has a mesh");
-            let regions = fine.dof_regions();
-            fine.features =
-                Some(Features::build(mesh, &fine.dofs, &fine.pairs, regions, self.params.corner_angle_deg));
+        if self.features.len() < l {
+            return None;
         }
-        let features = fine.features.as_ref().expect("just built");
+        if self.features.len() == l {
+            let mesh = fine.mesh.as_ref()?;
+            let regions = fine.dof_regions();
+            self.features.push(Features::build(mesh, &fine.dofs, &fine.pairs, regions, self.params.corner_angle_deg));
+        }
+        self.features.truncate(l + 1);
+        let features = &self.features[l];
         let points = fine.unknown_points();
         let kept = select(&fine.op.k, features, &points);
         let nc = kept.len();
         if nc < self.params.min_vertices || (n as f64) < self.params.min_ratio * nc as f64 {
             return None;
         }
-        let features = features.subset(&kept);
-        let transfer = transfer(fine, &kept);
-        Some(CoarseUnknowns { kept, features, transfer })
+        let transfer = transfer(fine, features, &kept);
+        let coarse = features.subset(&kept);
+        self.features.push(coarse);
+        Some(CoarseUnknowns { kept, transfer })
     }
 
-    fn transfer(&self, fine: &Level, coarse: &Level) -> Transfer {
-        transfer(fine, &coarse.parent_vertex)
+    fn transfer(&mut self, l: usize, fine: &Level, coarse: &Level) -> Transfer {
+        transfer(fine, &self.features[l], &coarse.parent_vertex)
     }
 
-    fn update(&self, t: &mut Transfer, fine: &Level, coarse: &Level) {
-        t.prolong = Arc::new(weights::prolongation(fine, &coarse.parent_vertex));
+    fn update(&self, l: usize, t: &mut Transfer, fine: &Level, coarse: &Level) {
+        t.prolong = Arc::new(weights::prolongation(fine, &self.features[l], &coarse.parent_vertex));
         t.restrict = Restriction::new(Arc::clone(&t.prolong));
     }
 }
 
-/// The transfer from `fine` to its unknowns `kept`.
-fn transfer(fine: &Level, kept: &[u32]) -> Transfer {
-    let prolong = Arc::new(weights::prolongation(fine, kept));
+/// The transfer from `fine`, whose unknowns have the features `f`, to its unknowns `kept`.
+fn transfer(fine: &Level, f: &Features, kept: &[u32]) -> Transfer {
+    let prolong = Arc::new(weights::prolongation(fine, f, kept));
     let restrict = Restriction::new(Arc::clone(&prolong));
-    Transfer { cells: Vec::new(), prolong, restrict }
+    Transfer { prolong, restrict }
 }
 
 /// The kept unknowns, ascending: a maximal independent set of the strong couplings of K's graph

@@ -24,8 +24,7 @@ const MAX_ABS_SUM: f64 = 2.0;
 /// P: fine unknowns × the coarse unknowns `kept` (fine numbering, ascending), donors and weights
 /// chosen at the current positions (a moved mesh may need other donors: a set that lay in the
 /// plane of its unknown, across a thin layer, no longer does).
-pub(super) fn prolongation(fine: &Level, kept: &[u32]) -> CsrMatrix {
-    let f = fine.features.as_ref().expect("a least-squares level has features");
+pub(super) fn prolongation(fine: &Level, f: &Features, kept: &[u32]) -> CsrMatrix {
     let points = fine.unknown_points();
     let dim = f.dim();
     let n = fine.n();
