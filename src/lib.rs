@@ -61,9 +61,9 @@ pub use geometry::CellType;
 pub use mesh::{IndexBase, Mesh, MeshData, MeshError, PatchFace, Quality};
 pub use motion::{Motion, RigidMotion};
 pub use multigrid::coarsen::CoarsenParams;
-pub use multigrid::CoarseLevels;
 pub use multigrid::hierarchy::{CoarseOperator, HierarchyParams};
 pub use multigrid::solve::{Criterion, Mode, Report, SolveParams};
+pub use multigrid::CoarseLevels;
 pub use operator::Method;
 pub use solver::{Options, ReferenceMode, Solution, Solver, StepReport};
 
