@@ -1,5 +1,5 @@
-//! The multigrid hierarchy: per level its unknowns, flags, operator and the transfer to the next
-//! coarser level (docs/DESIGN.md §5). The finest level has the user's mesh; a coarse level has
+//! The multigrid hierarchy: per level its unknowns, flags, operator, smoother bounds, layout and
+//! the transfer to the next coarser level (docs/DESIGN.md §5). The finest level has the user's mesh; a coarse level has
 //! a coarse mesh (2D) or is a subset of the finer level's unknowns without a mesh.
 //!
 //! Coarse vertices and unknowns are a subset of the fine ones, so when the fine mesh moves the
@@ -32,8 +32,9 @@ pub struct Transfer {
     pub restrict: Restriction,
 }
 
-/// One level of the hierarchy. Per-component data (`flags`, `inv_d`, `lambda_max`, `coarse`)
-/// has one entry per component of the displacement.
+/// One level of the hierarchy. Per-component data (`flags`, `inv_d`, `lambda_max`) has one
+/// entry per component of the displacement; the coarsest level's `coarse` has one solve per
+/// group. What a coarsener knows of the level stays in the coarsener.
 pub struct Level {
     /// The level's mesh: the user's on the finest level, a coarse mesh from a coarsener that
     /// makes them; None on a level of kept unknowns.
