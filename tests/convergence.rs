@@ -61,7 +61,7 @@ fn cycle_counts_paper_faithful_and_default() {
 #[test]
 fn a_stalled_solve_strengthens_its_smoother_and_converges() {
     let s = free_surface_case("fs", 1.0 / 128.0, 0.25, 1);
-    let mesh = s.mesh.refine_uniform();
+    let mesh = s.mesh.refined().unwrap();
     let mut motion = Motion::zero(&mesh);
     for v in mesh.patch_vertices(FS_TOP) {
         let x = mesh.point(v as usize)[0];

@@ -4,9 +4,11 @@
 //! corner Jacobians, the stiffness ∫∇φ_i·∇φ_j, the lumped mass ∫φ_i, angles) come from the
 //! module of its family: `simplex` (P1 triangles and tetrahedra) and `tensor` (Q1 quads and
 //! hexahedra); wedges and pyramids are averaged decompositions into tetrahedra (`decomposed`).
-//! Rotations in D dimensions are in `rotation`.
+//! Rotations in D dimensions are in `rotation`; closest points on boundary simplices in
+//! `closest`.
 
 mod cell_type;
+pub(crate) mod closest;
 mod decomposed;
 pub(crate) mod rotation;
 mod simplex;

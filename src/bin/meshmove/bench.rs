@@ -587,7 +587,7 @@ pub fn run(a: &Args) -> Result<(), String> {
         if 4 * nv > a.max_vertices || !more {
             break;
         }
-        mesh = case.mesh.refine_uniform();
+        mesh = case.mesh.refined().map_err(|e| e.to_string())?;
     }
     for &n in &boxes {
         let nv = (n + 1).pow(3);

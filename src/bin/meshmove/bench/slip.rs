@@ -23,7 +23,7 @@ pub fn run(out: &Path, max_vertices: usize, tol: f64) -> Result<String, String> 
     let setups = [Kind::Fixed, Kind::Slip].map(|k| cylinder_channel_far(1.0 / 12.0, k));
     let mut meshes = vec![setups[0].mesh.clone()];
     while meshes.last().map_or(0, |m| 4 * m.num_vertices()) <= max_vertices {
-        let next = meshes.last().expect("one").refine_uniform();
+        let next = meshes.last().expect("one").refined().map_err(|e| e.to_string())?;
         meshes.push(next);
     }
     let routes = [("kept", CoarseLevels::Auto), ("meshes", CoarseLevels::Remeshed)];
