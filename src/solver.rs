@@ -694,7 +694,8 @@ fn group_name(comps: Range<usize>) -> String {
 /// docs/DESIGN.md §4: on a CLAMPED patch moving rigidly, S_b = (1/V_b) Σ_j K_bj (d_j − L_j); the K L part
 /// is returned as a source, so the held spacing rotates with the body. Every unknown of a patch
 /// vertex gets it (a vertex split per region has one per side).
-pub(crate) fn rigid_flux(h: &Hierarchy, bcs: &BoundaryConditions, motion: &Motion, c: usize) -> Option<Vec<f64>> {
+#[doc(hidden)]
+pub fn rigid_flux(h: &Hierarchy, bcs: &BoundaryConditions, motion: &Motion, c: usize) -> Option<Vec<f64>> {
     let lev = h.fine();
     if lev.op.method != Method::Biharmonic {
         return None;

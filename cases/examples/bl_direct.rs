@@ -1,10 +1,10 @@
 //! Diagnosis (RESULTS.md): the boundary-layer cylinder solved by a dense direct solve of the same
 //! discrete system, to tell whether a tangle is the method's or the multigrid's (which stalls).
 use meshmove::bc::P;
-use meshmove::cases::setups::*;
 use meshmove::dense::Cholesky;
 use meshmove::mesh::quality;
 use meshmove::{Kind, Method, Options, Solver};
+use meshmove_cases::setups::*;
 fn main() {
     let s = case("boundary_layer_cylinder", Scale::Paper).unwrap();
     for method in [Method::Spring, Method::Biharmonic, Method::Laplacian] {
@@ -67,7 +67,7 @@ fn main() {
         }
         let moved: Vec<f64> = s.mesh.coords().iter().zip(&disp).map(|(a, b)| *a + *b).collect();
         let q = quality(&s.mesh, &moved);
-        let pm = meshmove::cases::report::patch_measures(&s.mesh, &moved, s.moved_patch, None);
+        let pm = meshmove_cases::report::patch_measures(&s.mesh, &moved, s.moved_patch, None);
         let mg = solver.solve(&s.motion).unwrap();
         let err = mg
             .displacement

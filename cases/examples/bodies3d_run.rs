@@ -1,10 +1,10 @@
 //! The 3D body cases (sphere channel, pitching spheroid) with every method, as a table:
-//! `cargo run --release --example bodies3d_run [quick|paper] [case filter] [method filter]`
+//! `cargo run --release -p meshmove-cases --example bodies3d_run [quick|paper] [case filter] [method filter]`
 //! (docs/RESULTS.md).
-use meshmove::cases::ogrid::{measure, OG_BODY};
-use meshmove::cases::report::{method_name, run_case, METHODS};
-use meshmove::cases::setups::{case, Scale};
 use meshmove::Options;
+use meshmove_cases::ogrid::{measure, OG_BODY};
+use meshmove_cases::report::{method_name, run_case, METHODS};
+use meshmove_cases::setups::{case, Scale};
 
 fn main() {
     let scale = if std::env::args().nth(1).as_deref() == Some("quick") { Scale::Quick } else { Scale::Paper };

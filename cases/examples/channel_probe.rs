@@ -1,6 +1,6 @@
-use meshmove::cases::report::*;
-use meshmove::cases::setups::*;
 use meshmove::Options;
+use meshmove_cases::report::*;
+use meshmove_cases::setups::*;
 fn main() {
     for h in [1.0 / 8.0, 1.0 / 12.0, 1.0 / 16.0, 1.0 / 24.0] {
         let s = cylinder_channel_case(h);

@@ -1,8 +1,8 @@
 //! Which runs of the demo reached the tolerance: per case and method, steps not converged and the
 //! worst final relative residual (docs/RESULTS.md).
-use meshmove::cases::report::*;
-use meshmove::cases::setups::*;
 use meshmove::Options;
+use meshmove_cases::report::*;
+use meshmove_cases::setups::*;
 fn main() {
     for name in CASE_NAMES {
         let s = case(name, Scale::Paper).unwrap();

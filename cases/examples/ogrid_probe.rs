@@ -1,6 +1,6 @@
-//! Sizes and quality of the O-grid meshes (src/cases/ogrid.rs):
-//! `cargo run --release --example ogrid_probe`; with `worst`, the spheroid's worst cells.
-use meshmove::cases::ogrid::*;
+//! Sizes and quality of the O-grid meshes (cases/src/ogrid.rs):
+//! `cargo run --release -p meshmove-cases --example ogrid_probe`; with `worst`, the spheroid's worst cells.
+use meshmove_cases::ogrid::*;
 use std::time::Instant;
 
 fn show(name: &str, p: &OgridParams) {

@@ -1,10 +1,10 @@
-//! The runs whose multigrid did not converge (examples/convergence_check.rs), redone with the
+//! The runs whose multigrid did not converge (cases/examples/convergence_check.rs), redone with the
 //! exact discrete solve of every step (`report::run_case_reference`): is the result the method's
 //! or the solver's? (docs/RESULTS.md)
-use meshmove::cases::report::*;
-use meshmove::cases::setups::*;
 use meshmove::mesh::quality;
 use meshmove::Method;
+use meshmove_cases::report::*;
+use meshmove_cases::setups::*;
 fn main() {
     for name in ["free_surface_a0.25_10steps", "deforming_interface_A", "deforming_interface_B"] {
         let s = case(name, Scale::Paper).unwrap();

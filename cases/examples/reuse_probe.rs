@@ -2,10 +2,10 @@
 //! the solver re-evaluating its hierarchy on the moved mesh (`advance`, the default), and a new
 //! solver built on every step's mesh. Prints cycles and seconds of both.
 //!
-//! `cargo run --release --example reuse_probe`
+//! `cargo run --release -p meshmove-cases --example reuse_probe`
 
-use meshmove::cases::setups::{free_surface_case, interface_case, CaseSetup};
 use meshmove::{InterfaceVariant, Method, Options, Solver};
+use meshmove_cases::setups::{free_surface_case, interface_case, CaseSetup};
 use std::time::Instant;
 
 fn reused(setup: &CaseSetup, method: Method) -> (usize, f64) {

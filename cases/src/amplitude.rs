@@ -8,10 +8,10 @@
 //! solves.
 
 use super::setups::CaseSetup;
-use crate::mesh::quality::inverted_cells;
-use crate::operator::Method;
-use crate::solver::{Options, Solver};
-use crate::{Error, Result};
+use meshmove::mesh::quality::inverted_cells;
+use meshmove::solver::{Options, Solver};
+use meshmove::Method;
+use meshmove::{Error, Result};
 use std::time::Instant;
 
 /// What [`largest_valid_amplitude`] finds.

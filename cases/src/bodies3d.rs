@@ -2,10 +2,10 @@
 //! square channel and a prolate spheroid pitched about its centre.
 
 use super::ogrid::{sphere_in_box, OgridParams, OG_BODY, OG_WALL};
-use super::setups::{CaseSetup, Scale};
-use crate::bc::{BoundaryConditions, Kind};
-use crate::mesh::Mesh;
-use crate::motion::{Motion, RigidMotion};
+use super::setup::{CaseSetup, Scale};
+use meshmove::bc::{BoundaryConditions, Kind};
+use meshmove::mesh::Mesh;
+use meshmove::motion::{Motion, RigidMotion};
 
 /// [`sphere_channel_mesh`]: the sphere's centre.
 pub const SPHERE_CENTER: [f64; 3] = [2.0, 0.0, 0.0];

@@ -4,7 +4,7 @@
 
 use super::meshes3d::{self, BOX_BACK, BOX_FRONT, BOX_LEFT, BOX_RIGHT};
 pub use super::meshes3d::{BoxCells, BOX_BOTTOM, BOX_TOP};
-use crate::mesh::Mesh;
+use meshmove::mesh::Mesh;
 
 /// The four sides of [`structured_box`] and the axis each is normal to.
 pub const BOX_SIDES: [(i32, usize); 4] = [(BOX_LEFT, 0), (BOX_RIGHT, 0), (BOX_FRONT, 1), (BOX_BACK, 1)];

@@ -5,7 +5,7 @@
 //! by angle about their centroid (exact for a convex cell with planar faces; for a warped
 //! hexahedron face or an inverted cell it is the picture's approximation).
 
-use crate::mesh::Mesh;
+use meshmove::mesh::Mesh;
 
 /// The two axes a section of the plane normal to `axis` is drawn in: (horizontal, vertical) =
 /// (y, z) for x, (x, z) for y, (x, y) for z.
@@ -134,7 +134,7 @@ pub fn plane_through_patch(mesh: &Mesh, axis: usize, patch: i32) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::cases::meshes3d::{structured_box, BoxCells, BOX_TOP};
+    use crate::meshes3d::{structured_box, BoxCells, BOX_TOP};
 
     /// The sum of the polygon's signed area (shoelace).
     fn area(poly: &[[f64; 2]]) -> f64 {

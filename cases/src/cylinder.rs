@@ -3,8 +3,8 @@
 use super::cdt::{mesh_domain, mesh_lattice, Loop, Planar};
 use super::free_surface::rect_loop;
 use super::meshes::to_mesh;
-use crate::mesh::Mesh;
 use glam::DVec2;
+use meshmove::mesh::Mesh;
 use std::f64::consts::PI;
 
 /// [`cylinder_channel`]: the four channel walls (y = ±1, x = 0, x = 8).
@@ -173,7 +173,7 @@ mod tests {
         let c = m.points_2d();
         let r_out = ring_radius(BL_LAYERS);
         // Unstructured part: cells with a vertex outside the layer.
-        let angles = crate::mesh::quality::min_angles(&m, m.coords());
+        let angles: Vec<f64> = (0..m.num_cells()).map(|c| crate::ogrid::cell_min_angle(&m, c)).collect();
         let unstructured_min = m
             .tris()
             .iter()

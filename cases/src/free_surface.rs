@@ -2,8 +2,8 @@
 
 use super::cdt::{mesh_lattice, Loop, Planar};
 use super::meshes::{lerp_step, to_mesh};
-use crate::mesh::Mesh;
 use glam::DVec2;
+use meshmove::mesh::Mesh;
 
 /// [`free_surface`]: the bottom, y = −1.
 pub const FS_BOTTOM: i32 = 1;

@@ -5,8 +5,8 @@
 
 use super::cylinder::boundary_layer_parts;
 use super::meshes::{lerp_step, RECT_BOTTOM, RECT_LEFT, RECT_RIGHT, RECT_TOP};
-use crate::geometry::CellType;
-use crate::mesh::MeshData;
+use meshmove::geometry::CellType;
+use meshmove::mesh::MeshData;
 
 /// [x0, x1] × [y0, y1] (`bounds` = [x0, x1, y0, y1]) as (nx + 1)(ny + 1) vertices, vertex (i, j)
 /// at index j (nx + 1) + i, and nx ny counter-clockwise quads, row by row from (0, 0). Tagged
@@ -57,7 +57,7 @@ pub fn boundary_layer_cylinder_hybrid() -> MeshData {
 mod tests {
     use super::super::meshes::{boundary_layer_cylinder, BL_CYLINDER, BL_FAR, BL_LAYERS, BL_N_THETA};
     use super::*;
-    use crate::mesh::quality::signed_measures;
+    use meshmove::mesh::signed_measures;
 
     /// Twice the signed area of the triangle (a, b, c).
     fn cross(a: &[f64], b: &[f64], c: &[f64]) -> f64 {

@@ -5,8 +5,8 @@
 //! the `pub const`s below; boundary edges are all tagged, so patch 0 is never used.
 
 use super::cdt::Planar;
-use crate::mesh::{IndexBase, Mesh};
 use glam::DVec2;
+use meshmove::mesh::{IndexBase, Mesh};
 
 pub use super::cylinder::{
     boundary_layer_cylinder, cylinder_channel, ellipse_in_box, BL_CYLINDER, BL_FAR, BL_FIRST_HEIGHT, BL_GROWTH,
@@ -76,15 +76,15 @@ pub(super) fn to_mesh(p: &Planar, regions: Option<&[i32]>, what: &str) -> Mesh {
 
 #[cfg(test)]
 pub(super) mod test_util {
-    use crate::mesh::quality::signed_measures;
-    use crate::mesh::Mesh;
+    use meshmove::mesh::signed_measures;
+    use meshmove::mesh::Mesh;
 
     pub fn total_area(m: &Mesh) -> f64 {
         signed_measures(m, m.coords()).iter().sum()
     }
 
     pub fn min_angle(m: &Mesh) -> f64 {
-        crate::mesh::quality::quality(m, m.coords()).min_angle_deg
+        meshmove::mesh::quality::quality(m, m.coords()).min_angle_deg
     }
 
     /// (min, mean, max) edge length.

@@ -6,8 +6,8 @@
 //! 1, right 2, top 3, left 4) with the two y sides added (5, 6).
 
 use super::meshes::lerp_step;
-use crate::geometry::CellType;
-use crate::mesh::MeshData;
+use meshmove::geometry::CellType;
+use meshmove::mesh::MeshData;
 use std::collections::HashMap;
 
 /// Box meshes: the bottom, z = z0.

@@ -37,8 +37,8 @@
 //! [`OgridPlan::num_vertices`] gives the exact count without building the mesh;
 //! [`sphere_with_vertices`] and [`cylinder_with_vertices`] pick the wall size for a wanted count.
 
-use crate::geometry::{CellPoints, CellType};
-use crate::mesh::{Mesh, MeshData};
+use meshmove::geometry::{CellPoints, CellType};
+use meshmove::mesh::{Mesh, MeshData};
 use std::collections::HashMap;
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_4};
 

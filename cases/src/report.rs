@@ -2,12 +2,12 @@
 //! (docs/DESIGN.md §7's quality measures).
 
 use super::setups::CaseSetup;
-use crate::mesh::quality::{quality, signed_measures};
-use crate::mesh::Mesh;
-use crate::operator::Method;
-use crate::solver::{Options, Solver, StepReport};
-use crate::Result;
 use glam::{DVec2, DVec3};
+use meshmove::mesh::quality::{quality, signed_measures};
+use meshmove::mesh::Mesh;
+use meshmove::solver::{Options, Solver, StepReport};
+use meshmove::Method;
+use meshmove::Result;
 use std::collections::HashMap;
 use std::time::Instant;
 
@@ -316,12 +316,12 @@ pub fn run_case_with(
 /// check of what the multigrid should reach. Slow (O(N^1.5) and worse); for tests and diagnosis.
 pub fn reference_displacement(
     mesh: &Mesh,
-    bcs: &crate::BoundaryConditions,
-    motion: &crate::Motion,
+    bcs: &meshmove::BoundaryConditions,
+    motion: &meshmove::Motion,
     method: Method,
     tol: f64,
 ) -> Result<Vec<f64>> {
-    use crate::bc::P;
+    use meshmove::bc::P;
     let solver = Solver::new(mesh, bcs, Options { method, ..Default::default() })?;
     let lev = &solver.hierarchy().levels[0];
     let n = lev.n();
@@ -334,7 +334,7 @@ pub fn reference_displacement(
             .map(|d| if flags[d] & P != 0 { vals[lev.dofs.dof_vertex[d] as usize * dim + c] } else { 0.0 })
             .collect();
         // The rigid-motion flux source of a CLAMPED patch (docs/DESIGN.md §4): the solver's own.
-        let g = crate::solver::rigid_flux(solver.hierarchy(), bcs, motion, c);
+        let g = meshmove::solver::rigid_flux(solver.hierarchy(), bcs, motion, c);
         let (mut b, mut sc) = (vec![0.0; n], vec![0.0; n]);
         lev.op.rhs(flags, &dp, g.as_deref(), &mut b, &mut sc);
         let dinv = lev.op.inv_l1_diag(flags);
@@ -362,7 +362,7 @@ pub fn reference_displacement(
         }
         let rel = dot(&r, &r).sqrt() / bn.max(f64::MIN_POSITIVE);
         if bn > 0.0 && rel > 10.0 * tol {
-            return Err(crate::Error::Diverged(format!("reference CG reached only {rel:e}")));
+            return Err(meshmove::Error::Diverged(format!("reference CG reached only {rel:e}")));
         }
         for (v, &d) in lev.dofs.vertex_dof.iter().enumerate() {
             disp[v * dim + c] = x[d as usize] + dp[d as usize];
@@ -380,7 +380,7 @@ pub fn run_case_reference(setup: &CaseSetup, method: Method, tol: f64) -> Result
     let mut current = original.clone();
     for i in 0..setup.steps {
         let d = reference_displacement(&current, &setup.bcs, &setup.motion.increment(i, setup.steps), method, tol)?;
-        let moved = crate::solver::moved(current.coords(), &d);
+        let moved: Vec<f64> = current.coords().iter().zip(&d).map(|(x, d)| x + d).collect();
         if quality(original, &moved).inverted > 0 {
             return Ok((moved, Some(i + 1)));
         }

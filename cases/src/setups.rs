@@ -5,10 +5,12 @@
 //! asserted at `Scale::Paper`.
 
 use super::meshes::*;
-use crate::bc::{BoundaryConditions, InterfaceVariant, Kind, Link};
-use crate::mesh::Mesh;
-use crate::motion::{Motion, RigidMotion};
+use meshmove::bc::{BoundaryConditions, InterfaceVariant, Kind, Link};
+use meshmove::mesh::Mesh;
+use meshmove::motion::{Motion, RigidMotion};
 use std::f64::consts::TAU;
+
+pub use crate::setup::{CaseSetup, Scale};
 
 /// The case names of the CLI's `results.csv`, in order: the 2D cases, then the 3D ones
 /// ([`super::setups3d`], [`super::bodies3d`]), then the slip-wall comparisons.
@@ -39,30 +41,6 @@ pub const CASE_NAMES: [&str; 25] = [
     "sphere_channel_1.5D_fixed",
     "sphere_channel_1.5D_slip",
 ];
-
-/// Mesh sizes: the paper's (docs/DESIGN.md §7) or coarse ones for quick smoke runs.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Scale {
-    /// Free-surface and interface meshes at h = 1/32, cylinder in channel at h = 1/12.
-    Paper,
-    /// h = 1/12 and 1/6; the boundary-layer cylinder has one size only (about 7k vertices).
-    Quick,
-}
-
-/// One case: everything a solver needs, plus what the report measures.
-#[derive(Clone, Debug)]
-pub struct CaseSetup {
-    pub name: String,
-    pub mesh: Mesh,
-    pub bcs: BoundaryConditions,
-    /// The whole motion from the original mesh; split into `steps` equal increments.
-    pub motion: Motion,
-    pub steps: usize,
-    /// The patch whose motion drives the case (spacing variation is measured along it).
-    pub moved_patch: i32,
-    /// For the interface cases: the region above the interface (for `max_y_upper`).
-    pub upper_region: Option<i32>,
-}
 
 fn free_surface_bcs() -> BoundaryConditions {
     let mut bcs = BoundaryConditions::new();

@@ -7,10 +7,10 @@
 
 use super::meshes::{BL_CYLINDER, BL_FAR};
 use super::meshes3d::*;
-use super::setups::{CaseSetup, Scale};
-use crate::bc::{BoundaryConditions, Kind};
-use crate::mesh::Mesh;
-use crate::motion::{Motion, RigidMotion};
+use super::setup::{CaseSetup, Scale};
+use meshmove::bc::{BoundaryConditions, Kind};
+use meshmove::mesh::Mesh;
+use meshmove::motion::{Motion, RigidMotion};
 use std::f64::consts::TAU;
 
 /// [`boundary_layer_cylinder_3d`]: the bottom, z = 0.

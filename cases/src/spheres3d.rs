@@ -1,8 +1,8 @@
 //! 3D hexahedral meshes of the slip-wall cases: a spherical shell and a sphere in a square duct,
 //! both with cubed-sphere layers around the sphere.
 
-use crate::geometry::CellType;
-use crate::mesh::{Mesh, MeshData};
+use meshmove::geometry::CellType;
+use meshmove::mesh::{Mesh, MeshData};
 use std::collections::{BTreeMap, HashMap};
 
 /// Patch ids of the shell: the inner and outer spheres.
@@ -194,6 +194,6 @@ mod tests {
         assert_eq!(m.patch_vertices(SH_OUTER).len(), 56);
         let c = sphere_channel(8, 4.0, 1.5, 0.4, 2, 3);
         assert_eq!(c.patch_vertices(SC_SPHERE).len(), 6 * 16 + 2);
-        assert!(crate::mesh::inverted_cells(&c, c.coords()).is_empty());
+        assert!(meshmove::mesh::inverted_cells(&c, c.coords()).is_empty());
     }
 }

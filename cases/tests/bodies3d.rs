@@ -1,17 +1,17 @@
-//! Graded O-grid meshes of bodies in boxes (src/cases/ogrid.rs) and the 3D body cases
-//! (src/cases/bodies3d.rs), on small meshes: validity, volumes, graded sizes, quality, and a
+//! Graded O-grid meshes of bodies in boxes (cases/src/ogrid.rs) and the 3D body cases
+//! (cases/src/bodies3d.rs), on small meshes: validity, volumes, graded sizes, quality, and a
 //! biharmonic run of the sphere channel.
 
-use meshmove::cases::bodies3d::{
+use meshmove::mesh::signed_measures;
+use meshmove::{Mesh, Method, Options};
+use meshmove_cases::bodies3d::{
     pitching_spheroid_case, pitching_spheroid_mesh, sphere_channel_case, sphere_channel_mesh, CHANNEL, SPHERE_CENTER,
     SPHERE_RADIUS, SPHEROID_AXES,
 };
-use meshmove::cases::ogrid::{
+use meshmove_cases::ogrid::{
     cylinder_with_vertices, measure, ogrid, plan, sphere_with_vertices, CellKind, OgridParams, OG_BODY, OG_WALL,
 };
-use meshmove::cases::report::run_case;
-use meshmove::mesh::signed_measures;
-use meshmove::{Mesh, Method, Options};
+use meshmove_cases::report::run_case;
 use std::f64::consts::PI;
 
 /// Small sphere-channel parameters: wall 0.1, far 0.3 (the quick scale).

@@ -1,17 +1,17 @@
-//! The 3D cases (src/cases/meshes3d.rs, setups3d.rs): the box and extruded meshes are valid, of
+//! The 3D cases (cases/src/meshes3d.rs, setups3d.rs): the box and extruded meshes are valid, of
 //! the right volume and patches; linear fields are exact on an extruded mixed mesh; the free
 //! surface on the cube and the extruded boundary-layer cylinder give the findings of
 //! docs/RESULTS.md ("3D"), on meshes smaller than the demo's.
 
-use meshmove::cases::amplitude::largest_valid_amplitude;
-use meshmove::cases::hybrid::{boundary_layer_cylinder_hybrid, structured_quads};
-use meshmove::cases::meshes::{BL_CYLINDER, BL_FAR, BL_LAYERS, BL_N_THETA};
-use meshmove::cases::meshes3d::*;
-use meshmove::cases::report::{run_case, CaseResult};
-use meshmove::cases::setups::{case, Scale};
-use meshmove::cases::setups3d::{boundary_layer_cylinder_3d_case, free_surface_3d_case, BL_Z0, BL_Z1};
 use meshmove::mesh::signed_measures;
 use meshmove::{BoundaryConditions, CellType, Kind, Mesh, MeshData, Method, Motion, Options, RigidMotion, Solver};
+use meshmove_cases::amplitude::largest_valid_amplitude;
+use meshmove_cases::hybrid::{boundary_layer_cylinder_hybrid, structured_quads};
+use meshmove_cases::meshes::{BL_CYLINDER, BL_FAR, BL_LAYERS, BL_N_THETA};
+use meshmove_cases::meshes3d::*;
+use meshmove_cases::report::{run_case, CaseResult};
+use meshmove_cases::setups::{case, Scale};
+use meshmove_cases::setups3d::{boundary_layer_cylinder_3d_case, free_surface_3d_case, BL_Z0, BL_Z1};
 
 /// The sum of `v`, compensated (Neumaier): thousands of cell volumes sum to 1 within 1e-15.
 fn sum(v: impl Iterator<Item = f64>) -> f64 {
@@ -179,7 +179,7 @@ fn linear_fields_are_exact_on_the_extruded_mixed_mesh() {
     assert!(err < 1e-12, "rigid: error {err:e}");
 }
 
-fn run(setup: &meshmove::cases::setups::CaseSetup, method: Method) -> CaseResult {
+fn run(setup: &meshmove_cases::setups::CaseSetup, method: Method) -> CaseResult {
     let r = run_case(setup, method, &Options::default()).unwrap();
     assert!(r.failure.is_none(), "{} {method:?}: {:?}", setup.name, r.failure);
     assert!(r.reports.iter().all(|x| x.converged), "{} {method:?}", setup.name);

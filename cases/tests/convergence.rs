@@ -1,11 +1,11 @@
 //! Multigrid convergence on the paper's free-surface case (docs/DESIGN.md §7, A = 0.25, one step):
 //! W-cycles to a 1e-8 relative max correction (the paper's Fig. 8 measure) and to a 1e-8
 //! relative residual, paper-faithful and default mode, both methods. Printed with
-//! `cargo test --release --test convergence -- --nocapture`.
+//! `cargo test --release -p meshmove-cases --test convergence -- --nocapture`.
 
-use meshmove::cases::meshes::FS_TOP;
-use meshmove::cases::setups::free_surface_case;
 use meshmove::{Criterion, Method, Mode, Motion, Options, Report, Solver};
+use meshmove_cases::meshes::FS_TOP;
+use meshmove_cases::setups::free_surface_case;
 
 fn run(method: Method, mode: Mode, criterion: Criterion) -> (Report, usize) {
     let case = free_surface_case("free_surface_a0.25", 1.0 / 32.0, 0.25, 1);
@@ -82,7 +82,7 @@ fn a_stalled_solve_strengthens_its_smoother_and_converges() {
 /// 1e-11 by 7e-8).
 #[test]
 fn both_chebyshev_kinds_reach_the_same_displacement() {
-    let case = meshmove::cases::setups::case("boundary_layer_cylinder", meshmove::cases::setups::Scale::Paper)
+    let case = meshmove_cases::setups::case("boundary_layer_cylinder", meshmove_cases::setups::Scale::Paper)
         .expect("a paper case");
     for (method, ratio) in [(Method::Biharmonic, 20.0), (Method::Laplacian, 6.0)] {
         let solve = |lower_ratio: Option<f64>| {

@@ -1,11 +1,12 @@
 //! The l1 Jacobi bound of docs/DESIGN.md §3 dominates the assembled matrix's rows, and a sweep with
 //! C = 0.9 never grows the error, even where the bare diagonal would diverge.
 
+#[path = "../../tests/common/mod.rs"]
 mod common;
 use common::*;
 use meshmove::bc::P;
-use meshmove::cases::meshes::{free_surface, structured_rectangle};
 use meshmove::{BoundaryConditions, Kind, Mesh, Method, Options, Solver};
+use meshmove_cases::meshes::{free_surface, structured_rectangle};
 
 /// Dense A of component `c` by applying the operator to unit vectors (free rows/cols only).
 fn dense_a(s: &Solver, c: usize) -> (Vec<usize>, Vec<Vec<f64>>) {

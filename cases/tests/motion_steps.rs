@@ -1,12 +1,13 @@
 //! Multi-step motion (docs/DESIGN.md §3 last paragraph): the boundary reaches its target, the reference
 //! is re-evaluated each step with the coarse topology kept, and single cycles converge.
 
+#[path = "../../tests/common/mod.rs"]
 mod common;
 use common::*;
 use glam::DVec2;
-use meshmove::cases::meshes::{FS_LEFT, FS_RIGHT, FS_TOP};
-use meshmove::cases::setups::free_surface_case;
 use meshmove::{BoundaryConditions, CoarseLevels, Kind, Method, Mode, Motion, Options, Solver};
+use meshmove_cases::meshes::{FS_LEFT, FS_RIGHT, FS_TOP};
+use meshmove_cases::setups::free_surface_case;
 
 #[test]
 fn rigid_rotation_in_steps_lands_exactly() {

@@ -2,8 +2,8 @@
 //! caller's vertex numbering must not change the answer. The same meshes with their vertices
 //! shuffled give the same displacement at every vertex, to well below the solve tolerance.
 
-use meshmove::cases::setups::{case, free_surface_case, CaseSetup, Scale};
 use meshmove::{IndexBase, Mesh, Method, Motion, Options, Solver};
+use meshmove_cases::setups::{case, free_surface_case, CaseSetup, Scale};
 
 /// The case with its vertices renumbered by a fixed pseudo-random permutation; returns the
 /// shuffled set-up and `new_of` (old vertex → new vertex).

@@ -3,10 +3,10 @@
 //! get and why (docs/RESULTS.md has the full table). No case is tuned to pass.
 
 use glam::DVec2;
-use meshmove::cases::report::{patch_measures, reference_displacement, run_case, run_case_reference, CaseResult};
-use meshmove::cases::setups::{case, interface_case, CaseSetup, Scale};
 use meshmove::mesh::quality;
 use meshmove::{InterfaceVariant, Method, Options};
+use meshmove_cases::report::{patch_measures, reference_displacement, run_case, run_case_reference, CaseResult};
+use meshmove_cases::setups::{case, interface_case, CaseSetup, Scale};
 
 fn run(name: &str, method: Method) -> (CaseSetup, CaseResult) {
     let s = case(name, Scale::Paper).unwrap();
@@ -135,7 +135,7 @@ fn cylinder_in_channel() {
     let (_, l) = run("cylinder_channel", Method::Laplacian);
     assert_eq!(b.inverted, 0);
     // Expected ≈ 200 inverted for the Laplacian. Ours at h = 1/12: 86. The count grows with the
-    // mesh (h = 1/8: 36, 1/16: 163, 1/24: 352; examples/channel_probe.rs): the tangled area is
+    // mesh (h = 1/8: 36, 1/16: 163, 1/24: 352; cases/examples/channel_probe.rs): the tangled area is
     // the same, docs/DESIGN.md §7 does not state its mesh size. The finding (Laplacian inverts right of the
     // cylinder, biharmonic does not) holds at every size.
     assert!((60..=120).contains(&l.inverted), "{}", l.inverted);

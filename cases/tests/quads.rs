@@ -1,12 +1,16 @@
 //! Quad and mixed triangle/quad meshes: linear displacement fields reproduced exactly by every
 //! method (the Q1 stiffness and lumped mass keep linear fields in the discrete solution).
 
+#[path = "../../tests/common/mod.rs"]
 mod common;
+#[path = "../../tests/common/direct.rs"]
+mod direct;
 
-use common::{at_dofs, direct_solve, to_flat, wavy};
-use meshmove::cases::report::{patch_measures, run_case};
-use meshmove::cases::setups::{case, Scale};
+use common::{to_flat, wavy};
+use direct::{at_dofs, direct_solve};
 use meshmove::{BoundaryConditions, CellType, Kind, Mesh, MeshData, Method, Motion, Options, Solver};
+use meshmove_cases::report::{patch_measures, run_case};
+use meshmove_cases::setups::{case, Scale};
 
 /// An n × n grid on [0,1]², perturbed inside, quads (or, with `mixed`, the left half split
 /// into triangles); every boundary face on patch 1.

@@ -3,11 +3,12 @@
 //! large rotations; a failed call leaves the solver as it was; solves from the original mesh do
 //! not drift.
 
+#[path = "../../tests/common/mod.rs"]
 mod common;
 use common::*;
-use meshmove::cases::meshes::{cylinder_channel, ellipse_in_box, CH_CYLINDER, CH_WALL, EL_BOX, EL_ELLIPSE};
-use meshmove::cases::meshes::{unstructured_rectangle, FS_BOTTOM, FS_LEFT, FS_RIGHT, FS_TOP};
 use meshmove::{BoundaryConditions, Error, Kind, Method, Motion, Options, ReferenceMode, RigidMotion, Solver};
+use meshmove_cases::meshes::{cylinder_channel, ellipse_in_box, CH_CYLINDER, CH_WALL, EL_BOX, EL_ELLIPSE};
+use meshmove_cases::meshes::{unstructured_rectangle, FS_BOTTOM, FS_LEFT, FS_RIGHT, FS_TOP};
 use std::f64::consts::PI;
 
 fn ellipse_bcs() -> BoundaryConditions {
@@ -213,7 +214,7 @@ fn periodic_motion_returns_to_the_start_from_the_original_mesh() {
 /// 0.1)`; `MESHMOVE_BLESS=1` rewrites it.
 #[test]
 fn ellipse_fixture_is_fresh() {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/ellipse_box.msh");
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/data/ellipse_box.msh");
     let tmp = std::env::temp_dir().join(format!("ellipse_box_{}.msh", std::process::id()));
     meshmove::io::write_msh22(&ellipse_in_box(0.5, 0.1), &tmp).unwrap();
     let want = std::fs::read(&tmp).unwrap();
@@ -223,7 +224,7 @@ fn ellipse_fixture_is_fresh() {
     }
     assert!(
         std::fs::read(&path).unwrap() == want,
-        "{} is stale: MESHMOVE_BLESS=1 cargo test --test robustness",
+        "{} is stale: MESHMOVE_BLESS=1 cargo test -p meshmove-cases --test robustness",
         path.display()
     );
 }

@@ -2,7 +2,9 @@
 //! (its original faces, or the analytic shape the caller gives), and a body turning inside a
 //! slip wall keeps the mesh far better than a fixed wall.
 
+#[path = "../../tests/common/mod.rs"]
 mod common;
+#[path = "../../tests/slip_meshes/mod.rs"]
 mod slip_meshes;
 
 use meshmove::bc::SlipSurface;
@@ -151,7 +153,7 @@ fn stop_text(stop: Option<usize>, inverted: usize) -> String {
 /// outer sphere (radius 3) is SLIP or FIXED.
 #[test]
 fn a_sphere_turning_inside_a_slip_sphere() {
-    use meshmove::cases::spheres3d::{sphere_shell, SH_INNER, SH_OUTER};
+    use meshmove_cases::spheres3d::{sphere_shell, SH_INNER, SH_OUTER};
     let mesh = sphere_shell(6, 4, 1.0, 3.0, 1.2);
     let off_sphere = |x: &[f64]| {
         mesh.patch_vertices(SH_OUTER)

@@ -1,7 +1,7 @@
 //! Results are bitwise identical for any thread count (docs/DESIGN.md §5).
 
-use meshmove::cases::setups::free_surface_case;
 use meshmove::{Method, Mode, Options, Solver};
+use meshmove_cases::setups::free_surface_case;
 
 #[test]
 fn one_and_two_threads_agree_bitwise() {

@@ -19,9 +19,9 @@ mod table;
 use cases::Case;
 use extrapolate::seconds_to_tol;
 use meshmove::bc::P;
-use meshmove::cases::boxes::BoxCells;
 use meshmove::multigrid::hierarchy::{HierarchyParams, Level};
 use meshmove::{CoarseLevels, Method, Mode, Motion, Options, SolveParams, Solver};
+use meshmove_cases::boxes::BoxCells;
 use std::path::PathBuf;
 use std::time::Instant;
 

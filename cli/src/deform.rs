@@ -10,11 +10,11 @@
 
 use indicatif::{ProgressBar, ProgressStyle};
 use meshmove::bc::SlipSurface;
-use meshmove::cases::report::{patch_measures, run_case_with};
-use meshmove::cases::setups::CaseSetup;
 use meshmove::io::{read_msh, read_vtu};
 use meshmove::solver::{ReferenceMode, StepReport};
 use meshmove::{BoundaryConditions, InterfaceVariant, Kind, Link, Mesh, Method, Motion, Options, RigidMotion};
+use meshmove_cases::report::{patch_measures, run_case_with};
+use meshmove_cases::setups::CaseSetup;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -549,7 +549,7 @@ pub fn run(args: Args) -> Result<ExitCode, String> {
     }
     println!("wrote           {}", args.output.display());
     if let Some(png) = &args.png {
-        crate::plot::case_png(png, &setup, &r.coords, opts.method, r.steps)?;
+        case_png(png, &setup, &r.coords, opts.method, r.steps)?;
     }
     if r.inverted > 0 {
         eprintln!(
@@ -581,4 +581,28 @@ fn json_line(r: &StepReport) -> String {
         r.accepted,
         num(r.max_slip_offwall)
     )
+}
+
+/// The picture `meshmove deform --png FILE` writes: the whole deformed mesh (3D: its section
+/// through the moved patch, [`crate::plot3d::section_png`]), titled with the case's name, the
+/// method and the step count, its moved patch drawn blue.
+fn case_png(
+    path: &Path,
+    setup: &meshmove_cases::setups::CaseSetup,
+    coords: &[f64],
+    method: meshmove::Method,
+    steps: usize,
+) -> Result<(), String> {
+    let title = format!("{}: {method:?}, {steps} step(s)", setup.name).to_lowercase();
+    if setup.mesh.dim() == 3 {
+        let axis = crate::plot3d::section_axis(&setup.mesh, &setup.motion);
+        return crate::plot3d::section_png(path, (&setup.mesh, coords), (title, &[]), (axis, setup.moved_patch), 800)
+            .map_err(|e| format!("{}: {e}", path.display()));
+    }
+    let (highlight, extra) = match setup.moved_patch {
+        0 => (Vec::new(), Vec::new()),
+        p => (crate::plot::patch_edges(&setup.mesh, p), vec![format!("blue: the moved patch ({p})")]),
+    };
+    crate::plot::deformed_png(path, (&setup.mesh, coords), (title, &extra), &highlight, (None, None), 800)
+        .map_err(|e| format!("{}: {e}", path.display()))
 }

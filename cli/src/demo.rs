@@ -5,15 +5,15 @@ use crate::plot::{deformed_png, patch_edges, semilog_png, Series, View};
 use crate::write_deformed;
 use glam::DVec2;
 use indicatif::{ProgressBar, ProgressStyle};
-use meshmove::cases::amplitude::largest_valid_amplitude;
-use meshmove::cases::meshes3d::BoxCells;
-use meshmove::cases::report::{method_name, run_case, run_case_reference, CaseResult, METHODS};
-use meshmove::cases::setups::{case, free_surface_case, CaseSetup, Scale, CASE_NAMES};
-use meshmove::cases::setups3d::{
-    free_surface_3d_case, free_surface_3d_cells, free_surface_3d_name, FREE_SURFACE_3D_AMPLITUDES,
-};
 use meshmove::mesh::signed_measures;
 use meshmove::{Criterion, Method, Mode, Options, Solver};
+use meshmove_cases::amplitude::largest_valid_amplitude;
+use meshmove_cases::meshes3d::BoxCells;
+use meshmove_cases::report::{method_name, run_case, run_case_reference, CaseResult, METHODS};
+use meshmove_cases::setups::{case, free_surface_case, CaseSetup, Scale, CASE_NAMES};
+use meshmove_cases::setups3d::{
+    free_surface_3d_case, free_surface_3d_cells, free_surface_3d_name, FREE_SURFACE_3D_AMPLITUDES,
+};
 use plotters::style::RGBColor;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};

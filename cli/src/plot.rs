@@ -12,7 +12,7 @@ use std::sync::Once;
 
 /// The font family name the pictures use (registered by [`register_font`]).
 const FONT: &str = "sans-serif";
-const FONT_BYTES: &[u8] = include_bytes!("../../../assets/fonts/LiberationSans-Regular.ttf");
+const FONT_BYTES: &[u8] = include_bytes!("../../assets/fonts/LiberationSans-Regular.ttf");
 
 /// Colour of the inverted cells.
 pub const INVERTED_COLOUR: RGBColor = RGBColor(220, 30, 30);
@@ -231,30 +231,6 @@ pub fn deformed_png(
     let view = view.unwrap_or_else(|| View::around(coords, 0.01));
     let note = Annotation { lines: &lines, highlight };
     mesh_png(path, (mesh, coords, &inverted), (view, inset), &note, width)
-}
-
-/// The picture `meshmove deform --png FILE` writes: the whole deformed mesh (3D: its section
-/// through the moved patch, [`crate::plot3d::section_png`]), titled with the case's name, the
-/// method and the step count, its moved patch drawn blue.
-pub fn case_png(
-    path: &Path,
-    setup: &meshmove::cases::setups::CaseSetup,
-    coords: &[f64],
-    method: meshmove::Method,
-    steps: usize,
-) -> Result<(), String> {
-    let title = format!("{}: {method:?}, {steps} step(s)", setup.name).to_lowercase();
-    if setup.mesh.dim() == 3 {
-        let axis = crate::plot3d::section_axis(&setup.mesh, &setup.motion);
-        return crate::plot3d::section_png(path, (&setup.mesh, coords), (title, &[]), (axis, setup.moved_patch), 800)
-            .map_err(|e| format!("{}: {e}", path.display()));
-    }
-    let (highlight, extra) = match setup.moved_patch {
-        0 => (Vec::new(), Vec::new()),
-        p => (patch_edges(&setup.mesh, p), vec![format!("blue: the moved patch ({p})")]),
-    };
-    deformed_png(path, (&setup.mesh, coords), (title, &extra), &highlight, (None, None), 800)
-        .map_err(|e| format!("{}: {e}", path.display()))
 }
 
 /// The edges of `patch` (a boundary patch or an interface), for highlighting.

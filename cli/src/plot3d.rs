@@ -9,9 +9,9 @@ use crate::plot::{
     INVERTED_COLOUR, PATCH_COLOUR,
 };
 use glam::DVec2;
-use meshmove::cases::cut::{cell_sections, patch_section, plane_through_patch, section_axes, CellSection};
 use meshmove::mesh::{inverted_cells, signed_measures};
 use meshmove::{Mesh, Motion};
+use meshmove_cases::cut::{cell_sections, patch_section, plane_through_patch, section_axes, CellSection};
 use plotters::prelude::*;
 use std::path::Path;
 

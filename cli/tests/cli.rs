@@ -15,7 +15,7 @@ fn tmp(name: &str) -> PathBuf {
 }
 
 fn example(f: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/examples").join(f).to_str().unwrap().to_string()
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/examples").join(f).to_str().unwrap().to_string()
 }
 
 fn text(o: &Output) -> String {
@@ -129,7 +129,7 @@ fn deform_the_example_and_compare() {
 #[test]
 fn compare_reports_the_difference() {
     let d = tmp("compare");
-    let m = meshmove::cases::meshes::structured_rectangle(2, 2, 0.0, 1.0, 0.0, 1.0);
+    let m = meshmove_cases::meshes::structured_rectangle(2, 2, 0.0, 1.0, 0.0, 1.0);
     let a = d.join("a.vtu");
     let b = d.join("b.vtu");
     meshmove::io::write_deformed(&a, &m, &vec![0.0; 2 * m.num_vertices()]).unwrap();
@@ -244,7 +244,7 @@ fn failed_step_writes_the_last_valid_mesh_and_exits_4() {
 #[test]
 fn deform_moves_a_3d_mesh() {
     let dir = tmp("deform3d");
-    let mesh = format!("{}/tests/data/box_tets_41.msh", env!("CARGO_MANIFEST_DIR"));
+    let mesh = format!("{}/../tests/data/box_tets_41.msh", env!("CARGO_MANIFEST_DIR"));
     let original = meshmove::io::read_msh(Path::new(&mesh)).unwrap().mesh;
     assert_eq!(original.dim(), 3);
     let check = |out: &Path| {
@@ -303,7 +303,7 @@ fn deform_moves_a_3d_mesh() {
 #[test]
 fn deform_vectors_have_the_mesh_dimension() {
     let d = tmp("vectors");
-    let box3 = format!("{}/tests/data/box_tets_41.msh", env!("CARGO_MANIFEST_DIR"));
+    let box3 = format!("{}/../tests/data/box_tets_41.msh", env!("CARGO_MANIFEST_DIR"));
     let channel = example("channel.msh");
     let cases = [
         (

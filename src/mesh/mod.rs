@@ -10,6 +10,11 @@ mod data;
 mod error;
 #[cfg(test)]
 pub(crate) mod fixtures;
+/// Cell quality (public with the `internals` feature: the paper's cases measure with it).
+#[cfg(feature = "internals")]
+#[doc(hidden)]
+pub mod quality;
+#[cfg(not(feature = "internals"))]
 pub(crate) mod quality;
 mod refine;
 mod topology;

@@ -3,10 +3,10 @@
 //! analogue on the unit cube (top moved by 0.1 cos 2πx cos 2πy in z, sides sliding), and the
 //! graded meshes the goals also name.
 
-use meshmove::cases::boxes::{structured_box, BoxCells, BOX_BOTTOM, BOX_SIDES, BOX_TOP};
-use meshmove::cases::meshes::{free_surface, FS_BOTTOM, FS_LEFT, FS_RIGHT, FS_TOP};
-use meshmove::cases::ogrid::{self, CellKind};
 use meshmove::{BoundaryConditions, Kind, Link, Mesh, Motion, RigidMotion};
+use meshmove_cases::boxes::{structured_box, BoxCells, BOX_BOTTOM, BOX_SIDES, BOX_TOP};
+use meshmove_cases::meshes::{free_surface, FS_BOTTOM, FS_LEFT, FS_RIGHT, FS_TOP};
+use meshmove_cases::ogrid::{self, CellKind};
 use std::f64::consts::TAU;
 
 /// Amplitude of the 2D free surface's motion.

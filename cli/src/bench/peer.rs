@@ -4,7 +4,7 @@
 //! and the same mesh and motion as an OpenFOAM case for `moveMesh` with `displacementLaplacian`.
 
 use super::cases::{box_top_dz, A_3D};
-use meshmove::cases::boxes::{structured_box, BoxCells, BOX_BOTTOM, BOX_SIDES, BOX_TOP};
+use meshmove_cases::boxes::{structured_box, BoxCells, BOX_BOTTOM, BOX_SIDES, BOX_TOP};
 use std::fmt::Write as _;
 use std::path::Path;
 

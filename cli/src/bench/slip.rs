@@ -5,8 +5,8 @@
 //! whose slip vertices prescribe components and leave them apart) and turned by 30° (`turned`:
 //! the slip frames couple the components). Writes `DIR/slip.csv`.
 
-use meshmove::cases::setups::cylinder_channel_far;
 use meshmove::{CoarseLevels, Kind, Mesh, Method, Options, RigidMotion, SolveParams, Solver};
+use meshmove_cases::setups::cylinder_channel_far;
 use std::fmt::Write as _;
 use std::path::Path;
 
