@@ -41,7 +41,7 @@ pub fn pitching_spheroid_sizes(scale: Scale) -> (f64, f64) {
 
 /// Tetrahedra of the channel [`CHANNEL`] around the sphere of [`SPHERE_RADIUS`] at
 /// [`SPHERE_CENTER`], graded from `wall` at the sphere to `far`. Patches
-/// [`OG_WALL`](super::ogrid::OG_WALL) (every channel wall), [`OG_BODY`](super::ogrid::OG_BODY).
+/// [`OG_WALL`] (every channel wall), [`OG_BODY`].
 pub fn sphere_channel_mesh(wall: f64, far: f64) -> Mesh {
     sphere_in_box(&OgridParams::sphere(SPHERE_CENTER, SPHERE_RADIUS, CHANNEL, wall, far))
 }
