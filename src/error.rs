@@ -45,3 +45,16 @@ pub enum Error {
 
 /// The crate's result type, with [`enum@Error`] as the default error.
 pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::io::{read_msh, IoError};
+
+    #[test]
+    fn io_error_converts_into_crate_error() {
+        let e: Error = read_msh(std::path::Path::new("tests/data/no_such_file.msh")).unwrap_err().into();
+        assert!(matches!(e, Error::Io(IoError::Io { .. })));
+        assert_eq!(e.clone(), e);
+    }
+}

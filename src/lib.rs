@@ -24,8 +24,8 @@
 //! ```
 
 /// A module of the solver's internals: public (and hidden from the documentation) only with
-/// the `internals` feature, which the `meshmove` command line's bench and the tests use. Not a
-/// stable API.
+/// the `internals` feature, which the workspace's paper cases, the command line's bench and the
+/// tests of the multigrid levels use. Not a stable API.
 macro_rules! internal_mod {
     ($($name:ident),*) => {$(
         #[cfg(feature = "internals")]
@@ -37,17 +37,10 @@ macro_rules! internal_mod {
     )*};
 }
 
-internal_mod!(bc, dense, multigrid, operator, sparse);
+internal_mod!(bc, dense, geometry, multigrid, operator, sparse);
 #[doc(hidden)]
 pub mod capi;
-/// The paper's cases (meshes, set-ups, reports): fixtures of the command line and the tests,
-/// compiled only with the `internals` feature.
-#[cfg(feature = "internals")]
-#[doc(hidden)]
-#[allow(missing_docs)]
-pub mod cases;
 pub mod error;
-mod geometry;
 pub mod io;
 mod limits;
 pub mod mesh;

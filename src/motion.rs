@@ -31,11 +31,7 @@ impl RigidMotion {
 
     /// The rotation angle (the rotation vector's length; in 2D the signed angle).
     pub fn angle(&self, dim: usize) -> f64 {
-        if dim == 2 {
-            self.rotation[2]
-        } else {
-            self.rotation.iter().map(|w| w * w).sum::<f64>().sqrt()
-        }
+        crate::geometry::rotation::angle(&self.rotation, dim)
     }
 
     /// L(x) = (R − I)(x − c) + t at a point `x` of `x.len()` (2 or 3) coordinates.

@@ -31,13 +31,13 @@ pub use steps::StepReport;
 
 /// Most Chebyshev degree accepted (degree 6 is the biharmonic's default; the cost of a cycle
 /// grows linearly with it).
-pub const MAX_CHEB_DEGREE: usize = 64;
+pub const MAX_CHEB_DEGREE: usize = crate::limits::MAX_CHEB_DEGREE;
 /// Most cycles per solve accepted.
-pub const MAX_CYCLES: usize = 1_000_000;
+pub const MAX_CYCLES: usize = crate::limits::MAX_CYCLES;
 /// Most steps of one `move_in_steps` call accepted.
-pub const MAX_STEPS: usize = 1_000_000;
+pub const MAX_STEPS: usize = crate::limits::MAX_STEPS;
 /// Most sub-steps one step may be split into.
-pub const MAX_SUBSTEPS: usize = 1 << 20;
+pub const MAX_SUBSTEPS: usize = crate::limits::MAX_SUBSTEPS;
 
 /// What every step is solved from.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -695,7 +695,8 @@ fn group_name(comps: Range<usize>) -> String {
 /// docs/DESIGN.md §4: on a CLAMPED patch moving rigidly, S_b = (1/V_b) Σ_j K_bj (d_j − L_j); the K L part
 /// is returned as a source, so the held spacing rotates with the body. Every unknown of a patch
 /// vertex gets it (a vertex split per region has one per side).
-pub(crate) fn rigid_flux(h: &Hierarchy, bcs: &BoundaryConditions, motion: &Motion, c: usize) -> Option<Vec<f64>> {
+#[doc(hidden)]
+pub fn rigid_flux(h: &Hierarchy, bcs: &BoundaryConditions, motion: &Motion, c: usize) -> Option<Vec<f64>> {
     let lev = h.fine();
     if lev.op.method != Method::Biharmonic {
         return None;

@@ -3,8 +3,10 @@
 //! motion of the whole boundary moves the mesh rigidly.
 
 mod common;
+#[path = "common/direct.rs"]
+mod direct;
 
-use common::{at_dofs, direct_solve};
+use direct::{at_dofs, direct_solve};
 use meshmove::{BoundaryConditions, CellType, Kind, Mesh, MeshData, Method, Motion, Options, RigidMotion, Solver};
 
 /// Vertex (i, j, k) of an n³ grid of the unit cube, jittered inside.

@@ -2,7 +2,10 @@
 //! to 1e-10 relative, for every method and for each kind of boundary condition.
 
 mod common;
+#[path = "common/direct.rs"]
+mod direct;
 use common::*;
+use direct::*;
 use glam::DVec2;
 use meshmove::{BoundaryConditions, InterfaceVariant, Kind, Link, Mesh, Method, Motion, Options, Solver};
 

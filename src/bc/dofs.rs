@@ -206,7 +206,7 @@ impl Dofs {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::multigrid::coarsen::tests::two_regions;
+    use crate::mesh::fixtures::two_regions;
     use std::collections::BTreeMap;
 
     /// Links (left and right sides) and a split interface: corners with the same key (root

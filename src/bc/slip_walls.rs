@@ -6,6 +6,7 @@
 //! the mesh the solver was made with; a wall that moves rigidly carries its shape along.
 
 use super::BoundaryConditions;
+use crate::geometry::closest::{closest_on_simplex, face_simplices, simplex_side};
 use crate::geometry::{cross, dot3, sub};
 use crate::motion::RigidMotion;
 use crate::Mesh;
@@ -220,62 +221,8 @@ impl PlWall {
 
     fn closest_on(&self, s: usize, p: &[f64; 3]) -> [f64; 3] {
         let (t, open) = &self.simplices[s];
-        if self.dim == 2 {
-            closest_on_line(&t[0], &t[1], p, (open & 1 != 0, open & 2 != 0))
-        } else {
-            closest_on_triangle(t, *open, p)
-        }
+        closest_on_simplex(t, *open, self.dim, p)
     }
-}
-
-fn lerp(a: &[f64; 3], b: &[f64; 3], t: f64) -> [f64; 3] {
-    [0, 1, 2].map(|c| a[c] + t * (b[c] - a[c]))
-}
-
-fn closest_on_segment(a: &[f64; 3], b: &[f64; 3], p: &[f64; 3]) -> [f64; 3] {
-    closest_on_line(a, b, p, (false, false))
-}
-
-/// The closest point to p of segment ab, extended past a or b when that end is open.
-fn closest_on_line(a: &[f64; 3], b: &[f64; 3], p: &[f64; 3], open: (bool, bool)) -> [f64; 3] {
-    let ab = sub(b, a);
-    let l2 = dot3(&ab, &ab);
-    if l2 == 0.0 {
-        return *a;
-    }
-    let t = dot3(&sub(p, a), &ab) / l2;
-    let lo = if open.0 { f64::NEG_INFINITY } else { 0.0 };
-    let hi = if open.1 { f64::INFINITY } else { 1.0 };
-    lerp(a, b, t.clamp(lo, hi))
-}
-
-/// The closest point of triangle t to p (Ericson, Real-Time Collision Detection, 5.1.5): its
-/// projection on the plane when that is inside, or outside only across open edges (bit k of
-/// `open`: edge k → k + 1); else the closest point of the nearest edge it is outside of.
-fn closest_on_triangle(t: &[[f64; 3]; 3], open: u8, p: &[f64; 3]) -> [f64; 3] {
-    let (a, b, c) = (&t[0], &t[1], &t[2]);
-    let n = cross(&sub(b, a), &sub(c, a));
-    let n2 = dot3(&n, &n);
-    let mut outside = [true; 3];
-    if n2 > 0.0 {
-        let q = {
-            let s = dot3(&sub(p, a), &n) / n2;
-            [0, 1, 2].map(|k| p[k] - s * n[k])
-        };
-        for k in 0..3 {
-            let (u, v) = (&t[k], &t[(k + 1) % 3]);
-            outside[k] = dot3(&cross(&sub(v, u), &sub(&q, u)), &n) < 0.0;
-        }
-        if (0..3).all(|k| !outside[k] || open & (1 << k) != 0) {
-            return q;
-        }
-    }
-    let d2 = |q: &[f64; 3]| dot3(&sub(q, p), &sub(q, p));
-    (0..3)
-        .filter(|&k| outside[k] && open & (1 << k) == 0)
-        .map(|k| closest_on_segment(&t[k], &t[(k + 1) % 3], p))
-        .min_by(|x, y| d2(x).total_cmp(&d2(y)))
-        .unwrap_or(*a)
 }
 
 /// The shape of one SLIP patch.
@@ -315,28 +262,13 @@ impl SlipWalls {
             }
             vertex_patches.extend(f.vertices.iter().map(|&v| (v, f.patch)));
             let list = faces.entry(f.patch).or_default();
-            let vs = f.vertices;
-            if dim == 2 {
-                list.push(([vs[0], vs[1], u32::MAX], [pt(vs[0]), pt(vs[1]), [0.0; 3]]));
-            } else {
-                // A fan from the first corner: a quad's two triangles share its first diagonal.
-                for k in 1..vs.len() - 1 {
-                    list.push(([vs[0], vs[k], vs[k + 1]], [pt(vs[0]), pt(vs[k]), pt(vs[k + 1])]));
-                }
-            }
+            list.extend(face_simplices(f.vertices).map(|t| (t, t.map(|v| if v == u32::MAX { [0.0; 3] } else { pt(v) }))));
         }
         if faces.is_empty() {
             return None;
         }
         // Sides used once in the union of the SLIP walls are open: corners in 2D, edges in 3D.
-        let side = |t: &[u32; 3], k: usize| -> (u32, u32) {
-            if dim == 2 {
-                (t[k], u32::MAX)
-            } else {
-                let (a, b) = (t[k], t[(k + 1) % 3]);
-                (a.min(b), a.max(b))
-            }
-        };
+        let side = |t: &[u32; 3], k: usize| simplex_side(t, k, dim);
         let mut sides: Vec<(u32, u32)> =
             faces.values().flatten().flat_map(|(t, _)| (0..dim).map(move |k| side(t, k))).collect();
         sides.sort_unstable();
@@ -476,6 +408,7 @@ fn dist(a: &[f64; 3], x: &[f64], dim: usize) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::closest::closest_on_segment;
 
     #[test]
     fn analytic_shapes_give_their_closest_points() {
@@ -492,18 +425,6 @@ mod tests {
         close(&plane, &[0.5, 3.0, -1.0], [0.5, 1.0, -1.0]);
         let line = SlipSurface::plane([0.0, 0.0, 0.0], [1.0, 1.0, 0.0]);
         close(&line, &[1.0, 0.0], [0.5, -0.5, 0.0]);
-    }
-
-    #[test]
-    fn closest_points_on_a_triangle() {
-        let (a, b, c) = ([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]);
-        let t = [a, b, c];
-        assert_eq!(closest_on_triangle(&t, 0, &[0.2, 0.3, 5.0]), [0.2, 0.3, 0.0]);
-        assert_eq!(closest_on_triangle(&t, 0, &[-1.0, -1.0, 1.0]), [0.0, 0.0, 0.0]);
-        let q = closest_on_triangle(&t, 0, &[1.0, 1.0, 0.0]);
-        assert!((q[0] - 0.5).abs() < 1e-15 && (q[1] - 0.5).abs() < 1e-15);
-        // Open across its hypotenuse: the plane goes on.
-        assert_eq!(closest_on_triangle(&t, 2, &[1.0, 1.0, 0.5]), [1.0, 1.0, 0.0]);
     }
 
     #[test]

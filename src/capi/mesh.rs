@@ -59,19 +59,10 @@ fn vertex_count(n: i32, dim: usize) -> Result<usize, CError> {
 }
 
 /// How many vertices a tagged face of a `dim`-dimensional mesh may have: those of the cells'
-/// sides, edges in 2D (2) and faces in 3D (3 or 4), from the cell types' tables.
+/// sides (segments in 2D, triangles and quads in 3D), from the cell types' tables.
 fn face_sizes(dim: usize) -> Vec<usize> {
-    let mut sizes: Vec<usize> = CellType::ALL
-        .iter()
-        .filter(|t| t.dim() == dim)
-        .flat_map(|t| {
-            if dim == 2 {
-                t.edges().iter().map(|e| e.len()).collect::<Vec<_>>()
-            } else {
-                t.faces().iter().map(|f| f.len()).collect()
-            }
-        })
-        .collect();
+    let mut sizes: Vec<usize> =
+        CellType::ALL.iter().filter(|t| t.dim() == dim).flat_map(|t| t.faces().iter().map(|f| f.len())).collect();
     sizes.sort_unstable();
     sizes.dedup();
     sizes

@@ -8,6 +8,7 @@
 use super::error::CError;
 use super::handles::{count, slice, slice_mut};
 use super::status::meshmove_status;
+use crate::geometry::rotation;
 use crate::{Mesh, RigidMotion};
 
 /// The points (or displacements) of a mesh's vertices, as the Rust API takes them: `dim`
@@ -104,11 +105,7 @@ pub(crate) fn finite_out(v: &[f64], dim: usize, what: &str) -> Result<(), CError
 /// Number of rotation values of a rigid motion in `dim` dimensions: the angle in 2D, the
 /// rotation vector (axis × angle) in 3D.
 pub(crate) fn rotation_len(dim: usize) -> usize {
-    if dim == 2 {
-        1
-    } else {
-        3
-    }
+    rotation::value_count(dim)
 }
 
 /// A rigid motion from its C arrays: `translation` and `center` of `dim` values, `rotation` of
@@ -122,11 +119,7 @@ pub(crate) fn rigid_motion(
     let mut m = RigidMotion { translation: [0.0; 3], rotation: [0.0; 3], center: [0.0; 3] };
     m.translation[..dim].copy_from_slice(&translation[..dim]);
     m.center[..dim].copy_from_slice(&center[..dim]);
-    if dim == 2 {
-        m.rotation[2] = rotation[0];
-    } else {
-        m.rotation.copy_from_slice(&rotation[..3]);
-    }
+    m.rotation = rotation::from_values(rotation, dim);
     Ok(m)
 }
 

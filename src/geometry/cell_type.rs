@@ -70,9 +70,7 @@ impl CellType {
 
     /// The cell's edges as pairs of local corners: the springs of the spring analogy and the
     /// couplings of the stiffness pattern's edge graph (never face or body diagonals).
-    // Used by the dimension-generic core, which is not on this branch yet.
-    #[allow(dead_code)]
-    pub(crate) fn edges(self) -> &'static [[u8; 2]] {
+    pub fn edges(self) -> &'static [[u8; 2]] {
         match self {
             CellType::Triangle => &[[0, 1], [1, 2], [2, 0]],
             CellType::Quad => &[[0, 1], [1, 2], [2, 3], [3, 0]],
@@ -88,7 +86,7 @@ impl CellType {
     /// The cell's faces (its sides: segments in 2D, triangles and quads in 3D) as local corners,
     /// each ordered so that its right-hand normal points out of the cell (in 2D: the cell lies
     /// on the left of the segment).
-    pub(crate) fn faces(self) -> &'static [&'static [u8]] {
+    pub fn faces(self) -> &'static [&'static [u8]] {
         match self {
             CellType::Triangle => &[&[0, 1], &[1, 2], &[2, 0]],
             CellType::Quad => &[&[0, 1], &[1, 2], &[2, 3], &[3, 0]],

@@ -4,9 +4,11 @@
 //! corner Jacobians, the stiffness ∫∇φ_i·∇φ_j, the lumped mass ∫φ_i, angles) come from the
 //! module of its family: `simplex` (P1 triangles and tetrahedra) and `tensor` (Q1 quads and
 //! hexahedra); wedges and pyramids are averaged decompositions into tetrahedra (`decomposed`).
-//! Rotations in D dimensions are in `rotation`.
+//! Rotations in D dimensions are in `rotation`; closest points on boundary simplices in
+//! `closest`.
 
 mod cell_type;
+pub(crate) mod closest;
 mod decomposed;
 mod face;
 pub(crate) mod rotation;
@@ -45,7 +47,7 @@ impl<T> std::ops::Deref for Corners<T> {
 
 /// The corners of one cell, padded to 3 coordinates (z = 0 in 2D).
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct CellPoints {
+pub struct CellPoints {
     pub(crate) ty: CellType,
     pub(crate) p: [[f64; 3]; MAX_CORNERS],
 }
@@ -54,7 +56,7 @@ impl CellPoints {
     /// Gathers the corners `verts` of a cell of type `ty` from interleaved `coords` of `dim`
     /// values per vertex.
     #[inline]
-    pub(crate) fn gather(ty: CellType, verts: &[u32], coords: &[f64], dim: usize) -> CellPoints {
+    pub fn gather(ty: CellType, verts: &[u32], coords: &[f64], dim: usize) -> CellPoints {
         let mut p = [[0.0; 3]; MAX_CORNERS];
         for (k, &v) in verts.iter().enumerate() {
             let x = &coords[v as usize * dim..v as usize * dim + dim];
@@ -64,7 +66,7 @@ impl CellPoints {
     }
 
     /// Signed area (2D) or volume (3D): positive for a cell in its type's orientation.
-    pub(crate) fn signed_measure(&self) -> f64 {
+    pub fn signed_measure(&self) -> f64 {
         match self.ty {
             CellType::Triangle => simplex::triangle_area(&self.p),
             CellType::Quad => tensor::quad_area(&self.p),
@@ -105,7 +107,7 @@ impl CellPoints {
     /// The cell's smallest angle, in degrees: in 2D between two edges at a corner (0 for an
     /// inverted corner), in 3D the smallest dihedral angle (between two faces at an edge), which
     /// reads like the 2D angle and, unlike an edge angle, shows a sliver tetrahedron.
-    pub(crate) fn min_angle_deg(&self) -> f64 {
+    pub fn min_angle_deg(&self) -> f64 {
         match self.ty {
             CellType::Triangle => simplex::triangle_min_angle_deg(&self.p),
             CellType::Quad => tensor::min_corner_angle_deg(self.ty, &self.p),
@@ -151,7 +153,7 @@ impl CellType {
     }
 
     /// The corner order of the same cell in the opposite orientation.
-    pub(crate) fn flipped(self) -> &'static [u8] {
+    pub fn flipped(self) -> &'static [u8] {
         match self {
             CellType::Triangle => &[0, 2, 1],
             CellType::Quad => &[0, 3, 2, 1],

@@ -4,6 +4,34 @@
 use super::{cross, dot3};
 use glam::DVec2;
 
+/// How many values give a rotation in `dim` dimensions: the angle in 2D, the rotation vector
+/// (axis × angle) in 3D.
+pub(crate) fn value_count(dim: usize) -> usize {
+    if dim == 2 {
+        1
+    } else {
+        3
+    }
+}
+
+/// The rotation vector of the first [`value_count`]`(dim)` values of `v`.
+pub(crate) fn from_values(v: &[f64], dim: usize) -> [f64; 3] {
+    if dim == 2 {
+        [0.0, 0.0, v[0]]
+    } else {
+        [v[0], v[1], v[2]]
+    }
+}
+
+/// The rotation angle: the rotation vector's length in 3D, the signed angle in 2D.
+pub(crate) fn angle(omega: &[f64; 3], dim: usize) -> f64 {
+    if dim == 2 {
+        omega[2]
+    } else {
+        dot3(omega, omega).sqrt()
+    }
+}
+
 /// R r for the rotation vector `omega` (`dim` = 2: only ω_z is read).
 pub(crate) fn rotate(omega: &[f64; 3], dim: usize, r: &[f64; 3]) -> [f64; 3] {
     if dim == 2 {

@@ -26,7 +26,7 @@ use thiserror::Error;
 
 /// What can go wrong reading or writing a mesh file.
 ///
-/// `Clone` and `PartialEq` are implemented by hand so that [`crate::Error`] keeps them: an
+/// `Clone` and `PartialEq` are implemented by hand so that the crate's `Error` keeps them: an
 /// `std::io::Error` is cloned as a new error of the same kind and message, and two I/O errors are
 /// equal when their paths and kinds are.
 #[derive(Debug, Error)]

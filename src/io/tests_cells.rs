@@ -4,8 +4,8 @@
 use super::tests::{data, tmp};
 use super::vtu::signed_measure;
 use super::*;
-use crate::cases::hybrid::structured_quads;
 use crate::geometry::CellType;
+use crate::mesh::fixtures::quads as structured_quads;
 use crate::mesh::MeshData;
 use std::f64::consts::PI;
 

@@ -203,6 +203,12 @@ pub enum MeshError {
         /// The mesh dimension.
         dim: usize,
     },
+    /// Uniform refinement of a mesh whose cells it does not split (it splits 2D cells).
+    #[error("uniform refinement splits the cells of 2D meshes; this mesh is {dim}D")]
+    RefinementDimension {
+        /// The mesh dimension.
+        dim: usize,
+    },
     /// The mesh has more vertices than 32-bit vertex indices can number.
     #[error("the mesh has {vertices} vertices; at most {max} are supported")]
     TooLarge {

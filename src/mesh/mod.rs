@@ -8,6 +8,13 @@
 
 mod data;
 mod error;
+#[cfg(test)]
+pub(crate) mod fixtures;
+/// Cell quality (public with the `internals` feature: the paper's cases measure with it).
+#[cfg(feature = "internals")]
+#[doc(hidden)]
+pub mod quality;
+#[cfg(not(feature = "internals"))]
 pub(crate) mod quality;
 mod refine;
 mod topology;
@@ -292,9 +299,19 @@ impl Mesh {
     }
 
     /// Each cell split at its edge midpoints (a triangle into four, a quad into four); patches
-    /// and regions inherited.
-    pub fn refine_uniform(&self) -> Mesh {
-        refine::uniform(self)
+    /// and regions inherited. The splitting is written for 2D cells: a 3D mesh gives
+    /// [`MeshError::RefinementDimension`].
+    pub fn refined(&self) -> Result<Mesh, MeshError> {
+        if self.dim() != 2 {
+            return Err(MeshError::RefinementDimension { dim: self.dim() });
+        }
+        Ok(refine::uniform(self))
+    }
+
+    /// [`Mesh::refined`] of a mesh the crate's tests know to be 2D.
+    #[cfg(test)]
+    pub(crate) fn refine_uniform(&self) -> Mesh {
+        self.refined().expect("a 2D test mesh")
     }
 }
 

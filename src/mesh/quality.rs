@@ -25,12 +25,6 @@ pub fn inverted_cells(mesh: &Mesh, coords: &[f64]) -> Vec<usize> {
     (0..mesh.num_cells()).filter(|&c| is_inverted(mesh, coords, c)).collect()
 }
 
-/// The smallest corner angle of every cell at positions `coords`, degrees.
-#[cfg(test)]
-pub(crate) fn min_angles(mesh: &Mesh, coords: &[f64]) -> Vec<f64> {
-    (0..mesh.num_cells()).map(|c| points(mesh, coords, c).min_angle_deg()).collect()
-}
-
 /// Summary of a deformed mesh against its reference.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Quality {

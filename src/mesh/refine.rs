@@ -6,7 +6,7 @@ use crate::geometry::CellType;
 use std::collections::HashMap;
 
 pub(super) fn uniform(m: &Mesh) -> Mesh {
-    assert_eq!(m.dim(), 2, "uniform refinement is written for 2D meshes");
+    debug_assert_eq!(m.dim(), 2, "Mesh::refined checks the dimension");
     let mut coords = m.coords().to_vec();
     let mut mid: HashMap<u64, u32> = HashMap::with_capacity(3 * m.num_cells() / 2 + m.num_vertices());
     let mut midpoint = |a: u32, b: u32, coords: &mut Vec<f64>| -> u32 {
@@ -61,7 +61,19 @@ pub(super) fn uniform(m: &Mesh) -> Mesh {
 
 #[cfg(test)]
 mod tests {
-    use crate::mesh::{quality::signed_measures, IndexBase, Mesh};
+    use crate::geometry::CellType;
+    use crate::mesh::{quality::signed_measures, IndexBase, Mesh, MeshData, MeshError};
+
+    #[test]
+    fn a_3d_mesh_is_not_refined() {
+        let mut d = MeshData::new(3);
+        for p in [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]] {
+            d.push_vertex(&p);
+        }
+        d.push_cell(CellType::Tetra, &[0, 1, 2, 3], 0);
+        let m = Mesh::from_data(&d).unwrap();
+        assert!(matches!(m.refined(), Err(MeshError::RefinementDimension { dim: 3 })));
+    }
 
     #[test]
     fn refinement_quadruples_and_keeps_area_and_patches() {

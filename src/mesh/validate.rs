@@ -38,7 +38,7 @@ pub(crate) fn out_of_range(cell: usize, index: i64, base: IndexBase, n: usize) -
 /// Validates `d` and builds the mesh (see `Mesh::from_data`).
 pub(super) fn mesh(d: &MeshData) -> Result<Mesh, MeshError> {
     let dim = d.dim;
-    if dim != 2 && dim != 3 {
+    if !CellType::ALL.iter().any(|t| t.dim() == dim) {
         return Err(MeshError::Dimension { dim });
     }
     if d.coords.len() % dim != 0 {

@@ -194,18 +194,25 @@ impl LevelOperator {
 mod tests {
     use super::*;
     use crate::bc::Z;
-    use crate::cases::setups::free_surface_case;
-    use crate::{Method, Options, Solver};
+    use crate::mesh::fixtures::rect;
+    use crate::{BoundaryConditions, Kind, Link, Method, Options, Solver};
 
     /// The fused sweep, forced onto a small level cut into several chunks of several blocks,
     /// gives bitwise the plain passes' application, residual and smoothing step, on rows with
     /// every flag (P, Z, linked periodic sides), from 3 threads.
     #[test]
     fn fused_sweep_is_bitwise_the_two_passes() {
-        let case = free_surface_case("fs", 1.0 / 64.0, 0.25, 1);
-        let mesh = case.mesh.refine_uniform();
+        // A free surface [0,1]×[−2,0], tall enough for several chunks of its bandwidth: bottom
+        // FIXED, top CLAMPED, sides linked (x CLAMPED, y FREE).
+        let mesh = rect(96, 256, [0.0, 1.0, -2.0, 0.0]);
+        let mut bcs = BoundaryConditions::new();
+        bcs.set_kinds(1, Kind::Fixed).set_kinds(3, Kind::Clamped);
+        for p in [2, 4] {
+            bcs.set_kind(p, 0, Kind::Clamped).unwrap().set_kind(p, 1, Kind::Free).unwrap();
+        }
+        bcs.add_link(Link::ByOffset { a: 4, b: 2, offset: [1.0, 0.0, 0.0], tol: 1e-9 });
         let opts = Options { method: Method::Biharmonic, threads: 3, ..Default::default() };
-        let solver = Solver::new(&mesh, &case.bcs, opts).unwrap();
+        let solver = Solver::new(&mesh, &bcs, opts).unwrap();
         let lev = solver.hierarchy().fine();
         let plain = &lev.op;
         assert!(plain.fuse.is_none(), "a {}-row level is below the fusing size", plain.n());

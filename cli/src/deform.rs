@@ -1,0 +1,608 @@
+//! `meshmove deform MESH --config CASE.toml -o OUT.vtu`: the user's own mesh and case.
+//!
+//! The case file (TOML): every key, its default and an example of each feature are in
+//! docs/CASE-FORMAT.md, whose examples tests/case_format.rs runs.
+//!
+//! Exit status: 0 on a valid result; 1 on a bad mesh or case file (nothing written); 2 on usage
+//! errors (clap); 3 when the result has inverted cells (the .vtu is still written); 4 when a step
+//! failed (not converged, sub-stepping limit reached, tangled reference): the last valid mesh is
+//! written to `OUT.last-valid.vtu` beside the requested output.
+
+use indicatif::{ProgressBar, ProgressStyle};
+use meshmove::bc::SlipSurface;
+use meshmove::io::{read_msh, read_vtu};
+use meshmove::solver::{ReferenceMode, StepReport};
+use meshmove::{BoundaryConditions, InterfaceVariant, Kind, Link, Mesh, Method, Motion, Options, RigidMotion};
+use meshmove_cases::report::{patch_measures, run_case_with};
+use meshmove_cases::setups::CaseSetup;
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// The mesh: Gmsh .msh (2.2 or 4.1; physical groups are patches) or .vtu.
+    mesh: PathBuf,
+    /// The case file (TOML).
+    #[arg(long)]
+    config: PathBuf,
+    /// Also draw the deformed mesh to this PNG file (title, inverted cells, min area ratio).
+    #[arg(long, value_name = "FILE")]
+    png: Option<PathBuf>,
+    /// Where to write the deformed mesh (.vtu).
+    #[arg(short, long)]
+    output: PathBuf,
+    /// Also write one JSON object per sub-step (JSON lines) to this file.
+    #[arg(long)]
+    report: Option<PathBuf>,
+}
+
+/// `steps = N` or `steps = "auto"` (one step, split automatically as needed).
+#[derive(Deserialize, Debug)]
+#[serde(untagged)]
+enum StepsSpec {
+    Count(usize),
+    Word(String),
+}
+
+#[derive(Deserialize, Debug, Clone)]
+#[serde(untagged)]
+enum PatchRef {
+    Id(i32),
+    Name(String),
+}
+
+#[derive(Deserialize, Debug)]
+#[serde(untagged)]
+enum KindSpec {
+    Both(String),
+    PerComponent(Vec<String>),
+}
+
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+struct PatchCfg {
+    patch: PatchRef,
+    kind: KindSpec,
+    /// A slip patch's analytic wall: sphere (circle), cylinder or plane (line).
+    shape: Option<String>,
+    center: Option<Vec<f64>>,
+    radius: Option<f64>,
+    axis: Option<Vec<f64>>,
+    point: Option<Vec<f64>>,
+    normal: Option<Vec<f64>>,
+}
+
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+struct LinkCfg {
+    a: PatchRef,
+    b: PatchRef,
+    offset: Vec<f64>,
+    tol: Option<f64>,
+}
+
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+struct InterfaceCfg {
+    patch: PatchRef,
+    variant: String,
+}
+
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+struct MotionCfg {
+    patch: Option<PatchRef>,
+    translation: Option<Vec<f64>>,
+    rotation_deg: Option<f64>,
+    axis: Option<Vec<f64>>,
+    center: Option<Vec<f64>>,
+    file: Option<PathBuf>,
+}
+
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+struct Config {
+    method: Option<String>,
+    tolerance: Option<f64>,
+    threads: Option<usize>,
+    steps: Option<StepsSpec>,
+    max_substeps: Option<usize>,
+    min_volume_ratio: Option<f64>,
+    reference: Option<String>,
+    #[serde(default)]
+    patch: Vec<PatchCfg>,
+    #[serde(default)]
+    link: Vec<LinkCfg>,
+    #[serde(default)]
+    interface: Vec<InterfaceCfg>,
+    #[serde(default)]
+    motion: Vec<MotionCfg>,
+}
+
+struct Patches {
+    ids: Vec<i32>,
+    names: Vec<(i32, String)>,
+}
+
+/// Sub-steps per step of `steps = "auto"`.
+const AUTO_SUBSTEPS: usize = 1024;
+
+impl Patches {
+    /// `name (id)` for a named patch, the id otherwise.
+    fn name(&self, id: i32) -> String {
+        match self.names.iter().find(|(i, _)| *i == id) {
+            Some((_, n)) => format!("`{n}` ({id})"),
+            None => id.to_string(),
+        }
+    }
+
+    fn resolve(&self, p: &PatchRef, what: &str) -> Result<i32, String> {
+        let id = match p {
+            PatchRef::Id(i) => *i,
+            PatchRef::Name(n) => match self.names.iter().find(|(_, m)| m == n) {
+                Some((i, _)) => *i,
+                None => {
+                    let known: Vec<&str> = self.names.iter().map(|(_, n)| n.as_str()).collect();
+                    return Err(format!("{what}: no patch named `{n}` in the mesh (named patches: {known:?})"));
+                }
+            },
+        };
+        if self.ids.binary_search(&id).is_err() {
+            return Err(format!("{what}: patch {id} is not in the mesh (patches: {:?})", self.ids));
+        }
+        Ok(id)
+    }
+}
+
+fn kind(s: &str, what: &str) -> Result<Kind, String> {
+    match s.to_ascii_lowercase().as_str() {
+        "fixed" => Ok(Kind::Fixed),
+        "clamped" => Ok(Kind::Clamped),
+        "free" => Ok(Kind::Free),
+        "slip" => Ok(Kind::Slip),
+        _ => Err(format!("{what}: kind `{s}` is not one of fixed, clamped, free, slip")),
+    }
+}
+
+/// A vector of the case file as 3 values: it must have `dim` components (the mesh's).
+fn vector(v: &[f64], dim: usize, what: &str, key: &str) -> Result<[f64; 3], String> {
+    if v.len() != dim {
+        return Err(format!("{what}: `{key}` has {} components; the mesh is {dim}D: expected {dim}", v.len()));
+    }
+    let mut out = [0.0; 3];
+    out[..dim].copy_from_slice(v);
+    Ok(out)
+}
+
+/// The analytic wall of a `[[patch]]` entry, if it gives a `shape`: its keys checked against the
+/// shape (each required one given, finite, a positive radius, a non-zero axis or normal; no key
+/// of another shape).
+fn slip_shape(p: &PatchCfg, dim: usize, what: &str) -> Result<Option<SlipSurface>, String> {
+    let given = [("center", p.center.is_some()), ("radius", p.radius.is_some()), ("axis", p.axis.is_some())]
+        .into_iter()
+        .chain([("point", p.point.is_some()), ("normal", p.normal.is_some())]);
+    let Some(shape) = p.shape.as_deref().map(str::to_ascii_lowercase) else {
+        return match given.into_iter().find(|(_, g)| *g) {
+            Some((key, _)) => Err(format!("{what}: `{key}` belongs to a `shape`, and none is given")),
+            None => Ok(None),
+        };
+    };
+    let (kind, keys): (&str, &[&str]) = match (shape.as_str(), dim) {
+        ("sphere" | "circle", _) => ("sphere", &["center", "radius"]),
+        ("cylinder", 3) => ("cylinder", &["center", "radius", "axis"]),
+        ("plane" | "line", _) => ("plane", &["point", "normal"]),
+        ("cylinder", _) => return Err(format!("{what}: shape `cylinder` is for 3D meshes (a 2D wall is a circle)")),
+        (s, _) => return Err(format!("{what}: shape `{s}` is not one of sphere (circle), cylinder, plane (line)")),
+    };
+    for (key, is) in given {
+        if is != keys.contains(&key) {
+            let why = if is { "is not a key of" } else { "is required by" };
+            return Err(format!("{what}: `{key}` {why} shape `{shape}`"));
+        }
+    }
+    // A given key's vector, finite; a direction's also non-zero.
+    let point = |v: &Option<Vec<f64>>, key: &str| {
+        let x = vector(v.as_deref().unwrap_or_default(), dim, what, key)?;
+        x.iter().all(|c| c.is_finite()).then_some(x).ok_or_else(|| format!("{what}: `{key}` is not finite"))
+    };
+    let direction = |v: &Option<Vec<f64>>, key: &str| {
+        let x = point(v, key)?;
+        x.iter().any(|&c| c != 0.0).then_some(x).ok_or_else(|| format!("{what}: `{key}` is zero"))
+    };
+    let radius = || match p.radius {
+        Some(r) if r.is_finite() && r > 0.0 => Ok(r),
+        r => Err(format!("{what}: `radius` must be a positive number, got {r:?}")),
+    };
+    Ok(Some(match kind {
+        "sphere" => SlipSurface::sphere(point(&p.center, "center")?, radius()?),
+        "cylinder" => SlipSurface::cylinder(point(&p.center, "center")?, direction(&p.axis, "axis")?, radius()?),
+        _ => SlipSurface::plane(point(&p.point, "point")?, direction(&p.normal, "normal")?),
+    }))
+}
+
+/// The mesh and the names of its patches (Gmsh physical groups of dimension `dim - 1`).
+fn read_mesh(path: &Path) -> Result<(Mesh, Vec<(i32, String)>), String> {
+    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+    match ext.as_str() {
+        "msh" => {
+            let m = read_msh(path).map_err(|e| format!("mesh {}: {e}", path.display()))?;
+            let pd = m.mesh.dim() as i32 - 1;
+            let names = m.physical_names.iter().filter(|(d, _, _)| *d == pd).map(|(_, t, n)| (*t, n.clone())).collect();
+            Ok((m.mesh, names))
+        }
+        "vtu" => {
+            let d = read_vtu(path).map_err(|e| format!("mesh {}: {e}", path.display()))?;
+            let m = d.to_mesh().map_err(|e| format!("mesh {}: {e}", path.display()))?;
+            Ok((m, Vec::new()))
+        }
+        _ => Err(format!("mesh {}: unknown extension (expected .msh or .vtu)", path.display())),
+    }
+}
+
+/// A displacement per vertex (`dim` components, the rest 0) from a .vtu (point data
+/// `displacement`) or a CSV `vertex,dx,dy` (2D) or `vertex,dx,dy,dz` (3D).
+fn read_displacement(path: &Path, nv: usize, dim: usize) -> Result<Vec<Option<[f64; 3]>>, String> {
+    let what = format!("displacement file {}", path.display());
+    let mut out = vec![None; nv];
+    if path.extension().and_then(|e| e.to_str()) == Some("vtu") {
+        let d = read_vtu(path).map_err(|e| format!("{what}: {e}"))?;
+        let (_, v, k) = d
+            .point_data
+            .iter()
+            .find(|(n, _, _)| n == "displacement")
+            .ok_or_else(|| format!("{what}: no point data `displacement`"))?;
+        if *k < dim || v.len() != nv * k {
+            return Err(format!(
+                "{what}: `displacement` has {} values of {k} components; the mesh has {nv} vertices",
+                v.len()
+            ));
+        }
+        for (i, o) in out.iter_mut().enumerate() {
+            let mut d = [0.0; 3];
+            d[..dim].copy_from_slice(&v[i * k..i * k + dim]);
+            *o = Some(d);
+        }
+        return Ok(out);
+    }
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{what}: {e}"))?;
+    for (ln, line) in text.lines().enumerate() {
+        let line = line.trim();
+        if line.is_empty() || line.starts_with('#') || (ln == 0 && line.starts_with(|c: char| c.is_alphabetic())) {
+            continue;
+        }
+        let f: Vec<&str> = line.split(',').map(str::trim).collect();
+        let fields = ["vertex,dx,dy", "vertex,dx,dy,dz"][dim - 2];
+        let bad = || format!("{what}: line {}: expected `{fields}`, got `{line}`", ln + 1);
+        if f.len() != 1 + dim {
+            return Err(bad());
+        }
+        let v: usize = f[0].parse().map_err(|_| bad())?;
+        let mut d = [0.0f64; 3];
+        for c in 0..dim {
+            d[c] = f[1 + c].parse().map_err(|_| bad())?;
+        }
+        if v >= nv || d.iter().any(|x| !x.is_finite()) {
+            return Err(format!("{what}: line {}: vertex {v} (the mesh has {nv}) or a non-finite value", ln + 1));
+        }
+        out[v] = Some(d);
+    }
+    Ok(out)
+}
+
+fn build(args: &Args) -> Result<(CaseSetup, Options), String> {
+    let text = std::fs::read_to_string(&args.config).map_err(|e| format!("config {}: {e}", args.config.display()))?;
+    let cfg: Config = toml::from_str(&text).map_err(|e| format!("config {}: {e}", args.config.display()))?;
+    let base = args.config.parent().unwrap_or(Path::new("."));
+    let (mesh, names) = read_mesh(&args.mesh)?;
+    let dim = mesh.dim();
+    if dim != 2 && dim != 3 {
+        return Err(format!("mesh {}: a {dim}D mesh; `deform` moves 2D and 3D meshes", args.mesh.display()));
+    }
+    let patches = Patches { ids: mesh.patch_ids(), names };
+    let method = match cfg.method.as_deref().unwrap_or("biharmonic").to_ascii_lowercase().as_str() {
+        "biharmonic" => Method::Biharmonic,
+        "laplacian" => Method::Laplacian,
+        "spring" => Method::Spring,
+        m => return Err(format!("config: method `{m}` is not one of biharmonic, laplacian, spring")),
+    };
+    let mut opts = Options { method, ..Default::default() };
+    if let Some(t) = cfg.tolerance {
+        if !(t > 0.0 && t.is_finite()) {
+            return Err(format!("config: tolerance must be positive, got {t}"));
+        }
+        opts.solve.tol = t;
+    }
+    opts.threads = cfg.threads.unwrap_or(0);
+    let (steps, auto) = match &cfg.steps {
+        None => (1, false),
+        Some(StepsSpec::Count(n)) => (*n, false),
+        Some(StepsSpec::Word(w)) if w == "auto" => (1, true),
+        Some(StepsSpec::Word(w)) => return Err(format!("config: steps = \"{w}\" is not a count or \"auto\"")),
+    };
+    if steps == 0 || steps > meshmove::solver::MAX_STEPS {
+        return Err(format!("config: steps must be 1 to {}", meshmove::solver::MAX_STEPS));
+    }
+    opts.max_substeps = cfg.max_substeps.unwrap_or(if auto { AUTO_SUBSTEPS } else { 0 });
+    if let Some(r) = cfg.min_volume_ratio {
+        opts.min_volume_ratio = r;
+    }
+    opts.reference = match cfg.reference.as_deref().map(str::to_ascii_lowercase).as_deref() {
+        None | Some("incremental") => ReferenceMode::Incremental,
+        Some("original") => ReferenceMode::Original,
+        Some(r) => return Err(format!("config: reference `{r}` is not incremental or original")),
+    };
+    let mut bcs = BoundaryConditions::new();
+    let mut listed: Vec<(i32, usize)> = Vec::new();
+    for (i, p) in cfg.patch.iter().enumerate() {
+        let what = format!("config: [[patch]] {}", i + 1);
+        let id = patches.resolve(&p.patch, &what)?;
+        if let Some((_, first)) = listed.iter().find(|(q, _)| *q == id) {
+            return Err(format!("{what}: patch {} is already given a kind by [[patch]] {first}", patches.name(id)));
+        }
+        listed.push((id, i + 1));
+        match &p.kind {
+            KindSpec::Both(k) => {
+                bcs.set_kinds(id, kind(k, &what)?);
+            }
+            KindSpec::PerComponent(ks) => {
+                if ks.len() != dim {
+                    return Err(format!(
+                        "{what}: `kind` has {} components; the mesh is {dim}D: expected {dim}",
+                        ks.len()
+                    ));
+                }
+                for (c, k) in ks.iter().enumerate() {
+                    bcs.set_kind(id, c, kind(k, &what)?).map_err(|e| e.to_string())?;
+                }
+            }
+        }
+    }
+    for (i, p) in cfg.patch.iter().enumerate() {
+        let what = format!("config: [[patch]] {}", i + 1);
+        if let Some(surface) = slip_shape(p, dim, &what)? {
+            let id = patches.resolve(&p.patch, &what)?;
+            if !bcs.is_slip(id) {
+                return Err(format!("{what}: `shape` is for a patch of kind \"slip\""));
+            }
+            bcs.set_slip_surface(id, surface);
+        }
+    }
+    for (i, l) in cfg.link.iter().enumerate() {
+        let what = format!("config: [[link]] {}", i + 1);
+        let (a, b) = (patches.resolve(&l.a, &what)?, patches.resolve(&l.b, &what)?);
+        let offset = vector(&l.offset, dim, &what, "offset")?;
+        bcs.add_link(Link::ByOffset { a, b, offset, tol: l.tol.unwrap_or(1e-9) });
+    }
+    for (i, f) in cfg.interface.iter().enumerate() {
+        let what = format!("config: [[interface]] {}", i + 1);
+        let id = patches.resolve(&f.patch, &what)?;
+        let v = match f.variant.to_ascii_lowercase().as_str() {
+            "separate" | "a" => InterfaceVariant::Separate,
+            "continuous" | "b" => InterfaceVariant::Continuous,
+            v => return Err(format!("{what}: variant `{v}` is not separate (A) or continuous (B)")),
+        };
+        bcs.set_interface(id, v);
+    }
+    let mut motion = Motion::zero(&mesh);
+    let mut moved_patch = 0;
+    let mut moved: Vec<(i32, usize)> = Vec::new();
+    for (i, m) in cfg.motion.iter().enumerate() {
+        let what = format!("config: [[motion]] {}", i + 1);
+        let patch = m.patch.as_ref().map(|p| patches.resolve(p, &what)).transpose()?;
+        if let Some(p) = patch {
+            if let Some((_, first)) = moved.iter().find(|(q, _)| *q == p) {
+                return Err(format!("{what}: patch {} is already moved by [[motion]] {first}", patches.name(p)));
+            }
+            moved.push((p, i + 1));
+        }
+        if let Some(p) = patch {
+            if moved_patch == 0 {
+                moved_patch = p;
+            }
+        }
+        let rigid = m.translation.is_some() || m.rotation_deg.is_some();
+        match (&m.file, rigid) {
+            (Some(_), true) => return Err(format!("{what}: give either `file` or a rigid motion, not both")),
+            (None, false) => return Err(format!("{what}: give `translation`/`rotation_deg` or a displacement `file`")),
+            (None, true) => {
+                let p = patch.ok_or_else(|| format!("{what}: a rigid motion needs `patch`"))?;
+                let r = rigid_motion(m, dim, &what)?;
+                motion = motion.with_rigid(p, r);
+            }
+            (Some(f), false) => {
+                if m.axis.is_some() {
+                    return Err(format!("{what}: `axis` belongs to a rigid motion, not to a `file`"));
+                }
+                let d = read_displacement(&base.join(f), mesh.num_vertices(), dim)?;
+                if let Some(p) = patch {
+                    for c in 0..dim {
+                        let moves = mesh.patch_vertices(p).iter().any(|&v| d[v as usize].is_some_and(|d| d[c] != 0.0));
+                        if moves && bcs.kind(p, c) == Kind::Free {
+                            return Err(format!(
+                                "{what}: the file moves patch {} in {}, which is FREE there: make it fixed or clamped",
+                                patches.name(p),
+                                ["x", "y", "z"][c]
+                            ));
+                        }
+                    }
+                }
+                let only = patch.map(|p| mesh.patch_vertices(p));
+                for (v, dv) in d.iter().enumerate() {
+                    if let Some(dv) = dv {
+                        if only.as_ref().is_none_or(|o| o.binary_search(&(v as u32)).is_ok()) {
+                            motion.displacement[dim * v..dim * (v + 1)].copy_from_slice(&dv[..dim]);
+                        }
+                    }
+                }
+            }
+        }
+    }
+    bcs.check(&mesh).map_err(|e| format!("config: {e}"))?;
+    let name = args.mesh.file_stem().and_then(|s| s.to_str()).unwrap_or("mesh").to_string();
+    Ok((CaseSetup { name, mesh, bcs, motion, steps, moved_patch, upper_region: None }, opts))
+}
+
+/// The rigid motion of a `[[motion]]`: in 2D `rotation_deg` about z; in 3D `rotation_deg` about
+/// `axis` (normalised), both through `center`.
+fn rigid_motion(m: &MotionCfg, dim: usize, what: &str) -> Result<RigidMotion, String> {
+    let translation = m.translation.as_deref().map(|t| vector(t, dim, what, "translation")).transpose()?;
+    let center = m.center.as_deref().map(|c| vector(c, dim, what, "center")).transpose()?;
+    let (translation, center) = (translation.unwrap_or([0.0; 3]), center.unwrap_or([0.0; 3]));
+    let angle = m.rotation_deg.unwrap_or(0.0).to_radians();
+    if dim == 2 {
+        if m.axis.is_some() {
+            return Err(format!("{what}: `axis` is for 3D meshes; a 2D rotation is about z"));
+        }
+        return Ok(RigidMotion::planar([translation[0], translation[1]], angle, [center[0], center[1]]));
+    }
+    let rotation = match (&m.axis, m.rotation_deg) {
+        (None, None) => [0.0; 3],
+        (None, Some(_)) => {
+            return Err(format!("{what}: a 3D rotation needs `axis = [ax, ay, az]` with `rotation_deg`"))
+        }
+        (Some(_), None) => return Err(format!("{what}: `axis` without `rotation_deg`")),
+        (Some(a), Some(_)) => {
+            let a = vector(a, 3, what, "axis")?;
+            let n = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+            if !(n > 0.0 && n.is_finite()) {
+                return Err(format!("{what}: `axis` must be a non-zero finite vector"));
+            }
+            a.map(|x| x / n * angle)
+        }
+    };
+    Ok(RigidMotion { translation, rotation, center })
+}
+
+pub fn run(args: Args) -> Result<ExitCode, String> {
+    let (setup, opts) = build(&args)?;
+    let bar = if setup.steps >= 5 { ProgressBar::new(setup.steps as u64) } else { ProgressBar::hidden() };
+    bar.set_style(
+        ProgressStyle::with_template("{bar:40} step {pos}/{len} {elapsed}").unwrap_or(ProgressStyle::default_bar()),
+    );
+    let r = run_case_with(&setup, opts.method, &opts, |_, reps| {
+        for rep in reps {
+            let line = rep.line();
+            if bar.is_hidden() {
+                eprintln!("{line}");
+            } else {
+                bar.println(line);
+            }
+        }
+        bar.inc(1);
+    })
+    .map_err(|e| e.to_string())?;
+    bar.finish_and_clear();
+    if let Some(path) = &args.report {
+        let text: String = r.reports.iter().map(|x| json_line(x) + "\n").collect();
+        std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))?;
+    }
+    let original = setup.mesh.coords();
+    if let Some(f) = &r.failure {
+        let partial = args.output.with_extension("last-valid.vtu");
+        let disp: Vec<f64> = r.last_valid.iter().zip(original).map(|(a, b)| a - b).collect();
+        crate::write_deformed(&partial, &setup.mesh, &disp)?;
+        let done = r.reports.iter().filter(|x| x.accepted).map(|x| x.fraction).fold(0.0, f64::max);
+        eprintln!("meshmove: error: {f}");
+        eprintln!(
+            "meshmove: the last valid mesh ({:.1}% of the motion) is written to {}; {} is not written",
+            100.0 * done,
+            partial.display(),
+            args.output.display()
+        );
+        return Ok(ExitCode::from(4));
+    }
+    let disp = r.displacement(&setup.mesh);
+    crate::write_deformed(&args.output, &setup.mesh, &disp)?;
+    let substeps = r.reports.iter().filter(|x| x.accepted).count();
+    println!(
+        "mesh            {} ({} vertices, {} cells)",
+        args.mesh.display(),
+        setup.mesh.num_vertices(),
+        setup.mesh.num_cells()
+    );
+    println!(
+        "method          {:?}, {} step(s) in {substeps} sub-step(s), {} cycles, {:.3} s, converged",
+        opts.method, r.steps, r.cycles, r.seconds,
+    );
+    println!("inverted cells  {}", r.inverted);
+    if setup.mesh.dim() == 2 {
+        println!("min area ratio  {:.4}", r.min_area_ratio);
+    } else {
+        println!("min volume ratio {:.4}", r.min_area_ratio);
+    }
+    println!("min angle       {:.2} deg", r.min_angle_deg);
+    let offwall = r.reports.iter().filter(|x| x.accepted).map(|x| x.max_slip_offwall).fold(0.0, f64::max);
+    if setup.mesh.patch_ids().iter().any(|&p| setup.bcs.is_slip(p)) {
+        println!("slip walls      largest distance of a slipped vertex from its wall {offwall:.2e}");
+    }
+    if setup.moved_patch != 0 {
+        let pm = patch_measures(&setup.mesh, &r.coords, setup.moved_patch, None);
+        println!(
+            "moved patch {}   spacing variation {:.4}, first-cell {} ratio {:.4}..{:.4}",
+            setup.moved_patch,
+            pm.spacing_variation,
+            if setup.mesh.dim() == 2 { "area" } else { "volume" },
+            pm.area_ratio.0,
+            pm.area_ratio.1
+        );
+    }
+    println!("wrote           {}", args.output.display());
+    if let Some(png) = &args.png {
+        case_png(png, &setup, &r.coords, opts.method, r.steps)?;
+    }
+    if r.inverted > 0 {
+        eprintln!(
+            "meshmove: error: the deformed mesh has {} inverted cells (written anyway to {})",
+            r.inverted,
+            args.output.display()
+        );
+        return Ok(ExitCode::from(3));
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// One sub-step as a JSON object (non-finite numbers as null).
+fn json_line(r: &StepReport) -> String {
+    let num = |x: f64| if x.is_finite() { format!("{x:?}") } else { "null".into() };
+    format!(
+        "{{\"step\":{},\"substep\":{},\"fraction\":{},\"cycles\":{},\"rel_residual\":{},\"converged\":{},\"rebuilt\":{},\"inverted\":{},\"min_volume_ratio\":{},\"min_angle_deg\":{},\"seconds\":{},\"accepted\":{},\"max_slip_offwall\":{}}}",
+        r.step,
+        r.substep,
+        num(r.fraction),
+        r.cycles,
+        num(r.rel_residual),
+        r.converged,
+        r.rebuilt,
+        r.inverted,
+        num(r.min_volume_ratio),
+        num(r.min_angle_deg),
+        num(r.seconds),
+        r.accepted,
+        num(r.max_slip_offwall)
+    )
+}
+
+/// The picture `meshmove deform --png FILE` writes: the whole deformed mesh (3D: its section
+/// through the moved patch, [`crate::plot3d::section_png`]), titled with the case's name, the
+/// method and the step count, its moved patch drawn blue.
+fn case_png(
+    path: &Path,
+    setup: &meshmove_cases::setups::CaseSetup,
+    coords: &[f64],
+    method: meshmove::Method,
+    steps: usize,
+) -> Result<(), String> {
+    let title = format!("{}: {method:?}, {steps} step(s)", setup.name).to_lowercase();
+    if setup.mesh.dim() == 3 {
+        let axis = crate::plot3d::section_axis(&setup.mesh, &setup.motion);
+        return crate::plot3d::section_png(path, (&setup.mesh, coords), (title, &[]), (axis, setup.moved_patch), 800)
+            .map_err(|e| format!("{}: {e}", path.display()));
+    }
+    let (highlight, extra) = match setup.moved_patch {
+        0 => (Vec::new(), Vec::new()),
+        p => (crate::plot::patch_edges(&setup.mesh, p), vec![format!("blue: the moved patch ({p})")]),
+    };
+    crate::plot::deformed_png(path, (&setup.mesh, coords), (title, &extra), &highlight, (None, None), 800)
+        .map_err(|e| format!("{}: {e}", path.display()))
+}
