@@ -257,7 +257,7 @@ fn solve_part(s: &mut Solver, part: &Motion, undo: &mut Undo) -> Result<(Solutio
 /// `ReferenceMode::Original`: the total motion so far solved from the original mesh.
 fn original_step(s: &mut Solver, step: &Step) -> Result<()> {
     let total = match &s.total {
-        Some((m, _)) => m.then(step.increment, s.mesh().dim()),
+        Some((m, _)) => m.then(step.increment, s.mesh()),
         None => step.increment.clone(),
     };
     let t0 = Instant::now();
