@@ -410,8 +410,15 @@ pub unsafe extern "C" fn meshmove_solver_move(
             handles::write_opt(quality, meshmove_quality::from(q), "quality")?;
             points::write(coords, &moved);
         }
-        s.last = sol.displacement;
-        e.map_or(Ok(()), Err)
+        // An INVERTED result is written to the caller's arrays only: the solver, its
+        // displacement included, stays as before the call.
+        match e {
+            Some(e) => Err(e),
+            None => {
+                s.last = sol.displacement;
+                Ok(())
+            }
+        }
     })
 }
 
@@ -457,9 +464,9 @@ pub unsafe extern "C" fn meshmove_solver_move_in_steps(
         for (o, r) in out.iter_mut().zip(&steps) {
             *o = *r;
         }
-        s.last = points::difference(s.solver.current_coords(), &before);
         // The last step's result inverted cells (the method's honest answer without
-        // sub-stepping): reported, never plain OK; the solver stays as before the call.
+        // sub-stepping): reported, never plain OK; the solver, its displacement included, stays
+        // as before the call.
         match s.solver.step_reports().last() {
             Some(r) if r.accepted && r.inverted > 0 => Err(CError::new(
                 meshmove_status::Inverted,
@@ -469,7 +476,10 @@ pub unsafe extern "C" fn meshmove_solver_move_in_steps(
                     r.inverted, r.min_volume_ratio
                 ),
             )),
-            _ => Ok(()),
+            _ => {
+                s.last = points::difference(s.solver.current_coords(), &before);
+                Ok(())
+            }
         }
     })
 }
@@ -607,7 +617,9 @@ pub unsafe extern "C" fn meshmove_solver_get_coords(
 }
 
 /// Copies the displacement of the last solve, cycle or move (for `_move_in_steps`, the total)
-/// into `displacement`, `len` = dim × vertices; zero before any.
+/// into `displacement`, `len` = dim × vertices; zero before any. A call that fails leaves it as
+/// it was (also one returning `MESHMOVE_STATUS_INVERTED`); an unconverged solve's written
+/// displacement is the one exception.
 ///
 /// # Safety
 /// `displacement` must hold `len` doubles.
