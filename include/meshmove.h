@@ -174,6 +174,21 @@ enum meshmove_status
    versions add); the message says what.
    */
   MESHMOVE_STATUS_UNSUPPORTED = 16,
+  /*
+   The progress callback asked to stop (`meshmove_solver_set_progress`): the call was
+   cancelled and the solver is as before it.
+   */
+  MESHMOVE_STATUS_CANCELLED = 17,
+  /*
+   A callback of the caller returned failure (a slip surface's projection returning non-zero):
+   the call stopped and the solver is as before it.
+   */
+  MESHMOVE_STATUS_CALLBACK_FAILED = 18,
+  /*
+   Memory could not be obtained (the system refused an allocation, or the options' memory
+   budget is below the solver's estimate): nothing was created or changed.
+   */
+  MESHMOVE_STATUS_OUT_OF_MEMORY = 19,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
@@ -1255,7 +1270,9 @@ meshmove_status meshmove_solver_get_coords(const struct meshmove_solver *solver,
 
 /*
  Copies the displacement of the last solve, cycle or move (for `_move_in_steps`, the total)
- into `displacement`, `len` = dim × vertices; zero before any.
+ into `displacement`, `len` = dim × vertices; zero before any. A call that fails leaves it as
+ it was (also one returning `MESHMOVE_STATUS_INVERTED`); an unconverged solve's written
+ displacement is the one exception.
 
  # Safety
  `displacement` must hold `len` doubles.
