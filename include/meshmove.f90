@@ -277,6 +277,13 @@ module meshmove_c
       type(c_funptr), value :: closest
       type(c_ptr), value :: user_data
     end function
+    integer(c_int32_t) function meshmove_bcs_set_slip_surface_checked(bcs, patch, closest, user_data) bind(c)
+      import :: c_int32_t, c_ptr, c_funptr
+      type(c_ptr), value :: bcs
+      integer(c_int32_t), value :: patch
+      type(c_funptr), value :: closest
+      type(c_ptr), value :: user_data
+    end function
     ! ---- solver
     integer(c_int32_t) function meshmove_solver_create(mesh, bcs, options, out) bind(c)
       import :: c_int32_t, c_ptr
@@ -350,6 +357,12 @@ module meshmove_c
       import :: c_int32_t, c_ptr
       type(c_ptr), value :: solver
       integer(c_int32_t), value :: mode
+    end function
+    integer(c_int32_t) function meshmove_solver_set_progress(solver, progress, user_data) bind(c)
+      import :: c_int32_t, c_ptr, c_funptr
+      type(c_ptr), value :: solver
+      type(c_funptr), value :: progress
+      type(c_ptr), value :: user_data
     end function
     integer(c_int32_t) function meshmove_solver_set_reference(solver, len, coords) bind(c)
       import :: c_int32_t, c_ptr, c_double
@@ -444,6 +457,7 @@ module meshmove
     procedure :: link_pairs => bcs_link_pairs
     procedure :: set_interface => bcs_set_interface
     procedure :: set_slip_surface => bcs_set_slip_surface
+    procedure :: set_slip_surface_checked => bcs_set_slip_surface_checked
   end type
 
   !> Solver options: create (the defaults), set what you need, pass to mm_solver%create, free.
@@ -487,6 +501,7 @@ module meshmove
     procedure :: set_reference => solver_set_reference
     procedure :: set_substepping => solver_set_substepping
     procedure :: set_reference_mode => solver_set_reference_mode
+    procedure :: set_progress => solver_set_progress
     procedure :: coords => solver_coords
     procedure :: displacement => solver_displacement
     procedure :: quality => solver_quality
@@ -1225,6 +1240,25 @@ contains
     if (present(errmsg)) call message(errmsg)
   end subroutine
 
+  !> As set_slip_surface, with f an integer(c_int32_t) bind(c) function of the same arguments
+  !> returning 0 on success and anything else on failure: the solver call that asked then fails
+  !> with MESHMOVE_STATUS_CALLBACK_FAILED and changes nothing. f runs on the solver's worker
+  !> threads and must return normally (never stop, error stop or jump out of it).
+  subroutine bcs_set_slip_surface_checked(self, patch, closest, user_data, stat, errmsg)
+    class(mm_bcs), intent(inout) :: self
+    integer(c_int32_t), intent(in) :: patch
+    type(c_funptr), intent(in) :: closest
+    type(c_ptr), intent(in), optional :: user_data
+    integer, intent(out), optional :: stat
+    character(len=:), allocatable, intent(out), optional :: errmsg
+    type(c_ptr) :: ud
+    ud = c_null_ptr
+    if (present(user_data)) ud = user_data
+    call check(meshmove_bcs_set_slip_surface_checked(self%h, patch, closest, ud), "bcs_set_slip_surface_checked", &
+      stat)
+    if (present(errmsg)) call message(errmsg)
+  end subroutine
+
   ! ---- solver --------------------------------------------------------------------------------
 
   !> A solver for mesh and bcs with options (absent: the defaults).
@@ -1458,6 +1492,25 @@ contains
     integer, intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     call check(meshmove_solver_set_reference_mode(self%h, mode), "solver_set_reference_mode", stat)
+    if (present(errmsg)) call message(errmsg)
+  end subroutine
+
+  !> The progress callback of move and move_in_steps: `progress = c_funloc(f)` of an
+  !> integer(c_int32_t) bind(c) function f(user_data, report, steps) with `type(c_ptr), value ::
+  !> user_data`, `type(meshmove_step_report), intent(in) :: report`, `integer(c_int32_t), value
+  !> :: steps`, called after every sub-step on the calling thread; it returns 0 to go on and
+  !> anything else to cancel (MESHMOVE_STATUS_CANCELLED, the solver as before the call).
+  !> `c_null_funptr` removes it. f must return normally.
+  subroutine solver_set_progress(self, progress, user_data, stat, errmsg)
+    class(mm_solver), intent(inout) :: self
+    type(c_funptr), intent(in) :: progress
+    type(c_ptr), intent(in), optional :: user_data
+    integer, intent(out), optional :: stat
+    character(len=:), allocatable, intent(out), optional :: errmsg
+    type(c_ptr) :: ud
+    ud = c_null_ptr
+    if (present(user_data)) ud = user_data
+    call check(meshmove_solver_set_progress(self%h, progress, ud), "solver_set_progress", stat)
     if (present(errmsg)) call message(errmsg)
   end subroutine
 

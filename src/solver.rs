@@ -22,9 +22,11 @@ use crate::{Error, Mesh, Result};
 use std::ops::Range;
 use std::time::Instant;
 
+mod progress;
 mod slip;
 mod steps;
 
+pub use progress::Progress;
 pub use steps::StepReport;
 
 /// Most Chebyshev degree accepted (degree 6 is the biharmonic's default; the cost of a cycle
@@ -71,6 +73,8 @@ pub struct Options {
     pub min_volume_ratio: f64,
     /// What each step is solved from.
     pub reference: ReferenceMode,
+    /// Told of every sub-step of `advance` and `move_in_steps`; can cancel the call.
+    pub progress: Option<Progress>,
 }
 
 /// Displacements of every vertex and how the solve went.
@@ -415,6 +419,7 @@ impl Solver {
             // step); what remains is moved onto the walls. Flat walls need no second solve.
             // A wall moved rigidly is placed where the motion takes it; a deformed one is left
             // alone (its shape is not known).
+            walls.take_failure();
             let at = walls.placed_by(&motion.rigid);
             let deformed = slip::deformed_patches(walls, lev, motion, &vals);
             if let Some(on_wall) = slip::on_wall_values(walls, &at, lev, &deformed, &vals, &displacement) {
@@ -425,6 +430,11 @@ impl Solver {
             let (after, before) = slip::onto_walls(walls, &at, lev, &deformed, &mut displacement);
             report.max_slip_offwall = after;
             report.max_slip_correction = before;
+            if walls.take_failure() {
+                return Err(Error::CallbackFailed(
+                    "a slip wall's closest-point function reported a failure; nothing was changed".into(),
+                ));
+            }
         }
         let quality = moved_quality(lev.mesh(), &displacement);
         Ok(Solution { displacement, report, quality })

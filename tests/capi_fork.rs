@@ -5,7 +5,7 @@
 #![cfg(unix)]
 
 use meshmove::capi::*;
-use std::ptr::null_mut;
+use std::ptr::{null, null_mut};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -87,5 +87,69 @@ fn children_forked_during_handle_traffic_create_and_free_handles() {
     match wait_all(&pids, Instant::now() + LIMIT) {
         Ok(codes) => assert!(codes.iter().all(|&c| c == 0), "exit codes {codes:?}"),
         Err(hung) => panic!("{} of {} children hung: {hung:?}", hung.len(), pids.len()),
+    }
+}
+
+/// The progress callback's context: it says it was entered, then waits to be released.
+struct Gate {
+    entered: AtomicBool,
+    release: AtomicBool,
+}
+
+unsafe extern "C" fn wait_at_gate(user: *mut std::ffi::c_void, _: *const meshmove_step_report, _: i32) -> i32 {
+    let g = unsafe { &*(user as *const Gate) };
+    g.entered.store(true, Ordering::SeqCst);
+    while !g.release.load(Ordering::SeqCst) {
+        std::thread::sleep(Duration::from_millis(1));
+    }
+    0
+}
+
+/// A square of two triangles, every side on patch 0.
+fn small_solver() -> (*mut meshmove_mesh, *mut meshmove_bcs, *mut meshmove_solver) {
+    let xy = [0.0, 0.0, 1.0, 0.0, 1.0, 1.0, 0.0, 1.0, 0.5, 0.5];
+    let cells = [0, 1, 4, 1, 2, 4, 2, 3, 4, 3, 0, 4];
+    let (mut m, mut b, mut s) = (null_mut(), null_mut(), null_mut());
+    unsafe {
+        let st =
+            meshmove_mesh_create_triangles(5, xy.as_ptr(), 4, cells.as_ptr(), 0, 0, null(), null(), null(), &mut m);
+        assert_eq!(st, meshmove_status::Ok);
+        assert_eq!(meshmove_bcs_create(&mut b), meshmove_status::Ok);
+        assert_eq!(meshmove_solver_create(m, b, null(), &mut s), meshmove_status::Ok);
+    }
+    (m, b, s)
+}
+
+#[test]
+fn a_solver_busy_at_the_fork_is_refused_but_freed_in_the_child() {
+    let (m, b, s) = small_solver();
+    let gate = Arc::new(Gate { entered: AtomicBool::new(false), release: AtomicBool::new(false) });
+    let user = Arc::as_ptr(&gate) as *mut std::ffi::c_void;
+    assert_eq!(unsafe { meshmove_solver_set_progress(s, Some(wait_at_gate), user) }, meshmove_status::Ok);
+    let sp = s as usize;
+    let mover = std::thread::spawn(move || {
+        let d = [0.0; 10];
+        unsafe { meshmove_solver_move_in_steps(sp as *mut meshmove_solver, 10, d.as_ptr(), 1, 0, null_mut()) }
+    });
+    while !gate.entered.load(Ordering::SeqCst) {
+        std::thread::sleep(Duration::from_millis(1));
+    }
+    let pid = fork_child(|| unsafe {
+        let mut x = [0.0; 10];
+        meshmove_solver_get_coords(s, 10, x.as_mut_ptr()) == meshmove_status::InvalidHandle
+            && meshmove_solver_free(s) == meshmove_status::Ok
+            && meshmove_solver_free(s) == meshmove_status::InvalidHandle
+            && create_and_free()
+    });
+    gate.release.store(true, Ordering::SeqCst);
+    assert_eq!(mover.join().unwrap(), meshmove_status::Ok);
+    match wait_all(&[pid], Instant::now() + LIMIT) {
+        Ok(codes) => assert_eq!(codes, [0]),
+        Err(_) => panic!("the child hung"),
+    }
+    unsafe {
+        for st in [meshmove_solver_free(s), meshmove_bcs_free(b), meshmove_mesh_free(m)] {
+            assert_eq!(st, meshmove_status::Ok);
+        }
     }
 }

@@ -145,3 +145,100 @@ fn an_inverted_move_in_steps_leaves_every_getter_as_it_was() {
     }
     free(m, b, s);
 }
+
+/// Counts its calls in `*user_data` (an `i32`) and cancels at the third.
+unsafe extern "C" fn cancel_at_three(user: *mut std::ffi::c_void, r: *const meshmove_step_report, steps: i32) -> i32 {
+    let n = unsafe { &mut *(user as *mut i32) };
+    *n += 1;
+    assert_eq!(steps, 10);
+    assert_eq!(unsafe { (*r).step }, *n);
+    i32::from(*n >= 3)
+}
+
+#[test]
+fn a_progress_callback_cancels_and_the_solver_is_as_before() {
+    let n = 4;
+    let (xy0, m, b, s) = solver(n);
+    let len = xy0.len();
+    let mut up = vec![0.0; len];
+    for i in 0..=n {
+        up[2 * (n * (n + 1) + i) + 1] = 0.05;
+    }
+    let mut calls = 0i32;
+    unsafe {
+        let st = meshmove_solver_move_in_steps(s, len as i32, up.as_ptr(), 2, 0, null_mut());
+        assert_eq!(st, meshmove_status::Ok, "{}", last());
+        let before = observe(s, len);
+        let user = &mut calls as *mut i32 as *mut std::ffi::c_void;
+        assert_eq!(meshmove_solver_set_progress(s, Some(cancel_at_three), user), meshmove_status::Ok);
+        let st = meshmove_solver_move_in_steps(s, len as i32, up.as_ptr(), 10, 0, null_mut());
+        assert_eq!(st, meshmove_status::Cancelled, "{}", last());
+        assert!(last().contains("after step 3.1 of 10"), "{}", last());
+        assert_eq!(calls, 3);
+        assert_eq!(observe(s, len), before);
+        // Removed, the callback is no longer called.
+        assert_eq!(meshmove_solver_set_progress(s, None, null_mut()), meshmove_status::Ok);
+        let st = meshmove_solver_move_in_steps(s, len as i32, up.as_ptr(), 10, 0, null_mut());
+        assert_eq!(st, meshmove_status::Ok, "{}", last());
+        assert_eq!(calls, 3);
+    }
+    free(m, b, s);
+}
+
+/// The closest point of the square's sides x = 0, x = 1 and y = 0 (patch 0); fails when
+/// `*user_data` (an `i32`) is not zero.
+unsafe extern "C" fn sides_or_fail(user: *mut std::ffi::c_void, dim: i32, x: *const f64, out: *mut f64) -> i32 {
+    assert_eq!(dim, 2);
+    let fail = unsafe { *(user as *const i32) } != 0;
+    let (x, out) = unsafe { (std::slice::from_raw_parts(x, 2), std::slice::from_raw_parts_mut(out, 2)) };
+    let best = [[0.0, x[1]], [1.0, x[1]], [x[0], 0.0]]
+        .into_iter()
+        .min_by(|a, b| {
+            let d = |p: &[f64; 2]| (p[0] - x[0]).hypot(p[1] - x[1]);
+            d(a).total_cmp(&d(b))
+        })
+        .unwrap();
+    out.copy_from_slice(&best);
+    i32::from(fail)
+}
+
+#[test]
+fn a_slip_callback_that_fails_gives_its_status_and_changes_nothing() {
+    let n = 4;
+    let (xy0, m) = grid(n);
+    let len = xy0.len();
+    let (mut b, mut s) = (null_mut(), null_mut());
+    let mut fail = 0i32;
+    let user = &mut fail as *mut i32 as *mut std::ffi::c_void;
+    let mut side = vec![0.0; len];
+    for i in 0..=n {
+        side[2 * (n * (n + 1) + i)] = 0.05;
+    }
+    unsafe {
+        assert_eq!(meshmove_bcs_create(&mut b), meshmove_status::Ok);
+        assert_eq!(meshmove_bcs_set_kinds(b, 0, meshmove_kind::Slip as i32), meshmove_status::Ok, "{}", last());
+        assert_eq!(meshmove_bcs_set_slip_surface_checked(b, 0, Some(sides_or_fail), user), meshmove_status::Ok);
+        assert_eq!(meshmove_solver_create(m, b, null(), &mut s), meshmove_status::Ok, "{}", last());
+        let st = meshmove_solver_move_in_steps(s, len as i32, side.as_ptr(), 2, 0, null_mut());
+        assert_eq!(st, meshmove_status::Ok, "{}", last());
+        let before = observe(s, len);
+        *(user as *mut i32) = 1;
+        let st = meshmove_solver_move_in_steps(s, len as i32, side.as_ptr(), 2, 0, null_mut());
+        assert_eq!(st, meshmove_status::CallbackFailed, "{}", last());
+        assert!(last().contains("closest-point function reported a failure"), "{}", last());
+        assert_eq!(observe(s, len), before);
+        let mut xy = before.0.clone();
+        let st = meshmove_solver_move(s, len as i32, side.as_ptr(), xy.as_mut_ptr(), null_mut(), null_mut());
+        assert_eq!(st, meshmove_status::CallbackFailed, "{}", last());
+        assert_eq!(xy, before.0);
+        let mut d = vec![7.0; len];
+        let st = meshmove_solver_solve(s, len as i32, side.as_ptr(), null(), d.as_mut_ptr(), null_mut());
+        assert_eq!(st, meshmove_status::CallbackFailed, "{}", last());
+        assert!(d.iter().all(|&v| v == 7.0));
+        assert_eq!(observe(s, len), before);
+        *(user as *mut i32) = 0;
+        let st = meshmove_solver_move_in_steps(s, len as i32, side.as_ptr(), 2, 0, null_mut());
+        assert_eq!(st, meshmove_status::Ok, "{}", last());
+    }
+    free(m, b, s);
+}

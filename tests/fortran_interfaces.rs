@@ -203,7 +203,9 @@ fn compatible(c: &CType, f: &FArg) -> bool {
     };
     let cptr_value = f.ty == "type(c_ptr)" && f.value;
     // Callbacks: a function pointer typedef, passed by value.
-    if c.ptr == 0 && c.base == "meshmove_closest_point" {
+    if c.ptr == 0
+        && matches!(c.base.as_str(), "meshmove_closest_point" | "meshmove_closest_point_checked" | "meshmove_progress")
+    {
         return f.ty == "type(c_funptr)" && f.value;
     }
     match c.ptr {

@@ -55,3 +55,49 @@ fn a_rigid_motion_after_a_displacement_starts_where_the_patch_is() {
         }
     }
 }
+
+#[test]
+fn a_progress_hook_sees_every_step_and_cancels_after_k() {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    use std::sync::Arc;
+    for mode in [ReferenceMode::Incremental, ReferenceMode::Original] {
+        let (mesh, mut s) = grid_solver(mode);
+        s.move_in_steps(&on_patch(&mesh, TOP, [0.02, 0.0]), 2).unwrap();
+        let before = s.current_coords().to_vec();
+        let seen = Arc::new(AtomicUsize::new(0));
+        let count = Arc::clone(&seen);
+        let mut o = s.options().clone();
+        o.progress = Some(meshmove::Progress::new(move |r, steps| {
+            assert_eq!(steps, 10);
+            let k = count.fetch_add(1, Ordering::Relaxed) + 1;
+            assert_eq!(r.step, k);
+            k < 3
+        }));
+        s.set_options(o).unwrap();
+        let e = s.move_in_steps(&on_patch(&mesh, TOP, [0.0, 0.05]), 10).unwrap_err();
+        assert!(matches!(e, meshmove::Error::Cancelled(_)), "{mode:?}: {e}");
+        assert!(e.to_string().contains("after step 3.1 of 10"), "{e}");
+        assert_eq!(seen.load(Ordering::Relaxed), 3);
+        assert_eq!(s.current_coords(), before.as_slice(), "{mode:?}");
+        assert_eq!(s.step_reports().len(), 3);
+        // The same solver goes on normally once the hook lets it.
+        let mut o = s.options().clone();
+        o.progress = None;
+        s.set_options(o).unwrap();
+        s.move_in_steps(&on_patch(&mesh, TOP, [0.0, 0.05]), 10).unwrap();
+        assert_ne!(s.current_coords(), before.as_slice());
+    }
+}
+
+#[test]
+fn an_inverted_last_step_is_reported_not_accepted() {
+    let (mesh, mut s) = grid_solver(ReferenceMode::Incremental);
+    let before = s.current_coords().to_vec();
+    let sol = s.advance(&on_patch(&mesh, TOP, [0.0, -2.0])).unwrap();
+    assert!(sol.quality.inverted > 0);
+    let r = s.step_reports();
+    assert_eq!(r.len(), 1);
+    assert!(r[0].inverted > 0 && r[0].converged && !r[0].accepted, "{}", r[0].line());
+    assert!(sol.report.cycles > 0 && sol.report.converged);
+    assert_eq!(s.current_coords(), before.as_slice());
+}
