@@ -636,12 +636,19 @@ contains
     s = trim(b)
   end function
 
-  !> True (after `fail`) unless `a` has shape (nd, nv).
+  !> True (after `fail`) unless `a` has shape (nd, nv); nd 0 is a handle never created.
   logical function bad_shape(a1, a2, nd, nv, what, where, stat) result(bad)
     integer, intent(in) :: a1, a2
     integer(c_int32_t), intent(in) :: nd, nv
     character(*), intent(in) :: what, where
     integer, intent(out), optional :: stat
+    if (nd == 0) then
+      ! No dimension: the handle was never created (or its create failed).
+      bad = .true.
+      call fail(MESHMOVE_STATUS_NULL_POINTER, where, "the handle was never created (or its create failed): " // &
+        "create it first", stat)
+      return
+    end if
     bad = a1 /= nd .or. a2 /= nv
     if (bad) call fail(MESHMOVE_STATUS_INVALID_ARGUMENT, where, what // " has shape (" // str(a1) // ", " // &
       str(a2) // "); the mesh has " // str(int(nv)) // " vertices in " // str(int(nd)) // "D, so (" // &
