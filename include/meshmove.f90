@@ -117,6 +117,11 @@ module meshmove_c
       type(c_ptr), value :: options
       integer(c_int32_t), value :: threads
     end function
+    integer(c_int32_t) function meshmove_options_set_memory_budget(options, bytes) bind(c)
+      import :: c_int32_t, c_int64_t, c_ptr
+      type(c_ptr), value :: options
+      integer(c_int64_t), value :: bytes
+    end function
     integer(c_int32_t) function meshmove_options_set_tol(options, tol) bind(c)
       import :: c_int32_t, c_ptr, c_double
       type(c_ptr), value :: options
@@ -471,6 +476,7 @@ module meshmove
     procedure :: set_mode => options_set_mode
     procedure :: set_criterion => options_set_criterion
     procedure :: set_threads => options_set_threads
+    procedure :: set_memory_budget => options_set_memory_budget
     procedure :: set_tol => options_set_tol
     procedure :: set_max_cycles => options_set_max_cycles
     procedure :: set_cheb_degree => options_set_cheb_degree
@@ -731,6 +737,17 @@ contains
     integer, intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     call check(meshmove_options_set_threads(self%h, threads), "options_set_threads", stat)
+    if (present(errmsg)) call message(errmsg)
+  end subroutine
+
+  !> Most memory a solver made with these options may take, in bytes (0: no limit): a larger
+  !> estimated need fails solver%create with MESHMOVE_STATUS_OUT_OF_MEMORY before any build.
+  subroutine options_set_memory_budget(self, bytes, stat, errmsg)
+    class(mm_options), intent(inout) :: self
+    integer(c_int64_t), intent(in) :: bytes
+    integer, intent(out), optional :: stat
+    character(len=:), allocatable, intent(out), optional :: errmsg
+    call check(meshmove_options_set_memory_budget(self%h, bytes), "options_set_memory_budget", stat)
     if (present(errmsg)) call message(errmsg)
   end subroutine
 

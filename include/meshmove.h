@@ -1017,6 +1017,19 @@ meshmove_status meshmove_options_set_threads(struct meshmove_options *options,
                                              int32_t threads);
 
 /*
+ Most memory a solver made with these options may take, in bytes (0, the default: no limit;
+ negative is refused). `meshmove_solver_create` estimates what the solver will need from the
+ mesh's size and returns `MESHMOVE_STATUS_OUT_OF_MEMORY` before building anything when the
+ estimate is larger.
+
+ # Safety
+ `options` must be a handle from meshmove (checked).
+ */
+MESHMOVE_MUST_USE
+meshmove_status meshmove_options_set_memory_budget(struct meshmove_options *options,
+                                                   int64_t bytes);
+
+/*
  Tolerance of the stopping criterion (default 1e-8), positive and finite.
 
  # Safety

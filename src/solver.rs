@@ -22,6 +22,7 @@ use crate::{Error, Mesh, Result};
 use std::ops::Range;
 use std::time::Instant;
 
+pub(crate) mod memory;
 mod progress;
 mod slip;
 mod steps;
@@ -75,6 +76,9 @@ pub struct Options {
     pub reference: ReferenceMode,
     /// Told of every sub-step of `advance` and `move_in_steps`; can cancel the call.
     pub progress: Option<Progress>,
+    /// Most memory the solver may take, in bytes (0: no limit): a solver whose estimated need is
+    /// larger is refused with `Error::OutOfMemory` before anything is built.
+    pub memory_budget: u64,
 }
 
 /// Displacements of every vertex and how the solve went.
@@ -136,6 +140,7 @@ impl Solver {
         bcs.check(mesh)?;
         check_not_tangled(mesh, mesh.coords())?;
         let pairs = resolve_links(mesh, &bcs.links)?;
+        memory::check_available(memory::solver_bytes(mesh, opts.method), opts.memory_budget, "the solver")?;
         let pool = Pool::new(opts.threads)?;
         let built_with = hierarchy_params(&opts, mesh.dim());
         let hierarchy = pool.install(|| Hierarchy::build(mesh, pairs, bcs, opts.method, &built_with))??;
@@ -182,10 +187,15 @@ impl Solver {
     /// `ReferenceMode::Original` makes the current mesh the original one.
     pub fn set_options(&mut self, opts: Options) -> Result<()> {
         check_options(&opts)?;
-        if opts.method != self.opts.method || opts.threads != self.opts.threads || opts.hierarchy != self.opts.hierarchy
+        if opts.method != self.opts.method
+            || opts.threads != self.opts.threads
+            || opts.hierarchy != self.opts.hierarchy
+            || opts.memory_budget != self.opts.memory_budget
         {
             return Err(Error::InvalidArgument(
-                "method, threads and hierarchy parameters are fixed when the solver is made: make a new solver".into(),
+                "method, threads, hierarchy parameters and memory budget are fixed when the solver is made: make a new \
+                 solver"
+                    .into(),
             ));
         }
         if opts.reference != self.opts.reference {

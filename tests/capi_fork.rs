@@ -1,6 +1,6 @@
 //! `fork()` while other threads create and free handles: every child can create and free
 //! handles (none hangs on a lock a vanished thread held), and a handle in use at the fork can
-//! be freed in the child.
+//! be freed in the child; under a memory cap a large request is a status, not an abort.
 
 #![cfg(unix)]
 
@@ -149,6 +149,112 @@ fn a_solver_busy_at_the_fork_is_refused_but_freed_in_the_child() {
     }
     unsafe {
         for st in [meshmove_solver_free(s), meshmove_bcs_free(b), meshmove_mesh_free(m)] {
+            assert_eq!(st, meshmove_status::Ok);
+        }
+    }
+}
+
+/// The process's address space in bytes (VmSize), from /proc.
+fn address_space() -> u64 {
+    let s = std::fs::read_to_string("/proc/self/status").unwrap();
+    let line = s.lines().find(|l| l.starts_with("VmSize:")).unwrap();
+    line.split_whitespace().nth(1).unwrap().parse::<u64>().unwrap() * 1024
+}
+
+/// An n × n grid of the unit square in triangles (every side on patch 0).
+fn grid_mesh(n: usize) -> Result<*mut meshmove_mesh, meshmove_status> {
+    let id = |i: usize, j: usize| (j * (n + 1) + i) as i32;
+    let xy: Vec<f64> =
+        (0..=n).flat_map(|j| (0..=n).flat_map(move |i| [i as f64 / n as f64, j as f64 / n as f64])).collect();
+    let cells: Vec<i32> = (0..n)
+        .flat_map(|j| {
+            (0..n)
+                .flat_map(move |i| [id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j), id(i + 1, j + 1), id(i, j + 1)])
+        })
+        .collect();
+    let mut m = null_mut();
+    let nv = ((n + 1) * (n + 1)) as i32;
+    let st = unsafe {
+        meshmove_mesh_create_triangles(
+            nv,
+            xy.as_ptr(),
+            (2 * n * n) as i32,
+            cells.as_ptr(),
+            0,
+            0,
+            null(),
+            null(),
+            null(),
+            &mut m,
+        )
+    };
+    if st == meshmove_status::Ok {
+        Ok(m)
+    } else {
+        Err(st)
+    }
+}
+
+#[test]
+fn under_a_memory_cap_large_requests_are_a_status_not_an_abort() {
+    let pid = fork_child(|| {
+        let cap = address_space() + (300 << 20);
+        let limit = libc::rlimit { rlim_cur: cap as libc::rlim_t, rlim_max: cap as libc::rlim_t };
+        if unsafe { libc::setrlimit(libc::RLIMIT_AS, &limit) } != 0 {
+            return false;
+        }
+        let xy = [0.0; 6];
+        let mut m = null_mut();
+        // The most cells with no cell array: refused before anything is allocated.
+        let st = unsafe {
+            meshmove_mesh_create_triangles(
+                3,
+                xy.as_ptr(),
+                MESHMOVE_MAX_CELLS,
+                null(),
+                0,
+                0,
+                null(),
+                null(),
+                null(),
+                &mut m,
+            )
+        };
+        if st != meshmove_status::NullPointer {
+            return false;
+        }
+        // A mesh that fits, and a solver for it that does not.
+        let Ok(m) = grid_mesh(600) else { return false };
+        let mut b = null_mut();
+        let mut s = null_mut();
+        unsafe {
+            meshmove_bcs_create(&mut b) == meshmove_status::Ok
+                && meshmove_solver_create(m, b, null(), &mut s) == meshmove_status::OutOfMemory
+                && s.is_null()
+                && meshmove_bcs_free(b) == meshmove_status::Ok
+                && meshmove_mesh_free(m) == meshmove_status::Ok
+        }
+    });
+    match wait_all(&[pid], Instant::now() + LIMIT) {
+        Ok(codes) => assert_eq!(codes, [0], "the child under a memory cap failed a check or died"),
+        Err(_) => panic!("the child hung"),
+    }
+}
+
+#[test]
+fn a_memory_budget_below_the_estimate_refuses_the_solver() {
+    let Ok(m) = grid_mesh(20) else { panic!("mesh") };
+    let (mut b, mut o, mut s) = (null_mut(), null_mut(), null_mut());
+    unsafe {
+        assert_eq!(meshmove_bcs_create(&mut b), meshmove_status::Ok);
+        assert_eq!(meshmove_options_create(&mut o), meshmove_status::Ok);
+        assert_eq!(meshmove_options_set_memory_budget(o, -1), meshmove_status::InvalidArgument);
+        assert_eq!(meshmove_options_set_memory_budget(o, 10_000), meshmove_status::Ok);
+        assert_eq!(meshmove_solver_create(m, b, o, &mut s), meshmove_status::OutOfMemory);
+        assert!(s.is_null());
+        assert_eq!(meshmove_options_set_memory_budget(o, 0), meshmove_status::Ok);
+        assert_eq!(meshmove_solver_create(m, b, o, &mut s), meshmove_status::Ok);
+        for st in [meshmove_solver_free(s), meshmove_options_free(o), meshmove_bcs_free(b), meshmove_mesh_free(m)] {
             assert_eq!(st, meshmove_status::Ok);
         }
     }

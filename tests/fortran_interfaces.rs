@@ -197,6 +197,7 @@ fn compatible(c: &CType, f: &FArg) -> bool {
     let scalar = |b: &str| match b {
         "int32_t" | "meshmove_status" => Some("integer(c_int32_t)"),
         "size_t" => Some("integer(c_size_t)"),
+        "int64_t" => Some("integer(c_int64_t)"),
         "double" => Some("real(c_double)"),
         "char" => Some("character(kind=c_char)"),
         _ => None,
