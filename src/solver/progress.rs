@@ -9,7 +9,10 @@ use std::sync::Arc;
 /// call, which then fails with `Error::Cancelled` and leaves the solver as it was. It runs on
 /// the thread that made the call, between solves.
 #[derive(Clone)]
-pub struct Progress(Arc<dyn Fn(&StepReport, usize) -> bool + Send + Sync>);
+pub struct Progress(Arc<Hook>);
+
+/// A sub-step's report and the call's number of steps to "go on".
+type Hook = dyn Fn(&StepReport, usize) -> bool + Send + Sync;
 
 impl Progress {
     /// A hook from a function of the sub-step's report and the call's number of steps.

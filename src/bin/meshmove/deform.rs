@@ -15,7 +15,9 @@ use meshmove::cases::report::{patch_measures, run_case_with};
 use meshmove::cases::setups::CaseSetup;
 use meshmove::io::{read_msh, read_vtu};
 use meshmove::solver::{ReferenceMode, StepReport};
-use meshmove::{BoundaryConditions, InterfaceVariant, Kind, Link, Mesh, Method, Motion, Options, Progress, RigidMotion};
+use meshmove::{
+    BoundaryConditions, InterfaceVariant, Kind, Link, Mesh, Method, Motion, Options, Progress, RigidMotion,
+};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
