@@ -24,7 +24,8 @@ module meshmove_c
     MESHMOVE_STATUS_COARSENING = 7, MESHMOVE_STATUS_DIVERGED = 8, MESHMOVE_STATUS_IO = 9, &
     MESHMOVE_STATUS_BUFFER_TOO_SMALL = 10, MESHMOVE_STATUS_PANIC = 11, MESHMOVE_STATUS_NOT_CONVERGED = 12, &
     MESHMOVE_STATUS_TANGLED = 13, MESHMOVE_STATUS_INVERTED = 14, MESHMOVE_STATUS_BUSY = 15, &
-    MESHMOVE_STATUS_UNSUPPORTED = 16
+    MESHMOVE_STATUS_UNSUPPORTED = 16, MESHMOVE_STATUS_CANCELLED = 17, MESHMOVE_STATUS_CALLBACK_FAILED = 18, &
+    MESHMOVE_STATUS_OUT_OF_MEMORY = 19
   ! upper bounds of counts and options (MESHMOVE_MAX_* in meshmove.h)
   integer(c_int32_t), parameter :: MESHMOVE_MAX_STEPS = 1000000, MESHMOVE_MAX_CYCLES = 1000000, &
     MESHMOVE_MAX_CHEB_DEGREE = 64, MESHMOVE_MAX_THREADS = 1024, MESHMOVE_MAX_SUBSTEPS = 1048576, &
@@ -115,6 +116,11 @@ module meshmove_c
       import :: c_int32_t, c_ptr
       type(c_ptr), value :: options
       integer(c_int32_t), value :: threads
+    end function
+    integer(c_int32_t) function meshmove_options_set_memory_budget(options, bytes) bind(c)
+      import :: c_int32_t, c_int64_t, c_ptr
+      type(c_ptr), value :: options
+      integer(c_int64_t), value :: bytes
     end function
     integer(c_int32_t) function meshmove_options_set_tol(options, tol) bind(c)
       import :: c_int32_t, c_ptr, c_double
@@ -276,6 +282,13 @@ module meshmove_c
       type(c_funptr), value :: closest
       type(c_ptr), value :: user_data
     end function
+    integer(c_int32_t) function meshmove_bcs_set_slip_surface_checked(bcs, patch, closest, user_data) bind(c)
+      import :: c_int32_t, c_ptr, c_funptr
+      type(c_ptr), value :: bcs
+      integer(c_int32_t), value :: patch
+      type(c_funptr), value :: closest
+      type(c_ptr), value :: user_data
+    end function
     ! ---- solver
     integer(c_int32_t) function meshmove_solver_create(mesh, bcs, options, out) bind(c)
       import :: c_int32_t, c_ptr
@@ -350,6 +363,12 @@ module meshmove_c
       type(c_ptr), value :: solver
       integer(c_int32_t), value :: mode
     end function
+    integer(c_int32_t) function meshmove_solver_set_progress(solver, progress, user_data) bind(c)
+      import :: c_int32_t, c_ptr, c_funptr
+      type(c_ptr), value :: solver
+      type(c_funptr), value :: progress
+      type(c_ptr), value :: user_data
+    end function
     integer(c_int32_t) function meshmove_solver_set_reference(solver, len, coords) bind(c)
       import :: c_int32_t, c_ptr, c_double
       type(c_ptr), value :: solver
@@ -398,6 +417,7 @@ module meshmove
     MESHMOVE_STATUS_ILL_POSED, MESHMOVE_STATUS_COARSENING, MESHMOVE_STATUS_DIVERGED, MESHMOVE_STATUS_IO, &
     MESHMOVE_STATUS_BUFFER_TOO_SMALL, MESHMOVE_STATUS_PANIC, MESHMOVE_STATUS_NOT_CONVERGED, &
     MESHMOVE_STATUS_TANGLED, MESHMOVE_STATUS_INVERTED, MESHMOVE_STATUS_BUSY, MESHMOVE_STATUS_UNSUPPORTED, &
+    MESHMOVE_STATUS_CANCELLED, MESHMOVE_STATUS_CALLBACK_FAILED, MESHMOVE_STATUS_OUT_OF_MEMORY, &
     MESHMOVE_MAX_STEPS, MESHMOVE_MAX_CYCLES, MESHMOVE_MAX_CHEB_DEGREE, MESHMOVE_MAX_THREADS, &
     MESHMOVE_MAX_SUBSTEPS, MESHMOVE_MAX_VERTICES, MESHMOVE_MAX_CELLS, MESHMOVE_METHOD_BIHARMONIC, &
     MESHMOVE_METHOD_LAPLACIAN, MESHMOVE_METHOD_SPRING, MESHMOVE_MODE_DEFAULT, MESHMOVE_MODE_PAPER_FAITHFUL, &
@@ -442,6 +462,7 @@ module meshmove
     procedure :: link_pairs => bcs_link_pairs
     procedure :: set_interface => bcs_set_interface
     procedure :: set_slip_surface => bcs_set_slip_surface
+    procedure :: set_slip_surface_checked => bcs_set_slip_surface_checked
   end type
 
   !> Solver options: create (the defaults), set what you need, pass to mm_solver%create, free.
@@ -455,6 +476,7 @@ module meshmove
     procedure :: set_mode => options_set_mode
     procedure :: set_criterion => options_set_criterion
     procedure :: set_threads => options_set_threads
+    procedure :: set_memory_budget => options_set_memory_budget
     procedure :: set_tol => options_set_tol
     procedure :: set_max_cycles => options_set_max_cycles
     procedure :: set_cheb_degree => options_set_cheb_degree
@@ -485,6 +507,7 @@ module meshmove
     procedure :: set_reference => solver_set_reference
     procedure :: set_substepping => solver_set_substepping
     procedure :: set_reference_mode => solver_set_reference_mode
+    procedure :: set_progress => solver_set_progress
     procedure :: coords => solver_coords
     procedure :: displacement => solver_displacement
     procedure :: quality => solver_quality
@@ -619,12 +642,19 @@ contains
     s = trim(b)
   end function
 
-  !> True (after `fail`) unless `a` has shape (nd, nv).
+  !> True (after `fail`) unless `a` has shape (nd, nv); nd 0 is a handle never created.
   logical function bad_shape(a1, a2, nd, nv, what, where, stat) result(bad)
     integer, intent(in) :: a1, a2
     integer(c_int32_t), intent(in) :: nd, nv
     character(*), intent(in) :: what, where
     integer, intent(out), optional :: stat
+    if (nd == 0) then
+      ! No dimension: the handle was never created (or its create failed).
+      bad = .true.
+      call fail(MESHMOVE_STATUS_NULL_POINTER, where, "the handle was never created (or its create failed): " // &
+        "create it first", stat)
+      return
+    end if
     bad = a1 /= nd .or. a2 /= nv
     if (bad) call fail(MESHMOVE_STATUS_INVALID_ARGUMENT, where, what // " has shape (" // str(a1) // ", " // &
       str(a2) // "); the mesh has " // str(int(nv)) // " vertices in " // str(int(nd)) // "D, so (" // &
@@ -707,6 +737,17 @@ contains
     integer, intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     call check(meshmove_options_set_threads(self%h, threads), "options_set_threads", stat)
+    if (present(errmsg)) call message(errmsg)
+  end subroutine
+
+  !> Most memory a solver made with these options may take, in bytes (0: no limit): a larger
+  !> estimated need fails solver%create with MESHMOVE_STATUS_OUT_OF_MEMORY before any build.
+  subroutine options_set_memory_budget(self, bytes, stat, errmsg)
+    class(mm_options), intent(inout) :: self
+    integer(c_int64_t), intent(in) :: bytes
+    integer, intent(out), optional :: stat
+    character(len=:), allocatable, intent(out), optional :: errmsg
+    call check(meshmove_options_set_memory_budget(self%h, bytes), "options_set_memory_budget", stat)
     if (present(errmsg)) call message(errmsg)
   end subroutine
 
@@ -1223,6 +1264,25 @@ contains
     if (present(errmsg)) call message(errmsg)
   end subroutine
 
+  !> As set_slip_surface, with f an integer(c_int32_t) bind(c) function of the same arguments
+  !> returning 0 on success and anything else on failure: the solver call that asked then fails
+  !> with MESHMOVE_STATUS_CALLBACK_FAILED and changes nothing. f runs on the solver's worker
+  !> threads and must return normally (never stop, error stop or jump out of it).
+  subroutine bcs_set_slip_surface_checked(self, patch, closest, user_data, stat, errmsg)
+    class(mm_bcs), intent(inout) :: self
+    integer(c_int32_t), intent(in) :: patch
+    type(c_funptr), intent(in) :: closest
+    type(c_ptr), intent(in), optional :: user_data
+    integer, intent(out), optional :: stat
+    character(len=:), allocatable, intent(out), optional :: errmsg
+    type(c_ptr) :: ud
+    ud = c_null_ptr
+    if (present(user_data)) ud = user_data
+    call check(meshmove_bcs_set_slip_surface_checked(self%h, patch, closest, ud), "bcs_set_slip_surface_checked", &
+      stat)
+    if (present(errmsg)) call message(errmsg)
+  end subroutine
+
   ! ---- solver --------------------------------------------------------------------------------
 
   !> A solver for mesh and bcs with options (absent: the defaults).
@@ -1456,6 +1516,25 @@ contains
     integer, intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     call check(meshmove_solver_set_reference_mode(self%h, mode), "solver_set_reference_mode", stat)
+    if (present(errmsg)) call message(errmsg)
+  end subroutine
+
+  !> The progress callback of move and move_in_steps: `progress = c_funloc(f)` of an
+  !> integer(c_int32_t) bind(c) function f(user_data, report, steps) with `type(c_ptr), value ::
+  !> user_data`, `type(meshmove_step_report), intent(in) :: report`, `integer(c_int32_t), value
+  !> :: steps`, called after every sub-step on the calling thread; it returns 0 to go on and
+  !> anything else to cancel (MESHMOVE_STATUS_CANCELLED, the solver as before the call).
+  !> `c_null_funptr` removes it. f must return normally.
+  subroutine solver_set_progress(self, progress, user_data, stat, errmsg)
+    class(mm_solver), intent(inout) :: self
+    type(c_funptr), intent(in) :: progress
+    type(c_ptr), intent(in), optional :: user_data
+    integer, intent(out), optional :: stat
+    character(len=:), allocatable, intent(out), optional :: errmsg
+    type(c_ptr) :: ud
+    ud = c_null_ptr
+    if (present(user_data)) ud = user_data
+    call check(meshmove_solver_set_progress(self%h, progress, ud), "solver_set_progress", stat)
     if (present(errmsg)) call message(errmsg)
   end subroutine
 

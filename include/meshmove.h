@@ -174,6 +174,21 @@ enum meshmove_status
    versions add); the message says what.
    */
   MESHMOVE_STATUS_UNSUPPORTED = 16,
+  /*
+   The progress callback asked to stop (`meshmove_solver_set_progress`): the call was
+   cancelled and the solver is as before it.
+   */
+  MESHMOVE_STATUS_CANCELLED = 17,
+  /*
+   A callback of the caller returned failure (a slip surface's projection returning non-zero):
+   the call stopped and the solver is as before it.
+   */
+  MESHMOVE_STATUS_CALLBACK_FAILED = 18,
+  /*
+   Memory could not be obtained (the system refused an allocation, or the options' memory
+   budget is below the solver's estimate): nothing was created or changed.
+   */
+  MESHMOVE_STATUS_OUT_OF_MEMORY = 19,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
@@ -427,12 +442,25 @@ typedef struct meshmove_solver meshmove_solver;
 /*
  The closest point of a wall to a point: called with the caller's `user_data`, the dimension,
  the point's `dim` coordinates, and `dim` doubles to write the closest point of the wall into.
- It is called from the solver's threads, one call at a time, during `meshmove_solver_*` calls.
+ It is called from the solver's worker threads (not the thread that made the call), one call
+ at a time, during `meshmove_solver_*` calls. It must return normally: a C++ exception,
+ `longjmp` or `pthread_exit` out of it aborts the process or leaves the solver busy for ever.
+ A callback that can fail uses `meshmove_closest_point_checked`.
  */
 typedef void (*meshmove_closest_point)(void *user_data,
                                        int32_t dim,
                                        const double *x,
                                        double *closest);
+
+/*
+ As `meshmove_closest_point`, returning 0 on success and any other value on failure: the
+ meshmove call that asked then returns `MESHMOVE_STATUS_CALLBACK_FAILED` and changes nothing
+ (the way to stop from a callback: never throw or jump out of it).
+ */
+typedef int32_t (*meshmove_closest_point_checked)(void *user_data,
+                                                  int32_t dim,
+                                                  const double *x,
+                                                  double *closest);
 
 /*
  What a solve did (AMGCL's report struct, with both stopping measures).
@@ -545,6 +573,22 @@ typedef struct meshmove_step_report {
    */
   double max_slip_offwall;
 } meshmove_step_report;
+
+/*
+ The caller's progress callback: called with the caller's `user_data`, the report of the
+ sub-step just done (valid during the call only) and the call's number of steps. It returns 0
+ to go on; any other value cancels the call, which returns `MESHMOVE_STATUS_CANCELLED` with the
+ solver, its coordinates and its displacement as before the call.
+
+ It runs on the thread that called `meshmove_solver_move` or `_move_in_steps`, between solves,
+ while that call holds the solver (a meshmove call on the same solver from the callback
+ returns `MESHMOVE_STATUS_BUSY`). It must return normally: it must not throw a C++
+ exception, call `longjmp` or `pthread_exit` out of meshmove (that aborts the process or leaves
+ the solver busy for ever); to stop, return non-zero.
+ */
+typedef int32_t (*meshmove_progress)(void *user_data,
+                                     const struct meshmove_step_report *report,
+                                     int32_t steps);
 
 #ifdef __cplusplus
 extern "C" {
@@ -661,6 +705,20 @@ meshmove_status meshmove_bcs_set_slip_surface(struct meshmove_bcs *bcs,
                                               int32_t patch,
                                               meshmove_closest_point closest,
                                               void *user_data);
+
+/*
+ As `meshmove_bcs_set_slip_surface`, with a callback that returns 0 on success and any other
+ value on failure (`meshmove_closest_point_checked`): a failure makes the solver call that
+ asked return `MESHMOVE_STATUS_CALLBACK_FAILED` with the solver as before it.
+
+ # Safety
+ `bcs` must be a handle from meshmove (checked); `closest` a function of the declared type.
+ */
+MESHMOVE_MUST_USE
+meshmove_status meshmove_bcs_set_slip_surface_checked(struct meshmove_bcs *bcs,
+                                                      int32_t patch,
+                                                      meshmove_closest_point_checked closest,
+                                                      void *user_data);
 
 /*
  Copies the message of the last failed call on this thread into `buf` (`buf_len` bytes,
@@ -959,6 +1017,19 @@ meshmove_status meshmove_options_set_threads(struct meshmove_options *options,
                                              int32_t threads);
 
 /*
+ Most memory a solver made with these options may take, in bytes (0, the default: no limit;
+ negative is refused). `meshmove_solver_create` estimates what the solver will need from the
+ mesh's size and returns `MESHMOVE_STATUS_OUT_OF_MEMORY` before building anything when the
+ estimate is larger.
+
+ # Safety
+ `options` must be a handle from meshmove (checked).
+ */
+MESHMOVE_MUST_USE
+meshmove_status meshmove_options_set_memory_budget(struct meshmove_options *options,
+                                                   int64_t bytes);
+
+/*
  Tolerance of the stopping criterion (default 1e-8), positive and finite.
 
  # Safety
@@ -1219,6 +1290,20 @@ meshmove_status meshmove_solver_set_substepping(struct meshmove_solver *solver,
                                                 double min_volume_ratio);
 
 /*
+ Sets the progress callback of `solver`'s `_move` and `_move_in_steps` calls (see
+ `meshmove_progress`): called after every sub-step, accepted or rejected, its return value
+ going on or cancelling. `progress` NULL removes it. `user_data` must stay valid while the
+ callback is set.
+
+ # Safety
+ `solver` must be a handle from meshmove (checked); `progress` a function of the declared type.
+ */
+MESHMOVE_MUST_USE
+meshmove_status meshmove_solver_set_progress(struct meshmove_solver *solver,
+                                             meshmove_progress progress,
+                                             void *user_data);
+
+/*
  What each later step is solved from: a `meshmove_reference` value. Switching to
  `MESHMOVE_REFERENCE_ORIGINAL` makes the current mesh the original one.
 
@@ -1255,7 +1340,9 @@ meshmove_status meshmove_solver_get_coords(const struct meshmove_solver *solver,
 
 /*
  Copies the displacement of the last solve, cycle or move (for `_move_in_steps`, the total)
- into `displacement`, `len` = dim × vertices; zero before any.
+ into `displacement`, `len` = dim × vertices; zero before any. A call that fails leaves it as
+ it was (also one returning `MESHMOVE_STATUS_INVERTED`); an unconverged solve's written
+ displacement is the one exception.
 
  # Safety
  `displacement` must hold `len` doubles.

@@ -38,6 +38,17 @@ pub enum Error {
     /// The reference mesh of a step has cells of non-positive area: nothing was solved on it.
     #[error("tangled reference mesh: {0}")]
     Tangled(String),
+    /// The caller's progress hook asked to stop: the call was cancelled and changed nothing.
+    #[error("cancelled: {0}")]
+    Cancelled(String),
+    /// A callback of the caller (a slip surface's projection) reported a failure; nothing was
+    /// changed.
+    #[error("callback failed: {0}")]
+    CallbackFailed(String),
+    /// Memory for the call could not be reserved (the system refused it, or the solver's memory
+    /// budget is smaller than what it would need); nothing was changed.
+    #[error("out of memory: {0}")]
+    OutOfMemory(String),
     /// A mesh file could not be read or written.
     #[error("mesh file: {0}")]
     Io(#[from] crate::io::IoError),

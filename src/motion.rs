@@ -183,16 +183,51 @@ impl Motion {
         }
     }
 
-    /// This motion followed by `next` (displacements added, rigid motions of a patch composed)
-    /// on a mesh of dimension `dim`: the total motion of a sequence of increments, for solves
-    /// from the original mesh.
-    pub fn then(&self, next: &Motion, dim: usize) -> Motion {
-        let displacement = self.displacement.iter().zip(&next.displacement).map(|(a, b)| *a + *b).collect();
-        let mut rigid = self.rigid.clone();
-        for &(p, m) in &next.rigid {
-            match rigid.iter_mut().find(|(q, _)| *q == p) {
-                Some((_, r)) => *r = r.then(&m, dim),
-                None => rigid.push((p, m)),
+    /// This motion followed by `next` on `mesh`: the total motion of a sequence of increments,
+    /// for solves from the original mesh. Displacements add up and the rigid motions of a patch
+    /// moving rigidly in both compose. A patch whose rigid motion `next` does not continue, or
+    /// one that starts moving rigidly after it moved otherwise, cannot stay one rigid motion: its
+    /// vertices get their total displacement per vertex (where this motion took them, then
+    /// `next` from there), so a prescribed displacement that follows a cleared rigid motion
+    /// moves them.
+    pub fn then(&self, next: &Motion, mesh: &Mesh) -> Motion {
+        let dim = mesh.dim();
+        let before = self.vertex_values(mesh);
+        let rigid_in = |rigid: &[(i32, RigidMotion)], p: i32| rigid.iter().find(|(q, _)| *q == p).map(|&(_, m)| m);
+        let mut displacement: Vec<f64> =
+            self.displacement.iter().zip(&next.displacement).map(|(a, b)| *a + *b).collect();
+        let mut rigid = Vec::new();
+        for &(p, m) in &self.rigid {
+            match rigid_in(&next.rigid, p) {
+                Some(n) => rigid.push((p, m.then(&n, dim))),
+                None => {
+                    for v in mesh.patch_vertices(p) {
+                        let v = v as usize;
+                        for c in v * dim..v * dim + dim {
+                            displacement[c] = before[c] + next.displacement[c];
+                        }
+                    }
+                }
+            }
+        }
+        for &(p, n) in &next.rigid {
+            if rigid_in(&self.rigid, p).is_some() {
+                continue;
+            }
+            let vs = mesh.patch_vertices(p);
+            let moved = |v: usize| before[v * dim..v * dim + dim].iter().any(|&d| d != 0.0);
+            if !vs.iter().any(|&v| moved(v as usize)) {
+                rigid.push((p, n));
+                continue;
+            }
+            for v in vs {
+                let v = v as usize;
+                let x: Vec<f64> =
+                    mesh.point(v).iter().zip(&before[v * dim..v * dim + dim]).map(|(x, d)| x + d).collect();
+                let u = n.displacement(&x);
+                for c in 0..dim {
+                    displacement[v * dim + c] = before[v * dim + c] + u[c];
+                }
             }
         }
         Motion { displacement, rigid }

@@ -24,9 +24,12 @@ use crate::{Error, Mesh, Result};
 use std::ops::Range;
 use std::time::Instant;
 
+pub(crate) mod memory;
+mod progress;
 mod slip;
 mod steps;
 
+pub use progress::Progress;
 pub use steps::StepReport;
 
 /// Most Chebyshev degree accepted (degree 6 is the biharmonic's default; the cost of a cycle
@@ -73,6 +76,11 @@ pub struct Options {
     pub min_volume_ratio: f64,
     /// What each step is solved from.
     pub reference: ReferenceMode,
+    /// Told of every sub-step of `advance` and `move_in_steps`; can cancel the call.
+    pub progress: Option<Progress>,
+    /// Most memory the solver may take, in bytes (0: no limit): a solver whose estimated need is
+    /// larger is refused with `Error::OutOfMemory` before anything is built.
+    pub memory_budget: u64,
 }
 
 /// Displacements of every vertex and how the solve went.
@@ -134,6 +142,7 @@ impl Solver {
         bcs.check(mesh)?;
         check_not_tangled(mesh, mesh.coords())?;
         let pairs = resolve_links(mesh, &bcs.links)?;
+        memory::check_available(memory::solver_bytes(mesh, opts.method), opts.memory_budget, "the solver")?;
         let pool = Pool::new(opts.threads)?;
         let built_with = hierarchy_params(&opts, mesh.dim());
         let hierarchy = pool.install(|| Hierarchy::build(mesh, pairs, bcs, opts.method, &built_with))??;
@@ -180,10 +189,15 @@ impl Solver {
     /// `ReferenceMode::Original` makes the current mesh the original one.
     pub fn set_options(&mut self, opts: Options) -> Result<()> {
         check_options(&opts)?;
-        if opts.method != self.opts.method || opts.threads != self.opts.threads || opts.hierarchy != self.opts.hierarchy
+        if opts.method != self.opts.method
+            || opts.threads != self.opts.threads
+            || opts.hierarchy != self.opts.hierarchy
+            || opts.memory_budget != self.opts.memory_budget
         {
             return Err(Error::InvalidArgument(
-                "method, threads and hierarchy parameters are fixed when the solver is made: make a new solver".into(),
+                "method, threads, hierarchy parameters and memory budget are fixed when the solver is made: make a new \
+                 solver"
+                    .into(),
             ));
         }
         if opts.reference != self.opts.reference {
@@ -417,6 +431,7 @@ impl Solver {
             // step); what remains is moved onto the walls. Flat walls need no second solve.
             // A wall moved rigidly is placed where the motion takes it; a deformed one is left
             // alone (its shape is not known).
+            walls.take_failure();
             let at = walls.placed_by(&motion.rigid);
             let deformed = slip::deformed_patches(walls, lev, motion, &vals);
             if let Some(on_wall) = slip::on_wall_values(walls, &at, lev, &deformed, &vals, &displacement) {
@@ -427,6 +442,11 @@ impl Solver {
             let (after, before) = slip::onto_walls(walls, &at, lev, &deformed, &mut displacement);
             report.max_slip_offwall = after;
             report.max_slip_correction = before;
+            if walls.take_failure() {
+                return Err(Error::CallbackFailed(
+                    "a slip wall's closest-point function reported a failure; nothing was changed".into(),
+                ));
+            }
         }
         let quality = moved_quality(lev.mesh(), &displacement);
         Ok(Solution { displacement, report, quality })

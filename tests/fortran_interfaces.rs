@@ -197,13 +197,16 @@ fn compatible(c: &CType, f: &FArg) -> bool {
     let scalar = |b: &str| match b {
         "int32_t" | "meshmove_status" => Some("integer(c_int32_t)"),
         "size_t" => Some("integer(c_size_t)"),
+        "int64_t" => Some("integer(c_int64_t)"),
         "double" => Some("real(c_double)"),
         "char" => Some("character(kind=c_char)"),
         _ => None,
     };
     let cptr_value = f.ty == "type(c_ptr)" && f.value;
     // Callbacks: a function pointer typedef, passed by value.
-    if c.ptr == 0 && c.base == "meshmove_closest_point" {
+    if c.ptr == 0
+        && matches!(c.base.as_str(), "meshmove_closest_point" | "meshmove_closest_point_checked" | "meshmove_progress")
+    {
         return f.ty == "type(c_funptr)" && f.value;
     }
     match c.ptr {

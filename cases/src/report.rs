@@ -48,8 +48,8 @@ pub struct CaseResult {
     pub min_area_ratio: f64,
     pub min_angle_deg: f64,
     pub patch: PatchMeasures,
-    /// W-cycles (CG iterations in the default mode) summed over the accepted steps, max over
-    /// components.
+    /// W-cycles (CG iterations in the default mode) summed over the accepted steps and each
+    /// step's result (one with inverted cells too), max over components.
     pub cycles: usize,
     /// Wall time of the whole case: hierarchy, every step.
     pub seconds: f64,
@@ -245,6 +245,7 @@ pub fn run_case_with(
     let mut first_inverted_step = None;
     let mut failure = None;
     let mut last_valid = coords.clone();
+    let mut cycles = 0;
     for i in 0..setup.steps {
         let result = solver.advance(&setup.motion.increment(i, setup.steps));
         // `advance` numbers its sub-steps as one step of a whole motion: renumber as step i + 1.
@@ -254,6 +255,12 @@ pub fn run_case_with(
             .map(|r| StepReport { step: i + 1, fraction: (i as f64 + r.fraction) / setup.steps as f64, ..r.clone() })
             .collect();
         on_step(i + 1, &steps);
+        // The call's cycles: its accepted sub-steps and its result (a result with inverted
+        // cells is returned but not accepted).
+        cycles += match &result {
+            Ok(sol) => sol.report.cycles,
+            Err(_) => steps.iter().filter(|r| r.accepted).map(|r| r.cycles).sum(),
+        };
         reports.extend(steps);
         let sol = match result {
             Ok(s) => s,
@@ -300,7 +307,7 @@ pub fn run_case_with(
         min_area_ratio: q.min_area_ratio,
         min_angle_deg: q.min_angle_deg,
         patch,
-        cycles: reports.iter().filter(|r| r.accepted).map(|r| r.cycles).sum(),
+        cycles,
         seconds: t0.elapsed().as_secs_f64(),
         max_y_upper,
         first_inverted_step,

@@ -6,18 +6,22 @@
 //! Exit status: 0 on a valid result; 1 on a bad mesh or case file (nothing written); 2 on usage
 //! errors (clap); 3 when the result has inverted cells (the .vtu is still written); 4 when a step
 //! failed (not converged, sub-stepping limit reached, tangled reference): the last valid mesh is
-//! written to `OUT.last-valid.vtu` beside the requested output.
+//! written to `OUT.last-valid.vtu` beside the requested output; 5 when Ctrl-C stopped the run: the
+//! last valid mesh is written there too (a second Ctrl-C exits at once, with 130).
 
 use indicatif::{ProgressBar, ProgressStyle};
 use meshmove::bc::SlipSurface;
 use meshmove::io::{read_msh, read_vtu};
 use meshmove::solver::{ReferenceMode, StepReport};
-use meshmove::{BoundaryConditions, InterfaceVariant, Kind, Link, Mesh, Method, Motion, Options, RigidMotion};
+use meshmove::{
+    BoundaryConditions, InterfaceVariant, Kind, Link, Mesh, Method, Motion, Options, Progress, RigidMotion,
+};
 use meshmove_cases::report::{patch_measures, run_case_with};
 use meshmove_cases::setups::CaseSetup;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -474,8 +478,25 @@ fn rigid_motion(m: &MotionCfg, dim: usize, what: &str) -> Result<RigidMotion, St
     Ok(RigidMotion { translation, rotation, center })
 }
 
+/// Set by Ctrl-C: the solver's progress hook then cancels the step under way.
+static INTERRUPTED: AtomicBool = AtomicBool::new(false);
+
+/// Ctrl-C cancels the run at the next sub-step (the last valid mesh is then written); a second
+/// one exits at once.
+fn on_ctrl_c(opts: &mut Options) {
+    let set = ctrlc::set_handler(|| {
+        if INTERRUPTED.swap(true, Ordering::SeqCst) {
+            std::process::exit(130);
+        }
+    });
+    if set.is_ok() {
+        opts.progress = Some(Progress::new(|_, _| !INTERRUPTED.load(Ordering::SeqCst)));
+    }
+}
+
 pub fn run(args: Args) -> Result<ExitCode, String> {
-    let (setup, opts) = build(&args)?;
+    let (setup, mut opts) = build(&args)?;
+    on_ctrl_c(&mut opts);
     let bar = if setup.steps >= 5 { ProgressBar::new(setup.steps as u64) } else { ProgressBar::hidden() };
     bar.set_style(
         ProgressStyle::with_template("{bar:40} step {pos}/{len} {elapsed}").unwrap_or(ProgressStyle::default_bar()),
@@ -510,7 +531,7 @@ pub fn run(args: Args) -> Result<ExitCode, String> {
             partial.display(),
             args.output.display()
         );
-        return Ok(ExitCode::from(4));
+        return Ok(ExitCode::from(if INTERRUPTED.load(Ordering::SeqCst) { 5 } else { 4 }));
     }
     let disp = r.displacement(&setup.mesh);
     crate::write_deformed(&args.output, &setup.mesh, &disp)?;

@@ -11,6 +11,7 @@ use crate::geometry::{cross, dot3, sub};
 use crate::motion::RigidMotion;
 use crate::Mesh;
 use std::collections::BTreeMap;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
 /// An analytic wall: a function from a point (`dim` coordinates) to the closest point of the wall
@@ -18,8 +19,9 @@ use std::sync::Arc;
 #[derive(Clone)]
 pub struct SlipSurface(Arc<ClosestPoint>);
 
-/// A closest-point function: a point (`dim` coordinates) to the closest point of a wall.
-type ClosestPoint = dyn Fn(&[f64]) -> [f64; 3] + Send + Sync;
+/// A closest-point function: a point (`dim` coordinates) to the closest point of a wall, or
+/// None when it failed.
+type ClosestPoint = dyn Fn(&[f64]) -> Option<[f64; 3]> + Send + Sync;
 
 /// A fan triangle (or a 2D segment) of a wall face: its mesh vertices and their positions.
 type FacePiece = ([u32; 3], [[f64; 3]; 3]);
@@ -27,11 +29,26 @@ type FacePiece = ([u32; 3], [[f64; 3]; 3]);
 impl SlipSurface {
     /// A wall given by its closest-point function.
     pub fn new(closest: impl Fn(&[f64]) -> [f64; 3] + Send + Sync + 'static) -> SlipSurface {
+        SlipSurface(Arc::new(move |x: &[f64]| Some(closest(x))))
+    }
+
+    /// A wall given by a closest-point function that may fail (None): a solve that meets a
+    /// failure fails with `Error::CallbackFailed` and changes nothing.
+    pub fn fallible(closest: impl Fn(&[f64]) -> Option<[f64; 3]> + Send + Sync + 'static) -> SlipSurface {
         SlipSurface(Arc::new(closest))
     }
 
-    /// The closest point of the wall to `x`.
+    /// The closest point of the wall to `x` (`x` itself where the function fails).
     pub fn closest(&self, x: &[f64]) -> [f64; 3] {
+        self.try_closest(x).unwrap_or_else(|| {
+            let mut same = [0.0; 3];
+            same[..x.len()].copy_from_slice(x);
+            same
+        })
+    }
+
+    /// The closest point of the wall to `x`, or None when the function failed.
+    pub fn try_closest(&self, x: &[f64]) -> Option<[f64; 3]> {
         (self.0)(x)
     }
 
@@ -241,6 +258,8 @@ pub struct SlipWalls {
     vertex_patches: Vec<(u32, i32)>,
     /// The walls moved rigidly since their shapes were taken: the motion that took each there.
     placed: Placements,
+    /// Set when a fallible analytic wall's function failed (see [`SlipWalls::take_failure`]).
+    failed: Arc<AtomicBool>,
 }
 
 /// Where walls are: for each wall moved rigidly, the motion from where its shape was taken.
@@ -294,7 +313,7 @@ impl SlipWalls {
                 (p, shape)
             })
             .collect();
-        Some(SlipWalls { dim, shapes, vertex_patches, placed: Placements::new() })
+        Some(SlipWalls { dim, shapes, vertex_patches, placed: Placements::new(), failed: Arc::default() })
     }
 
     /// Where the walls are now.
@@ -344,6 +363,11 @@ impl SlipWalls {
         m.apply(&self.closest_in_place(patch, &back[..dim])[..dim])
     }
 
+    /// True when a wall's closest-point function failed since the last call (which it resets).
+    pub fn take_failure(&self) -> bool {
+        self.failed.swap(false, Ordering::Relaxed)
+    }
+
     /// The closest point of patch `patch`'s wall where its shape was taken.
     fn closest_in_place(&self, patch: i32, x: &[f64]) -> [f64; 3] {
         let dim = self.dim;
@@ -352,7 +376,12 @@ impl SlipWalls {
         match &self.shapes[&patch] {
             Shape::Faces(w) => w.closest(&p),
             Shape::Analytic(s) => {
-                let mut q = s.closest(&p[..dim]);
+                // A failed function leaves the point where it is; the solve asks
+                // `take_failure` when it is done and fails as a whole.
+                let mut q = s.try_closest(&p[..dim]).unwrap_or_else(|| {
+                    self.failed.store(true, Ordering::Relaxed);
+                    p
+                });
                 q[dim..].iter_mut().for_each(|v| *v = 0.0);
                 q
             }

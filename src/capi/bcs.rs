@@ -208,14 +208,23 @@ pub unsafe extern "C" fn meshmove_bcs_set_interface(
 
 /// The closest point of a wall to a point: called with the caller's `user_data`, the dimension,
 /// the point's `dim` coordinates, and `dim` doubles to write the closest point of the wall into.
-/// It is called from the solver's threads, one call at a time, during `meshmove_solver_*` calls.
+/// It is called from the solver's worker threads (not the thread that made the call), one call
+/// at a time, during `meshmove_solver_*` calls. It must return normally: a C++ exception,
+/// `longjmp` or `pthread_exit` out of it aborts the process or leaves the solver busy for ever.
+/// A callback that can fail uses `meshmove_closest_point_checked`.
 pub type meshmove_closest_point =
     Option<unsafe extern "C" fn(user_data: *mut c_void, dim: i32, x: *const f64, closest: *mut f64)>;
+
+/// As `meshmove_closest_point`, returning 0 on success and any other value on failure: the
+/// meshmove call that asked then returns `MESHMOVE_STATUS_CALLBACK_FAILED` and changes nothing
+/// (the way to stop from a callback: never throw or jump out of it).
+pub type meshmove_closest_point_checked =
+    Option<unsafe extern "C" fn(user_data: *mut c_void, dim: i32, x: *const f64, closest: *mut f64) -> i32>;
 
 /// The caller's context pointer, handed back to its callback (the caller keeps it valid, and
 /// safe to use from the solver's threads, for as long as a solver made with these conditions
 /// lives).
-struct UserData(*mut c_void);
+pub(crate) struct UserData(pub(crate) *mut c_void);
 // SAFETY: the pointer is only passed back to the caller's callback, which the caller makes safe
 // to call from the solver's threads (documented on `meshmove_bcs_set_slip_surface`).
 unsafe impl Send for UserData {}
@@ -241,29 +250,67 @@ pub unsafe extern "C" fn meshmove_bcs_set_slip_surface(
     user_data: *mut c_void,
 ) -> meshmove_status {
     ffi_body!(meshmove_bcs_set_slip_surface, {
-        let mut b = get_mut(bcs, "bcs")?;
-        let Some(f) = closest else {
-            b.remove_slip_surface(patch);
-            return Ok(());
-        };
-        let user = UserData(user_data);
-        b.set_slip_surface(
-            patch,
+        let surface = closest.map(|f| {
+            let user = UserData(user_data);
             SlipSurface::new(move |x: &[f64]| {
                 let user = &user;
                 let mut out = [0.0f64; 3];
                 // SAFETY: the caller guarantees the callback and its context (documented above);
                 // x holds `dim` values and out has room for 3.
                 unsafe { f(user.0, x.len() as i32, x.as_ptr(), out.as_mut_ptr()) };
-                if out[..x.len()].iter().all(|v| v.is_finite()) {
-                    out
-                } else {
-                    let mut same = [0.0; 3];
-                    same[..x.len()].copy_from_slice(x);
-                    same
-                }
-            }),
-        );
-        Ok(())
+                finite_or_same(out, x)
+            })
+        });
+        set_surface(bcs, patch, surface)
     })
+}
+
+/// As `meshmove_bcs_set_slip_surface`, with a callback that returns 0 on success and any other
+/// value on failure (`meshmove_closest_point_checked`): a failure makes the solver call that
+/// asked return `MESHMOVE_STATUS_CALLBACK_FAILED` with the solver as before it.
+///
+/// # Safety
+/// `bcs` must be a handle from meshmove (checked); `closest` a function of the declared type.
+#[no_mangle]
+#[must_use]
+pub unsafe extern "C" fn meshmove_bcs_set_slip_surface_checked(
+    bcs: *mut meshmove_bcs,
+    patch: i32,
+    closest: meshmove_closest_point_checked,
+    user_data: *mut c_void,
+) -> meshmove_status {
+    ffi_body!(meshmove_bcs_set_slip_surface_checked, {
+        let surface = closest.map(|f| {
+            let user = UserData(user_data);
+            SlipSurface::fallible(move |x: &[f64]| {
+                let user = &user;
+                let mut out = [0.0f64; 3];
+                // SAFETY: as in `meshmove_bcs_set_slip_surface`.
+                let failed = unsafe { f(user.0, x.len() as i32, x.as_ptr(), out.as_mut_ptr()) } != 0;
+                (!failed).then(|| finite_or_same(out, x))
+            })
+        });
+        set_surface(bcs, patch, surface)
+    })
+}
+
+/// The callback's point when finite, else `x` itself (the vertex stays where the solve put it).
+fn finite_or_same(out: [f64; 3], x: &[f64]) -> [f64; 3] {
+    if out[..x.len()].iter().all(|v| v.is_finite()) {
+        out
+    } else {
+        let mut same = [0.0; 3];
+        same[..x.len()].copy_from_slice(x);
+        same
+    }
+}
+
+/// Gives SLIP patch `patch` the analytic shape `surface`, or removes its shape (None).
+fn set_surface(bcs: *mut meshmove_bcs, patch: i32, surface: Option<SlipSurface>) -> Result<(), CError> {
+    let mut b = get_mut(bcs, "bcs")?;
+    match surface {
+        Some(s) => b.set_slip_surface(patch, s),
+        None => b.remove_slip_surface(patch),
+    };
+    Ok(())
 }

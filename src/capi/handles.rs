@@ -19,6 +19,13 @@
 //!   it) needs it alone. A call that finds the handle taken returns `MESHMOVE_STATUS_BUSY`
 //!   immediately and changes nothing: it never waits, never races. A call that panics while it
 //!   holds a handle alone leaves it poisoned: every later call but `_free` is refused.
+//! * **Fork-safe.** `pthread_atfork` handlers (registered before the registry is first locked)
+//!   take the registry's lock before `fork()` and release it in the parent and the child, so a
+//!   child never inherits it held by a thread it does not have: it can always create and free
+//!   handles. A handle in use by a call at the moment of the fork is, in the child, refused by
+//!   every call but `_free` (the call that held it does not exist there, and the payload may be
+//!   half-changed); `_free` accepts it and leaks its payload rather than dropping memory that
+//!   may be inconsistent.
 
 use super::error::CError;
 use super::status::meshmove_status;
@@ -36,6 +43,9 @@ use std::sync::Mutex;
 const WRITER: u32 = u32::MAX - 1;
 const DEAD: u32 = u32::MAX;
 const POISONED: u32 = u32::MAX - 2;
+/// In a forked child: the handle was in use when the process forked (only `_free` accepted,
+/// which leaks the payload).
+const FORKED: u32 = u32::MAX - 3;
 
 /// What a C handle points at: the state word and the payload (`None` once freed).
 pub(crate) struct Slot<T> {
@@ -62,12 +72,53 @@ pub(crate) trait Handle: Sized + 'static {
     fn from_slot(slot: Slot<Self::Payload>) -> Self;
 }
 
-/// Address of every slot ever handed out (live or tombstone), with its type.
-static SLOTS: Mutex<Option<HashMap<usize, (TypeId, &'static str)>>> = Mutex::new(None);
+/// What the registry holds of a slot: its type, its name and its state word (slots are never
+/// freed, so the reference stays valid).
+type Entry = (TypeId, &'static str, &'static AtomicU32);
+type Registry = Option<HashMap<usize, Entry>>;
 
-fn slots<R>(f: impl FnOnce(&mut HashMap<usize, (TypeId, &'static str)>) -> R) -> R {
+/// Address of every slot ever handed out (live or tombstone), with its type and state word.
+static SLOTS: Mutex<Registry> = Mutex::new(None);
+
+fn slots<R>(f: impl FnOnce(&mut HashMap<usize, Entry>) -> R) -> R {
+    super::fork::register_handlers();
     let mut g = SLOTS.lock().unwrap_or_else(|p| p.into_inner());
     f(g.get_or_insert_with(HashMap::new))
+}
+
+thread_local! {
+    /// The registry's lock, held by the forking thread from the `prepare` handler of
+    /// `pthread_atfork` until the `parent` or `child` handler.
+    static HELD: std::cell::RefCell<Option<std::sync::MutexGuard<'static, Registry>>> =
+        const { std::cell::RefCell::new(None) };
+}
+
+/// Before `fork()`: takes the registry's lock (no thread holds it while the process forks).
+pub(crate) fn lock_for_fork() {
+    let g = SLOTS.lock().unwrap_or_else(|p| p.into_inner());
+    HELD.with(|h| *h.borrow_mut() = Some(g));
+}
+
+/// After `fork()`, in the parent: releases the registry's lock.
+pub(crate) fn unlock_in_parent() {
+    HELD.with(|h| drop(h.borrow_mut().take()));
+}
+
+/// After `fork()`, in the child (one thread): every handle a call held at the fork is marked
+/// `FORKED` (that call does not exist here), then the registry's lock is released.
+pub(crate) fn unlock_in_child() {
+    HELD.with(|h| {
+        let mut held = h.borrow_mut().take();
+        if let Some(map) = held.as_mut().and_then(|g| g.as_mut()) {
+            for (_, _, state) in map.values() {
+                let now = state.load(Ordering::Acquire);
+                if now != 0 && now != DEAD && now != POISONED {
+                    state.store(FORKED, Ordering::Release);
+                }
+            }
+        }
+        drop(held);
+    });
 }
 
 /// Boxes `payload` in a new slot, registers it and stores it in `*out`.
@@ -76,7 +127,9 @@ fn slots<R>(f: impl FnOnce(&mut HashMap<usize, (TypeId, &'static str)>) -> R) ->
 /// `out` must have passed `check_out` (not NULL, aligned) and be writable.
 pub(crate) unsafe fn hand_out<T: Handle>(payload: T::Payload, out: *mut *mut T) -> Result<(), CError> {
     let p = Box::into_raw(Box::new(T::from_slot(Slot::new(payload))));
-    slots(|m| m.insert(p as usize, (TypeId::of::<T>(), T::NAME)));
+    // SAFETY: `p` comes from `Box::into_raw` and is never freed (slots are tombstones).
+    let state: &'static AtomicU32 = unsafe { &(*p).slot().state };
+    slots(|m| m.insert(p as usize, (TypeId::of::<T>(), T::NAME, state)));
     // SAFETY: `out` is not NULL, aligned and writable (this function's contract).
     unsafe { *out = p };
     Ok(())
@@ -102,8 +155,8 @@ fn slot<'a, T: Handle>(p: *const T, what: &str) -> Result<&'a Slot<T::Payload>, 
         return Err(CError::null(what));
     }
     match slots(|m| m.get(&(p as usize)).copied()) {
-        Some((t, _)) if t == TypeId::of::<T>() => {}
-        Some((_, name)) => {
+        Some((t, _, _)) if t == TypeId::of::<T>() => {}
+        Some((_, name, _)) => {
             return Err(CError::new(
                 meshmove_status::InvalidHandle,
                 format!("`{what}` is a {name} handle, not a {}", T::NAME),
@@ -136,8 +189,19 @@ fn taken<T: Handle>(now: u32, what: &str) -> CError {
     match now {
         DEAD => freed::<T>(what),
         POISONED => poisoned::<T>(what),
+        FORKED => forked::<T>(what),
         _ => busy::<T>(what),
     }
+}
+
+fn forked<T: Handle>(what: &str) -> CError {
+    CError::new(
+        meshmove_status::InvalidHandle,
+        format!(
+            "`{what}` ({}) was in use by another thread when this process forked; in the child it can only be freed",
+            T::NAME
+        ),
+    )
 }
 
 fn busy<T: Handle>(what: &str) -> CError {
@@ -202,7 +266,7 @@ pub(crate) fn get<'a, T: Handle>(p: *const T, what: &str) -> Result<Shared<'a, T
     let mut cur = s.state.load(Ordering::Relaxed);
     loop {
         match cur {
-            n if n >= POISONED - 1 => return Err(taken::<T>(n, what)),
+            n if n >= FORKED - 1 => return Err(taken::<T>(n, what)),
             n => match s.state.compare_exchange_weak(n, n + 1, Ordering::Acquire, Ordering::Relaxed) {
                 Ok(_) => break,
                 Err(now) => cur = now,
@@ -243,16 +307,23 @@ pub(crate) fn free<T: Handle>(p: *mut T, what: &str) -> Result<(), CError> {
     }
     let s = slot(p, what)?;
     let idle = |from: u32| s.state.compare_exchange(from, WRITER, Ordering::Acquire, Ordering::Relaxed);
+    let mut forked = false;
     if let Err(now) = idle(0) {
-        // A poisoned handle can still be freed.
-        if now != POISONED || idle(POISONED).is_err() {
+        // A poisoned handle can still be freed, and so can one a forked child inherited busy.
+        forked = now == FORKED;
+        if !(now == POISONED || forked) || idle(now).is_err() {
             return Err(taken::<T>(now, what));
         }
     }
     // SAFETY: the state word is `WRITER`: no other call reaches the payload.
     let payload = unsafe { (*s.payload.get()).take() };
     s.state.store(DEAD, Ordering::Release);
-    drop(payload);
+    if forked {
+        // A call was changing it when the process forked: its memory may be inconsistent.
+        std::mem::forget(payload);
+    } else {
+        drop(payload);
+    }
     Ok(())
 }
 

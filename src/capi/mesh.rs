@@ -13,6 +13,7 @@ use super::status::meshmove_status;
 use super::types::{self, bounded};
 use crate::geometry::CellType;
 use crate::mesh::MeshData;
+use crate::solver::memory;
 use crate::{limits, Mesh, MeshError};
 use std::ffi::c_char;
 
@@ -209,6 +210,9 @@ fn mesh_data(a: &Arrays) -> Result<MeshData, CError> {
 /// # Safety
 /// `out` must have passed `check_out`.
 unsafe fn create(a: &Arrays, out: *mut *mut meshmove_mesh) -> Result<(), CError> {
+    let (nv, nc) = (a.coords.len() / a.dim, a.cell_types.len());
+    let need = memory::mesh_bytes(a.dim, nv, nc, a.cells.vertices.len(), a.face_patch.len());
+    memory::check_available(need, 0, "the mesh")?;
     let data = mesh_data(a)?;
     let mesh = Mesh::from_data(&data).map_err(|e| in_base(e, a.base))?;
     // SAFETY: `out` passed `check_out` (this function's contract).
@@ -331,21 +335,30 @@ pub unsafe extern "C" fn meshmove_mesh_create_triangles(
         let nc = bounded(num_cells, "num_cells", 0, limits::MAX_CELLS)?;
         let nt = bounded(num_tagged, "num_tagged", 0, limits::MAX_VERTICES)?;
         let base = handles::index_base(index_base)?;
-        let triangles = vec![CellType::Triangle.vtk_id() as i32; nc];
         // SAFETY: the caller guarantees that each non-NULL array holds the number of elements
         // stated (the counts are bounded, so 3 × cells and 2 × vertices fit); NULL is refused
         // where an array is required and its length is not 0.
-        let a = unsafe {
-            Arrays {
-                dim: 2,
-                coords: slice(coords, 2 * nv, "coords")?,
-                cell_types: &triangles,
-                cells: Csr { offsets: None, vertices: slice(cells, 3 * nc, "cells")? },
-                faces: Csr { offsets: None, vertices: slice(tagged_edges, 2 * nt, "tagged_edges")? },
-                face_patch: slice(tagged_patches, nt, "tagged_patches")?,
-                regions: if regions.is_null() { None } else { Some(slice(regions, nc, "regions")?) },
-                base,
-            }
+        let (coords, cells, tagged_edges, tagged_patches, regions) = unsafe {
+            (
+                slice(coords, 2 * nv, "coords")?,
+                slice(cells, 3 * nc, "cells")?,
+                slice(tagged_edges, 2 * nt, "tagged_edges")?,
+                slice(tagged_patches, nt, "tagged_patches")?,
+                if regions.is_null() { None } else { Some(slice(regions, nc, "regions")?) },
+            )
+        };
+        // Every pointer is checked before anything the counts size is allocated.
+        memory::check_available(memory::mesh_bytes(2, nv, nc, 3 * nc, nt), 0, "the mesh")?;
+        let triangles = vec![CellType::Triangle.vtk_id() as i32; nc];
+        let a = Arrays {
+            dim: 2,
+            coords,
+            cell_types: &triangles,
+            cells: Csr { offsets: None, vertices: cells },
+            faces: Csr { offsets: None, vertices: tagged_edges },
+            face_patch: tagged_patches,
+            regions,
+            base,
         };
         // SAFETY: `out` passed `check_out`.
         unsafe { create(&a, out) }

@@ -30,6 +30,7 @@
 mod macros;
 pub mod bcs;
 pub mod error;
+mod fork;
 pub(crate) mod handles;
 pub mod mesh;
 pub mod options;

@@ -119,6 +119,26 @@ pub unsafe extern "C" fn meshmove_options_set_threads(options: *mut meshmove_opt
     })
 }
 
+/// Most memory a solver made with these options may take, in bytes (0, the default: no limit;
+/// negative is refused). `meshmove_solver_create` estimates what the solver will need from the
+/// mesh's size and returns `MESHMOVE_STATUS_OUT_OF_MEMORY` before building anything when the
+/// estimate is larger.
+///
+/// # Safety
+/// `options` must be a handle from meshmove (checked).
+#[no_mangle]
+#[must_use]
+pub unsafe extern "C" fn meshmove_options_set_memory_budget(
+    options: *mut meshmove_options,
+    bytes: i64,
+) -> meshmove_status {
+    ffi_body!(meshmove_options_set_memory_budget, {
+        let b = u64::try_from(bytes)
+            .map_err(|_| CError::arg(format!("memory budget is {bytes}; it must be 0 (no limit) or positive")))?;
+        set(options, |o| o.memory_budget = b)
+    })
+}
+
 /// Tolerance of the stopping criterion (default 1e-8), positive and finite.
 ///
 /// # Safety

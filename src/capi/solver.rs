@@ -1,7 +1,7 @@
 //! `meshmove_solver`: the multigrid hierarchy of one mesh and boundary-condition set, and the
 //! calls a flow code makes every time step.
 
-use super::bcs::meshmove_bcs;
+use super::bcs::{meshmove_bcs, UserData};
 use super::error::CError;
 use super::handles::{self, check_out, count, get, get_mut, hand_out, Handle, Slot};
 use super::mesh::{meshmove_mesh, write_counts};
@@ -9,8 +9,8 @@ use super::options::meshmove_options;
 use super::points::{self, Points};
 use super::status::meshmove_status;
 use super::types::{self, meshmove_quality, meshmove_report, meshmove_step_report};
-use crate::{Motion, RigidMotion, Solver};
-use std::ffi::c_char;
+use crate::{Motion, Progress, RigidMotion, Solver};
+use std::ffi::{c_char, c_void};
 
 /// A solver: the hierarchy built once for a mesh and boundary conditions, the rigid motions
 /// currently set, and the displacement of the last solve. Different solvers may be used
@@ -410,8 +410,15 @@ pub unsafe extern "C" fn meshmove_solver_move(
             handles::write_opt(quality, meshmove_quality::from(q), "quality")?;
             points::write(coords, &moved);
         }
-        s.last = sol.displacement;
-        e.map_or(Ok(()), Err)
+        // An INVERTED result is written to the caller's arrays only: the solver, its
+        // displacement included, stays as before the call.
+        match e {
+            Some(e) => Err(e),
+            None => {
+                s.last = sol.displacement;
+                Ok(())
+            }
+        }
     })
 }
 
@@ -457,11 +464,11 @@ pub unsafe extern "C" fn meshmove_solver_move_in_steps(
         for (o, r) in out.iter_mut().zip(&steps) {
             *o = *r;
         }
-        s.last = points::difference(s.solver.current_coords(), &before);
         // The last step's result inverted cells (the method's honest answer without
-        // sub-stepping): reported, never plain OK; the solver stays as before the call.
+        // sub-stepping): reported, never plain OK; the solver, its displacement included, stays
+        // as before the call.
         match s.solver.step_reports().last() {
-            Some(r) if r.accepted && r.inverted > 0 => Err(CError::new(
+            Some(r) if r.inverted > 0 => Err(CError::new(
                 meshmove_status::Inverted,
                 format!(
                     "the last step's mesh has {} inverted cell(s) (smallest area ratio {:e}); the solver keeps the mesh it \
@@ -469,7 +476,10 @@ pub unsafe extern "C" fn meshmove_solver_move_in_steps(
                     r.inverted, r.min_volume_ratio
                 ),
             )),
-            _ => Ok(()),
+            _ => {
+                s.last = points::difference(s.solver.current_coords(), &before);
+                Ok(())
+            }
         }
     })
 }
@@ -541,6 +551,52 @@ pub unsafe extern "C" fn meshmove_solver_set_substepping(
     })
 }
 
+/// The caller's progress callback: called with the caller's `user_data`, the report of the
+/// sub-step just done (valid during the call only) and the call's number of steps. It returns 0
+/// to go on; any other value cancels the call, which returns `MESHMOVE_STATUS_CANCELLED` with the
+/// solver, its coordinates and its displacement as before the call.
+///
+/// It runs on the thread that called `meshmove_solver_move` or `_move_in_steps`, between solves,
+/// while that call holds the solver (a meshmove call on the same solver from the callback
+/// returns `MESHMOVE_STATUS_BUSY`). It must return normally: it must not throw a C++
+/// exception, call `longjmp` or `pthread_exit` out of meshmove (that aborts the process or leaves
+/// the solver busy for ever); to stop, return non-zero.
+pub type meshmove_progress =
+    Option<unsafe extern "C" fn(user_data: *mut c_void, report: *const meshmove_step_report, steps: i32) -> i32>;
+
+/// Sets the progress callback of `solver`'s `_move` and `_move_in_steps` calls (see
+/// `meshmove_progress`): called after every sub-step, accepted or rejected, its return value
+/// going on or cancelling. `progress` NULL removes it. `user_data` must stay valid while the
+/// callback is set.
+///
+/// # Safety
+/// `solver` must be a handle from meshmove (checked); `progress` a function of the declared type.
+#[no_mangle]
+#[must_use]
+pub unsafe extern "C" fn meshmove_solver_set_progress(
+    solver: *mut meshmove_solver,
+    progress: meshmove_progress,
+    user_data: *mut c_void,
+) -> meshmove_status {
+    ffi_body!(meshmove_solver_set_progress, {
+        let mut s = get_mut(solver, "solver")?;
+        let mut o = s.solver.options().clone();
+        o.progress = progress.map(|f| {
+            let user = UserData(user_data);
+            Progress::new(move |r, steps| {
+                let user = &user;
+                let report = meshmove_step_report::from(r);
+                let steps = steps.min(i32::MAX as usize) as i32;
+                // SAFETY: the caller guarantees the callback and its context (documented above);
+                // `report` lives until the callback returns.
+                unsafe { f(user.0, &report, steps) == 0 }
+            })
+        });
+        s.solver.set_options(o)?;
+        Ok(())
+    })
+}
+
 /// What each later step is solved from: a `meshmove_reference` value. Switching to
 /// `MESHMOVE_REFERENCE_ORIGINAL` makes the current mesh the original one.
 ///
@@ -607,7 +663,9 @@ pub unsafe extern "C" fn meshmove_solver_get_coords(
 }
 
 /// Copies the displacement of the last solve, cycle or move (for `_move_in_steps`, the total)
-/// into `displacement`, `len` = dim × vertices; zero before any.
+/// into `displacement`, `len` = dim × vertices; zero before any. A call that fails leaves it as
+/// it was (also one returning `MESHMOVE_STATUS_INVERTED`); an unconverged solve's written
+/// displacement is the one exception.
 ///
 /// # Safety
 /// `displacement` must hold `len` doubles.

@@ -49,6 +49,15 @@ pub enum meshmove_status {
     /// The arguments are valid but this version of meshmove cannot do it (kept for what later
     /// versions add); the message says what.
     Unsupported = 16,
+    /// The progress callback asked to stop (`meshmove_solver_set_progress`): the call was
+    /// cancelled and the solver is as before it.
+    Cancelled = 17,
+    /// A callback of the caller returned failure (a slip surface's projection returning non-zero):
+    /// the call stopped and the solver is as before it.
+    CallbackFailed = 18,
+    /// Memory could not be obtained (the system refused an allocation, or the options' memory
+    /// budget is below the solver's estimate): nothing was created or changed.
+    OutOfMemory = 19,
 }
 
 impl From<&Error> for meshmove_status {
@@ -62,6 +71,9 @@ impl From<&Error> for meshmove_status {
             Error::Diverged(_) => meshmove_status::Diverged,
             Error::NotConverged(_) => meshmove_status::NotConverged,
             Error::Tangled(_) => meshmove_status::Tangled,
+            Error::Cancelled(_) => meshmove_status::Cancelled,
+            Error::CallbackFailed(_) => meshmove_status::CallbackFailed,
+            Error::OutOfMemory(_) => meshmove_status::OutOfMemory,
             Error::Io(IoError::Mesh(_)) => meshmove_status::InvalidMesh,
             Error::Io(IoError::InvalidArgument(_)) => meshmove_status::InvalidArgument,
             Error::Io(_) => meshmove_status::Io,
@@ -89,10 +101,13 @@ impl meshmove_status {
             meshmove_status::Inverted => c"MESHMOVE_STATUS_INVERTED",
             meshmove_status::Busy => c"MESHMOVE_STATUS_BUSY",
             meshmove_status::Unsupported => c"MESHMOVE_STATUS_UNSUPPORTED",
+            meshmove_status::Cancelled => c"MESHMOVE_STATUS_CANCELLED",
+            meshmove_status::CallbackFailed => c"MESHMOVE_STATUS_CALLBACK_FAILED",
+            meshmove_status::OutOfMemory => c"MESHMOVE_STATUS_OUT_OF_MEMORY",
         }
     }
 
-    pub(crate) const ALL: [meshmove_status; 17] = [
+    pub(crate) const ALL: [meshmove_status; 20] = [
         meshmove_status::Ok,
         meshmove_status::NullPointer,
         meshmove_status::InvalidHandle,
@@ -110,5 +125,8 @@ impl meshmove_status {
         meshmove_status::Inverted,
         meshmove_status::Busy,
         meshmove_status::Unsupported,
+        meshmove_status::Cancelled,
+        meshmove_status::CallbackFailed,
+        meshmove_status::OutOfMemory,
     ];
 }

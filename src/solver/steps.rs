@@ -70,6 +70,8 @@ impl StepReport {
 /// One step of a motion: its increment and the fractions of the whole motion it spans.
 struct Step<'a> {
     number: usize,
+    /// The call's number of steps.
+    count: usize,
     increment: &'a Motion,
     from: f64,
     to: f64,
@@ -88,7 +90,7 @@ pub(super) fn advance(s: &mut Solver, from: Option<&[f64]>, increment: &Motion) 
                 rebase(s, x, undo)?;
             }
             let before = s.current_coords().to_vec();
-            do_step(s, &Step { number: 1, increment, from: 0.0, to: 1.0, last: true }, undo)?;
+            do_step(s, &Step { number: 1, count: 1, increment, from: 0.0, to: 1.0, last: true }, undo)?;
             let after = &s.last_valid;
             let displacement: Vec<f64> = after.iter().zip(&before).map(|(a, b)| a - b).collect();
             let quality = crate::mesh::quality::quality(&s.mesh().with_coords(before), after);
@@ -114,7 +116,8 @@ pub(super) fn move_in_steps(s: &mut Solver, motion: &Motion, steps: usize) -> Re
             for i in 0..steps {
                 let increment = motion.increment(i, steps);
                 let (from, to) = (i as f64 / steps as f64, (i + 1) as f64 / steps as f64);
-                do_step(s, &Step { number: i + 1, increment: &increment, from, to, last: i + 1 == steps }, undo)?;
+                let step = Step { number: i + 1, count: steps, increment: &increment, from, to, last: i + 1 == steps };
+                do_step(s, &step, undo)?;
             }
             Ok(s.steps.last().map_or(0, |r| r.inverted))
         },
@@ -176,6 +179,21 @@ fn report(step: &Step, substep: usize, end: f64, sol: &Solution, rebuilt: bool, 
     }
 }
 
+/// Keeps the report of a sub-step and tells the caller's progress hook, which may cancel the call.
+fn record(s: &mut Solver, step: &Step, rep: StepReport) -> Result<()> {
+    s.steps.push(rep);
+    let Some(p) = &s.opts.progress else { return Ok(()) };
+    let r = s.steps.last().expect("pushed");
+    if p.go_on(r, step.count) {
+        return Ok(());
+    }
+    Err(Error::Cancelled(format!(
+        "the progress callback stopped the call after step {}.{} of {} ({:.4} of the motion); the solver is as \
+         before the call",
+        r.step, r.substep, step.count, r.fraction
+    )))
+}
+
 fn do_step(s: &mut Solver, step: &Step, undo: &mut Undo) -> Result<()> {
     if s.opts.reference == ReferenceMode::Original {
         return original_step(s, step);
@@ -199,22 +217,22 @@ fn do_step(s: &mut Solver, step: &Step, undo: &mut Undo) -> Result<()> {
                 w.move_walls(&part.rigid);
             }
             rep.accepted = true;
-            s.steps.push(rep);
             s.last_valid = moved;
+            record(s, step, rep)?;
             done = end;
             continue;
         }
         if split && size / 2.0 >= smallest * (1.0 - 1e-12) {
-            s.steps.push(rep);
+            record(s, step, rep)?;
             size /= 2.0;
             continue;
         }
         if sol.report.converged && !split {
             // The method's honest answer: a converged result with inverted cells. It is the
-            // call's result when nothing follows it; a later step cannot start from it.
-            s.steps.push(rep);
+            // call's result when nothing follows it (reported, not accepted: it never becomes
+            // the mesh); a later step cannot start from it.
+            record(s, step, rep)?;
             if end >= 1.0 && step.last {
-                s.steps.last_mut().expect("pushed").accepted = true;
                 s.last_valid = crate::solver::moved(s.mesh().coords(), &sol.displacement);
                 return Ok(());
             }
@@ -224,7 +242,7 @@ fn do_step(s: &mut Solver, step: &Step, undo: &mut Undo) -> Result<()> {
                 step.number, q.inverted, q.min_area_ratio
             )));
         }
-        s.steps.push(rep);
+        record(s, step, rep)?;
         check_converged(&sol.report, Some((step.number, substep)))?;
         let why = if q.inverted > 0 {
             format!("{} inverted cell(s)", q.inverted)
@@ -257,31 +275,36 @@ fn solve_part(s: &mut Solver, part: &Motion, undo: &mut Undo) -> Result<(Solutio
 /// `ReferenceMode::Original`: the total motion so far solved from the original mesh.
 fn original_step(s: &mut Solver, step: &Step) -> Result<()> {
     let total = match &s.total {
-        Some((m, _)) => m.then(step.increment, s.mesh().dim()),
+        Some((m, _)) => m.then(step.increment, s.mesh()),
         None => step.increment.clone(),
     };
     let t0 = Instant::now();
     let sol = s.solve_report(&total, None)?;
     let mut rep = report(step, 1, 1.0, &sol, false, t0);
-    check_converged(&sol.report, Some((step.number, 1))).inspect_err(|_| s.steps.push(rep.clone()))?;
+    if !sol.report.converged {
+        record(s, step, rep)?;
+        return check_converged(&sol.report, Some((step.number, 1)));
+    }
     let moved: Vec<f64> = crate::solver::moved(s.mesh().coords(), &sol.displacement);
     if sol.quality.inverted > 0 && !step.last {
-        s.steps.push(rep);
+        record(s, step, rep)?;
         return Err(Error::Tangled(format!(
             "step {}: the total motion so far inverts {} cell(s) of the original mesh",
             step.number, sol.quality.inverted
         )));
     }
-    rep.accepted = true;
-    s.steps.push(rep);
+    // A last step with inverted cells is the call's result, reported but not accepted.
+    rep.accepted = sol.quality.inverted == 0;
     s.last_valid = moved.clone();
     s.total = Some((total, moved));
-    Ok(())
+    record(s, step, rep)
 }
 
-/// One report for a whole call: cycles summed over the accepted sub-steps, the worst residual.
+/// One report for a whole call: cycles summed over the accepted sub-steps and the last one (the
+/// result, also when it has inverted cells and is not accepted), the worst residual.
 fn summary(steps: &[StepReport], t0: Instant) -> Report {
-    let acc = steps.iter().filter(|r| r.accepted);
+    let n = steps.len();
+    let acc = steps.iter().enumerate().filter(|&(i, r)| r.accepted || i + 1 == n).map(|(_, r)| r);
     Report {
         cycles: acc.clone().map(|r| r.cycles).sum(),
         max_correction: 0.0,

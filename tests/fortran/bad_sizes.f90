@@ -19,6 +19,10 @@ program bad_sizes
   integer :: stat, failures
 
   failures = 0
+  d = 0
+  ! a solver never created: the call says so (not "0 vertices in 0D")
+  call solver%move_in_steps(d, 1, stat=stat, errmsg=msg)
+  call expect(stat, MESHMOVE_STATUS_NULL_POINTER, msg, "never created")
   xy = reshape([0d0, 0d0, 1d0, 0d0, 1d0, 1d0, 0d0, 1d0, 0.5d0, 0.5d0], [2, 5])
   cells = reshape([1, 2, 5, 2, 3, 5, 3, 4, 5, 4, 1, 5], [3, 4])
   tagged = reshape([2, 3], [2, 1])

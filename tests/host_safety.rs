@@ -1,0 +1,103 @@
+//! What a host relies on from the Rust API: a total motion from the original mesh that follows
+//! a cleared rigid motion, failing calls that leave every observable state as it was, and
+//! progress with cancellation.
+
+mod common;
+use common::*;
+use meshmove::{BoundaryConditions, Motion, Options, ReferenceMode, RigidMotion, Solver};
+
+fn grid_solver(reference: ReferenceMode) -> (meshmove::Mesh, Solver) {
+    let mesh = Grid::new(6, 6).jitter(0.2).mesh();
+    let opts = Options { reference, ..Default::default() };
+    let s = Solver::new(&mesh, &BoundaryConditions::new(), opts).unwrap();
+    (mesh, s)
+}
+
+/// A displacement of `d` on every vertex of `patch`, nothing elsewhere.
+fn on_patch(mesh: &meshmove::Mesh, patch: i32, d: [f64; 2]) -> Motion {
+    let mut m = Motion::zero(mesh);
+    for v in mesh.patch_vertices(patch) {
+        m.displacement[v as usize * 2..v as usize * 2 + 2].copy_from_slice(&d);
+    }
+    m
+}
+
+#[test]
+fn a_displacement_after_a_cleared_rigid_motion_moves_the_patch_in_both_modes() {
+    for mode in [ReferenceMode::Incremental, ReferenceMode::Original] {
+        let (mesh, mut s) = grid_solver(mode);
+        let shift = RigidMotion::translation([0.1, 0.0, 0.0]);
+        s.advance(&Motion::zero(&mesh).with_rigid(TOP, shift)).unwrap();
+        s.advance(&on_patch(&mesh, TOP, [0.0, 0.05])).unwrap();
+        let x = s.current_coords();
+        for v in mesh.patch_vertices(TOP) {
+            let (v, p) = (v as usize, mesh.point(v as usize));
+            assert!((x[v * 2] - (p[0] + 0.1)).abs() < 1e-12, "{mode:?}: vertex {v} x {}", x[v * 2]);
+            assert!((x[v * 2 + 1] - (p[1] + 0.05)).abs() < 1e-12, "{mode:?}: vertex {v} y {}", x[v * 2 + 1]);
+        }
+    }
+}
+
+#[test]
+fn a_rigid_motion_after_a_displacement_starts_where_the_patch_is() {
+    for mode in [ReferenceMode::Incremental, ReferenceMode::Original] {
+        let (mesh, mut s) = grid_solver(mode);
+        s.advance(&on_patch(&mesh, TOP, [0.0, 0.05])).unwrap();
+        let turn = RigidMotion::planar([0.0, 0.0], 0.1, [0.5, 1.0]);
+        s.advance(&Motion::zero(&mesh).with_rigid(TOP, turn)).unwrap();
+        let x = s.current_coords();
+        for v in mesh.patch_vertices(TOP) {
+            let (v, p) = (v as usize, mesh.point(v as usize));
+            let want = turn.apply(&[p[0], p[1] + 0.05]);
+            for c in 0..2 {
+                assert!((x[v * 2 + c] - want[c]).abs() < 1e-12, "{mode:?}: vertex {v}");
+            }
+        }
+    }
+}
+
+#[test]
+fn a_progress_hook_sees_every_step_and_cancels_after_k() {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    use std::sync::Arc;
+    for mode in [ReferenceMode::Incremental, ReferenceMode::Original] {
+        let (mesh, mut s) = grid_solver(mode);
+        s.move_in_steps(&on_patch(&mesh, TOP, [0.02, 0.0]), 2).unwrap();
+        let before = s.current_coords().to_vec();
+        let seen = Arc::new(AtomicUsize::new(0));
+        let count = Arc::clone(&seen);
+        let mut o = s.options().clone();
+        o.progress = Some(meshmove::Progress::new(move |r, steps| {
+            assert_eq!(steps, 10);
+            let k = count.fetch_add(1, Ordering::Relaxed) + 1;
+            assert_eq!(r.step, k);
+            k < 3
+        }));
+        s.set_options(o).unwrap();
+        let e = s.move_in_steps(&on_patch(&mesh, TOP, [0.0, 0.05]), 10).unwrap_err();
+        assert!(matches!(e, meshmove::Error::Cancelled(_)), "{mode:?}: {e}");
+        assert!(e.to_string().contains("after step 3.1 of 10"), "{e}");
+        assert_eq!(seen.load(Ordering::Relaxed), 3);
+        assert_eq!(s.current_coords(), before.as_slice(), "{mode:?}");
+        assert_eq!(s.step_reports().len(), 3);
+        // The same solver goes on normally once the hook lets it.
+        let mut o = s.options().clone();
+        o.progress = None;
+        s.set_options(o).unwrap();
+        s.move_in_steps(&on_patch(&mesh, TOP, [0.0, 0.05]), 10).unwrap();
+        assert_ne!(s.current_coords(), before.as_slice());
+    }
+}
+
+#[test]
+fn an_inverted_last_step_is_reported_not_accepted() {
+    let (mesh, mut s) = grid_solver(ReferenceMode::Incremental);
+    let before = s.current_coords().to_vec();
+    let sol = s.advance(&on_patch(&mesh, TOP, [0.0, -2.0])).unwrap();
+    assert!(sol.quality.inverted > 0);
+    let r = s.step_reports();
+    assert_eq!(r.len(), 1);
+    assert!(r[0].inverted > 0 && r[0].converged && !r[0].accepted, "{}", r[0].line());
+    assert!(sol.report.cycles > 0 && sol.report.converged);
+    assert_eq!(s.current_coords(), before.as_slice());
+}
