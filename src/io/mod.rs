@@ -170,6 +170,10 @@ pub(crate) fn check_data(d: &MeshData, what: &str) -> Result<(), IoError> {
             return bad(format!("cell {c} is a {t} of {} corners; a {t} has {}", d.cell(c).len(), t.num_corners()));
         }
     }
+    let face_sizes: &[usize] = if d.dim == 2 { &[2] } else { &[3, 4] };
+    if let Some(f) = (0..d.num_faces()).find(|&f| !face_sizes.contains(&d.face(f).len())) {
+        return bad(format!("face {f} has {} vertices; a face in {}D has {face_sizes:?}", d.face(f).len(), d.dim));
+    }
     if !d.regions.is_empty() && d.regions.len() != d.num_cells() {
         return bad(format!("{} regions for {} cells", d.regions.len(), d.num_cells()));
     }

@@ -221,7 +221,8 @@ fn slip_shape(p: &PatchCfg, dim: usize, what: &str) -> Result<Option<SlipSurface
     }))
 }
 
-/// The mesh and the names of its patches (Gmsh physical groups of dimension `dim - 1`).
+/// The mesh and the names of its patches (Gmsh physical groups of dimension `dim - 1`; a
+/// `.vtu`'s field data).
 fn read_mesh(path: &Path) -> Result<(Mesh, Vec<(i32, String)>), String> {
     let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
     match ext.as_str() {
@@ -234,7 +235,7 @@ fn read_mesh(path: &Path) -> Result<(Mesh, Vec<(i32, String)>), String> {
         "vtu" => {
             let d = read_vtu(path).map_err(|e| format!("mesh {}: {e}", path.display()))?;
             let m = d.to_mesh().map_err(|e| format!("mesh {}: {e}", path.display()))?;
-            Ok((m, Vec::new()))
+            Ok((m, d.patch_names))
         }
         _ => Err(format!("mesh {}: unknown extension (expected .msh or .vtu)", path.display())),
     }
