@@ -381,6 +381,17 @@ module meshmove_c
       character(kind=c_char), intent(in) :: path(*)
       integer(c_int32_t), value :: len
     end function
+    integer(c_int32_t) function meshmove_solver_get_total_displacement(solver, len, displacement) bind(c)
+      import :: c_int32_t, c_ptr, c_double
+      type(c_ptr), value :: solver
+      integer(c_int32_t), value :: len
+      real(c_double), intent(out) :: displacement(*)
+    end function
+    integer(c_int32_t) function meshmove_solver_total_quality(solver, quality) bind(c)
+      import :: c_int32_t, c_ptr, meshmove_quality
+      type(c_ptr), value :: solver
+      type(meshmove_quality), intent(out) :: quality
+    end function
   end interface
 end module meshmove_c
 
@@ -489,6 +500,8 @@ module meshmove
     procedure :: displacement => solver_displacement
     procedure :: quality => solver_quality
     procedure :: write_vtu => solver_write_vtu
+    procedure :: get_total_displacement => solver_total_displacement
+    procedure :: total_quality => solver_total_quality
   end type
 
   !> The message of the last failure found by this module itself (a size it checked), until the
@@ -1497,6 +1510,30 @@ contains
     if (present(errmsg)) call message(errmsg)
   end subroutine
 
+  !> The displacement since the mesh the solver was created with, d(dim, nv): the sum of every
+  !> move's increment and move_in_steps' total so far (displacement gives the last call's).
+  subroutine solver_total_displacement(self, d, stat, errmsg)
+    class(mm_solver), intent(in) :: self
+    real(c_double), allocatable, intent(out) :: d(:, :)
+    integer, intent(out), optional :: stat
+    character(len=:), allocatable, intent(out), optional :: errmsg
+    allocate (d(self%nd, self%nv))
+    call check(meshmove_solver_get_total_displacement(self%h, int(size(d), c_int32_t), d), &
+      "solver_get_total_displacement", stat)
+    if (present(errmsg)) call message(errmsg)
+  end subroutine
+
+  !> Quality of the current positions against the mesh the solver was created with (a move's
+  !> quality compares with the mesh before that move).
+  subroutine solver_total_quality(self, quality, stat, errmsg)
+    class(mm_solver), intent(in) :: self
+    type(meshmove_quality), intent(out) :: quality
+    integer, intent(out), optional :: stat
+    character(len=:), allocatable, intent(out), optional :: errmsg
+    call check(meshmove_solver_total_quality(self%h, quality), "solver_total_quality", stat)
+    if (present(errmsg)) call message(errmsg)
+  end subroutine
+
   !> Quality of the reference mesh moved by d(dim, nv).
   subroutine solver_quality(self, d, quality, stat, errmsg)
     class(mm_solver), intent(in) :: self
@@ -1512,7 +1549,8 @@ contains
     if (present(errmsg)) call message(errmsg)
   end subroutine
 
-  !> Writes the reference mesh moved by d(dim, nv) (absent: the reference itself).
+  !> Writes the reference mesh moved by d(dim, nv); absent: the mesh the solver was created with,
+  !> moved by the total displacement since (its ratios then measure every move so far).
   subroutine solver_write_vtu(self, path, d, stat, errmsg)
     class(mm_solver), intent(in) :: self
     character(*), intent(in) :: path
