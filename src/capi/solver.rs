@@ -398,8 +398,12 @@ pub unsafe extern "C" fn meshmove_solver_move(
             CError::new(
                 meshmove_status::Inverted,
                 format!(
-                    "the moved mesh has {} inverted cell(s) (smallest area ratio {:e}); coords hold it, the solver keeps the mesh it had",
-                    q.inverted, q.min_area_ratio
+                    "the moved mesh has {} inverted cell(s) (a corner Jacobian <= 0; {} of non-positive {}; smallest {} ratio {:e}); coords hold it, the solver keeps the mesh it had",
+                    q.inverted,
+                    q.non_positive_measure,
+                    if s.dim() == 2 { "area" } else { "volume" },
+                    if s.dim() == 2 { "area" } else { "volume" },
+                    q.min_area_ratio
                 ),
             )
         });
