@@ -4,8 +4,9 @@
 //!
 //! Cells of every [`CellType`](crate::geometry::CellType) (triangles and quads in 2D; tetrahedra,
 //! hexahedra, wedges and pyramids in 3D) are read and written, in VTK's corner order. `.msh` files
-//! also carry the tagged faces (lines in 2D, triangles and quads in 3D) with their patch ids;
-//! `.vtu` files carry no faces, but point and cell fields. The readers return `MeshData`
+//! carry the tagged faces (lines in 2D, triangles and quads in 3D) with their patch ids as
+//! physical groups; `.vtu` files as cells of one dimension less with a cell array of patch ids
+//! (`vtu` says which), beside point and cell fields. The readers return `MeshData`
 //! ([`parse_msh_data`], [`VtuData::mesh`]) and build a [`Mesh`](crate::mesh::Mesh) from it
 //! ([`parse_msh`], [`VtuData::to_mesh`]) with [`Mesh::from_data`](crate::mesh::Mesh::from_data),
 //! which checks what the core handles.

@@ -68,8 +68,9 @@ pub fn quality(mesh: &Mesh, deformed: &[f64]) -> Quality {
         let r = a1 / a0;
         let j1 = p1.min_corner_jacobian();
         // NaN counts as inverted, as in `CellPoints::is_inverted`.
-        q.inverted += usize::from(!(j1 > 0.0));
-        q.non_positive_measure += usize::from(!(a1 > 0.0));
+        let positive = |x: f64| x.partial_cmp(&0.0) == Some(std::cmp::Ordering::Greater);
+        q.inverted += usize::from(!positive(j1));
+        q.non_positive_measure += usize::from(!positive(a1));
         q.min_corner_jacobian_ratio = q.min_corner_jacobian_ratio.min(j1 / p0.min_corner_jacobian());
         q.min_area_ratio = q.min_area_ratio.min(r);
         q.max_area_ratio = q.max_area_ratio.max(r);
