@@ -400,6 +400,17 @@ module meshmove_c
       character(kind=c_char), intent(in) :: path(*)
       integer(c_int32_t), value :: len
     end function
+    integer(c_int32_t) function meshmove_solver_get_total_displacement(solver, len, displacement) bind(c)
+      import :: c_int32_t, c_ptr, c_double
+      type(c_ptr), value :: solver
+      integer(c_int32_t), value :: len
+      real(c_double), intent(out) :: displacement(*)
+    end function
+    integer(c_int32_t) function meshmove_solver_total_quality(solver, quality) bind(c)
+      import :: c_int32_t, c_ptr, meshmove_quality
+      type(c_ptr), value :: solver
+      type(meshmove_quality), intent(out) :: quality
+    end function
   end interface
 end module meshmove_c
 
@@ -512,6 +523,8 @@ module meshmove
     procedure :: displacement => solver_displacement
     procedure :: quality => solver_quality
     procedure :: write_vtu => solver_write_vtu
+    procedure :: get_total_displacement => solver_total_displacement
+    procedure :: total_quality => solver_total_quality
   end type
 
   !> The message of the last failure found by this module itself (a size it checked), until the
@@ -556,7 +569,7 @@ contains
   !> MESHMOVE_STATUS_BUFFER_TOO_SMALL when it was cut (never an error stop).
   subroutine mm_last_error_message(buf, stat)
     character(*), intent(out) :: buf
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(kind=c_char) :: c(len(buf) + 1)
     integer(c_size_t) :: needed
     integer(c_int32_t) :: s
@@ -567,7 +580,7 @@ contains
       if (c(i) == c_null_char) exit
       buf(i:i) = c(i)
     end do
-    if (present(stat)) stat = int(s)
+    if (present(stat)) stat = s
   end subroutine
 
   !> The name of a status value, e.g. "MESHMOVE_STATUS_INVALID_MESH".
@@ -580,7 +593,7 @@ contains
   !> The library's version (compare with MESHMOVE_VERSION_MAJOR and _MINOR).
   subroutine mm_version(major, minor, patch, stat, errmsg)
     integer(c_int32_t), intent(out) :: major, minor, patch
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     call check(meshmove_version(major, minor, patch), "version", stat)
     if (present(errmsg)) call message(errmsg)
@@ -591,7 +604,7 @@ contains
   subroutine mm_check(s, where, stat, errmsg)
     integer(c_int32_t), intent(in) :: s
     character(*), intent(in) :: where
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     call check(s, where, stat)
     if (present(errmsg)) call message(errmsg)
@@ -606,10 +619,10 @@ contains
   subroutine check(s, where, stat)
     integer(c_int32_t), intent(in) :: s
     character(*), intent(in) :: where
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     if (allocated(f_msg)) deallocate (f_msg)
     if (present(stat)) then
-      stat = int(s)
+      stat = s
     else if (s /= MESHMOVE_STATUS_OK) then
       error stop "meshmove: " // where // ": " // mm_last_error()
     end if
@@ -625,10 +638,10 @@ contains
   subroutine fail(s, where, text, stat)
     integer(c_int32_t), intent(in) :: s
     character(*), intent(in) :: where, text
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     f_msg = "meshmove_" // where // ": " // text
     if (present(stat)) then
-      stat = int(s)
+      stat = s
     else
       error stop "meshmove: " // f_msg
     end if
@@ -647,7 +660,7 @@ contains
     integer, intent(in) :: a1, a2
     integer(c_int32_t), intent(in) :: nd, nv
     character(*), intent(in) :: what, where
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     if (nd == 0) then
       ! No dimension: the handle was never created (or its create failed).
       bad = .true.
@@ -665,7 +678,7 @@ contains
   logical function bad_size(n, want, what, where, stat) result(bad)
     integer, intent(in) :: n, want
     character(*), intent(in) :: what, where
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     bad = n /= want
     if (bad) call fail(MESHMOVE_STATUS_INVALID_ARGUMENT, where, what // " has " // str(n) // &
       " entries; " // str(want) // " are needed", stat)
@@ -681,7 +694,7 @@ contains
 
   subroutine options_create(self, stat, errmsg)
     class(mm_options), intent(inout) :: self
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     call check(meshmove_options_create(self%h), "options_create", stat)
     if (present(errmsg)) call message(errmsg)
@@ -689,7 +702,7 @@ contains
 
   subroutine options_free(self, stat, errmsg)
     class(mm_options), intent(inout) :: self
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     if (present(stat)) stat = MESHMOVE_STATUS_OK
     if (present(errmsg)) errmsg = ""
@@ -704,7 +717,7 @@ contains
   subroutine options_set_method(self, method, stat, errmsg)
     class(mm_options), intent(inout) :: self
     integer(c_int32_t), intent(in) :: method
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     call check(meshmove_options_set_method(self%h, method), "options_set_method", stat)
     if (present(errmsg)) call message(errmsg)
@@ -714,7 +727,7 @@ contains
   subroutine options_set_mode(self, mode, stat, errmsg)
     class(mm_options), intent(inout) :: self
     integer(c_int32_t), intent(in) :: mode
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     call check(meshmove_options_set_mode(self%h, mode), "options_set_mode", stat)
     if (present(errmsg)) call message(errmsg)
@@ -724,7 +737,7 @@ contains
   subroutine options_set_criterion(self, criterion, stat, errmsg)
     class(mm_options), intent(inout) :: self
     integer(c_int32_t), intent(in) :: criterion
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     call check(meshmove_options_set_criterion(self%h, criterion), "options_set_criterion", stat)
     if (present(errmsg)) call message(errmsg)
@@ -734,7 +747,7 @@ contains
   subroutine options_set_threads(self, threads, stat, errmsg)
     class(mm_options), intent(inout) :: self
     integer(c_int32_t), intent(in) :: threads
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     call check(meshmove_options_set_threads(self%h, threads), "options_set_threads", stat)
     if (present(errmsg)) call message(errmsg)
@@ -745,7 +758,7 @@ contains
   subroutine options_set_memory_budget(self, bytes, stat, errmsg)
     class(mm_options), intent(inout) :: self
     integer(c_int64_t), intent(in) :: bytes
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     call check(meshmove_options_set_memory_budget(self%h, bytes), "options_set_memory_budget", stat)
     if (present(errmsg)) call message(errmsg)
@@ -754,7 +767,7 @@ contains
   subroutine options_set_tol(self, tol, stat, errmsg)
     class(mm_options), intent(inout) :: self
     real(c_double), intent(in) :: tol
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     call check(meshmove_options_set_tol(self%h, tol), "options_set_tol", stat)
     if (present(errmsg)) call message(errmsg)
@@ -763,7 +776,7 @@ contains
   subroutine options_set_max_cycles(self, max_cycles, stat, errmsg)
     class(mm_options), intent(inout) :: self
     integer(c_int32_t), intent(in) :: max_cycles
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     call check(meshmove_options_set_max_cycles(self%h, max_cycles), "options_set_max_cycles", stat)
     if (present(errmsg)) call message(errmsg)
@@ -772,7 +785,7 @@ contains
   subroutine options_set_cheb_degree(self, degree, stat, errmsg)
     class(mm_options), intent(inout) :: self
     integer(c_int32_t), intent(in) :: degree
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     call check(meshmove_options_set_cheb_degree(self%h, degree), "options_set_cheb_degree", stat)
     if (present(errmsg)) call message(errmsg)
@@ -781,7 +794,7 @@ contains
   subroutine options_set_cheb_coarse_degree(self, degree, stat, errmsg)
     class(mm_options), intent(inout) :: self
     integer(c_int32_t), intent(in) :: degree
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     call check(meshmove_options_set_cheb_coarse_degree(self%h, degree), "options_set_cheb_coarse_degree", &
       stat)
@@ -791,7 +804,7 @@ contains
   subroutine options_set_cheb_lower_ratio(self, ratio, stat, errmsg)
     class(mm_options), intent(inout) :: self
     real(c_double), intent(in) :: ratio
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     call check(meshmove_options_set_cheb_lower_ratio(self%h, ratio), "options_set_cheb_lower_ratio", stat)
     if (present(errmsg)) call message(errmsg)
@@ -801,7 +814,7 @@ contains
     class(mm_options), intent(inout) :: self
     integer(c_int32_t), intent(in) :: max_substeps
     real(c_double), intent(in) :: min_volume_ratio
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     call check(meshmove_options_set_substepping(self%h, max_substeps, min_volume_ratio), &
       "options_set_substepping", stat)
@@ -811,7 +824,7 @@ contains
   subroutine options_set_reference_mode(self, mode, stat, errmsg)
     class(mm_options), intent(inout) :: self
     integer(c_int32_t), intent(in) :: mode
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     call check(meshmove_options_set_reference_mode(self%h, mode), "options_set_reference_mode", stat)
     if (present(errmsg)) call message(errmsg)
@@ -833,7 +846,7 @@ contains
     integer(c_int32_t), intent(in), contiguous, optional :: face_connectivity(:), face_patch(:), cell_offsets(:), &
       face_offsets(:)
     integer(c_int32_t), intent(in), contiguous, target, optional :: regions(:)
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     character(*), parameter :: w = "mesh_create"
     integer(c_int32_t), allocatable, target :: co(:), fo(:)
@@ -897,7 +910,7 @@ contains
     real(c_double), intent(in), contiguous :: coords(:, :)
     integer(c_int32_t), intent(in), contiguous :: cells(:, :), tagged(:, :), patches(:)
     integer(c_int32_t), intent(in), contiguous, target, optional :: regions(:)
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     character(*), parameter :: w = "mesh_create_triangles"
     type(c_ptr) :: r
@@ -946,7 +959,7 @@ contains
   subroutine mesh_read_msh(self, path, stat, errmsg)
     class(mm_mesh), intent(inout) :: self
     character(*), intent(in) :: path
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     call check(meshmove_mesh_read_msh(cstr(path), self%h), "mesh_read_msh", stat)
     if (present(errmsg)) call message(errmsg)
@@ -954,7 +967,7 @@ contains
 
   subroutine mesh_free(self, stat, errmsg)
     class(mm_mesh), intent(inout) :: self
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     if (present(stat)) stat = MESHMOVE_STATUS_OK
     if (present(errmsg)) errmsg = ""
@@ -972,7 +985,7 @@ contains
     class(mm_mesh), intent(in) :: self
     integer(c_int32_t), intent(out), optional :: dim, num_vertices, num_cells, num_cell_vertices, num_faces, &
       num_face_vertices
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     integer(c_int32_t) :: n(6)
     n = 0
@@ -988,7 +1001,7 @@ contains
 
   integer(c_int32_t) function mesh_dim(self, stat, errmsg) result(d)
     class(mm_mesh), intent(in) :: self
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     d = 0
     call self%sizes(dim=d, stat=stat)
@@ -997,7 +1010,7 @@ contains
 
   integer(c_int32_t) function mesh_num_vertices(self, stat, errmsg) result(n)
     class(mm_mesh), intent(in) :: self
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     n = 0
     call self%sizes(num_vertices=n, stat=stat)
@@ -1006,7 +1019,7 @@ contains
 
   integer(c_int32_t) function mesh_num_cells(self, stat, errmsg) result(n)
     class(mm_mesh), intent(in) :: self
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     n = 0
     call self%sizes(num_cells=n, stat=stat)
@@ -1017,10 +1030,10 @@ contains
   subroutine mesh_coords(self, xy, stat, errmsg)
     class(mm_mesh), intent(in) :: self
     real(c_double), allocatable, intent(out) :: xy(:, :)
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     integer(c_int32_t) :: d, n
-    integer :: s
+    integer(c_int32_t) :: s
     d = 0
     n = 0
     call self%sizes(dim=d, num_vertices=n, stat=s)
@@ -1040,11 +1053,11 @@ contains
     class(mm_mesh), intent(in) :: self
     integer(c_int32_t), allocatable, intent(out) :: types(:), connectivity(:)
     integer(c_int32_t), allocatable, intent(out), optional :: offsets(:)
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     integer(c_int32_t) :: nc, ncv
     integer(c_int32_t), allocatable :: o(:)
-    integer :: s
+    integer(c_int32_t) :: s
     nc = 0
     ncv = 0
     call self%sizes(num_cells=nc, num_cell_vertices=ncv, stat=s)
@@ -1053,7 +1066,7 @@ contains
       connectivity, nc, types)
     call check(int(s, c_int32_t), "mesh_get_cells", stat)
     if (present(errmsg)) call message(errmsg)
-    if (present(offsets)) offsets = o + 1
+    if (present(offsets)) offsets = o + 1_c_int32_t
   end subroutine
 
   !> The faces on patches (every boundary face, untagged ones on patch 0, and every tagged
@@ -1062,11 +1075,11 @@ contains
     class(mm_mesh), intent(in) :: self
     integer(c_int32_t), allocatable, intent(out) :: patches(:), connectivity(:)
     integer(c_int32_t), allocatable, intent(out), optional :: offsets(:)
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     integer(c_int32_t) :: nf, nfv
     integer(c_int32_t), allocatable :: o(:)
-    integer :: s
+    integer(c_int32_t) :: s
     nf = 0
     nfv = 0
     call self%sizes(num_faces=nf, num_face_vertices=nfv, stat=s)
@@ -1075,16 +1088,16 @@ contains
       connectivity, nf, patches)
     call check(int(s, c_int32_t), "mesh_get_faces", stat)
     if (present(errmsg)) call message(errmsg)
-    if (present(offsets)) offsets = o + 1
+    if (present(offsets)) offsets = o + 1_c_int32_t
   end subroutine
 
   subroutine mesh_regions(self, r, stat, errmsg)
     class(mm_mesh), intent(in) :: self
     integer(c_int32_t), allocatable, intent(out) :: r(:)
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     integer(c_int32_t) :: nc
-    integer :: s
+    integer(c_int32_t) :: s
     nc = 0
     call self%sizes(num_cells=nc, stat=s)
     allocate (r(nc))
@@ -1098,7 +1111,7 @@ contains
     class(mm_mesh), intent(in) :: self
     integer(c_int32_t), intent(in) :: patch
     integer(c_int32_t), allocatable, intent(out) :: v(:)
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     integer(c_int32_t) :: buf(1), n, cap, s
     n = 0
@@ -1122,10 +1135,10 @@ contains
     class(mm_mesh), intent(in) :: self
     character(*), intent(in) :: path
     real(c_double), intent(in), contiguous, target, optional :: d(:, :)
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     integer(c_int32_t) :: nd, n
-    integer :: s
+    integer(c_int32_t) :: s
     if (present(d)) then
       nd = 0
       n = 0
@@ -1152,7 +1165,7 @@ contains
 
   subroutine bcs_create(self, stat, errmsg)
     class(mm_bcs), intent(inout) :: self
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     call check(meshmove_bcs_create(self%h), "bcs_create", stat)
     if (present(errmsg)) call message(errmsg)
@@ -1160,7 +1173,7 @@ contains
 
   subroutine bcs_free(self, stat, errmsg)
     class(mm_bcs), intent(inout) :: self
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     if (present(stat)) stat = MESHMOVE_STATUS_OK
     if (present(errmsg)) errmsg = ""
@@ -1175,7 +1188,7 @@ contains
   subroutine bcs_set_kind(self, patch, component, kind, stat, errmsg)
     class(mm_bcs), intent(inout) :: self
     integer(c_int32_t), intent(in) :: patch, component, kind
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     if (component < 1 .or. component > 3) then
       call fail(MESHMOVE_STATUS_INVALID_ARGUMENT, "bcs_set_kind", "component " // str(int(component)) // &
@@ -1190,7 +1203,7 @@ contains
   subroutine bcs_set_kinds(self, patch, kind, stat, errmsg)
     class(mm_bcs), intent(inout) :: self
     integer(c_int32_t), intent(in) :: patch, kind
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     call check(meshmove_bcs_set_kinds(self%h, patch, kind), "bcs_set_kinds", stat)
     if (present(errmsg)) call message(errmsg)
@@ -1199,7 +1212,7 @@ contains
   subroutine bcs_set_default_kind(self, kind, stat, errmsg)
     class(mm_bcs), intent(inout) :: self
     integer(c_int32_t), intent(in) :: kind
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     call check(meshmove_bcs_set_default_kind(self%h, kind), "bcs_set_default_kind", stat)
     if (present(errmsg)) call message(errmsg)
@@ -1211,7 +1224,7 @@ contains
     integer(c_int32_t), intent(in) :: a, b
     real(c_double), intent(in), contiguous :: offset(:)
     real(c_double), intent(in) :: tol
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     call check(meshmove_bcs_link_periodic(self%h, a, b, int(size(offset), c_int32_t), offset, tol), &
       "bcs_link_periodic", stat)
@@ -1222,7 +1235,7 @@ contains
   subroutine bcs_link_pairs(self, pairs, stat, errmsg)
     class(mm_bcs), intent(inout) :: self
     integer(c_int32_t), intent(in), contiguous :: pairs(:, :)
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     if (size(pairs, 1) /= 2) then
       call fail(MESHMOVE_STATUS_INVALID_ARGUMENT, "bcs_link_pairs", "pairs has " // str(size(pairs, 1)) // &
@@ -1238,7 +1251,7 @@ contains
   subroutine bcs_set_interface(self, patch, variant, stat, errmsg)
     class(mm_bcs), intent(inout) :: self
     integer(c_int32_t), intent(in) :: patch, variant
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     call check(meshmove_bcs_set_interface(self%h, patch, variant), "bcs_set_interface", stat)
     if (present(errmsg)) call message(errmsg)
@@ -1255,7 +1268,7 @@ contains
     integer(c_int32_t), intent(in) :: patch
     type(c_funptr), intent(in) :: closest
     type(c_ptr), intent(in), optional :: user_data
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     type(c_ptr) :: ud
     ud = c_null_ptr
@@ -1273,7 +1286,7 @@ contains
     integer(c_int32_t), intent(in) :: patch
     type(c_funptr), intent(in) :: closest
     type(c_ptr), intent(in), optional :: user_data
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     type(c_ptr) :: ud
     ud = c_null_ptr
@@ -1291,7 +1304,7 @@ contains
     type(mm_mesh), intent(in) :: mesh
     type(mm_bcs), intent(in) :: bcs
     type(mm_options), intent(in), optional :: options
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     type(c_ptr) :: o
     integer(c_int32_t) :: s, levels
@@ -1305,7 +1318,7 @@ contains
 
   subroutine solver_free(self, stat, errmsg)
     class(mm_solver), intent(inout) :: self
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     if (present(stat)) stat = MESHMOVE_STATUS_OK
     if (present(errmsg)) errmsg = ""
@@ -1330,7 +1343,7 @@ contains
 
   integer(c_int32_t) function solver_num_levels(self, stat, errmsg) result(levels)
     class(mm_solver), intent(in) :: self
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     integer(c_int32_t) :: d, n
     d = 0
@@ -1346,7 +1359,7 @@ contains
     class(mm_solver), intent(inout) :: self
     integer(c_int32_t), intent(in) :: patch
     real(c_double), intent(in), contiguous :: translation(:), rotation(:), center(:)
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     character(*), parameter :: w = "solver_set_rigid_motion"
     if (bad_size(size(translation), int(self%nd), "translation (one per dimension)", w, stat)) then
@@ -1367,7 +1380,7 @@ contains
 
   subroutine solver_clear_rigid_motions(self, stat, errmsg)
     class(mm_solver), intent(inout) :: self
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     call check(meshmove_solver_clear_rigid_motions(self%h), "solver_clear_rigid_motions", stat)
     if (present(errmsg)) call message(errmsg)
@@ -1379,7 +1392,7 @@ contains
     class(mm_solver), intent(inout) :: self
     real(c_double), intent(inout), contiguous :: d(:, :)
     type(meshmove_report), intent(out), optional :: report
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     type(meshmove_report) :: r
     real(c_double), allocatable :: p(:, :)
@@ -1400,7 +1413,7 @@ contains
     real(c_double), intent(in), contiguous :: prescribed(:, :)
     real(c_double), intent(inout), contiguous :: d(:, :)
     type(meshmove_report), intent(out), optional :: report
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     type(meshmove_report) :: r
     if (bad_shape(size(prescribed, 1), size(prescribed, 2), self%nd, self%nv, "prescribed", "solver_cycle", stat)) then
@@ -1424,7 +1437,7 @@ contains
     real(c_double), intent(inout), contiguous :: xy(:, :)
     type(meshmove_report), intent(out), optional :: report
     type(meshmove_quality), intent(out), optional :: quality
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     type(meshmove_report) :: r
     type(meshmove_quality) :: q
@@ -1449,7 +1462,7 @@ contains
     real(c_double), intent(in), contiguous :: d(:, :)
     integer(c_int32_t), intent(in) :: steps
     type(meshmove_step_report), intent(out), contiguous, target, optional :: reports(:)
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     type(c_ptr) :: rp
     integer(c_int32_t) :: nr
@@ -1474,7 +1487,7 @@ contains
   subroutine solver_step_reports(self, reports, stat, errmsg)
     class(mm_solver), intent(in) :: self
     type(meshmove_step_report), allocatable, target, intent(out) :: reports(:)
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     integer(c_int32_t) :: n, cap, s
     n = 0
@@ -1502,7 +1515,7 @@ contains
     class(mm_solver), intent(inout) :: self
     integer(c_int32_t), intent(in) :: max_substeps
     real(c_double), intent(in) :: min_volume_ratio
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     call check(meshmove_solver_set_substepping(self%h, max_substeps, min_volume_ratio), "solver_set_substepping", &
       stat)
@@ -1513,7 +1526,7 @@ contains
   subroutine solver_set_reference_mode(self, mode, stat, errmsg)
     class(mm_solver), intent(inout) :: self
     integer(c_int32_t), intent(in) :: mode
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     call check(meshmove_solver_set_reference_mode(self%h, mode), "solver_set_reference_mode", stat)
     if (present(errmsg)) call message(errmsg)
@@ -1529,7 +1542,7 @@ contains
     class(mm_solver), intent(inout) :: self
     type(c_funptr), intent(in) :: progress
     type(c_ptr), intent(in), optional :: user_data
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     type(c_ptr) :: ud
     ud = c_null_ptr
@@ -1542,7 +1555,7 @@ contains
   subroutine solver_set_reference(self, xy, stat, errmsg)
     class(mm_solver), intent(inout) :: self
     real(c_double), intent(in), contiguous :: xy(:, :)
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     if (bad_shape(size(xy, 1), size(xy, 2), self%nd, self%nv, "xy", "solver_set_reference", stat)) then
       if (present(errmsg)) call message(errmsg)
@@ -1557,7 +1570,7 @@ contains
   subroutine solver_coords(self, xy, stat, errmsg)
     class(mm_solver), intent(in) :: self
     real(c_double), allocatable, intent(out) :: xy(:, :)
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     allocate (xy(self%nd, self%nv))
     call check(meshmove_solver_get_coords(self%h, int(size(xy), c_int32_t), xy), "solver_get_coords", stat)
@@ -1568,11 +1581,35 @@ contains
   subroutine solver_displacement(self, d, stat, errmsg)
     class(mm_solver), intent(in) :: self
     real(c_double), allocatable, intent(out) :: d(:, :)
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     allocate (d(self%nd, self%nv))
     call check(meshmove_solver_get_displacement(self%h, int(size(d), c_int32_t), d), "solver_get_displacement", &
       stat)
+    if (present(errmsg)) call message(errmsg)
+  end subroutine
+
+  !> The displacement since the mesh the solver was created with, d(dim, nv): the sum of every
+  !> move's increment and move_in_steps' total so far (displacement gives the last call's).
+  subroutine solver_total_displacement(self, d, stat, errmsg)
+    class(mm_solver), intent(in) :: self
+    real(c_double), allocatable, intent(out) :: d(:, :)
+    integer(c_int32_t), intent(out), optional :: stat
+    character(len=:), allocatable, intent(out), optional :: errmsg
+    allocate (d(self%nd, self%nv))
+    call check(meshmove_solver_get_total_displacement(self%h, int(size(d), c_int32_t), d), &
+      "solver_get_total_displacement", stat)
+    if (present(errmsg)) call message(errmsg)
+  end subroutine
+
+  !> Quality of the current positions against the mesh the solver was created with (a move's
+  !> quality compares with the mesh before that move).
+  subroutine solver_total_quality(self, quality, stat, errmsg)
+    class(mm_solver), intent(in) :: self
+    type(meshmove_quality), intent(out) :: quality
+    integer(c_int32_t), intent(out), optional :: stat
+    character(len=:), allocatable, intent(out), optional :: errmsg
+    call check(meshmove_solver_total_quality(self%h, quality), "solver_total_quality", stat)
     if (present(errmsg)) call message(errmsg)
   end subroutine
 
@@ -1581,7 +1618,7 @@ contains
     class(mm_solver), intent(in) :: self
     real(c_double), intent(in), contiguous :: d(:, :)
     type(meshmove_quality), intent(out) :: quality
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     if (bad_shape(size(d, 1), size(d, 2), self%nd, self%nv, "d", "solver_quality", stat)) then
       if (present(errmsg)) call message(errmsg)
@@ -1591,12 +1628,13 @@ contains
     if (present(errmsg)) call message(errmsg)
   end subroutine
 
-  !> Writes the reference mesh moved by d(dim, nv) (absent: the reference itself).
+  !> Writes the reference mesh moved by d(dim, nv); absent: the mesh the solver was created with,
+  !> moved by the total displacement since (its ratios then measure every move so far).
   subroutine solver_write_vtu(self, path, d, stat, errmsg)
     class(mm_solver), intent(in) :: self
     character(*), intent(in) :: path
     real(c_double), intent(in), contiguous, target, optional :: d(:, :)
-    integer, intent(out), optional :: stat
+    integer(c_int32_t), intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
     if (present(d)) then
       if (bad_shape(size(d, 1), size(d, 2), self%nd, self%nv, "d", "solver_write_vtu", stat)) then

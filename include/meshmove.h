@@ -769,8 +769,10 @@ MESHMOVE_MUST_USE meshmove_status meshmove_version(int32_t *major, int32_t *mino
  - Tagged faces (at most `MESHMOVE_MAX_VERTICES`): face f's vertices are
    `face_connectivity[face_offsets[f] .. face_offsets[f + 1]]` (2 in 2D, 3 or 4 in 3D), its
    patch `face_patch[f]`. `face_offsets`: `num_faces + 1` positions from 0 to
-   `num_face_vertices`, or NULL when every face has `dim` vertices (segments in 2D, triangles
-   in 3D). Boundary faces not tagged are on patch 0; a tagged interior face is an internal
+   `num_face_vertices`, or NULL when every face has as many vertices: segments in 2D; in 3D
+   quadrilaterals when `num_face_vertices` = 4 × `num_faces` (hexahedral meshes), triangles
+   when it is 3 × `num_faces`, any other count `MESHMOVE_STATUS_INVALID_ARGUMENT` (mixed
+   faces need `face_offsets`). Boundary faces not tagged are on patch 0; a tagged interior face is an internal
    interface.
  - `cell_region`: NULL, or one region id per cell. `index_base`: the first vertex index, 0 (C)
    or 1 (Fortran).
@@ -1366,8 +1368,10 @@ meshmove_status meshmove_solver_quality(const struct meshmove_solver *solver,
                                         struct meshmove_quality *quality);
 
 /*
- Writes the reference mesh moved by `displacement` (`len` = dim × vertices; NULL with `len` 0
- for the reference itself) as a `.vtu` file (see `meshmove_mesh_write_vtu`).
+ Writes a `.vtu` file (see `meshmove_mesh_write_vtu`). With `displacement` NULL and `len` 0:
+ the mesh the solver was made with, moved by the total displacement since then (the current
+ positions), so its `displacement` and ratios measure every move and step so far. Otherwise
+ the current reference mesh moved by `displacement` (`len` = dim × vertices).
 
  # Safety
  `path` must be a NUL-terminated string; `displacement` must hold `len` doubles.
@@ -1377,6 +1381,32 @@ meshmove_status meshmove_solver_write_vtu(const struct meshmove_solver *solver,
                                           const char *path,
                                           int32_t len,
                                           const double *displacement);
+
+/*
+ Copies the total displacement since the mesh the solver was made with (the current positions
+ minus the initial ones: the sum of every `meshmove_solver_move` increment and
+ `_move_in_steps` total so far) into `displacement`, `len` = dim × vertices.
+ `meshmove_solver_get_displacement` gives only the last call's.
+
+ # Safety
+ `displacement` must hold `len` doubles.
+ */
+MESHMOVE_MUST_USE
+meshmove_status meshmove_solver_get_total_displacement(const struct meshmove_solver *solver,
+                                                       int32_t len,
+                                                       double *displacement);
+
+/*
+ Quality of the current positions against the mesh the solver was made with: inverted cells,
+ volume (area) ratios, smallest angle, over every move and step so far (the quality a move
+ returns compares with the mesh before that move).
+
+ # Safety
+ `quality` must be writable.
+ */
+MESHMOVE_MUST_USE
+meshmove_status meshmove_solver_total_quality(const struct meshmove_solver *solver,
+                                              struct meshmove_quality *quality);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -122,6 +122,9 @@ pub struct Solver {
     /// The hierarchy parameters with the coarse-level route resolved when the solver was made:
     /// every rebuild takes the same route.
     built_with: HierarchyParams,
+    /// The positions of the mesh the solver was made with: what the totals since the start
+    /// ([`Solver::total_displacement`], [`Solver::total_quality`]) measure from.
+    initial: Vec<f64>,
 }
 
 /// The hierarchy parameters of `opts` with the coarse-level route resolved for the dimension and
@@ -148,7 +151,19 @@ impl Solver {
         let hierarchy = pool.install(|| Hierarchy::build(mesh, pairs, bcs, opts.method, &built_with))??;
         let (steps, last_valid) = (Vec::new(), Vec::new());
         let walls = SlipWalls::new(mesh, bcs);
-        Ok(Solver { opts, bcs: bcs.clone(), hierarchy, pool, total: None, steps, last_valid, walls, built_with })
+        let initial = mesh.coords().to_vec();
+        Ok(Solver {
+            opts,
+            bcs: bcs.clone(),
+            hierarchy,
+            pool,
+            total: None,
+            steps,
+            last_valid,
+            walls,
+            built_with,
+            initial,
+        })
     }
 
     /// Runs `f` on the solver's threads: every part of a call's work, so the thread count set
@@ -677,6 +692,30 @@ impl Solver {
     /// Quality of the reference mesh moved by `displacement`.
     pub fn quality(&self, displacement: &[f64]) -> Quality {
         moved_quality(self.mesh(), displacement)
+    }
+
+    /// The positions of the mesh the solver was made with (whatever steps, moves and new
+    /// references came since).
+    pub fn initial_coords(&self) -> &[f64] {
+        &self.initial
+    }
+
+    /// The mesh the solver was made with: its cells and faces at [`Solver::initial_coords`].
+    pub fn initial_mesh(&self) -> Mesh {
+        self.mesh().with_coords(self.initial.clone())
+    }
+
+    /// The displacement of every vertex since the mesh the solver was made with: the current
+    /// positions minus the initial ones, the sum of every call's displacement (a step's
+    /// [`Solution::displacement`] is its increment from the mesh before it).
+    pub fn total_displacement(&self) -> Vec<f64> {
+        self.current_coords().iter().zip(&self.initial).map(|(x, x0)| x - x0).collect()
+    }
+
+    /// Quality of the current positions against the mesh the solver was made with (a step's
+    /// [`Solution::quality`] compares with the mesh before that step).
+    pub fn total_quality(&self) -> Quality {
+        quality(&self.initial_mesh(), self.current_coords())
     }
 }
 

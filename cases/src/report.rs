@@ -44,8 +44,14 @@ pub struct CaseResult {
     pub dim: usize,
     pub method: Method,
     pub steps: usize,
+    /// Cells with a non-positive corner Jacobian.
     pub inverted: usize,
+    /// Cells of non-positive area (volume).
+    pub negative_volume_cells: usize,
+    /// Smallest deformed/original area (volume) ratio.
     pub min_area_ratio: f64,
+    /// Smallest deformed/original ratio of a cell's smallest corner Jacobian.
+    pub min_corner_jacobian_ratio: f64,
     pub min_angle_deg: f64,
     pub patch: PatchMeasures,
     /// W-cycles (CG iterations in the default mode) summed over the accepted steps and each
@@ -76,17 +82,23 @@ impl CaseResult {
     }
 
     /// The CSV header of [`CaseResult::csv_row`].
-    pub const CSV_HEADER: &'static str =
-        "case,method,steps,inverted,min_area_ratio,min_angle_deg,spacing_variation,cycles,seconds,max_y_upper,dim";
+    /// `inverted`: cells with a non-positive corner Jacobian; `negative_volume_cells`: cells of
+    /// non-positive volume (area in 2D); `min_volume_ratio`: the smallest volume (area) ratio;
+    /// `min_corner_jacobian_ratio`: the smallest ratio of a cell's smallest corner Jacobian
+    /// (docs/DESIGN.md §7).
+    pub const CSV_HEADER: &'static str = "case,method,steps,inverted,negative_volume_cells,min_volume_ratio,\
+         min_corner_jacobian_ratio,min_angle_deg,spacing_variation,cycles,seconds,max_y_upper,dim";
 
     pub fn csv_row(&self) -> String {
         format!(
-            "{},{},{},{},{:.6},{:.4},{:.6},{},{:.4},{},{}",
+            "{},{},{},{},{},{:.6},{:.6},{:.4},{:.6},{},{:.4},{},{}",
             self.case,
             method_name(self.method),
             self.steps,
             self.inverted,
+            self.negative_volume_cells,
             self.min_area_ratio,
+            self.min_corner_jacobian_ratio,
             self.min_angle_deg,
             self.patch.spacing_variation,
             self.cycles,
@@ -304,7 +316,9 @@ pub fn run_case_with(
         method,
         steps: setup.steps,
         inverted: q.inverted,
+        negative_volume_cells: q.non_positive_measure,
         min_area_ratio: q.min_area_ratio,
+        min_corner_jacobian_ratio: q.min_corner_jacobian_ratio,
         min_angle_deg: q.min_angle_deg,
         patch,
         cycles,

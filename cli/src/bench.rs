@@ -58,7 +58,7 @@ pub enum BoxKind {
     Tet,
 }
 
-#[derive(clap::Args, Debug)]
+#[derive(clap::Args, Clone, Debug)]
 pub struct Args {
     /// Directory for bench.csv (created if missing).
     #[arg(long)]
@@ -102,10 +102,22 @@ pub struct Args {
     /// Absolute time cap of the Jacobi spring mover per size, seconds.
     #[arg(long, default_value_t = 600.0)]
     pub jacobi_cap_s: f64,
+    /// Cap of the Jacobi spring mover as a sweep count (checked every 50 sweeps) instead of a
+    /// time: the rows then do not depend on the machine's speed or load.
+    #[arg(long, value_name = "SWEEPS")]
+    pub jacobi_cap_sweeps: Option<usize>,
     /// Time cap of a paper-faithful solve per size, seconds (it stops at the cycle count that
     /// fits, and its rel_residual says how far it got).
     #[arg(long, default_value_t = 40.0)]
     pub paper_cap_s: f64,
+    /// Cap of a paper-faithful solve as a cycle count instead of a time: which rows are capped
+    /// then does not depend on the machine's speed or load.
+    #[arg(long, value_name = "CYCLES")]
+    pub paper_cap_cycles: Option<usize>,
+    /// The headline numbers in a few minutes: the smallest 2D mesh (16.8k vertices) and 3D
+    /// boxes (32.8k), no graded meshes, time caps of 5 s (a lower option value is kept).
+    #[arg(long)]
+    pub quick: bool,
     /// Relative residual every solver is run to.
     #[arg(long, default_value_t = 1e-8)]
     pub tol: f64,
@@ -404,7 +416,7 @@ fn alternatives(
     let dim = case.mesh.dim();
     if method != Method::Spring && dim == 2 {
         // Paper-faithful: its own solver on the paper's coarse meshes; time one cycle, then
-        // allow as many as fit in the cap.
+        // allow as many as fit in the cap (or the given count).
         let mut solve = SolveParams { tol: a.tol, mode: Mode::PaperFaithful, max_cycles: 1, ..Default::default() };
         let opts = Options { solve, ..solver.options().clone() };
         let mem = alloc::start();
@@ -414,7 +426,10 @@ fn alternatives(
         let t = Instant::now();
         paper.solve_report(motion, None).map_err(|e| e.to_string())?;
         let one = t.elapsed().as_secs_f64();
-        solve.max_cycles = ((a.paper_cap_s / one) as usize).clamp(1, 5000);
+        solve.max_cycles = match a.paper_cap_cycles {
+            Some(n) => n,
+            None => ((a.paper_cap_s / one) as usize).clamp(1, 5000),
+        };
         paper.set_solve_params(solve).map_err(|e| e.to_string())?;
         let t = Instant::now();
         let sol = paper.solve_report(motion, None).map_err(|e| e.to_string())?;
@@ -441,7 +456,10 @@ fn alternatives(
             return Ok(());
         }
         let mem = alloc::start();
-        let cap = (a.jacobi_cap_x * solve_s).min(a.jacobi_cap_s);
+        let cap = match a.jacobi_cap_sweeps {
+            Some(n) => jacobi::Cap::Sweeps(n),
+            None => jacobi::Cap::Seconds((a.jacobi_cap_x * solve_s).min(a.jacobi_cap_s)),
+        };
         let j = jacobi::solve(lev, comp, &b, &mut x, a.tol, cap);
         // Its own vectors plus the fine K, V, 1/V, 1/D it sweeps with (no hierarchy).
         let k = &lev.op.k;
@@ -503,6 +521,9 @@ fn check_args(a: &Args) -> Result<(), String> {
     if a.cells_3d < 2 {
         return Err(format!("--cells-3d must be at least 2, got {}", a.cells_3d));
     }
+    if a.jacobi_cap_sweeps == Some(0) || a.paper_cap_cycles == Some(0) {
+        return Err("--jacobi-cap-sweeps and --paper-cap-cycles must be at least 1".into());
+    }
     if let Some(n) = a.peer_case {
         if !(1..=400).contains(&n) {
             return Err(format!("--peer-case takes 1 to 400 cells per side, got {n}"));
@@ -511,11 +532,34 @@ fn check_args(a: &Args) -> Result<(), String> {
     Ok(())
 }
 
+/// `--quick`'s sizes and caps: each option keeps its own value where that is smaller.
+fn quick(a: &Args) -> Args {
+    let mut q = a.clone();
+    q.max_vertices = a.max_vertices.min(QUICK_MAX_VERTICES);
+    q.max_vertices_3d = a.max_vertices_3d.min(QUICK_MAX_VERTICES_3D);
+    q.jacobi_cap_s = a.jacobi_cap_s.min(QUICK_CAP_S);
+    q.paper_cap_s = a.paper_cap_s.min(QUICK_CAP_S);
+    q.parts.retain(|&p| p != Part::Graded);
+    if q.parts.is_empty() {
+        q.parts = a.parts.clone();
+    }
+    q
+}
+
+/// `--quick`: the smallest 2D mesh, the 32.8k boxes, 5 s caps.
+const QUICK_MAX_VERTICES: usize = 20_000;
+const QUICK_MAX_VERTICES_3D: usize = 40_000;
+const QUICK_CAP_S: f64 = 5.0;
+
 pub fn run(a: &Args) -> Result<(), String> {
     check_args(a)?;
-    if a.cells_3d < 2 {
-        return Err(format!("--cells-3d must be at least 2, got {}", a.cells_3d));
-    }
+    let quick_args;
+    let a = if a.quick {
+        quick_args = quick(a);
+        &quick_args
+    } else {
+        a
+    };
     if let Some(n) = a.peer_case {
         std::fs::create_dir_all(&a.out).map_err(|e| format!("{}: {e}", a.out.display()))?;
         return peer::write_case(&a.out, n);

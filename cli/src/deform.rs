@@ -225,7 +225,8 @@ fn slip_shape(p: &PatchCfg, dim: usize, what: &str) -> Result<Option<SlipSurface
     }))
 }
 
-/// The mesh and the names of its patches (Gmsh physical groups of dimension `dim - 1`).
+/// The mesh and the names of its patches (Gmsh physical groups of dimension `dim - 1`; a
+/// `.vtu`'s field data).
 fn read_mesh(path: &Path) -> Result<(Mesh, Vec<(i32, String)>), String> {
     let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
     match ext.as_str() {
@@ -238,7 +239,7 @@ fn read_mesh(path: &Path) -> Result<(Mesh, Vec<(i32, String)>), String> {
         "vtu" => {
             let d = read_vtu(path).map_err(|e| format!("mesh {}: {e}", path.display()))?;
             let m = d.to_mesh().map_err(|e| format!("mesh {}: {e}", path.display()))?;
-            Ok((m, Vec::new()))
+            Ok((m, d.patch_names))
         }
         _ => Err(format!("mesh {}: unknown extension (expected .msh or .vtu)", path.display())),
     }
@@ -546,12 +547,13 @@ pub fn run(args: Args) -> Result<ExitCode, String> {
         "method          {:?}, {} step(s) in {substeps} sub-step(s), {} cycles, {:.3} s, converged",
         opts.method, r.steps, r.cycles, r.seconds,
     );
-    println!("inverted cells  {}", r.inverted);
-    if setup.mesh.dim() == 2 {
-        println!("min area ratio  {:.4}", r.min_area_ratio);
-    } else {
-        println!("min volume ratio {:.4}", r.min_area_ratio);
-    }
+    let measure = if setup.mesh.dim() == 2 { "area" } else { "volume" };
+    println!(
+        "inverted cells  {} (a corner Jacobian <= 0), {} of non-positive {measure}",
+        r.inverted, r.negative_volume_cells
+    );
+    println!("min {measure} ratio {:.4}", r.min_area_ratio);
+    println!("min corner Jacobian ratio {:.4}", r.min_corner_jacobian_ratio);
     println!("min angle       {:.2} deg", r.min_angle_deg);
     let offwall = r.reports.iter().filter(|x| x.accepted).map(|x| x.max_slip_offwall).fold(0.0, f64::max);
     if setup.mesh.patch_ids().iter().any(|&p| setup.bcs.is_slip(p)) {

@@ -47,10 +47,10 @@ fn bench_writes_csv_with_every_solver() {
         "20000",
         "--threads",
         "1,2",
-        "--jacobi-cap-s",
-        "1",
-        "--paper-cap-s",
-        "0.05",
+        "--jacobi-cap-sweeps",
+        "200",
+        "--paper-cap-cycles",
+        "20",
     ];
     let status = bench(&out, &args);
     let stdout = String::from_utf8_lossy(&status.stdout);
@@ -93,12 +93,19 @@ fn bench_writes_csv_with_every_solver() {
     for r in rows.iter().filter(|r| r[0].ends_with("-mg") || r[0].ends_with("-direct")) {
         assert!(r[10].parse::<f64>().unwrap() <= 1e-8, "{r:?}");
     }
-    // The paper-faithful biharmonic needs ≈ 600 cycles here; 0.05 s stops it early, and the table
-    // then gives its ratio as a lower bound with an estimate, never as a finished solve.
+    // The paper-faithful biharmonic needs ≈ 600 cycles here; 20 stop it early (a count, so the
+    // outcome does not depend on the machine's load), and the table then gives its ratio as a
+    // lower bound with an estimate, never as a finished solve.
     let paper = rows.iter().find(|r| r[0] == "biharmonic-mg-paper").expect("paper row");
     assert!(paper[10].parse::<f64>().unwrap() > 1e-8, "{paper:?}");
     let line = stdout.lines().find(|l| l.contains(" biharmonic-mg-paper ")).expect("paper line");
     assert!(line.contains(">= ") && line.contains("(capped; est. "), "{line}");
+    assert_eq!(paper[6], "20", "{paper:?}");
+    // The Jacobi mover stops at its 200 sweeps, far from the tolerance, and is marked the same way.
+    let jacobi = rows.iter().find(|r| r[0] == "spring-jacobi").expect("jacobi row");
+    assert!(jacobi[6] == "200" && jacobi[10].parse::<f64>().unwrap() > 1e-8, "{jacobi:?}");
+    let line = stdout.lines().find(|l| l.contains(" spring-jacobi ")).expect("jacobi line");
+    assert!(line.contains("(capped; est. "), "{line}");
     // Coarse meshes: every method, at the largest thread count only, converged, and compared
     // with the default kept unknowns in their own table.
     for name in ["biharmonic-mg-meshes", "laplacian-mg-meshes", "spring-mg-meshes"] {
@@ -229,6 +236,8 @@ fn bench_refuses_bad_options_before_running() {
         (&["--jacobi-cap-x=-3"], "--jacobi-cap-x"),
         (&["--jacobi-cap-s", "inf"], "--jacobi-cap-s"),
         (&["--paper-cap-s", "nan"], "--paper-cap-s"),
+        (&["--paper-cap-cycles", "0"], "--paper-cap-cycles"),
+        (&["--jacobi-cap-sweeps", "0"], "--jacobi-cap-sweeps"),
         (&["--threads", "0"], "--threads"),
         (&["--threads", "1,0"], "--threads"),
         (&["--max-vertices", "0"], "--max-vertices"),

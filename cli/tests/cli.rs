@@ -31,12 +31,12 @@ fn demo_quick_writes_results_csv_and_pictures() {
     let lines: Vec<&str> = csv.lines().collect();
     assert_eq!(
         lines[0],
-        "case,method,steps,inverted,min_area_ratio,min_angle_deg,spacing_variation,cycles,seconds,max_y_upper,dim"
+        "case,method,steps,inverted,negative_volume_cells,min_volume_ratio,min_corner_jacobian_ratio,min_angle_deg,spacing_variation,cycles,seconds,max_y_upper,dim"
     );
     // The header and 25 cases (12 in 2D, 13 in 3D) × 3 methods.
     assert_eq!(lines.len(), 76, "{csv}");
     for l in &lines[1..] {
-        assert_eq!(l.split(',').count(), 11, "{l}");
+        assert_eq!(l.split(',').count(), 13, "{l}");
     }
     assert_eq!(lines.iter().filter(|l| l.ends_with(",3")).count(), 39, "{csv}");
     assert!(lines.iter().any(|l| l.starts_with("free_surface_3d_prisms_a0.1,biharmonic,1,0,")));

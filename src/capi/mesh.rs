@@ -175,13 +175,21 @@ fn mesh_data(a: &Arrays) -> Result<MeshData, CError> {
                 named(f, base),
             )))
         })?,
-        None => derived_offsets(
-            std::iter::repeat_n(dim, a.face_patch.len()),
-            nfv,
-            &format!(
-                "num_face_vertices does not match num_faces (face_offsets is NULL: every face has {dim} vertices)"
-            ),
-        )?,
+        None => {
+            // Every face the same size, which the counts tell: in 3D quadrilaterals (hexahedral
+            // meshes) when num_face_vertices is 4 × num_faces, else triangles.
+            let nf = a.face_patch.len();
+            let k = if dim == 3 && nf > 0 && nfv == 4 * nf { 4 } else { dim };
+            derived_offsets(
+                std::iter::repeat_n(k, nf),
+                nfv,
+                &format!(
+                    "num_face_vertices ({nfv}) does not match num_faces ({nf}): with face_offsets NULL every face has \
+                     the same vertex count, {}",
+                    if dim == 2 { "2 in 2D" } else { "3 (triangles) or 4 (quadrilaterals) in 3D" }
+                ),
+            )?
+        }
     };
     let (b, end) = (i64::from(base), i64::from(base) + nv as i64);
     let cell_vertices = vertex_indices(&cell_offsets, a.cells.vertices, nv, base, |cell, index| {
@@ -232,8 +240,10 @@ unsafe fn create(a: &Arrays, out: *mut *mut meshmove_mesh) -> Result<(), CError>
 /// - Tagged faces (at most `MESHMOVE_MAX_VERTICES`): face f's vertices are
 ///   `face_connectivity[face_offsets[f] .. face_offsets[f + 1]]` (2 in 2D, 3 or 4 in 3D), its
 ///   patch `face_patch[f]`. `face_offsets`: `num_faces + 1` positions from 0 to
-///   `num_face_vertices`, or NULL when every face has `dim` vertices (segments in 2D, triangles
-///   in 3D). Boundary faces not tagged are on patch 0; a tagged interior face is an internal
+///   `num_face_vertices`, or NULL when every face has as many vertices: segments in 2D; in 3D
+///   quadrilaterals when `num_face_vertices` = 4 × `num_faces` (hexahedral meshes), triangles
+///   when it is 3 × `num_faces`, any other count `MESHMOVE_STATUS_INVALID_ARGUMENT` (mixed
+///   faces need `face_offsets`). Boundary faces not tagged are on patch 0; a tagged interior face is an internal
 ///   interface.
 /// - `cell_region`: NULL, or one region id per cell. `index_base`: the first vertex index, 0 (C)
 ///   or 1 (Fortran).

@@ -398,8 +398,12 @@ pub unsafe extern "C" fn meshmove_solver_move(
             CError::new(
                 meshmove_status::Inverted,
                 format!(
-                    "the moved mesh has {} inverted cell(s) (smallest area ratio {:e}); coords hold it, the solver keeps the mesh it had",
-                    q.inverted, q.min_area_ratio
+                    "the moved mesh has {} inverted cell(s) (a corner Jacobian <= 0; {} of non-positive {}; smallest {} ratio {:e}); coords hold it, the solver keeps the mesh it had",
+                    q.inverted,
+                    q.non_positive_measure,
+                    if s.dim() == 2 { "area" } else { "volume" },
+                    if s.dim() == 2 { "area" } else { "volume" },
+                    q.min_area_ratio
                 ),
             )
         });
@@ -716,8 +720,10 @@ pub unsafe extern "C" fn meshmove_solver_quality(
     })
 }
 
-/// Writes the reference mesh moved by `displacement` (`len` = dim × vertices; NULL with `len` 0
-/// for the reference itself) as a `.vtu` file (see `meshmove_mesh_write_vtu`).
+/// Writes a `.vtu` file (see `meshmove_mesh_write_vtu`). With `displacement` NULL and `len` 0:
+/// the mesh the solver was made with, moved by the total displacement since then (the current
+/// positions), so its `displacement` and ratios measure every move and step so far. Otherwise
+/// the current reference mesh moved by `displacement` (`len` = dim × vertices).
 ///
 /// # Safety
 /// `path` must be a NUL-terminated string; `displacement` must hold `len` doubles.
@@ -731,8 +737,66 @@ pub unsafe extern "C" fn meshmove_solver_write_vtu(
 ) -> meshmove_status {
     ffi_body!(meshmove_solver_write_vtu, {
         let s = get(solver, "solver")?;
+        if len == 0 && displacement.is_null() {
+            let total = s.solver.total_displacement();
+            // SAFETY: the caller guarantees `path` is a NUL-terminated string; `total` holds
+            // dim × vertices doubles.
+            return unsafe {
+                super::mesh::write_vtu(&s.solver.initial_mesh(), path, total.len() as i32, total.as_ptr())
+            };
+        }
         // SAFETY: the caller guarantees `path` is a NUL-terminated string and `displacement`
         // holds `len` doubles.
         unsafe { super::mesh::write_vtu(s.solver.mesh(), path, len, displacement) }
+    })
+}
+
+/// Copies the total displacement since the mesh the solver was made with (the current positions
+/// minus the initial ones: the sum of every `meshmove_solver_move` increment and
+/// `_move_in_steps` total so far) into `displacement`, `len` = dim × vertices.
+/// `meshmove_solver_get_displacement` gives only the last call's.
+///
+/// # Safety
+/// `displacement` must hold `len` doubles.
+#[no_mangle]
+#[must_use]
+pub unsafe extern "C" fn meshmove_solver_get_total_displacement(
+    solver: *const meshmove_solver,
+    len: i32,
+    displacement: *mut f64,
+) -> meshmove_status {
+    ffi_body!(meshmove_solver_get_total_displacement, {
+        let s = get(solver, "solver")?;
+        // SAFETY: the caller guarantees `displacement` holds `len` doubles; `write` after
+        // `check_out`.
+        unsafe {
+            s.check_out(displacement, len, "displacement")?;
+            points::write(displacement, &s.solver.total_displacement());
+        }
+        Ok(())
+    })
+}
+
+/// Quality of the current positions against the mesh the solver was made with: inverted cells,
+/// volume (area) ratios, smallest angle, over every move and step so far (the quality a move
+/// returns compares with the mesh before that move).
+///
+/// # Safety
+/// `quality` must be writable.
+#[no_mangle]
+#[must_use]
+pub unsafe extern "C" fn meshmove_solver_total_quality(
+    solver: *const meshmove_solver,
+    quality: *mut meshmove_quality,
+) -> meshmove_status {
+    ffi_body!(meshmove_solver_total_quality, {
+        let s = get(solver, "solver")?;
+        if quality.is_null() {
+            return Err(CError::null("quality"));
+        }
+        let q = s.solver.total_quality();
+        finite_quality(&q)?;
+        // SAFETY: `quality` is not NULL; the caller guarantees it is writable.
+        unsafe { handles::write_out(quality, meshmove_quality::from(q), "quality") }
     })
 }

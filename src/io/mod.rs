@@ -4,8 +4,9 @@
 //!
 //! Cells of every [`CellType`](crate::geometry::CellType) (triangles and quads in 2D; tetrahedra,
 //! hexahedra, wedges and pyramids in 3D) are read and written, in VTK's corner order. `.msh` files
-//! also carry the tagged faces (lines in 2D, triangles and quads in 3D) with their patch ids;
-//! `.vtu` files carry no faces, but point and cell fields. The readers return `MeshData`
+//! carry the tagged faces (lines in 2D, triangles and quads in 3D) with their patch ids as
+//! physical groups; `.vtu` files as cells of one dimension less with a cell array of patch ids
+//! (`vtu` says which), beside point and cell fields. The readers return `MeshData`
 //! ([`parse_msh_data`], [`VtuData::mesh`]) and build a [`Mesh`](crate::mesh::Mesh) from it
 //! ([`parse_msh`], [`VtuData::to_mesh`]) with [`Mesh::from_data`](crate::mesh::Mesh::from_data),
 //! which checks what the core handles.
@@ -169,6 +170,10 @@ pub(crate) fn check_data(d: &MeshData, what: &str) -> Result<(), IoError> {
         if d.cell(c).len() != t.num_corners() {
             return bad(format!("cell {c} is a {t} of {} corners; a {t} has {}", d.cell(c).len(), t.num_corners()));
         }
+    }
+    let face_sizes: &[usize] = if d.dim == 2 { &[2] } else { &[3, 4] };
+    if let Some(f) = (0..d.num_faces()).find(|&f| !face_sizes.contains(&d.face(f).len())) {
+        return bad(format!("face {f} has {} vertices; a face in {}D has {face_sizes:?}", d.face(f).len(), d.dim));
     }
     if !d.regions.is_empty() && d.regions.len() != d.num_cells() {
         return bad(format!("{} regions for {} cells", d.regions.len(), d.num_cells()));

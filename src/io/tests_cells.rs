@@ -30,10 +30,6 @@ fn assert_bitwise(a: &MeshData, b: &MeshData) {
     assert_eq!(bits(a), bits(b));
 }
 
-fn without_faces(d: &MeshData) -> MeshData {
-    MeshData { face_offsets: vec![0], face_vertices: Vec::new(), face_patch: Vec::new(), ..d.clone() }
-}
-
 /// Writes `d` as .msh 2.2 and reads it back.
 fn through_msh(d: &MeshData, name: &str) -> MeshData {
     let path = tmp(name);
@@ -82,12 +78,12 @@ fn quad_and_mixed_2d_meshes_round_trip() {
     assert_eq!(mixed.num_cells(), 9);
     for (d, name) in [(&quads, "quads"), (&mixed, "mixed")] {
         assert_bitwise(&through_msh(d, &format!("{name}.msh")), d);
-        assert_bitwise(&through_vtu(d, &format!("{name}.vtu")), &without_faces(d));
+        assert_bitwise(&through_vtu(d, &format!("{name}.vtu")), d);
     }
     // A mesh without regions keeps none.
     let plain = structured_quads(2, 2, [0.0, 1.0, 0.0, 1.0]);
     assert_eq!(through_msh(&plain, "plain.msh"), plain);
-    assert_eq!(through_vtu(&plain, "plain.vtu"), without_faces(&plain));
+    assert_eq!(through_vtu(&plain, "plain.vtu"), plain);
 }
 
 /// A unit cube (hexahedron), a pyramid on its top, a wedge on its x = 1 side and a tetrahedron
@@ -130,7 +126,7 @@ fn solids_round_trip() {
     scramble(&mut d);
     assert_positive_volumes(&d);
     assert_bitwise(&through_msh(&d, "solids.msh"), &d);
-    assert_bitwise(&through_vtu(&d, "solids.vtu"), &without_faces(&d));
+    assert_bitwise(&through_vtu(&d, "solids.vtu"), &d);
     // The wedge is written as a Gmsh prism: its two triangles reversed.
     let text = std::fs::read_to_string(tmp("solids.msh")).unwrap();
     assert!(text.contains("\n7 6 2 3 3 2 6 10 3 7 11\n"), "{text}");
@@ -370,9 +366,12 @@ fn vtu_cell_errors() {
     assert!(
         matches!(parse_vtu(short.as_bytes()), Err(IoError::Parse { message, .. }) if message.contains("`connectivity`"))
     );
-    // A triangle among tetrahedra.
-    let mixed = cells_vtu(8, "0 1 2 4 1 2 3", "4 7", "10 5");
-    assert!(matches!(parse_vtu(mixed.as_bytes()), Err(IoError::Unsupported(m)) if m.contains("triangle")));
+    // A triangle among tetrahedra is a face (on patch 0: no id array).
+    let mixed = parse_vtu(cells_vtu(8, "0 1 2 4 1 2 3", "4 7", "10 5").as_bytes()).unwrap();
+    assert_eq!(
+        (mixed.mesh.num_cells(), mixed.mesh.face_vertices.clone(), mixed.mesh.face_patch),
+        (1, vec![1, 2, 3], vec![0])
+    );
     // 3D points of 2D cells off a plane are not planar; of a 3D cell they are kept.
     let tilted = cells_vtu(8, "0 1 3 5", "4", "9");
     assert!(matches!(parse_vtu(tilted.as_bytes()), Err(IoError::Unsupported(m)) if m.contains("not planar")));

@@ -50,7 +50,7 @@ impl StepReport {
     /// The one-line summary the command line prints per sub-step.
     pub fn line(&self) -> String {
         format!(
-            "step {}.{} at {:.4}: {} cycles, residual {:.2e}{}{}, inverted {}, min area ratio {:.4}, min angle {:.2}°, {:.3} s{}",
+            "step {}.{} at {:.4}: {} cycles, residual {:.2e}{}{}, inverted {}, min volume (2D: area) ratio {:.4}, min angle {:.2}°, {:.3} s{}",
             self.step,
             self.substep,
             self.fraction,
@@ -237,7 +237,7 @@ fn do_step(s: &mut Solver, step: &Step, undo: &mut Undo) -> Result<()> {
                 return Ok(());
             }
             return Err(Error::Tangled(format!(
-                "step {}: the result has {} inverted cell(s) (min area ratio {:.3e}); the next step cannot \
+                "step {}: the result has {} inverted cell(s) (min volume (2D: area) ratio {:.3e}); the next step cannot \
                  start from a tangled mesh: enable sub-stepping or use more steps",
                 step.number, q.inverted, q.min_area_ratio
             )));
@@ -247,7 +247,10 @@ fn do_step(s: &mut Solver, step: &Step, undo: &mut Undo) -> Result<()> {
         let why = if q.inverted > 0 {
             format!("{} inverted cell(s)", q.inverted)
         } else {
-            format!("min area ratio {:.3e} below the minimum {}", q.min_area_ratio, s.opts.min_volume_ratio)
+            format!(
+                "min volume (2D: area) ratio {:.3e} below the minimum {}",
+                q.min_area_ratio, s.opts.min_volume_ratio
+            )
         };
         return Err(Error::NotConverged(format!(
             "step {}: sub-stepping reached its limit of {} sub-steps at {:.4} of the motion: the next sub-step would \

@@ -1,5 +1,5 @@
 //! The legacy alternative: the spring system by plain l1-Jacobi sweeps, no multigrid, run to the
-//! tolerance or to a time cap. From the asymptotic rate of the last sweeps it also estimates the
+//! tolerance or to a cap (a time, or a sweep count). From the asymptotic rate of the last sweeps it also estimates the
 //! sweeps (and seconds) it would need to reach the tolerance.
 
 use meshmove::multigrid::hierarchy::Level;
@@ -13,10 +13,19 @@ pub struct Jacobi {
     pub est_seconds: f64,
 }
 
+/// Where the sweeps stop short of the tolerance.
+#[derive(Clone, Copy, Debug)]
+pub enum Cap {
+    /// After this many seconds.
+    Seconds(f64),
+    /// After this many sweeps (rounded up to a multiple of the check interval).
+    Sweeps(usize),
+}
+
 /// Residual norm checked every this many sweeps.
 const CHECK: usize = 50;
 
-pub fn solve(lev: &Level, c: usize, b: &[f64], x: &mut [f64], tol: f64, cap_s: f64) -> Jacobi {
+pub fn solve(lev: &Level, c: usize, b: &[f64], x: &mut [f64], tol: f64, cap: Cap) -> Jacobi {
     let t0 = std::time::Instant::now();
     let (flags, inv_d) = (&lev.flags[c], &lev.inv_d[c]);
     let n = lev.n();
@@ -31,7 +40,11 @@ pub fn solve(lev: &Level, c: usize, b: &[f64], x: &mut [f64], tol: f64, cap_s: f
             lev.op.residual(flags, b, &xv, &mut r, &mut s);
             rel = dot(&r, &r).sqrt() / bn;
             hist.push((sweeps, rel));
-            if rel <= tol || t0.elapsed().as_secs_f64() >= cap_s {
+            let capped = match cap {
+                Cap::Seconds(s) => t0.elapsed().as_secs_f64() >= s,
+                Cap::Sweeps(n) => sweeps >= n,
+            };
+            if rel <= tol || capped {
                 break;
             }
         }

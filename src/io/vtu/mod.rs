@@ -19,8 +19,16 @@
 //! (another compressor is `Unsupported`), with a UInt32 or UInt64 header, in either byte order.
 //! `<InformationKey>` elements inside a DataArray are skipped. The mesh is 3D if any cell is a
 //! solid, else 2D: then z must be one value for every point (else `Unsupported`: the mesh is not
-//! planar) and is dropped. A one-component cell array named `region` gives the cells' regions.
-//! A `.vtu` has no tagged faces.
+//! planar) and is dropped.
+//!
+//! Patches: the file's cells of dimension D − 1 (lines in 2D; triangles and quads in 3D) are the
+//! mesh's tagged faces, with their patch ids from a one-component cell array `gmsh:physical`
+//! (meshio's export of a Gmsh mesh), `patch` (ours) or `CellEntityIds` (VTK, ParaView), the first
+//! found; vertices, and edges of a 3D mesh, are skipped. The cells' regions come from a cell array
+//! `region`, else from that same id array. Patch names come from `<FieldData>`: an integer array
+//! named after the patch whose values are its id and, optionally, the dimension D − 1 (meshio's
+//! form of Gmsh's physical names). The writer writes the faces back the same way (array `patch`,
+//! names as field data).
 
 mod read;
 mod write;
@@ -53,8 +61,7 @@ pub enum CellField<'a> {
     I32(&'a [i32]),
 }
 
-/// What `read_vtu` returns: the mesh (points, cells, regions from the cell array `region`; no
-/// tagged faces) and every named array as `f64` values with its number of components (tuples
+/// What `read_vtu` returns: the mesh (points, cells, regions, patch faces) and every named array as `f64` values with its number of components (tuples
 /// stored one after another).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct VtuData {
@@ -62,13 +69,16 @@ pub struct VtuData {
     pub mesh: MeshData,
     /// The `<PointData>` arrays in file order: (name, values, components per vertex).
     pub point_data: Vec<(String, Vec<f64>, usize)>,
-    /// The `<CellData>` arrays in file order, `region` included: (name, values, components per cell).
+    /// The `<CellData>` arrays in file order, `region` and the patch ids included, on the mesh's
+    /// cells only (the faces' values dropped): (name, values, components per cell).
     pub cell_data: Vec<(String, Vec<f64>, usize)>,
+    /// Patch names from the `<FieldData>`: (patch id, name).
+    pub patch_names: Vec<(i32, String)>,
 }
 
 impl VtuData {
-    /// The validated mesh of these points, cells and regions. A `.vtu` has no boundary patches:
-    /// every boundary face is on patch 0.
+    /// The validated mesh of these points, cells, regions and patch faces (boundary faces that
+    /// are not among the file's faces are on patch 0).
     pub fn to_mesh(&self) -> Result<Mesh, IoError> {
         Ok(Mesh::from_data(&self.mesh)?)
     }

@@ -23,6 +23,7 @@ enum Section {
     CellData,
     Points,
     Cells,
+    FieldData,
 }
 
 impl Section {
@@ -33,6 +34,7 @@ impl Section {
             Section::CellData => "<CellData>",
             Section::Points => "<Points>",
             Section::Cells => "<Cells>",
+            Section::FieldData => "<FieldData>",
         }
     }
 }
@@ -212,9 +214,10 @@ pub fn parse_vtu(bytes: &[u8]) -> Result<VtuData, IoError> {
                     b"CellData" if !empty => section = Section::CellData,
                     b"Points" if !empty => section = Section::Points,
                     b"Cells" if !empty => section = Section::Cells,
+                    b"FieldData" if !empty => section = Section::FieldData,
                     b"Points" => seen_points = true,
                     b"DataArray" => {
-                        if counts.is_none() {
+                        if counts.is_none() && section != Section::FieldData {
                             return Err(ctx.err(at, "<DataArray> outside a <Piece>".into()));
                         }
                         let a = Array {
@@ -252,7 +255,7 @@ pub fn parse_vtu(bytes: &[u8]) -> Result<VtuData, IoError> {
             Event::End(e) => match e.name().as_ref() {
                 _ if nested > 0 => nested -= 1,
                 b"DataArray" => arrays.extend(array.take()),
-                b"PointData" | b"CellData" | b"Points" | b"Cells" => section = Section::None,
+                b"PointData" | b"CellData" | b"Points" | b"Cells" | b"FieldData" => section = Section::None,
                 b"Piece" => piece_end = Some(at),
                 _ => {}
             },
@@ -272,6 +275,8 @@ pub fn parse_vtu(bytes: &[u8]) -> Result<VtuData, IoError> {
     let mut out = VtuData { mesh: MeshData::new(2), ..VtuData::default() };
     let mut points = None;
     let mut cells_arrays: Vec<(String, Vec<f64>, usize)> = Vec::new();
+    let mut field_data: Vec<(String, Vec<f64>)> = Vec::new();
+    let mut region_array = None;
     for a in &arrays {
         let cell_array = matches!(a.name.as_deref(), Some("connectivity" | "offsets" | "types"));
         match a.section {
@@ -310,10 +315,18 @@ pub fn parse_vtu(bytes: &[u8]) -> Result<VtuData, IoError> {
                 seen_points = true;
                 points = Some(values);
             }
+            Section::FieldData => {
+                if let Some(name) = &a.name {
+                    field_data.push((name.clone(), values));
+                }
+            }
             Section::PointData | Section::CellData => {
                 let name = a.name.clone().ok_or_else(|| ctx.err(a.at, format!("{label}: no attribute `Name`")))?;
                 if a.section == Section::CellData && name == "region" {
-                    out.mesh.regions = regions(&values, a, &label, &ctx)?;
+                    region_array = Some(regions(&values, a, &label, &ctx)?);
+                }
+                if a.section == Section::CellData && PATCH_ARRAYS.contains(&name.as_str()) {
+                    check_ids(&values, a, &label, &ctx)?;
                 }
                 let list = if a.section == Section::PointData { &mut out.point_data } else { &mut out.cell_data };
                 list.push((name, values, a.comps));
@@ -329,7 +342,8 @@ pub fn parse_vtu(bytes: &[u8]) -> Result<VtuData, IoError> {
     if points.len() != 3 * n {
         return Err(ctx.err(end, format!("<Points> holds {} points, NumberOfPoints is {n}", points.len() / 3)));
     }
-    build_cells(&mut out.mesh, &cells_arrays, n, m, &ctx, end)?;
+    let kinds = build_cells(&mut out.mesh, &cells_arrays, n, m, &ctx, end)?;
+    split_faces(&mut out, &kinds, region_array, &field_data);
     let dim = out.mesh.dim;
     if dim == 2 {
         crate::io::check_planar(points.chunks_exact(3).map(|p| [p[0], p[1], p[2]]))?;
@@ -361,25 +375,101 @@ fn appended_data(e: &BytesStart, ctx: &Ctx, at: usize, xml_end: usize) -> Result
     Ok(Appended { start: p + 1, end: end.max(p + 1), base64 })
 }
 
-/// The regions of the cell array `region` (one integer per cell); none when they are all 0.
+/// The regions of the cell array `region` (one integer per cell of the file, faces included).
 fn regions(values: &[f64], a: &Array, label: &str, ctx: &Ctx) -> Result<Vec<i32>, IoError> {
-    if a.comps != 1 {
-        return Err(ctx.err(a.at, format!("{label}: NumberOfComponents is {}; regions have 1", a.comps)));
-    }
-    let mut r = Vec::with_capacity(values.len());
-    for (c, &x) in values.iter().enumerate() {
-        if x.fract() != 0.0 || x.abs() > i32::MAX as f64 {
-            return Err(ctx.err(a.at, format!("{label}: the region of cell {c} is {x}, not an i32")));
-        }
-        r.push(x as i32);
-    }
-    if r.iter().all(|&x| x == 0) {
-        r.clear();
-    }
-    Ok(r)
+    check_ids(values, a, label, ctx)?;
+    Ok(values.iter().map(|&x| x as i32).collect())
 }
 
-/// Fills `mesh`'s dimension and cells from the arrays `connectivity`, `offsets` and `types`.
+/// The cell arrays that give the patch ids of the faces (and, without an array `region`, the
+/// regions of the cells), in order of preference: Gmsh's physical tags as meshio writes them,
+/// our own name, VTK's and ParaView's.
+pub(super) const PATCH_ARRAYS: [&str; 3] = ["gmsh:physical", "patch", "CellEntityIds"];
+
+/// An id array: one component, every value an i32.
+fn check_ids(values: &[f64], a: &Array, label: &str, ctx: &Ctx) -> Result<(), IoError> {
+    if a.comps != 1 {
+        return Err(ctx.err(a.at, format!("{label}: NumberOfComponents is {}; ids have 1", a.comps)));
+    }
+    match values.iter().position(|&x| x.fract() != 0.0 || x.abs() > i32::MAX as f64) {
+        Some(c) => Err(ctx.err(a.at, format!("{label}: the value of cell {c} is {}, not an i32", values[c]))),
+        None => Ok(()),
+    }
+}
+
+/// What a cell of the file is in the mesh.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Kind {
+    /// A cell of the mesh's dimension.
+    Cell,
+    /// A cell of one dimension less: a patch face.
+    Face,
+    /// A vertex or, in 3D, an edge: not part of the mesh.
+    Skipped,
+}
+
+/// Moves the file's cells of dimension D − 1 (`kinds`) from `out.mesh`'s cells to its patch
+/// faces, their patch ids from the first of [`PATCH_ARRAYS`] present (0 without one); the cells'
+/// regions from the array `region`, else from that same array (as Gmsh's physical groups tag
+/// volumes and surfaces alike); keeps the cell arrays' values of the cells only; and takes the
+/// patch names from the field data: an integer array whose first value is a patch id and whose
+/// second, where present, is the dimension D − 1 (as meshio writes Gmsh's physical names).
+fn split_faces(
+    out: &mut VtuData,
+    kinds: &[(Kind, Option<CellType>)],
+    region: Option<Vec<i32>>,
+    field_data: &[(String, Vec<f64>)],
+) {
+    let ids: Option<Vec<i32>> = PATCH_ARRAYS
+        .iter()
+        .find_map(|p| out.cell_data.iter().find(|(n, _, _)| n == p))
+        .map(|(_, v, _)| v.iter().map(|&x| x as i32).collect());
+    let dim = out.mesh.dim;
+    let all = std::mem::replace(&mut out.mesh, MeshData::new(dim));
+    let mesh = &mut out.mesh;
+    let regions = region.or_else(|| ids.clone());
+    let mut cells = 0;
+    for (c, &(kind, ty)) in kinds.iter().enumerate() {
+        let vertices = &all.cell_vertices[all.cell_offsets[c] as usize..all.cell_offsets[c + 1] as usize];
+        match (kind, ty) {
+            (Kind::Cell, Some(ty)) => {
+                let region = regions.as_ref().map_or(0, |r| r[c]);
+                mesh.push_cell(ty, vertices, region);
+                cells += 1;
+            }
+            (Kind::Face, _) => mesh.push_face(vertices, ids.as_ref().map_or(0, |p| p[c])),
+            _ => {}
+        }
+    }
+    if cells < kinds.len() {
+        for (_, values, comps) in &mut out.cell_data {
+            let k = *comps;
+            *values = values
+                .chunks_exact(k)
+                .zip(kinds)
+                .filter(|(_, k)| k.0 == Kind::Cell)
+                .flat_map(|(t, _)| t.iter().copied())
+                .collect();
+        }
+    }
+    let face_dim = (mesh.dim - 1) as f64;
+    for (name, v) in field_data {
+        let is_id = |x: f64| x.fract() == 0.0 && x.abs() <= i32::MAX as f64;
+        let patch = match v[..] {
+            [id] if is_id(id) => Some(id),
+            [id, d] if is_id(id) && d == face_dim => Some(id),
+            _ => None,
+        };
+        if let Some(id) = patch {
+            out.patch_names.push((id as i32, name.clone()));
+        }
+    }
+}
+
+/// Fills `mesh`'s dimension and the corner lists (`cell_offsets`, `cell_vertices`) of every cell of
+/// the file from the arrays `connectivity`, `offsets` and `types`, and returns what each cell is
+/// with its type: the mesh's dimension D is the largest of its cells', cells of dimension D − 1
+/// are faces (VTK lines in 2D; triangles and quads in 3D), lower ones are skipped.
 fn build_cells(
     mesh: &mut MeshData,
     arrays: &[(String, Vec<f64>, usize)],
@@ -387,7 +477,7 @@ fn build_cells(
     m: usize,
     ctx: &Ctx,
     end: usize,
-) -> Result<(), IoError> {
+) -> Result<Vec<(Kind, Option<CellType>)>, IoError> {
     let get = |name: &str| {
         arrays
             .iter()
@@ -409,26 +499,38 @@ fn build_cells(
     mesh.cell_offsets = Vec::with_capacity(m + 1);
     mesh.cell_offsets.push(0);
     let mut prev = 0usize;
+    let mut shapes = Vec::with_capacity(m);
     for (c, (&t, &o)) in types.iter().zip(offsets).enumerate() {
-        let ty = Some(t).filter(|t| t.fract() == 0.0).and_then(|t| CellType::from_vtk(t as i64)).ok_or_else(|| {
+        let ty = Some(t).filter(|t| t.fract() == 0.0).map(|t| t as i64);
+        // (dimension, corners, cell type): VTK's vertex and line, then the cell types.
+        let shape = match ty {
+            Some(1) => Some((0, 1, None)),
+            Some(3) => Some((1, 2, None)),
+            Some(t) => CellType::from_vtk(t).map(|ty| (ty.dim(), ty.num_corners(), Some(ty))),
+            None => None,
+        };
+        let (_, corners, ty) = shape.ok_or_else(|| {
             IoError::Unsupported(format!(
-                "cell {c} has VTK cell type {t}; the types read are triangle (5), quad (9), tetra (10), \
-                 hexahedron (12), wedge (13) and pyramid (14)"
+                "cell {c} has VTK cell type {t}; the types read are vertex (1), line (3), triangle (5), \
+                 quad (9), tetra (10), hexahedron (12), wedge (13) and pyramid (14)"
             ))
         })?;
-        let want = prev + ty.num_corners();
+        shapes.push(shape.expect("checked above"));
+        let want = prev + corners;
         if o != want as f64 {
             return Err(ctx.err(
                 off_at,
                 format!(
-                    "DataArray `offsets` in <Cells>: offset of cell {c} is {o}, expected {want} (a {ty} of {} corners \
-                     after offset {prev})",
-                    ty.num_corners()
+                    "DataArray `offsets` in <Cells>: offset of cell {c} is {o}, expected {want} (a {} of {corners} \
+                     corners after offset {prev})",
+                    ty.map_or_else(|| format!("VTK type {t}"), |ty| ty.to_string())
                 ),
             ));
         }
-        mesh.cell_types.push(ty);
-        mesh.cell_offsets.push(want as u32);
+        mesh.cell_offsets
+            .push(u32::try_from(want).map_err(|_| {
+                IoError::Unsupported(format!("{want} corners in <Cells>: more than 2^32 are not read"))
+            })?);
         prev = want;
     }
     if conn.len() != prev {
@@ -451,14 +553,19 @@ fn build_cells(
         }
         mesh.cell_vertices.push(v as u32);
     }
-    mesh.dim = if mesh.cell_types.iter().any(|t| t.dim() == 3) { 3 } else { 2 };
-    if let Some(c) = mesh.cell_types.iter().position(|t| t.dim() != mesh.dim) {
-        return Err(IoError::Unsupported(format!(
-            "cell {c} is a {} among 3D cells; a piece of 2D and 3D cells is not read",
-            mesh.cell_types[c]
-        )));
-    }
-    Ok(())
+    mesh.dim = if shapes.iter().any(|s| s.0 == 3) { 3 } else { 2 };
+    let kinds = shapes
+        .iter()
+        .map(|&(d, _, ty)| {
+            let kind = match mesh.dim - d {
+                0 => Kind::Cell,
+                1 => Kind::Face,
+                _ => Kind::Skipped,
+            };
+            (kind, ty)
+        })
+        .collect();
+    Ok(kinds)
 }
 
 /// Values of a DataArray as f64 (exact for every integer type up to 2^53).

@@ -7,9 +7,12 @@ use crate::mesh::{Mesh, MeshData};
 use std::fmt::Write as _;
 use std::path::Path;
 
-/// Writes the points and cells of `mesh` (its tagged faces are not written) with the given named
-/// fields. 2D points are written with z = 0. Regions are written only as a cell field the caller
-/// passes (`region`, which [`read_vtu`](super::read_vtu) reads back as the regions).
+/// Writes the points, cells and tagged faces of `mesh` with the given named fields. 2D points are
+/// written with z = 0. The faces follow the cells as VTK cells of one dimension less (lines in
+/// 2D, triangles and quads in 3D) with an Int32 cell array `patch` (the faces' patch ids, the
+/// cells' regions), which [`read_vtu`](super::read_vtu) reads back as the patches; the caller's
+/// cell fields hold the cells' values, and the faces' are written as NaN (`F64`) or 0 (`I32`).
+/// Regions are read back from a cell field `region` where the caller passes one.
 pub fn write_vtu(
     path: &Path,
     mesh: &MeshData,
@@ -18,9 +21,15 @@ pub fn write_vtu(
 ) -> Result<(), IoError> {
     check_data(mesh, "write_vtu")?;
     let (n, m) = (mesh.num_vertices(), mesh.num_cells());
+    let nf = mesh.num_faces();
+    let face_vtk = |f: usize| match (mesh.dim, mesh.face(f).len()) {
+        (2, _) => 3u8,
+        (_, 3) => 5,
+        _ => 9,
+    };
     let mut s = String::with_capacity(80 * n + 40 * m);
     s.push_str("<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n<UnstructuredGrid>\n");
-    let _ = writeln!(s, "<Piece NumberOfPoints=\"{n}\" NumberOfCells=\"{m}\">");
+    let _ = writeln!(s, "<Piece NumberOfPoints=\"{n}\" NumberOfCells=\"{}\">", m + nf);
     s.push_str("<PointData>\n");
     for (name, f) in point_data {
         let (values, comps) = match *f {
@@ -52,12 +61,20 @@ pub fn write_vtu(
             CellField::F64(v) => {
                 open_array(&mut s, "Float64", Some(name), 1);
                 v.iter().for_each(|x| push_f64(&mut s, *x));
+                (0..nf).for_each(|_| s.push_str("NaN "));
             }
             CellField::I32(v) => {
                 open_array(&mut s, "Int32", Some(name), 1);
                 push_ints(&mut s, v);
+                (0..nf).for_each(|_| s.push_str("0 "));
             }
         }
+        s.push_str("\n</DataArray>\n");
+    }
+    if nf > 0 {
+        open_array(&mut s, "Int32", Some("patch"), 1);
+        push_ints(&mut s, &(0..m).map(|c| mesh.regions.get(c).copied().unwrap_or(0)).collect::<Vec<_>>());
+        push_ints(&mut s, &mesh.face_patch);
         s.push_str("\n</DataArray>\n");
     }
     s.push_str("</CellData>\n<Points>\n");
@@ -66,10 +83,17 @@ pub fn write_vtu(
     s.push_str("\n</DataArray>\n</Points>\n<Cells>\n");
     s.push_str("<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n");
     push_ints(&mut s, &mesh.cell_vertices);
+    push_ints(&mut s, &mesh.face_vertices);
     s.push_str("\n</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n");
     push_ints(&mut s, mesh.cell_offsets.get(1..).unwrap_or_default());
+    let end = mesh.cell_vertices.len();
+    push_ints(
+        &mut s,
+        &mesh.face_offsets.get(1..).unwrap_or_default().iter().map(|&o| end + o as usize).collect::<Vec<_>>(),
+    );
     s.push_str("\n</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n");
     push_ints(&mut s, &mesh.cell_types.iter().map(|t| t.vtk_id()).collect::<Vec<_>>());
+    push_ints(&mut s, &(0..nf).map(face_vtk).collect::<Vec<_>>());
     s.push_str("\n</DataArray>\n</Cells>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n");
     std::fs::write(path, s).map_err(io_err(path))
 }
