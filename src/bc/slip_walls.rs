@@ -7,7 +7,7 @@
 
 use super::BoundaryConditions;
 use crate::geometry::closest::{closest_on_simplex, face_simplices, simplex_side};
-use crate::geometry::{cross, dot3, sub};
+use crate::geometry::{cross, dot3, padded, sub};
 use crate::motion::RigidMotion;
 use crate::Mesh;
 use std::collections::BTreeMap;
@@ -271,10 +271,7 @@ impl SlipWalls {
         let dim = mesh.dim();
         let mut faces: BTreeMap<i32, Vec<FacePiece>> = BTreeMap::new();
         let mut vertex_patches = Vec::new();
-        let pt = |v: u32| {
-            let x = mesh.point(v as usize);
-            [x[0], x[1], if dim > 2 { x[2] } else { 0.0 }]
-        };
+        let pt = |v: u32| padded(mesh.point(v as usize));
         for f in mesh.patch_faces() {
             if !bcs.is_slip(f.patch) {
                 continue;

@@ -176,17 +176,16 @@ fn mesh_data(a: &Arrays) -> Result<MeshData, CError> {
             )))
         })?,
         None => {
-            // Every face the same size, which the counts tell: in 3D quadrilaterals (hexahedral
-            // meshes) when num_face_vertices is 4 × num_faces, else triangles.
+            // Every face the same size, which the counts tell: the face size of this dimension's
+            // cells (triangles or quadrilaterals in 3D) whose multiple num_face_vertices is.
             let nf = a.face_patch.len();
-            let k = if dim == 3 && nf > 0 && nfv == 4 * nf { 4 } else { dim };
+            let k = sizes.iter().copied().find(|&k| k * nf == nfv).or(sizes.first().copied()).unwrap_or(0);
             derived_offsets(
                 std::iter::repeat_n(k, nf),
                 nfv,
                 &format!(
                     "num_face_vertices ({nfv}) does not match num_faces ({nf}): with face_offsets NULL every face has \
-                     the same vertex count, {}",
-                    if dim == 2 { "2 in 2D" } else { "3 (triangles) or 4 (quadrilaterals) in 3D" }
+                     the same vertex count, one of {sizes:?} in {dim}D"
                 ),
             )?
         }

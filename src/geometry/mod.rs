@@ -190,6 +190,13 @@ fn not_positive(x: f64) -> bool {
     x.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater)
 }
 
+/// A point of 2 or 3 coordinates as three, z = 0 in 2D: the form the closest-point and face
+/// kernels take in any dimension.
+#[inline]
+pub(crate) fn padded(x: &[f64]) -> [f64; 3] {
+    [x[0], x[1], x.get(2).copied().unwrap_or(0.0)]
+}
+
 /// |a − b|², the same sum as `DVec2::distance_squared` in 2D (z terms are zero).
 #[inline]
 pub(crate) fn dist2(a: &[f64; 3], b: &[f64; 3]) -> f64 {
