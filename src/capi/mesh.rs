@@ -185,7 +185,8 @@ fn mesh_data(a: &Arrays) -> Result<MeshData, CError> {
                 nfv,
                 &format!(
                     "num_face_vertices ({nfv}) does not match num_faces ({nf}): with face_offsets NULL every face has \
-                     the same vertex count, one of {sizes:?} in {dim}D"
+                     {} vertices in {dim}D",
+                    sizes.iter().map(usize::to_string).collect::<Vec<_>>().join(" or ")
                 ),
             )?
         }

@@ -22,7 +22,7 @@
 
 static uint64_t rng;
 static int failures = 0, calls = 0;
-#define LAST_STATUS MESHMOVE_STATUS_UNSUPPORTED
+#define LAST_STATUS MESHMOVE_STATUS_OUT_OF_MEMORY
 static long seen[LAST_STATUS + 1]; /* calls per status, printed at the end */
 
 static uint64_t next(void) {
