@@ -8,6 +8,7 @@
 
 mod data;
 mod error;
+pub(crate) mod features;
 pub(crate) mod quality;
 mod refine;
 mod topology;
