@@ -10,8 +10,8 @@ pub(crate) mod tests;
 mod locate;
 mod triangulate;
 
-use super::coarsener::{CoarseUnknowns, Coarsener};
-use super::hierarchy::{Level, Transfer};
+use super::coarsener::{CoarseMesh, CoarseUnknowns, Coarsener};
+use super::level::{Level, Transfer};
 use super::restriction::Restriction;
 use crate::sparse::{offset, CsrMatrix};
 use locate::{Location, Locator};
@@ -129,17 +129,6 @@ impl Default for CoarsenParams {
     fn default() -> Self {
         CoarsenParams { min_vertices: 10, min_ratio: 1.6, corner_angle_deg: 50.0, coarsest_unknowns: None }
     }
-}
-
-/// One coarse level.
-#[derive(Clone, Debug)]
-pub(crate) struct CoarseMesh {
-    /// The coarse mesh: valid, all cells counter-clockwise with positive area.
-    pub mesh: Mesh,
-    /// Coarse vertex `i` is fine vertex `fine_vertex[i]` (same position); ascending.
-    pub fine_vertex: Vec<u32>,
-    /// The input links whose two vertices were both kept, in coarse numbering.
-    pub links: Vec<[u32; 2]>,
 }
 
 /// Attempts at fixing a failed triangulation (keeping a whole chain, dropping an interior point)

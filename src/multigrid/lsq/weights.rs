@@ -11,7 +11,7 @@
 //! outside the donors).
 
 use super::Features;
-use crate::multigrid::hierarchy::Level;
+use crate::multigrid::level::Level;
 use crate::sparse::{offset, CsrMatrix};
 use rayon::prelude::*;
 use std::borrow::Cow;
