@@ -9,60 +9,104 @@ use crate::bc::{BoundaryConditions, Dofs, SlipFrames};
 use crate::operator::LevelOperator;
 use crate::sparse::CsrMatrix;
 use crate::Mesh;
+use std::borrow::Cow;
 use std::ops::Range;
 use std::sync::Arc;
 
 /// Interpolation from the next coarser level and its transpose.
-pub struct Transfer {
+pub(crate) struct Transfer {
     /// Fine unknowns × coarse unknowns: the coarsener's interpolation weights.
-    pub prolong: Arc<CsrMatrix>,
+    pub(crate) prolong: Arc<CsrMatrix>,
     /// Its transpose, stored (pattern only, weights read from `prolong`) so restriction is a
     /// gather too.
-    pub restrict: Restriction,
+    pub(crate) restrict: Restriction,
 }
 
-/// One level of the hierarchy. Per-component data (`flags`, `inv_d`, `lambda_max`) has one
+/// One level of the hierarchy; read through its accessors outside the crate. Per-component data (`flags`, `inv_d`, `lambda_max`) has one
 /// entry per component of the displacement. What a coarsener knows of the level stays in the
 /// coarsener; the coarsest level's direct solves are the hierarchy's.
 pub struct Level {
     /// The level's mesh: the user's on the finest level, a coarse mesh from a coarsener that
     /// makes them; None on a level of kept unknowns.
-    pub mesh: Option<Mesh>,
+    pub(crate) mesh: Option<Mesh>,
     /// The positions of the unknowns of a level without a mesh (`dim` values each); empty
     /// otherwise (`unknown_points` derives them from the mesh).
-    pub points: Vec<f64>,
-    pub pairs: Vec<[u32; 2]>,
-    pub dofs: Dofs,
-    pub op: LevelOperator,
-    pub flags: Vec<Vec<u8>>,
-    pub inv_d: Vec<Vec<f64>>,
-    pub lambda_max: Vec<f64>,
+    pub(crate) points: Vec<f64>,
+    /// The level's link pairs (periodic sides), on a level with a mesh.
+    pub(crate) pairs: Vec<[u32; 2]>,
+    pub(crate) dofs: Dofs,
+    pub(crate) op: LevelOperator,
+    pub(crate) flags: Vec<Vec<u8>>,
+    pub(crate) inv_d: Vec<Vec<f64>>,
+    pub(crate) lambda_max: Vec<f64>,
     /// Vertex i of this level is vertex `parent_vertex[i]` of the next finer level; on a level
     /// without a mesh, unknown i is unknown `parent_vertex[i]` of the next finer level.
-    pub parent_vertex: Vec<u32>,
+    pub(crate) parent_vertex: Vec<u32>,
     /// Transfer to the next coarser level; None on the coarsest.
-    pub down: Option<Transfer>,
-    /// Slip walls: the constrained directions of the slip unknowns (`multigrid::slip` builds them), built
-    /// from the mesh on the finest level and inherited below; None without slip walls.
-    pub slip: Option<LevelSlip>,
+    pub(crate) down: Option<Transfer>,
+    /// Slip walls: the constrained directions of the slip unknowns (`multigrid::slip` builds
+    /// them from the mesh on the finest level; the coarse levels inherit them); None without
+    /// slip walls.
+    pub(crate) slip: Option<LevelSlip>,
     /// How the level's vectors are spread over processes (`multigrid::layout`).
     pub(crate) layout: Distribution,
 }
 
 /// What a level keeps for its slip walls.
-pub struct LevelSlip {
+pub(crate) struct LevelSlip {
     /// The constrained directions of the level's slip unknowns.
-    pub frames: SlipFrames,
+    pub(crate) frames: SlipFrames,
     /// The conditions the fine level's frames come from, to remake them at a new reference (fine
     /// level only).
     pub(crate) bcs: Option<BoundaryConditions>,
     /// The components are one coupled system: the finest level has slip unknowns with frames
     /// (walls not normal to an axis). Without, the walls only prescribe components (axis walls,
     /// pinned corners) and the components are solved apart. Every level has its finest's.
-    pub coupled: bool,
+    pub(crate) coupled: bool,
 }
 
 impl Level {
+    /// The level's unknowns: linked vertices merged, interface vertices split.
+    pub fn dofs(&self) -> &Dofs {
+        &self.dofs
+    }
+
+    /// The level's operator (K, V and the method's products).
+    pub fn op(&self) -> &LevelOperator {
+        &self.op
+    }
+
+    /// The flags (P, Z) of each component's unknowns.
+    pub fn flags(&self) -> &[Vec<u8>] {
+        &self.flags
+    }
+
+    /// The inverse Jacobi (l1) diagonal of each component.
+    pub fn inv_d(&self) -> &[Vec<f64>] {
+        &self.inv_d
+    }
+
+    /// The slip frames of the level's unknowns; None without slip walls.
+    pub fn slip_frames(&self) -> Option<&SlipFrames> {
+        self.slip.as_ref().map(|s| &s.frames)
+    }
+
+    /// The position of each unknown: its (first) vertex's on a level with a mesh, else stored.
+    pub fn unknown_points(&self) -> Cow<'_, [f64]> {
+        match &self.mesh {
+            Some(m) => {
+                let dim = m.dim();
+                Cow::Owned(self.dofs.dof_vertex.iter().flat_map(|&v| m.point(v as usize)[..dim].iter().copied()).collect())
+            }
+            None => Cow::Borrowed(&self.points),
+        }
+    }
+
+    /// The prolongation from the next coarser level (fine unknowns × coarse unknowns); None on
+    /// the coarsest level.
+    pub fn prolong(&self) -> Option<&CsrMatrix> {
+        self.down.as_ref().map(|t| &*t.prolong)
+    }
 
     /// The level's mesh; only for levels that have one (the finest always has).
     pub fn mesh(&self) -> &Mesh {
