@@ -184,7 +184,7 @@ fn coarse_levels_interpolate_linear_fields_exactly() {
             let at = |lev: &meshmove::multigrid::hierarchy::Level| -> Vec<f64> {
                 lev.unknown_points().chunks_exact(3).map(lin).collect()
             };
-            let p = &fine.down.as_ref().unwrap().prolong;
+            let p = &fine.prolong().unwrap();
             let mut y = vec![0.0; fine.n()];
             p.mul_vec(&at(coarse), &mut y);
             let err = y.iter().zip(at(fine)).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);

@@ -52,10 +52,10 @@ fn one_group_equals_separate_components() {
         let mut b = vec![0.0; 2 * n];
         for c in 0..2 {
             let dp: Vec<f64> = (0..n)
-                .map(|d| if lev.flags[c][d] & 1 != 0 { vals[lev.dofs.dof_vertex[d] as usize * 2 + c] } else { 0.0 })
+                .map(|d| if lev.flags()[c][d] & 1 != 0 { vals[lev.dofs().dof_vertex[d] as usize * 2 + c] } else { 0.0 })
                 .collect();
             let mut s = vec![0.0; n];
-            lev.op.rhs(&lev.flags[c], &dp, None, &mut b[c * n..(c + 1) * n], &mut s);
+            lev.op().rhs(&lev.flags()[c], &dp, None, &mut b[c * n..(c + 1) * n], &mut s);
         }
         let p = SolveParams { tol: 1e-11, ..Default::default() };
         let mut joint = vec![0.0f64; 2 * n];

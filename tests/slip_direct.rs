@@ -18,13 +18,13 @@ const ALL_METHODS: [Method; 3] = [Method::Biharmonic, Method::Laplacian, Method:
 fn component_matrix(s: &Solver, c: usize) -> Vec<Vec<f64>> {
     let lev = s.hierarchy().fine();
     let n = lev.n();
-    let k = lev.op.k.to_dense();
-    let flags = &lev.flags[c];
+    let k = lev.op().k.to_dense();
+    let flags = &lev.flags()[c];
     let mut a = vec![vec![0.0; n]; n];
     for i in (0..n).filter(|&i| flags[i] & P == 0) {
-        if lev.op.method == Method::Biharmonic {
+        if lev.op().method == Method::Biharmonic {
             for kk in (0..n).filter(|&kk| flags[kk] & Z == 0 && k[i][kk] != 0.0) {
-                let w = k[i][kk] * lev.op.inv_v[kk];
+                let w = k[i][kk] * lev.op().inv_v[kk];
                 for j in 0..n {
                     a[i][j] += w * k[kk][j];
                 }
@@ -41,12 +41,12 @@ fn component_matrix(s: &Solver, c: usize) -> Vec<Vec<f64>> {
 fn direct(s: &Solver, vals: &[f64]) -> (Vec<f64>, Vec<f64>) {
     let lev = s.hierarchy().fine();
     let (n, dim) = (lev.n(), lev.dim());
-    let frames = &lev.slip.as_ref().expect("slip frames").frames;
-    let val = |d: usize, c: usize| vals[lev.dofs.dof_vertex[d] as usize * dim + c];
+    let frames = &lev.slip_frames().expect("slip frames");
+    let val = |d: usize, c: usize| vals[lev.dofs().dof_vertex[d] as usize * dim + c];
     let mut g = vec![0.0; dim * n];
     let mut basis: Vec<(usize, [f64; 3])> = Vec::new();
     for d in 0..n {
-        let prescribed: Vec<bool> = (0..dim).map(|c| lev.flags[c][d] & P != 0).collect();
+        let prescribed: Vec<bool> = (0..dim).map(|c| lev.flags()[c][d] & P != 0).collect();
         for c in (0..dim).filter(|&c| prescribed[c]) {
             g[c * n + d] = val(d, c);
         }
@@ -134,13 +134,13 @@ fn annulus_multigrid_matches_direct() {
         assert!(s.num_levels() >= 3, "{route:?} {method:?}: {} levels", s.num_levels());
         let h = s.hierarchy();
         let lev = h.fine();
-        let frames = &lev.slip.as_ref().unwrap().frames;
+        let frames = &lev.slip_frames().unwrap();
         // The four vertices on the axes have axis normals (their components prescribed), the
         // others frames; the hierarchy is coupled.
         assert_eq!((frames.dofs.len(), frames.axes.len()), (44, 4));
         assert_eq!(h.groups().len(), 1);
         for (k, &d) in frames.dofs.iter().enumerate() {
-            let x = mesh.point(lev.dofs.dof_vertex[d as usize] as usize);
+            let x = mesh.point(lev.dofs().dof_vertex[d as usize] as usize);
             let e = frames.directions(k)[0];
             let r = (x[0] * x[0] + x[1] * x[1]).sqrt();
             assert!((e[0] * x[1] - e[1] * x[0]).abs() < 1e-14 * r, "normal not radial");
@@ -152,7 +152,7 @@ fn annulus_multigrid_matches_direct() {
         let mut b = vec![0.0; 2 * n];
         let mut sc = vec![0.0; n];
         for c in 0..2 {
-            lev.op.rhs(&lev.flags[c], &g[c * n..(c + 1) * n], None, &mut b[c * n..(c + 1) * n], &mut sc);
+            lev.op().rhs(&lev.flags()[c], &g[c * n..(c + 1) * n], None, &mut b[c * n..(c + 1) * n], &mut sc);
         }
         frames.project(n, &mut b);
         let mut w = vec![0.0; 2 * n];
@@ -199,7 +199,7 @@ fn slanted_channel_solver_matches_direct() {
         let (g, w) = direct(&solver, &motion.vertex_values(&mesh));
         let want: Vec<f64> = g.iter().zip(&w).map(|(a, b)| a + b).collect();
         let got: Vec<f64> = (0..2)
-            .flat_map(|cc| lev.dofs.dof_vertex.iter().map(move |&v| (v, cc)))
+            .flat_map(|cc| lev.dofs().dof_vertex.iter().map(move |&v| (v, cc)))
             .map(|(v, cc)| sol.displacement[v as usize * 2 + cc])
             .collect();
         assert_eq!(got.len(), 2 * n);
@@ -241,7 +241,7 @@ fn duct_against_direct(mesh: &Mesh) {
         let mut o = Options { method, ..Default::default() };
         o.solve.tol = 1e-13;
         let solver = Solver::new(&mesh, &bcs, o).unwrap();
-        let frames = &solver.hierarchy().fine().slip.as_ref().expect("slip frames").frames;
+        let frames = &solver.hierarchy().fine().slip_frames().expect("slip frames");
         let coupled = (0..frames.dofs.len()).any(|k| frames.directions(k).len() == 2);
         let apart = frames.axes.iter().any(|&(_, mask)| mask.count_ones() == 2);
         assert!(coupled != apart && coupled == (solver.hierarchy().groups().len() == 1));
@@ -250,7 +250,7 @@ fn duct_against_direct(mesh: &Mesh) {
         let (g, w) = direct(&solver, &motion.vertex_values(&mesh));
         let want: Vec<f64> = g.iter().zip(&w).map(|(a, b)| a + b).collect();
         let got: Vec<f64> = (0..3)
-            .flat_map(|cc| lev.dofs.dof_vertex.iter().map(move |&v| (v, cc)))
+            .flat_map(|cc| lev.dofs().dof_vertex.iter().map(move |&v| (v, cc)))
             .map(|(v, cc)| sol.displacement[v as usize * 3 + cc])
             .collect();
         let err = max_diff(&got, &want);

@@ -15,9 +15,9 @@ fn main() {
         let dim = s.mesh.dim();
         let mut disp = vec![0.0; s.mesh.coords().len()];
         for c in 0..dim {
-            let flags = &lev.flags[c];
+            let flags = &lev.flags()[c];
             let dp: Vec<f64> = (0..n)
-                .map(|d| if flags[d] & P != 0 { vals[lev.dofs.dof_vertex[d] as usize * dim + c] } else { 0.0 })
+                .map(|d| if flags[d] & P != 0 { vals[lev.dofs().dof_vertex[d] as usize * dim + c] } else { 0.0 })
                 .collect();
             let mut g = None;
             if method == Method::Biharmonic {
@@ -25,23 +25,23 @@ fn main() {
                 let (patch, m) = s.motion.rigid[0];
                 assert_eq!(s.bcs.kind(patch, c), Kind::Clamped);
                 let l: Vec<f64> =
-                    lev.dofs.dof_vertex.iter().map(|&v| m.displacement(lev.mesh().point(v as usize))[c]).collect();
+                    lev.dofs().dof_vertex.iter().map(|&v| m.displacement(lev.mesh().point(v as usize))[c]).collect();
                 for v in lev.mesh().patch_vertices(patch) {
-                    let d = lev.dofs.vertex_dof[v as usize] as usize;
-                    let (cols, vs) = lev.op.k.row(d);
+                    let d = lev.dofs().vertex_dof[v as usize] as usize;
+                    let (cols, vs) = lev.op().k.row(d);
                     gv[d] = cols.iter().zip(vs).map(|(&j, &a)| a * l[j as usize]).sum();
                 }
                 g = Some(gv);
             }
             let (mut b, mut sc) = (vec![0.0; n], vec![0.0; n]);
-            lev.op.rhs(flags, &dp, g.as_deref(), &mut b, &mut sc);
+            lev.op().rhs(flags, &dp, g.as_deref(), &mut b, &mut sc);
             let free: Vec<usize> = (0..n).filter(|&d| flags[d] & P == 0).collect();
             let m = free.len();
             let mut a = vec![0.0; m * m];
             let (mut e, mut y) = (vec![0.0; n], vec![0.0; n]);
             for (j, &dj) in free.iter().enumerate() {
                 e[dj] = 1.0;
-                lev.op.apply(flags, &e, &mut y, &mut sc);
+                lev.op().apply(flags, &e, &mut y, &mut sc);
                 e[dj] = 0.0;
                 for (i, &di) in free.iter().enumerate() {
                     a[i * m + j] = y[di];
@@ -61,7 +61,7 @@ fn main() {
             for (i, &d) in free.iter().enumerate() {
                 full[d] += x[i];
             }
-            for (v, &d) in lev.dofs.vertex_dof.iter().enumerate() {
+            for (v, &d) in lev.dofs().vertex_dof.iter().enumerate() {
                 disp[v * dim + c] = full[d as usize];
             }
         }

@@ -350,15 +350,15 @@ pub fn reference_displacement(
     let dim = mesh.dim();
     let mut disp = vec![0.0; mesh.coords().len()];
     for c in 0..dim {
-        let flags = &lev.flags[c];
+        let flags = &lev.flags()[c];
         let dp: Vec<f64> = (0..n)
-            .map(|d| if flags[d] & P != 0 { vals[lev.dofs.dof_vertex[d] as usize * dim + c] } else { 0.0 })
+            .map(|d| if flags[d] & P != 0 { vals[lev.dofs().dof_vertex[d] as usize * dim + c] } else { 0.0 })
             .collect();
         // The rigid-motion flux source of a CLAMPED patch (docs/DESIGN.md §4): the solver's own.
         let g = meshmove::solver::rigid_flux(solver.hierarchy(), bcs, motion, c);
         let (mut b, mut sc) = (vec![0.0; n], vec![0.0; n]);
-        lev.op.rhs(flags, &dp, g.as_deref(), &mut b, &mut sc);
-        let dinv = lev.op.inv_l1_diag(flags);
+        lev.op().rhs(flags, &dp, g.as_deref(), &mut b, &mut sc);
+        let dinv = lev.op().inv_l1_diag(flags);
         let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
         let mut x = vec![0.0; n];
         let mut r = b.clone();
@@ -371,7 +371,7 @@ pub fn reference_displacement(
             if dot(&r, &r).sqrt() <= tol * bn {
                 break;
             }
-            lev.op.apply(flags, &p, &mut ap, &mut sc);
+            lev.op().apply(flags, &p, &mut ap, &mut sc);
             let alpha = rz / dot(&p, &ap);
             x.iter_mut().zip(&p).for_each(|(x, p)| *x += alpha * p);
             r.iter_mut().zip(&ap).for_each(|(r, a)| *r -= alpha * a);
@@ -385,7 +385,7 @@ pub fn reference_displacement(
         if bn > 0.0 && rel > 10.0 * tol {
             return Err(meshmove::Error::Diverged(format!("reference CG reached only {rel:e}")));
         }
-        for (v, &d) in lev.dofs.vertex_dof.iter().enumerate() {
+        for (v, &d) in lev.dofs().vertex_dof.iter().enumerate() {
             disp[v * dim + c] = x[d as usize] + dp[d as usize];
         }
     }

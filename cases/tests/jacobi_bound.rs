@@ -12,12 +12,12 @@ use meshmove_cases::meshes::{free_surface, structured_rectangle};
 fn dense_a(s: &Solver, c: usize) -> (Vec<usize>, Vec<Vec<f64>>) {
     let lev = &s.hierarchy().levels[0];
     let n = lev.n();
-    let free: Vec<usize> = (0..n).filter(|&i| lev.flags[c][i] & P == 0).collect();
+    let free: Vec<usize> = (0..n).filter(|&i| lev.flags()[c][i] & P == 0).collect();
     let (mut e, mut y, mut t) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
     let mut a = vec![vec![0.0; free.len()]; free.len()];
     for (jj, &j) in free.iter().enumerate() {
         e[j] = 1.0;
-        lev.op.apply(&lev.flags[c], &e, &mut y, &mut t);
+        lev.op().apply(&lev.flags()[c], &e, &mut y, &mut t);
         e[j] = 0.0;
         for (ii, &i) in free.iter().enumerate() {
             a[ii][jj] = y[i];
@@ -67,7 +67,7 @@ fn l1_bound_dominates_rows_and_sweeps_contract() {
             let lev = &s.hierarchy().levels[0];
             for c in 0..2 {
                 let (free, a) = dense_a(&s, c);
-                let inv_d: Vec<f64> = free.iter().map(|&i| lev.inv_d[c][i]).collect();
+                let inv_d: Vec<f64> = free.iter().map(|&i| lev.inv_d()[c][i]).collect();
                 for (ii, row) in a.iter().enumerate() {
                     let l1: f64 = row.iter().map(|x| x.abs()).sum();
                     assert!(1.0 / inv_d[ii] >= l1 * (1.0 - 1e-12), "{name} {method:?}: D below the l1 row sum");
@@ -88,7 +88,7 @@ fn bare_diagonal_diverges_where_the_l1_bound_does_not() {
     let lev = &s.hierarchy().levels[0];
     let (free, a) = dense_a(&s, 1);
     let bare: Vec<f64> = (0..a.len()).map(|i| 1.0 / a[i][i]).collect();
-    let l1: Vec<f64> = free.iter().map(|&i| lev.inv_d[1][i]).collect();
+    let l1: Vec<f64> = free.iter().map(|&i| lev.inv_d()[1][i]).collect();
     let g_bare = sweep_growth(&a, &bare, 0.9);
     let g_l1 = sweep_growth(&a, &l1, 0.9);
     assert!(g_bare > 1.01, "bare diagonal unexpectedly stable ({g_bare})");

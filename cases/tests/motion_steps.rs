@@ -116,7 +116,7 @@ fn prolongation_is_exact_for_linear_fields_on_every_level() {
             let (fine, coarse) = (&h.levels[l], &h.levels[l + 1]);
             let xc: Vec<f64> = coarse.unknown_points().chunks_exact(2).map(lin).collect();
             let mut xf = vec![0.0; fine.n()];
-            fine.down.as_ref().unwrap().prolong.mul_vec(&xc, &mut xf);
+            fine.prolong().unwrap().mul_vec(&xc, &mut xf);
             for (d, p) in fine.unknown_points().chunks_exact(2).enumerate() {
                 assert!((xf[d] - lin(p)).abs() < 1e-12, "level {l} unknown {d}");
             }

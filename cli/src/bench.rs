@@ -178,18 +178,18 @@ impl Row {
 fn rhs(lev: &Level, motion: &Motion, c: usize) -> Vec<f64> {
     let vals = motion.vertex_values(lev.mesh());
     let dim = lev.mesh().dim();
-    let flags = &lev.flags[c];
+    let flags = &lev.flags()[c];
     let dp: Vec<f64> = (0..lev.n())
-        .map(|d| if flags[d] & P != 0 { vals[lev.dofs.dof_vertex[d] as usize * dim + c] } else { 0.0 })
+        .map(|d| if flags[d] & P != 0 { vals[lev.dofs().dof_vertex[d] as usize * dim + c] } else { 0.0 })
         .collect();
     let (mut b, mut s) = (vec![0.0; lev.n()], vec![0.0; lev.n()]);
-    lev.op.rhs(flags, &dp, None, &mut b, &mut s);
+    lev.op().rhs(flags, &dp, None, &mut b, &mut s);
     b
 }
 
 fn rel_residual(lev: &Level, c: usize, b: &[f64], x: &[f64]) -> f64 {
     let (mut r, mut s) = (vec![0.0; lev.n()], vec![0.0; lev.n()]);
-    lev.op.residual(&lev.flags[c], b, x, &mut r, &mut s);
+    lev.op().residual(&lev.flags()[c], b, x, &mut r, &mut s);
     meshmove::sparse::dot(&r, &r).sqrt() / meshmove::sparse::dot(b, b).sqrt()
 }
 
@@ -203,7 +203,7 @@ fn op_seconds(lev: &Level, c: usize) -> f64 {
     for _ in 0..3 {
         let t = Instant::now();
         for _ in 0..reps {
-            lev.op.apply(&lev.flags[c], &x, &mut y, &mut s);
+            lev.op().apply(&lev.flags()[c], &x, &mut y, &mut s);
         }
         best = best.min(t.elapsed().as_secs_f64() / reps as f64);
     }
@@ -462,7 +462,7 @@ fn alternatives(
         };
         let j = jacobi::solve(lev, comp, &b, &mut x, a.tol, cap);
         // Its own vectors plus the fine K, V, 1/V, 1/D it sweeps with (no hierarchy).
-        let k = &lev.op.k;
+        let k = &lev.op().k;
         let fine = std::mem::size_of_val(&k.row_ptr[..]) + k.nnz() * 12 + lev.n() * (3 * 8 + 2);
         let bytes = (alloc::peak_above(mem) + fine) as f64 / nv as f64;
         rows.push(Row {

@@ -14,7 +14,7 @@ pub use dofs::Dofs;
 pub(crate) use flags::component_flags;
 pub use flags::{P, Z};
 pub use slip::{Constraint, SlipFrames};
-pub(crate) use slip::{face_area_vector, fine_slip_frames, inherit_slip_frames};
+pub(crate) use slip::{fine_slip_frames, inherit_slip_frames};
 pub use slip_walls::{Placements, SlipSurface, SlipWalls};
 pub(crate) use links::resolve_links;
 pub(crate) use well_posed::{check_well_posed, COMPONENT};

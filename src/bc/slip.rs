@@ -9,6 +9,7 @@
 //! vertices are (coarse vertices are fine vertices).
 
 use super::{BoundaryConditions, Dofs, P};
+use crate::mesh::features::{wall_normals, BoundaryFeatures};
 use crate::Mesh;
 
 /// Two wall faces at a vertex belong to one wall (one constrained direction) when their normals
@@ -192,52 +193,6 @@ fn orthogonal_part(v: &[f64; 3], basis: &[[f64; 3]], dim: usize) -> Option<[f64;
     (len > SPAN_TOL * len0).then(|| w.map(|x| x / len))
 }
 
-/// The area vector of a boundary face (2D: the segment's right-hand normal times its length; 3D:
-/// Newell's vector, the polygon's normal times its area), pointing out of the domain.
-pub(crate) fn face_area_vector(mesh: &Mesh, vertices: &[u32]) -> [f64; 3] {
-    crate::geometry::face_area_vector(mesh.dim(), vertices.len(), |k| {
-        let x = mesh.point(vertices[k] as usize);
-        [x[0], x[1], if x.len() > 2 { x[2] } else { 0.0 }]
-    })
-}
-
-/// Groups area vectors into walls: a vector joins the first wall whose summed normal is within
-/// `FEATURE_ANGLE_DEG` of it (either orientation), else starts a wall. Returns each wall's unit
-/// normal, heaviest wall first (ties in order of appearance).
-fn walls(normals: &[[f64; 3]]) -> Vec<[f64; 3]> {
-    let cos_feature = FEATURE_ANGLE_DEG.to_radians().cos();
-    let mut sums: Vec<[f64; 3]> = Vec::new();
-    let mut weights: Vec<f64> = Vec::new();
-    for a in normals {
-        let len = dot(a, a).sqrt();
-        if len == 0.0 {
-            continue;
-        }
-        let found = sums.iter().position(|s| dot(s, a).abs() >= cos_feature * len * dot(s, s).sqrt());
-        match found {
-            Some(k) => {
-                let sign = if dot(&sums[k], a) < 0.0 { -1.0 } else { 1.0 };
-                (0..3).for_each(|c| sums[k][c] += sign * a[c]);
-                weights[k] += len;
-            }
-            None => {
-                sums.push(*a);
-                weights.push(len);
-            }
-        }
-    }
-    let mut order: Vec<usize> = (0..sums.len()).collect();
-    order.sort_by(|&i, &j| weights[j].total_cmp(&weights[i]).then(i.cmp(&j)));
-    order
-        .into_iter()
-        .filter_map(|k| {
-            let s = sums[k];
-            let l = dot(&s, &s).sqrt();
-            (l > 0.0).then(|| s.map(|x| x / l))
-        })
-        .collect()
-}
-
 /// What the frames of a level add to its flags and directions, before they are stored.
 struct Builder {
     dim: usize,
@@ -314,7 +269,7 @@ impl Builder {
 }
 
 /// The slip frames of the fine level: for every unknown with a vertex on a SLIP patch, the walls
-/// its vertices' SLIP faces form (`walls`), their normals as constrained directions. Pinned
+/// its vertices' SLIP faces form (`wall_normals`), their normals as constrained directions. Pinned
 /// unknowns are made P in every component of `flags`. None when the conditions have no SLIP wall.
 pub(crate) fn fine_slip_frames(
     mesh: &Mesh,
@@ -324,25 +279,13 @@ pub(crate) fn fine_slip_frames(
 ) -> Option<SlipFrames> {
     let dim = mesh.dim();
     // Area vectors of the SLIP faces at each vertex, in face order (deterministic).
-    let mut at: Vec<(u32, [f64; 3])> = Vec::new();
-    for f in mesh.patch_faces() {
-        if !bcs.is_slip(f.patch) {
-            continue;
-        }
-        let a = face_area_vector(mesh, f.vertices);
-        at.extend(f.vertices.iter().map(|&v| (v, a)));
-    }
-    if at.is_empty() {
+    let boundary = BoundaryFeatures::new(mesh);
+    let slip: Vec<bool> = (0..boundary.len()).map(|k| bcs.is_slip(boundary.face(k).patch)).collect();
+    let of = |v: u32| boundary.faces_at(v as usize).iter().filter(|&&k| slip[k as usize]).map(|&k| boundary.area(k as usize));
+    let on_wall: Vec<bool> = (0..mesh.num_vertices()).map(|v| of(v as u32).next().is_some()).collect();
+    if !on_wall.iter().any(|&w| w) {
         return None;
     }
-    at.sort_by_key(|e| e.0);
-    let of = |v: u32| {
-        let lo = at.partition_point(|e| e.0 < v);
-        let hi = at.partition_point(|e| e.0 <= v);
-        &at[lo..hi]
-    };
-    let mut on_wall = vec![false; mesh.num_vertices()];
-    at.iter().for_each(|e| on_wall[e.0 as usize] = true);
     let mut b = Builder::new(dim);
     let mut normals: Vec<[f64; 3]> = Vec::new();
     for d in 0..dofs.n {
@@ -351,8 +294,8 @@ pub(crate) fn fine_slip_frames(
             continue;
         }
         normals.clear();
-        vs.iter().for_each(|&v| normals.extend(of(v).iter().map(|e| e.1)));
-        b.push(d as u32, &walls(&normals), flags, true);
+        vs.iter().for_each(|&v| normals.extend(of(v)));
+        b.push(d as u32, &wall_normals(&normals, FEATURE_ANGLE_DEG), flags, true);
     }
     b.finish(flags)
 }
@@ -387,16 +330,6 @@ mod tests {
         assert_eq!(axis_mask(&[[1.0, 3e-17, 0.0], [0.0, 0.0, 1.0]]), Some(0b101));
         assert_eq!(axis_mask(&[[1.0, 1e-9, 0.0]]), None);
         assert_eq!(axis_mask(&[[0.0, 1.0, 0.0], [0.6, 0.0, 0.8]]), None);
-    }
-
-    #[test]
-    fn walls_merge_a_curve_and_split_a_corner() {
-        let a = |t: f64| [t.cos(), t.sin(), 0.0];
-        // Two segments of a 16-gon: one wall; two sides of a box: two walls.
-        assert_eq!(walls(&[a(0.0), a(std::f64::consts::TAU / 16.0)]).len(), 1);
-        assert_eq!(walls(&[[1.0, 0.0, 0.0], [0.0, 2.0, 0.0]]).len(), 2);
-        // Opposite orientations of one plane: one wall.
-        assert_eq!(walls(&[[0.0, 0.0, 1.0], [0.0, 0.0, -3.0]]).len(), 1);
     }
 
     #[test]

@@ -8,6 +8,7 @@
 
 mod data;
 mod error;
+pub(crate) mod features;
 #[cfg(test)]
 pub(crate) mod fixtures;
 /// Cell quality (public with the `internals` feature: the paper's cases measure with it).

@@ -1,8 +1,8 @@
 //! The coarsest level's solve of a group: Π A Π on a basis of the group's free directions (unit
 //! vectors of free components; a slip unknown's tangents), dense Cholesky.
 
-use super::group::GroupOp;
-use super::smoother::{smooth, Scratch, Smoother, Start};
+use super::group::{GroupOp, Scratch};
+use super::smoother::{smooth, Smoother, Start};
 use crate::bc::P;
 use crate::dense::Cholesky;
 use crate::{Error, Result};

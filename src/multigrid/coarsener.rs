@@ -8,8 +8,7 @@
 //! or Galerkin PᵀKP, smoothers, coarse solve) without knowing how the levels were made. The
 //! coarseners implement this trait in their own modules; `multigrid::coarsener_for` picks one.
 
-use super::coarsen::CoarseMesh;
-use super::hierarchy::{Level, Transfer};
+use super::level::{Level, Transfer};
 use crate::{Mesh, Result};
 
 /// Makes the coarse levels of a hierarchy and their transfers.
@@ -35,4 +34,15 @@ pub(crate) struct CoarseUnknowns {
     pub kept: Vec<u32>,
     /// The transfer from the fine level.
     pub transfer: Transfer,
+}
+
+/// A coarse mesh made from a fine one, and how its vertices and links relate to the fine ones.
+#[derive(Clone, Debug)]
+pub(crate) struct CoarseMesh {
+    /// The coarse mesh: valid, all cells counter-clockwise with positive area.
+    pub mesh: Mesh,
+    /// Coarse vertex `i` is fine vertex `fine_vertex[i]` (same position); ascending.
+    pub fine_vertex: Vec<u32>,
+    /// The input links whose two vertices were both kept, in coarse numbering.
+    pub links: Vec<[u32; 2]>,
 }

@@ -6,7 +6,8 @@
 use super::group::{block, block_mut, GroupOp};
 use super::hierarchy::Hierarchy;
 pub use super::policy::CycleParams;
-use super::smoother::{smooth, Scratch, Start};
+use super::group::Scratch;
+use super::smoother::{smooth, Start};
 use crate::bc::P;
 use crate::sparse::par_update;
 
@@ -89,7 +90,7 @@ fn level_cycle(
     let (n, g) = (op.n(), op.len());
     let work = &mut ws.levels[l];
     let Some(down) = &lev.down else {
-        let solve = lev.coarse_solve(&comps).expect("coarsest level has its solve");
+        let solve = h.coarse_solve(&comps).expect("coarsest level has its solve");
         solve.solve(&op, b, x, start, &mut work.r[..g * n], &mut work.scratch);
         return 0.0;
     };

@@ -4,11 +4,10 @@
 //! components coupled by slip walls are one group whose products, residuals and smoothing steps
 //! are projected on the subspace the slip frames leave free (`multigrid::slip`).
 
-use super::hierarchy::Level;
 use super::layout::Layout;
-use super::slip;
-use super::smoother::{Problem, Scratch};
-use crate::bc::SlipFrames;
+use super::level::Level;
+use crate::bc::{SlipFrames, P};
+use crate::operator::{LevelOperator, Method};
 use std::ops::Range;
 
 /// Block `k` of a group's vector of blocks of `n` values.
@@ -38,7 +37,7 @@ pub(crate) struct GroupOp<'a> {
 impl<'a> GroupOp<'a> {
     /// The group `comps` of `level`; `l1_bound` as in `CycleParams::l1_bound`.
     pub(crate) fn new(level: &'a Level, comps: Range<usize>, l1_bound: bool) -> Self {
-        let frames = slip::frames_for(level, &comps).map(|s| &s.frames);
+        let frames = level.coupled_frames(&comps);
         GroupOp { level, first: comps.start, len: comps.len(), frames, l1_bound }
     }
 
@@ -171,4 +170,62 @@ impl<'a> GroupOp<'a> {
             f.project_blocks(&mut d);
         }
     }
+}
+
+/// The operator of one level and component, with its Jacobi bound.
+#[derive(Clone, Copy)]
+pub struct Problem<'a> {
+    pub op: &'a LevelOperator,
+    pub flags: &'a [u8],
+    pub inv_d: &'a [f64],
+    pub lambda_max: f64,
+}
+
+/// Scratch of one block of a level's smoother: the biharmonic's S (empty for the second-order
+/// methods, which have none) and the step.
+pub struct Scratch {
+    pub s: Vec<f64>,
+    pub d: Vec<f64>,
+}
+
+impl Scratch {
+    pub fn new(n: usize, method: Method) -> Self {
+        let ns = if method == Method::Biharmonic { n } else { 0 };
+        Scratch { s: vec![0.0; ns], d: vec![0.0; n] }
+    }
+}
+
+/// Largest eigenvalue of D⁻¹ Π A on the group's free subspace by power iteration from a fixed
+/// start (deterministic), padded by 10% and capped at 1, the l1 bound's guarantee.
+pub(crate) fn estimate_lambda_max(op: &GroupOp) -> f64 {
+    let (n, g) = (op.n(), op.len());
+    // A fixed, mode-rich start vector: a cheap hash of the index.
+    let mut x: Vec<f64> = (0..g * n)
+        .map(|k| {
+            let (b, i) = (k / n, k % n);
+            if op.flags(b)[i] & P != 0 {
+                0.0
+            } else {
+                ((k as u64).wrapping_mul(2654435761) % 1000) as f64 / 1000.0 - 0.5
+            }
+        })
+        .collect();
+    op.project(&mut x);
+    let (mut y, mut s) = (vec![0.0; g * n], vec![0.0; n]);
+    let mut lambda = 0.0;
+    for _ in 0..15 {
+        let nx = op.norm(&x);
+        if nx == 0.0 {
+            return 1.0;
+        }
+        x.iter_mut().for_each(|v| *v /= nx);
+        op.apply_blocks(&mut x, &mut y, &mut s);
+        for k in 0..g {
+            block_mut(&mut y, n, k).iter_mut().zip(op.inv_d(k)).for_each(|(y, d)| *y *= d);
+        }
+        op.project(&mut y);
+        lambda = op.norm(&y);
+        std::mem::swap(&mut x, &mut y);
+    }
+    (1.1 * lambda).clamp(0.05, 1.0)
 }

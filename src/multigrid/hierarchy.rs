@@ -1,6 +1,7 @@
-//! The multigrid hierarchy: per level its unknowns, flags, operator, smoother bounds, layout and
-//! the transfer to the next coarser level (docs/DESIGN.md §5). The finest level has the user's mesh; a coarse level has
-//! a coarse mesh (2D) or is a subset of the finer level's unknowns without a mesh.
+//! The multigrid hierarchy (docs/DESIGN.md §5): its levels (`multigrid::level`), built with a
+//! coarsener, and the coarsest level's direct solves. The finest level has the user's mesh; a
+//! coarse level has a coarse mesh (2D) or is a subset of the finer level's unknowns without a
+//! mesh.
 //!
 //! Coarse vertices and unknowns are a subset of the fine ones, so when the fine mesh moves the
 //! coarse levels follow it with their topology kept; only values are re-evaluated.
@@ -8,59 +9,18 @@
 use super::coarse_solve::CoarseSolve;
 use super::coarsen::CoarsenParams;
 use super::coarsener::{CoarseUnknowns, Coarsener};
-use super::{coarsener_for, CoarseLevels};
-use super::restriction::Restriction;
-use super::slip::{self, LevelSlip};
-use super::group::GroupOp;
+use super::group::{estimate_lambda_max, GroupOp};
 use super::layout::Distribution;
-use super::smoother::estimate_lambda_max;
+pub use super::level::Level;
+use super::level::Transfer;
+use super::slip;
+use super::{coarsener_for, CoarseLevels};
 use crate::bc::{check_well_posed, component_flags, BoundaryConditions, Dofs};
 use crate::mesh::quality::is_inverted;
 use crate::operator::{LevelOperator, Method};
-use crate::sparse::CsrMatrix;
 use crate::{Mesh, Result};
 use rayon::prelude::*;
 use std::ops::Range;
-use std::sync::Arc;
-
-/// Interpolation from the next coarser level and its transpose.
-pub struct Transfer {
-    /// Fine unknowns × coarse unknowns: the coarsener's interpolation weights.
-    pub prolong: Arc<CsrMatrix>,
-    /// Its transpose, stored (pattern only, weights read from `prolong`) so restriction is a
-    /// gather too.
-    pub restrict: Restriction,
-}
-
-/// One level of the hierarchy. Per-component data (`flags`, `inv_d`, `lambda_max`) has one
-/// entry per component of the displacement; the coarsest level's `coarse` has one solve per
-/// group. What a coarsener knows of the level stays in the coarsener.
-pub struct Level {
-    /// The level's mesh: the user's on the finest level, a coarse mesh from a coarsener that
-    /// makes them; None on a level of kept unknowns.
-    pub mesh: Option<Mesh>,
-    /// The positions of the unknowns of a level without a mesh (`dim` values each); empty
-    /// otherwise (`unknown_points` derives them from the mesh).
-    pub points: Vec<f64>,
-    pub pairs: Vec<[u32; 2]>,
-    pub dofs: Dofs,
-    pub op: LevelOperator,
-    pub flags: Vec<Vec<u8>>,
-    pub inv_d: Vec<Vec<f64>>,
-    pub lambda_max: Vec<f64>,
-    /// Vertex i of this level is vertex `parent_vertex[i]` of the next finer level; on a level
-    /// without a mesh, unknown i is unknown `parent_vertex[i]` of the next finer level.
-    pub parent_vertex: Vec<u32>,
-    /// Transfer to the next coarser level; None on the coarsest.
-    pub down: Option<Transfer>,
-    /// The direct solve of each group (`groups`), on the coarsest level only.
-    pub coarse: Option<Vec<(Range<usize>, CoarseSolve)>>,
-    /// Slip walls: the constrained directions of the slip unknowns (`multigrid::slip`), built
-    /// from the mesh on the finest level and inherited below; None without slip walls.
-    pub slip: Option<LevelSlip>,
-    /// How the level's vectors are spread over processes (`multigrid::layout`).
-    pub(crate) layout: Distribution,
-}
 
 /// What a level computes from its mesh (everything but the mesh itself), so it can be built
 /// while the same mesh is being coarsened.
@@ -92,7 +52,6 @@ impl LevelParts {
             lambda_max: Vec::new(),
             parent_vertex,
             down: None,
-            coarse: None,
             slip: None,
             layout: Distribution::new(n),
         }
@@ -100,101 +59,53 @@ impl LevelParts {
     }
 }
 
-impl Level {
-    /// The level kept from `fine`'s unknowns `c.kept`: their flags, slip frames and positions,
-    /// no mesh, the Galerkin operator.
-    fn kept(fine: &Level, c: CoarseUnknowns, bcs: &BoundaryConditions) -> (Level, Transfer) {
-        let CoarseUnknowns { kept, transfer } = c;
-        let fine_points = fine.unknown_points();
-        let dim = fine.dim();
-        let points = kept.iter().flat_map(|&d| fine_points[d as usize * dim..(d as usize + 1) * dim].iter().copied()).collect();
-        let flags = fine.flags.iter().map(|f| kept.iter().map(|&d| f[d as usize]).collect()).collect();
-        let op = LevelOperator::galerkin(&fine.op, &transfer.prolong, &transfer.prolong.transpose());
-        let layout = Distribution::new(kept.len());
-        let mut level = Level {
-            mesh: None,
-            points,
-            pairs: Vec::new(),
-            dofs: Dofs::identity(kept.len()),
-            op,
-            flags,
-            inv_d: Vec::new(),
-            lambda_max: Vec::new(),
-            parent_vertex: kept,
-            down: None,
-            coarse: None,
-            slip: None,
-            layout,
-        };
-        slip::attach(&mut level, Some(fine), bcs);
-        level.refresh_bounds();
-        (level, transfer)
-    }
-
-    /// The level's mesh; only for levels that have one (the finest always has).
-    pub fn mesh(&self) -> &Mesh {
-        self.mesh.as_ref().expect("a level with a mesh")
-    }
-
-    fn refresh_bounds(&mut self) {
-        // The components are independent: side by side, so small levels use several threads.
-        self.inv_d = (0..self.flags.len()).into_par_iter().map(|c| self.op.inv_l1_diag(&self.flags[c])).collect();
-        // The l1 bound guarantees λmax(D⁻¹A) ≤ 1. For the second-order operators it is nearly
-        // tight (the CG iteration counts of the estimate, see docs/perf-history.md), and the
-        // estimate, redone at every re-evaluated step, costs a sizeable part of a Laplacian
-        // solve (30 products per level). The biharmonic's bound is looser, so it keeps the
-        // estimate.
-        self.lambda_max = if self.op.method == Method::Biharmonic {
-            let level = &*self;
-            (0..self.flags.len()).into_par_iter().map(|c| estimate_lambda_max(&GroupOp::new(level, c..c + 1, false))).collect()
-        } else {
-            vec![1.0; self.flags.len()]
-        };
-        slip::equalise_bounds(self);
-    }
-
-    /// The groups of components solved as one system: every component alone, as the methods
-    /// decouple them, or all together when a slip wall couples them.
-    pub fn groups(&self) -> Vec<Range<usize>> {
-        if slip::coupled(self) {
-            return std::iter::once(0..self.dim()).collect();
-        }
-        (0..self.dim()).map(|c| c..c + 1).collect()
-    }
-
-    /// The coarsest level's solve of the group `comps`.
-    pub(crate) fn coarse_solve(&self, comps: &Range<usize>) -> Option<&CoarseSolve> {
-        self.coarse.as_ref()?.iter().find(|(g, _)| g == comps).map(|(_, s)| s)
-    }
-
-    pub fn n(&self) -> usize {
-        self.dofs.n
-    }
-
-    /// The number of components of the displacement.
-    pub fn dim(&self) -> usize {
-        self.flags.len()
-    }
-
-    /// The region each unknown should be interpolated from: its own when it lies inside one
-    /// region (or is a split copy of one), None on an unsplit interface.
-    pub fn dof_regions(&self) -> Vec<Option<i32>> {
-        // A vertex inside one region interpolates from that region's coarse cells only.
-        let mesh = self.mesh();
-        let mut vregion: Vec<Option<Option<i32>>> = vec![None; mesh.num_vertices()];
-        for (c, &r) in mesh.regions().iter().enumerate() {
-            for &v in mesh.cell(c) {
-                let e = &mut vregion[v as usize];
-                *e = match *e {
-                    None => Some(Some(r)),
-                    Some(Some(q)) if q == r => Some(Some(r)),
-                    _ => Some(None),
-                };
-            }
-        }
-        (0..self.dofs.n).map(|d| self.dofs.region_of(d).or(vregion[self.dofs.dof_vertex[d] as usize].flatten())).collect()
-    }
+/// The level kept from `fine`'s unknowns `c.kept`: their flags, slip frames and positions,
+/// no mesh, the Galerkin operator.
+fn kept_level(fine: &Level, c: CoarseUnknowns, bcs: &BoundaryConditions) -> (Level, Transfer) {
+    let CoarseUnknowns { kept, transfer } = c;
+    let fine_points = fine.unknown_points();
+    let dim = fine.dim();
+    let points = kept.iter().flat_map(|&d| fine_points[d as usize * dim..(d as usize + 1) * dim].iter().copied()).collect();
+    let flags = fine.flags.iter().map(|f| kept.iter().map(|&d| f[d as usize]).collect()).collect();
+    let op = LevelOperator::galerkin(&fine.op, &transfer.prolong, &transfer.prolong.transpose());
+    let layout = Distribution::new(kept.len());
+    let mut level = Level {
+        mesh: None,
+        points,
+        pairs: Vec::new(),
+        dofs: Dofs::identity(kept.len()),
+        op,
+        flags,
+        inv_d: Vec::new(),
+        lambda_max: Vec::new(),
+        parent_vertex: kept,
+        down: None,
+        slip: None,
+        layout,
+    };
+    slip::attach(&mut level, Some(fine), bcs);
+    refresh_bounds(&mut level);
+    (level, transfer)
 }
+
+/// The level's Jacobi diagonals and λmax estimates, after its flags and slip frames.
+fn refresh_bounds(level: &mut Level) {
+    // The components are independent: side by side, so small levels use several threads.
+    level.inv_d = (0..level.flags.len()).into_par_iter().map(|c| level.op.inv_l1_diag(&level.flags[c])).collect();
+    // The l1 bound guarantees λmax(D⁻¹A) ≤ 1. For the second-order operators it is nearly
+    // tight (the CG iteration counts of the estimate, see docs/perf-history.md), and the
+    // estimate, redone at every re-evaluated step, costs a sizeable part of a Laplacian
+    // solve (30 products per level). The biharmonic's bound is looser, so it keeps the
+    // estimate.
+    level.lambda_max = if level.op.method == Method::Biharmonic {
+        let lv = &*level;
+        (0..level.flags.len()).into_par_iter().map(|c| estimate_lambda_max(&GroupOp::new(lv, c..c + 1, false))).collect()
+    } else {
+        vec![1.0; level.flags.len()]
+    };
+    slip::equalise_bounds(level);
+}
+
 
 /// How a coarse level's K and V are made.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -250,6 +161,8 @@ pub struct Hierarchy {
     /// Built from the current fine mesh (true) or moved there from the mesh it was built on.
     pub fresh: bool,
     coarsener: Box<dyn Coarsener>,
+    /// The direct solve of each group (`Level::groups`) on the coarsest level.
+    coarse: Vec<(Range<usize>, CoarseSolve)>,
 }
 
 impl Hierarchy {
@@ -276,7 +189,7 @@ impl Hierarchy {
             );
             let mut level = parts.into_level(mesh, pairs, parent_vertex);
             slip::attach(&mut level, levels.last(), bcs);
-            level.refresh_bounds();
+            refresh_bounds(&mut level);
             let l = levels.len();
             match levels.last_mut() {
                 None => check_well_posed(&level.op.k, &level.flags, &level.dofs, level.slip.as_ref().map(|s| &s.frames))?,
@@ -284,7 +197,7 @@ impl Hierarchy {
                     let down = coarsener.transfer(l - 1, fine, &level);
                     if galerkin {
                         level.op = LevelOperator::galerkin(&fine.op, &down.prolong, &down.prolong.transpose());
-                        level.refresh_bounds();
+                        refresh_bounds(&mut level);
                     }
                     fine.down = Some(down);
                 }
@@ -301,17 +214,17 @@ impl Hierarchy {
             let Some(c) = coarsener.coarsen_unknowns(l, &levels[l]) else {
                 break;
             };
-            let (level, down) = Level::kept(&levels[l], c, bcs);
+            let (level, down) = kept_level(&levels[l], c, bcs);
             levels[l].down = Some(down);
             levels.push(level);
         }
-        let mut h = Hierarchy { levels, method, galerkin, fresh: true, coarsener };
+        let mut h = Hierarchy { levels, method, galerkin, fresh: true, coarsener, coarse: Vec::new() };
         h.build_coarse_solve()?;
         Ok(h)
     }
 
     fn build_coarse_solve(&mut self) -> Result<()> {
-        let last = self.levels.last_mut().expect("one level at least");
+        let last = self.levels.last().expect("one level at least");
         // A coupled group is one system there (a component alone may have nothing prescribed
         // and be singular).
         let solves = last
@@ -319,8 +232,13 @@ impl Hierarchy {
             .into_iter()
             .map(|g| Ok((g.clone(), CoarseSolve::new(&GroupOp::new(last, g, false))?)))
             .collect::<Result<Vec<_>>>()?;
-        last.coarse = Some(solves);
+        self.coarse = solves;
         Ok(())
+    }
+
+    /// The coarsest level's solve of the group `comps`.
+    pub(crate) fn coarse_solve(&self, comps: &Range<usize>) -> Option<&CoarseSolve> {
+        self.coarse.iter().find(|(g, _)| g == comps).map(|(_, s)| s)
     }
 
     /// Whether some level has no mesh (a level of kept unknowns).
@@ -399,7 +317,7 @@ impl Hierarchy {
                     coarse.op = LevelOperator::galerkin(&fine.op, &down.prolong, &down.prolong.transpose());
                 }
             }
-            self.levels[l].refresh_bounds();
+            refresh_bounds(&mut self.levels[l]);
         }
         self.build_coarse_solve()?;
         self.fresh = false;

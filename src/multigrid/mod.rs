@@ -9,6 +9,7 @@ pub mod cycle;
 pub mod group;
 pub mod hierarchy;
 mod layout;
+pub mod level;
 mod lsq;
 pub mod params;
 pub mod policy;

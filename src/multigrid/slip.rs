@@ -16,26 +16,11 @@
 //!
 //! The cycle stays symmetric on the subspace, so it preconditions CG as before.
 
-use super::group::GroupOp;
-use super::hierarchy::Level;
-use super::smoother::estimate_lambda_max;
+use super::group::{estimate_lambda_max, GroupOp};
+use super::level::{Level, LevelSlip};
 use crate::bc::{component_flags, fine_slip_frames, inherit_slip_frames, BoundaryConditions, SlipFrames, P};
 use crate::operator::Method;
 use crate::Mesh;
-use std::ops::Range;
-
-/// What a level keeps for its slip walls.
-pub struct LevelSlip {
-    /// The constrained directions of the level's slip unknowns.
-    pub frames: SlipFrames,
-    /// The conditions the fine level's frames come from, to remake them at a new reference (fine
-    /// level only).
-    bcs: Option<BoundaryConditions>,
-    /// The components are one coupled system: the finest level has slip unknowns with frames
-    /// (walls not normal to an axis). Without, the walls only prescribe components (axis walls,
-    /// pinned corners) and the components are solved apart. Every level has its finest's.
-    pub coupled: bool,
-}
 
 /// The finer level's unknown of each unknown of `level` (its vertex is a finer vertex, or on a
 /// level without a mesh it is a finer unknown).
@@ -114,17 +99,6 @@ pub(super) fn set_frames(level: &mut Level, frames: Option<SlipFrames>) {
     if let (Some(s), Some(f)) = (level.slip.as_mut(), frames) {
         s.frames = f;
     }
-}
-
-/// The frames of `level` when they apply to the components `comps` (the whole displacement of a
-/// coupled hierarchy: a slip wall with frames couples every component).
-pub(super) fn frames_for<'a>(level: &'a Level, comps: &Range<usize>) -> Option<&'a LevelSlip> {
-    level.slip.as_ref().filter(|s| s.coupled && comps.len() == level.dim() && comps.len() > 1)
-}
-
-/// The level's components are one coupled system (see `LevelSlip::coupled`).
-pub(super) fn coupled(level: &Level) -> bool {
-    level.slip.as_ref().is_some_and(|s| s.coupled)
 }
 
 /// The same Jacobi diagonal for every free component of a slip unknown (the largest D of its

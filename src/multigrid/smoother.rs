@@ -1,9 +1,8 @@
 //! Smoothers on one level: damped Jacobi with the l1 bound (paper Eq. 7) and Chebyshev
 //! acceleration of the same Jacobi iteration.
 
-use super::group::{block, block_mut, GroupOp};
-use crate::bc::P;
-use crate::operator::{LevelOperator, Method};
+use super::group::{block, block_mut, GroupOp, Problem, Scratch};
+
 use crate::sparse::par_update2;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -17,29 +16,6 @@ pub enum Smoother {
     /// so it needs no lower bound: on the boundary-layer cylinder's wall layer it converges where
     /// the first kind stalls (docs/perf-history.md).
     Fourth { degree: usize },
-}
-
-/// Scratch of one block of a level's smoother: the biharmonic's S (empty for the second-order
-/// methods, which have none) and the step.
-pub struct Scratch {
-    pub s: Vec<f64>,
-    pub d: Vec<f64>,
-}
-
-impl Scratch {
-    pub fn new(n: usize, method: Method) -> Self {
-        let ns = if method == Method::Biharmonic { n } else { 0 };
-        Scratch { s: vec![0.0; ns], d: vec![0.0; n] }
-    }
-}
-
-/// The operator of one level and component, with its Jacobi bound.
-#[derive(Clone, Copy)]
-pub struct Problem<'a> {
-    pub op: &'a LevelOperator,
-    pub flags: &'a [u8],
-    pub inv_d: &'a [f64],
-    pub lambda_max: f64,
 }
 
 /// What `x` holds when a smoother starts.
@@ -161,41 +137,6 @@ pub(super) fn fourth_kind(rho: f64, degree: usize) -> (f64, impl Iterator<Item =
         ((2.0 * k - 1.0) / (2.0 * k + 3.0), (8.0 * k + 4.0) / ((2.0 * k + 3.0) * rho))
     });
     (4.0 / (3.0 * rho), steps)
-}
-
-/// Largest eigenvalue of D⁻¹ Π A on the group's free subspace by power iteration from a fixed
-/// start (deterministic), padded by 10% and capped at 1, the l1 bound's guarantee.
-pub(crate) fn estimate_lambda_max(op: &GroupOp) -> f64 {
-    let (n, g) = (op.n(), op.len());
-    // A fixed, mode-rich start vector: a cheap hash of the index.
-    let mut x: Vec<f64> = (0..g * n)
-        .map(|k| {
-            let (b, i) = (k / n, k % n);
-            if op.flags(b)[i] & P != 0 {
-                0.0
-            } else {
-                ((k as u64).wrapping_mul(2654435761) % 1000) as f64 / 1000.0 - 0.5
-            }
-        })
-        .collect();
-    op.project(&mut x);
-    let (mut y, mut s) = (vec![0.0; g * n], vec![0.0; n]);
-    let mut lambda = 0.0;
-    for _ in 0..15 {
-        let nx = op.norm(&x);
-        if nx == 0.0 {
-            return 1.0;
-        }
-        x.iter_mut().for_each(|v| *v /= nx);
-        op.apply_blocks(&mut x, &mut y, &mut s);
-        for k in 0..g {
-            block_mut(&mut y, n, k).iter_mut().zip(op.inv_d(k)).for_each(|(y, d)| *y *= d);
-        }
-        op.project(&mut y);
-        lambda = op.norm(&y);
-        std::mem::swap(&mut x, &mut y);
-    }
-    (1.1 * lambda).clamp(0.05, 1.0)
 }
 
 #[cfg(test)]

@@ -12,14 +12,14 @@ use meshmove::{Method, Solver};
 pub fn direct_solve(solver: &Solver, c: usize, d: &[f64]) -> Vec<f64> {
     let lev = &solver.hierarchy().levels[0];
     let n = lev.n();
-    let k = lev.op.k.to_dense();
-    let flags = &lev.flags[c];
+    let k = lev.op().k.to_dense();
+    let flags = &lev.flags()[c];
     let u: Vec<usize> = (0..n).filter(|&i| flags[i] & P == 0).collect();
     let f: Vec<usize> = (0..n).filter(|&i| flags[i] & Z == 0).collect();
     let m = u.len();
     let mut a = vec![0.0; m * m];
     let mut b = vec![0.0; m];
-    let biharmonic = lev.op.method == Method::Biharmonic;
+    let biharmonic = lev.op().method == Method::Biharmonic;
     // (K_F,: d_P) / V on F, used by the right-hand side.
     for (ii, &i) in u.iter().enumerate() {
         if biharmonic {
@@ -27,7 +27,7 @@ pub fn direct_solve(solver: &Solver, c: usize, d: &[f64]) -> Vec<f64> {
                 if k[i][kk] == 0.0 {
                     continue;
                 }
-                let w = k[i][kk] * lev.op.inv_v[kk];
+                let w = k[i][kk] * lev.op().inv_v[kk];
                 for (jj, &j) in u.iter().enumerate() {
                     a[ii * m + jj] += w * k[kk][j];
                 }
@@ -60,5 +60,5 @@ pub fn direct_solve(solver: &Solver, c: usize, d: &[f64]) -> Vec<f64> {
 /// Per-unknown values of component `c` of a per-vertex field (`dim` values per vertex).
 pub fn at_dofs(solver: &Solver, field: &[f64], c: usize) -> Vec<f64> {
     let dim = solver.mesh().dim();
-    solver.hierarchy().levels[0].dofs.dof_vertex.iter().map(|&v| field[v as usize * dim + c]).collect()
+    solver.hierarchy().levels[0].dofs().dof_vertex.iter().map(|&v| field[v as usize * dim + c]).collect()
 }

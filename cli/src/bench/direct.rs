@@ -17,8 +17,8 @@ pub struct Direct {
 /// Lower triangle of A restricted to the free unknowns, as CSC columns (= rows of the upper
 /// triangle, A being symmetric), in the free numbering.
 fn assemble_lower(lev: &Level, c: usize, free_of: &[u32], nfree: usize) -> SparseColMat<usize, f64> {
-    let flags = &lev.flags[c];
-    let k = &lev.op.k;
+    let flags = &lev.flags()[c];
+    let k = &lev.op().k;
     let n = lev.n();
     let mut col_ptr = vec![0usize];
     let mut rows: Vec<usize> = Vec::new();
@@ -42,14 +42,14 @@ fn assemble_lower(lev: &Level, c: usize, free_of: &[u32], nfree: usize) -> Spars
             }
             acc[ju] += a;
         };
-        match lev.op.method {
+        match lev.op().method {
             Method::Biharmonic => {
                 for (&kk, &a) in ci.iter().zip(vi) {
                     let ku = kk as usize;
                     if flags[ku] & Z != 0 {
                         continue;
                     }
-                    let w = a * lev.op.inv_v[ku];
+                    let w = a * lev.op().inv_v[ku];
                     let (ck, vk) = k.row(ku);
                     for (&j, &b) in ck.iter().zip(vk) {
                         add(j, w * b);
@@ -80,7 +80,7 @@ fn assemble_lower(lev: &Level, c: usize, free_of: &[u32], nfree: usize) -> Spars
 pub fn solve(lev: &Level, c: usize, b: &[f64], x: &mut [f64]) -> Result<Direct, String> {
     use faer::prelude::SpSolver;
     let t0 = std::time::Instant::now();
-    let flags = &lev.flags[c];
+    let flags = &lev.flags()[c];
     let mut free_of = vec![u32::MAX; lev.n()];
     let mut nfree = 0u32;
     for (i, f) in free_of.iter_mut().enumerate() {

@@ -27,7 +27,7 @@ const CHECK: usize = 50;
 
 pub fn solve(lev: &Level, c: usize, b: &[f64], x: &mut [f64], tol: f64, cap: Cap) -> Jacobi {
     let t0 = std::time::Instant::now();
-    let (flags, inv_d) = (&lev.flags[c], &lev.inv_d[c]);
+    let (flags, inv_d) = (&lev.flags()[c], &lev.inv_d()[c]);
     let n = lev.n();
     let (mut r, mut s, mut xn) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
     let bn = dot(b, b).sqrt();
@@ -37,7 +37,7 @@ pub fn solve(lev: &Level, c: usize, b: &[f64], x: &mut [f64], tol: f64, cap: Cap
     let mut rel;
     loop {
         if sweeps % CHECK == 0 {
-            lev.op.residual(flags, b, &xv, &mut r, &mut s);
+            lev.op().residual(flags, b, &xv, &mut r, &mut s);
             rel = dot(&r, &r).sqrt() / bn;
             hist.push((sweeps, rel));
             let capped = match cap {
@@ -50,7 +50,7 @@ pub fn solve(lev: &Level, c: usize, b: &[f64], x: &mut [f64], tol: f64, cap: Cap
         }
         // One pass per sweep, the residual fused in, as a tuned legacy mover would do it.
         let xr = &xv;
-        lev.op.update_with_residual(flags, b, xr, &mut s, &mut xn, |i, r, _| xr[i] + inv_d[i] * r);
+        lev.op().update_with_residual(flags, b, xr, &mut s, &mut xn, |i, r, _| xr[i] + inv_d[i] * r);
         std::mem::swap(&mut xv, &mut xn);
         sweeps += 1;
     }

@@ -10,13 +10,14 @@ pub(crate) mod tests;
 mod locate;
 mod triangulate;
 
-use super::coarsener::{CoarseUnknowns, Coarsener};
-use super::hierarchy::{Level, Transfer};
+use super::coarsener::{CoarseMesh, CoarseUnknowns, Coarsener};
+use super::level::{Level, Transfer};
 use super::restriction::Restriction;
 use crate::sparse::{offset, CsrMatrix};
 use locate::{Location, Locator};
 use std::sync::Arc;
 use crate::error::{Error, Result};
+use crate::mesh::features::BoundaryFeatures;
 use crate::mesh::{edge_key, EdgeCells, Mesh, VertexCells};
 use glam::DVec2;
 use spade::handles::FixedVertexHandle;
@@ -130,17 +131,6 @@ impl Default for CoarsenParams {
     }
 }
 
-/// One coarse level.
-#[derive(Clone, Debug)]
-pub(crate) struct CoarseMesh {
-    /// The coarse mesh: valid, all cells counter-clockwise with positive area.
-    pub mesh: Mesh,
-    /// Coarse vertex `i` is fine vertex `fine_vertex[i]` (same position); ascending.
-    pub fine_vertex: Vec<u32>,
-    /// The input links whose two vertices were both kept, in coarse numbering.
-    pub links: Vec<[u32; 2]>,
-}
-
 /// Attempts at fixing a failed triangulation (keeping a whole chain, dropping an interior point)
 /// before giving up on this level.
 const MAX_ATTEMPTS: usize = 24;
@@ -199,7 +189,7 @@ pub(crate) fn coarsen(fine: &Mesh, links: &[[u32; 2]], params: &CoarsenParams) -
     if nv < params.min_vertices || (nv as f64) < params.min_ratio * params.min_vertices as f64 {
         return Ok(None);
     }
-    let features = Features::build(fine, links, params);
+    let features = FeatureChains::build(fine, links, params);
     let around = fine.vertex_cells();
     let mut keep_all = vec![false; features.chains.len()];
     let mut banned = vec![false; nv];
@@ -225,41 +215,27 @@ pub(crate) fn coarsen(fine: &Mesh, links: &[[u32; 2]], params: &CoarsenParams) -
     Ok(None)
 }
 
-/// Feature chains and per-vertex feature data of the fine mesh.
-struct Features {
+/// Feature chains and per-vertex feature data of the fine mesh (its corners from
+/// `BoundaryFeatures::is_chain_corner`).
+struct FeatureChains {
     chains: Vec<Chain>,
     /// Vertex lies on a feature edge.
     on_feature: Vec<bool>,
 }
 
-impl Features {
-    fn build(fine: &Mesh, links: &[[u32; 2]], params: &CoarsenParams) -> Features {
+impl FeatureChains {
+    fn build(fine: &Mesh, links: &[[u32; 2]], params: &CoarsenParams) -> FeatureChains {
         let nv = fine.num_vertices();
-        let pe: Vec<PatchSegment> = fine
-            .patch_faces()
-            .map(|f| PatchSegment { vertices: [f.vertices[0], f.vertices[1]], patch: f.patch, interior: f.interior })
+        let boundary = BoundaryFeatures::new(fine);
+        let pe: Vec<PatchSegment> = (0..boundary.len())
+            .map(|k| {
+                let f = boundary.face(k);
+                PatchSegment { vertices: [f.vertices[0], f.vertices[1]], patch: f.patch, interior: f.interior }
+            })
             .collect();
         let pe = &pe[..];
         let x = fine.xy_all();
-        // Incident feature edges per vertex (CSR, ascending edge index).
-        let mut ptr = vec![0usize; nv + 1];
-        for e in pe {
-            for &v in &e.vertices {
-                ptr[v as usize + 1] += 1;
-            }
-        }
-        for i in 0..nv {
-            ptr[i + 1] += ptr[i];
-        }
-        let mut next = ptr.clone();
-        let mut inc = vec![0usize; ptr[nv]];
-        for (k, e) in pe.iter().enumerate() {
-            for &v in &e.vertices {
-                inc[next[v as usize]] = k;
-                next[v as usize] += 1;
-            }
-        }
-        let incident = |v: usize| &inc[ptr[v]..ptr[v + 1]];
+        let incident = |v: usize| boundary.faces_at(v);
         let other = |k: usize, v: u32| {
             let [a, b] = pe[k].vertices;
             if a == v {
@@ -268,32 +244,9 @@ impl Features {
                 a
             }
         };
-        let cos_corner = params.corner_angle_deg.to_radians().cos();
-        let mut forced = vec![false; nv];
-        let mut on_feature = vec![false; nv];
-        for v in 0..nv {
-            let es = incident(v);
-            if es.is_empty() {
-                continue;
-            }
-            on_feature[v] = true;
-            if es.len() != 2 {
-                forced[v] = true;
-                continue;
-            }
-            let (e1, e2) = (&pe[es[0]], &pe[es[1]]);
-            if e1.patch != e2.patch || e1.interior != e2.interior {
-                forced[v] = true;
-                continue;
-            }
-            let (u, w) = (other(es[0], v as u32), other(es[1], v as u32));
-            let d1 = x[v] - x[u as usize];
-            let d2 = x[w as usize] - x[v];
-            let (l1, l2) = (d1.length(), d2.length());
-            if l1 == 0.0 || l2 == 0.0 || d1.dot(d2) < cos_corner * l1 * l2 {
-                forced[v] = true;
-            }
-        }
+        let on_feature: Vec<bool> = (0..nv).map(|v| !incident(v).is_empty()).collect();
+        let mut forced: Vec<bool> =
+            (0..nv).map(|v| boundary.is_chain_corner(v, params.corner_angle_deg, &x)).collect();
         // A vertex linked to a forced vertex is forced (to a fixed point: links may chain).
         loop {
             let mut changed = false;
@@ -323,10 +276,10 @@ impl Features {
                 if forced[nxt as usize] || nxt == start {
                     break;
                 }
-                match incident(nxt as usize).iter().find(|&&k| !visited[k]) {
+                match incident(nxt as usize).iter().find(|&&k| !visited[k as usize]) {
                     Some(&k) => {
                         cur = nxt;
-                        e = k;
+                        e = k as usize;
                     }
                     None => break,
                 }
@@ -335,18 +288,18 @@ impl Features {
         };
         for v in (0..nv).filter(|&v| forced[v]) {
             for &k in incident(v) {
-                if !visited[k] {
-                    chains.push(walk(v as u32, k, &mut visited));
+                if !visited[k as usize] {
+                    chains.push(walk(v as u32, k as usize, &mut visited));
                 }
             }
         }
         for v in 0..nv {
             // The lowest-index vertex of each remaining loop is met first.
-            if let Some(&k) = incident(v).iter().find(|&&k| !visited[k]) {
-                chains.push(walk(v as u32, k, &mut visited));
+            if let Some(&k) = incident(v).iter().find(|&&k| !visited[k as usize]) {
+                chains.push(walk(v as u32, k as usize, &mut visited));
             }
         }
-        Features { chains, on_feature }
+        FeatureChains { chains, on_feature }
     }
 }
 
@@ -372,7 +325,7 @@ fn select(
     fine: &Mesh,
     around: &VertexCells,
     links: &[[u32; 2]],
-    f: &Features,
+    f: &FeatureChains,
     keep_all: &[bool],
     banned: &[bool],
 ) -> Option<(Vec<bool>, Vec<Segment>)> {

@@ -34,7 +34,7 @@ pub(super) fn triangulate(
     links: &[[u32; 2]],
     kept: &[bool],
     segments: &[Segment],
-    f: &Features,
+    f: &FeatureChains,
 ) -> Result<Attempt<CoarseMesh>> {
     let x = fine.xy_all();
     // Exact capacities here and for the cells: the coarse level keeps these for the solver's life.
@@ -220,7 +220,7 @@ fn check_cells(
     cells: &[[u32; 3]],
     cx: &[DVec2],
     k: &Kept,
-    f: &Features,
+    f: &FeatureChains,
     area: &impl Fn(&[u32; 3]) -> f64,
 ) -> Attempt<()> {
     let nc = cx.len();

@@ -8,6 +8,7 @@
 //! wall and a prescribed component stays prescribed (docs/DESIGN.md §5).
 
 use crate::bc::Dofs;
+use crate::mesh::features::BoundaryFeatures;
 use crate::mesh::Mesh;
 use std::collections::HashMap;
 use std::sync::Arc;
@@ -42,69 +43,11 @@ impl Features {
         corner_angle_deg: f64,
     ) -> Features {
         let dim = mesh.dim();
-        let faces: Vec<_> = mesh.patch_faces().collect();
-        let normals: Vec<[f64; 3]> = faces.iter().map(|f| unit_normal(mesh, f.vertices)).collect();
-        let mut parent: Vec<u32> = (0..faces.len() as u32).collect();
-        // Faces meeting at a ridge (a vertex in 2D, an edge in 3D) join when smooth there.
-        let cos_corner = corner_angle_deg.to_radians().cos();
-        let mut at_ridge: HashMap<[u32; 2], u32> = HashMap::new();
-        for (k, f) in faces.iter().enumerate() {
-            let nf = f.vertices.len();
-            for r in 0..nf {
-                let key = if dim == 2 {
-                    [f.vertices[r], u32::MAX]
-                } else {
-                    let (a, b) = (f.vertices[r], f.vertices[(r + 1) % nf]);
-                    [a.min(b), a.max(b)]
-                };
-                match at_ridge.entry(key) {
-                    std::collections::hash_map::Entry::Vacant(e) => {
-                        e.insert(k as u32);
-                    }
-                    std::collections::hash_map::Entry::Occupied(e) => {
-                        let j = *e.get() as usize;
-                        let g = &faces[j];
-                        if g.patch == f.patch && g.interior == f.interior && dot(normals[j], normals[k]) >= cos_corner {
-                            union(&mut parent, j as u32, k as u32);
-                        }
-                    }
-                }
-            }
-        }
-        // Linked vertices put their two sides' pieces together (a periodic side is one piece).
-        let mut vertex_piece = vec![u32::MAX; mesh.num_vertices()];
-        for (k, f) in faces.iter().enumerate() {
-            for &v in f.vertices {
-                vertex_piece[v as usize] = k as u32;
-            }
-        }
-        for &[a, b] in pairs {
-            let (fa, fb) = (vertex_piece[a as usize], vertex_piece[b as usize]);
-            if fa != u32::MAX && fb != u32::MAX {
-                let (na, nb) = (normals[fa as usize], normals[fb as usize]);
-                if dot(na, nb) <= -cos_corner {
-                    union(&mut parent, fa, fb);
-                }
-            }
-        }
-        // Pieces numbered by their first face.
-        let mut piece_of_root = vec![u32::MAX; faces.len()];
-        let mut n_pieces = 0u32;
-        let piece: Vec<u32> = (0..faces.len() as u32)
-            .map(|k| {
-                let r = find(&mut parent, k) as usize;
-                if piece_of_root[r] == u32::MAX {
-                    piece_of_root[r] = n_pieces;
-                    n_pieces += 1;
-                }
-                piece_of_root[r]
-            })
-            .collect();
+        let boundary = BoundaryFeatures::new(mesh);
+        let (piece, _) = boundary.pieces(corner_angle_deg, pairs);
         let mut vertex_pieces: Vec<Vec<u32>> = vec![Vec::new(); mesh.num_vertices()];
-        for (k, f) in faces.iter().enumerate() {
-            for &v in f.vertices {
-                vertex_pieces[v as usize].push(piece[k]);
-            }
+        for (v, pieces) in vertex_pieces.iter_mut().enumerate() {
+            pieces.extend(boundary.faces_at(v).iter().map(|&k| piece[k as usize]));
         }
         let mut sets = vec![Vec::new()];
         let mut index: HashMap<Vec<u32>, u32> = HashMap::from([(Vec::new(), 0)]);
@@ -186,37 +129,12 @@ impl Features {
     }
 }
 
-fn find(parent: &mut [u32], mut v: u32) -> u32 {
-    while parent[v as usize] != v {
-        parent[v as usize] = parent[parent[v as usize] as usize];
-        v = parent[v as usize];
-    }
-    v
-}
-
-fn union(parent: &mut [u32], a: u32, b: u32) {
-    let (ra, rb) = (find(parent, a), find(parent, b));
-    parent[ra.max(rb) as usize] = ra.min(rb);
-}
-
 fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
 fn is_subset(a: &[u32], b: &[u32]) -> bool {
     a.iter().all(|x| b.binary_search(x).is_ok())
-}
-
-/// The unit normal of a patch face (`bc::face_area_vector` normalised: scaling by ½ is exact,
-/// so the unit vector does not depend on it).
-fn unit_normal(mesh: &Mesh, vs: &[u32]) -> [f64; 3] {
-    let n = crate::bc::face_area_vector(mesh, vs);
-    let l = dot(n, n).sqrt();
-    if l > 0.0 {
-        [n[0] / l, n[1] / l, n[2] / l]
-    } else {
-        n
-    }
 }
 
 /// The distinct offsets between linked vertices, both signs, and the sums of two different

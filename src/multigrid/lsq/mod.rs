@@ -16,9 +16,9 @@ mod weights;
 
 pub(crate) use features::Features;
 
-use super::coarsen::{CoarseMesh, CoarsenParams};
-use super::coarsener::{CoarseUnknowns, Coarsener};
-use super::hierarchy::{Level, Transfer};
+use super::coarsen::CoarsenParams;
+use super::coarsener::{CoarseMesh, CoarseUnknowns, Coarsener};
+use super::level::{Level, Transfer};
 use super::restriction::Restriction;
 use crate::mesh::Mesh;
 use crate::sparse::CsrMatrix;

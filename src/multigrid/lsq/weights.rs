@@ -11,10 +11,9 @@
 //! outside the donors).
 
 use super::Features;
-use crate::multigrid::hierarchy::Level;
+use crate::multigrid::level::Level;
 use crate::sparse::{offset, CsrMatrix};
 use rayon::prelude::*;
-use std::borrow::Cow;
 
 /// Rows per parallel task.
 const CHUNK: usize = 2048;
@@ -67,19 +66,6 @@ pub(super) fn prolongation(fine: &Level, f: &Features, kept: &[u32]) -> CsrMatri
     }
     debug_assert_eq!(offset(cols.len()), *row_ptr.last().expect("n + 1 entries"));
     CsrMatrix { nrows: n, ncols: kept.len(), row_ptr, cols, vals }
-}
-
-impl Level {
-    /// The position of each unknown: its (first) vertex's on a level with a mesh, else stored.
-    pub fn unknown_points(&self) -> Cow<'_, [f64]> {
-        match &self.mesh {
-            Some(m) => {
-                let dim = m.dim();
-                Cow::Owned(self.dofs.dof_vertex.iter().flat_map(|&v| m.point(v as usize)[..dim].iter().copied()).collect())
-            }
-            None => Cow::Borrowed(&self.points),
-        }
-    }
 }
 
 struct Context<'a> {
