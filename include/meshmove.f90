@@ -57,6 +57,8 @@ module meshmove_c
   type, bind(c) :: meshmove_quality
     integer(c_int32_t) :: inverted
     real(c_double) :: min_volume_ratio, max_volume_ratio, min_angle_deg
+    integer(c_int32_t) :: negative_volume_cells
+    real(c_double) :: min_corner_jacobian_ratio
   end type
   type, bind(c) :: meshmove_step_report
     integer(c_int32_t) :: step, substep
@@ -369,6 +371,10 @@ module meshmove_c
       type(c_funptr), value :: progress
       type(c_ptr), value :: user_data
     end function
+    integer(c_int32_t) function meshmove_solver_cancel(solver) bind(c)
+      import :: c_int32_t, c_ptr
+      type(c_ptr), value :: solver
+    end function
     integer(c_int32_t) function meshmove_solver_set_reference(solver, len, coords) bind(c)
       import :: c_int32_t, c_ptr, c_double
       type(c_ptr), value :: solver
@@ -519,6 +525,7 @@ module meshmove
     procedure :: set_substepping => solver_set_substepping
     procedure :: set_reference_mode => solver_set_reference_mode
     procedure :: set_progress => solver_set_progress
+    procedure :: cancel => solver_cancel
     procedure :: coords => solver_coords
     procedure :: displacement => solver_displacement
     procedure :: quality => solver_quality
@@ -1548,6 +1555,17 @@ contains
     ud = c_null_ptr
     if (present(user_data)) ud = user_data
     call check(meshmove_solver_set_progress(self%h, progress, ud), "solver_set_progress", stat)
+    if (present(errmsg)) call message(errmsg)
+  end subroutine
+
+  !> Asks the call running on the solver (from another thread, or the next call) to stop
+  !> within one multigrid cycle: it returns MESHMOVE_STATUS_CANCELLED, the solver as before it.
+  !> The one call allowed while another thread's call holds the solver.
+  subroutine solver_cancel(self, stat, errmsg)
+    class(mm_solver), intent(in) :: self
+    integer(c_int32_t), intent(out), optional :: stat
+    character(len=:), allocatable, intent(out), optional :: errmsg
+    call check(meshmove_solver_cancel(self%h), "solver_cancel", stat)
     if (present(errmsg)) call message(errmsg)
   end subroutine
 

@@ -498,7 +498,9 @@ typedef struct meshmove_report {
  */
 typedef struct meshmove_quality {
   /*
-   Cells whose signed volume (area in 2D) is not positive.
+   Inverted cells: cells with a corner whose Jacobian is not positive (the solver's test). A
+   hexahedron folded at one corner is inverted with a positive volume, so this can exceed
+   `negative_volume_cells`.
    */
   int32_t inverted;
   /*
@@ -513,6 +515,15 @@ typedef struct meshmove_quality {
    Smallest angle of any cell, degrees.
    */
   double min_angle_deg;
+  /*
+   Cells whose signed volume (area in 2D) is not positive: what VTK's cell volume finds.
+   */
+  int32_t negative_volume_cells;
+  /*
+   Smallest deformed / reference ratio of a cell's smallest corner Jacobian (negative when a
+   corner inverted); for triangles and tetrahedra the volume ratio.
+   */
+  double min_corner_jacobian_ratio;
 } meshmove_quality;
 
 /*
@@ -1304,6 +1315,20 @@ MESHMOVE_MUST_USE
 meshmove_status meshmove_solver_set_progress(struct meshmove_solver *solver,
                                              meshmove_progress progress,
                                              void *user_data);
+
+/*
+ Asks the call running on `solver` to stop; callable from any thread, also (and this is what
+ it is for) while another thread's call holds `solver`: it is the one function that never
+ returns `MESHMOVE_STATUS_BUSY`. The running call checks the request after every multigrid
+ cycle, so it stops within one cycle of a solve (and a long `_move_in_steps` within one step's
+ cycle), and returns `MESHMOVE_STATUS_CANCELLED` with the solver, its coordinates and its
+ displacement as before the call. When no call is running, the next call that solves stops at
+ its first check. The call that stops consumes the request.
+
+ # Safety
+ `solver` must be a handle from meshmove (checked).
+ */
+MESHMOVE_MUST_USE meshmove_status meshmove_solver_cancel(const struct meshmove_solver *solver);
 
 /*
  What each later step is solved from: a `meshmove_reference` value. Switching to

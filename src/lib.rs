@@ -58,7 +58,7 @@ pub use multigrid::hierarchy::{CoarseOperator, HierarchyParams};
 pub use multigrid::solve::{Criterion, Mode, Report, SolveParams};
 pub use multigrid::CoarseLevels;
 pub use operator::Method;
-pub use solver::{Options, Progress, ReferenceMode, Solution, Solver, StepReport};
+pub use solver::{Cancel, Options, Progress, ReferenceMode, Solution, Solver, StepReport};
 
 /// The README's example is compiled and run as a doctest.
 #[doc = include_str!("../README.md")]

@@ -16,7 +16,7 @@ pub use crate::multigrid::hierarchy::CoarseOperator;
 use crate::multigrid::hierarchy::{Hierarchy, HierarchyParams, Level};
 use crate::multigrid::policy::CycleParams;
 use crate::multigrid::smoother::Start;
-use crate::multigrid::solve::{solve, Report, SolveParams};
+use crate::multigrid::solve::{solve_until, Report, SolveParams};
 use crate::operator::Method;
 use crate::pool::Pool;
 use crate::sparse::max_abs;
@@ -28,8 +28,9 @@ pub(crate) mod memory;
 mod progress;
 mod slip;
 mod steps;
+mod units;
 
-pub use progress::Progress;
+pub use progress::{Cancel, Progress};
 pub use steps::StepReport;
 
 /// Most Chebyshev degree accepted (degree 6 is the biharmonic's default; the cost of a cycle
@@ -125,6 +126,8 @@ pub struct Solver {
     /// The positions of the mesh the solver was made with: what the totals since the start
     /// ([`Solver::total_displacement`], [`Solver::total_quality`]) measure from.
     initial: Vec<f64>,
+    /// Another thread's request to stop the running call ([`Solver::canceller`]).
+    cancel: Cancel,
 }
 
 /// The hierarchy parameters of `opts` with the coarse-level route resolved for the dimension and
@@ -163,7 +166,15 @@ impl Solver {
             walls,
             built_with,
             initial,
+            cancel: Cancel::default(),
         })
+    }
+
+    /// The solver's cancellation request, for another thread to stop a running call (see
+    /// [`Cancel`]): the call fails with `Error::Cancelled` within one multigrid cycle and leaves
+    /// the solver as it was.
+    pub fn canceller(&self) -> Cancel {
+        self.cancel.clone()
     }
 
     /// Runs `f` on the solver's threads: every part of a call's work, so the thread count set
@@ -464,6 +475,18 @@ impl Solver {
             }
         }
         let quality = moved_quality(lev.mesh(), &displacement);
+        if !(quality.min_area_ratio.is_finite() && quality.max_area_ratio.is_finite())
+            || measures_overflow(lev.mesh(), &displacement)
+        {
+            // Finite displacements so large that the moved cells' measures overflow (a prescribed
+            // motion or a slip surface's point far beyond the mesh): no mesh can hold the result.
+            return Err(Error::InvalidArgument(format!(
+                "the moved mesh's cell areas (volumes) overflow double precision (largest displacement {:e}, on a \
+                 mesh about {:e} across): displacements must be of the order of the mesh",
+                Self::scale(&displacement),
+                extent(lev.mesh().coords(), lev.dim())
+            )));
+        }
         Ok(Solution { displacement, report, quality })
     }
 
@@ -472,16 +495,35 @@ impl Solver {
     fn solve_groups(&self, motion: &Motion, vals: &[f64], guess: Option<&[f64]>) -> Result<(Vec<f64>, Report)> {
         let lev = self.hierarchy.fine();
         let scale = Self::scale(vals);
+        // Displacements far from 1 are solved scaled by a power of two (exact), see `units`.
+        let f = units::factor(scale);
         // Each group's solution on the unknowns; the per-vertex field is made after the last
         // solve, so it does not add to the memory of the solves.
         let mut solved: Vec<(Range<usize>, Vec<f64>)> = Vec::new();
         let mut report: Option<Report> = None;
+        let stop = || self.cancel.is_requested();
         for comps in self.hierarchy.groups() {
             let name = group_name(comps.clone());
             // One group at a time: only its right-hand side and iterate are alive (memory).
-            let (b, mut x) = self.group_system(motion, vals, comps.clone(), guess)?;
-            let rep = solve(&self.hierarchy, comps.clone(), &self.opts.solve, &b, &mut x, scale);
+            let (mut b, mut x) = self.group_system(motion, vals, comps.clone(), guess)?;
+            if f != 1.0 {
+                units::scale(&mut b, f);
+                units::scale(&mut x, f);
+            }
+            let mut rep = solve_until(&self.hierarchy, comps.clone(), &self.opts.solve, &b, &mut x, scale * f, &stop);
             drop(b);
+            if self.cancel.take() {
+                return Err(Error::Cancelled(format!(
+                    "the call was cancelled in the solve of component {name}, after {} of its cycles; nothing was \
+                     changed",
+                    rep.cycles
+                )));
+            }
+            if f != 1.0 {
+                units::scale(&mut x, 1.0 / f);
+                rep.max_correction /= f;
+                rep.history.iter_mut().for_each(|h| h.0 /= f);
+            }
             if let Some(k) = rep.breakdown {
                 return Err(Error::Diverged(format!(
                     "component {name}: conjugate gradients broke down at iteration {k} (pᵀAp not positive): the \
@@ -731,6 +773,27 @@ fn check_not_tangled(mesh: &Mesh, coords: &[f64]) -> Result<()> {
         bad.len(),
         first.join(", ")
     )))
+}
+
+/// True when a cell of `mesh` moved by `displacement` has a measure that is not finite (products
+/// of coordinates overflow); computed only when the sizes make that possible.
+fn measures_overflow(mesh: &Mesh, displacement: &[f64]) -> bool {
+    let size = Solver::scale(displacement) + extent(mesh.coords(), mesh.dim());
+    if (8.0 * size.powi(mesh.dim() as i32)).is_finite() {
+        return false;
+    }
+    let x = moved(mesh.coords(), displacement);
+    crate::mesh::quality::signed_measures(mesh, &x).iter().any(|m| !m.is_finite())
+}
+
+/// The largest extent of the points `x` (`dim` values each) along an axis.
+fn extent(x: &[f64], dim: usize) -> f64 {
+    (0..dim)
+        .map(|c| {
+            let axis = x.iter().skip(c).step_by(dim);
+            axis.clone().fold(f64::NEG_INFINITY, |a, &v| a.max(v)) - axis.fold(f64::INFINITY, |a, &v| a.min(v))
+        })
+        .fold(0.0, f64::max)
 }
 
 /// Quality of `mesh` moved by `displacement` against `mesh`.

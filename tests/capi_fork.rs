@@ -161,8 +161,8 @@ fn address_space() -> u64 {
     line.split_whitespace().nth(1).unwrap().parse::<u64>().unwrap() * 1024
 }
 
-/// An n × n grid of the unit square in triangles (every side on patch 0).
-fn grid_mesh(n: usize) -> Result<*mut meshmove_mesh, meshmove_status> {
+/// The coordinates and triangles of an n × n grid of the unit square.
+fn grid_arrays(n: usize) -> (Vec<f64>, Vec<i32>) {
     let id = |i: usize, j: usize| (j * (n + 1) + i) as i32;
     let xy: Vec<f64> =
         (0..=n).flat_map(|j| (0..=n).flat_map(move |i| [i as f64 / n as f64, j as f64 / n as f64])).collect();
@@ -172,6 +172,24 @@ fn grid_mesh(n: usize) -> Result<*mut meshmove_mesh, meshmove_status> {
                 .flat_map(move |i| [id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j), id(i + 1, j + 1), id(i, j + 1)])
         })
         .collect();
+    (xy, cells)
+}
+
+/// Caps this process's address space at its present size and `headroom` bytes more.
+fn cap_memory(headroom: u64) -> bool {
+    let cap = address_space() + headroom;
+    let limit = libc::rlimit { rlim_cur: cap as libc::rlim_t, rlim_max: cap as libc::rlim_t };
+    unsafe { libc::setrlimit(libc::RLIMIT_AS, &limit) == 0 }
+}
+
+/// An n × n grid of the unit square in triangles (every side on patch 0).
+fn grid_mesh(n: usize) -> Result<*mut meshmove_mesh, meshmove_status> {
+    let (xy, cells) = grid_arrays(n);
+    grid_mesh_of(n, &xy, &cells)
+}
+
+/// The mesh of the n × n grid's arrays (`grid_arrays`).
+fn grid_mesh_of(n: usize, xy: &[f64], cells: &[i32]) -> Result<*mut meshmove_mesh, meshmove_status> {
     let mut m = null_mut();
     let nv = ((n + 1) * (n + 1)) as i32;
     let st = unsafe {
@@ -198,9 +216,7 @@ fn grid_mesh(n: usize) -> Result<*mut meshmove_mesh, meshmove_status> {
 #[test]
 fn under_a_memory_cap_large_requests_are_a_status_not_an_abort() {
     let pid = fork_child(|| {
-        let cap = address_space() + (300 << 20);
-        let limit = libc::rlimit { rlim_cur: cap as libc::rlim_t, rlim_max: cap as libc::rlim_t };
-        if unsafe { libc::setrlimit(libc::RLIMIT_AS, &limit) } != 0 {
+        if !cap_memory(300 << 20) {
             return false;
         }
         let xy = [0.0; 6];
@@ -257,5 +273,28 @@ fn a_memory_budget_below_the_estimate_refuses_the_solver() {
         for st in [meshmove_solver_free(s), meshmove_options_free(o), meshmove_bcs_free(b), meshmove_mesh_free(m)] {
             assert_eq!(st, meshmove_status::Ok);
         }
+    }
+}
+
+/// A genuinely large mesh (2.25 million vertices, 4.5 million triangles) whose arrays the caller
+/// holds, under a cap of 300 MB more than they take: the mesh's estimate is refused with
+/// OUT_OF_MEMORY (no abort), and a small mesh still fits afterwards.
+#[test]
+fn under_a_memory_cap_a_large_mesh_is_out_of_memory_not_an_abort() {
+    let pid = fork_child(|| {
+        let n = 1500;
+        let (xy, cells) = grid_arrays(n);
+        if !cap_memory(300 << 20) {
+            return false;
+        }
+        let refused = grid_mesh_of(n, &xy, &cells) == Err(meshmove_status::OutOfMemory);
+        let message = unsafe { std::ffi::CStr::from_ptr(meshmove_last_error()) }.to_string_lossy().into_owned();
+        refused
+            && message.contains("the mesh")
+            && grid_mesh(10).is_ok_and(|m| unsafe { meshmove_mesh_free(m) } == meshmove_status::Ok)
+    });
+    match wait_all(&[pid], Instant::now() + LIMIT) {
+        Ok(codes) => assert_eq!(codes, [0], "the child under a memory cap failed a check or died"),
+        Err(_) => panic!("the child hung"),
     }
 }

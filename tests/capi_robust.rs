@@ -242,3 +242,37 @@ fn a_slip_callback_that_fails_gives_its_status_and_changes_nothing() {
     }
     free(m, b, s);
 }
+
+/// A slip surface's closest point 1e300 away from every vertex in x and in y.
+unsafe extern "C" fn far_away(_: *mut std::ffi::c_void, dim: i32, x: *const f64, out: *mut f64) {
+    let (x, out) = unsafe { (std::slice::from_raw_parts(x, dim as usize), std::slice::from_raw_parts_mut(out, 2)) };
+    out.copy_from_slice(&[x[0] + 1e300, x[1] + 1e300]);
+}
+
+#[test]
+fn a_slip_surface_far_beyond_the_mesh_is_an_overflow_not_a_divergence() {
+    let n = 4;
+    let (xy0, m) = grid(n);
+    let len = xy0.len();
+    let (mut b, mut s) = (null_mut(), null_mut());
+    let mut top = vec![0.0; len];
+    for i in 0..=n {
+        top[2 * (n * (n + 1) + i) + 1] = 0.05;
+    }
+    unsafe {
+        assert_eq!(meshmove_bcs_create(&mut b), meshmove_status::Ok);
+        assert_eq!(meshmove_bcs_set_kinds(b, 0, meshmove_kind::Slip as i32), meshmove_status::Ok, "{}", last());
+        assert_eq!(meshmove_bcs_set_slip_surface(b, 0, Some(far_away), null_mut()), meshmove_status::Ok);
+        assert_eq!(meshmove_solver_create(m, b, null(), &mut s), meshmove_status::Ok, "{}", last());
+        let before = observe(s, len);
+        let mut xy = before.0.clone();
+        let st = meshmove_solver_move(s, len as i32, top.as_ptr(), xy.as_mut_ptr(), null_mut(), null_mut());
+        assert_eq!(st, meshmove_status::InvalidArgument, "{}", last());
+        assert!(last().contains("overflow"), "{}", last());
+        assert_eq!(xy, before.0);
+        assert_eq!(observe(s, len), before);
+        for st in [meshmove_solver_free(s), meshmove_bcs_free(b), meshmove_mesh_free(m)] {
+            assert_eq!(st, meshmove_status::Ok);
+        }
+    }
+}

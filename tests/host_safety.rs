@@ -4,7 +4,7 @@
 
 mod common;
 use common::*;
-use meshmove::{BoundaryConditions, Motion, Options, ReferenceMode, RigidMotion, Solver};
+use meshmove::{BoundaryConditions, IndexBase, Mesh, Motion, Options, ReferenceMode, RigidMotion, Solver};
 
 fn grid_solver(reference: ReferenceMode) -> (meshmove::Mesh, Solver) {
     let mesh = Grid::new(6, 6).jitter(0.2).mesh();
@@ -99,5 +99,94 @@ fn an_inverted_last_step_is_reported_not_accepted() {
     assert_eq!(r.len(), 1);
     assert!(r[0].inverted > 0 && r[0].converged && !r[0].accepted, "{}", r[0].line());
     assert!(sol.report.cycles > 0 && sol.report.converged);
+    assert_eq!(s.current_coords(), before.as_slice());
+}
+
+/// The top of the 6 × 6 grid bent up by `a` sin(πx).
+fn bend(mesh: &meshmove::Mesh, a: f64) -> Motion {
+    let mut m = Motion::zero(mesh);
+    for v in mesh.patch_vertices(TOP) {
+        let v = v as usize;
+        m.displacement[v * 2 + 1] = a * (std::f64::consts::PI * mesh.point(v)[0]).sin();
+    }
+    m
+}
+
+#[test]
+fn the_solve_does_not_depend_on_the_size_of_the_motion() {
+    let (mesh, s) = grid_solver(ReferenceMode::Incremental);
+    let normal = s.solve(&bend(&mesh, 0.05)).unwrap().displacement;
+    let big = normal.iter().fold(0.0f64, |m, d| m.max(d.abs()));
+    let top = mesh.patch_vertices(TOP);
+    let interior = |d: &[f64]| (0..mesh.num_vertices()).any(|v| d[2 * v + 1] != 0.0 && !top.contains(&(v as u32)));
+    assert!(interior(&normal));
+    let scaled = |a: f64, sol: meshmove::Solution| {
+        assert!(interior(&sol.displacement), "amplitude {a:e}: the interior did not move");
+        let f = a / 0.05;
+        let worst = sol.displacement.iter().zip(&normal).map(|(d, n)| (d / f - n).abs()).fold(0.0, f64::max);
+        assert!(worst <= 1e-9 * big, "amplitude {a:e}: {worst:e} off the scaled answer");
+    };
+    for a in [1e-170, 1e-300, 1e100] {
+        scaled(a, s.solve(&bend(&mesh, a)).unwrap_or_else(|e| panic!("amplitude {a:e}: {e}")));
+    }
+    // Up to what the moved mesh's areas can hold (the bend moves y alone): the answer, or an
+    // overflow said so.
+    for a in [1e154, 1e200, 1e300] {
+        match s.solve(&bend(&mesh, a)) {
+            Ok(sol) => scaled(a, sol),
+            Err(meshmove::Error::InvalidArgument(m)) if m.contains("overflow") => {}
+            Err(e) => panic!("amplitude {a:e}: {e}"),
+        }
+    }
+    // Beyond it (x and y of 1e300: areas of 1e600): refused, naming the overflow.
+    let e = s.solve(&on_patch(&mesh, TOP, [1e300, 1e300])).unwrap_err();
+    assert!(matches!(&e, meshmove::Error::InvalidArgument(m) if m.contains("overflow")), "{e}");
+}
+
+#[test]
+fn a_mesh_too_large_for_its_areas_is_refused_as_an_overflow() {
+    let mut g = Grid::new(4, 4);
+    g.x = [0.0, 1e155];
+    g.y = [0.0, 1e155];
+    let e = Mesh::triangles(&g.coords(), &g.cells(), IndexBase::Zero, &g.tagged(), None).unwrap_err();
+    assert!(e.to_string().contains("overflows") && !e.to_string().contains("zero area"), "{e}");
+    // Cells of 1e90 still work.
+    g.x = [0.0, 1e90];
+    g.y = [0.0, 1e90];
+    let mesh = Mesh::triangles(&g.coords(), &g.cells(), IndexBase::Zero, &g.tagged(), None).unwrap();
+    let s = Solver::new(&mesh, &BoundaryConditions::new(), Options::default()).unwrap();
+    assert!(s.solve(&on_patch(&mesh, TOP, [0.0, 1e88])).is_ok());
+}
+
+#[test]
+fn a_cancel_request_stops_a_solve_within_one_cycle_and_is_consumed() {
+    // A grid large enough for a solve of several cycles.
+    let mesh = Grid::new(24, 24).jitter(0.2).mesh();
+    let mut s = Solver::new(&mesh, &BoundaryConditions::new(), Options::default()).unwrap();
+    // Both components move, so the first group's solve (x) has cycles to stop.
+    let m = on_patch(&mesh, TOP, [0.03, 0.05]);
+    let want = s.solve(&m).unwrap();
+    assert!(want.report.cycles > 1);
+    s.canceller().cancel();
+    let e = s.solve(&m).unwrap_err();
+    assert!(matches!(&e, meshmove::Error::Cancelled(_)) && e.to_string().contains("after 1 of its cycles"), "{e}");
+    assert!(!s.canceller().is_requested());
+    let again = s.solve(&m).unwrap();
+    assert_eq!(again.displacement, want.displacement);
+    // A request from the progress hook, while move_in_steps holds the solver: the next step's
+    // solve stops after its first cycle and the call changes nothing.
+    let before = s.current_coords().to_vec();
+    let cancel = s.canceller();
+    let mut o = s.options().clone();
+    o.progress = Some(meshmove::Progress::new(move |r, _| {
+        if r.step == 2 {
+            cancel.cancel();
+        }
+        true
+    }));
+    s.set_options(o).unwrap();
+    let e = s.move_in_steps(&m, 5).unwrap_err();
+    assert!(e.to_string().contains("after 1 of its cycles"), "{e}");
+    assert_eq!(s.step_reports().len(), 2);
     assert_eq!(s.current_coords(), before.as_slice());
 }

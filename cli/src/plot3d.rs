@@ -1,8 +1,9 @@
 //! Pictures of deformed 3D meshes: a plane section through the moved patch, each cut cell
 //! drawn as its section polygon and filled by its volume ratio (deformed over original) on a
 //! logarithmic blue–white–green scale with a colour bar, inverted cells red, the moved patch's
-//! section blue. The caption says which plane and states the whole mesh's inverted cells and
-//! smallest volume ratio.
+//! section blue. The caption says which plane, how many inverted cells the section shows
+//! against the whole mesh's, and the whole mesh's cells of negative volume and smallest volume
+//! ratio.
 
 use crate::plot::{
     caption_height, draw_caption, font_px, register_font, save_png, to_px, Err, Rect, View, EDGE_COLOUR,
@@ -128,10 +129,24 @@ where
     Ok(())
 }
 
+/// The inverted cells the section cuts (each counted once).
+fn in_section(sections: &[CellSection], inverted: &[bool]) -> usize {
+    let mut cut: Vec<usize> = sections.iter().map(|s| s.cell).filter(|&c| inverted[c]).collect();
+    cut.sort_unstable();
+    cut.dedup();
+    cut.len()
+}
+
+/// The caption's line on inverted cells: how many the section shows against the whole mesh's.
+fn inverted_line(shown: usize, total: usize, cells: usize) -> String {
+    format!("inverted (red; a corner Jacobian ≤ 0): {shown} in this section, {total} in total of {cells} cells")
+}
+
 /// The section picture of a deformed 3D mesh: `mesh` (the original) at `coords`, cut by the plane
 /// normal to `axis` through the centroid of the original `moved_patch`, moved off the vertices
-/// ([`plane_through_patch`]); `title`, then the
-/// whole mesh's inverted cells and smallest volume ratio, the plane, and `extra` lines. The
+/// ([`plane_through_patch`]); `title`, then the inverted cells in the section and in the whole
+/// mesh, the whole mesh's negative volumes and smallest volume ratio, the plane, and `extra`
+/// lines. The
 /// section of `moved_patch` is drawn blue; when it is small in the picture (a body in a large
 /// domain), a framed inset of 1.5 times its size around it is drawn in the top-right corner.
 pub fn section_png(
@@ -149,6 +164,7 @@ pub fn section_png(
     let mut inverted = vec![false; mesh.num_cells()];
     inverted_cells(mesh, coords).into_iter().for_each(|c| inverted[c] = true);
     let count = inverted.iter().filter(|&&b| b).count();
+    let negative = after.iter().filter(|a| a.partial_cmp(&&0.0) != Some(std::cmp::Ordering::Greater)).count();
     let min_ratio = after.iter().zip(&before).map(|(a, b)| a / b).fold(f64::INFINITY, f64::min);
     let colours: Vec<RGBColor> = sections
         .iter()
@@ -158,7 +174,8 @@ pub fn section_png(
     let [h, v] = section_axes(axis).map(|a| AXIS_NAMES[a]);
     let mut lines = vec![
         title,
-        format!("{count} inverted cells (red) of {}, min volume ratio {min_ratio:.3} (whole mesh)", mesh.num_cells()),
+        inverted_line(in_section(&sections, &inverted), count, mesh.num_cells()),
+        format!("{negative} cells of negative volume, min volume ratio {min_ratio:.3} (whole mesh)"),
         format!(
             "section {} = {value:.4} ({} cells cut; {h} across, {v} up); blue: the moved patch",
             AXIS_NAMES[axis],
@@ -209,4 +226,22 @@ pub fn section_png(
         root.present()?;
     }
     save_png(path, &buf, width, height)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_caption_counts_the_inverted_cells_of_the_section_against_the_total() {
+        let cut = |cell| CellSection { cell, polygon: vec![[0.0, 0.0]; 3] };
+        let inverted = [true, false, true, true, false];
+        // Cell 0 cut twice (counted once), cell 3 inverted but not cut.
+        let sections = [cut(0), cut(1), cut(0), cut(2), cut(4)];
+        assert_eq!(in_section(&sections, &inverted), 2);
+        assert_eq!(
+            inverted_line(2, 3, 5),
+            "inverted (red; a corner Jacobian ≤ 0): 2 in this section, 3 in total of 5 cells"
+        );
+    }
 }

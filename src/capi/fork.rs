@@ -1,7 +1,9 @@
 //! `fork()` safety: handlers registered with `pthread_atfork` once, before the handle registry
 //! is first locked, so that a forked child never inherits the registry's lock held by a thread
 //! it does not have (see `handles.rs`). The solvers' worker pools rebuild themselves in a child
-//! (`pool.rs`).
+//! (`pool.rs`). Nothing else is global and built on first use (the wedge and pyramid
+//! decompositions are constants, `geometry/decomposed.rs`), so no lock or half-built table can
+//! be inherited from a thread the child does not have.
 
 use std::sync::Once;
 

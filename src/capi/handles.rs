@@ -29,6 +29,7 @@
 
 use super::error::CError;
 use super::status::meshmove_status;
+use crate::solver::Cancel;
 use std::any::TypeId;
 use std::cell::UnsafeCell;
 use std::collections::HashMap;
@@ -47,10 +48,13 @@ const POISONED: u32 = u32::MAX - 2;
 /// which leaks the payload).
 const FORKED: u32 = u32::MAX - 3;
 
-/// What a C handle points at: the state word and the payload (`None` once freed).
+/// What a C handle points at: the state word, the payload (`None` once freed) and, for a
+/// solver, its cancellation request (reached without acquiring the handle, so another thread
+/// can cancel the call that holds it).
 pub(crate) struct Slot<T> {
     state: AtomicU32,
     payload: UnsafeCell<Option<Box<T>>>,
+    cancel: Option<Cancel>,
 }
 
 // SAFETY: the payload is only reached through `Shared` (shared references, many readers) or
@@ -60,7 +64,12 @@ unsafe impl<T: Send + Sync> Sync for Slot<T> {}
 
 impl<T> Slot<T> {
     pub(crate) fn new(payload: T) -> Self {
-        Slot { state: AtomicU32::new(0), payload: UnsafeCell::new(Some(Box::new(payload))) }
+        Slot { state: AtomicU32::new(0), payload: UnsafeCell::new(Some(Box::new(payload))), cancel: None }
+    }
+
+    /// A slot whose call can be cancelled from another thread through `cancel`.
+    pub(crate) fn cancellable(payload: T, cancel: Cancel) -> Self {
+        Slot { cancel: Some(cancel), ..Slot::new(payload) }
     }
 }
 
@@ -126,7 +135,16 @@ pub(crate) fn unlock_in_child() {
 /// # Safety
 /// `out` must have passed `check_out` (not NULL, aligned) and be writable.
 pub(crate) unsafe fn hand_out<T: Handle>(payload: T::Payload, out: *mut *mut T) -> Result<(), CError> {
-    let p = Box::into_raw(Box::new(T::from_slot(Slot::new(payload))));
+    // SAFETY: this function's contract.
+    unsafe { hand_out_slot(Slot::new(payload), out) }
+}
+
+/// As `hand_out`, for a slot made by the caller.
+///
+/// # Safety
+/// As `hand_out`.
+pub(crate) unsafe fn hand_out_slot<T: Handle>(slot: Slot<T::Payload>, out: *mut *mut T) -> Result<(), CError> {
+    let p = Box::into_raw(Box::new(T::from_slot(slot)));
     // SAFETY: `p` comes from `Box::into_raw` and is never freed (slots are tombstones).
     let state: &'static AtomicU32 = unsafe { &(*p).slot().state };
     slots(|m| m.insert(p as usize, (TypeId::of::<T>(), T::NAME, state)));
@@ -296,6 +314,16 @@ pub(crate) fn get_mut<'a, T: Handle>(p: *mut T, what: &str) -> Result<Exclusive<
             s.state.store(DEAD, Ordering::Release);
             Err(freed::<T>(what))
         }
+    }
+}
+
+/// The cancellation request of the live handle `p`, without acquiring it (the one access a
+/// handle busy in another thread's call allows).
+pub(crate) fn cancel_of<T: Handle>(p: *const T, what: &str) -> Result<Cancel, CError> {
+    let s = slot(p, what)?;
+    match s.state.load(Ordering::Acquire) {
+        DEAD => Err(freed::<T>(what)),
+        _ => s.cancel.clone().ok_or_else(|| CError::arg(format!("`{what}` ({}) has no call to cancel", T::NAME))),
     }
 }
 

@@ -404,6 +404,12 @@ fn in_base(e: MeshError, base: i32) -> CError {
         MeshError::DegenerateCell { cell, measure } => {
             format!("cell {} has zero area or volume ({measure:e})", n(cell))
         }
+        MeshError::MeasureOutOfRange { cell, longest_edge, largest } => format!(
+            "cell {}'s area or volume overflows or underflows double precision (longest edge {longest_edge:e}, \
+             coordinates up to {largest:e}): express the mesh in units where cells are between about 1e-90 and 1e90 \
+             long",
+            n(cell)
+        ),
         MeshError::NonManifoldFace { face, cells } => {
             format!("face {} is shared by {cells} cells; at most two may share a face", listed(face, base))
         }

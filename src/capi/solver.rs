@@ -3,7 +3,7 @@
 
 use super::bcs::{meshmove_bcs, UserData};
 use super::error::CError;
-use super::handles::{self, check_out, count, get, get_mut, hand_out, Handle, Slot};
+use super::handles::{self, check_out, count, get, get_mut, Handle, Slot};
 use super::mesh::{meshmove_mesh, write_counts};
 use super::options::meshmove_options;
 use super::points::{self, Points};
@@ -155,9 +155,10 @@ pub unsafe extern "C" fn meshmove_solver_create(
         let b = get(bcs, "bcs")?;
         let o = if options.is_null() { crate::Options::default() } else { get(options, "options")?.clone() };
         let solver = Solver::new(&m, &b, o)?;
+        let cancel = solver.canceller();
         let state = SolverState { solver, rigid: Vec::new(), last: points::zeros(m.dim(), m.num_vertices()) };
         // SAFETY: `out` passed `check_out`.
-        unsafe { hand_out::<meshmove_solver>(state, out) }
+        unsafe { handles::hand_out_slot::<meshmove_solver>(Slot::cancellable(state, cancel), out) }
     })
 }
 
@@ -475,9 +476,11 @@ pub unsafe extern "C" fn meshmove_solver_move_in_steps(
             Some(r) if r.inverted > 0 => Err(CError::new(
                 meshmove_status::Inverted,
                 format!(
-                    "the last step's mesh has {} inverted cell(s) (smallest area ratio {:e}); the solver keeps the mesh it \
+                    "the last step's mesh has {} inverted cell(s) (smallest {} ratio {:e}); the solver keeps the mesh it \
                      had before the call (the step reports say how the motion went)",
-                    r.inverted, r.min_volume_ratio
+                    r.inverted,
+                    if s.dim() == 2 { "area" } else { "volume" },
+                    r.min_volume_ratio
                 ),
             )),
             _ => {
@@ -597,6 +600,25 @@ pub unsafe extern "C" fn meshmove_solver_set_progress(
             })
         });
         s.solver.set_options(o)?;
+        Ok(())
+    })
+}
+
+/// Asks the call running on `solver` to stop; callable from any thread, also (and this is what
+/// it is for) while another thread's call holds `solver`: it is the one function that never
+/// returns `MESHMOVE_STATUS_BUSY`. The running call checks the request after every multigrid
+/// cycle, so it stops within one cycle of a solve (and a long `_move_in_steps` within one step's
+/// cycle), and returns `MESHMOVE_STATUS_CANCELLED` with the solver, its coordinates and its
+/// displacement as before the call. When no call is running, the next call that solves stops at
+/// its first check. The call that stops consumes the request.
+///
+/// # Safety
+/// `solver` must be a handle from meshmove (checked).
+#[no_mangle]
+#[must_use]
+pub unsafe extern "C" fn meshmove_solver_cancel(solver: *const meshmove_solver) -> meshmove_status {
+    ffi_body!(meshmove_solver_cancel, {
+        handles::cancel_of(solver, "solver")?.cancel();
         Ok(())
     })
 }

@@ -63,6 +63,7 @@ pub enum meshmove_status {
 impl From<&Error> for meshmove_status {
     fn from(e: &Error) -> Self {
         match e {
+            Error::Mesh(crate::MeshError::OutOfMemory { .. }) => meshmove_status::OutOfMemory,
             Error::Mesh(_) => meshmove_status::InvalidMesh,
             Error::Bc(_) => meshmove_status::InvalidBcs,
             Error::IllPosed { .. } => meshmove_status::IllPosed,

@@ -250,7 +250,9 @@ pub(crate) fn reference_mode(m: i32) -> Result<crate::ReferenceMode, CError> {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct meshmove_quality {
-    /// Cells whose signed volume (area in 2D) is not positive.
+    /// Inverted cells: cells with a corner whose Jacobian is not positive (the solver's test). A
+    /// hexahedron folded at one corner is inverted with a positive volume, so this can exceed
+    /// `negative_volume_cells`.
     pub inverted: i32,
     /// Smallest deformed / reference cell volume (area in 2D) ratio (negative when a cell inverted).
     pub min_volume_ratio: f64,
@@ -258,6 +260,11 @@ pub struct meshmove_quality {
     pub max_volume_ratio: f64,
     /// Smallest angle of any cell, degrees.
     pub min_angle_deg: f64,
+    /// Cells whose signed volume (area in 2D) is not positive: what VTK's cell volume finds.
+    pub negative_volume_cells: i32,
+    /// Smallest deformed / reference ratio of a cell's smallest corner Jacobian (negative when a
+    /// corner inverted); for triangles and tetrahedra the volume ratio.
+    pub min_corner_jacobian_ratio: f64,
 }
 
 impl From<&crate::Report> for meshmove_report {
@@ -280,6 +287,8 @@ impl From<crate::mesh::quality::Quality> for meshmove_quality {
             min_volume_ratio: q.min_area_ratio,
             max_volume_ratio: q.max_area_ratio,
             min_angle_deg: q.min_angle_deg,
+            negative_volume_cells: q.non_positive_measure.min(i32::MAX as usize) as i32,
+            min_corner_jacobian_ratio: q.min_corner_jacobian_ratio,
         }
     }
 }

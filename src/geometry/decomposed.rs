@@ -5,49 +5,40 @@
 //! diagonal is preferred). Stiffness couples every pair of corners, face diagonals included (the
 //! spring analogy still uses the cell's edges only).
 
-use super::simplex::{tet_gradients, tet_volume};
+use super::simplex::tet_gradients;
 use super::{dot3, CellType};
-use std::sync::OnceLock;
 
 /// A tetrahedron of a decomposition: its corners (local to the cell) and the sign that orients
 /// it positively in a valid cell of the type.
 type Tet = ([u8; 4], f64);
 
+/// A wedge's six decompositions into three tetrahedra, one per order (a, b, c) of its triangle's
+/// corners: [a, b, c, a′], [b, c, a′, b′], [c, a′, b′, c′] (′: the corner above), each signed by
+/// its volume in the reference wedge. Constants, not tables built on first use: nothing lazy
+/// can be half-built in a forked child (the unit test rebuilds them from the reference cells).
+const WEDGE: [[Tet; 3]; 6] = [
+    [([0, 1, 2, 3], -1.0), ([1, 2, 3, 4], -1.0), ([2, 3, 4, 5], -1.0)],
+    [([1, 2, 0, 4], -1.0), ([2, 0, 4, 5], -1.0), ([0, 4, 5, 3], -1.0)],
+    [([2, 0, 1, 5], -1.0), ([0, 1, 5, 3], -1.0), ([1, 5, 3, 4], -1.0)],
+    [([0, 2, 1, 3], 1.0), ([2, 1, 3, 5], 1.0), ([1, 3, 5, 4], 1.0)],
+    [([2, 1, 0, 5], 1.0), ([1, 0, 5, 4], 1.0), ([0, 5, 4, 3], 1.0)],
+    [([1, 0, 2, 4], 1.0), ([0, 2, 4, 3], 1.0), ([2, 4, 3, 5], 1.0)],
+];
+
+/// A pyramid's two cuts along a base diagonal, signed as the wedge's.
+const PYRAMID: [[Tet; 2]; 2] =
+    [[([0, 1, 2, 4], 1.0), ([0, 2, 3, 4], 1.0)], [([0, 1, 3, 4], 1.0), ([1, 2, 3, 4], 1.0)]];
+
 /// The decompositions of `ty` and the weight of each (1 / their number).
-fn decompositions(ty: CellType) -> (&'static [Vec<Tet>], f64) {
-    static WEDGE: OnceLock<Vec<Vec<Tet>>> = OnceLock::new();
-    static PYRAMID: OnceLock<Vec<Vec<Tet>>> = OnceLock::new();
-    let list = match ty {
-        CellType::Wedge => WEDGE.get_or_init(|| {
-            let orders = [[0u8, 1, 2], [1, 2, 0], [2, 0, 1], [0, 2, 1], [2, 1, 0], [1, 0, 2]];
-            let reference =
-                [[0.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 1.0, 1.0], [1.0, 0.0, 1.0]];
-            orders
-                .iter()
-                .map(|&[a, b, c]| {
-                    let tets = [[a, b, c, a + 3], [b, c, a + 3, b + 3], [c, a + 3, b + 3, c + 3]];
-                    oriented(&tets, &reference)
-                })
-                .collect()
-        }),
-        CellType::Pyramid => PYRAMID.get_or_init(|| {
-            let reference = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0], [0.5, 0.5, 1.0]];
-            let cuts = [[[0u8, 1, 2, 4], [0, 2, 3, 4]], [[0, 1, 3, 4], [1, 2, 3, 4]]];
-            cuts.iter().map(|tets| oriented(tets, &reference)).collect()
-        }),
+fn decompositions(ty: CellType) -> (&'static [&'static [Tet]], f64) {
+    const W: [&[Tet]; 6] = [&WEDGE[0], &WEDGE[1], &WEDGE[2], &WEDGE[3], &WEDGE[4], &WEDGE[5]];
+    const P: [&[Tet]; 2] = [&PYRAMID[0], &PYRAMID[1]];
+    let list: &'static [&'static [Tet]] = match ty {
+        CellType::Wedge => &W,
+        CellType::Pyramid => &P,
         t => unreachable!("{t} cells are not decomposed"),
     };
     (list, 1.0 / list.len() as f64)
-}
-
-/// The tetrahedra with the sign of their volume in the reference cell.
-fn oriented(tets: &[[u8; 4]], reference: &[[f64; 3]]) -> Vec<Tet> {
-    tets.iter()
-        .map(|t| {
-            let v = tet_volume(&t.map(|k| reference[k as usize]));
-            (*t, v.signum())
-        })
-        .collect()
 }
 
 /// The index of corner pair (i, j), i < j, in the all-pairs list of `n` corners.
@@ -68,7 +59,7 @@ pub(super) fn element(ty: CellType, p: &[[f64; 3]], k: Option<&mut [f64]>, m: Op
         m[..n].iter_mut().for_each(|m| *m = 0.0);
     }
     for tets in list {
-        for &(t, sign) in tets {
+        for &(t, sign) in *tets {
             let q = t.map(|c| p[c as usize]);
             let (g, v) = tet_gradients(&q);
             let v = sign * v * w;
@@ -89,6 +80,28 @@ pub(super) fn element(ty: CellType, p: &[[f64; 3]], k: Option<&mut [f64]>, m: Op
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::simplex::tet_volume;
+
+    /// The tetrahedra with the sign of their volume in the reference cell.
+    fn oriented(tets: &[[u8; 4]], reference: &[[f64; 3]]) -> Vec<Tet> {
+        tets.iter().map(|t| (*t, tet_volume(&t.map(|k| reference[k as usize])).signum())).collect()
+    }
+
+    #[test]
+    fn the_constant_decompositions_are_the_reference_cells_cuts() {
+        let orders = [[0u8, 1, 2], [1, 2, 0], [2, 0, 1], [0, 2, 1], [2, 1, 0], [1, 0, 2]];
+        let wedge =
+            [[0.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 1.0, 1.0], [1.0, 0.0, 1.0]];
+        for (k, &[a, b, c]) in orders.iter().enumerate() {
+            let tets = [[a, b, c, a + 3], [b, c, a + 3, b + 3], [c, a + 3, b + 3, c + 3]];
+            assert_eq!(oriented(&tets, &wedge), WEDGE[k].to_vec(), "wedge order {k}");
+        }
+        let pyramid = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0], [0.5, 0.5, 1.0]];
+        let cuts = [[[0u8, 1, 2, 4], [0, 2, 3, 4]], [[0, 1, 3, 4], [1, 2, 3, 4]]];
+        for (k, tets) in cuts.iter().enumerate() {
+            assert_eq!(oriented(tets, &pyramid), PYRAMID[k].to_vec(), "pyramid cut {k}");
+        }
+    }
 
     /// The pair numbering agrees with `couplings()`, and a valid cell's averaged mass sums to its
     /// volume and is the same at symmetric corners.

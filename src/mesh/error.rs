@@ -108,6 +108,28 @@ pub enum MeshError {
         /// The cell's signed area (2D) or volume (3D), in the units of the coordinates.
         measure: f64,
     },
+    /// A cell's area or volume is outside the range of `f64` (an overflow or underflow of the
+    /// products of its coordinates), though its coordinates are finite.
+    #[error(
+        "cell {cell}'s area or volume overflows or underflows double precision (longest edge {longest_edge:e}, \
+         coordinates up to {largest:e}): express the mesh in units where cells are between about 1e-90 and 1e90 long"
+    )]
+    MeasureOutOfRange {
+        /// The cell (0-based).
+        cell: usize,
+        /// Its longest edge (infinite when its square overflows).
+        longest_edge: f64,
+        /// Its largest coordinate in absolute value.
+        largest: f64,
+    },
+    /// The system refused the memory for a table of the mesh (its topology).
+    #[error("out of memory: {what} need {bytes} bytes, which the system refused")]
+    OutOfMemory {
+        /// The table.
+        what: &'static str,
+        /// Its size.
+        bytes: u64,
+    },
     /// Cells of both orientations are present: a cell is inverted or the mesh folds over itself.
     #[error(
         "cell {cell} is oriented against the rest of the mesh ({negative} cells negatively oriented (clockwise in 2D), \

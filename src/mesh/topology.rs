@@ -33,7 +33,8 @@ pub(crate) struct FaceCells {
 /// one whose two cells run along it in the same direction (they lie on the same side: the mesh
 /// overlaps itself).
 pub(super) fn cell_faces(types: &[CellType], cells: &Csr) -> Result<FaceCells, MeshError> {
-    let mut all: Vec<([u32; 4], u32, u8)> = Vec::with_capacity(4 * types.len());
+    let listed: usize = types.iter().map(|t| t.faces().len()).sum();
+    let mut all: Vec<([u32; 4], u32, u8)> = reserved(listed, "the faces of every cell")?;
     for (c, &ty) in types.iter().enumerate() {
         let t = cells.get(c);
         for (f, local) in ty.faces().iter().enumerate() {
@@ -42,7 +43,8 @@ pub(super) fn cell_faces(types: &[CellType], cells: &Csr) -> Result<FaceCells, M
         }
     }
     all.sort_unstable();
-    let mut faces = Vec::with_capacity(all.len() / 2 + 1);
+    let distinct = 1 + all.windows(2).filter(|w| w[0].0 != w[1].0).count();
+    let mut faces = reserved(distinct, "the faces of the mesh")?;
     let mut i = 0;
     while i < all.len() {
         let mut j = i + 1;
@@ -66,6 +68,18 @@ pub(super) fn cell_faces(types: &[CellType], cells: &Csr) -> Result<FaceCells, M
         i = j;
     }
     Ok(FaceCells { faces })
+}
+
+/// An empty vector with room for `n` items, or `MeshError::OutOfMemory` naming `what` when the
+/// system refuses the memory (the tables a mesh's size decides are reserved fallibly: an
+/// ordinary allocation that fails aborts the process).
+fn reserved<T>(n: usize, what: &'static str) -> Result<Vec<T>, MeshError> {
+    let mut v = Vec::new();
+    v.try_reserve_exact(n).map_err(|_| MeshError::OutOfMemory {
+        what,
+        bytes: (n as u64).saturating_mul(std::mem::size_of::<T>() as u64),
+    })?;
+    Ok(v)
 }
 
 /// Local face `f` of cell `c` with the cell's outward orientation.

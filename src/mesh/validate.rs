@@ -121,7 +121,15 @@ fn orient(coords: &[f64], dim: usize, types: &[CellType], cells: &mut Csr) -> Re
         let g = CellPoints::gather(ty, cells.get(c), coords, dim);
         let m = g.signed_measure();
         // Relative test: the measure against the longest edge's, so the check is scale-free.
-        let scale = g.longest_edge_squared().powf(0.5 * dim as f64);
+        let edge2 = g.longest_edge_squared();
+        let scale = edge2.powf(0.5 * dim as f64);
+        // Cells too large or too small for their measure to be a normal `f64` (finite
+        // coordinates can still overflow a product of them): said so, not taken as degenerate.
+        if edge2 > 0.0 && (!scale.is_normal() || !m.is_finite()) {
+            let largest = cells.get(c).iter().flat_map(|&v| &coords[v as usize * dim..(v as usize + 1) * dim]);
+            let largest = largest.fold(0.0f64, |a, x| a.max(x.abs()));
+            return Err(MeshError::MeasureOutOfRange { cell: c, longest_edge: edge2.sqrt(), largest });
+        }
         if m.abs() <= 1e-14 * scale || !m.is_finite() {
             return Err(MeshError::DegenerateCell { cell: c, measure: m });
         }

@@ -89,6 +89,20 @@ fn done(p: &SolveParams, max_corr: f64, rel: f64, scale: f64) -> bool {
 /// one system: one set of CG scalars over all its blocks. `scale` is the largest prescribed
 /// displacement (for the max-correction criterion).
 pub fn solve(h: &Hierarchy, comps: Range<usize>, p: &SolveParams, b: &[f64], x: &mut [f64], scale: f64) -> Report {
+    solve_until(h, comps, p, b, x, scale, &|| false)
+}
+
+/// As [`solve`], asking `stop` after every cycle: true ends the solve there, unconverged (the
+/// caller's cancellation).
+pub fn solve_until(
+    h: &Hierarchy,
+    comps: Range<usize>,
+    p: &SolveParams,
+    b: &[f64],
+    x: &mut [f64],
+    scale: f64,
+    stop: &Stop<'_>,
+) -> Report {
     let t0 = std::time::Instant::now();
     let lev = GroupOp::new(h.fine(), comps.clone(), false);
     let bnorm = lev.norm(b);
@@ -99,7 +113,7 @@ pub fn solve(h: &Hierarchy, comps: Range<usize>, p: &SolveParams, b: &[f64], x: 
         return rep;
     }
     let mut ws = Workspace::new(h, comps.len());
-    let run = Run { h, op: lev, comps: comps.clone(), p, b, bnorm, scale };
+    let run = Run { h, op: lev, comps: comps.clone(), p, b, bnorm, scale, stop };
     let mut cp = CycleParams::resolve(h, p);
     let mut boost = 0;
     for restart in 0..=TRUE_RESIDUAL_RESTARTS {
@@ -121,7 +135,7 @@ pub fn solve(h: &Hierarchy, comps: Range<usize>, p: &SolveParams, b: &[f64], x: 
         let true_ok = p.criterion != Criterion::RelativeResidual || rep.rel_residual <= p.tol;
         if rep.converged && !true_ok {
             rep.converged = false;
-            if restart < TRUE_RESIDUAL_RESTARTS && rep.cycles < p.max_cycles && rep.breakdown.is_none() {
+            if restart < TRUE_RESIDUAL_RESTARTS && rep.cycles < p.max_cycles && rep.breakdown.is_none() && !stop() {
                 continue;
             }
         }
@@ -149,6 +163,9 @@ const MAX_BOOSTS: usize = 4;
 /// Diverging when the residual grew this much: stop rather than run to max_cycles.
 const DIVERGED: f64 = 1e8;
 
+/// The caller's question after every cycle: true stops the solve.
+pub type Stop<'a> = dyn Fn() -> bool + Sync + 'a;
+
 /// What both iterations share: the hierarchy, the components, the parameters and the system.
 struct Run<'a> {
     h: &'a Hierarchy,
@@ -159,18 +176,19 @@ struct Run<'a> {
     b: &'a [f64],
     bnorm: f64,
     scale: f64,
+    stop: &'a Stop<'a>,
 }
 
 impl Run<'_> {
     /// Records cycle `k` (its largest correction and the residual `r`) in the report; true when
-    /// the iteration should stop (converged or diverged).
+    /// the iteration should stop (converged, diverged or stopped by the caller).
     fn record(&self, rep: &mut Report, k: usize, max_corr: f64, r: &[f64]) -> bool {
         let rel = self.op.norm(r) / self.bnorm;
         rep.history.push((max_corr, rel));
         rep.cycles = k;
         rep.max_correction = max_corr;
         rep.converged = done(self.p, max_corr, rel, self.scale);
-        rep.converged || !rel.is_finite() || rel > DIVERGED
+        rep.converged || !rel.is_finite() || rel > DIVERGED || (self.stop)()
     }
 
     fn stationary(&self, x: &mut [f64], ws: &mut Workspace, rep: &mut Report) {

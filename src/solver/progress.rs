@@ -1,6 +1,8 @@
-//! The caller's progress hook: told of every sub-step of a motion, and able to cancel it.
+//! The caller's progress hook, told of every sub-step of a motion and able to cancel it, and
+//! the request to cancel a running call from another thread.
 
 use super::StepReport;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
 /// A hook called after every sub-step attempt of [`Solver::advance`](super::Solver::advance)
@@ -29,5 +31,31 @@ impl Progress {
 impl std::fmt::Debug for Progress {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str("Progress(..)")
+    }
+}
+
+/// A request to stop a solver's running call, from any thread: [`Solver::canceller`]
+/// (super::Solver::canceller) hands out clones of the solver's own. The call checks it after
+/// every multigrid cycle of a solve (a count, not a clock, so a check comes within one cycle of
+/// the request) and fails with `Error::Cancelled`, leaving the solver as it was. A request made
+/// while no call runs stops the next call that solves at its first check; the call that stops
+/// consumes the request.
+#[derive(Clone, Debug, Default)]
+pub struct Cancel(Arc<AtomicBool>);
+
+impl Cancel {
+    /// Asks the running (or next) call to stop.
+    pub fn cancel(&self) {
+        self.0.store(true, Ordering::Release);
+    }
+
+    /// True while a request waits to be consumed.
+    pub fn is_requested(&self) -> bool {
+        self.0.load(Ordering::Acquire)
+    }
+
+    /// Consumes the request: true when there was one.
+    pub(crate) fn take(&self) -> bool {
+        self.0.swap(false, Ordering::AcqRel)
     }
 }

@@ -181,6 +181,10 @@ fn report(step: &Step, substep: usize, end: f64, sol: &Solution, rebuilt: bool, 
 
 /// Keeps the report of a sub-step and tells the caller's progress hook, which may cancel the call.
 fn record(s: &mut Solver, step: &Step, rep: StepReport) -> Result<()> {
+    // The caller decides how many reports a call makes (steps × sub-steps): kept fallibly.
+    s.steps.try_reserve(1).map_err(|_| {
+        Error::OutOfMemory(format!("the report of step {}.{} could not be kept", rep.step, rep.substep))
+    })?;
     s.steps.push(rep);
     let Some(p) = &s.opts.progress else { return Ok(()) };
     let r = s.steps.last().expect("pushed");

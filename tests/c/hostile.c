@@ -23,27 +23,9 @@
 #include <time.h>
 #include <unistd.h>
 #include "../../c_examples/box_grid.h"
-
-static int failures = 0, checks = 0;
+#include "check.h"
 
 static const char *msg(void) { return meshmove_last_error(); }
-
-#define CHECK(cond, ...)                                                                           \
-    do {                                                                                           \
-        checks++;                                                                                  \
-        if (!(cond)) {                                                                             \
-            fprintf(stderr, "line %d: ", __LINE__);                                                \
-            fprintf(stderr, __VA_ARGS__);                                                          \
-            fprintf(stderr, " [last error: %s]\n", msg());                                         \
-            failures++;                                                                            \
-        }                                                                                          \
-    } while (0)
-#define STATUS(call, want)                                                                         \
-    do {                                                                                           \
-        meshmove_status got_ = (call);                                                             \
-        CHECK(got_ == (want), "%s returned %s, want %s", #call, meshmove_status_name(got_),       \
-              meshmove_status_name(want));                                                         \
-    } while (0)
 
 /* OS threads of this process. */
 static int os_threads(void) {

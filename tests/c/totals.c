@@ -74,6 +74,10 @@ int main(int argc, char **argv) {
     if (!(qt.max_volume_ratio - 1.0 > 3.0 * (q.max_volume_ratio - 1.0)))
         FAIL("total max area ratio %.6f, last move's %.6f", qt.max_volume_ratio, q.max_volume_ratio);
     if (qt.inverted != 0 || !(qt.min_angle_deg > 0.0)) FAIL("total quality: %d inverted", qt.inverted);
+    /* Triangles: no negative area, and the corner Jacobian ratio is the area ratio. */
+    if (qt.negative_volume_cells != 0 || fabs(qt.min_corner_jacobian_ratio - qt.min_volume_ratio) > 1e-12)
+        FAIL("total quality: %d negative areas, corner Jacobian ratio %g, area ratio %g", qt.negative_volume_cells,
+             qt.min_corner_jacobian_ratio, qt.min_volume_ratio);
     CHECK(meshmove_solver_write_vtu(s, argv[1], 0, NULL));
     printf("totals: top %.3f (last move %.3f), max area ratio %.4f in all, %.4f in the last move, min %.4f (worst move %.4f)\n",
            top, d[k], qt.max_volume_ratio, q.max_volume_ratio, qt.min_volume_ratio, worst_step);

@@ -62,6 +62,9 @@ program totals
   if (abs(total(2, k) - 0.04d0) > 1d-15) error stop "the total at the top's middle is not 0.04"
   if (abs(d(2, k) - 0.01d0) > 1d-15) error stop "the last increment at the top's middle is not 0.01"
   if (.not. (qt%max_volume_ratio - 1 > 3 * (q%max_volume_ratio - 1))) error stop "total quality"
+  ! Triangles: no negative area, and the corner Jacobian ratio is the area ratio.
+  if (qt%negative_volume_cells /= 0 .or. abs(qt%min_corner_jacobian_ratio - qt%min_volume_ratio) > 1d-12) &
+    error stop "the total quality's negative volumes or corner Jacobian ratio"
   call solver%write_vtu("fortran_totals.vtu", stat=stat)
   call ok(stat, "write_vtu")
   print '(a, f6.3, a, f6.3, a, f7.4, a, f7.4)', "totals: top ", total(2, k), " (last move ", d(2, k), &
