@@ -688,6 +688,9 @@ impl Solver {
     /// A new hierarchy built from `coords`, the old one kept in `undo` (the first time).
     fn rebuild(&mut self, coords: Vec<f64>, undo: &mut Undo) -> Result<()> {
         let mesh = self.hierarchy.fine().mesh().with_coords(coords);
+        // The new hierarchy is built beside the old one (kept for the undo): reserved first.
+        let need = memory::solver_bytes(&mesh, self.opts.method);
+        memory::check_available(need, self.opts.memory_budget, "the rebuilt hierarchy")?;
         let pairs = self.hierarchy.fine().pairs.clone();
         let (bcs, method, hp) = (&self.bcs, self.opts.method, &self.built_with);
         let built = self.pool.install(|| Hierarchy::build(&mesh, pairs, bcs, method, hp))??;

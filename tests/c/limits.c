@@ -5,11 +5,15 @@
  *             refused with a message about the overflow (not "zero area");
  *   cancel  - meshmove_solver_cancel stops the next (or running) call within one multigrid
  *             cycle with CANCELLED and changes nothing; called from the progress callback,
- *             while the move holds the solver, it stops the move in its next step's solve;
+ *             while the move holds the solver, and from another thread during a move, it stops
+ *             the move in its next step's solve;
  *   quality - a hexahedron folded at one corner: inverted by its corner Jacobian, with a positive
- *             volume (what VTK's cell volume finds), both counts and ratios in meshmove_quality.
+ *             volume (what VTK's cell volume finds), both counts and ratios in meshmove_quality;
+ *             pushed further, a negative volume too, and the INVERTED message speaks of volumes.
  * Exit status 0 when every check passed. */
+#define _POSIX_C_SOURCE 200809L
 #include <math.h>
+#include <pthread.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -86,6 +90,41 @@ static int cancel_from_callback(void *user, const meshmove_step_report *r, int32
     return 0;
 }
 
+/* Two threads' meeting point: the mover's callback says it holds the solver, then waits until
+ * the other thread has asked to cancel. */
+typedef struct {
+    pthread_mutex_t lock;
+    pthread_cond_t changed;
+    int entered, asked;
+    meshmove_solver *solver;
+} gate;
+
+static int wait_for_cancel(void *user, const meshmove_step_report *r, int32_t steps) {
+    gate *g = user;
+    (void)r;
+    (void)steps;
+    pthread_mutex_lock(&g->lock);
+    g->entered = 1;
+    pthread_cond_broadcast(&g->changed);
+    while (!g->asked) pthread_cond_wait(&g->changed, &g->lock);
+    pthread_mutex_unlock(&g->lock);
+    return 0;
+}
+
+static void *canceller(void *arg) {
+    gate *g = arg;
+    pthread_mutex_lock(&g->lock);
+    while (!g->entered) pthread_cond_wait(&g->changed, &g->lock);
+    pthread_mutex_unlock(&g->lock);
+    /* The solver is held by the other thread's move: cancel is the one call that takes it. */
+    STATUS(meshmove_solver_cancel(g->solver), MESHMOVE_STATUS_OK);
+    pthread_mutex_lock(&g->lock);
+    g->asked = 1;
+    pthread_cond_broadcast(&g->changed);
+    pthread_mutex_unlock(&g->lock);
+    return NULL;
+}
+
 static void test_cancel(void) {
     enum { N = 8, NV = (N + 1) * (N + 1) };
     double d[2 * NV], before[2 * NV], after[2 * NV], moved[2 * NV];
@@ -116,6 +155,18 @@ static void test_cancel(void) {
     CHECK(count == 1 && reports[0].accepted, "%d step reports before the cancelled step", count);
     STATUS(meshmove_solver_get_coords(s, 2 * NV, after), MESHMOVE_STATUS_OK);
     CHECK(!memcmp(moved, after, sizeof moved), "a cancelled move_in_steps changed the coordinates");
+    /* From another thread while the move holds the solver (a 1000-step move, met at its first
+     * step): CANCELLED, nothing changed. */
+    {
+        gate g = {PTHREAD_MUTEX_INITIALIZER, PTHREAD_COND_INITIALIZER, 0, 0, s};
+        pthread_t t;
+        STATUS(meshmove_solver_set_progress(s, wait_for_cancel, &g), MESHMOVE_STATUS_OK);
+        CHECK(pthread_create(&t, NULL, canceller, &g) == 0, "pthread_create");
+        STATUS(meshmove_solver_move_in_steps(s, 2 * NV, d, 1000, 0, NULL), MESHMOVE_STATUS_CANCELLED);
+        pthread_join(t, NULL);
+        STATUS(meshmove_solver_get_coords(s, 2 * NV, after), MESHMOVE_STATUS_OK);
+        CHECK(!memcmp(moved, after, sizeof moved), "a move cancelled from another thread changed the coordinates");
+    }
     STATUS(meshmove_solver_set_progress(s, NULL, NULL), MESHMOVE_STATUS_OK);
     STATUS(meshmove_solver_move_in_steps(s, 2 * NV, d, 4, 0, NULL), MESHMOVE_STATUS_OK);
     STATUS(meshmove_solver_free(s), MESHMOVE_STATUS_OK);
@@ -126,7 +177,7 @@ static void test_quality(void) {
     /* The unit cube as one hexahedron, every face on patch 0 (FIXED). */
     const double xyz[24] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1};
     const int32_t conn[8] = {0, 1, 2, 3, 4, 5, 6, 7}, type = MESHMOVE_CELL_TYPE_HEXAHEDRON;
-    double d[24] = {0};
+    double d[24] = {0}, moved[24];
     meshmove_mesh *m = NULL;
     meshmove_bcs *b = NULL;
     meshmove_solver *s = NULL;
@@ -151,6 +202,13 @@ static void test_quality(void) {
     CHECK(q.inverted == 1 && q.negative_volume_cells == 1 && q.min_volume_ratio < 0.0,
           "inverted %d, negative volumes %d, volume ratio %g", q.inverted, q.negative_volume_cells,
           q.min_volume_ratio);
+    /* Moved there: INVERTED, and the message speaks of volumes in 3D, not areas. */
+    memcpy(moved, xyz, sizeof moved);
+    STATUS(meshmove_solver_move(s, 24, d, moved, NULL, &q), MESHMOVE_STATUS_INVERTED);
+    CHECK(strstr(meshmove_last_error(), "non-positive volume") && strstr(meshmove_last_error(), "volume ratio") &&
+              !strstr(meshmove_last_error(), "area"),
+          "the 3D message");
+    CHECK(q.negative_volume_cells == 1 && moved[18] == -2.0, "the move's quality and coordinates");
     STATUS(meshmove_solver_free(s), MESHMOVE_STATUS_OK);
     STATUS(meshmove_bcs_free(b), MESHMOVE_STATUS_OK);
     STATUS(meshmove_mesh_free(m), MESHMOVE_STATUS_OK);
