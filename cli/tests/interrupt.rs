@@ -60,9 +60,10 @@ fn ctrl_c_writes_the_last_valid_mesh_and_exits_5() {
     // The last valid mesh is the last accepted sub-step's: the cylinder moved by that fraction
     // of the translation.
     let reports = std::fs::read_to_string(&report).unwrap();
-    let accepted = reports.lines().filter(|l| l.contains("\"accepted\":true"));
-    let fraction: f64 = accepted
-        .last()
+    let fraction: f64 = reports
+        .lines()
+        .rev()
+        .find(|l| l.contains("\"accepted\":true"))
         .map(|l| l.split("\"fraction\":").nth(1).unwrap().split(',').next().unwrap().parse().unwrap())
         .expect("at least one accepted step");
     assert!(fraction > 0.0 && fraction < 0.5, "{fraction}");

@@ -17,7 +17,9 @@
 //!   compare-and-swap and releases it when it returns (also on an error or a caught panic: the
 //!   guard's `Drop`). Calls that only read a handle share it; a call that changes it (or frees
 //!   it) needs it alone. A call that finds the handle taken returns `MESHMOVE_STATUS_BUSY`
-//!   immediately and changes nothing: it never waits, never races. A call that panics while it
+//!   immediately and changes nothing: it never waits, never races. The one exception is a
+//!   solver's cancellation request (`cancel_of`), an atomic flag in the slot beside the state
+//!   word, which another thread sets without acquiring the handle. A call that panics while it
 //!   holds a handle alone leaves it poisoned: every later call but `_free` is refused.
 //! * **Fork-safe.** `pthread_atfork` handlers (registered before the registry is first locked)
 //!   take the registry's lock before `fork()` and release it in the parent and the child, so a
