@@ -34,12 +34,12 @@ impl std::fmt::Debug for Progress {
     }
 }
 
-/// A request to stop a solver's running call, from any thread: [`Solver::canceller`]
-/// (super::Solver::canceller) hands out clones of the solver's own. The call checks it after
-/// every multigrid cycle of a solve (a count, not a clock, so a check comes within one cycle of
-/// the request) and fails with `Error::Cancelled`, leaving the solver as it was. A request made
-/// while no call runs stops the next call that solves at its first check; the call that stops
-/// consumes the request.
+/// A request to stop a solver's running call, from any thread:
+/// [`Solver::canceller`](super::Solver::canceller) hands out clones of the solver's own. The
+/// call checks it after every multigrid cycle of a solve (a count, not a clock, so a check comes
+/// within one cycle of the request) and fails with `Error::Cancelled`, leaving the solver as it
+/// was. A request made while no call runs stops the next call that solves at its first check;
+/// the call that stops consumes the request.
 #[derive(Clone, Debug, Default)]
 pub struct Cancel(Arc<AtomicBool>);
 
