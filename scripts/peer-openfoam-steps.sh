@@ -10,8 +10,8 @@
 #
 #   scripts/peer-openfoam-steps.sh [tet|hex] [H] [WORKDIR]
 #
-# H is Gmsh's mesh size: tetrahedra 0.032 give about 30k vertices and 0.0146 about 250k;
-# hexahedra (each tetrahedron cut into four) 0.1 about 30k and 0.047 about 250k. Defaults: tet,
+# H is Gmsh's mesh size: tetrahedra 0.032 give 26k vertices and 0.0146 about 250k; hexahedra
+# (each tetrahedron cut into four) 0.092 give 30k and 0.047 about 250k. Defaults: tet,
 # 0.032. Needs Gmsh and OpenFOAM (`gmshToFoam`, `moveMesh`, `postProcess` on PATH) and GNU time;
 # without them it says so and exits 0. The volume ratios of our meshes need a Python with the
 # `vtk` module (python3-vtk9); without it they are n/a. Not run in CI. The meshmove binary is
