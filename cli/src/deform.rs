@@ -378,7 +378,8 @@ fn build(args: &Args) -> Result<(CaseSetup, Options, Series), String> {
         opts.solve.tol = t;
     }
     opts.threads = cfg.threads.unwrap_or(0);
-    let (steps, auto) = match (&cfg.steps, series_steps(&cfg)?) {
+    let rows = series_steps(&cfg)?;
+    let (steps, auto) = match (&cfg.steps, rows) {
         (None, Some(n)) => (n, false),
         (None, None) => (1, false),
         (Some(StepsSpec::Count(n)), Some(rows)) if *n != rows => {
@@ -393,7 +394,7 @@ fn build(args: &Args) -> Result<(CaseSetup, Options, Series), String> {
         }
         (Some(StepsSpec::Word(w)), _) => return Err(format!("config: steps = \"{w}\" is not a count or \"auto\"")),
     };
-    if cfg.steps.is_none() && cfg.motion.iter().any(|m| m.period.is_some() && m.rows("").ok().flatten().is_none()) {
+    if cfg.steps.is_none() && rows.is_none() && cfg.motion.iter().any(|m| m.period.is_some()) {
         return Err("config: a motion with `period` needs `steps = N` (the steps of the whole run)".into());
     }
     if steps == 0 || steps > meshmove::solver::MAX_STEPS {
