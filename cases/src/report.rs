@@ -6,8 +6,8 @@ use glam::{DVec2, DVec3};
 use meshmove::mesh::quality::{quality, signed_measures};
 use meshmove::mesh::Mesh;
 use meshmove::solver::{Options, Solver, StepReport};
-use meshmove::Method;
 use meshmove::Result;
+use meshmove::{Method, Motion};
 use std::collections::HashMap;
 use std::time::Instant;
 
@@ -247,6 +247,20 @@ pub fn run_case_with(
     opts: &Options,
     mut on_step: impl FnMut(usize, &[StepReport]),
 ) -> Result<CaseResult> {
+    let ramp = |i| setup.motion.increment(i, setup.steps);
+    run_series_with(setup, method, opts, ramp, |step, reports, _| on_step(step, reports))
+}
+
+/// [`run_case_with`] with step `i`'s (0-based) increment given by `increment(i)` instead of an
+/// equal part of `setup.motion` (which is only checked), and `on_step(step, reports, coords)`
+/// also given the positions after the step.
+pub fn run_series_with(
+    setup: &CaseSetup,
+    method: Method,
+    opts: &Options,
+    mut increment: impl FnMut(usize) -> Motion,
+    mut on_step: impl FnMut(usize, &[StepReport], &[f64]),
+) -> Result<CaseResult> {
     let t0 = Instant::now();
     let opts = Options { method, ..opts.clone() };
     let original = &setup.mesh;
@@ -259,14 +273,14 @@ pub fn run_case_with(
     let mut last_valid = coords.clone();
     let mut cycles = 0;
     for i in 0..setup.steps {
-        let result = solver.advance(&setup.motion.increment(i, setup.steps));
+        let result = solver.advance(&increment(i));
         // `advance` numbers its sub-steps as one step of a whole motion: renumber as step i + 1.
         let steps: Vec<StepReport> = solver
             .step_reports()
             .iter()
             .map(|r| StepReport { step: i + 1, fraction: (i as f64 + r.fraction) / setup.steps as f64, ..r.clone() })
             .collect();
-        on_step(i + 1, &steps);
+        on_step(i + 1, &steps, solver.current_coords());
         // The call's cycles: its accepted sub-steps and its result (a result with inverted
         // cells is returned but not accepted).
         cycles += match &result {

@@ -9,16 +9,19 @@
 //! written to `OUT.last-valid.vtu` beside the requested output; 5 when Ctrl-C stopped the run: the
 //! last valid mesh is written there too (a second Ctrl-C exits at once, with 130).
 
+mod series;
+
 use indicatif::{ProgressBar, ProgressStyle};
 use meshmove::bc::SlipSurface;
-use meshmove::io::{read_msh, read_vtu};
+use meshmove::io::{read_msh, read_vtu, write_deformed_as, VtuEncoding};
 use meshmove::solver::{ReferenceMode, StepReport};
 use meshmove::{
     BoundaryConditions, InterfaceVariant, Kind, Link, Mesh, Method, Motion, Options, Progress, RigidMotion,
 };
-use meshmove_cases::report::{patch_measures, run_case_with};
+use meshmove_cases::report::{patch_measures, run_series_with};
 use meshmove_cases::setups::CaseSetup;
 use serde::Deserialize;
+use series::{periodic, FieldTrack, RigidTrack, Series};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -39,6 +42,34 @@ pub struct Args {
     /// Also write one JSON object per sub-step (JSON lines) to this file.
     #[arg(long)]
     report: Option<PathBuf>,
+    /// Also write the mesh after every K-th step (and the last) to OUT_NNNN.vtu beside OUT.vtu,
+    /// NNNN the step.
+    #[arg(long, value_name = "K")]
+    every: Option<std::num::NonZeroUsize>,
+    /// How the .vtu files are encoded.
+    #[arg(long, value_enum, default_value_t = Encoding::Binary)]
+    encoding: Encoding,
+}
+
+/// `--encoding`: [`VtuEncoding`]'s variants.
+#[derive(clap::ValueEnum, Clone, Copy, Debug)]
+enum Encoding {
+    /// Appended raw binary: the fastest to write and read.
+    Binary,
+    /// Appended binary compressed by zlib: smaller, slower to write.
+    Compressed,
+    /// Text.
+    Ascii,
+}
+
+impl Encoding {
+    fn vtu(self) -> VtuEncoding {
+        match self {
+            Encoding::Binary => VtuEncoding::Binary,
+            Encoding::Compressed => VtuEncoding::Compressed,
+            Encoding::Ascii => VtuEncoding::Ascii,
+        }
+    }
 }
 
 /// `steps = N` or `steps = "auto"` (one step, split automatically as needed).
@@ -102,6 +133,34 @@ struct MotionCfg {
     axis: Option<Vec<f64>>,
     center: Option<Vec<f64>>,
     file: Option<PathBuf>,
+    /// A periodic rigid motion or `file`: steps per period (the amplitudes are `translation`,
+    /// `rotation_deg` or the file's displacement).
+    period: Option<f64>,
+    phase_deg: Option<f64>,
+    /// Tables: the totals at the end of each step.
+    translations: Option<Vec<Vec<f64>>>,
+    rotations_deg: Option<Vec<f64>>,
+    files: Option<Vec<PathBuf>>,
+}
+
+impl MotionCfg {
+    /// The number of rows of this motion's tables, if it has any (all the same, else an error).
+    fn rows(&self, what: &str) -> Result<Option<usize>, String> {
+        let lens = [
+            ("translations", self.translations.as_ref().map(Vec::len)),
+            ("rotations_deg", self.rotations_deg.as_ref().map(Vec::len)),
+            ("files", self.files.as_ref().map(Vec::len)),
+        ];
+        let mut given = lens.iter().filter_map(|(k, l)| l.map(|l| (k, l)));
+        let Some((_, n)) = given.next() else { return Ok(None) };
+        if let Some((k, l)) = given.find(|(_, l)| *l != n) {
+            return Err(format!("{what}: `{k}` has {l} rows, the other table {n}"));
+        }
+        if n == 0 {
+            return Err(format!("{what}: a table of no rows"));
+        }
+        Ok(Some(n))
+    }
 }
 
 #[derive(Deserialize, Debug)]
@@ -295,7 +354,7 @@ fn read_displacement(path: &Path, nv: usize, dim: usize) -> Result<Vec<Option<[f
     Ok(out)
 }
 
-fn build(args: &Args) -> Result<(CaseSetup, Options), String> {
+fn build(args: &Args) -> Result<(CaseSetup, Options, Series), String> {
     let text = std::fs::read_to_string(&args.config).map_err(|e| format!("config {}: {e}", args.config.display()))?;
     let cfg: Config = toml::from_str(&text).map_err(|e| format!("config {}: {e}", args.config.display()))?;
     let base = args.config.parent().unwrap_or(Path::new("."));
@@ -319,12 +378,25 @@ fn build(args: &Args) -> Result<(CaseSetup, Options), String> {
         opts.solve.tol = t;
     }
     opts.threads = cfg.threads.unwrap_or(0);
-    let (steps, auto) = match &cfg.steps {
-        None => (1, false),
-        Some(StepsSpec::Count(n)) => (*n, false),
-        Some(StepsSpec::Word(w)) if w == "auto" => (1, true),
-        Some(StepsSpec::Word(w)) => return Err(format!("config: steps = \"{w}\" is not a count or \"auto\"")),
+    let rows = series_steps(&cfg)?;
+    let (steps, auto) = match (&cfg.steps, rows) {
+        (None, Some(n)) => (n, false),
+        (None, None) => (1, false),
+        (Some(StepsSpec::Count(n)), Some(rows)) if *n != rows => {
+            return Err(format!("config: steps = {n}, but the tables of [[motion]] have {rows} rows (one a step)"))
+        }
+        (Some(StepsSpec::Count(n)), _) => (*n, false),
+        (Some(StepsSpec::Word(w)), rows) if w == "auto" => {
+            if rows.is_some() || cfg.motion.iter().any(|m| m.period.is_some()) {
+                return Err("config: steps = \"auto\" is one step; a table or `period` needs steps = N".into());
+            }
+            (1, true)
+        }
+        (Some(StepsSpec::Word(w)), _) => return Err(format!("config: steps = \"{w}\" is not a count or \"auto\"")),
     };
+    if cfg.steps.is_none() && rows.is_none() && cfg.motion.iter().any(|m| m.period.is_some()) {
+        return Err("config: a motion with `period` needs `steps = N` (the steps of the whole run)".into());
+    }
     if steps == 0 || steps > meshmove::solver::MAX_STEPS {
         return Err(format!("config: steps must be 1 to {}", meshmove::solver::MAX_STEPS));
     }
@@ -390,6 +462,7 @@ fn build(args: &Args) -> Result<(CaseSetup, Options), String> {
         bcs.set_interface(id, v);
     }
     let mut motion = Motion::zero(&mesh);
+    let mut series = Series::default();
     let mut moved_patch = 0;
     let mut moved: Vec<(i32, usize)> = Vec::new();
     for (i, m) in cfg.motion.iter().enumerate() {
@@ -407,45 +480,181 @@ fn build(args: &Args) -> Result<(CaseSetup, Options), String> {
             }
         }
         let rigid = m.translation.is_some() || m.rotation_deg.is_some();
-        match (&m.file, rigid) {
-            (Some(_), true) => return Err(format!("{what}: give either `file` or a rigid motion, not both")),
-            (None, false) => return Err(format!("{what}: give `translation`/`rotation_deg` or a displacement `file`")),
-            (None, true) => {
-                let p = patch.ok_or_else(|| format!("{what}: a rigid motion needs `patch`"))?;
-                let r = rigid_motion(m, dim, &what)?;
-                motion = motion.with_rigid(p, r);
+        let table = m.translations.is_some() || m.rotations_deg.is_some();
+        let forms = [rigid, table, m.file.is_some(), m.files.is_some()];
+        match forms.iter().filter(|&&f| f).count() {
+            0 => {
+                return Err(format!(
+                    "{what}: give `translation`/`rotation_deg`, `translations`/`rotations_deg`, a displacement `file` or `files`"
+                ))
             }
-            (Some(f), false) => {
-                if m.axis.is_some() {
-                    return Err(format!("{what}: `axis` belongs to a rigid motion, not to a `file`"));
+            1 => {}
+            _ => {
+                return Err(format!(
+                    "{what}: give one of a rigid motion, a table of rigid motions, `file` and `files`, not several"
+                ))
+            }
+        }
+        if m.phase_deg.is_some() && m.period.is_none() {
+            return Err(format!("{what}: `phase_deg` without `period`"));
+        }
+        let profile = match m.period {
+            None => None,
+            Some(_) if table || m.files.is_some() => {
+                return Err(format!("{what}: `period` is for a rigid motion or a `file`, not a table"))
+            }
+            Some(p) if !(p > 0.0 && p.is_finite()) => {
+                return Err(format!("{what}: `period` (steps per period) must be a positive number, got {p}"))
+            }
+            Some(p) => {
+                let phase = m.phase_deg.unwrap_or(0.0).to_radians();
+                if !phase.is_finite() {
+                    return Err(format!("{what}: `phase_deg` is not finite"));
                 }
-                let d = read_displacement(&base.join(f), mesh.num_vertices(), dim)?;
-                if let Some(p) = patch {
-                    for c in 0..dim {
-                        let moves = mesh.patch_vertices(p).iter().any(|&v| d[v as usize].is_some_and(|d| d[c] != 0.0));
-                        if moves && bcs.kind(p, c) == Kind::Free {
-                            return Err(format!(
-                                "{what}: the file moves patch {} in {}, which is FREE there: make it fixed or clamped",
-                                patches.name(p),
-                                ["x", "y", "z"][c]
-                            ));
-                        }
-                    }
+                Some((1..=steps).map(|k| periodic(k, p, phase)).collect::<Vec<f64>>())
+            }
+        };
+        if m.axis.is_some() && (m.file.is_some() || m.files.is_some()) {
+            return Err(format!("{what}: `axis` belongs to a rigid motion, not to a displacement file"));
+        }
+        let file_field = |f: &Path| file_field(&base.join(f), patch, &mesh, &bcs, &patches, &what);
+        if rigid || table {
+            let p = patch.ok_or_else(|| format!("{what}: a rigid motion needs `patch`"))?;
+            match (table, profile) {
+                (false, None) => motion = motion.with_rigid(p, rigid_motion(m, dim, &what)?),
+                (false, Some(factors)) => {
+                    let r = rigid_motion(m, dim, &what)?;
+                    let axis = rotation_axis(m, dim, &what, "rotation_deg", m.rotation_deg.is_some())?;
+                    let angle = m.rotation_deg.unwrap_or(0.0).to_radians();
+                    let totals = factors.iter().map(|&f| (r.translation.map(|t| t * f), angle * f)).collect();
+                    series.rigid.push(RigidTrack { patch: p, axis, center: r.center, totals });
                 }
-                let only = patch.map(|p| mesh.patch_vertices(p));
-                for (v, dv) in d.iter().enumerate() {
-                    if let Some(dv) = dv {
-                        if only.as_ref().is_none_or(|o| o.binary_search(&(v as u32)).is_ok()) {
+                (true, _) => series.rigid.push(rigid_table(m, p, dim, steps, &what)?),
+            }
+        } else if let Some(f) = &m.file {
+            let d = file_field(f)?;
+            match profile {
+                Some(factors) => {
+                    let field = d.iter().flat_map(|v| v.unwrap_or_default()[..dim].to_vec()).collect();
+                    series.fields.push(FieldTrack::Scaled { field, factors });
+                }
+                None => {
+                    for (v, dv) in d.iter().enumerate() {
+                        if let Some(dv) = dv {
                             motion.displacement[dim * v..dim * (v + 1)].copy_from_slice(&dv[..dim]);
                         }
                     }
                 }
             }
+        } else if let Some(files) = &m.files {
+            let fields = files
+                .iter()
+                .map(|f| Ok(file_field(f)?.iter().flat_map(|v| v.unwrap_or_default()[..dim].to_vec()).collect()))
+                .collect::<Result<Vec<Vec<f64>>, String>>()?;
+            series.fields.push(FieldTrack::PerStep(fields));
         }
     }
     bcs.check(&mesh).map_err(|e| format!("config: {e}"))?;
     let name = args.mesh.file_stem().and_then(|s| s.to_str()).unwrap_or("mesh").to_string();
-    Ok((CaseSetup { name, mesh, bcs, motion, steps, moved_patch, upper_region: None }, opts))
+    Ok((CaseSetup { name, mesh, bcs, motion, steps, moved_patch, upper_region: None }, opts, series))
+}
+
+/// The number of steps the tables of the case's motions give (each table a row per step), if
+/// any has one.
+fn series_steps(cfg: &Config) -> Result<Option<usize>, String> {
+    let mut rows: Option<(usize, usize)> = None;
+    for (i, m) in cfg.motion.iter().enumerate() {
+        let what = format!("config: [[motion]] {}", i + 1);
+        match (m.rows(&what)?, rows) {
+            (Some(n), Some((r, first))) if n != r => {
+                return Err(format!("{what}: a table of {n} rows; [[motion]] {first}'s has {r}"))
+            }
+            (Some(n), None) => rows = Some((n, i + 1)),
+            _ => {}
+        }
+    }
+    Ok(rows.map(|(n, _)| n))
+}
+
+/// The displacement of a `[[motion]]`'s file `path` at each vertex it gives, only on `patch`'s
+/// vertices when the motion names a patch; an error when it moves a component that is free there.
+fn file_field(
+    path: &Path,
+    patch: Option<i32>,
+    mesh: &Mesh,
+    bcs: &BoundaryConditions,
+    patches: &Patches,
+    what: &str,
+) -> Result<Vec<Option<[f64; 3]>>, String> {
+    let dim = mesh.dim();
+    let mut d = read_displacement(path, mesh.num_vertices(), dim)?;
+    if let Some(p) = patch {
+        for c in 0..dim {
+            let moves = mesh.patch_vertices(p).iter().any(|&v| d[v as usize].is_some_and(|d| d[c] != 0.0));
+            if moves && bcs.kind(p, c) == Kind::Free {
+                return Err(format!(
+                    "{what}: the file moves patch {} in {}, which is FREE there: make it fixed or clamped",
+                    patches.name(p),
+                    ["x", "y", "z"][c]
+                ));
+            }
+        }
+        let only = mesh.patch_vertices(p);
+        for (v, dv) in d.iter_mut().enumerate() {
+            if only.binary_search(&(v as u32)).is_err() {
+                *dv = None;
+            }
+        }
+    }
+    Ok(d)
+}
+
+/// The rotation axis of a `[[motion]]` (unit; z in 2D): `axis` in 3D, required when the motion
+/// rotates (`key` is given) and only then; an error in 2D.
+fn rotation_axis(m: &MotionCfg, dim: usize, what: &str, key: &str, rotates: bool) -> Result<[f64; 3], String> {
+    if dim == 2 {
+        if m.axis.is_some() {
+            return Err(format!("{what}: `axis` is for 3D meshes; a 2D rotation is about z"));
+        }
+        return Ok([0.0, 0.0, 1.0]);
+    }
+    match (&m.axis, rotates) {
+        (None, false) => Ok([0.0, 0.0, 1.0]),
+        (None, true) => Err(format!("{what}: a 3D rotation needs `axis = [ax, ay, az]` with `{key}`")),
+        (Some(_), false) => Err(format!("{what}: `axis` without `{key}`")),
+        (Some(a), true) => {
+            let a = vector(a, 3, what, "axis")?;
+            let n = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+            if !(n > 0.0 && n.is_finite()) {
+                return Err(format!("{what}: `axis` must be a non-zero finite vector"));
+            }
+            Ok(a.map(|x| x / n))
+        }
+    }
+}
+
+/// The rigid motion of a `[[motion]]` with `translations` and/or `rotations_deg`: the totals at
+/// the end of each of the `steps` steps, about `axis` through `center`.
+fn rigid_table(m: &MotionCfg, patch: i32, dim: usize, steps: usize, what: &str) -> Result<RigidTrack, String> {
+    let axis = rotation_axis(m, dim, what, "rotations_deg", m.rotations_deg.is_some())?;
+    let center = m.center.as_deref().map(|c| vector(c, dim, what, "center")).transpose()?.unwrap_or([0.0; 3]);
+    let translations = match &m.translations {
+        Some(rows) => rows
+            .iter()
+            .enumerate()
+            .map(|(k, t)| vector(t, dim, what, &format!("translations[{k}]")))
+            .collect::<Result<Vec<_>, _>>()?,
+        None => vec![[0.0; 3]; steps],
+    };
+    let angles: Vec<f64> = match &m.rotations_deg {
+        Some(a) => a.iter().map(|x| x.to_radians()).collect(),
+        None => vec![0.0; steps],
+    };
+    let finite = translations.iter().flatten().chain(&angles).chain(&center).all(|x| x.is_finite());
+    if !finite {
+        return Err(format!("{what}: a value of `translations`, `rotations_deg` or `center` is not finite"));
+    }
+    Ok(RigidTrack { patch, axis, center, totals: translations.into_iter().zip(angles).collect() })
 }
 
 /// The rigid motion of a `[[motion]]`: in 2D `rotation_deg` about z; in 3D `rotation_deg` about
@@ -455,28 +664,8 @@ fn rigid_motion(m: &MotionCfg, dim: usize, what: &str) -> Result<RigidMotion, St
     let center = m.center.as_deref().map(|c| vector(c, dim, what, "center")).transpose()?;
     let (translation, center) = (translation.unwrap_or([0.0; 3]), center.unwrap_or([0.0; 3]));
     let angle = m.rotation_deg.unwrap_or(0.0).to_radians();
-    if dim == 2 {
-        if m.axis.is_some() {
-            return Err(format!("{what}: `axis` is for 3D meshes; a 2D rotation is about z"));
-        }
-        return Ok(RigidMotion::planar([translation[0], translation[1]], angle, [center[0], center[1]]));
-    }
-    let rotation = match (&m.axis, m.rotation_deg) {
-        (None, None) => [0.0; 3],
-        (None, Some(_)) => {
-            return Err(format!("{what}: a 3D rotation needs `axis = [ax, ay, az]` with `rotation_deg`"))
-        }
-        (Some(_), None) => return Err(format!("{what}: `axis` without `rotation_deg`")),
-        (Some(a), Some(_)) => {
-            let a = vector(a, 3, what, "axis")?;
-            let n = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
-            if !(n > 0.0 && n.is_finite()) {
-                return Err(format!("{what}: `axis` must be a non-zero finite vector"));
-            }
-            a.map(|x| x / n * angle)
-        }
-    };
-    Ok(RigidMotion { translation, rotation, center })
+    let axis = rotation_axis(m, dim, what, "rotation_deg", m.rotation_deg.is_some())?;
+    Ok(RigidMotion { translation, rotation: axis.map(|a| a * angle), center })
 }
 
 /// Set by Ctrl-C: the solver's progress hook then cancels the step under way.
@@ -496,13 +685,26 @@ fn on_ctrl_c(opts: &mut Options) {
 }
 
 pub fn run(args: Args) -> Result<ExitCode, String> {
-    let (setup, mut opts) = build(&args)?;
+    let (setup, mut opts, series) = build(&args)?;
+    let encoding = args.encoding.vtu();
+    let write = |path: &Path, disp: &[f64]| {
+        write_deformed_as(path, &setup.mesh.to_data(), disp, encoding).map_err(|e| format!("{}: {e}", path.display()))
+    };
+    let mut step_file_error = None;
     on_ctrl_c(&mut opts);
     let bar = if setup.steps >= 5 { ProgressBar::new(setup.steps as u64) } else { ProgressBar::hidden() };
     bar.set_style(
         ProgressStyle::with_template("{bar:40} step {pos}/{len} {elapsed}").unwrap_or(ProgressStyle::default_bar()),
     );
-    let r = run_case_with(&setup, opts.method, &opts, |_, reps| {
+    let increment = |i| series.increment(&setup.motion, i, setup.steps);
+    let r = run_series_with(&setup, opts.method, &opts, increment, |step, reps, coords| {
+        if args.every.is_some_and(|k| step % k.get() == 0 || step == setup.steps) {
+            let path = step_path(&args.output, step, setup.steps);
+            let disp: Vec<f64> = coords.iter().zip(setup.mesh.coords()).map(|(a, b)| a - b).collect();
+            if let Err(e) = write(&path, &disp) {
+                step_file_error.get_or_insert(e);
+            }
+        }
         for rep in reps {
             let line = rep.line();
             if bar.is_hidden() {
@@ -515,6 +717,9 @@ pub fn run(args: Args) -> Result<ExitCode, String> {
     })
     .map_err(|e| e.to_string())?;
     bar.finish_and_clear();
+    if let Some(e) = step_file_error {
+        return Err(e);
+    }
     if let Some(path) = &args.report {
         let text: String = r.reports.iter().map(|x| json_line(x) + "\n").collect();
         std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))?;
@@ -523,7 +728,7 @@ pub fn run(args: Args) -> Result<ExitCode, String> {
     if let Some(f) = &r.failure {
         let partial = args.output.with_extension("last-valid.vtu");
         let disp: Vec<f64> = r.last_valid.iter().zip(original).map(|(a, b)| a - b).collect();
-        crate::write_deformed(&partial, &setup.mesh, &disp)?;
+        write(&partial, &disp)?;
         let done = r.reports.iter().filter(|x| x.accepted).map(|x| x.fraction).fold(0.0, f64::max);
         eprintln!("meshmove: error: {f}");
         eprintln!(
@@ -535,7 +740,7 @@ pub fn run(args: Args) -> Result<ExitCode, String> {
         return Ok(ExitCode::from(if INTERRUPTED.load(Ordering::SeqCst) { 5 } else { 4 }));
     }
     let disp = r.displacement(&setup.mesh);
-    crate::write_deformed(&args.output, &setup.mesh, &disp)?;
+    write(&args.output, &disp)?;
     let substeps = r.reports.iter().filter(|x| x.accepted).count();
     println!(
         "mesh            {} ({} vertices, {} cells)",
@@ -583,6 +788,15 @@ pub fn run(args: Args) -> Result<ExitCode, String> {
         return Ok(ExitCode::from(3));
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// Where `--every` writes the mesh after step `step` of `steps`: OUT_NNNN.vtu beside OUT.vtu,
+/// the step in as many digits as the last one has (at least 4), so that the files sort in order
+/// and ParaView opens them as one series.
+fn step_path(output: &Path, step: usize, steps: usize) -> PathBuf {
+    let stem = output.file_stem().and_then(|s| s.to_str()).unwrap_or("out");
+    let width = steps.to_string().len().max(4);
+    output.with_file_name(format!("{stem}_{step:0width$}.vtu"))
 }
 
 /// One sub-step as a JSON object (non-finite numbers as null).

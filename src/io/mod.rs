@@ -1,6 +1,7 @@
 //! Mesh files, 2D and 3D, as [`MeshData`]: Gmsh `.msh` in (2.2 and 4.1, ASCII and binary) and
 //! out (ASCII 2.2); VTK XML `.vtu` in (ASCII, base64 and appended data, raw or zlib-compressed:
-//! what VTK, ParaView and meshio write) and out (ASCII).
+//! what VTK, ParaView and meshio write) and out (appended raw binary by default; zlib-compressed
+//! or ASCII when asked).
 //!
 //! Cells of every [`CellType`](crate::geometry::CellType) (triangles and quads in 2D; tetrahedra,
 //! hexahedra, wedges and pyramids in 3D) are read and written, in VTK's corner order. `.msh` files
@@ -19,7 +20,10 @@ mod msh;
 mod vtu;
 
 pub use msh::{parse_msh, parse_msh_data, read_msh, read_msh_data, write_msh22, write_msh22_data, MshMesh, MshParts};
-pub use vtu::{parse_vtu, read_vtu, write_deformed, write_deformed_data, write_vtu, CellField, PointField, VtuData};
+pub use vtu::{
+    parse_vtu, read_vtu, write_deformed, write_deformed_as, write_deformed_data, write_vtu, write_vtu_as, CellField,
+    PointField, VtuData, VtuEncoding,
+};
 
 use crate::mesh::{MeshData, MeshError};
 use std::path::{Path, PathBuf};

@@ -130,6 +130,8 @@ fn sample_fields(n: usize, m: usize) -> (Vec<f64>, Vec<f64>, Vec<f64>, Vec<i32>)
     (s, v, f, k)
 }
 
+const ENCODINGS: [VtuEncoding; 3] = [VtuEncoding::Binary, VtuEncoding::Compressed, VtuEncoding::Ascii];
+
 #[test]
 fn vtu_round_trip_is_exact() {
     let mesh = read_msh(&data("square_hole_41_bin.msh")).unwrap().mesh;
@@ -137,33 +139,116 @@ fn vtu_round_trip_is_exact() {
     let (s, v, f, k) = sample_fields(n, m);
     let mut written = mesh.to_data();
     written.coords.iter_mut().for_each(|x| *x /= 3.0);
-    let path = tmp("rt.vtu");
-    write_vtu(
-        &path,
-        &written,
-        &[("s", PointField::Scalar(&s)), ("v <&>", PointField::Vector(&v, 2))],
-        &[("f", CellField::F64(&f)), ("region", CellField::I32(&k))],
-    )
-    .unwrap();
-    let d = read_vtu(&path).unwrap();
-    assert_eq!(d.mesh.num_vertices(), n);
-    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-    assert_eq!(bits(&d.mesh.coords), bits(&written.coords));
-    assert_eq!(d.mesh.cell_vertices, written.cell_vertices);
-    assert_eq!(d.mesh.regions, k);
-    assert_eq!(d.point_data.len(), 2);
-    assert_eq!((d.point_data[0].0.as_str(), d.point_data[0].2), ("s", 1));
-    assert!(d.point_data[0].1.iter().zip(&s).all(|(a, b)| a.to_bits() == b.to_bits()));
-    assert_eq!((d.point_data[1].0.as_str(), d.point_data[1].2), ("v <&>", 3));
-    for (i, p) in v.chunks_exact(2).enumerate() {
-        assert_eq!(&d.point_data[1].1[3 * i..3 * i + 3], &[p[0], p[1], 0.0]);
+    let mut sizes = Vec::new();
+    for enc in ENCODINGS {
+        let path = tmp(&format!("rt_{enc:?}.vtu"));
+        write_vtu_as(
+            &path,
+            &written,
+            &[("s", PointField::Scalar(&s)), ("v <&>", PointField::Vector(&v, 2))],
+            &[("f", CellField::F64(&f)), ("region", CellField::I32(&k))],
+            enc,
+        )
+        .unwrap();
+        let bytes = std::fs::read(&path).unwrap();
+        sizes.push(bytes.len());
+        let has = |t: &str| bytes.windows(t.len()).any(|w| w == t.as_bytes());
+        assert_eq!(has("<AppendedData encoding=\"raw\">"), enc != VtuEncoding::Ascii, "{enc:?}");
+        assert_eq!(has("compressor=\"vtkZLibDataCompressor\""), enc == VtuEncoding::Compressed, "{enc:?}");
+        assert_eq!(has("format=\"ascii\""), enc == VtuEncoding::Ascii, "{enc:?}");
+        let d = read_vtu(&path).unwrap();
+        assert_eq!(d.mesh.num_vertices(), n);
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&d.mesh.coords), bits(&written.coords), "{enc:?}");
+        assert_eq!(d.mesh.cell_vertices, written.cell_vertices);
+        assert_eq!(d.mesh.face_vertices, written.face_vertices);
+        assert_eq!(d.mesh.face_patch, written.face_patch);
+        assert_eq!(d.mesh.regions, k);
+        assert_eq!(d.point_data.len(), 2);
+        assert_eq!((d.point_data[0].0.as_str(), d.point_data[0].2), ("s", 1));
+        assert!(d.point_data[0].1.iter().zip(&s).all(|(a, b)| a.to_bits() == b.to_bits()));
+        assert_eq!((d.point_data[1].0.as_str(), d.point_data[1].2), ("v <&>", 3));
+        for (i, p) in v.chunks_exact(2).enumerate() {
+            assert_eq!(&d.point_data[1].1[3 * i..3 * i + 3], &[p[0], p[1], 0.0]);
+        }
+        assert_eq!((d.cell_data[0].0.as_str(), d.cell_data[0].2), ("f", 1));
+        assert!(d.cell_data[0].1.iter().zip(&f).all(|(a, b)| a.to_bits() == b.to_bits()));
+        assert_eq!(d.cell_data[1].1, k.iter().map(|&x| x as f64).collect::<Vec<_>>());
+        let back = d.to_mesh().unwrap();
+        assert_eq!(back.regions(), &k[..]);
+        assert_eq!(back.tris(), mesh.tris());
     }
-    assert_eq!((d.cell_data[0].0.as_str(), d.cell_data[0].2), ("f", 1));
-    assert!(d.cell_data[0].1.iter().zip(&f).all(|(a, b)| a.to_bits() == b.to_bits()));
-    assert_eq!(d.cell_data[1].1, k.iter().map(|&x| x as f64).collect::<Vec<_>>());
-    let back = d.to_mesh().unwrap();
-    assert_eq!(back.regions(), &k[..]);
-    assert_eq!(back.tris(), mesh.tris());
+    // Binary holds 8 bytes a float where text holds about 20; zlib shrinks the integer arrays.
+    assert!(sizes[0] < sizes[2] && sizes[1] < sizes[0], "binary, compressed, ascii: {sizes:?} bytes");
+}
+
+/// The layout VTK reads: after `_`, each array's UInt64 byte count and its little-endian bytes,
+/// one after another at the offsets the XML gives.
+#[test]
+fn appended_binary_layout() {
+    let d = crate::mesh::MeshData {
+        dim: 2,
+        coords: vec![0.0, 0.0, 1.0, 0.0, 0.0, 1.0],
+        cell_types: vec![crate::geometry::CellType::Triangle],
+        cell_offsets: vec![0, 3],
+        cell_vertices: vec![0, 1, 2],
+        ..crate::mesh::MeshData::new(2)
+    };
+    let path = tmp("layout.vtu");
+    write_vtu(&path, &d, &[("s", PointField::Scalar(&[1.5, -2.0, 0.25]))], &[]).unwrap();
+    let b = std::fs::read(&path).unwrap();
+    let text = String::from_utf8_lossy(&b);
+    let offsets: Vec<usize> = text
+        .match_indices("offset=\"")
+        .map(|(i, m)| text[i + m.len()..].split('"').next().unwrap().parse().unwrap())
+        .collect();
+    // s (3 floats), points (9 floats), connectivity (3 Int64), offsets (1 Int64), types (1 byte).
+    assert_eq!(offsets, vec![0, 8 + 24, 8 + 24 + 8 + 72, 8 + 24 + 8 + 72 + 8 + 24, 8 + 24 + 8 + 72 + 8 + 24 + 8 + 8]);
+    let start = b.windows(2).position(|w| w == b"\n_").unwrap() + 2;
+    let word = |at: usize| u64::from_le_bytes(b[start + at..start + at + 8].try_into().unwrap());
+    assert_eq!(word(0), 24);
+    assert_eq!(f64::from_bits(word(16)), -2.0);
+    assert_eq!(word(32), 72);
+    assert_eq!(f64::from_bits(word(32 + 8 + 24)), 1.0);
+    assert_eq!(word(offsets[3] + 8), 3);
+    assert_eq!(word(offsets[4]), 1);
+    assert_eq!(b[start + offsets[4] + 8], 5);
+    assert!(b.ends_with(b"\n</AppendedData>\n</VTKFile>\n"));
+}
+
+/// VTK itself reads what we write, in every encoding, to the same points, cells and fields.
+/// Runs only where Python's `vtk` module (python3-vtk9) is installed; skips otherwise.
+#[test]
+fn vtk_reads_written_files() {
+    let python = ["python3", "/usr/bin/python3"]
+        .into_iter()
+        .find(|p| std::process::Command::new(p).args(["-c", "import vtk"]).output().is_ok_and(|o| o.status.success()));
+    let Some(python) = python else {
+        eprintln!("skipped: no Python with the vtk module");
+        return;
+    };
+    let mesh = read_msh(&data("square_hole_41_bin.msh")).unwrap().mesh;
+    let disp: Vec<f64> = mesh.coords().iter().map(|x| 0.01 * x).collect();
+    let script = "import sys, vtk\n\
+        r = vtk.vtkXMLUnstructuredGridReader(); r.SetFileName(sys.argv[1]); r.Update()\n\
+        g = r.GetOutput(); p = g.GetPoint(g.GetNumberOfPoints() - 1)\n\
+        d = g.GetPointData().GetArray('displacement').GetTuple3(g.GetNumberOfPoints() - 1)\n\
+        print(g.GetNumberOfPoints(), g.GetNumberOfCells(), g.GetCellType(0), g.GetCellType(g.GetNumberOfCells() - 1),\n\
+              repr(p[0]), repr(d[0]), int(g.GetCellData().GetArray('patch').GetTuple1(g.GetNumberOfCells() - 1)))\n";
+    let n = mesh.num_vertices();
+    let last = mesh.point(n - 1);
+    let data = mesh.to_data();
+    for enc in ENCODINGS {
+        let path = tmp(&format!("vtk_{enc:?}.vtu"));
+        write_deformed_as(&path, &data, &disp, enc).unwrap();
+        let out = std::process::Command::new(python).args(["-c", script]).arg(&path).output().unwrap();
+        assert!(out.status.success(), "{enc:?}: {}", String::from_utf8_lossy(&out.stderr));
+        let got = String::from_utf8_lossy(&out.stdout);
+        let (cells, faces) = (mesh.num_cells(), data.num_faces());
+        let x = last[0] + disp[2 * (n - 1)];
+        let want = format!("{n} {} 5 3 {x:?} {:?} {}\n", cells + faces, disp[2 * (n - 1)], data.face_patch[faces - 1]);
+        assert_eq!(got, want, "{enc:?}");
+    }
 }
 
 #[test]
@@ -324,11 +409,12 @@ fn unsupported_element_and_truncated_binary() {
     assert!(matches!(parse_msh(no_tri.as_bytes()), Err(IoError::Unsupported(_))));
 }
 
+/// A small ASCII .vtu, for tests that edit its text.
 fn vtu_text() -> String {
     let mesh = parse_msh(GOOD22.as_bytes()).unwrap().mesh;
     let path = tmp("small.vtu");
     let s = [1.5, 2.5, 3.5, 4.5];
-    write_vtu(&path, &mesh.to_data(), &[("s", PointField::Scalar(&s))], &[]).unwrap();
+    write_vtu_as(&path, &mesh.to_data(), &[("s", PointField::Scalar(&s))], &[], VtuEncoding::Ascii).unwrap();
     std::fs::read_to_string(path).unwrap()
 }
 
@@ -408,8 +494,9 @@ fn mesh_off_the_xy_plane_is_not_planar() {
     let a = t.find("<Points>").unwrap();
     let b = a + t[a..].find("</Points>").unwrap();
     let mut points = t[a..b].to_string();
-    let last_zero = points.rfind(" 0 ").unwrap_or_else(|| points.rfind('0').unwrap());
-    points.replace_range(last_zero..last_zero + 2, " 1");
+    // The last point's z, written as `0.0`, becomes 1.
+    let last_zero = points.rfind(" 0.0 ").unwrap();
+    points.replace_range(last_zero..last_zero + 5, " 1.0 ");
     let tilted = format!("{}{}{}", &t[..a], points, &t[b..]);
     match parse_vtu(tilted.as_bytes()) {
         Err(IoError::Unsupported(m)) => assert!(m.contains("not planar"), "{m}"),

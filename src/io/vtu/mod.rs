@@ -7,9 +7,11 @@
 //! which element or attribute was wrong, which the reader's errors must. What we need is small:
 //! one piece of cells with Float64 points and a few named arrays.
 //!
-//! The writer writes ASCII (`format="ascii"`) with shortest round-trip float formatting, so
-//! reading back gives the same bits; cells of any [`CellType`](crate::geometry::CellType) (the
-//! `connectivity`, `offsets` and `types` arrays), 2D points with z = 0.
+//! The writer writes appended raw binary by default (`<AppendedData encoding="raw">`, UInt64
+//! headers, little-endian), zlib-compressed appended binary or ASCII (shortest round-trip floats)
+//! when asked ([`VtuEncoding`]); each reads back to the same bits. Cells of any
+//! [`CellType`](crate::geometry::CellType) (the `connectivity`, `offsets` and `types` arrays), 2D
+//! points with z = 0.
 //!
 //! The reader takes one `<Piece>` of cells of the types of
 //! [`CellType`](crate::geometry::CellType) (VTK ids 5, 9, 10, 12, 13, 14, mixed; any other type is
@@ -37,7 +39,7 @@ pub use read::{parse_vtu, read_vtu};
 #[cfg(test)]
 #[cfg(test)]
 pub(crate) use write::signed_measure;
-pub use write::{write_deformed, write_deformed_data, write_vtu};
+pub use write::{write_deformed, write_deformed_as, write_deformed_data, write_vtu, write_vtu_as, VtuEncoding};
 
 use super::IoError;
 use crate::mesh::{Mesh, MeshData};

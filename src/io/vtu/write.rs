@@ -1,52 +1,83 @@
-//! The `.vtu` writer: ASCII, shortest round-trip floats.
+//! The `.vtu` writer: appended raw binary (the default), zlib-compressed appended binary, or
+//! ASCII with shortest round-trip floats; every encoding reads back to the same bits.
 
 use super::{CellField, PointField};
 use crate::geometry::CellPoints;
 use crate::io::{check_data, io_err, IoError};
 use crate::mesh::{Mesh, MeshData};
 use std::fmt::Write as _;
+use std::io::Write as _;
 use std::path::Path;
 
-/// Writes the points, cells and tagged faces of `mesh` with the given named fields. 2D points are
-/// written with z = 0. The faces follow the cells as VTK cells of one dimension less (lines in
-/// 2D, triangles and quads in 3D) with an Int32 cell array `patch` (the faces' patch ids, the
-/// cells' regions), which [`read_vtu`](super::read_vtu) reads back as the patches; the caller's
-/// cell fields hold the cells' values, and the faces' are written as NaN (`F64`) or 0 (`I32`).
-/// Regions are read back from a cell field `region` where the caller passes one.
+/// How the arrays of a written `.vtu` are encoded.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum VtuEncoding {
+    /// Raw little-endian bytes after the XML, in one `<AppendedData encoding="raw">` block: the
+    /// fastest to write and read, and what VTK and ParaView read natively.
+    #[default]
+    Binary,
+    /// As `Binary`, each array compressed by zlib (`vtkZLibDataCompressor`) in blocks of 32 KiB:
+    /// smaller files, slower to write.
+    Compressed,
+    /// Text (`format="ascii"`), floats in their shortest round-trip form: larger and slower, for
+    /// reading by eye.
+    Ascii,
+}
+
+/// The uncompressed size of a zlib block of [`VtuEncoding::Compressed`] (VTK's own default).
+const ZLIB_BLOCK: usize = 1 << 15;
+
+/// Writes the points, cells and tagged faces of `mesh` with the given named fields, in appended
+/// raw binary: [`write_vtu_as`] with [`VtuEncoding::Binary`].
 pub fn write_vtu(
     path: &Path,
     mesh: &MeshData,
     point_data: &[(&str, PointField)],
     cell_data: &[(&str, CellField)],
 ) -> Result<(), IoError> {
+    write_vtu_as(path, mesh, point_data, cell_data, VtuEncoding::default())
+}
+
+/// Writes the points, cells and tagged faces of `mesh` with the given named fields, encoded as
+/// `encoding` says. 2D points are written with z = 0. The faces follow the cells as VTK cells of
+/// one dimension less (lines in 2D, triangles and quads in 3D) with an Int32 cell array `patch`
+/// (the faces' patch ids, the cells' regions), which [`read_vtu`](super::read_vtu) reads back as
+/// the patches; the caller's cell fields hold the cells' values, and the faces' are written as
+/// NaN (`F64`) or 0 (`I32`). Regions are read back from a cell field `region` where the caller
+/// passes one.
+pub fn write_vtu_as(
+    path: &Path,
+    mesh: &MeshData,
+    point_data: &[(&str, PointField)],
+    cell_data: &[(&str, CellField)],
+    encoding: VtuEncoding,
+) -> Result<(), IoError> {
+    let bytes = vtu_bytes(mesh, point_data, cell_data, encoding)?;
+    std::fs::write(path, bytes).map_err(io_err(path))
+}
+
+/// The contents of the file [`write_vtu_as`] writes.
+fn vtu_bytes(
+    mesh: &MeshData,
+    point_data: &[(&str, PointField)],
+    cell_data: &[(&str, CellField)],
+    encoding: VtuEncoding,
+) -> Result<Vec<u8>, IoError> {
     check_data(mesh, "write_vtu")?;
     let (n, m) = (mesh.num_vertices(), mesh.num_cells());
     let nf = mesh.num_faces();
-    let face_vtk = |f: usize| match (mesh.dim, mesh.face(f).len()) {
-        (2, _) => 3u8,
-        (_, 3) => 5,
-        _ => 9,
-    };
-    let mut s = String::with_capacity(80 * n + 40 * m);
-    s.push_str("<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n<UnstructuredGrid>\n");
-    let _ = writeln!(s, "<Piece NumberOfPoints=\"{n}\" NumberOfCells=\"{}\">", m + nf);
-    s.push_str("<PointData>\n");
     for (name, f) in point_data {
-        let (values, comps) = match *f {
-            PointField::Scalar(v) => (v, 1),
-            PointField::Vector(v, k) => (v, k),
+        let (len, comps) = match *f {
+            PointField::Scalar(v) => (v.len(), 1),
+            PointField::Vector(v, k) => (v.len(), k),
         };
-        if comps == 0 || values.len() != n * comps {
+        if comps == 0 || len != n * comps {
             return Err(IoError::InvalidArgument(format!(
-                "write_vtu: point field `{name}` has {} values of {comps} components for {n} vertices",
-                values.len()
+                "write_vtu: point field `{name}` has {len} values of {comps} components for {n} vertices"
             )));
         }
-        open_array(&mut s, "Float64", Some(name), comps.max(3 * usize::from(comps == 2)));
-        push_tuples(&mut s, values, comps);
-        s.push_str("\n</DataArray>\n");
     }
-    s.push_str("</PointData>\n<CellData>\n");
     for (name, f) in cell_data {
         let len = match f {
             CellField::F64(v) => v.len(),
@@ -57,58 +88,112 @@ pub fn write_vtu(
                 "write_vtu: cell field `{name}` has {len} values for {m} cells"
             )));
         }
+    }
+    let face_vtk = |f: usize| match (mesh.dim, mesh.face(f).len()) {
+        (2, _) => 3u8,
+        (_, 3) => 5,
+        _ => 9,
+    };
+    let mut w = Writer::new(encoding, 80 * n + 40 * m);
+    w.xml.push_str("<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\"");
+    if encoding == VtuEncoding::Compressed {
+        w.xml.push_str(" compressor=\"vtkZLibDataCompressor\"");
+    }
+    w.xml.push_str(">\n<UnstructuredGrid>\n");
+    let _ = writeln!(w.xml, "<Piece NumberOfPoints=\"{n}\" NumberOfCells=\"{}\">", m + nf);
+    w.xml.push_str("<PointData>\n");
+    for (name, f) in point_data {
+        match *f {
+            PointField::Scalar(v) => w.array(Some(name), 1, Values::F64(v)),
+            PointField::Vector(v, k) => w.array(Some(name), k.max(3 * usize::from(k == 2)), Values::F64(&tuples(v, k))),
+        }
+    }
+    w.xml.push_str("</PointData>\n<CellData>\n");
+    for (name, f) in cell_data {
         match f {
             CellField::F64(v) => {
-                open_array(&mut s, "Float64", Some(name), 1);
-                v.iter().for_each(|x| push_f64(&mut s, *x));
-                (0..nf).for_each(|_| s.push_str("NaN "));
+                let all: Vec<f64> = v.iter().copied().chain(std::iter::repeat_n(f64::NAN, nf)).collect();
+                w.array(Some(name), 1, Values::F64(&all));
             }
             CellField::I32(v) => {
-                open_array(&mut s, "Int32", Some(name), 1);
-                push_ints(&mut s, v);
-                (0..nf).for_each(|_| s.push_str("0 "));
+                let all: Vec<i32> = v.iter().copied().chain(std::iter::repeat_n(0, nf)).collect();
+                w.array(Some(name), 1, Values::I32(&all));
             }
         }
-        s.push_str("\n</DataArray>\n");
     }
     if nf > 0 {
-        open_array(&mut s, "Int32", Some("patch"), 1);
-        push_ints(&mut s, &(0..m).map(|c| mesh.regions.get(c).copied().unwrap_or(0)).collect::<Vec<_>>());
-        push_ints(&mut s, &mesh.face_patch);
-        s.push_str("\n</DataArray>\n");
+        let regions = (0..m).map(|c| mesh.regions.get(c).copied().unwrap_or(0));
+        let patch: Vec<i32> = regions.chain(mesh.face_patch.iter().copied()).collect();
+        w.array(Some("patch"), 1, Values::I32(&patch));
     }
-    s.push_str("</CellData>\n<Points>\n");
-    open_array(&mut s, "Float64", None, 3);
-    push_tuples(&mut s, &mesh.coords, mesh.dim);
-    s.push_str("\n</DataArray>\n</Points>\n<Cells>\n");
-    s.push_str("<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n");
-    push_ints(&mut s, &mesh.cell_vertices);
-    push_ints(&mut s, &mesh.face_vertices);
-    s.push_str("\n</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n");
-    push_ints(&mut s, mesh.cell_offsets.get(1..).unwrap_or_default());
-    let end = mesh.cell_vertices.len();
-    push_ints(
-        &mut s,
-        &mesh.face_offsets.get(1..).unwrap_or_default().iter().map(|&o| end + o as usize).collect::<Vec<_>>(),
-    );
-    s.push_str("\n</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n");
-    push_ints(&mut s, &mesh.cell_types.iter().map(|t| t.vtk_id()).collect::<Vec<_>>());
-    push_ints(&mut s, &(0..nf).map(face_vtk).collect::<Vec<_>>());
-    s.push_str("\n</DataArray>\n</Cells>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n");
-    std::fs::write(path, s).map_err(io_err(path))
+    w.xml.push_str("</CellData>\n<Points>\n");
+    w.array(None, 3, Values::F64(&tuples(&mesh.coords, mesh.dim)));
+    w.xml.push_str("</Points>\n<Cells>\n");
+    let conn: Vec<i64> = mesh.cell_vertices.iter().chain(&mesh.face_vertices).map(|&v| i64::from(v)).collect();
+    w.array(Some("connectivity"), 1, Values::I64(&conn));
+    let end = mesh.cell_vertices.len() as i64;
+    let cell_ends = mesh.cell_offsets.get(1..).unwrap_or_default().iter().map(|&o| i64::from(o));
+    let face_ends = mesh.face_offsets.get(1..).unwrap_or_default().iter().map(|&o| end + i64::from(o));
+    w.array(Some("offsets"), 1, Values::I64(&cell_ends.chain(face_ends).collect::<Vec<_>>()));
+    let types: Vec<u8> = mesh.cell_types.iter().map(|t| t.vtk_id()).chain((0..nf).map(face_vtk)).collect();
+    w.array(Some("types"), 1, Values::U8(&types));
+    w.xml.push_str("</Cells>\n</Piece>\n</UnstructuredGrid>\n");
+    Ok(w.finish())
 }
 
-fn open_array(s: &mut String, ty: &str, name: Option<&str>, comps: usize) {
-    let _ = write!(s, "<DataArray type=\"{ty}\"");
-    if let Some(name) = name {
-        let _ = write!(s, " Name=\"{}\"", quick_xml::escape::escape(name));
+/// Tuples of `comps` values as VTK stores them: pairs as (x, y, 0), other sizes as they are.
+fn tuples(values: &[f64], comps: usize) -> std::borrow::Cow<'_, [f64]> {
+    if comps != 2 {
+        return std::borrow::Cow::Borrowed(values);
     }
-    let _ = writeln!(s, " NumberOfComponents=\"{comps}\" format=\"ascii\">");
+    std::borrow::Cow::Owned(values.chunks_exact(2).flat_map(|p| [p[0], p[1], 0.0]).collect())
 }
 
-/// Shortest representation that parses back to the same `f64` (`{:?}` is Rust's round-trip form).
-fn push_f64(s: &mut String, x: f64) {
-    let _ = write!(s, "{x:?} ");
+/// The values of one array, of the VTK type each variant names.
+enum Values<'a> {
+    F64(&'a [f64]),
+    I32(&'a [i32]),
+    I64(&'a [i64]),
+    U8(&'a [u8]),
+}
+
+impl Values<'_> {
+    fn vtk_type(&self) -> &'static str {
+        match self {
+            Values::F64(_) => "Float64",
+            Values::I32(_) => "Int32",
+            Values::I64(_) => "Int64",
+            Values::U8(_) => "UInt8",
+        }
+    }
+
+    /// The values as little-endian bytes.
+    fn bytes(&self) -> Vec<u8> {
+        fn le<const N: usize, T: Copy>(v: &[T], f: impl Fn(T) -> [u8; N]) -> Vec<u8> {
+            let mut out = Vec::with_capacity(N * v.len());
+            v.iter().for_each(|&x| out.extend_from_slice(&f(x)));
+            out
+        }
+        match self {
+            Values::F64(v) => le(v, f64::to_le_bytes),
+            Values::I32(v) => le(v, i32::to_le_bytes),
+            Values::I64(v) => le(v, i64::to_le_bytes),
+            Values::U8(v) => v.to_vec(),
+        }
+    }
+
+    /// The values as text, separated by spaces; floats in their shortest round-trip form (`{:?}`
+    /// is Rust's), so reading back gives the same bits.
+    fn push_text(&self, s: &mut String) {
+        match self {
+            Values::F64(v) => v.iter().for_each(|x| {
+                let _ = write!(s, "{x:?} ");
+            }),
+            Values::I32(v) => push_ints(s, v),
+            Values::I64(v) => push_ints(s, v),
+            Values::U8(v) => push_ints(s, v),
+        }
+    }
 }
 
 fn push_ints<T: std::fmt::Display>(s: &mut String, v: &[T]) {
@@ -117,13 +202,77 @@ fn push_ints<T: std::fmt::Display>(s: &mut String, v: &[T]) {
     });
 }
 
-/// Tuples of `comps` values; pairs are written as (x, y, 0).
-fn push_tuples(s: &mut String, values: &[f64], comps: usize) {
-    for t in values.chunks_exact(comps) {
-        t.iter().for_each(|x| push_f64(s, *x));
-        if comps == 2 {
-            s.push_str("0 ");
+/// The XML of a file being written and, for the binary encodings, its appended data.
+struct Writer {
+    encoding: VtuEncoding,
+    xml: String,
+    appended: Vec<u8>,
+}
+
+impl Writer {
+    fn new(encoding: VtuEncoding, ascii_guess: usize) -> Writer {
+        let capacity = if encoding == VtuEncoding::Ascii { ascii_guess } else { 4096 };
+        Writer { encoding, xml: String::with_capacity(capacity), appended: Vec::new() }
+    }
+
+    /// One `<DataArray>`: inline text, or its offset here and its header and bytes appended.
+    fn array(&mut self, name: Option<&str>, comps: usize, values: Values) {
+        let _ = write!(self.xml, "<DataArray type=\"{}\"", values.vtk_type());
+        if let Some(name) = name {
+            let _ = write!(self.xml, " Name=\"{}\"", quick_xml::escape::escape(name));
         }
+        if comps != 1 {
+            let _ = write!(self.xml, " NumberOfComponents=\"{comps}\"");
+        }
+        if self.encoding == VtuEncoding::Ascii {
+            self.xml.push_str(" format=\"ascii\">\n");
+            values.push_text(&mut self.xml);
+            self.xml.push_str("\n</DataArray>\n");
+            return;
+        }
+        let _ = writeln!(self.xml, " format=\"appended\" offset=\"{}\"/>", self.appended.len());
+        let data = values.bytes();
+        match self.encoding {
+            VtuEncoding::Compressed => self.push_compressed(&data),
+            _ => {
+                self.appended.extend_from_slice(&(data.len() as u64).to_le_bytes());
+                self.appended.extend_from_slice(&data);
+            }
+        }
+    }
+
+    /// `data` as VTK's compressed form: the header (block count, block size, size of the last
+    /// block, each block's compressed size) then the blocks, each a zlib stream. Level 1: the
+    /// smaller files of higher levels cost several times the time, and speed is what a file
+    /// written every time step needs.
+    fn push_compressed(&mut self, data: &[u8]) {
+        let blocks: Vec<Vec<u8>> = data
+            .chunks(ZLIB_BLOCK)
+            .map(|b| {
+                let mut z = flate2::write::ZlibEncoder::new(Vec::new(), flate2::Compression::fast());
+                // Writing to and finishing into a Vec cannot fail.
+                let _ = z.write_all(b);
+                z.finish().unwrap_or_default()
+            })
+            .collect();
+        let last = data.len() % ZLIB_BLOCK;
+        let header = [blocks.len(), ZLIB_BLOCK, last].into_iter().chain(blocks.iter().map(Vec::len));
+        header.for_each(|x| self.appended.extend_from_slice(&(x as u64).to_le_bytes()));
+        blocks.iter().for_each(|b| self.appended.extend_from_slice(b));
+    }
+
+    /// The whole file: the XML, then the appended data, if any.
+    fn finish(mut self) -> Vec<u8> {
+        if self.encoding == VtuEncoding::Ascii {
+            self.xml.push_str("</VTKFile>\n");
+            return self.xml.into_bytes();
+        }
+        self.xml.push_str("<AppendedData encoding=\"raw\">\n_");
+        let mut out = self.xml.into_bytes();
+        out.reserve(self.appended.len() + 32);
+        out.extend_from_slice(&self.appended);
+        out.extend_from_slice(b"\n</AppendedData>\n</VTKFile>\n");
+        out
     }
 }
 
@@ -138,6 +287,16 @@ pub fn write_deformed(path: &Path, reference: &Mesh, displacement: &[f64]) -> Re
 
 /// [`write_deformed`] of a mesh given as plain arrays (any cell types, 2D or 3D).
 pub fn write_deformed_data(path: &Path, data: &MeshData, displacement: &[f64]) -> Result<(), IoError> {
+    write_deformed_as(path, data, displacement, VtuEncoding::default())
+}
+
+/// [`write_deformed_data`] in the given encoding.
+pub fn write_deformed_as(
+    path: &Path,
+    data: &MeshData,
+    displacement: &[f64],
+    encoding: VtuEncoding,
+) -> Result<(), IoError> {
     check_data(data, "write_deformed")?;
     let (dim, n) = (data.dim, data.num_vertices());
     if displacement.len() != dim * n {
@@ -161,7 +320,7 @@ pub fn write_deformed_data(path: &Path, data: &MeshData, displacement: &[f64]) -
         min_angle.push(if bad { 0.0 } else { p1.min_angle_deg() });
     }
     let regions = if data.regions.is_empty() { vec![0; m] } else { data.regions.clone() };
-    write_vtu(
+    write_vtu_as(
         path,
         &moved,
         &[("displacement", PointField::Vector(displacement, dim))],
@@ -171,6 +330,7 @@ pub fn write_deformed_data(path: &Path, data: &MeshData, displacement: &[f64]) -
             ("inverted", CellField::I32(&inverted)),
             ("min_angle", CellField::F64(&min_angle)),
         ],
+        encoding,
     )
 }
 
