@@ -168,5 +168,5 @@ pub(super) fn airfoil_parts(p: &AirfoilParams) -> Result<Hybrid2d, String> {
 pub fn airfoil_2d(p: &AirfoilParams) -> Result<ViscousMesh, String> {
     let (d, cell_layer) = airfoil_parts(p)?.to_data();
     let mesh = Mesh::from_data(&d).map_err(|e| format!("airfoil: invalid mesh: {e}"))?;
-    Ok(ViscousMesh { mesh, cell_layer, layers: p.layers, patches: body_patches() })
+    Ok(ViscousMesh { mesh, cell_layer, layers: p.layers, patches: body_patches(), pitch_center: [0.25, 0.0, 0.0] })
 }

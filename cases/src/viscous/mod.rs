@@ -9,11 +9,13 @@
 //! measure how the layers moved ([`layer_volume_ratios`]).
 
 mod airfoil;
+mod motions;
 mod quality;
 mod spheroid;
 mod wing;
 
 pub use airfoil::{airfoil_2d, naca0012_half_thickness, AirfoilParams};
+pub use motions::{body_motion, boundary_conditions, motion, BodyMotion, PITCH_DEG, PLUNGE};
 pub use quality::{layer_volume_ratios, mesh_quality, MeshQuality};
 pub use spheroid::{spheroid_3d, SpheroidParams};
 pub use wing::{wing_3d, WingParams};
@@ -74,6 +76,9 @@ pub struct ViscousMesh {
     pub layers: Layers,
     /// Patch ids and their names (`wall`, `farfield`, `end_walls`).
     pub patches: Vec<(i32, &'static str)>,
+    /// The centre the body pitches about: the quarter chord (airfoil, wing) or the centre
+    /// (spheroid).
+    pub pitch_center: [f64; 3],
 }
 
 /// The patch names of a 2D airfoil or a spheroid.

@@ -99,5 +99,5 @@ pub fn spheroid_3d(p: &SpheroidParams) -> Result<ViscousMesh, String> {
         }
     }
     let mesh = Mesh::from_data(&d).map_err(|e| format!("spheroid: invalid mesh: {e}"))?;
-    Ok(ViscousMesh { mesh, cell_layer, layers: p.layers, patches: body_patches() })
+    Ok(ViscousMesh { mesh, cell_layer, layers: p.layers, patches: body_patches(), pitch_center: [0.0; 3] })
 }

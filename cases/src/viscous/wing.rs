@@ -72,5 +72,5 @@ pub fn wing_3d(p: &WingParams) -> Result<ViscousMesh, String> {
     }
     let mesh = Mesh::from_data(&d).map_err(|e| format!("wing: invalid mesh: {e}"))?;
     let patches = vec![(WALL, "wall"), (FARFIELD, "farfield"), (END_WALLS, "end_walls")];
-    Ok(ViscousMesh { mesh, cell_layer, layers: p.airfoil.layers, patches })
+    Ok(ViscousMesh { mesh, cell_layer, layers: p.airfoil.layers, patches, pitch_center: [0.25, 0.0, 0.0] })
 }
