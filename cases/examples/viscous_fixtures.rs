@@ -10,8 +10,7 @@ use std::path::PathBuf;
 fn main() {
     let dir = PathBuf::from(std::env::args().nth(1).unwrap_or_else(|| "tests/data".into()));
     let airfoil = airfoil_2d(&AirfoilParams::new(16)).expect("airfoil");
-    let spheroid =
-        spheroid_3d(&SpheroidParams::new(2).with_layers(Layers::new(1e-4, 10, 1.2))).expect("spheroid");
+    let spheroid = spheroid_3d(&SpheroidParams::new(2).with_layers(Layers::new(1e-4, 10, 1.2))).expect("spheroid");
     for (v, name) in [(airfoil, "viscous_airfoil_22.msh"), (spheroid, "viscous_spheroid_22.msh")] {
         let path = dir.join(name);
         meshmove::io::write_msh22(&v.mesh, &path).expect("writes the mesh");

@@ -17,7 +17,8 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::Path;
 use std::time::Instant;
 
-pub const HEADER: &str = "mesh,size,vertices,cells,method,motion,steps,status,setup_s,solve_s,step_s,us_per_vertex_step,\
+pub const HEADER: &str =
+    "mesh,size,vertices,cells,method,motion,steps,status,setup_s,solve_s,step_s,us_per_vertex_step,\
 bytes_per_vertex,iterations_max,iterations_mean,first_layer_min,first_layer_max,layers10_min,layers10_max,\
 min_volume_ratio,inverted,max_aspect_ratio,min_angle_deg";
 
