@@ -522,6 +522,19 @@ pub(crate) fn tensor_mesh(p: &OgridParams, plan: &OgridPlan) -> MeshData {
     d
 }
 
+/// Appends the hexahedron of corners `v` (vertices of `s`) as 12 tetrahedra around its added
+/// centroid, each face split by [`split_quad`]; returns how many cells it appended (12).
+pub(crate) fn push_hex_as_tets(s: &mut MeshData, v: &[u32]) -> usize {
+    let centre: Vec<f64> = (0..3).map(|a| v.iter().map(|&x| s.coords[3 * x as usize + a]).sum::<f64>() / 8.0).collect();
+    let o = s.push_vertex(&centre);
+    for f in CellType::Hexahedron.faces() {
+        for tri in split_quad([0, 1, 2, 3].map(|k| v[f[k] as usize])) {
+            push_oriented(s, CellType::Tetra, &[tri[0], tri[1], tri[2], o]);
+        }
+    }
+    12
+}
+
 /// `d` (hexahedra or quads) split into tetrahedra (12 per hexahedron around an added centroid)
 /// or triangles (2 per quad); quad faces split as their cells split them.
 fn simplex_mesh(d: &MeshData) -> MeshData {
@@ -530,14 +543,7 @@ fn simplex_mesh(d: &MeshData) -> MeshData {
     for c in 0..d.num_cells() {
         let v = d.cell(c);
         if d.dim == 3 {
-            let centre: Vec<f64> =
-                (0..3).map(|a| v.iter().map(|&x| d.coords[3 * x as usize + a]).sum::<f64>() / 8.0).collect();
-            let o = s.push_vertex(&centre);
-            for f in CellType::Hexahedron.faces() {
-                for tri in split_quad([0, 1, 2, 3].map(|k| v[f[k] as usize])) {
-                    push_oriented(&mut s, CellType::Tetra, &[tri[0], tri[1], tri[2], o]);
-                }
-            }
+            push_hex_as_tets(&mut s, v);
         } else {
             for tri in split_quad([v[0], v[1], v[2], v[3]]) {
                 push_oriented(&mut s, CellType::Triangle, &tri);

@@ -11,7 +11,9 @@
 //! wedge layer and the first tetrahedra that is the wedges' diagonal, so the mesh conforms.
 
 use super::{body_patches, Layers, ViscousMesh, FARFIELD, NO_LAYER, WALL};
-use crate::ogrid::{plan_with_cells, push_oriented, split_quad, tensor_mesh, CellKind, OgridParams, OG_BODY};
+use crate::ogrid::{
+    plan_with_cells, push_hex_as_tets, push_oriented, split_quad, tensor_mesh, CellKind, OgridParams, OG_BODY,
+};
 use meshmove::geometry::CellType;
 use meshmove::mesh::{Mesh, MeshData};
 
@@ -81,15 +83,8 @@ pub fn spheroid_3d(p: &SpheroidParams) -> Result<ViscousMesh, String> {
             }
             continue;
         }
-        let centre: Vec<f64> =
-            (0..3).map(|a| v.iter().map(|&x| hex.coords[3 * x as usize + a]).sum::<f64>() / 8.0).collect();
-        let centroid = d.push_vertex(&centre);
-        for f in CellType::Hexahedron.faces() {
-            for tri in split_quad([0, 1, 2, 3].map(|k| v[f[k] as usize])) {
-                push_oriented(&mut d, CellType::Tetra, &[tri[0], tri[1], tri[2], centroid]);
-                cell_layer.push(NO_LAYER);
-            }
-        }
+        let tets = push_hex_as_tets(&mut d, v);
+        cell_layer.extend(std::iter::repeat_n(NO_LAYER, tets));
     }
     for f in 0..hex.num_faces() {
         let v = hex.face(f);

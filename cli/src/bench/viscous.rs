@@ -79,6 +79,24 @@ struct Run {
     inverted: usize,
 }
 
+impl Run {
+    /// A run that measured nothing yet, with `status`.
+    fn with_status(status: String) -> Run {
+        Run {
+            status,
+            setup_s: 0.0,
+            solve_s: 0.0,
+            step_s: 0.0,
+            bytes_per_vertex: 0.0,
+            iterations: Vec::new(),
+            first: None,
+            ten: None,
+            min_volume_ratio: f64::NAN,
+            inverted: 0,
+        }
+    }
+}
+
 /// Builds the solver of `method` and moves the body by `m` in `steps` steps; stops at the first
 /// step that fails or inverts a cell (the rows report that step's result).
 fn run(v: &ViscousMesh, method: Method, m: BodyMotion, steps: usize, max_cycles: usize, tol: f64) -> Run {
@@ -86,18 +104,7 @@ fn run(v: &ViscousMesh, method: Method, m: BodyMotion, steps: usize, max_cycles:
     let bcs = viscous::boundary_conditions(v);
     let motion = viscous::motion(v, m);
     let base = alloc::start();
-    let mut r = Run {
-        status: "ok".into(),
-        setup_s: 0.0,
-        solve_s: 0.0,
-        step_s: 0.0,
-        bytes_per_vertex: 0.0,
-        iterations: Vec::new(),
-        first: None,
-        ten: None,
-        min_volume_ratio: f64::NAN,
-        inverted: 0,
-    };
+    let mut r = Run::with_status("ok".into());
     let opts = Options { method, solve: SolveParams { tol, max_cycles, ..Default::default() }, ..Default::default() };
     let t = Instant::now();
     let mut solver = match Solver::new(&v.mesh, &bcs, opts) {
@@ -151,18 +158,7 @@ fn run_caught(v: &ViscousMesh, method: Method, m: BodyMotion, steps: usize, max_
             .cloned()
             .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
             .unwrap_or_default();
-        Run {
-            status: format!("PANIC: {msg}"),
-            setup_s: 0.0,
-            solve_s: 0.0,
-            step_s: 0.0,
-            bytes_per_vertex: 0.0,
-            iterations: Vec::new(),
-            first: None,
-            ten: None,
-            min_volume_ratio: f64::NAN,
-            inverted: 0,
-        }
+        Run::with_status(format!("PANIC: {msg}"))
     })
 }
 
