@@ -142,6 +142,10 @@ fn run(v: &ViscousMesh, method: Method, m: BodyMotion, steps: usize, max_cycles:
         }
     }
     r.bytes_per_vertex = alloc::peak_above(base) as f64 / nv as f64;
+    if r.iterations.is_empty() {
+        // No step gave a result: nothing moved to measure.
+        return r;
+    }
     let q = meshmove::mesh::quality(&v.mesh, &coords);
     r.min_volume_ratio = q.min_area_ratio;
     r.inverted = q.inverted;
