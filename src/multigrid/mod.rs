@@ -12,6 +12,7 @@ mod layout;
 pub mod level;
 mod lsq;
 pub mod params;
+pub mod phases;
 pub mod policy;
 pub mod restriction;
 pub mod slip;
