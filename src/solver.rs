@@ -13,7 +13,7 @@ use crate::motion::Motion;
 use crate::multigrid::cycle::{cycle, Workspace};
 use crate::multigrid::group::GroupOp;
 pub use crate::multigrid::hierarchy::CoarseOperator;
-use crate::multigrid::hierarchy::{Hierarchy, HierarchyParams, Level};
+use crate::multigrid::hierarchy::{Carried, Hierarchy, HierarchyParams, Level};
 use crate::multigrid::policy::CycleParams;
 use crate::multigrid::smoother::Start;
 use crate::multigrid::solve::{solve, Report, SolveParams};
@@ -97,6 +97,10 @@ pub struct Solution {
 /// The state a failed mutating call restores.
 struct Undo {
     coords: Vec<f64>,
+    /// The hierarchy's weights and estimates carried from reference to reference, and its count
+    /// of re-references (restored when it changed).
+    carried: Carried,
+    generation: u64,
     /// The hierarchy as it was before the first rebuild of the call.
     hierarchy: Option<Hierarchy>,
 }
@@ -617,18 +621,25 @@ impl Solver {
     }
 
     fn undo(&self) -> Undo {
-        Undo { coords: self.hierarchy.fine().mesh().coords().to_vec(), hierarchy: None }
+        let h = &self.hierarchy;
+        Undo {
+            coords: h.fine().mesh().coords().to_vec(),
+            carried: h.carried(),
+            generation: h.generation(),
+            hierarchy: None,
+        }
     }
 
     /// Puts the solver back to the state `undo` recorded: the hierarchy it had (moved back to
-    /// its positions, which recomputes every value bitwise as it was).
+    /// its positions with the weights and estimates it had there, which recomputes every value
+    /// bitwise as it was).
     fn restore(&mut self, undo: Undo) {
         if let Some(h) = undo.hierarchy {
             self.hierarchy = h;
         }
-        if self.hierarchy.fine().mesh().coords() != undo.coords.as_slice() {
+        if self.hierarchy.generation() != undo.generation {
             let hierarchy = &mut self.hierarchy;
-            let moved = self.pool.install(|| hierarchy.move_to(undo.coords));
+            let moved = self.pool.install(|| hierarchy.restore(undo.coords, undo.carried));
             // The same topology at positions it had before: every coarse cell was valid there.
             debug_assert!(matches!(moved, Ok(Ok(true))), "moving back to a previous reference failed");
         }

@@ -10,18 +10,22 @@ use super::coarse_solve::CoarseSolve;
 use super::coarsen::CoarsenParams;
 use super::coarsener::{CoarseUnknowns, Coarsener};
 use super::group::{estimate_lambda_max, GroupOp};
+use super::refit::{donor_offsets, rows_to_redo, updated_offsets};
 use super::layout::Distribution;
 pub use super::level::Level;
 use super::phases::{timed, Phases};
 use super::level::Transfer;
+use super::restriction::Restriction;
 use super::slip;
 use super::{coarsener_for, CoarseLevels};
 use crate::bc::{check_well_posed, component_flags, BoundaryConditions, Dofs};
 use crate::mesh::quality::is_inverted;
 use crate::operator::{LevelOperator, Method};
 use crate::{Mesh, Result};
+use crate::sparse::{same_pattern, CsrMatrix};
 use rayon::prelude::*;
 use std::ops::Range;
+use std::sync::Arc;
 
 /// What a level computes from its mesh (everything but the mesh itself), so it can be built
 /// while the same mesh is being coarsened.
@@ -112,6 +116,24 @@ fn refresh_bounds(level: &mut Level) {
     slip::equalise_bounds(level);
 }
 
+/// What a re-reference carries from one reference to the next beyond the positions: each
+/// transfer's weights and the donor offsets they were chosen at. A failed call puts them back
+/// (`Hierarchy::restore`), so the hierarchy is bitwise as before it.
+pub(crate) struct Carried {
+    prolong: Vec<Option<Arc<CsrMatrix>>>,
+    offsets: Vec<Vec<f64>>,
+}
+
+/// The donor offsets of level l's transfer when the coarse level below it has kept unknowns
+/// (see `refit`), empty otherwise.
+fn transfer_offsets(levels: &[Level], l: usize) -> Vec<f64> {
+    match (levels.get(l + 1), &levels[l].down) {
+        (Some(coarse), Some(down)) if coarse.mesh.is_none() => {
+            donor_offsets(&down.prolong, &coarse.parent_vertex, &levels[l].unknown_points(), levels[l].dim())
+        }
+        _ => Vec::new(),
+    }
+}
 
 /// How a coarse level's K and V are made.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -171,6 +193,11 @@ pub struct Hierarchy {
     coarse: Vec<(Range<usize>, CoarseSolve)>,
     /// Seconds per phase of the last build or re-reference.
     phases: Phases,
+    /// Per level with a transfer of kept unknowns below it: the donor offsets its weights were
+    /// chosen at (`refit`; empty for other levels).
+    offsets: Vec<Vec<f64>>,
+    /// Counts the re-references: a failed call restores the hierarchy when it changed.
+    generation: u64,
 }
 
 impl Hierarchy {
@@ -231,7 +258,18 @@ impl Hierarchy {
             levels[l].down = Some(down);
             levels.push(level);
         }
-        let mut h = Hierarchy { levels, method, galerkin, fresh: true, coarsener, coarse: Vec::new(), phases: t };
+        let offsets = (0..levels.len()).map(|l| transfer_offsets(&levels, l)).collect();
+        let mut h = Hierarchy {
+            levels,
+            method,
+            galerkin,
+            fresh: true,
+            coarsener,
+            coarse: Vec::new(),
+            phases: t,
+            offsets,
+            generation: 0,
+        };
         timed(&mut t.coarse_solve, || h.build_coarse_solve())?;
         h.phases = t;
         Ok(h)
@@ -277,6 +315,31 @@ impl Hierarchy {
     /// Re-evaluates every level at new fine-vertex positions, keeping the coarse topology.
     /// Returns false (and changes nothing) when a coarse cell would invert: the caller rebuilds.
     pub fn move_to(&mut self, fine_coords: Vec<f64>) -> Result<bool> {
+        self.move_with(fine_coords, None)
+    }
+
+    /// What a re-reference carries beyond the positions (see `Carried`).
+    pub(crate) fn carried(&self) -> Carried {
+        Carried {
+            prolong: self.levels.iter().map(|l| l.down.as_ref().map(|d| Arc::clone(&d.prolong))).collect(),
+            offsets: self.offsets.clone(),
+        }
+    }
+
+    /// Counts the re-references of this hierarchy.
+    pub(crate) fn generation(&self) -> u64 {
+        self.generation
+    }
+
+    /// Back to the positions `fine_coords` with the weights `carried` had there:
+    /// bitwise the state `carried` was taken in.
+    pub(crate) fn restore(&mut self, fine_coords: Vec<f64>, carried: Carried) -> Result<bool> {
+        self.move_with(fine_coords, Some(carried))
+    }
+
+    /// `move_to`, or with `replay` the weights of an earlier state at these positions instead
+    /// of choosing them.
+    fn move_with(&mut self, fine_coords: Vec<f64>, replay: Option<Carried>) -> Result<bool> {
         let mut t = Phases::default();
         let start = std::time::Instant::now();
         let dim = self.fine().dim();
@@ -314,6 +377,9 @@ impl Hierarchy {
         };
         drop(meshes);
         t.unknowns = start.elapsed().as_secs_f64();
+        // Whether the finer level's K has a new pattern (a Galerkin K after a new P's pattern).
+        let mut k_pattern_changed = false;
+        self.generation += 1;
         for (l, (m, points)) in moved.into_iter().enumerate() {
             let level = &mut self.levels[l];
             match m {
@@ -332,13 +398,39 @@ impl Hierarchy {
                 let (upper, rest) = self.levels.split_at_mut(l);
                 let (fine, coarse) = (&mut upper[l - 1], &mut rest[0]);
                 let mut down = fine.down.take().expect("not the coarsest level");
-                timed(&mut t.transfer, || self.coarsener.update(l - 1, &mut down, fine, coarse));
+                let before = Arc::clone(&down.prolong);
+                let offsets = &mut self.offsets[l - 1];
+                timed(&mut t.transfer, || match &replay {
+                    Some(r) => {
+                        let p = r.prolong[l - 1].as_ref().expect("a level with a transfer");
+                        down.prolong = Arc::clone(p);
+                        down.restrict = Restriction::new(Arc::clone(p));
+                        offsets.clone_from(&r.offsets[l - 1]);
+                    }
+                    // Kept unknowns keep the weights of the rows whose donors moved little;
+                    // barycentric weights on coarse meshes are all chosen again (a point may
+                    // have left its triangle).
+                    None if coarse.mesh.is_none() => {
+                        let (points, kept) = (fine.unknown_points(), &coarse.parent_vertex);
+                        let redo = rows_to_redo(&down.prolong, kept, offsets, &points, dim);
+                        if redo.iter().any(|&r| r) {
+                            self.coarsener.update_rows(l - 1, &mut down, fine, coarse, &redo);
+                            *offsets = updated_offsets(&before, offsets, &down.prolong, &redo, kept, &points, dim);
+                        }
+                    }
+                    None => self.coarsener.update(l - 1, &mut down, fine, coarse),
+                });
                 fine.down = Some(down);
                 let down = fine.down.as_ref().expect("just put back");
                 if self.galerkin || coarse.mesh.is_none() {
-                    coarse.op = timed(&mut t.galerkin, || {
-                        LevelOperator::galerkin(&fine.op, &down.prolong, &down.prolong.transpose())
+                    // The product's pattern is kept while K's and P's are: only its values change.
+                    let same = !k_pattern_changed && same_pattern(&before, &down.prolong);
+                    let (p, op) = (&*down.prolong, &mut coarse.op);
+                    timed(&mut t.galerkin, || match same {
+                        true => op.update_galerkin(&fine.op, p, &p.transpose()),
+                        false => *op = LevelOperator::galerkin(&fine.op, p, &p.transpose()),
                     });
+                    k_pattern_changed = !same;
                 }
             }
             timed(&mut t.bounds, || refresh_bounds(&mut self.levels[l]));

@@ -13,6 +13,7 @@ pub mod level;
 mod lsq;
 pub mod params;
 pub mod phases;
+mod refit;
 pub mod policy;
 pub mod restriction;
 pub mod slip;
