@@ -117,6 +117,9 @@ pub struct Solver {
     total: Option<(Motion, Vec<f64>)>,
     /// The sub-steps of the last `advance` or `move_in_steps` call.
     steps: Vec<StepReport>,
+    /// Seconds `advance_from` spent making the caller's positions the reference, reported with
+    /// the call's first sub-step.
+    rebase_seconds: f64,
     /// The last valid mesh the last `advance` or `move_in_steps` call reached (empty before the
     /// first).
     last_valid: Vec<f64>,
@@ -163,6 +166,7 @@ impl Solver {
             pool,
             total: None,
             steps,
+            rebase_seconds: 0.0,
             last_valid,
             walls,
             built_with,
@@ -372,7 +376,13 @@ impl Solver {
         if let Some(g) = guess {
             check_guess(g, self.mesh())?;
         }
-        self.run(|| self.solve_inner(motion, guess))?
+        Ok(self.run(|| self.solve_inner(motion, guess))??.0)
+    }
+
+    /// `solve_report` from no guess, with the seconds of its quality check.
+    fn solve_timed(&self, motion: &Motion) -> Result<(Solution, f64)> {
+        self.check_motion(motion)?;
+        self.run(|| self.solve_inner(motion, None))?
     }
 
     /// The right-hand side and initial iterate of the components `comps`, one block each.
@@ -438,7 +448,8 @@ impl Solver {
         }
     }
 
-    fn solve_inner(&self, motion: &Motion, guess: Option<&[f64]>) -> Result<Solution> {
+    /// The solution and the seconds of its quality check.
+    fn solve_inner(&self, motion: &Motion, guess: Option<&[f64]>) -> Result<(Solution, f64)> {
         let lev = self.hierarchy.fine();
         let vals = motion.vertex_values(lev.mesh());
         let (mut displacement, mut report) = self.solve_groups(motion, &vals, guess)?;
@@ -467,8 +478,9 @@ impl Solver {
                 ));
             }
         }
+        let t = Instant::now();
         let quality = moved_quality(lev.mesh(), &displacement);
-        Ok(Solution { displacement, report, quality })
+        Ok((Solution { displacement, report, quality }, t.elapsed().as_secs_f64()))
     }
 
     /// Solves every group of components for the prescribed values `vals` (`dim` per vertex),

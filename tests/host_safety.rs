@@ -101,3 +101,55 @@ fn an_inverted_last_step_is_reported_not_accepted() {
     assert!(sol.report.cycles > 0 && sol.report.converged);
     assert_eq!(s.current_coords(), before.as_slice());
 }
+
+/// A cancelled call puts back the interpolation weights it started with (a re-reference keeps
+/// those of rows whose donors moved little): the calls after it give bitwise what they give on
+/// a solver that never made it.
+#[test]
+fn a_cancelled_call_leaves_the_next_results_bitwise() {
+    let mesh = Grid::new(40, 40).jitter(0.2).mesh();
+    let make = || Solver::new(&mesh, &BoundaryConditions::new(), Options::default()).unwrap();
+    let (mut a, mut b) = (make(), make());
+    assert!(a.num_levels() > 2, "{} levels", a.num_levels());
+    let first = on_patch(&mesh, TOP, [0.03, 0.0]);
+    a.move_in_steps(&first, 2).unwrap();
+    b.move_in_steps(&first, 2).unwrap();
+    let mut o = a.options().clone();
+    o.progress = Some(meshmove::Progress::new(|r, _| r.step < 3));
+    a.set_options(o).unwrap();
+    assert!(a.move_in_steps(&on_patch(&mesh, TOP, [0.0, 0.2]), 5).is_err());
+    assert_eq!(a.step_reports().len(), 3);
+    let mut o = a.options().clone();
+    o.progress = None;
+    a.set_options(o).unwrap();
+    let next = on_patch(&mesh, TOP, [-0.02, 0.06]);
+    a.move_in_steps(&next, 3).unwrap();
+    b.move_in_steps(&next, 3).unwrap();
+    let (xa, xb) = (a.current_coords(), b.current_coords());
+    assert!(xa.iter().zip(xb).all(|(x, y)| x.to_bits() == y.to_bits()));
+    assert_ne!(xa, mesh.coords());
+}
+
+/// Each step report splits its time into the solve and the quality check, and gives the
+/// re-reference apart; a rejected attempt made no new reference.
+#[test]
+fn step_reports_give_solve_quality_and_reference_apart() {
+    let (mesh, mut s) = grid_solver(ReferenceMode::Incremental);
+    s.move_in_steps(&on_patch(&mesh, TOP, [0.0, 0.05]), 3).unwrap();
+    let r = s.step_reports();
+    assert_eq!(r.len(), 3);
+    for r in r {
+        let parts = [r.solve_seconds, r.quality_seconds, r.reference_seconds];
+        assert!(parts.iter().all(|v| v.is_finite() && *v >= 0.0), "{}", r.line());
+        assert!((r.solve_seconds + r.quality_seconds - r.seconds).abs() <= 1e-9 * r.seconds.max(1.0), "{}", r.line());
+    }
+    let mut o = s.options().clone();
+    o.max_substeps = 8;
+    o.min_volume_ratio = 0.5;
+    s.set_options(o).unwrap();
+    // Whether or not the call ends well, its reports stay.
+    let _ = s.move_in_steps(&on_patch(&mesh, TOP, [0.0, -0.6]), 1);
+    let r = s.step_reports();
+    assert!(r.len() > 1 && !r[0].accepted, "{}", r[0].line());
+    assert!(r.iter().filter(|r| !r.accepted).all(|r| r.reference_seconds == 0.0));
+}

@@ -134,7 +134,7 @@ pub fn table(runs: &[Stepped]) -> String {
     let _ = writeln!(
         s,
         "\ntime stepping: biharmonic, the motion in {STEPS} steps by Solver::advance (re-referenced each step)\n\
-         {:<16} {:>8} {:>3} {:>8} {:>22} {:>22} {:>22} {:>6} {:>9}  iterations per step",
+         {:<16} {:>8} {:>3} {:>8} {:>22} {:>22} {:>22} {:>11} {:>10} {:>6} {:>9}  iterations per step",
         "case",
         "vertices",
         "thr",
@@ -142,6 +142,8 @@ pub fn table(runs: &[Stepped]) -> String {
         "step 1: it / s (reref)",
         "median: it / s (reref)",
         "worst: it / s (reref)",
+        "setup/solve",
+        "step/solve",
         "B/vert",
         "min vol"
     );
@@ -161,7 +163,7 @@ pub fn table(runs: &[Stepped]) -> String {
             .collect();
         let _ = writeln!(
             s,
-            "{:<16} {:>8} {:>3} {:>8.3} {:>22} {:>22} {:>22} {:>6.0} {:>9.4}  {}",
+            "{:<16} {:>8} {:>3} {:>8.3} {:>22} {:>22} {:>22} {:>11.2} {:>10.2} {:>6.0} {:>9.4}  {}",
             r.case,
             r.vertices,
             r.threads,
@@ -169,6 +171,8 @@ pub fn table(runs: &[Stepped]) -> String {
             cell(picks[0].0),
             cell(picks[1].0),
             cell(picks[2].0),
+            r.setup_s / median_of(r.steps.iter().map(|st| st.solve_s)),
+            median_of(r.steps.iter().map(|st| st.total_s / st.solve_s)),
             r.bytes_per_vertex,
             r.min_volume_ratio,
             its.join(" ")
@@ -180,7 +184,9 @@ pub fn table(runs: &[Stepped]) -> String {
     let _ = writeln!(
         s,
         "(s: the advance call; reref: of which outside the solve, K and V re-evaluated on the moved mesh; \
-         * a step split or its hierarchy rebuilt; min vol: final mesh against the original)"
+         setup/solve: Solver::new against the median step's solve; step/solve: the median of each step's \
+         advance call against its solve; * a step split or its hierarchy rebuilt; min vol: final mesh against the \
+         original; phases: the hierarchy's seconds per phase of the setup and of the median step's re-reference)"
     );
     s
 }
@@ -190,4 +196,11 @@ fn phase_list(p: &Phases) -> String {
     let mut s: Vec<String> = p.named().iter().map(|(n, v)| format!("{n} {v:.3}")).collect();
     s.push(format!("sum {:.3}", p.total()));
     s.join(", ")
+}
+
+/// The median of the values (the upper one of an even count).
+fn median_of(values: impl Iterator<Item = f64>) -> f64 {
+    let mut v: Vec<f64> = values.collect();
+    v.sort_by(f64::total_cmp);
+    v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
 }
