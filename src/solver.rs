@@ -120,6 +120,11 @@ pub struct Solver {
     /// Seconds `advance_from` spent making the caller's positions the reference, reported with
     /// the call's first sub-step.
     rebase_seconds: f64,
+    /// The last accepted step's prescribed values and displacement (`dim` per vertex, on the
+    /// mesh it started from): the next step's solve starts from it, scaled, when its prescribed
+    /// values are about a multiple of these (a smooth motion). None after the reference was
+    /// set from outside a step.
+    last_increment: Option<(Vec<f64>, Vec<f64>)>,
     /// The last valid mesh the last `advance` or `move_in_steps` call reached (empty before the
     /// first).
     last_valid: Vec<f64>,
@@ -167,6 +172,7 @@ impl Solver {
             total: None,
             steps,
             rebase_seconds: 0.0,
+            last_increment: None,
             last_valid,
             walls,
             built_with,
@@ -231,6 +237,7 @@ impl Solver {
                 self.set_reference(x)?;
             }
             self.drop_total();
+            self.last_increment = None;
         }
         self.opts = opts;
         Ok(())
@@ -379,10 +386,11 @@ impl Solver {
         Ok(self.run(|| self.solve_inner(motion, guess))??.0)
     }
 
-    /// `solve_report` from no guess, with the seconds of its quality check.
-    fn solve_timed(&self, motion: &Motion) -> Result<(Solution, f64)> {
+    /// `solve_report` from `guess` (`dim` per vertex, checked by the caller), with the seconds
+    /// of its quality check.
+    fn solve_timed(&self, motion: &Motion, guess: Option<&[f64]>) -> Result<(Solution, f64)> {
         self.check_motion(motion)?;
-        self.run(|| self.solve_inner(motion, None))?
+        self.run(|| self.solve_inner(motion, guess))?
     }
 
     /// The right-hand side and initial iterate of the components `comps`, one block each.
@@ -598,6 +606,7 @@ impl Solver {
         self.check_reference(&coords)?;
         let mut undo = self.undo();
         let r = self.set_reference_inner(coords, &mut undo);
+        self.last_increment = None;
         match r {
             // In `ReferenceMode::Original` the new reference is the new original mesh.
             Ok(()) => self.drop_total(),

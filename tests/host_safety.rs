@@ -153,3 +153,28 @@ fn step_reports_give_solve_quality_and_reference_apart() {
     assert!(r.len() > 1 && !r[0].accepted, "{}", r[0].line());
     assert!(r.iter().filter(|r| !r.accepted).all(|r| r.reference_seconds == 0.0));
 }
+
+/// A smooth motion's steps start from the last step's displacement scaled to their prescribed
+/// values: they take fewer iterations than the same steps solved from zero (a reference set
+/// from outside forgets the last step), and land within the tolerance of them.
+#[test]
+fn steps_of_a_smooth_motion_start_from_the_last_increment() {
+    let mesh = Grid::new(40, 40).jitter(0.2).mesh();
+    let make = || Solver::new(&mesh, &BoundaryConditions::new(), Options::default()).unwrap();
+    let (mut warm, mut cold) = (make(), make());
+    let inc = on_patch(&mesh, TOP, [0.01, 0.02]);
+    let (mut it_warm, mut it_cold) = (0, 0);
+    for k in 0..4 {
+        let w = warm.advance(&inc).unwrap();
+        let x = cold.current_coords().to_vec();
+        cold.set_reference(x).unwrap();
+        let c = cold.advance(&inc).unwrap();
+        if k > 0 {
+            it_warm += w.report.cycles;
+            it_cold += c.report.cycles;
+        }
+    }
+    assert!(it_warm < it_cold, "{it_warm} iterations from the last increment, {it_cold} from zero");
+    let far = warm.current_coords().iter().zip(cold.current_coords()).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+    assert!(far < 1e-6, "{far}");
+}

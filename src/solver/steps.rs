@@ -9,6 +9,7 @@
 //! in the reports and in `last_valid_coords`.
 
 use super::{check_converged, ReferenceMode, Solution, Solver, Undo};
+use crate::bc::P;
 use crate::mesh::quality::Quality;
 use crate::motion::Motion;
 use crate::multigrid::solve::Report;
@@ -146,6 +147,7 @@ fn rebase(s: &mut Solver, x: &[f64], undo: &mut Undo) -> Result<()> {
     s.check_reference(x)?;
     if x != s.mesh().coords() {
         s.set_reference_inner(x.to_vec(), undo)?;
+        s.last_increment = None;
     }
     s.drop_total();
     Ok(())
@@ -163,11 +165,13 @@ fn run<T>(
     s.last_valid = s.current_coords().to_vec();
     let mut undo = s.undo();
     let total = s.total.clone();
+    let last_increment = s.last_increment.clone();
     let placed = s.walls.as_ref().map(|w| w.placements().clone());
     let r = f(s, &mut undo);
     if !r.as_ref().is_ok_and(keep) {
         s.restore(undo);
         s.total = total;
+        s.last_increment = last_increment;
         if let (Some(w), Some(p)) = (s.walls.as_mut(), placed) {
             w.set_placements(p);
         }
@@ -235,7 +239,9 @@ fn do_step(s: &mut Solver, step: &Step, undo: &mut Undo) -> Result<()> {
         let end = if done + size >= 1.0 { 1.0 } else { done + size };
         let part = step.increment.between(done, end);
         let t0 = Instant::now();
-        let (sol, rebuilt, quality_s) = solve_part(s, &part, undo)?;
+        let vals = part.vertex_values(s.mesh()).into_owned();
+        let guess = extrapolated(s, &vals);
+        let (sol, rebuilt, quality_s) = solve_part(s, &part, guess.as_deref(), undo)?;
         let mut rep = report(step, substep, end, &sol, rebuilt, t0, quality_s);
         let q = &sol.quality;
         let valid = q.inverted == 0 && (!split || q.min_area_ratio >= s.opts.min_volume_ratio);
@@ -244,6 +250,7 @@ fn do_step(s: &mut Solver, step: &Step, undo: &mut Undo) -> Result<()> {
             let t1 = Instant::now();
             s.set_reference_inner(moved.clone(), undo)?;
             rep.reference_seconds = t1.elapsed().as_secs_f64();
+            s.last_increment = Some((vals, sol.displacement));
             if let Some(w) = s.walls.as_mut() {
                 w.move_walls(&part.rigid);
             }
@@ -297,15 +304,48 @@ fn do_step(s: &mut Solver, step: &Step, undo: &mut Undo) -> Result<()> {
 /// Solves one part of a step; a solve that stops above its tolerance on a hierarchy moved from
 /// another mesh is retried once on a hierarchy rebuilt from the current reference. Returns the
 /// solution, whether the hierarchy was rebuilt and the seconds of the result's quality check.
-fn solve_part(s: &mut Solver, part: &Motion, undo: &mut Undo) -> Result<(Solution, bool, f64)> {
-    let (sol, quality_s) = s.solve_timed(part)?;
+fn solve_part(s: &mut Solver, part: &Motion, guess: Option<&[f64]>, undo: &mut Undo) -> Result<(Solution, bool, f64)> {
+    let (sol, quality_s) = s.solve_timed(part, guess)?;
     if sol.report.converged || s.hierarchy.fresh {
         return Ok((sol, false, quality_s));
     }
     let x = s.mesh().coords().to_vec();
     s.rebuild(x, undo)?;
-    let (sol, quality_s) = s.solve_timed(part)?;
+    let (sol, quality_s) = s.solve_timed(part, guess)?;
     Ok((sol, true, quality_s))
+}
+
+/// Largest misfit, relative to the prescribed values' norm, of the prescribed values against a
+/// multiple of the last step's with which that step's displacement, scaled alike, starts the
+/// solve.
+const CONSISTENT_WITHIN: f64 = 0.1;
+
+/// The initial guess of a step whose prescribed values are `vals` (`dim` per vertex): the last
+/// accepted step's displacement times α, the multiple of that step's prescribed values nearest
+/// to these (least squares over the prescribed unknowns), when they are that multiple to within
+/// `CONSISTENT_WITHIN` (a smooth motion: linear extrapolation in time). The solve overwrites
+/// the guess's prescribed values with the step's own.
+fn extrapolated(s: &Solver, vals: &[f64]) -> Option<Vec<f64>> {
+    let (prev, disp) = s.last_increment.as_ref()?;
+    let lev = s.hierarchy.fine();
+    let dim = lev.dim();
+    let (mut vv, mut vp, mut pp) = (0.0, 0.0, 0.0);
+    for (c, flags) in lev.flags.iter().enumerate() {
+        for d in (0..flags.len()).filter(|&d| flags[d] & P != 0) {
+            let i = lev.dofs.vertices_of(d)[0] as usize * dim + c;
+            vv += vals[i] * vals[i];
+            vp += vals[i] * prev[i];
+            pp += prev[i] * prev[i];
+        }
+    }
+    if !(pp > 0.0 && vv > 0.0) {
+        return None;
+    }
+    let alpha = vp / pp;
+    // |v − α p|² = |v|² − (v·p)²/|p|².
+    let misfit = (vv - vp * alpha).max(0.0);
+    let guess: Vec<f64> = disp.iter().map(|d| alpha * d).collect();
+    (misfit <= CONSISTENT_WITHIN * CONSISTENT_WITHIN * vv && guess.iter().all(|g| g.is_finite())).then_some(guess)
 }
 
 /// `ReferenceMode::Original`: the total motion so far solved from the original mesh.
@@ -315,7 +355,7 @@ fn original_step(s: &mut Solver, step: &Step) -> Result<()> {
         None => step.increment.clone(),
     };
     let t0 = Instant::now();
-    let (sol, quality_s) = s.solve_timed(&total)?;
+    let (sol, quality_s) = s.solve_timed(&total, None)?;
     let mut rep = report(step, 1, 1.0, &sol, false, t0, quality_s);
     if !sol.report.converged {
         record(s, step, rep)?;
