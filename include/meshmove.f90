@@ -70,6 +70,9 @@ module meshmove_c
     integer(c_int32_t) :: accepted
     real(c_double) :: max_slip_offwall
   end type
+  type, bind(c) :: meshmove_step_seconds
+    real(c_double) :: reference, solve, quality
+  end type
 
   interface
     ! ---- errors and version
@@ -354,6 +357,12 @@ module meshmove_c
       integer(c_int32_t), value :: capacity
       integer(c_int32_t), intent(out) :: count
     end function
+    integer(c_int32_t) function meshmove_solver_step_seconds(solver, capacity, seconds, count) bind(c)
+      import :: c_int32_t, c_ptr
+      type(c_ptr), value :: solver, seconds
+      integer(c_int32_t), value :: capacity
+      integer(c_int32_t), intent(out) :: count
+    end function
     integer(c_int32_t) function meshmove_solver_set_substepping(solver, max_substeps, min_volume_ratio) bind(c)
       import :: c_int32_t, c_ptr, c_double
       type(c_ptr), value :: solver
@@ -426,7 +435,7 @@ module meshmove
   use meshmove_c
   implicit none (type, external)
   private
-  public :: meshmove_report, meshmove_quality, meshmove_step_report, mm_mesh, mm_bcs, mm_options, mm_solver, &
+  public :: meshmove_report, meshmove_quality, meshmove_step_report, meshmove_step_seconds, mm_mesh, mm_bcs, mm_options, mm_solver, &
     mm_last_error, mm_last_error_message, mm_status_name, mm_version, mm_check
   ! the named constants of meshmove_c
   public :: MESHMOVE_STATUS_OK, MESHMOVE_STATUS_NULL_POINTER, MESHMOVE_STATUS_INVALID_HANDLE, &
@@ -521,6 +530,7 @@ module meshmove
     procedure :: move => solver_move
     procedure :: move_in_steps => solver_move_in_steps
     procedure :: step_reports => solver_step_reports
+    procedure :: step_seconds => solver_step_seconds
     procedure :: set_reference => solver_set_reference
     procedure :: set_substepping => solver_set_substepping
     procedure :: set_reference_mode => solver_set_reference_mode
@@ -1513,6 +1523,33 @@ contains
     end if
     cap = n
     call check(meshmove_solver_step_reports(self%h, cap, c_loc(reports), n), "solver_step_reports", stat)
+    if (present(errmsg)) call message(errmsg)
+  end subroutine
+
+  !> Seconds of re-reference, solve and quality check of each step of the last move or
+  !> move_in_steps, in the order of the step seconds.
+  subroutine solver_step_seconds(self, seconds, stat, errmsg)
+    class(mm_solver), intent(in) :: self
+    type(meshmove_step_seconds), allocatable, target, intent(out) :: seconds(:)
+    integer(c_int32_t), intent(out), optional :: stat
+    character(len=:), allocatable, intent(out), optional :: errmsg
+    integer(c_int32_t) :: n, cap, s
+    n = 0
+    s = meshmove_solver_step_seconds(self%h, 0_c_int32_t, c_null_ptr, n)
+    if (s /= MESHMOVE_STATUS_OK .and. s /= MESHMOVE_STATUS_BUFFER_TOO_SMALL) then
+      allocate (seconds(0))
+      call check(s, "solver_step_seconds", stat)
+      if (present(errmsg)) call message(errmsg)
+      return
+    end if
+    allocate (seconds(n))
+    if (n == 0) then
+      call check(s, "solver_step_seconds", stat)
+      if (present(errmsg)) call message(errmsg)
+      return
+    end if
+    cap = n
+    call check(meshmove_solver_step_seconds(self%h, cap, c_loc(seconds), n), "solver_step_seconds", stat)
     if (present(errmsg)) call message(errmsg)
   end subroutine
 

@@ -586,6 +586,25 @@ typedef struct meshmove_step_report {
 } meshmove_step_report;
 
 /*
+ Where one step (or sub-step) of a move spent its time, in seconds (the step reports' order).
+ */
+typedef struct meshmove_step_seconds {
+  /*
+   Re-evaluating the solver's reference at the accepted result (and, on the first sub-step
+   of `meshmove_solver_move`, at positions the code moved itself); 0 for a rejected attempt.
+   */
+  double reference;
+  /*
+   The solve (with a hierarchy rebuild when a reused one stalled).
+   */
+  double solve;
+  /*
+   The quality check of the result.
+   */
+  double quality;
+} meshmove_step_seconds;
+
+/*
  The caller's progress callback: called with the caller's `user_data`, the report of the
  sub-step just done (valid during the call only) and the call's number of steps. It returns 0
  to go on; any other value cancels the call, which returns `MESHMOVE_STATUS_CANCELLED` with the
@@ -1284,6 +1303,20 @@ MESHMOVE_MUST_USE
 meshmove_status meshmove_solver_step_reports(const struct meshmove_solver *solver,
                                              int32_t capacity,
                                              struct meshmove_step_report *reports,
+                                             int32_t *count);
+
+/*
+ Where each step of the last `_move` or `_move_in_steps` call spent its time (seconds of
+ re-reference, solve and quality check), one struct per step report in the same order; sized
+ and copied as `meshmove_solver_step_reports`.
+
+ # Safety
+ `seconds` must hold `capacity` structs; `count` must be writable.
+ */
+MESHMOVE_MUST_USE
+meshmove_status meshmove_solver_step_seconds(const struct meshmove_solver *solver,
+                                             int32_t capacity,
+                                             struct meshmove_step_seconds *seconds,
                                              int32_t *count);
 
 /*

@@ -13,7 +13,7 @@ use crate::motion::Motion;
 use crate::multigrid::cycle::{cycle, Workspace};
 use crate::multigrid::group::GroupOp;
 pub use crate::multigrid::hierarchy::CoarseOperator;
-use crate::multigrid::hierarchy::{Hierarchy, HierarchyParams, Level};
+use crate::multigrid::hierarchy::{Carried, Hierarchy, HierarchyParams, Level};
 use crate::multigrid::policy::CycleParams;
 use crate::multigrid::smoother::Start;
 use crate::multigrid::solve::{solve_until, Report, SolveParams};
@@ -98,6 +98,10 @@ pub struct Solution {
 /// The state a failed mutating call restores.
 struct Undo {
     coords: Vec<f64>,
+    /// The hierarchy's weights and estimates carried from reference to reference, and its count
+    /// of re-references (restored when it changed).
+    carried: Carried,
+    generation: u64,
     /// The hierarchy as it was before the first rebuild of the call.
     hierarchy: Option<Hierarchy>,
 }
@@ -114,6 +118,14 @@ pub struct Solver {
     total: Option<(Motion, Vec<f64>)>,
     /// The sub-steps of the last `advance` or `move_in_steps` call.
     steps: Vec<StepReport>,
+    /// Seconds `advance_from` spent making the caller's positions the reference, reported with
+    /// the call's first sub-step.
+    rebase_seconds: f64,
+    /// The last accepted step's prescribed values and displacement (`dim` per vertex, on the
+    /// mesh it started from): the next step's solve starts from it, scaled, when its prescribed
+    /// values are about a multiple of these (a smooth motion). None after the reference was
+    /// set from outside a step.
+    last_increment: Option<(Vec<f64>, Vec<f64>)>,
     /// The last valid mesh the last `advance` or `move_in_steps` call reached (empty before the
     /// first).
     last_valid: Vec<f64>,
@@ -162,6 +174,8 @@ impl Solver {
             pool,
             total: None,
             steps,
+            rebase_seconds: 0.0,
+            last_increment: None,
             last_valid,
             walls,
             built_with,
@@ -234,6 +248,7 @@ impl Solver {
                 self.set_reference(x)?;
             }
             self.drop_total();
+            self.last_increment = None;
         }
         self.opts = opts;
         Ok(())
@@ -379,6 +394,13 @@ impl Solver {
         if let Some(g) = guess {
             check_guess(g, self.mesh())?;
         }
+        Ok(self.run(|| self.solve_inner(motion, guess))??.0)
+    }
+
+    /// `solve_report` from `guess` (`dim` per vertex, checked by the caller), with the seconds
+    /// of its quality check.
+    fn solve_timed(&self, motion: &Motion, guess: Option<&[f64]>) -> Result<(Solution, f64)> {
+        self.check_motion(motion)?;
         self.run(|| self.solve_inner(motion, guess))?
     }
 
@@ -445,7 +467,8 @@ impl Solver {
         }
     }
 
-    fn solve_inner(&self, motion: &Motion, guess: Option<&[f64]>) -> Result<Solution> {
+    /// The solution and the seconds of its quality check.
+    fn solve_inner(&self, motion: &Motion, guess: Option<&[f64]>) -> Result<(Solution, f64)> {
         let lev = self.hierarchy.fine();
         let vals = motion.vertex_values(lev.mesh());
         let (mut displacement, mut report) = self.solve_groups(motion, &vals, guess)?;
@@ -474,6 +497,7 @@ impl Solver {
                 ));
             }
         }
+        let t = Instant::now();
         let quality = moved_quality(lev.mesh(), &displacement);
         if !(quality.min_area_ratio.is_finite() && quality.max_area_ratio.is_finite())
             || measures_overflow(lev.mesh(), &displacement)
@@ -487,7 +511,7 @@ impl Solver {
                 extent(lev.mesh().coords(), lev.dim())
             )));
         }
-        Ok(Solution { displacement, report, quality })
+        Ok((Solution { displacement, report, quality }, t.elapsed().as_secs_f64()))
     }
 
     /// Solves every group of components for the prescribed values `vals` (`dim` per vertex),
@@ -624,6 +648,7 @@ impl Solver {
         self.check_reference(&coords)?;
         let mut undo = self.undo();
         let r = self.set_reference_inner(coords, &mut undo);
+        self.last_increment = None;
         match r {
             // In `ReferenceMode::Original` the new reference is the new original mesh.
             Ok(()) => self.drop_total(),
@@ -659,18 +684,25 @@ impl Solver {
     }
 
     fn undo(&self) -> Undo {
-        Undo { coords: self.hierarchy.fine().mesh().coords().to_vec(), hierarchy: None }
+        let h = &self.hierarchy;
+        Undo {
+            coords: h.fine().mesh().coords().to_vec(),
+            carried: h.carried(),
+            generation: h.generation(),
+            hierarchy: None,
+        }
     }
 
     /// Puts the solver back to the state `undo` recorded: the hierarchy it had (moved back to
-    /// its positions, which recomputes every value bitwise as it was).
+    /// its positions with the weights and estimates it had there, which recomputes every value
+    /// bitwise as it was).
     fn restore(&mut self, undo: Undo) {
         if let Some(h) = undo.hierarchy {
             self.hierarchy = h;
         }
-        if self.hierarchy.fine().mesh().coords() != undo.coords.as_slice() {
+        if self.hierarchy.generation() != undo.generation {
             let hierarchy = &mut self.hierarchy;
-            let moved = self.pool.install(|| hierarchy.move_to(undo.coords));
+            let moved = self.pool.install(|| hierarchy.restore(undo.coords, undo.carried));
             // The same topology at positions it had before: every coarse cell was valid there.
             debug_assert!(matches!(moved, Ok(Ok(true))), "moving back to a previous reference failed");
         }

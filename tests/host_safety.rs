@@ -190,3 +190,80 @@ fn a_cancel_request_stops_a_solve_within_one_cycle_and_is_consumed() {
     assert_eq!(s.step_reports().len(), 2);
     assert_eq!(s.current_coords(), before.as_slice());
 }
+
+/// A cancelled call puts back the interpolation weights it started with (a re-reference keeps
+/// those of rows whose donors moved little): the calls after it give bitwise what they give on
+/// a solver that never made it.
+#[test]
+fn a_cancelled_call_leaves_the_next_results_bitwise() {
+    let mesh = Grid::new(40, 40).jitter(0.2).mesh();
+    let make = || Solver::new(&mesh, &BoundaryConditions::new(), Options::default()).unwrap();
+    let (mut a, mut b) = (make(), make());
+    assert!(a.num_levels() > 2, "{} levels", a.num_levels());
+    let first = on_patch(&mesh, TOP, [0.03, 0.0]);
+    a.move_in_steps(&first, 2).unwrap();
+    b.move_in_steps(&first, 2).unwrap();
+    let mut o = a.options().clone();
+    o.progress = Some(meshmove::Progress::new(|r, _| r.step < 3));
+    a.set_options(o).unwrap();
+    assert!(a.move_in_steps(&on_patch(&mesh, TOP, [0.0, 0.2]), 5).is_err());
+    assert_eq!(a.step_reports().len(), 3);
+    let mut o = a.options().clone();
+    o.progress = None;
+    a.set_options(o).unwrap();
+    let next = on_patch(&mesh, TOP, [-0.02, 0.06]);
+    a.move_in_steps(&next, 3).unwrap();
+    b.move_in_steps(&next, 3).unwrap();
+    let (xa, xb) = (a.current_coords(), b.current_coords());
+    assert!(xa.iter().zip(xb).all(|(x, y)| x.to_bits() == y.to_bits()));
+    assert_ne!(xa, mesh.coords());
+}
+
+/// Each step report splits its time into the solve and the quality check, and gives the
+/// re-reference apart; a rejected attempt made no new reference.
+#[test]
+fn step_reports_give_solve_quality_and_reference_apart() {
+    let (mesh, mut s) = grid_solver(ReferenceMode::Incremental);
+    s.move_in_steps(&on_patch(&mesh, TOP, [0.0, 0.05]), 3).unwrap();
+    let r = s.step_reports();
+    assert_eq!(r.len(), 3);
+    for r in r {
+        let parts = [r.solve_seconds, r.quality_seconds, r.reference_seconds];
+        assert!(parts.iter().all(|v| v.is_finite() && *v >= 0.0), "{}", r.line());
+        assert!((r.solve_seconds + r.quality_seconds - r.seconds).abs() <= 1e-9 * r.seconds.max(1.0), "{}", r.line());
+    }
+    let mut o = s.options().clone();
+    o.max_substeps = 8;
+    o.min_volume_ratio = 0.5;
+    s.set_options(o).unwrap();
+    // Whether or not the call ends well, its reports stay.
+    let _ = s.move_in_steps(&on_patch(&mesh, TOP, [0.0, -0.6]), 1);
+    let r = s.step_reports();
+    assert!(r.len() > 1 && !r[0].accepted, "{}", r[0].line());
+    assert!(r.iter().filter(|r| !r.accepted).all(|r| r.reference_seconds == 0.0));
+}
+
+/// A smooth motion's steps start from the last step's displacement scaled to their prescribed
+/// values: they take fewer iterations than the same steps solved from zero (a reference set
+/// from outside forgets the last step), and land within the tolerance of them.
+#[test]
+fn steps_of_a_smooth_motion_start_from_the_last_increment() {
+    let mesh = Grid::new(40, 40).jitter(0.2).mesh();
+    let make = || Solver::new(&mesh, &BoundaryConditions::new(), Options::default()).unwrap();
+    let (mut warm, mut cold) = (make(), make());
+    let inc = on_patch(&mesh, TOP, [0.01, 0.02]);
+    let (mut it_warm, mut it_cold) = (0, 0);
+    for k in 0..4 {
+        let w = warm.advance(&inc).unwrap();
+        let x = cold.current_coords().to_vec();
+        cold.set_reference(x).unwrap();
+        let c = cold.advance(&inc).unwrap();
+        if k > 0 {
+            it_warm += w.report.cycles;
+            it_cold += c.report.cycles;
+        }
+    }
+    assert!(it_warm < it_cold, "{it_warm} iterations from the last increment, {it_cold} from zero");
+    let far = warm.current_coords().iter().zip(cold.current_coords()).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+    assert!(far < 1e-6, "{far}");
+}

@@ -665,8 +665,9 @@ pub fn run(a: &Args) -> Result<(), String> {
         }
         for cells in [BoxCells::Hexes, BoxCells::Tets] {
             let wanted = a.box_cells.contains(if cells == BoxCells::Hexes { &BoxKind::Hex } else { &BoxKind::Tet });
-            // The steps run on the hexahedral box whichever boxes the 3D part runs.
-            let steps_here = step && cells == BoxCells::Hexes;
+            // The steps run on the hexahedral box whichever boxes the 3D part runs, and on the
+            // tetrahedral one when it is asked for.
+            let steps_here = step && (cells == BoxCells::Hexes || wanted);
             if !(steps_here || run3d && wanted) {
                 continue;
             }

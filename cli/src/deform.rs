@@ -803,7 +803,7 @@ fn step_path(output: &Path, step: usize, steps: usize) -> PathBuf {
 fn json_line(r: &StepReport) -> String {
     let num = |x: f64| if x.is_finite() { format!("{x:?}") } else { "null".into() };
     format!(
-        "{{\"step\":{},\"substep\":{},\"fraction\":{},\"cycles\":{},\"rel_residual\":{},\"converged\":{},\"rebuilt\":{},\"inverted\":{},\"min_volume_ratio\":{},\"min_angle_deg\":{},\"seconds\":{},\"accepted\":{},\"max_slip_offwall\":{}}}",
+        "{{\"step\":{},\"substep\":{},\"fraction\":{},\"cycles\":{},\"rel_residual\":{},\"converged\":{},\"rebuilt\":{},\"inverted\":{},\"min_volume_ratio\":{},\"min_angle_deg\":{},\"seconds\":{},\"solve_seconds\":{},\"quality_seconds\":{},\"reference_seconds\":{},\"accepted\":{},\"max_slip_offwall\":{}}}",
         r.step,
         r.substep,
         num(r.fraction),
@@ -815,6 +815,9 @@ fn json_line(r: &StepReport) -> String {
         num(r.min_volume_ratio),
         num(r.min_angle_deg),
         num(r.seconds),
+        num(r.solve_seconds),
+        num(r.quality_seconds),
+        num(r.reference_seconds),
         r.accepted,
         num(r.max_slip_offwall)
     )

@@ -152,9 +152,9 @@ fn bench_3d_and_steps_rows() {
         let it: usize = find(case, "biharmonic-mg")[0][7].parse().unwrap();
         assert!(it <= 12, "{case}: {it} iterations");
     }
-    // Steps: the 2D free surface (16.8k) and the hexahedral box, three rows each, at the
-    // largest thread count, converged.
-    for case in ["free-surface-2d", "box-hex-3d"] {
+    // Steps: the 2D free surface (16.8k) and both boxes, three rows each, at the largest
+    // thread count, converged.
+    for case in ["free-surface-2d", "box-hex-3d", "box-tet-3d"] {
         for solver in ["biharmonic-step1", "biharmonic-step-median", "biharmonic-step-worst"] {
             let r = find(case, solver);
             assert_eq!(r.len(), 1, "{case} {solver}: {r:?}");
@@ -166,6 +166,7 @@ fn bench_3d_and_steps_rows() {
         assert_eq!(its.len(), 10, "{line}");
     }
     assert!(stdout.contains("time stepping: biharmonic, the motion in 10 steps"), "{stdout}");
+    assert!(stdout.contains("  median re-reference (s): unknowns "), "{stdout}");
     let _ = std::fs::remove_dir_all(&out);
 }
 

@@ -234,6 +234,9 @@ fn failed_step_writes_the_last_valid_mesh_and_exits_4() {
     let lines = std::fs::read_to_string(&report).unwrap();
     assert_eq!(lines.lines().count(), 2, "{lines}");
     assert!(lines.lines().nth(1).unwrap().starts_with("{\"step\":2,\"substep\":1,\"fraction\":1.0,"), "{lines}");
+    for key in ["solve_seconds", "quality_seconds", "reference_seconds"] {
+        assert!(lines.lines().all(|l| l.contains(&format!("\"{key}\":"))), "{lines}");
+    }
     assert!(String::from_utf8_lossy(&o.stderr).contains("step 2.1 at 1.0000"), "{}", text(&o));
     let _ = std::fs::remove_dir_all(&d);
 }

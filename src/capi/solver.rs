@@ -8,7 +8,7 @@ use super::mesh::{meshmove_mesh, write_counts};
 use super::options::meshmove_options;
 use super::points::{self, Points};
 use super::status::meshmove_status;
-use super::types::{self, meshmove_quality, meshmove_report, meshmove_step_report};
+use super::types::{self, meshmove_quality, meshmove_report, meshmove_step_report, meshmove_step_seconds};
 use crate::{Motion, Progress, RigidMotion, Solver};
 use std::ffi::{c_char, c_void};
 
@@ -507,28 +507,64 @@ pub unsafe extern "C" fn meshmove_solver_step_reports(
     count: *mut i32,
 ) -> meshmove_status {
     ffi_body!(meshmove_solver_step_reports, {
-        let s = get(solver, "solver")?;
-        let cap = handles::count(capacity, "capacity")?;
-        if count.is_null() {
-            return Err(CError::null("count"));
-        }
-        let steps = s.solver.step_reports();
-        let n = steps.len();
-        // SAFETY: `count` is not NULL; the caller guarantees it is writable.
-        unsafe { handles::write_out(count, n.min(i32::MAX as usize) as i32, "count") }?;
-        if cap < n {
-            return Err(CError::new(
-                meshmove_status::BufferTooSmall,
-                format!("there are {n} step reports; capacity is {cap}"),
-            ));
-        }
-        // SAFETY: the caller guarantees `reports` holds `capacity` >= `n` structs.
-        let out = unsafe { handles::slice_mut(reports, n, "reports") }?;
-        for (o, r) in out.iter_mut().zip(steps) {
-            *o = meshmove_step_report::from(r);
-        }
-        Ok(())
+        // SAFETY: the caller's contract is `copy_steps`'.
+        unsafe { copy_steps(solver, capacity, reports, count, "reports") }
     })
+}
+
+/// Where each step of the last `_move` or `_move_in_steps` call spent its time (seconds of
+/// re-reference, solve and quality check), one struct per step report in the same order; sized
+/// and copied as `meshmove_solver_step_reports`.
+///
+/// # Safety
+/// `seconds` must hold `capacity` structs; `count` must be writable.
+#[no_mangle]
+#[must_use]
+pub unsafe extern "C" fn meshmove_solver_step_seconds(
+    solver: *const meshmove_solver,
+    capacity: i32,
+    seconds: *mut meshmove_step_seconds,
+    count: *mut i32,
+) -> meshmove_status {
+    ffi_body!(meshmove_solver_step_seconds, {
+        // SAFETY: the caller's contract is `copy_steps`'.
+        unsafe { copy_steps(solver, capacity, seconds, count, "seconds") }
+    })
+}
+
+/// Writes the number of step reports to `count` and, when `capacity` is large enough, one `T`
+/// per report to `out` (`what` names it in errors).
+///
+/// # Safety
+/// `out` must hold `capacity` values of `T`; `count` must be writable.
+unsafe fn copy_steps<T: for<'a> From<&'a crate::StepReport>>(
+    solver: *const meshmove_solver,
+    capacity: i32,
+    out: *mut T,
+    count: *mut i32,
+    what: &str,
+) -> Result<(), CError> {
+    let s = get(solver, "solver")?;
+    let cap = handles::count(capacity, "capacity")?;
+    if count.is_null() {
+        return Err(CError::null("count"));
+    }
+    let steps = s.solver.step_reports();
+    let n = steps.len();
+    // SAFETY: `count` is not NULL; the caller guarantees it is writable.
+    unsafe { handles::write_out(count, n.min(i32::MAX as usize) as i32, "count") }?;
+    if cap < n {
+        return Err(CError::new(
+            meshmove_status::BufferTooSmall,
+            format!("there are {n} step reports; capacity is {cap}"),
+        ));
+    }
+    // SAFETY: the caller guarantees `out` holds `capacity` >= `n` values.
+    let out = unsafe { handles::slice_mut(out, n, what) }?;
+    for (o, r) in out.iter_mut().zip(steps) {
+        *o = T::from(r);
+    }
+    Ok(())
 }
 
 /// Automatic sub-stepping of `_move` and `_move_in_steps`: a step whose result would invert a

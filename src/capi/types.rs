@@ -225,6 +225,25 @@ impl From<&crate::StepReport> for meshmove_step_report {
     }
 }
 
+/// Where one step (or sub-step) of a move spent its time, in seconds (the step reports' order).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default)]
+pub struct meshmove_step_seconds {
+    /// Re-evaluating the solver's reference at the accepted result (and, on the first sub-step
+    /// of `meshmove_solver_move`, at positions the code moved itself); 0 for a rejected attempt.
+    pub reference: f64,
+    /// The solve (with a hierarchy rebuild when a reused one stalled).
+    pub solve: f64,
+    /// The quality check of the result.
+    pub quality: f64,
+}
+
+impl From<&crate::StepReport> for meshmove_step_seconds {
+    fn from(r: &crate::StepReport) -> Self {
+        meshmove_step_seconds { reference: r.reference_seconds, solve: r.solve_seconds, quality: r.quality_seconds }
+    }
+}
+
 /// Every field of an accepted step report is finite (a rejected attempt may report what went
 /// wrong, e.g. a residual that blew up).
 pub(crate) fn finite_step_report(r: &meshmove_step_report) -> Result<(), CError> {

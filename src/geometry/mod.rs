@@ -127,6 +127,19 @@ impl CellPoints {
         }
     }
 
+    /// `stiffness` and `lumped_mass` together (bitwise each), sharing the quadrature points
+    /// where the cell has them.
+    pub(crate) fn stiffness_and_mass(&self, k: &mut [f64], m: &mut [f64]) {
+        match self.ty {
+            CellType::Hexahedron => tensor::hex_stiffness_and_mass(&self.p, k, m),
+            CellType::Wedge | CellType::Pyramid => decomposed::element(self.ty, &self.p, Some(k), Some(m)),
+            _ => {
+                self.stiffness(k);
+                self.lumped_mass(m);
+            }
+        }
+    }
+
     /// The lumped mass ∫φ_i of every corner.
     pub(crate) fn lumped_mass(&self, m: &mut [f64]) {
         match self.ty {

@@ -130,6 +130,22 @@ pub(super) fn hex_stiffness(p: &[[f64; 3]], k: &mut [f64]) {
     }
 }
 
+/// `hex_stiffness` and `hex_lumped_mass` from one evaluation of each Gauss point (bitwise both).
+pub(super) fn hex_stiffness_and_mass(p: &[[f64; 3]], k: &mut [f64], m: &mut [f64]) {
+    let pairs = CellType::Hexahedron.couplings();
+    k[..pairs.len()].iter_mut().for_each(|k| *k = 0.0);
+    m[..8].iter_mut().for_each(|m| *m = 0.0);
+    for xi in gauss2x2x2() {
+        let (n, g, det) = hex_point(p, xi);
+        for (q, &[i, j]) in pairs.iter().enumerate() {
+            k[q] += dot3(&g[i as usize], &g[j as usize]) * det;
+        }
+        for c in 0..8 {
+            m[c] += n[c] * det;
+        }
+    }
+}
+
 /// ∫φ_i at each corner of the trilinear hexahedron, 2×2×2 Gauss.
 pub(super) fn hex_lumped_mass(p: &[[f64; 3]], m: &mut [f64]) {
     m[..8].iter_mut().for_each(|m| *m = 0.0);

@@ -26,6 +26,12 @@ pub(crate) trait Coarsener: Send + Sync {
     /// `t`, the transfer below level `l`, re-evaluated after both levels moved (same
     /// topology).
     fn update(&self, l: usize, t: &mut Transfer, fine: &Level, coarse: &Level);
+    /// `update` of the rows of P with `redo[i]` only; the other rows keep their weights (their
+    /// donors moved little). By default every row is re-evaluated.
+    fn update_rows(&self, l: usize, t: &mut Transfer, fine: &Level, coarse: &Level, redo: &[bool]) {
+        let _ = redo;
+        self.update(l, t, fine, coarse);
+    }
 }
 
 /// A coarse level without a mesh: some of the fine level's unknowns.

@@ -10,17 +10,22 @@ use super::coarse_solve::CoarseSolve;
 use super::coarsen::CoarsenParams;
 use super::coarsener::{CoarseUnknowns, Coarsener};
 use super::group::{estimate_lambda_max, GroupOp};
+use super::refit::{donor_offsets, rows_to_redo, updated_offsets};
 use super::layout::Distribution;
 pub use super::level::Level;
+use super::phases::{timed, Phases};
 use super::level::Transfer;
+use super::restriction::Restriction;
 use super::slip;
 use super::{coarsener_for, CoarseLevels};
 use crate::bc::{check_well_posed, component_flags, BoundaryConditions, Dofs};
 use crate::mesh::quality::is_inverted;
 use crate::operator::{LevelOperator, Method};
 use crate::{Mesh, Result};
+use crate::sparse::{same_pattern, CsrMatrix};
 use rayon::prelude::*;
 use std::ops::Range;
+use std::sync::Arc;
 
 /// What a level computes from its mesh (everything but the mesh itself), so it can be built
 /// while the same mesh is being coarsened.
@@ -31,11 +36,16 @@ struct LevelParts {
 }
 
 impl LevelParts {
-    fn build(mesh: &Mesh, pairs: &[[u32; 2]], bcs: &BoundaryConditions, method: Method) -> LevelParts {
-        let dofs = Dofs::build(mesh, pairs, &bcs.split_patches());
-        let flags = (0..mesh.dim()).map(|c| component_flags(mesh, &dofs, bcs, c)).collect();
-        let op = LevelOperator::new(method, mesh, &dofs);
-        LevelParts { dofs, op, flags }
+    /// The parts and the seconds of their unknowns and of their assembly.
+    fn build(mesh: &Mesh, pairs: &[[u32; 2]], bcs: &BoundaryConditions, method: Method) -> (LevelParts, Phases) {
+        let mut t = Phases::default();
+        let (dofs, flags) = timed(&mut t.unknowns, || {
+            let dofs = Dofs::build(mesh, pairs, &bcs.split_patches());
+            let flags = (0..mesh.dim()).map(|c| component_flags(mesh, &dofs, bcs, c)).collect();
+            (dofs, flags)
+        });
+        let op = timed(&mut t.assemble, || LevelOperator::new(method, mesh, &dofs));
+        (LevelParts { dofs, op, flags }, t)
     }
 
     fn into_level(self, mesh: Mesh, pairs: Vec<[u32; 2]>, parent_vertex: Vec<u32>) -> Level {
@@ -61,13 +71,13 @@ impl LevelParts {
 
 /// The level kept from `fine`'s unknowns `c.kept`: their flags, slip frames and positions,
 /// no mesh, the Galerkin operator.
-fn kept_level(fine: &Level, c: CoarseUnknowns, bcs: &BoundaryConditions) -> (Level, Transfer) {
+fn kept_level(fine: &Level, c: CoarseUnknowns, bcs: &BoundaryConditions, t: &mut Phases) -> (Level, Transfer) {
     let CoarseUnknowns { kept, transfer } = c;
     let fine_points = fine.unknown_points();
     let dim = fine.dim();
     let points = kept.iter().flat_map(|&d| fine_points[d as usize * dim..(d as usize + 1) * dim].iter().copied()).collect();
     let flags = fine.flags.iter().map(|f| kept.iter().map(|&d| f[d as usize]).collect()).collect();
-    let op = LevelOperator::galerkin(&fine.op, &transfer.prolong, &transfer.prolong.transpose());
+    let op = timed(&mut t.galerkin, || LevelOperator::galerkin(&fine.op, &transfer.prolong, &transfer.prolong.transpose()));
     let layout = Distribution::new(kept.len());
     let mut level = Level {
         mesh: None,
@@ -83,8 +93,8 @@ fn kept_level(fine: &Level, c: CoarseUnknowns, bcs: &BoundaryConditions) -> (Lev
         slip: None,
         layout,
     };
-    slip::attach(&mut level, Some(fine), bcs);
-    refresh_bounds(&mut level);
+    timed(&mut t.unknowns, || slip::attach(&mut level, Some(fine), bcs));
+    timed(&mut t.bounds, || refresh_bounds(&mut level));
     (level, transfer)
 }
 
@@ -106,6 +116,24 @@ fn refresh_bounds(level: &mut Level) {
     slip::equalise_bounds(level);
 }
 
+/// What a re-reference carries from one reference to the next beyond the positions: each
+/// transfer's weights and the donor offsets they were chosen at. A failed call puts them back
+/// (`Hierarchy::restore`), so the hierarchy is bitwise as before it.
+pub(crate) struct Carried {
+    prolong: Vec<Option<Arc<CsrMatrix>>>,
+    offsets: Vec<Vec<f64>>,
+}
+
+/// The donor offsets of level l's transfer when the coarse level below it has kept unknowns
+/// (see `refit`), empty otherwise.
+fn transfer_offsets(levels: &[Level], l: usize) -> Vec<f64> {
+    match (levels.get(l + 1), &levels[l].down) {
+        (Some(coarse), Some(down)) if coarse.mesh.is_none() => {
+            donor_offsets(&down.prolong, &coarse.parent_vertex, &levels[l].unknown_points(), levels[l].dim())
+        }
+        _ => Vec::new(),
+    }
+}
 
 /// How a coarse level's K and V are made.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -163,6 +191,13 @@ pub struct Hierarchy {
     coarsener: Box<dyn Coarsener>,
     /// The direct solve of each group (`Level::groups`) on the coarsest level.
     coarse: Vec<(Range<usize>, CoarseSolve)>,
+    /// Seconds per phase of the last build or re-reference.
+    phases: Phases,
+    /// Per level with a transfer of kept unknowns below it: the donor offsets its weights were
+    /// chosen at (`refit`; empty for other levels).
+    offsets: Vec<Vec<f64>>,
+    /// Counts the re-references: a failed call restores the hierarchy when it changed.
+    generation: u64,
 }
 
 impl Hierarchy {
@@ -177,27 +212,32 @@ impl Hierarchy {
         let mut coarsener = coarsener_for(mesh.dim(), params.coarse_levels, params.coarsen)?;
         let galerkin = params.coarse_operator.galerkin(method);
         let mut levels: Vec<Level> = Vec::new();
+        let mut t = Phases::default();
         let (mut mesh, mut pairs, mut parent_vertex) = (mesh.clone(), pairs, Vec::new());
         // Levels with meshes.
         loop {
             // A level's unknowns and operator do not depend on its coarsening, and both are
             // mostly serial work: on two threads they run side by side.
             let last = levels.len() + 1 >= params.max_levels;
-            let (parts, cm) = rayon::join(
+            let mut coarsen_s = 0.0;
+            let ((parts, pt), cm) = rayon::join(
                 || LevelParts::build(&mesh, &pairs, bcs, method),
-                || if last { Ok(None) } else { coarsener.coarsen_mesh(&mesh, &pairs) },
+                || timed(&mut coarsen_s, || if last { Ok(None) } else { coarsener.coarsen_mesh(&mesh, &pairs) }),
             );
+            (t.unknowns, t.assemble, t.coarsen) = (t.unknowns + pt.unknowns, t.assemble + pt.assemble, t.coarsen + coarsen_s);
             let mut level = parts.into_level(mesh, pairs, parent_vertex);
-            slip::attach(&mut level, levels.last(), bcs);
-            refresh_bounds(&mut level);
+            timed(&mut t.unknowns, || slip::attach(&mut level, levels.last(), bcs));
+            timed(&mut t.bounds, || refresh_bounds(&mut level));
             let l = levels.len();
             match levels.last_mut() {
                 None => check_well_posed(&level.op.k, &level.flags, &level.dofs, level.slip.as_ref().map(|s| &s.frames))?,
                 Some(fine) => {
-                    let down = coarsener.transfer(l - 1, fine, &level);
+                    let down = timed(&mut t.coarsen, || coarsener.transfer(l - 1, fine, &level));
                     if galerkin {
-                        level.op = LevelOperator::galerkin(&fine.op, &down.prolong, &down.prolong.transpose());
-                        refresh_bounds(&mut level);
+                        level.op = timed(&mut t.galerkin, || {
+                            LevelOperator::galerkin(&fine.op, &down.prolong, &down.prolong.transpose())
+                        });
+                        timed(&mut t.bounds, || refresh_bounds(&mut level));
                     }
                     fine.down = Some(down);
                 }
@@ -211,15 +251,27 @@ impl Hierarchy {
         // Levels of kept unknowns.
         while levels.len() < params.max_levels {
             let l = levels.len() - 1;
-            let Some(c) = coarsener.coarsen_unknowns(l, &levels[l]) else {
+            let Some(c) = timed(&mut t.coarsen, || coarsener.coarsen_unknowns(l, &levels[l])) else {
                 break;
             };
-            let (level, down) = kept_level(&levels[l], c, bcs);
+            let (level, down) = kept_level(&levels[l], c, bcs, &mut t);
             levels[l].down = Some(down);
             levels.push(level);
         }
-        let mut h = Hierarchy { levels, method, galerkin, fresh: true, coarsener, coarse: Vec::new() };
-        h.build_coarse_solve()?;
+        let offsets = (0..levels.len()).map(|l| transfer_offsets(&levels, l)).collect();
+        let mut h = Hierarchy {
+            levels,
+            method,
+            galerkin,
+            fresh: true,
+            coarsener,
+            coarse: Vec::new(),
+            phases: t,
+            offsets,
+            generation: 0,
+        };
+        timed(&mut t.coarse_solve, || h.build_coarse_solve())?;
+        h.phases = t;
         Ok(h)
     }
 
@@ -248,6 +300,11 @@ impl Hierarchy {
         self.levels.iter().any(|l| l.mesh.is_none())
     }
 
+    /// Seconds per phase of the last build or re-reference.
+    pub fn phases(&self) -> Phases {
+        self.phases
+    }
+
     pub fn fine(&self) -> &Level {
         &self.levels[0]
     }
@@ -260,6 +317,33 @@ impl Hierarchy {
     /// Re-evaluates every level at new fine-vertex positions, keeping the coarse topology.
     /// Returns false (and changes nothing) when a coarse cell would invert: the caller rebuilds.
     pub fn move_to(&mut self, fine_coords: Vec<f64>) -> Result<bool> {
+        self.move_with(fine_coords, None)
+    }
+
+    /// What a re-reference carries beyond the positions (see `Carried`).
+    pub(crate) fn carried(&self) -> Carried {
+        Carried {
+            prolong: self.levels.iter().map(|l| l.down.as_ref().map(|d| Arc::clone(&d.prolong))).collect(),
+            offsets: self.offsets.clone(),
+        }
+    }
+
+    /// Counts the re-references of this hierarchy.
+    pub(crate) fn generation(&self) -> u64 {
+        self.generation
+    }
+
+    /// Back to the positions `fine_coords` with the weights `carried` had there:
+    /// bitwise the state `carried` was taken in.
+    pub(crate) fn restore(&mut self, fine_coords: Vec<f64>, carried: Carried) -> Result<bool> {
+        self.move_with(fine_coords, Some(carried))
+    }
+
+    /// `move_to`, or with `replay` the weights of an earlier state at these positions instead
+    /// of choosing them.
+    fn move_with(&mut self, fine_coords: Vec<f64>, replay: Option<Carried>) -> Result<bool> {
+        let mut t = Phases::default();
+        let start = std::time::Instant::now();
         let dim = self.fine().dim();
         // Per level: its mesh's vertex positions, or its unknowns' positions without a mesh.
         let mut coords = vec![fine_coords];
@@ -294,6 +378,10 @@ impl Hierarchy {
             return Ok(false);
         };
         drop(meshes);
+        t.unknowns = start.elapsed().as_secs_f64();
+        // Whether the finer level's K has a new pattern (a Galerkin K after a new P's pattern).
+        let mut k_pattern_changed = false;
+        self.generation += 1;
         for (l, (m, points)) in moved.into_iter().enumerate() {
             let level = &mut self.levels[l];
             match m {
@@ -305,23 +393,52 @@ impl Hierarchy {
             }
             if l == 0 || (!self.galerkin && level.mesh.is_some()) {
                 let Level { mesh, op, dofs, .. } = level;
-                op.reassemble(mesh.as_ref().expect("a level with a mesh"), dofs);
+                timed(&mut t.assemble, || op.reassemble(mesh.as_ref().expect("a level with a mesh"), dofs));
             }
             if l > 0 {
                 // The transfer from the level above, then (Galerkin) this level's operator.
                 let (upper, rest) = self.levels.split_at_mut(l);
                 let (fine, coarse) = (&mut upper[l - 1], &mut rest[0]);
                 let mut down = fine.down.take().expect("not the coarsest level");
-                self.coarsener.update(l - 1, &mut down, fine, coarse);
+                let before = Arc::clone(&down.prolong);
+                let offsets = &mut self.offsets[l - 1];
+                timed(&mut t.transfer, || match &replay {
+                    Some(r) => {
+                        let p = r.prolong[l - 1].as_ref().expect("a level with a transfer");
+                        down.prolong = Arc::clone(p);
+                        down.restrict = Restriction::new(Arc::clone(p));
+                        offsets.clone_from(&r.offsets[l - 1]);
+                    }
+                    // Kept unknowns keep the weights of the rows whose donors moved little;
+                    // barycentric weights on coarse meshes are all chosen again (a point may
+                    // have left its triangle).
+                    None if coarse.mesh.is_none() => {
+                        let (points, kept) = (fine.unknown_points(), &coarse.parent_vertex);
+                        let redo = rows_to_redo(&down.prolong, kept, offsets, &points, dim);
+                        if redo.iter().any(|&r| r) {
+                            self.coarsener.update_rows(l - 1, &mut down, fine, coarse, &redo);
+                            *offsets = updated_offsets(&before, offsets, &down.prolong, &redo, kept, &points, dim);
+                        }
+                    }
+                    None => self.coarsener.update(l - 1, &mut down, fine, coarse),
+                });
                 fine.down = Some(down);
                 let down = fine.down.as_ref().expect("just put back");
                 if self.galerkin || coarse.mesh.is_none() {
-                    coarse.op = LevelOperator::galerkin(&fine.op, &down.prolong, &down.prolong.transpose());
+                    // The product's pattern is kept while K's and P's are: only its values change.
+                    let same = !k_pattern_changed && same_pattern(&before, &down.prolong);
+                    let (p, op) = (&*down.prolong, &mut coarse.op);
+                    timed(&mut t.galerkin, || match same {
+                        true => op.update_galerkin(&fine.op, p, &p.transpose()),
+                        false => *op = LevelOperator::galerkin(&fine.op, p, &p.transpose()),
+                    });
+                    k_pattern_changed = !same;
                 }
             }
-            refresh_bounds(&mut self.levels[l]);
+            timed(&mut t.bounds, || refresh_bounds(&mut self.levels[l]));
         }
-        self.build_coarse_solve()?;
+        timed(&mut t.coarse_solve, || self.build_coarse_solve())?;
+        self.phases = t;
         self.fresh = false;
         Ok(true)
     }

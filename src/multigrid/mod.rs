@@ -12,6 +12,8 @@ mod layout;
 pub mod level;
 mod lsq;
 pub mod params;
+pub mod phases;
+mod refit;
 pub mod policy;
 pub mod restriction;
 pub mod slip;

@@ -220,6 +220,13 @@ impl Run<'_> {
         // preconditioner applications.
         let (mut r, mut dir, mut q) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
         lev.residual(b, x, &mut r, &mut ws.fine().s);
+        // A guess already at the tolerance (a step's warm start that continues the last step
+        // exactly) needs no iteration, and a zero residual has no direction to take.
+        let rn = lev.norm(&r);
+        if rn == 0.0 || (p.criterion == Criterion::RelativeResidual && rn <= p.tol * self.bnorm) {
+            rep.converged = true;
+            return false;
+        }
         cycle(h, comps.clone(), &cp, &r, &mut dir, Start::Zero, ws);
         let mut rz = lev.dot(&r, &dir);
         for k in first + 1..=p.max_cycles {

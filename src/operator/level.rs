@@ -7,9 +7,9 @@
 //! Vectors live on the unknowns; corrections are zero on P unknowns.
 
 use super::fused::{FusePlan, Iterate};
-use super::{close_diagonal, lumped_mass, spring_stiffness, stiffness, stiffness_pattern, Method};
+use super::{close_diagonal, lumped_mass, spring_stiffness, stiffness_and_mass, stiffness_pattern, Method};
 use crate::bc::{Dofs, P, Z};
-use crate::sparse::{par_fill, par_update, par_update2, triple_product, CsrMatrix};
+use crate::sparse::{par_fill, par_update, par_update2, triple_product, triple_product_values, CsrMatrix};
 use crate::Mesh;
 
 #[derive(Clone)]
@@ -36,11 +36,14 @@ impl LevelOperator {
     /// Re-evaluates K and V at new vertex positions, refilling K's values in place (its pattern
     /// is the topology's, so it is not rebuilt or kept twice). Only for operators from `new`.
     pub fn reassemble(&mut self, mesh: &Mesh, dofs: &Dofs) {
-        match self.method {
-            Method::Spring => spring_stiffness(&mut self.k, mesh, dofs),
-            _ => stiffness(&mut self.k, mesh, dofs),
-        }
-        self.inv_v = lumped_mass(mesh, dofs).iter().map(|&v| 1.0 / v).collect();
+        let mass = match self.method {
+            Method::Spring => {
+                spring_stiffness(&mut self.k, mesh, dofs);
+                lumped_mass(mesh, dofs)
+            }
+            _ => stiffness_and_mass(&mut self.k, mesh, dofs),
+        };
+        self.inv_v = mass.iter().map(|&v| 1.0 / v).collect();
     }
 
     /// The coarse operator of a multigrid level by Galerkin projection of the fine one's
@@ -55,18 +58,17 @@ impl LevelOperator {
     pub fn galerkin(fine: &LevelOperator, prolong: &CsrMatrix, restrict: &CsrMatrix) -> Self {
         let mut k = triple_product(restrict, &fine.k, prolong);
         close_diagonal(&mut k);
-        // V_c = P₊ᵀ V: the positive weights only, so a coarse mass stays positive where a
-        // least-squares P has negative weights (PᵀV could vanish or turn negative there, and
-        // K_c V_c⁻¹ K_c with it); with P ≥ 0, as barycentric weights are, it is PᵀV.
-        let mass = fine.mass();
-        let mut v = vec![0.0; restrict.nrows];
-        restrict.map_rows(&mut v, |c| {
-            let (rows, w) = restrict.row(c);
-            rows.iter().zip(w).map(|(&i, &w)| w.max(0.0) * mass[i as usize]).sum()
-        });
-        let inv_v = v.iter().map(|&v| 1.0 / v).collect();
+        let inv_v = galerkin_inv_mass(fine, restrict);
         let fuse = fuse_plan(fine.method, &k);
         LevelOperator { method: fine.method, k, inv_v, fuse }
+    }
+
+    /// `galerkin`'s values refilled in place when K's pattern and P's are those this operator
+    /// was made from (a moved mesh): only the numeric phase of PᵀKP runs. Bitwise `galerkin`.
+    pub fn update_galerkin(&mut self, fine: &LevelOperator, prolong: &CsrMatrix, restrict: &CsrMatrix) {
+        triple_product_values(restrict, &fine.k, prolong, &mut self.k);
+        close_diagonal(&mut self.k);
+        self.inv_v = galerkin_inv_mass(fine, restrict);
     }
 
     pub fn n(&self) -> usize {
@@ -223,6 +225,19 @@ impl LevelOperator {
         });
         inv
     }
+}
+
+/// 1/V_c with V_c = P₊ᵀ V: the positive weights only, so a coarse mass stays positive where a
+/// least-squares P has negative weights (PᵀV could vanish or turn negative there, and
+/// K_c V_c⁻¹ K_c with it); with P ≥ 0, as barycentric weights are, it is PᵀV.
+fn galerkin_inv_mass(fine: &LevelOperator, restrict: &CsrMatrix) -> Vec<f64> {
+    let mass = fine.mass();
+    let mut v = vec![0.0; restrict.nrows];
+    restrict.map_rows(&mut v, |c| {
+        let (rows, w) = restrict.row(c);
+        rows.iter().zip(w).map(|(&i, &w)| w.max(0.0) * mass[i as usize]).sum()
+    });
+    v.iter().map(|&v| 1.0 / v).collect()
 }
 
 /// The fused sweep's plan for a biharmonic level large enough to gain from it.

@@ -9,6 +9,7 @@
 //! in the reports and in `last_valid_coords`.
 
 use super::{check_converged, ReferenceMode, Solution, Solver, Undo};
+use crate::bc::P;
 use crate::mesh::quality::Quality;
 use crate::motion::Motion;
 use crate::multigrid::solve::Report;
@@ -40,8 +41,17 @@ pub struct StepReport {
     pub min_angle_deg: f64,
     /// Slip walls: the largest distance of a slipped vertex from its wall in the result.
     pub max_slip_offwall: f64,
-    /// Wall-clock time of this attempt's solve (a hierarchy rebuild included), in seconds.
+    /// Wall-clock time of this attempt's solve (a hierarchy rebuild included), in seconds:
+    /// `solve_seconds` + `quality_seconds`.
     pub seconds: f64,
+    /// Of `seconds`, the solve (with a hierarchy rebuild when a reused one stalled).
+    pub solve_seconds: f64,
+    /// Of `seconds`, the quality check of the result (inverted cells, volume ratios, angles).
+    pub quality_seconds: f64,
+    /// Seconds making the solver's reference the mesh this attempt starts from or ends at,
+    /// outside `seconds`: re-evaluating the hierarchy at the accepted result, and on the first
+    /// attempt of `advance_from` at the caller's positions (0 for a rejected attempt).
+    pub reference_seconds: f64,
     /// The result became the new mesh (false: rejected and split, or the call failed here).
     pub accepted: bool,
 }
@@ -50,7 +60,7 @@ impl StepReport {
     /// The one-line summary the command line prints per sub-step.
     pub fn line(&self) -> String {
         format!(
-            "step {}.{} at {:.4}: {} cycles, residual {:.2e}{}{}, inverted {}, min volume (2D: area) ratio {:.4}, min angle {:.2}°, {:.3} s{}",
+            "step {}.{} at {:.4}: {} cycles, residual {:.2e}{}{}, inverted {}, min volume (2D: area) ratio {:.4}, min angle {:.2}°, {:.3} s (solve {:.3}, quality {:.3}; re-reference {:.3} s){}",
             self.step,
             self.substep,
             self.fraction,
@@ -62,6 +72,9 @@ impl StepReport {
             self.min_volume_ratio,
             self.min_angle_deg,
             self.seconds,
+            self.solve_seconds,
+            self.quality_seconds,
+            self.reference_seconds,
             if self.accepted { "" } else { ", rejected" }
         )
     }
@@ -87,7 +100,9 @@ pub(super) fn advance(s: &mut Solver, from: Option<&[f64]>, increment: &Motion) 
         s,
         |s, undo| {
             if let Some(x) = from {
+                let t = Instant::now();
                 rebase(s, x, undo)?;
+                s.rebase_seconds = t.elapsed().as_secs_f64();
             }
             let before = s.current_coords().to_vec();
             do_step(s, &Step { number: 1, count: 1, increment, from: 0.0, to: 1.0, last: true }, undo)?;
@@ -132,6 +147,7 @@ fn rebase(s: &mut Solver, x: &[f64], undo: &mut Undo) -> Result<()> {
     s.check_reference(x)?;
     if x != s.mesh().coords() {
         s.set_reference_inner(x.to_vec(), undo)?;
+        s.last_increment = None;
     }
     s.drop_total();
     Ok(())
@@ -145,14 +161,17 @@ fn run<T>(
     keep: impl FnOnce(&T) -> bool,
 ) -> Result<T> {
     s.steps.clear();
+    s.rebase_seconds = 0.0;
     s.last_valid = s.current_coords().to_vec();
     let mut undo = s.undo();
     let total = s.total.clone();
+    let last_increment = s.last_increment.clone();
     let placed = s.walls.as_ref().map(|w| w.placements().clone());
     let r = f(s, &mut undo);
     if !r.as_ref().is_ok_and(keep) {
         s.restore(undo);
         s.total = total;
+        s.last_increment = last_increment;
         if let (Some(w), Some(p)) = (s.walls.as_mut(), placed) {
             w.set_placements(p);
         }
@@ -160,8 +179,17 @@ fn run<T>(
     r
 }
 
-fn report(step: &Step, substep: usize, end: f64, sol: &Solution, rebuilt: bool, t0: Instant) -> StepReport {
+fn report(
+    step: &Step,
+    substep: usize,
+    end: f64,
+    sol: &Solution,
+    rebuilt: bool,
+    t0: Instant,
+    quality_s: f64,
+) -> StepReport {
     let q: &Quality = &sol.quality;
+    let seconds = t0.elapsed().as_secs_f64();
     StepReport {
         step: step.number,
         substep,
@@ -174,17 +202,22 @@ fn report(step: &Step, substep: usize, end: f64, sol: &Solution, rebuilt: bool, 
         min_volume_ratio: q.min_area_ratio,
         min_angle_deg: q.min_angle_deg,
         max_slip_offwall: sol.report.max_slip_offwall,
-        seconds: t0.elapsed().as_secs_f64(),
+        seconds,
+        solve_seconds: (seconds - quality_s).max(0.0),
+        quality_seconds: quality_s,
+        reference_seconds: 0.0,
         accepted: false,
     }
 }
 
 /// Keeps the report of a sub-step and tells the caller's progress hook, which may cancel the call.
-fn record(s: &mut Solver, step: &Step, rep: StepReport) -> Result<()> {
+fn record(s: &mut Solver, step: &Step, mut rep: StepReport) -> Result<()> {
     // The caller decides how many reports a call makes (steps × sub-steps): kept fallibly.
     s.steps.try_reserve(1).map_err(|_| {
         Error::OutOfMemory(format!("the report of step {}.{} could not be kept", rep.step, rep.substep))
     })?;
+    // The caller's positions made the reference before the first attempt.
+    rep.reference_seconds += std::mem::take(&mut s.rebase_seconds);
     s.steps.push(rep);
     let Some(p) = &s.opts.progress else { return Ok(()) };
     let r = s.steps.last().expect("pushed");
@@ -210,13 +243,18 @@ fn do_step(s: &mut Solver, step: &Step, undo: &mut Undo) -> Result<()> {
         let end = if done + size >= 1.0 { 1.0 } else { done + size };
         let part = step.increment.between(done, end);
         let t0 = Instant::now();
-        let (sol, rebuilt) = solve_part(s, &part, undo)?;
-        let mut rep = report(step, substep, end, &sol, rebuilt, t0);
+        let vals = part.vertex_values(s.mesh()).into_owned();
+        let guess = extrapolated(s, &vals);
+        let (sol, rebuilt, quality_s) = solve_part(s, &part, guess.as_deref(), undo)?;
+        let mut rep = report(step, substep, end, &sol, rebuilt, t0, quality_s);
         let q = &sol.quality;
         let valid = q.inverted == 0 && (!split || q.min_area_ratio >= s.opts.min_volume_ratio);
         if sol.report.converged && valid {
             let moved: Vec<f64> = crate::solver::moved(s.mesh().coords(), &sol.displacement);
+            let t1 = Instant::now();
             s.set_reference_inner(moved.clone(), undo)?;
+            rep.reference_seconds = t1.elapsed().as_secs_f64();
+            s.last_increment = Some((vals, sol.displacement));
             if let Some(w) = s.walls.as_mut() {
                 w.move_walls(&part.rigid);
             }
@@ -268,15 +306,50 @@ fn do_step(s: &mut Solver, step: &Step, undo: &mut Undo) -> Result<()> {
 }
 
 /// Solves one part of a step; a solve that stops above its tolerance on a hierarchy moved from
-/// another mesh is retried once on a hierarchy rebuilt from the current reference.
-fn solve_part(s: &mut Solver, part: &Motion, undo: &mut Undo) -> Result<(Solution, bool)> {
-    let sol = s.solve_report(part, None)?;
+/// another mesh is retried once on a hierarchy rebuilt from the current reference. Returns the
+/// solution, whether the hierarchy was rebuilt and the seconds of the result's quality check.
+fn solve_part(s: &mut Solver, part: &Motion, guess: Option<&[f64]>, undo: &mut Undo) -> Result<(Solution, bool, f64)> {
+    let (sol, quality_s) = s.solve_timed(part, guess)?;
     if sol.report.converged || s.hierarchy.fresh {
-        return Ok((sol, false));
+        return Ok((sol, false, quality_s));
     }
     let x = s.mesh().coords().to_vec();
     s.rebuild(x, undo)?;
-    Ok((s.solve_report(part, None)?, true))
+    let (sol, quality_s) = s.solve_timed(part, guess)?;
+    Ok((sol, true, quality_s))
+}
+
+/// Largest misfit, relative to the prescribed values' norm, of the prescribed values against a
+/// multiple of the last step's with which that step's displacement, scaled alike, starts the
+/// solve.
+const CONSISTENT_WITHIN: f64 = 0.1;
+
+/// The initial guess of a step whose prescribed values are `vals` (`dim` per vertex): the last
+/// accepted step's displacement times α, the multiple of that step's prescribed values nearest
+/// to these (least squares over the prescribed unknowns), when they are that multiple to within
+/// `CONSISTENT_WITHIN` (a smooth motion: linear extrapolation in time). The solve overwrites
+/// the guess's prescribed values with the step's own.
+fn extrapolated(s: &Solver, vals: &[f64]) -> Option<Vec<f64>> {
+    let (prev, disp) = s.last_increment.as_ref()?;
+    let lev = s.hierarchy.fine();
+    let dim = lev.dim();
+    let (mut vv, mut vp, mut pp) = (0.0, 0.0, 0.0);
+    for (c, flags) in lev.flags.iter().enumerate() {
+        for d in (0..flags.len()).filter(|&d| flags[d] & P != 0) {
+            let i = lev.dofs.vertices_of(d)[0] as usize * dim + c;
+            vv += vals[i] * vals[i];
+            vp += vals[i] * prev[i];
+            pp += prev[i] * prev[i];
+        }
+    }
+    if !(pp > 0.0 && vv > 0.0) {
+        return None;
+    }
+    let alpha = vp / pp;
+    // |v − α p|² = |v|² − (v·p)²/|p|².
+    let misfit = (vv - vp * alpha).max(0.0);
+    let guess: Vec<f64> = disp.iter().map(|d| alpha * d).collect();
+    (misfit <= CONSISTENT_WITHIN * CONSISTENT_WITHIN * vv && guess.iter().all(|g| g.is_finite())).then_some(guess)
 }
 
 /// `ReferenceMode::Original`: the total motion so far solved from the original mesh.
@@ -286,8 +359,8 @@ fn original_step(s: &mut Solver, step: &Step) -> Result<()> {
         None => step.increment.clone(),
     };
     let t0 = Instant::now();
-    let sol = s.solve_report(&total, None)?;
-    let mut rep = report(step, 1, 1.0, &sol, false, t0);
+    let (sol, quality_s) = s.solve_timed(&total, None)?;
+    let mut rep = report(step, 1, 1.0, &sol, false, t0, quality_s);
     if !sol.report.converged {
         record(s, step, rep)?;
         return check_converged(&sol.report, Some((step.number, 1)));

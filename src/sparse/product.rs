@@ -156,6 +156,80 @@ pub fn triple_product(r: &CsrMatrix, k: &CsrMatrix, p: &CsrMatrix) -> CsrMatrix 
     })
 }
 
+/// A row's positions by column: `slot[m]` is the position of column m in the row being filled
+/// (set for the row's columns only), `mark`/`stamp` tell which positions the current row of K P
+/// reached, `kp` their sums.
+struct RowSlots {
+    slot: Vec<u32>,
+    mark: Vec<u32>,
+    stamp: u32,
+    kp: Vec<f64>,
+    touched: Vec<u32>,
+}
+
+/// The values of R K P into `c`, whose pattern is `triple_product(r, k, p)`'s (the numeric phase
+/// on a stored symbolic one: a moved mesh changes the values of K and P, not their patterns).
+/// Bitwise `triple_product(r, k, p)`: each entry of a row of K P and of C is the sum of the same
+/// products in the same order, from the same zero.
+pub fn triple_product_values(r: &CsrMatrix, k: &CsrMatrix, p: &CsrMatrix, c: &mut CsrMatrix) {
+    assert_eq!((c.nrows, c.ncols), (r.nrows, p.ncols), "triple_product_values: C is not R K P's shape");
+    let row_ptr = &c.row_ptr;
+    let cols = &c.cols;
+    // Blocks of rows with their disjoint parts of vals.
+    let mut blocks = Vec::with_capacity(c.nrows.div_ceil(PRODUCT_BLOCK));
+    let mut rest = &mut c.vals[..];
+    for start in (0..c.nrows).step_by(PRODUCT_BLOCK) {
+        let end = (start + PRODUCT_BLOCK).min(c.nrows);
+        let (v, next) = std::mem::take(&mut rest).split_at_mut((row_ptr[end] - row_ptr[start]) as usize);
+        rest = next;
+        blocks.push((start..end, v));
+    }
+    let init = || RowSlots { slot: vec![0; p.ncols], mark: Vec::new(), stamp: 0, kp: Vec::new(), touched: Vec::new() };
+    blocks.into_par_iter().for_each_init(init, |st, (rows, out)| {
+        let base = row_ptr[rows.start] as usize;
+        for j in rows {
+            let (a, b) = (row_ptr[j] as usize, row_ptr[j + 1] as usize);
+            for (q, &m) in cols[a..b].iter().enumerate() {
+                st.slot[m as usize] = q as u32;
+            }
+            let len = b - a;
+            st.mark.clear();
+            st.mark.resize(len, 0);
+            st.stamp = 0;
+            st.kp.resize(len.max(st.kp.len()), 0.0);
+            let row = &mut out[a - base..b - base];
+            row.iter_mut().for_each(|v| *v = 0.0);
+            let (rc, rv) = r.row(j);
+            for (&i, &x) in rc.iter().zip(rv) {
+                // Row i of K P at the positions of row j, then x times it into row j.
+                st.stamp += 1;
+                st.touched.clear();
+                let (kc, kv) = k.row(i as usize);
+                for (&l, &y) in kc.iter().zip(kv) {
+                    let (pc, pv) = p.row(l as usize);
+                    for (&m, &z) in pc.iter().zip(pv) {
+                        let q = st.slot[m as usize] as usize;
+                        if st.mark[q] != st.stamp {
+                            st.mark[q] = st.stamp;
+                            st.kp[q] = 0.0;
+                            st.touched.push(q as u32);
+                        }
+                        st.kp[q] += y * z;
+                    }
+                }
+                for &q in &st.touched {
+                    row[q as usize] += x * st.kp[q as usize];
+                }
+            }
+        }
+    });
+}
+
+/// Whether two matrices have the same shape and pattern (their values aside).
+pub fn same_pattern(a: &CsrMatrix, b: &CsrMatrix) -> bool {
+    a.nrows == b.nrows && a.ncols == b.ncols && a.row_ptr == b.row_ptr && a.cols == b.cols
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -174,5 +248,27 @@ mod tests {
         let want = matmul(&r, &matmul(&k, &p));
         assert_eq!(triple_product(&r, &k, &p), want);
         assert!(want.nnz() > 4);
+    }
+
+    /// The numeric phase into a stored pattern gives the whole product's values bitwise, from
+    /// any previous values and on several threads.
+    #[test]
+    fn values_into_a_stored_pattern_are_the_product_bitwise() {
+        let m = |nrows: usize, ncols: usize, seed: u32| {
+            let t = (0..nrows as u32)
+                .flat_map(|i| {
+                    (0..4).map(move |k| (i, (i * 7 + k * 5 + seed) % ncols as u32, 1.0 / (i + k + seed) as f64 - 0.1))
+                })
+                .collect();
+            CsrMatrix::from_triplets(nrows, ncols, t)
+        };
+        let (r, k, p) = (m(3000, 5000, 1), m(5000, 5000, 2), m(5000, 3000, 3));
+        let want = triple_product(&r, &k, &p);
+        let mut c = want.clone();
+        c.vals.iter_mut().for_each(|v| *v = 7.0);
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(3).build().unwrap();
+        pool.install(|| triple_product_values(&r, &k, &p, &mut c));
+        assert!(want.vals.iter().zip(&c.vals).all(|(a, b)| a.to_bits() == b.to_bits()));
+        assert!(same_pattern(&c, &want) && want.nnz() > 3000 && want.vals.iter().any(|v| *v != 0.0));
     }
 }

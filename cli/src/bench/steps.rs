@@ -6,6 +6,7 @@
 
 use super::cases::Case;
 use super::{alloc, op_seconds, report, Row, RowBase};
+use meshmove::multigrid::phases::Phases;
 use meshmove::{Method, Options, SolveParams, Solver};
 use std::fmt::Write as _;
 use std::time::Instant;
@@ -26,6 +27,8 @@ pub struct Step {
     /// Sub-steps (1 unless the step was split) and hierarchy rebuilds.
     pub substeps: usize,
     pub rebuilt: bool,
+    /// The hierarchy's phases of the step's last re-reference.
+    pub phases: Phases,
 }
 
 /// One time-stepping run.
@@ -35,6 +38,8 @@ pub struct Stepped {
     pub threads: usize,
     /// `Solver::new`, once.
     pub setup_s: f64,
+    /// The hierarchy's phases of the setup.
+    pub setup_phases: Phases,
     pub steps: Vec<Step>,
     /// Counted allocation over construction and every step, per vertex.
     pub bytes_per_vertex: f64,
@@ -78,6 +83,7 @@ pub fn run(
         let mut solver = Solver::new(&case.mesh, &case.bcs, opts)
             .map_err(|e| format!("{} steps at {nv} vertices: {e}", case.name))?;
         let setup_s = t.elapsed().as_secs_f64();
+        let setup_phases = solver.hierarchy().phases();
         let op_s = op_seconds(solver.hierarchy().fine(), case.comp);
         let levels = solver.num_levels();
         let mut steps = Vec::with_capacity(STEPS);
@@ -94,6 +100,7 @@ pub fn run(
                 solve_s: reps.iter().map(|r| r.seconds).sum(),
                 substeps: reps.len(),
                 rebuilt: reps.iter().any(|r| r.rebuilt),
+                phases: solver.hierarchy().phases(),
             });
         }
         let bytes_per_vertex = alloc::peak_above(base) as f64 / nv as f64;
@@ -103,6 +110,7 @@ pub fn run(
             vertices: nv,
             threads: *threads,
             setup_s,
+            setup_phases,
             steps,
             bytes_per_vertex,
             min_volume_ratio: q.min_area_ratio,
@@ -126,7 +134,7 @@ pub fn table(runs: &[Stepped]) -> String {
     let _ = writeln!(
         s,
         "\ntime stepping: biharmonic, the motion in {STEPS} steps by Solver::advance (re-referenced each step)\n\
-         {:<16} {:>8} {:>3} {:>8} {:>22} {:>22} {:>22} {:>6} {:>9}  iterations per step",
+         {:<16} {:>8} {:>3} {:>8} {:>22} {:>22} {:>22} {:>11} {:>10} {:>6} {:>9}  iterations per step",
         "case",
         "vertices",
         "thr",
@@ -134,6 +142,8 @@ pub fn table(runs: &[Stepped]) -> String {
         "step 1: it / s (reref)",
         "median: it / s (reref)",
         "worst: it / s (reref)",
+        "setup/solve",
+        "step/solve",
         "B/vert",
         "min vol"
     );
@@ -153,7 +163,7 @@ pub fn table(runs: &[Stepped]) -> String {
             .collect();
         let _ = writeln!(
             s,
-            "{:<16} {:>8} {:>3} {:>8.3} {:>22} {:>22} {:>22} {:>6.0} {:>9.4}  {}",
+            "{:<16} {:>8} {:>3} {:>8.3} {:>22} {:>22} {:>22} {:>11.2} {:>10.2} {:>6.0} {:>9.4}  {}",
             r.case,
             r.vertices,
             r.threads,
@@ -161,15 +171,36 @@ pub fn table(runs: &[Stepped]) -> String {
             cell(picks[0].0),
             cell(picks[1].0),
             cell(picks[2].0),
+            r.setup_s / median_of(r.steps.iter().map(|st| st.solve_s)),
+            median_of(r.steps.iter().map(|st| st.total_s / st.solve_s)),
             r.bytes_per_vertex,
             r.min_volume_ratio,
             its.join(" ")
         );
+        let median = &r.steps[picks[1].0];
+        let _ = writeln!(s, "  setup phases (s):        {}", phase_list(&r.setup_phases));
+        let _ = writeln!(s, "  median re-reference (s): {}", phase_list(&median.phases));
     }
     let _ = writeln!(
         s,
         "(s: the advance call; reref: of which outside the solve, K and V re-evaluated on the moved mesh; \
-         * a step split or its hierarchy rebuilt; min vol: final mesh against the original)"
+         setup/solve: Solver::new against the median step's solve; step/solve: the median of each step's \
+         advance call against its solve; * a step split or its hierarchy rebuilt; min vol: final mesh against the \
+         original; phases: the hierarchy's seconds per phase of the setup and of the median step's re-reference)"
     );
     s
+}
+
+/// "name seconds" per phase, and their sum.
+fn phase_list(p: &Phases) -> String {
+    let mut s: Vec<String> = p.named().iter().map(|(n, v)| format!("{n} {v:.3}")).collect();
+    s.push(format!("sum {:.3}", p.total()));
+    s.join(", ")
+}
+
+/// The median of the values (the upper one of an even count).
+fn median_of(values: impl Iterator<Item = f64>) -> f64 {
+    let mut v: Vec<f64> = values.collect();
+    v.sort_by(f64::total_cmp);
+    v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
 }

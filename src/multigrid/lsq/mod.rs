@@ -76,14 +76,20 @@ impl Coarsener for LeastSquares {
     }
 
     fn update(&self, l: usize, t: &mut Transfer, fine: &Level, coarse: &Level) {
-        t.prolong = Arc::new(weights::prolongation(fine, &self.features[l], &coarse.parent_vertex));
+        t.prolong = Arc::new(weights::prolongation(fine, &self.features[l], &coarse.parent_vertex, None));
+        t.restrict = Restriction::new(Arc::clone(&t.prolong));
+    }
+
+    fn update_rows(&self, l: usize, t: &mut Transfer, fine: &Level, coarse: &Level, redo: &[bool]) {
+        let keep = Some((&*t.prolong, redo));
+        t.prolong = Arc::new(weights::prolongation(fine, &self.features[l], &coarse.parent_vertex, keep));
         t.restrict = Restriction::new(Arc::clone(&t.prolong));
     }
 }
 
 /// The transfer from `fine`, whose unknowns have the features `f`, to its unknowns `kept`.
 fn transfer(fine: &Level, f: &Features, kept: &[u32]) -> Transfer {
-    let prolong = Arc::new(weights::prolongation(fine, f, kept));
+    let prolong = Arc::new(weights::prolongation(fine, f, kept, None));
     let restrict = Restriction::new(Arc::clone(&prolong));
     Transfer { prolong, restrict }
 }

@@ -22,8 +22,9 @@ const MAX_ABS_SUM: f64 = 2.0;
 
 /// P: fine unknowns × the coarse unknowns `kept` (fine numbering, ascending), donors and weights
 /// chosen at the current positions (a moved mesh may need other donors: a set that lay in the
-/// plane of its unknown, across a thin layer, no longer does).
-pub(super) fn prolongation(fine: &Level, f: &Features, kept: &[u32]) -> CsrMatrix {
+/// plane of its unknown, across a thin layer, no longer does). With `keep` = (P₀, redo), the
+/// rows without `redo` are P₀'s rows as they are, the others chosen anew.
+pub(super) fn prolongation(fine: &Level, f: &Features, kept: &[u32], keep: Option<(&CsrMatrix, &[bool])>) -> CsrMatrix {
     let points = fine.unknown_points();
     let dim = f.dim();
     let n = fine.n();
@@ -40,7 +41,10 @@ pub(super) fn prolongation(fine: &Level, f: &Features, kept: &[u32]) -> CsrMatri
             let rows = c * CHUNK..((c + 1) * CHUNK).min(n);
             for (v, &cv) in coarse_of[rows.clone()].iter().enumerate().map(|(k, cv)| (rows.start + k, cv)) {
                 row.clear();
-                if cv != u32::MAX {
+                if let Some((old, _)) = keep.filter(|(_, redo)| !redo[v]) {
+                    let (c, w) = old.row(v);
+                    row.extend(c.iter().copied().zip(w.iter().copied()));
+                } else if cv != u32::MAX {
                     row.push((cv, 1.0));
                 } else {
                     ctx.row(v, ctx.choose(v), &mut row);
