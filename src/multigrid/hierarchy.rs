@@ -11,6 +11,7 @@ use super::coarsen::CoarsenParams;
 use super::coarsener::{CoarseUnknowns, Coarsener};
 use super::group::{estimate_lambda_max, GroupOp};
 use super::layout::Distribution;
+use super::line_smoother::{self, LineBlocks};
 pub use super::level::Level;
 use super::level::Transfer;
 use super::slip;
@@ -50,6 +51,7 @@ impl LevelParts {
             flags,
             inv_d: Vec::new(),
             lambda_max: Vec::new(),
+            lines: LineBlocks::default(),
             parent_vertex,
             down: None,
             slip: None,
@@ -78,6 +80,7 @@ fn kept_level(fine: &Level, c: CoarseUnknowns, bcs: &BoundaryConditions) -> (Lev
         flags,
         inv_d: Vec::new(),
         lambda_max: Vec::new(),
+        lines: LineBlocks::default(),
         parent_vertex: kept,
         down: None,
         slip: None,
@@ -92,6 +95,7 @@ fn kept_level(fine: &Level, c: CoarseUnknowns, bcs: &BoundaryConditions) -> (Lev
 fn refresh_bounds(level: &mut Level) {
     // The components are independent: side by side, so small levels use several threads.
     level.inv_d = (0..level.flags.len()).into_par_iter().map(|c| level.op.inv_l1_diag(&level.flags[c])).collect();
+    line_smoother::refresh(level);
     // The l1 bound guarantees λmax(D⁻¹A) ≤ 1. For the second-order operators it is nearly
     // tight (the CG iteration counts of the estimate, see docs/perf-history.md), and the
     // estimate, redone at every re-evaluated step, costs a sizeable part of a Laplacian
@@ -244,6 +248,12 @@ impl Hierarchy {
     /// Whether some level has no mesh (a level of kept unknowns).
     pub fn has_kept_levels(&self) -> bool {
         self.levels.iter().any(|l| l.mesh.is_none())
+    }
+
+    /// Whether some level has lines of strong coupling across thin wall layers
+    /// (`multigrid::lines`).
+    pub fn has_lines(&self) -> bool {
+        self.levels.iter().any(|l| !l.lines.is_empty())
     }
 
     pub fn fine(&self) -> &Level {

@@ -4,6 +4,7 @@
 //! (`multigrid::group`) reads them.
 
 use super::layout::Distribution;
+use super::line_smoother::LineBlocks;
 use super::restriction::Restriction;
 use crate::bc::{BoundaryConditions, Dofs, SlipFrames};
 use crate::operator::LevelOperator;
@@ -39,6 +40,9 @@ pub struct Level {
     pub(crate) flags: Vec<Vec<u8>>,
     pub(crate) inv_d: Vec<Vec<f64>>,
     pub(crate) lambda_max: Vec<f64>,
+    /// The lines of strong coupling across thin wall layers and their factored blocks, which
+    /// the smoother solves along (`multigrid::line_smoother`); empty on isotropic levels.
+    pub(crate) lines: LineBlocks,
     /// Vertex i of this level is vertex `parent_vertex[i]` of the next finer level; on a level
     /// without a mesh, unknown i is unknown `parent_vertex[i]` of the next finer level.
     pub(crate) parent_vertex: Vec<u32>,
