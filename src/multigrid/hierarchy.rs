@@ -11,7 +11,7 @@ use super::coarsen::CoarsenParams;
 use super::coarsener::{CoarseUnknowns, Coarsener};
 use super::group::{estimate_lambda_max, GroupOp};
 use super::layout::Distribution;
-use super::line_smoother::{self, LineBlocks};
+use super::line_smoother::LineBlocks;
 pub use super::level::Level;
 use super::level::Transfer;
 use super::slip;
@@ -95,7 +95,7 @@ fn kept_level(fine: &Level, c: CoarseUnknowns, bcs: &BoundaryConditions) -> (Lev
 fn refresh_bounds(level: &mut Level) {
     // The components are independent: side by side, so small levels use several threads.
     level.inv_d = (0..level.flags.len()).into_par_iter().map(|c| level.op.inv_l1_diag(&level.flags[c])).collect();
-    line_smoother::refresh(level);
+    level.refresh_lines();
     // The l1 bound guarantees λmax(D⁻¹A) ≤ 1. For the second-order operators it is nearly
     // tight (the CG iteration counts of the estimate, see docs/perf-history.md), and the
     // estimate, redone at every re-evaluated step, costs a sizeable part of a Laplacian

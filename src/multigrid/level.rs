@@ -156,6 +156,19 @@ impl Level {
         (0..self.dofs.n).map(|d| self.dofs.region_of(d).or(vregion[self.dofs.dof_vertex[d] as usize].flatten())).collect()
     }
 
+    /// Finds the level's lines across wall layers (once) and factors their blocks for its
+    /// current operator and flags (`multigrid::line_smoother`); the slip unknowns of a coupled
+    /// group stay off the blocks.
+    pub(crate) fn refresh_lines(&mut self) {
+        let mut apart = vec![false; self.n()];
+        if let Some(s) = self.slip.as_ref().filter(|s| s.coupled) {
+            s.frames.dofs.iter().for_each(|&d| apart[d as usize] = true);
+        }
+        let (dim, points) = (self.dim(), if self.lines.searched() { Vec::new() } else { self.unknown_points().into_owned() });
+        let Level { lines, op, flags, .. } = self;
+        lines.refresh(op, flags, &apart, &points, dim);
+    }
+
     /// The slip frames coupling the group `comps`: the level's frames when its components are
     /// one coupled system and `comps` is all of them.
     pub(crate) fn coupled_frames(&self, comps: &Range<usize>) -> Option<&SlipFrames> {

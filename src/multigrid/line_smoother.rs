@@ -15,7 +15,6 @@
 //! walls the slip unknowns leave the blocks too and keep their equalised point diagonal, so D
 //! commutes with the projection Π as the point diagonal does (`multigrid::slip`).
 
-use super::level::Level;
 use super::lines::Lines;
 use crate::bc::{P, Z};
 use crate::operator::{LevelOperator, Method};
@@ -23,25 +22,6 @@ use crate::sparse::par_update;
 use std::ops::Range;
 use rayon::prelude::*;
 use std::sync::Arc;
-
-/// Finds the lines of `level` once (they follow its topology, which a moved mesh keeps) and
-/// factors their blocks for its current operator and flags.
-pub(crate) fn refresh(level: &mut Level) {
-    let n = level.n();
-    let mut apart = vec![false; n];
-    if let Some(s) = level.slip.as_ref().filter(|s| s.coupled) {
-        s.frames.dofs.iter().for_each(|&d| apart[d as usize] = true);
-    }
-    if !level.lines.searched {
-        let points = level.unknown_points();
-        let (dim, k, flags) = (level.dim(), &level.op.k, &level.flags);
-        let lines = Lines::find(n, |i| k.row(i).0, &points, dim, |i| flags.iter().all(|f| f[i] & P != 0));
-        level.lines = LineBlocks::new(lines, &level.op, &level.flags, &apart);
-    } else if !level.lines.is_empty() {
-        let Level { lines, op, flags, .. } = level;
-        lines.refactor(op, flags, &apart);
-    }
-}
 
 /// The banded LDLᵀ factors of one component's line blocks.
 #[derive(Debug, PartialEq)]
@@ -95,21 +75,27 @@ impl LineBlocks {
         blocks
     }
 
-    /// The unknowns before and after `v` on its line (u32::MAX where there is none, and both
-    /// off the lines).
-    pub(crate) fn beside(&self, v: usize) -> [u32; 2] {
-        let Some(&a) = self.at.get(v).filter(|&&a| a != u32::MAX) else {
-            return [u32::MAX; 2];
-        };
-        let k = self.lines.start.partition_point(|&s| s <= a) - 1;
-        let (s, e) = (self.lines.start[k], self.lines.start[k + 1]);
-        let at = |p: u32| self.lines.unknowns[p as usize];
-        [if a > s { at(a - 1) } else { u32::MAX }, if a + 1 < e { at(a + 1) } else { u32::MAX }]
-    }
-
     /// Whether the level has lines.
     pub(crate) fn is_empty(&self) -> bool {
         self.lines.is_empty()
+    }
+
+    /// Whether the lines were looked for.
+    pub(crate) fn searched(&self) -> bool {
+        self.searched
+    }
+
+    /// Finds the lines once (they follow the level's topology, which a moved mesh keeps), from
+    /// the unknowns' `points` (`dim` values each; read only on the first call) and K's graph,
+    /// and factors their blocks for `op`'s current values and the components' `flags`; `apart`
+    /// as in `new`.
+    pub(crate) fn refresh(&mut self, op: &LevelOperator, flags: &[Vec<u8>], apart: &[bool], points: &[f64], dim: usize) {
+        if self.searched {
+            self.refactor(op, flags, apart);
+            return;
+        }
+        let lines = Lines::find(op.n(), |i| op.k.row(i).0, points, dim, |i| flags.iter().all(|f| f[i] & P != 0));
+        *self = LineBlocks::new(lines, op, flags, apart);
     }
 
     /// Factors the blocks again for the operator's current values (after the mesh moved).
@@ -365,9 +351,9 @@ mod tests {
         let y: Vec<f64> = (0..m).map(|p| (p as f64).sin()).collect();
         let mut x = y.clone();
         solve_band(&a, &mut x, 2);
-        for i in 0..m {
-            let ax: f64 = (0..m).map(|j| full(i, j) * x[j]).sum();
-            assert!((ax - y[i]).abs() < 1e-12, "{i}: {ax} vs {}", y[i]);
+        for (i, yi) in y.iter().enumerate() {
+            let ax: f64 = x.iter().enumerate().map(|(j, xj)| full(i, j) * xj).sum();
+            assert!((ax - yi).abs() < 1e-12, "{i}: {ax} vs {yi}");
         }
     }
 }
