@@ -86,6 +86,7 @@ fn kept_level(fine: &Level, c: CoarseUnknowns, bcs: &BoundaryConditions) -> (Lev
         slip: None,
         layout,
     };
+    level.lines = fine.lines.kept(&level.parent_vertex, fine.op.method);
     slip::attach(&mut level, Some(fine), bcs);
     refresh_bounds(&mut level);
     (level, transfer)

@@ -165,8 +165,8 @@ impl Level {
             s.frames.dofs.iter().for_each(|&d| apart[d as usize] = true);
         }
         let (dim, points) = (self.dim(), if self.lines.searched() { Vec::new() } else { self.unknown_points().into_owned() });
-        let Level { lines, op, flags, .. } = self;
-        lines.refresh(op, flags, &apart, &points, dim);
+        let Level { lines, op, flags, dofs, .. } = self;
+        lines.refresh(op, flags, &apart, (&points, dim), |d| dofs.vertices_of(d).len() > 1);
     }
 
     /// The slip frames coupling the group `comps`: the level's frames when its components are

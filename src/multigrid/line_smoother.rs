@@ -55,12 +55,18 @@ impl LineBlocks {
     /// The line blocks of `lines` for `op` and the components' `flags`; `apart` marks the
     /// unknowns solved pointwise in every component (the slip unknowns of a coupled group).
     pub(crate) fn new(lines: Lines, op: &LevelOperator, flags: &[Vec<u8>], apart: &[bool]) -> LineBlocks {
-        let n = op.n();
+        let mut blocks = LineBlocks::unfactored(lines, op.n(), op.method);
+        blocks.refactor(op, flags, apart);
+        blocks
+    }
+
+    /// The lines of a level of `n` unknowns for `method`, to be factored (`refactor`).
+    fn unfactored(lines: Lines, n: usize, method: Method) -> LineBlocks {
         let mut at = vec![u32::MAX; n];
         for (p, &v) in lines.unknowns.iter().enumerate() {
             at[v as usize] = p as u32;
         }
-        let band = if op.method == Method::Biharmonic { 2 } else { 1 };
+        let band = if method == Method::Biharmonic { 2 } else { 1 };
         let mut runs = vec![0u32];
         for k in 0..lines.len() {
             if lines.start[k + 1] - lines.start[*runs.last().expect("starts at 0") as usize] >= CHUNK as u32 {
@@ -70,9 +76,28 @@ impl LineBlocks {
         if *runs.last().expect("starts at 0") as usize != lines.len() {
             runs.push(lines.len() as u32);
         }
-        let mut blocks = LineBlocks { searched: true, lines, at, runs, band, factors: Vec::new() };
-        blocks.refactor(op, flags, apart);
-        blocks
+        LineBlocks { searched: true, lines, at, runs, band, factors: Vec::new() }
+    }
+
+    /// The lines of a level of kept unknowns `kept` (unknowns of this level, ascending) with
+    /// `method`: each line's kept unknowns in order, where at least two are kept; factored when
+    /// the level's bounds are made (`refresh`). A coarse level of kept unknowns has no mesh to
+    /// look for lines in, and its Galerkin operator couples unknowns several spacings apart,
+    /// which would look anisotropic on an isotropic mesh; its lines are its finer level's.
+    pub(crate) fn kept(&self, kept: &[u32], method: Method) -> LineBlocks {
+        let mut coarse_of = vec![u32::MAX; self.at.len()];
+        for (c, &d) in kept.iter().enumerate() {
+            coarse_of[d as usize] = c as u32;
+        }
+        let mut lines = Lines { start: vec![0], unknowns: Vec::new() };
+        for k in 0..self.lines.len() {
+            let on: Vec<u32> = self.lines.line(k).iter().map(|&v| coarse_of[v as usize]).filter(|&c| c != u32::MAX).collect();
+            if on.len() >= 2 {
+                lines.unknowns.extend(on);
+                lines.start.push(lines.unknowns.len() as u32);
+            }
+        }
+        LineBlocks::unfactored(lines, kept.len(), method)
     }
 
     /// Whether the level has lines.
@@ -89,12 +114,22 @@ impl LineBlocks {
     /// the unknowns' `points` (`dim` values each; read only on the first call) and K's graph,
     /// and factors their blocks for `op`'s current values and the components' `flags`; `apart`
     /// as in `new`.
-    pub(crate) fn refresh(&mut self, op: &LevelOperator, flags: &[Vec<u8>], apart: &[bool], points: &[f64], dim: usize) {
+    /// `linked` marks the unknowns that stand for several vertices (on no line, their couplings
+    /// not measured).
+    pub(crate) fn refresh(
+        &mut self,
+        op: &LevelOperator,
+        flags: &[Vec<u8>],
+        apart: &[bool],
+        (points, dim): (&[f64], usize),
+        linked: impl Fn(usize) -> bool,
+    ) {
         if self.searched {
             self.refactor(op, flags, apart);
             return;
         }
-        let lines = Lines::find(op.n(), |i| op.k.row(i).0, points, dim, |i| flags.iter().all(|f| f[i] & P != 0));
+        let prescribed = |i: usize| flags.iter().all(|f| f[i] & P != 0);
+        let lines = Lines::find(op.n(), |i| op.k.row(i).0, points, dim, prescribed, linked);
         *self = LineBlocks::new(lines, op, flags, apart);
     }
 

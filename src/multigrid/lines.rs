@@ -47,14 +47,18 @@ impl Lines {
 
     /// The lines of the graph whose neighbours of unknown i are `neighbours(i)` (i itself may
     /// be among them) at `points` (`dim` values per unknown); unknowns with `skip` set are on
-    /// no line (prescribed in every component). Deterministic: ties go to the lower index.
+    /// no line (prescribed in every component), and those with `unmeasured` set are on none and
+    /// their couplings are not measured (linked unknowns, whose position is one of several).
+    /// Deterministic: ties go to the lower index.
     pub(crate) fn find<'a>(
         n: usize,
         neighbours: impl Fn(usize) -> &'a [u32] + Sync,
         points: &[f64],
         dim: usize,
         skip: impl Fn(usize) -> bool,
+        unmeasured: impl Fn(usize) -> bool,
     ) -> Lines {
+        let skip = |i: usize| skip(i) || unmeasured(i);
         let weight = |i: usize, j: usize| {
             let d2: f64 = (0..dim).map(|c| (points[i * dim + c] - points[j * dim + c]).powi(2)).sum();
             if d2 > 0.0 {
@@ -66,7 +70,10 @@ impl Lines {
         // The strongest and weakest coupling of each unknown.
         let bounds: Vec<(f64, f64)> = (0..n)
             .map(|i| {
-                neighbours(i).iter().filter(|&&j| j as usize != i).fold((0.0f64, f64::INFINITY), |(hi, lo), &j| {
+                if unmeasured(i) {
+                    return (0.0, f64::INFINITY);
+                }
+                neighbours(i).iter().filter(|&&j| j as usize != i && !unmeasured(j as usize)).fold((0.0f64, f64::INFINITY), |(hi, lo), &j| {
                     let w = weight(i, j as usize);
                     (hi.max(w), lo.min(w))
                 })
@@ -171,7 +178,7 @@ mod tests {
         let g = grid_graph(nx, ny);
         let points = grid_points(&xs, &ys);
         // The wall's vertices are prescribed.
-        let lines = Lines::find(g.len(), |i| &g[i], &points, 2, |i| i <= nx);
+        let lines = Lines::find(g.len(), |i| &g[i], &points, 2, |i| i <= nx, |_| false);
         assert_eq!(lines.len(), nx + 1, "one line per column");
         for k in 0..lines.len() {
             let line = lines.line(k);
@@ -193,7 +200,7 @@ mod tests {
             ys.push(ys[k] + 0.05 * 1.3f64.powi(k as i32));
         }
         let g = grid_graph(10, ys.len() - 1);
-        let lines = Lines::find(g.len(), |i| &g[i], &grid_points(&xs, &ys), 2, |_| false);
+        let lines = Lines::find(g.len(), |i| &g[i], &grid_points(&xs, &ys), 2, |_| false, |_| false);
         assert!(lines.is_empty());
     }
 }
