@@ -195,3 +195,22 @@ fn box_layers_of_first_height_1e4() {
         assert!(it <= bound, "{method:?}: {it} iterations");
     }
 }
+
+#[test]
+fn cylinder_layers_move_in_re_referenced_steps() {
+    // The pitch in 5 steps, each from the mesh the last one made (the lines are kept, their
+    // blocks refactored on the moved mesh): the moved layers take a few more iterations than
+    // the first step, and no step more than the bounds.
+    let mesh = cylinder_layers(48, 1e-5, 30);
+    let mut bcs = BoundaryConditions::new();
+    bcs.set_kinds(1, Kind::Clamped).set_kinds(2, Kind::Fixed);
+    let motion = Motion::zero(&mesh).with_rigid(1, RigidMotion::planar([0.0, 0.05], 10f64.to_radians(), [-0.25, 0.0]));
+    for (method, bound) in METHODS.into_iter().zip([14, 11, 4]) {
+        let mut solver = Solver::new(&mesh, &bcs, Options { method, ..Default::default() }).unwrap();
+        let steps = solver.move_in_steps(&motion, 5).unwrap();
+        let its: Vec<usize> = steps.iter().map(|s| s.cycles).collect();
+        eprintln!("cylinder, 5 steps: {method:?} {its:?}");
+        assert_eq!(its.len(), 5);
+        assert!(its.iter().all(|&i| i <= bound), "{method:?}: {its:?}");
+    }
+}
