@@ -19,3 +19,4 @@ mod setup;
 pub mod setups;
 pub mod setups3d;
 pub mod spheres3d;
+pub mod viscous;

@@ -140,7 +140,7 @@ impl OgridPlan {
     }
 
     /// Faces of the inner box's surface (quads in 3D, segments in 2D).
-    fn surface_faces(&self) -> usize {
+    pub(crate) fn surface_faces(&self) -> usize {
         let n: Vec<usize> = (0..self.dim).map(|d| self.n(d)).collect();
         if self.dim == 3 {
             2 * (n[0] * n[1] + n[1] * n[2] + n[0] * n[2])
@@ -260,6 +260,13 @@ fn body_point(p: &OgridParams, half: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
 
 /// The block structure of the mesh of `p`, or why `p` cannot be meshed.
 pub fn plan(p: &OgridParams) -> Result<OgridPlan, String> {
+    plan_with_cells(p, None)
+}
+
+/// [`plan`] with the inner box's cells along each axis given (`cells`, at least 2 each along
+/// the mesh's axes) instead of derived from the wall size: the body's tangential spacing then
+/// no longer follows the first layer's height, as in a wall-layered (viscous) mesh.
+pub fn plan_with_cells(p: &OgridParams, cells: Option<[usize; 3]>) -> Result<OgridPlan, String> {
     let dim = p.dim;
     if dim != 2 && dim != 3 {
         return Err(format!("ogrid: dimension {dim}, not 2 or 3"));
@@ -278,7 +285,11 @@ pub fn plan(p: &OgridParams) -> Result<OgridPlan, String> {
             return Err(format!("ogrid: semi-axis {d} is {s}"));
         }
         let room = (c - lo).min(hi - c);
-        n[d] = ((FRAC_PI_2 * s / p.wall).ceil() as usize).max(2);
+        n[d] = match cells {
+            Some(c) if c[d] >= 2 => c[d],
+            Some(c) => return Err(format!("ogrid: {} cells along axis {d}, fewer than 2", c[d])),
+            None => ((FRAC_PI_2 * s / p.wall).ceil() as usize).max(2),
+        };
         let min_half = s + 2.0 * p.wall;
         let max_half = room - 0.5 * p.far.min(room - s);
         if min_half > max_half {
@@ -341,7 +352,7 @@ fn shell_thickness(p: &OgridParams, n: &[usize; 3], half: &[f64; 3]) -> Vec<f64>
 }
 
 /// Appends a cell of type `ty` with corners `c`, reordered to positive orientation if needed.
-fn push_oriented(d: &mut MeshData, ty: CellType, c: &[u32]) {
+pub(crate) fn push_oriented(d: &mut MeshData, ty: CellType, c: &[u32]) {
     let m = CellPoints::gather(ty, c, &d.coords, d.dim).signed_measure();
     if m < 0.0 {
         let f: Vec<u32> = ty.flipped().iter().map(|&k| c[k as usize]).collect();
@@ -352,7 +363,7 @@ fn push_oriented(d: &mut MeshData, ty: CellType, c: &[u32]) {
 }
 
 /// The two triangles of the quad `q` (cyclic) split along the diagonal from its smallest vertex.
-fn split_quad(q: [u32; 4]) -> [[u32; 3]; 2] {
+pub(crate) fn split_quad(q: [u32; 4]) -> [[u32; 3]; 2] {
     let m = (0..4).min_by_key(|&k| q[k]).expect("four corners");
     if m % 2 == 0 {
         [[q[0], q[1], q[2]], [q[0], q[2], q[3]]]
@@ -361,8 +372,12 @@ fn split_quad(q: [u32; 4]) -> [[u32; 3]; 2] {
     }
 }
 
-/// The tensor (hexahedral or quadrilateral) mesh of `plan` for `p`, as plain arrays.
-fn tensor_mesh(p: &OgridParams, plan: &OgridPlan) -> MeshData {
+/// The tensor (hexahedral or quadrilateral) mesh of `plan` for `p`, as plain arrays. Cells: the
+/// tensor blocks first, then the shell, face by face of the inner box's surface, each face's
+/// `plan.layers` cells from the body outwards. A shell vertex of layer l (below the inner box)
+/// has the index of its line's body vertex plus l, so the order of a face's corners by index is
+/// the same in every layer of the shell.
+pub(crate) fn tensor_mesh(p: &OgridParams, plan: &OgridPlan) -> MeshData {
     let dim = p.dim;
     let len = [plan.axes[0].len(), plan.axes[1].len(), plan.axes[2].len()];
     let t = |i: usize, j: usize, k: usize| (k * len[1] + j) * len[0] + i;
@@ -507,6 +522,19 @@ fn tensor_mesh(p: &OgridParams, plan: &OgridPlan) -> MeshData {
     d
 }
 
+/// Appends the hexahedron of corners `v` (vertices of `s`) as 12 tetrahedra around its added
+/// centroid, each face split by [`split_quad`]; returns how many cells it appended (12).
+pub(crate) fn push_hex_as_tets(s: &mut MeshData, v: &[u32]) -> usize {
+    let centre: Vec<f64> = (0..3).map(|a| v.iter().map(|&x| s.coords[3 * x as usize + a]).sum::<f64>() / 8.0).collect();
+    let o = s.push_vertex(&centre);
+    for f in CellType::Hexahedron.faces() {
+        for tri in split_quad([0, 1, 2, 3].map(|k| v[f[k] as usize])) {
+            push_oriented(s, CellType::Tetra, &[tri[0], tri[1], tri[2], o]);
+        }
+    }
+    12
+}
+
 /// `d` (hexahedra or quads) split into tetrahedra (12 per hexahedron around an added centroid)
 /// or triangles (2 per quad); quad faces split as their cells split them.
 fn simplex_mesh(d: &MeshData) -> MeshData {
@@ -515,14 +543,7 @@ fn simplex_mesh(d: &MeshData) -> MeshData {
     for c in 0..d.num_cells() {
         let v = d.cell(c);
         if d.dim == 3 {
-            let centre: Vec<f64> =
-                (0..3).map(|a| v.iter().map(|&x| d.coords[3 * x as usize + a]).sum::<f64>() / 8.0).collect();
-            let o = s.push_vertex(&centre);
-            for f in CellType::Hexahedron.faces() {
-                for tri in split_quad([0, 1, 2, 3].map(|k| v[f[k] as usize])) {
-                    push_oriented(&mut s, CellType::Tetra, &[tri[0], tri[1], tri[2], o]);
-                }
-            }
+            push_hex_as_tets(&mut s, v);
         } else {
             for tri in split_quad([v[0], v[1], v[2], v[3]]) {
                 push_oriented(&mut s, CellType::Triangle, &tri);

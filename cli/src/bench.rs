@@ -15,6 +15,7 @@ mod peer;
 mod slip;
 mod steps;
 mod table;
+mod viscous;
 
 use cases::Case;
 use extrapolate::seconds_to_tol;
@@ -47,6 +48,10 @@ pub enum Part {
     /// Graded meshes (2D cylinder, 3D sphere; none yet).
     #[value(name = "graded")]
     Graded,
+    /// Wall-layered meshes (airfoil, spheroid, wing) pitched and plunged, every method
+    /// (`DIR/viscous.csv`; not in the default parts).
+    #[value(name = "viscous")]
+    Viscous,
 }
 
 /// The cells of a 3D box.
@@ -124,6 +129,20 @@ pub struct Args {
     /// The parts to run, comma separated.
     #[arg(long, value_delimiter = ',', default_value = "2d,meshes,3d,steps,graded")]
     pub parts: Vec<Part>,
+    /// Sizes of each wall-layered mesh of the `viscous` part (1 to 3; `--quick`: 1).
+    #[arg(long, default_value_t = 3)]
+    pub viscous_sizes: usize,
+    /// The meshes of the `viscous` part, comma separated: airfoil, spheroid, wing.
+    #[arg(long, value_delimiter = ',', default_value = "airfoil,spheroid,wing")]
+    pub viscous_meshes: Vec<viscous::MeshKind>,
+    /// Steps of the `viscous` part's re-referenced runs (beside the one-step runs; `--quick`
+    /// runs one step only).
+    #[arg(long, default_value_t = 20)]
+    pub viscous_steps: usize,
+    /// Most CG iterations of one solve in the `viscous` part (a count, not a time, so which
+    /// rows stop does not depend on the machine).
+    #[arg(long, default_value_t = 500)]
+    pub viscous_max_cycles: usize,
     /// Instead of running: write the 3D peer case (the hexahedral box of this many cells per
     /// side as box.msh, its motion as top.csv, the case as case.toml) to --out, for
     /// scripts/peer-openfoam.sh.
@@ -524,6 +543,9 @@ fn check_args(a: &Args) -> Result<(), String> {
     if a.jacobi_cap_sweeps == Some(0) || a.paper_cap_cycles == Some(0) {
         return Err("--jacobi-cap-sweeps and --paper-cap-cycles must be at least 1".into());
     }
+    if !(1..=3).contains(&a.viscous_sizes) || a.viscous_steps == 0 || a.viscous_max_cycles == 0 {
+        return Err("--viscous-sizes takes 1 to 3; --viscous-steps and --viscous-max-cycles at least 1".into());
+    }
     if let Some(n) = a.peer_case {
         if !(1..=400).contains(&n) {
             return Err(format!("--peer-case takes 1 to 400 cells per side, got {n}"));
@@ -540,6 +562,7 @@ fn quick(a: &Args) -> Args {
     q.jacobi_cap_s = a.jacobi_cap_s.min(QUICK_CAP_S);
     q.paper_cap_s = a.paper_cap_s.min(QUICK_CAP_S);
     q.parts.retain(|&p| p != Part::Graded);
+    q.viscous_sizes = 1;
     if q.parts.is_empty() {
         q.parts = a.parts.clone();
     }
@@ -669,6 +692,20 @@ pub fn run(a: &Args) -> Result<(), String> {
             }
         }
     }
+    let viscous_table = if has(Part::Viscous) {
+        let plan = viscous::Plan {
+            meshes: a.viscous_meshes.clone(),
+            sizes: a.viscous_sizes,
+            methods: vec![Method::Biharmonic, Method::Laplacian, Method::Spring],
+            motions: vec![meshmove_cases::viscous::BodyMotion::Pitch, meshmove_cases::viscous::BodyMotion::Plunge],
+            steps: if a.quick || a.viscous_steps == 1 { vec![1] } else { vec![1, a.viscous_steps] },
+            max_cycles: a.viscous_max_cycles,
+            tol: a.tol,
+        };
+        viscous::run_all(&a.out, &plan, &last[0].1)?
+    } else {
+        String::new()
+    };
     let mut csv = String::from(HEADER);
     csv.push('\n');
     for r in &rows {
@@ -686,8 +723,12 @@ pub fn run(a: &Args) -> Result<(), String> {
         println!("3D: no paper-faithful or Jacobi rows (hundreds to thousands of cycles or sweeps per size; the 2D rows measure them)");
     }
     // Slip walls against fixed ones on the cylinder channel (its own sizes, up to a quarter of
-    // the largest free-surface mesh: its refinements grow the same way).
-    print!("{}", slip::run(&a.out, a.max_vertices / 4, a.tol)?);
+    // the largest free-surface mesh: its refinements grow the same way); not for the viscous
+    // part alone.
+    if a.parts.iter().any(|&p| p != Part::Viscous) {
+        print!("{}", slip::run(&a.out, a.max_vertices / 4, a.tol)?);
+    }
+    print!("{viscous_table}");
     println!(
         "wall {:.1} s; peak resident set (VmHWM) {:.0} MB; bytes_per_vertex counts allocation by the solver (counting allocator)",
         t_all.elapsed().as_secs_f64(),

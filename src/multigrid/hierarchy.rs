@@ -230,9 +230,11 @@ impl Hierarchy {
 
     fn build_coarse_solve(&mut self) -> Result<()> {
         let last = self.levels.last().expect("one level at least");
-        // A coupled group is one system there (a component alone may have nothing prescribed
-        // and be singular).
-        let solves = last
+        // One solve per group the cycle runs over: the finest level's groups. A coupled group is
+        // one system there (a component alone may have nothing prescribed and be singular), also
+        // where the coarsest level's own frames no longer couple the components (its slip
+        // unknowns all on walls normal to the axes, or none left).
+        let solves = self
             .groups()
             .into_iter()
             .map(|g| Ok((g.clone(), CoarseSolve::new(&GroupOp::new(last, g, false))?)))
