@@ -6,6 +6,7 @@
 
 use super::layout::Layout;
 use super::level::Level;
+use super::line_smoother::LineBlocks;
 use crate::bc::{SlipFrames, P};
 use crate::operator::{LevelOperator, Method};
 use std::ops::Range;
@@ -74,6 +75,22 @@ impl<'a> GroupOp<'a> {
     /// The inverse Jacobi (l1) diagonal of block `k`.
     pub(crate) fn inv_d(&self, k: usize) -> &'a [f64] {
         &self.level.inv_d[self.first + k]
+    }
+
+    /// The level's line blocks when block `k` is solved along lines (`multigrid::line_smoother`);
+    /// None where it is smoothed pointwise.
+    pub(crate) fn lines(&self, k: usize) -> Option<&'a LineBlocks> {
+        let lines = &self.level.lines;
+        lines.active(self.first + k).then_some(lines)
+    }
+
+    /// z ← D⁻¹ z for block `k`: along its lines when it has them, else pointwise by the
+    /// Jacobi diagonal. `sol` is the line solves' scratch.
+    pub(crate) fn precondition(&self, k: usize, z: &mut [f64], sol: &mut Vec<f64>) {
+        match self.lines(k) {
+            Some(lines) => lines.precondition(self.first + k, self.inv_d(k), z, sol),
+            None => z.iter_mut().zip(self.inv_d(k)).for_each(|(z, d)| *z *= d),
+        }
     }
 
     /// The λmax of D⁻¹A the smoother of block `k` is tuned to: 1 with the l1 bound, the group's
@@ -182,21 +199,25 @@ pub struct Problem<'a> {
 }
 
 /// Scratch of one block of a level's smoother: the biharmonic's S (empty for the second-order
-/// methods, which have none) and the step.
+/// methods, which have none) and the step; on a level with lines also the residual and the
+/// line solves' values (allocated at their first use).
 pub struct Scratch {
     pub s: Vec<f64>,
     pub d: Vec<f64>,
+    pub(crate) r: Vec<f64>,
+    pub(crate) sol: Vec<f64>,
 }
 
 impl Scratch {
     pub fn new(n: usize, method: Method) -> Self {
         let ns = if method == Method::Biharmonic { n } else { 0 };
-        Scratch { s: vec![0.0; ns], d: vec![0.0; n] }
+        Scratch { s: vec![0.0; ns], d: vec![0.0; n], r: Vec::new(), sol: Vec::new() }
     }
 }
 
 /// Largest eigenvalue of D⁻¹ Π A on the group's free subspace by power iteration from a fixed
-/// start (deterministic), padded by 10% and capped at 1, the l1 bound's guarantee.
+/// start (deterministic), padded by 10% and capped at 1, the l1 bound's guarantee (D the point
+/// or line l1 preconditioner, `GroupOp::precondition`).
 pub(crate) fn estimate_lambda_max(op: &GroupOp) -> f64 {
     let (n, g) = (op.n(), op.len());
     // A fixed, mode-rich start vector: a cheap hash of the index.
@@ -211,7 +232,7 @@ pub(crate) fn estimate_lambda_max(op: &GroupOp) -> f64 {
         })
         .collect();
     op.project(&mut x);
-    let (mut y, mut s) = (vec![0.0; g * n], vec![0.0; n]);
+    let (mut y, mut s, mut sol) = (vec![0.0; g * n], vec![0.0; n], Vec::new());
     let mut lambda = 0.0;
     for _ in 0..15 {
         let nx = op.norm(&x);
@@ -221,7 +242,7 @@ pub(crate) fn estimate_lambda_max(op: &GroupOp) -> f64 {
         x.iter_mut().for_each(|v| *v /= nx);
         op.apply_blocks(&mut x, &mut y, &mut s);
         for k in 0..g {
-            block_mut(&mut y, n, k).iter_mut().zip(op.inv_d(k)).for_each(|(y, d)| *y *= d);
+            op.precondition(k, block_mut(&mut y, n, k), &mut sol);
         }
         op.project(&mut y);
         lambda = op.norm(&y);

@@ -12,6 +12,7 @@ use super::coarsener::{CoarseUnknowns, Coarsener};
 use super::group::{estimate_lambda_max, GroupOp};
 use super::refit::{donor_offsets, rows_to_redo, updated_offsets};
 use super::layout::Distribution;
+use super::line_smoother::LineBlocks;
 pub use super::level::Level;
 use super::phases::{timed, Phases};
 use super::level::Transfer;
@@ -60,6 +61,7 @@ impl LevelParts {
             flags,
             inv_d: Vec::new(),
             lambda_max: Vec::new(),
+            lines: LineBlocks::default(),
             parent_vertex,
             down: None,
             slip: None,
@@ -88,11 +90,13 @@ fn kept_level(fine: &Level, c: CoarseUnknowns, bcs: &BoundaryConditions, t: &mut
         flags,
         inv_d: Vec::new(),
         lambda_max: Vec::new(),
+        lines: LineBlocks::default(),
         parent_vertex: kept,
         down: None,
         slip: None,
         layout,
     };
+    level.lines = fine.lines.kept(&level.parent_vertex, fine.op.method);
     timed(&mut t.unknowns, || slip::attach(&mut level, Some(fine), bcs));
     timed(&mut t.bounds, || refresh_bounds(&mut level));
     (level, transfer)
@@ -102,6 +106,7 @@ fn kept_level(fine: &Level, c: CoarseUnknowns, bcs: &BoundaryConditions, t: &mut
 fn refresh_bounds(level: &mut Level) {
     // The components are independent: side by side, so small levels use several threads.
     level.inv_d = (0..level.flags.len()).into_par_iter().map(|c| level.op.inv_l1_diag(&level.flags[c])).collect();
+    level.refresh_lines();
     // The l1 bound guarantees λmax(D⁻¹A) ≤ 1. For the second-order operators it is nearly
     // tight (the CG iteration counts of the estimate, see docs/perf-history.md), and the
     // estimate, redone at every re-evaluated step, costs a sizeable part of a Laplacian
@@ -303,6 +308,12 @@ impl Hierarchy {
     /// Seconds per phase of the last build or re-reference.
     pub fn phases(&self) -> Phases {
         self.phases
+    }
+
+    /// Whether some level has lines of strong coupling across thin wall layers
+    /// (`multigrid::lines`).
+    pub fn has_lines(&self) -> bool {
+        self.levels.iter().any(|l| !l.lines.is_empty())
     }
 
     pub fn fine(&self) -> &Level {

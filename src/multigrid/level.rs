@@ -4,6 +4,7 @@
 //! (`multigrid::group`) reads them.
 
 use super::layout::Distribution;
+use super::line_smoother::LineBlocks;
 use super::restriction::Restriction;
 use crate::bc::{BoundaryConditions, Dofs, SlipFrames};
 use crate::operator::LevelOperator;
@@ -39,6 +40,9 @@ pub struct Level {
     pub(crate) flags: Vec<Vec<u8>>,
     pub(crate) inv_d: Vec<Vec<f64>>,
     pub(crate) lambda_max: Vec<f64>,
+    /// The lines of strong coupling across thin wall layers and their factored blocks, which
+    /// the smoother solves along (`multigrid::line_smoother`); empty on isotropic levels.
+    pub(crate) lines: LineBlocks,
     /// Vertex i of this level is vertex `parent_vertex[i]` of the next finer level; on a level
     /// without a mesh, unknown i is unknown `parent_vertex[i]` of the next finer level.
     pub(crate) parent_vertex: Vec<u32>,
@@ -150,6 +154,19 @@ impl Level {
             }
         }
         (0..self.dofs.n).map(|d| self.dofs.region_of(d).or(vregion[self.dofs.dof_vertex[d] as usize].flatten())).collect()
+    }
+
+    /// Finds the level's lines across wall layers (once) and factors their blocks for its
+    /// current operator and flags (`multigrid::line_smoother`); the slip unknowns of a coupled
+    /// group stay off the blocks.
+    pub(crate) fn refresh_lines(&mut self) {
+        let mut apart = vec![false; self.n()];
+        if let Some(s) = self.slip.as_ref().filter(|s| s.coupled) {
+            s.frames.dofs.iter().for_each(|&d| apart[d as usize] = true);
+        }
+        let (dim, points) = (self.dim(), if self.lines.searched() { Vec::new() } else { self.unknown_points().into_owned() });
+        let Level { lines, op, flags, dofs, .. } = self;
+        lines.refresh(op, flags, &apart, (&points, dim), |d| dofs.vertices_of(d).len() > 1);
     }
 
     /// The slip frames coupling the group `comps`: the level's frames when its components are

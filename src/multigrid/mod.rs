@@ -10,6 +10,8 @@ pub mod group;
 pub mod hierarchy;
 mod layout;
 pub mod level;
+mod line_smoother;
+mod lines;
 mod lsq;
 pub mod params;
 pub mod phases;

@@ -109,10 +109,14 @@ impl CycleParams {
 ///   smoothing pays), and with slip walls the coarse levels at the finest level's degree (the
 ///   natural tangential condition makes the rediscretised coarse operators' boundary rows a
 ///   poorer match) unless the caller chose the coarse degree;
+///   and 16 on the coarse levels of kept unknowns below thin wall layers (levels with lines,
+///   `multigrid::lines`): their Galerkin operators, many layers thick, need the stronger
+///   smoothing where the finest level's lines already serve;
 /// - the Laplacian and the spring: 3 and 2.
 pub(crate) fn degrees(h: &Hierarchy, p: &SolveParams) -> (usize, usize) {
     let (fine, coarse) = match (h.method, h.has_kept_levels()) {
         (Method::Biharmonic, false) => (6, 4),
+        (Method::Biharmonic, true) if h.has_lines() => (8, 16),
         (Method::Biharmonic, true) => (8, 8),
         _ => (3, 2),
     };
@@ -122,7 +126,7 @@ pub(crate) fn degrees(h: &Hierarchy, p: &SolveParams) -> (usize, usize) {
     };
     let slip = h.fine().slip.is_some();
     if slip && h.method == Method::Biharmonic && p.cheb_coarse_degree.is_none() {
-        return (fine, fine);
+        return (fine, coarse.max(fine));
     }
     (fine, coarse)
 }

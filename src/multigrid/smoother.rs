@@ -67,7 +67,11 @@ pub(crate) fn smooth(
         op.exchange(x);
     }
     for (k, wk) in w.iter_mut().enumerate() {
-        first_step(op.problem(k), coeffs[k].0, block(b, n, k), block_mut(x, n, k), wk, start);
+        let (bk, xk) = (block(b, n, k), block_mut(x, n, k));
+        match op.lines(k) {
+            None => first_step(op.problem(k), coeffs[k].0, bk, xk, wk, start),
+            Some(_) => line_step(op, k, (0.0, coeffs[k].0), bk, xk, wk, start),
+        }
     }
     op.project_step(x, w);
     let mut maxc = measured(op, measure, w);
@@ -75,7 +79,11 @@ pub(crate) fn smooth(
         op.exchange(x);
         for (k, wk) in w.iter_mut().enumerate() {
             let (c1, c2) = coeffs[k].1[j];
-            next_step(op.problem(k), c1, c2, block(b, n, k), block_mut(x, n, k), wk);
+            let (bk, xk) = (block(b, n, k), block_mut(x, n, k));
+            match op.lines(k) {
+                None => next_step(op.problem(k), c1, c2, bk, xk, wk),
+                Some(_) => line_step(op, k, (c1, c2), bk, xk, wk, Start::Guess),
+            }
         }
         op.project_step(x, w);
         maxc = maxc.max(measured(op, measure, w));
@@ -100,6 +108,31 @@ fn first_step(pb: Problem, c: f64, b: &[f64], x: &mut [f64], w: &mut Scratch, st
 fn next_step(pb: Problem, c1: f64, c2: f64, b: &[f64], x: &mut [f64], w: &mut Scratch) {
     let inv_d = pb.inv_d;
     pb.op.step_with_residual(pb.flags, b, x, &mut w.s, &mut w.d, |i, r, d| c1 * d + c2 * inv_d[i] * r);
+}
+
+/// d ← c1 d + c2 D⁻¹ (b − A x), then x ← x + d, with D the line blocks of block `k`
+/// (`GroupOp::precondition`): the residual is formed first, as the line solves need all of it.
+/// From `Start::Zero`, x = 0, d = c2 D⁻¹ b and x = d (c1 and x's content ignored).
+fn line_step(op: &GroupOp, k: usize, (c1, c2): (f64, f64), b: &[f64], x: &mut [f64], w: &mut Scratch, start: Start) {
+    let pb = op.problem(k);
+    w.r.resize(b.len(), 0.0);
+    match start {
+        Start::Zero => w.r.copy_from_slice(b),
+        Start::Guess => pb.op.residual(pb.flags, b, x, &mut w.r, &mut w.s),
+    }
+    op.precondition(k, &mut w.r, &mut w.sol);
+    let z = &w.r;
+    match start {
+        Start::Zero => par_update2(x, &mut w.d, |i, _, _| {
+            let d = c2 * z[i];
+            (d, d)
+        }),
+        // The first step (c1 = 0) ignores the d of an earlier application.
+        Start::Guess => par_update2(x, &mut w.d, |i, x, d| {
+            let d = if c1 == 0.0 { c2 * z[i] } else { c1 * d + c2 * z[i] };
+            (x + d, d)
+        }),
+    }
 }
 
 /// The largest correction of a step over the blocks' `d`, when asked (an extra pass, so only

@@ -1,0 +1,206 @@
+//! Lines of strong coupling across thin wall layers: chains of unknowns, each the strongest
+//! neighbour of the one before, along which a layer of flat cells couples its unknowns far more
+//! strongly than across (docs/DESIGN.md §5, "Wall layers"). The line smoother
+//! (`multigrid::line_smoother`) solves along them.
+//!
+//! The coupling of two neighbours is measured by the mesh, as 1/|xᵢ − xⱼ|²: the stiffness
+//! couples neighbours as the inverse square of their distance, and K's own entries are no guide
+//! (a trilinear hexahedron couples its face neighbours by zero, a Galerkin level's entries mix
+//! several fine ones). An unknown is anisotropic when its strongest coupling is `ANISOTROPY`
+//! times its weakest; a line starts at the most anisotropic unknown not yet on one (the wall's
+//! first layer), and grows at either end by the strongest neighbour not yet on a line while
+//! that coupling is anisotropic and near the end's strongest (`NEAR_STRONGEST`). On an
+//! isotropic mesh no unknown is anisotropic and there are no lines.
+
+/// Strongest over weakest coupling of an unknown for it to be on a line: cells of aspect ratio
+/// about 4 (an isotropic hexahedron's couplings span a ratio of 3, a right triangle's 2).
+const ANISOTROPY: f64 = 16.0;
+
+/// A line grows by a neighbour whose coupling is at least this fraction of the end's strongest
+/// (layers growing by 1.2 couple the next one by 1/1.44 of the last; a layer's side couplings
+/// are weaker by its aspect ratio squared, so the line does not turn along the wall).
+const NEAR_STRONGEST: f64 = 0.4;
+
+/// Lines of unknowns, each in order along itself; every unknown on at most one line.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub(crate) struct Lines {
+    /// Line k holds `unknowns[start[k]..start[k + 1]]`.
+    pub(crate) start: Vec<u32>,
+    pub(crate) unknowns: Vec<u32>,
+}
+
+impl Lines {
+    /// The number of lines.
+    pub(crate) fn len(&self) -> usize {
+        self.start.len().saturating_sub(1)
+    }
+
+    /// Whether there are no lines.
+    pub(crate) fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The unknowns of line `k`, in order.
+    pub(crate) fn line(&self, k: usize) -> &[u32] {
+        &self.unknowns[self.start[k] as usize..self.start[k + 1] as usize]
+    }
+
+    /// The lines of the graph whose neighbours of unknown i are `neighbours(i)` (i itself may
+    /// be among them) at `points` (`dim` values per unknown); unknowns with `skip` set are on
+    /// no line (prescribed in every component), and those with `unmeasured` set are on none and
+    /// their couplings are not measured (linked unknowns, whose position is one of several).
+    /// Deterministic: ties go to the lower index.
+    pub(crate) fn find<'a>(
+        n: usize,
+        neighbours: impl Fn(usize) -> &'a [u32] + Sync,
+        points: &[f64],
+        dim: usize,
+        skip: impl Fn(usize) -> bool,
+        unmeasured: impl Fn(usize) -> bool,
+    ) -> Lines {
+        let skip = |i: usize| skip(i) || unmeasured(i);
+        let weight = |i: usize, j: usize| {
+            let d2: f64 = (0..dim).map(|c| (points[i * dim + c] - points[j * dim + c]).powi(2)).sum();
+            if d2 > 0.0 {
+                1.0 / d2
+            } else {
+                0.0
+            }
+        };
+        // The strongest and weakest coupling of each unknown.
+        let bounds: Vec<(f64, f64)> = (0..n)
+            .map(|i| {
+                if unmeasured(i) {
+                    return (0.0, f64::INFINITY);
+                }
+                neighbours(i).iter().filter(|&&j| j as usize != i && !unmeasured(j as usize)).fold((0.0f64, f64::INFINITY), |(hi, lo), &j| {
+                    let w = weight(i, j as usize);
+                    (hi.max(w), lo.min(w))
+                })
+            })
+            .collect();
+        let anisotropic = |i: usize| bounds[i].0 >= ANISOTROPY * bounds[i].1 && bounds[i].1 > 0.0;
+        let mut seeds: Vec<(f64, u32)> =
+            (0..n).filter(|&i| !skip(i) && anisotropic(i)).map(|i| (bounds[i].0 / bounds[i].1, i as u32)).collect();
+        seeds.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+        let mut claimed = vec![false; n];
+        let mut lines = Lines { start: vec![0], unknowns: Vec::new() };
+        // The next unknown after `e`: its strongest unclaimed neighbour, if that coupling is
+        // anisotropic at `e` and near `e`'s strongest.
+        let next = |e: usize, claimed: &[bool]| -> Option<usize> {
+            let (mut best, mut bw) = (None, 0.0);
+            for &j in neighbours(e) {
+                let j = j as usize;
+                if j == e || claimed[j] || skip(j) {
+                    continue;
+                }
+                let w = weight(e, j);
+                if w > bw {
+                    (best, bw) = (Some(j), w);
+                }
+            }
+            let (hi, lo) = bounds[e];
+            best.filter(|_| bw >= NEAR_STRONGEST * hi && bw >= ANISOTROPY * lo)
+        };
+        let mut line = Vec::new();
+        for &(_, s) in &seeds {
+            let s = s as usize;
+            if claimed[s] {
+                continue;
+            }
+            line.clear();
+            line.push(s);
+            claimed[s] = true;
+            // Grow at the far end, then turn the line round and grow at the other.
+            for _ in 0..2 {
+                while let Some(j) = next(*line.last().expect("a line has its seed"), &claimed) {
+                    claimed[j] = true;
+                    line.push(j);
+                }
+                line.reverse();
+            }
+            if line.len() < 2 {
+                // A lone unknown is its own block: point Jacobi serves it, and it stays free.
+                claimed[s] = false;
+                continue;
+            }
+            // The line runs from its lower-indexed end (a fixed orientation).
+            if line[0] > line[line.len() - 1] {
+                line.reverse();
+            }
+            lines.unknowns.extend(line.iter().map(|&v| v as u32));
+            lines.start.push(lines.unknowns.len() as u32);
+        }
+        lines
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The neighbours of every vertex of an nx × ny grid of quads (its 8 around and itself).
+    fn grid_graph(nx: usize, ny: usize) -> Vec<Vec<u32>> {
+        let id = |i: usize, j: usize| (j * (nx + 1) + i) as u32;
+        let mut g = Vec::new();
+        for j in 0..=ny {
+            for i in 0..=nx {
+                let mut row = Vec::new();
+                for b in j.saturating_sub(1)..=(j + 1).min(ny) {
+                    for a in i.saturating_sub(1)..=(i + 1).min(nx) {
+                        row.push(id(a, b));
+                    }
+                }
+                g.push(row);
+            }
+        }
+        g
+    }
+
+    fn grid_points(xs: &[f64], ys: &[f64]) -> Vec<f64> {
+        ys.iter().flat_map(|&y| xs.iter().flat_map(move |&x| [x, y])).collect()
+    }
+
+    #[test]
+    fn a_graded_layer_gives_lines_normal_to_the_wall() {
+        // 8 columns of width 0.1; rows from the wall y = 0: 10 layers of first height 1e-5
+        // growing by 1.2, then rows of height 0.1.
+        let nx = 8;
+        let xs: Vec<f64> = (0..=nx).map(|i| 0.1 * i as f64).collect();
+        let mut ys = vec![0.0];
+        for k in 0..10 {
+            ys.push(ys[k] + 1e-5 * 1.2f64.powi(k as i32));
+        }
+        for _ in 0..4 {
+            ys.push(ys.last().unwrap() + 0.1);
+        }
+        let ny = ys.len() - 1;
+        let g = grid_graph(nx, ny);
+        let points = grid_points(&xs, &ys);
+        // The wall's vertices are prescribed.
+        let lines = Lines::find(g.len(), |i| &g[i], &points, 2, |i| i <= nx, |_| false);
+        assert_eq!(lines.len(), nx + 1, "one line per column");
+        for k in 0..lines.len() {
+            let line = lines.line(k);
+            let column = line[0] as usize % (nx + 1);
+            // Rows 1 to 10: the layers' vertices up to the layer's top (row 11 couples to row
+            // 10 by 0.1 over its height, far weaker).
+            let rows: Vec<usize> = line.iter().map(|&v| v as usize / (nx + 1)).collect();
+            assert!(line.iter().all(|&v| v as usize % (nx + 1) == column), "line {k} leaves its column");
+            assert_eq!(rows, (1..=10).collect::<Vec<_>>(), "line {k}");
+        }
+    }
+
+    #[test]
+    fn an_isotropic_mesh_has_no_lines() {
+        let xs: Vec<f64> = (0..=10).map(|i| 0.1 * i as f64).collect();
+        // Mildly graded rows (ratio 1.3) stay isotropic.
+        let mut ys = vec![0.0];
+        for k in 0..8 {
+            ys.push(ys[k] + 0.05 * 1.3f64.powi(k as i32));
+        }
+        let g = grid_graph(10, ys.len() - 1);
+        let lines = Lines::find(g.len(), |i| &g[i], &grid_points(&xs, &ys), 2, |_| false, |_| false);
+        assert!(lines.is_empty());
+    }
+}
