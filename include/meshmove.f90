@@ -435,7 +435,8 @@ module meshmove
   use meshmove_c
   implicit none (type, external)
   private
-  public :: meshmove_report, meshmove_quality, meshmove_step_report, meshmove_step_seconds, mm_mesh, mm_bcs, mm_options, mm_solver, &
+  public :: meshmove_report, meshmove_quality, meshmove_step_report, meshmove_step_seconds, &
+    mm_mesh, mm_bcs, mm_options, mm_solver, &
     mm_last_error, mm_last_error_message, mm_status_name, mm_version, mm_check
   ! the named constants of meshmove_c
   public :: MESHMOVE_STATUS_OK, MESHMOVE_STATUS_NULL_POINTER, MESHMOVE_STATUS_INVALID_HANDLE, &
