@@ -498,9 +498,9 @@ typedef struct meshmove_report {
  */
 typedef struct meshmove_quality {
   /*
-   Inverted cells: cells with a corner whose Jacobian is not positive (the solver's test). A
-   hexahedron folded at one corner is inverted with a positive volume, so this can exceed
-   `negative_volume_cells`.
+   Inverted cells: cells with a corner whose Jacobian is not positive or with a non-positive
+   volume (the solver's test). A hexahedron folded at one corner is inverted with a positive
+   volume, so this can exceed `negative_volume_cells`, never fall below it.
    */
   int32_t inverted;
   /*

@@ -804,7 +804,7 @@ fn check_not_tangled(mesh: &Mesh, coords: &[f64]) -> Result<()> {
     }
     let first: Vec<String> = bad.iter().take(5).map(|c| c.to_string()).collect();
     Err(Error::Tangled(format!(
-        "{} inverted cell(s) (a corner Jacobian ≤ 0; first: {}); nothing is solved on a tangled mesh",
+        "{} inverted cell(s) (a corner Jacobian or volume ≤ 0; first: {}); nothing is solved on a tangled mesh",
         bad.len(),
         first.join(", ")
     )))

@@ -754,7 +754,7 @@ pub fn run(args: Args) -> Result<ExitCode, String> {
     );
     let measure = if setup.mesh.dim() == 2 { "area" } else { "volume" };
     println!(
-        "inverted cells  {} (a corner Jacobian <= 0), {} of non-positive {measure}",
+        "inverted cells  {} (a corner Jacobian or volume <= 0), {} of non-positive {measure}",
         r.inverted, r.negative_volume_cells
     );
     println!("min {measure} ratio {:.4}", r.min_area_ratio);

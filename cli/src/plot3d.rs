@@ -139,7 +139,9 @@ fn in_section(sections: &[CellSection], inverted: &[bool]) -> usize {
 
 /// The caption's line on inverted cells: how many the section shows against the whole mesh's.
 fn inverted_line(shown: usize, total: usize, cells: usize) -> String {
-    format!("inverted (red; a corner Jacobian ≤ 0): {shown} in this section, {total} in total of {cells} cells")
+    format!(
+        "inverted (red; a corner Jacobian or volume ≤ 0): {shown} in this section, {total} in total of {cells} cells"
+    )
 }
 
 /// The section picture of a deformed 3D mesh: `mesh` (the original) at `coords`, cut by the plane
@@ -241,7 +243,7 @@ mod tests {
         assert_eq!(in_section(&sections, &inverted), 2);
         assert_eq!(
             inverted_line(2, 3, 5),
-            "inverted (red; a corner Jacobian ≤ 0): 2 in this section, 3 in total of 5 cells"
+            "inverted (red; a corner Jacobian or volume ≤ 0): 2 in this section, 3 in total of 5 cells"
         );
     }
 }

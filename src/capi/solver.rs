@@ -399,7 +399,7 @@ pub unsafe extern "C" fn meshmove_solver_move(
             CError::new(
                 meshmove_status::Inverted,
                 format!(
-                    "the moved mesh has {} inverted cell(s) (a corner Jacobian <= 0; {} of non-positive {}; smallest {} ratio {:e}); coords hold it, the solver keeps the mesh it had",
+                    "the moved mesh has {} inverted cell(s) (a corner Jacobian or volume <= 0; {} of non-positive {}; smallest {} ratio {:e}); coords hold it, the solver keeps the mesh it had",
                     q.inverted,
                     q.non_positive_measure,
                     if s.dim() == 2 { "area" } else { "volume" },

@@ -269,9 +269,9 @@ pub(crate) fn reference_mode(m: i32) -> Result<crate::ReferenceMode, CError> {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct meshmove_quality {
-    /// Inverted cells: cells with a corner whose Jacobian is not positive (the solver's test). A
-    /// hexahedron folded at one corner is inverted with a positive volume, so this can exceed
-    /// `negative_volume_cells`.
+    /// Inverted cells: cells with a corner whose Jacobian is not positive or with a non-positive
+    /// volume (the solver's test). A hexahedron folded at one corner is inverted with a positive
+    /// volume, so this can exceed `negative_volume_cells`, never fall below it.
     pub inverted: i32,
     /// Smallest deformed / reference cell volume (area in 2D) ratio (negative when a cell inverted).
     pub min_volume_ratio: f64,

@@ -85,9 +85,14 @@ impl CellPoints {
         }
     }
 
-    /// True when the cell is inverted: a corner Jacobian ≤ 0, or NaN.
+    /// True when the cell is inverted: a corner Jacobian ≤ 0, or a signed measure ≤ 0 (a wedge or
+    /// hexahedron can fold between its corners, through a twisted face, with every corner
+    /// positive), or NaN.
     pub(crate) fn is_inverted(&self) -> bool {
-        not_positive(self.min_corner_jacobian())
+        match self.ty {
+            CellType::Triangle | CellType::Tetra => not_positive(self.min_corner_jacobian()),
+            _ => not_positive(self.min_corner_jacobian()) || not_positive(self.signed_measure()),
+        }
     }
 
     /// [`CellPoints::is_inverted`] given the cell's signed measure `m` (a simplex has one
@@ -95,7 +100,7 @@ impl CellPoints {
     pub(crate) fn inverted_with_measure(&self, m: f64) -> bool {
         match self.ty {
             CellType::Triangle | CellType::Tetra => not_positive(m),
-            _ => self.is_inverted(),
+            _ => not_positive(m) || not_positive(self.min_corner_jacobian()),
         }
     }
 

@@ -14,12 +14,14 @@ pub fn signed_measures(mesh: &Mesh, coords: &[f64]) -> Vec<f64> {
     (0..mesh.num_cells()).map(|c| points(mesh, coords, c).signed_measure()).collect()
 }
 
-/// True when cell `c` at positions `coords` is inverted: a corner Jacobian ≤ 0 (or NaN).
+/// True when cell `c` at positions `coords` is inverted: a corner Jacobian or its signed measure
+/// ≤ 0 (or NaN).
 pub(crate) fn is_inverted(mesh: &Mesh, coords: &[f64], c: usize) -> bool {
     points(mesh, coords, c).is_inverted()
 }
 
-/// The cells of `mesh`'s topology inverted at positions `coords` (a corner Jacobian ≤ 0),
+/// The cells of `mesh`'s topology inverted at positions `coords` (a corner Jacobian or the signed
+/// measure ≤ 0),
 /// ascending.
 pub fn inverted_cells(mesh: &Mesh, coords: &[f64]) -> Vec<usize> {
     (0..mesh.num_cells()).filter(|&c| is_inverted(mesh, coords, c)).collect()
@@ -28,9 +30,10 @@ pub fn inverted_cells(mesh: &Mesh, coords: &[f64]) -> Vec<usize> {
 /// Summary of a deformed mesh against its reference.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Quality {
-    /// Inverted cells: cells with a non-positive corner Jacobian (the solver's test). A cell can
-    /// fail at one corner with a positive volume (a hexahedron folded at a corner), so this can
-    /// exceed [`Quality::non_positive_measure`].
+    /// Inverted cells: cells with a non-positive corner Jacobian or a non-positive signed area
+    /// (volume) (the solver's test). A cell can fail at one corner with a positive volume (a
+    /// hexahedron folded at a corner), so this can exceed [`Quality::non_positive_measure`]; it
+    /// is never below it.
     pub inverted: usize,
     /// Cells whose signed area (volume) is not positive: what VTK's cell area (volume) finds.
     pub non_positive_measure: usize,
@@ -63,7 +66,7 @@ pub fn quality(mesh: &Mesh, deformed: &[f64]) -> Quality {
         let j1 = p1.min_corner_jacobian();
         // NaN counts as inverted, as in `CellPoints::is_inverted`.
         let positive = |x: f64| x.partial_cmp(&0.0) == Some(std::cmp::Ordering::Greater);
-        q.inverted += usize::from(!positive(j1));
+        q.inverted += usize::from(!positive(j1) || !positive(a1));
         q.non_positive_measure += usize::from(!positive(a1));
         q.min_corner_jacobian_ratio = q.min_corner_jacobian_ratio.min(j1 / p0.min_corner_jacobian());
         q.min_area_ratio = q.min_area_ratio.min(r);
