@@ -40,6 +40,10 @@ macro_rules! internal_mod {
 internal_mod!(bc, dense, geometry, multigrid, operator, sparse);
 #[doc(hidden)]
 pub mod capi;
+/// Distributed meshes over MPI (the `mpi` feature): a host's partition with ghost cells, through
+/// its communicator.
+#[cfg(feature = "mpi")]
+pub mod distributed;
 pub mod error;
 pub mod io;
 mod limits;

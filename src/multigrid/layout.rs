@@ -57,5 +57,9 @@ impl Layout for Serial {
     }
 }
 
-/// The layout every level has in this build.
+/// The layout every level has in a build without the `mpi` feature.
+#[cfg(not(feature = "mpi"))]
 pub(crate) type Distribution = Serial;
+/// With the `mpi` feature a level holds one process's rows or a rank's part of a distributed mesh.
+#[cfg(feature = "mpi")]
+pub(crate) use crate::distributed::Distribution;

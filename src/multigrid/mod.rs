@@ -8,8 +8,10 @@ pub mod coarsener;
 pub mod cycle;
 pub mod group;
 pub mod hierarchy;
-mod layout;
+pub(crate) mod layout;
 pub mod level;
+#[cfg(feature = "mpi")]
+pub(crate) mod local_level;
 mod line_smoother;
 mod lines;
 mod lsq;

@@ -1,0 +1,30 @@
+//! Distributed meshes over MPI (the `mpi` feature): each rank gives its part of the mesh — its
+//! vertices with global ids, its owned cells and a layer of ghost cells, its tagged faces —
+//! through the host's communicator, which the library duplicates for its own messages.
+//!
+//! What is distributed today: the mesh with its ownership, global numbering and halo exchange
+//! lists and every check of the serial mesh (each rank's part alone, then across ranks);
+//! vectors over owned and halo entries with halo exchanges by nonblocking point-to-point
+//! messages and inner products reproducible for a fixed number of ranks; and the Laplacian
+//! mover with every boundary vertex prescribed, solved by conjugate gradients preconditioned by
+//! the multigrid's Chebyshev–Jacobi smoother (one level, not yet the multigrid). Every call is
+//! collective and returns the same status on every rank.
+
+mod agreement;
+mod comm;
+mod coverage;
+mod dist_mesh;
+mod error;
+mod halo;
+mod laplacian;
+mod level_layout;
+mod ownership;
+mod pcg;
+mod reduce;
+
+pub use comm::Comm;
+pub use dist_mesh::DistributedMesh;
+pub use error::{DistError, DistErrorKind};
+pub use halo::HaloLayout;
+pub use laplacian::{DistSolution, DistSolveParams};
+pub(crate) use level_layout::Distribution;
