@@ -1,1 +1,289 @@
-fn main() {}
+//! The distributed mesh and the first distributed solve (the `mpi` feature). Run by
+//! `cargo test --features mpi --test distributed`: the test starts itself under `mpirun` on 1,
+//! 2, 3 and 4 ranks (each run under a time limit, so a rank left waiting fails the test instead
+//! of hanging it); each rank partitions the mesh into slabs by x, checks its part of the
+//! distributed Laplacian solve against the serial solver, and checks that bad input on one rank
+//! makes every rank return the error naming that rank.
+
+use meshmove::distributed::{DistErrorKind, DistSolveParams, DistributedMesh};
+use meshmove::{BoundaryConditions, CellType, Mesh, MeshData, Method, Motion, Options, Solver};
+use mpi::topology::SimpleCommunicator;
+use mpi::traits::*;
+use std::process::{Command, ExitCode};
+
+fn main() -> ExitCode {
+    if std::env::var_os("OMPI_COMM_WORLD_SIZE").is_some() || std::env::var_os("PMI_SIZE").is_some() {
+        return rank_main();
+    }
+    let exe = std::env::current_exe().expect("the test's own path");
+    let mut ok = true;
+    for np in 1..=4 {
+        let out = Command::new("timeout")
+            .args(["120", "mpirun", "--oversubscribe", "-np", &np.to_string()])
+            .arg(&exe)
+            .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+            .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+            .output()
+            .expect("mpirun (openmpi-bin) and timeout on PATH");
+        print!("{}", String::from_utf8_lossy(&out.stdout));
+        if !out.status.success() {
+            eprint!("{}", String::from_utf8_lossy(&out.stderr));
+            eprintln!("FAILED on {np} ranks: {}", out.status);
+            ok = false;
+        }
+    }
+    if ok {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    }
+}
+
+/// One rank: every check, in the same order on every rank (they are collective).
+fn rank_main() -> ExitCode {
+    let universe = mpi::initialize().expect("MPI initialises once");
+    let world = universe.world();
+    let meshes =
+        [("2D triangles", grid2d(20, 16)), ("3D hexahedra", box3d(7, false)), ("3D tetrahedra", box3d(5, true))];
+    for (name, mesh) in &meshes {
+        agrees_with_serial(&world, name, mesh);
+    }
+    bad_input_fails_on_every_rank(&world, &meshes[0].1);
+    bad_input_fails_on_every_rank(&world, &meshes[1].1);
+    ExitCode::SUCCESS
+}
+
+/// The boundary motion: smooth, different in every component.
+fn motion(x: &[f64]) -> [f64; 3] {
+    let z = x.get(2).copied().unwrap_or(0.0);
+    [0.1 * (2.0 * x[0] + x[1]).sin(), 0.08 * (x[0] - 3.0 * x[1] + z).cos(), 0.05 * (x[0] + x[1] + 2.0 * z).sin()]
+}
+
+/// A jitter in [-0.5, 0.5) from an index (deterministic).
+fn jitter(k: usize) -> f64 {
+    ((k as u64).wrapping_mul(2654435761) % 1000) as f64 / 1000.0 - 0.5
+}
+
+/// nx × ny squares of the unit square, each split into two triangles, interior vertices moved.
+fn grid2d(nx: usize, ny: usize) -> MeshData {
+    let mut d = MeshData::new(2);
+    for j in 0..=ny {
+        for i in 0..=nx {
+            let inner = i > 0 && i < nx && j > 0 && j < ny;
+            let s = if inner { 0.3 } else { 0.0 };
+            let k = j * (nx + 1) + i;
+            d.push_vertex(&[
+                (i as f64 + s * jitter(2 * k)) / nx as f64,
+                (j as f64 + s * jitter(2 * k + 1)) / ny as f64,
+            ]);
+        }
+    }
+    let v = |i: usize, j: usize| (j * (nx + 1) + i) as u32;
+    for j in 0..ny {
+        for i in 0..nx {
+            d.push_cell(CellType::Triangle, &[v(i, j), v(i + 1, j), v(i + 1, j + 1)], 0);
+            d.push_cell(CellType::Triangle, &[v(i, j), v(i + 1, j + 1), v(i, j + 1)], 0);
+        }
+    }
+    d
+}
+
+/// n³ cubes of the unit cube (hexahedra, or six tetrahedra each), interior vertices moved.
+fn box3d(n: usize, tets: bool) -> MeshData {
+    let mut d = MeshData::new(3);
+    let v = |i: usize, j: usize, k: usize| ((k * (n + 1) + j) * (n + 1) + i) as u32;
+    for k in 0..=n {
+        for j in 0..=n {
+            for i in 0..=n {
+                let inner = [i, j, k].iter().all(|&a| a > 0 && a < n);
+                let s = if inner { 0.25 } else { 0.0 };
+                let m = v(i, j, k) as usize;
+                let p = [i, j, k].map(|a| a as f64);
+                d.push_vertex(&[0, 1, 2].map(|c| (p[c] + s * jitter(3 * m + c)) / n as f64));
+            }
+        }
+    }
+    for k in 0..n {
+        for j in 0..n {
+            for i in 0..n {
+                let c = [
+                    v(i, j, k),
+                    v(i + 1, j, k),
+                    v(i + 1, j + 1, k),
+                    v(i, j + 1, k),
+                    v(i, j, k + 1),
+                    v(i + 1, j, k + 1),
+                    v(i + 1, j + 1, k + 1),
+                    v(i, j + 1, k + 1),
+                ];
+                if !tets {
+                    d.push_cell(CellType::Hexahedron, &c, 0);
+                    continue;
+                }
+                // Six tetrahedra around the diagonal 0–6 (positively oriented).
+                for [a, b] in [[1, 2], [2, 3], [3, 7], [7, 4], [4, 5], [5, 1]] {
+                    d.push_cell(CellType::Tetra, &[c[0], c[a], c[b], c[6]], 0);
+                }
+            }
+        }
+    }
+    d
+}
+
+/// The slab of x that owns each cell of `d` on `size` ranks (by its centroid).
+fn slab_owner(d: &MeshData, size: usize) -> Vec<usize> {
+    (0..d.num_cells())
+        .map(|c| {
+            let t = d.cell(c);
+            let x = t.iter().map(|&v| d.point(v as usize)[0]).sum::<f64>() / t.len() as f64;
+            ((x * size as f64) as usize).min(size - 1)
+        })
+        .collect()
+}
+
+/// Rank `rank`'s part: its owned cells, the cells sharing a vertex with them as ghosts, their
+/// vertices in reverse global order (any order is allowed), global ids offset from the indices.
+struct Part {
+    data: MeshData,
+    gids: Vec<u64>,
+    ghost: Vec<bool>,
+    /// The global vertex of each local one.
+    global: Vec<usize>,
+}
+
+const GID_BASE: u64 = 1000;
+
+fn part(d: &MeshData, owner: &[usize], rank: usize, with_ghosts: bool) -> Part {
+    let mut touches = vec![false; d.num_vertices()];
+    (0..d.num_cells())
+        .filter(|&c| owner[c] == rank)
+        .for_each(|c| d.cell(c).iter().for_each(|&v| touches[v as usize] = true));
+    let cells: Vec<usize> = (0..d.num_cells())
+        .filter(|&c| owner[c] == rank || (with_ghosts && d.cell(c).iter().any(|&v| touches[v as usize])))
+        .collect();
+    let mut used = vec![false; d.num_vertices()];
+    cells.iter().for_each(|&c| d.cell(c).iter().for_each(|&v| used[v as usize] = true));
+    let global: Vec<usize> = (0..d.num_vertices()).rev().filter(|&v| used[v]).collect();
+    let mut local_of = vec![u32::MAX; d.num_vertices()];
+    global.iter().enumerate().for_each(|(i, &v)| local_of[v] = i as u32);
+    let mut data = MeshData::new(d.dim);
+    global.iter().for_each(|&v| {
+        data.push_vertex(d.point(v));
+    });
+    for &c in &cells {
+        let t: Vec<u32> = d.cell(c).iter().map(|&v| local_of[v as usize]).collect();
+        data.push_cell(d.cell_types[c], &t, 0);
+    }
+    let ghost = cells.iter().map(|&c| owner[c] != rank).collect();
+    let gids = global.iter().map(|&v| v as u64 + GID_BASE).collect();
+    Part { data, gids, ghost, global }
+}
+
+/// The distributed Laplacian solve equals the serial one to 1e-10 of the motion (both to a
+/// relative residual of 1e-12), and is bitwise the same on a second run and a second mesh.
+fn agrees_with_serial(world: &SimpleCommunicator, name: &str, d: &MeshData) {
+    let (rank, size) = (world.rank() as usize, world.size() as usize);
+    let dim = d.dim;
+    let all: Vec<f64> = (0..d.num_vertices()).flat_map(|v| motion(d.point(v))[..dim].to_vec()).collect();
+    let mut o = Options { method: Method::Laplacian, threads: 1, ..Default::default() };
+    o.solve.tol = 1e-12;
+    let serial = Solver::new(&Mesh::from_data(d).unwrap(), &BoundaryConditions::new(), o).unwrap();
+    let reference = serial.solve(&Motion::from_displacement(all.clone())).unwrap();
+    let scale = all.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+
+    let p = part(d, &slab_owner(d, size), rank, true);
+    let dm = DistributedMesh::new(world, &p.data, &p.gids, &p.ghost).unwrap();
+    assert_eq!(dm.num_global_vertices(), d.num_vertices() as u64, "{name}");
+    let owned = dm.owner_ranks().iter().filter(|&&o| o == rank).count();
+    assert_eq!(owned, dm.num_owned_vertices());
+    let boundary: Vec<f64> = p.global.iter().flat_map(|&v| all[v * dim..(v + 1) * dim].to_vec()).collect();
+    let params = DistSolveParams { tol: 1e-12, ..Default::default() };
+    let sol = dm.solve_laplacian(&boundary, &params).unwrap();
+    let mut worst = 0.0f64;
+    for (i, &v) in p.global.iter().enumerate() {
+        for c in 0..dim {
+            worst = worst.max((sol.displacement[i * dim + c] - reference.displacement[v * dim + c]).abs());
+        }
+    }
+    assert!(worst <= 1e-10 * scale, "{name} on {size} ranks: rank {rank} differs by {worst:e} (motion {scale:e})");
+    assert!(sol.rel_residual <= 1e-12, "{name}: {}", sol.rel_residual);
+    // The global numbering: every number below the total, each owned one once over all ranks.
+    let numbers = dm.global_numbers();
+    assert!(numbers.iter().all(|&g| g < dm.num_global_vertices()));
+    let again = dm.solve_laplacian(&boundary, &params).unwrap();
+    let bits = |s: &[f64]| s.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert_eq!(bits(&sol.displacement), bits(&again.displacement), "{name}: a second solve differs");
+    let dm2 = DistributedMesh::new(world, &p.data, &p.gids, &p.ghost).unwrap();
+    let third = dm2.solve_laplacian(&boundary, &params).unwrap();
+    assert_eq!(bits(&sol.displacement), bits(&third.displacement), "{name}: a second mesh differs");
+    if rank == 0 {
+        println!(
+            "{size} ranks, {name}: {} vertices, iterations {:?} (serial {} cycles), largest difference {:.1e} of the motion",
+            d.num_vertices(),
+            sol.iterations,
+            reference.report.cycles,
+            worst / scale
+        );
+    }
+}
+
+/// One rank's bad input makes every rank return the error naming that rank.
+fn bad_input_fails_on_every_rank(world: &SimpleCommunicator, d: &MeshData) {
+    let (rank, size) = (world.rank() as usize, world.size() as usize);
+    let owner = slab_owner(d, size);
+    let last = size - 1;
+    let expect = |what: &str, p: &Part, bad: usize, kind: DistErrorKind| {
+        let e =
+            DistributedMesh::new(world, &p.data, &p.gids, &p.ghost).err().unwrap_or_else(|| panic!("{what}: accepted"));
+        assert_eq!((e.rank, e.kind), (bad, kind), "{what} on rank {rank}: {e}");
+        if rank == 0 {
+            println!("{size} ranks, {what}: every rank returns \"{e}\"");
+        }
+    };
+    // A NaN coordinate on the last rank.
+    let mut p = part(d, &owner, rank, true);
+    if rank == last {
+        p.data.coords[0] = f64::NAN;
+    }
+    expect("a NaN coordinate", &p, last, DistErrorKind::LocalMesh);
+    // A tangled cell on the last rank: two corners of its first owned cell swapped.
+    let mut p = part(d, &owner, rank, true);
+    if rank == last {
+        let c = p.ghost.iter().position(|g| !g).unwrap();
+        let at = p.data.cell_offsets[c] as usize;
+        p.data.cell_vertices.swap(at + 1, at + 2);
+    }
+    expect("a tangled cell", &p, last, DistErrorKind::LocalMesh);
+    // Two global ids given twice on the last rank.
+    let mut p = part(d, &owner, rank, true);
+    if rank == last {
+        p.gids[1] = p.gids[0];
+    }
+    expect("a global id twice on one rank", &p, last, DistErrorKind::Inconsistent);
+    if size < 2 {
+        return;
+    }
+    // Two vertices the last rank shares with the rank before it, their global ids swapped: each
+    // is then where its owner does not have it.
+    let mut p = part(d, &owner, rank, true);
+    if rank == last {
+        let mut shared_with_prev = vec![false; d.num_vertices()];
+        (0..d.num_cells())
+            .filter(|&c| owner[c] < last)
+            .for_each(|c| d.cell(c).iter().for_each(|&v| shared_with_prev[v as usize] = true));
+        let mine: Vec<usize> = (0..p.data.num_cells())
+            .filter(|&c| !p.ghost[c])
+            .flat_map(|c| p.data.cell(c).to_vec())
+            .map(|v| v as usize)
+            .filter(|&v| shared_with_prev[p.global[v]])
+            .collect();
+        let a = mine[0];
+        let b = *mine.iter().find(|&&v| v != a).unwrap();
+        p.gids.swap(a, b);
+    }
+    expect("swapped global ids", &p, last, DistErrorKind::Inconsistent);
+    // Rank 0 without ghost cells: it owns the vertices it shares with rank 1 but lacks rank 1's
+    // cells around them.
+    let p = part(d, &owner, rank, rank != 0);
+    expect("no ghost layer", &p, 0, DistErrorKind::MissingGhostCell);
+}
