@@ -4,21 +4,27 @@
 #   library and tests, header freshness (tests/header_fresh.rs), CMake build of the C and Fortran
 #   examples into build/, cargo test and ctest (examples vs the Rust reference, the C bad-input
 #   test under valgrind, install + C and Fortran consumers by find_package, pkg-config and plain
-#   compiler flags).
+#   compiler flags); the distributed build (the `mpi` feature: clippy, its test under mpirun on
+#   1 to 4 ranks, rustdoc).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-# cmake, gfortran and valgrind: installed when missing (CI runs as root on Debian/Ubuntu).
+# cmake, gfortran, valgrind and pkg-config, and for the distributed build (the `mpi` feature)
+# OpenMPI and libclang (rsmpi generates its bindings with bindgen): installed when missing (CI
+# runs as root on Debian/Ubuntu).
 missing=()
 for tool in cmake gfortran valgrind pkg-config; do
     command -v "$tool" >/dev/null 2>&1 || missing+=("$tool")
+done
+for pkg in libopenmpi-dev openmpi-bin libclang-dev; do
+    dpkg -s "$pkg" >/dev/null 2>&1 || missing+=("$pkg")
 done
 if ((${#missing[@]})); then
     echo "installing ${missing[*]}"
     SUDO=""
     [ "$(id -u)" -ne 0 ] && SUDO="sudo"
     $SUDO apt-get update -qq
-    $SUDO env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq cmake gfortran valgrind pkg-config >/dev/null
+    $SUDO env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "${missing[@]}" >/dev/null
 fi
 
 # clippy and rustfmt: rustup components, added when missing.
@@ -37,5 +43,10 @@ cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DMESHMOVE_WITH_CLI=ON
 cmake --build build -j "$(nproc)"
 cargo test --release
 (cd build && ctest --output-on-failure -j "$(nproc)")
+# The distributed build: the library with the `mpi` feature linted, and its test, which runs
+# itself under mpirun on 1 to 4 ranks (tests/distributed.rs).
+cargo clippy --release --all-targets --features mpi -- -D warnings
+cargo test --release --features mpi --test distributed
 # The API documentation builds without a warning (broken links, bad markup).
 RUSTDOCFLAGS="-D warnings" cargo doc --release --no-deps
+RUSTDOCFLAGS="-D warnings" cargo doc --release --no-deps -p meshmove --features mpi

@@ -236,6 +236,7 @@ fn bad_input_fails_on_every_rank(world: &SimpleCommunicator, d: &MeshData) {
         let e =
             DistributedMesh::new(world, &p.data, &p.gids, &p.ghost).err().unwrap_or_else(|| panic!("{what}: accepted"));
         assert_eq!((e.rank, e.kind), (bad, kind), "{what} on rank {rank}: {e}");
+        assert!(e.message.contains("global id"), "{what}: the error names no global id: {e}");
         if rank == 0 {
             println!("{size} ranks, {what}: every rank returns \"{e}\"");
         }
@@ -260,6 +261,12 @@ fn bad_input_fails_on_every_rank(world: &SimpleCommunicator, d: &MeshData) {
         p.gids[1] = p.gids[0];
     }
     expect("a global id twice on one rank", &p, last, DistErrorKind::Inconsistent);
+    // A NaN boundary value on the last rank fails the solve on every rank.
+    let p = part(d, &owner, rank, true);
+    let dm = DistributedMesh::new(world, &p.data, &p.gids, &p.ghost).unwrap();
+    let nan = if rank == last { f64::NAN } else { 0.0 };
+    let e = dm.solve_laplacian(&vec![nan; p.data.coords.len()], &DistSolveParams::default()).unwrap_err();
+    assert_eq!((e.rank, e.kind), (last, DistErrorKind::Input), "{e}");
     if size < 2 {
         return;
     }

@@ -85,7 +85,9 @@ impl DistributedMesh {
         let owners: Vec<usize> = host_index.iter().map(|&v| owners[v as usize]).collect();
         let mut global_numbers: Vec<u64> = (0..host_index.len() as u64).map(|i| first + i).collect();
         halo.refresh(&mut global_numbers);
-        let mesh = agree(&comm, Mesh::from_data(&reordered(local, &host_index)).map_err(|e| local_error(me, &e, &[])));
+        // The part in layout order: the same cells, validated again (the checks passed above).
+        let mesh =
+            agree(&comm, Mesh::from_data(&reordered(local, &host_index)).map_err(|e| local_error(me, &e, local, &[])));
         Ok(DistributedMesh {
             comm,
             mesh: mesh?,
@@ -150,6 +152,16 @@ impl DistributedMesh {
         self.halo.neighbours()
     }
 
+    /// The values this rank sends to its neighbours per halo exchange of one vector.
+    pub fn halo_values_sent(&self) -> usize {
+        self.halo.sent_per_exchange()
+    }
+
+    /// The global ids of the local vertices in layout order.
+    pub(crate) fn layout_global_ids(&self) -> &[u64] {
+        &self.global_ids
+    }
+
     /// The local part in layout order.
     pub(crate) fn local_mesh(&self) -> &Mesh {
         &self.mesh
@@ -196,16 +208,25 @@ fn local_checks(me: usize, local: &MeshData, gids: &[u64], ghost: &[bool]) -> Re
     if ghost.len() == local.num_cells() && ghost.iter().all(|&g| g) {
         return input("every cell is a ghost cell: a rank needs an owned cell".into());
     }
-    let mesh = Mesh::from_data(local).map_err(|e| local_error(me, &e, gids))?;
+    let mesh = Mesh::from_data(local).map_err(|e| local_error(me, &e, local, gids))?;
     Ok((0..local.num_cells()).any(|c| mesh.cell(c) != local.cell(c)))
 }
 
-/// The serial validation's error on rank `me`, with the global ids of the items it names.
-fn local_error(me: usize, e: &MeshError, gids: &[u64]) -> DistError {
-    let gid = |v: usize| gids.get(v).map_or(String::new(), |g| format!(" (global id {g})"));
+/// The serial validation's error on rank `me`, with the global ids of the vertex or of the
+/// cell's corners it names (`local`'s cells are checked by then for the cell variants named).
+fn local_error(me: usize, e: &MeshError, local: &MeshData, gids: &[u64]) -> DistError {
+    let vertex = |v: usize| gids.get(v).map_or(String::new(), |g| format!(" (global id {g})"));
+    let cell = |c: usize| {
+        let corners: Option<Vec<u64>> = local.cell(c).iter().map(|&v| gids.get(v as usize).copied()).collect();
+        corners.map_or(String::new(), |g| format!(" (corners: global ids {g:?})"))
+    };
     let item = match e {
-        MeshError::NonFiniteCoordinate { vertex, .. } | MeshError::UnusedVertex { vertex } => gid(*vertex),
-        MeshError::RepeatedVertex { vertex, .. } => gid(*vertex),
+        MeshError::NonFiniteCoordinate { vertex: v, .. } | MeshError::UnusedVertex { vertex: v } => vertex(*v),
+        MeshError::RepeatedVertex { vertex: v, .. } => vertex(*v),
+        MeshError::DegenerateCell { cell: c, .. }
+        | MeshError::InvertedCorner { cell: c, .. }
+        | MeshError::MeasureOutOfRange { cell: c, .. }
+        | MeshError::InconsistentOrientation { cell: c, .. } => cell(*c),
         _ => String::new(),
     };
     DistError::new(me, DistErrorKind::LocalMesh, format!("{e}{item}"))

@@ -18,7 +18,7 @@ const HALO_TAG: i32 = 28;
 
 /// The exchange lists of one layout of vectors over a rank's local vertices.
 #[derive(Debug)]
-pub struct HaloLayout {
+pub(crate) struct HaloLayout {
     comm: Arc<Comm>,
     /// Owned entries (the first ones of a vector).
     owned: usize,
@@ -48,7 +48,7 @@ impl HaloLayout {
     }
 
     /// The neighbour ranks this rank sends to and receives from.
-    pub fn neighbours(&self) -> Vec<usize> {
+    pub(crate) fn neighbours(&self) -> Vec<usize> {
         let mut n: Vec<usize> = self.sends.iter().map(|s| s.0).chain(self.recvs.iter().map(|r| r.0)).collect();
         n.sort_unstable();
         n.dedup();
@@ -56,7 +56,7 @@ impl HaloLayout {
     }
 
     /// Values sent per exchange of one vector (owned entries copied to neighbours).
-    pub fn sent_per_exchange(&self) -> usize {
+    pub(crate) fn sent_per_exchange(&self) -> usize {
         self.sends.iter().map(|s| s.1.len()).sum()
     }
 

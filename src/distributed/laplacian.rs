@@ -53,7 +53,7 @@ impl DistributedMesh {
         let (me, dim, nv) = (self.rank(), self.dim(), self.num_local_vertices());
         let owned = self.num_owned_vertices();
         let prescribed = self.boundary_vertices();
-        let checked = check_boundary(me, boundary, dim, nv, &prescribed, self.host_index());
+        let checked = check_boundary(me, boundary, dim, &prescribed, self.host_index(), self.layout_global_ids());
         agree(self.halo().comm(), checked.and_then(|_| check_params(me, params)))?;
         let halo = self.halo();
         let mut flags = vec![0u8; nv];
@@ -127,28 +127,30 @@ impl DistributedMesh {
     }
 }
 
-/// `boundary` has `dim` values per local vertex, finite on the owned boundary vertices.
+/// `boundary` has `dim` values per local vertex, finite on the boundary vertices (`host` and
+/// `gids` of each vertex in layout order).
 fn check_boundary(
     me: usize,
     boundary: &[f64],
     dim: usize,
-    nv: usize,
     prescribed: &[bool],
     host: &[u32],
+    gids: &[u64],
 ) -> Result<(), DistError> {
+    let nv = host.len();
     if boundary.len() != nv * dim {
         let msg = format!("{} boundary values given for {nv} vertices of dimension {dim}", boundary.len());
         return Err(DistError::new(me, DistErrorKind::Input, msg));
     }
-    match (0..nv).filter(|&v| prescribed[v]).find(|&v| {
+    let bad = (0..nv).filter(|&v| prescribed[v]).find(|&v| {
         let h = host[v] as usize;
         boundary[h * dim..(h + 1) * dim].iter().any(|x| !x.is_finite())
-    }) {
-        Some(v) => Err(DistError::new(
-            me,
-            DistErrorKind::Input,
-            format!("local vertex {} has a non-finite boundary value", host[v]),
-        )),
+    });
+    match bad {
+        Some(v) => {
+            let msg = format!("local vertex {} (global id {}) has a non-finite boundary value", host[v], gids[v]);
+            Err(DistError::new(me, DistErrorKind::Input, msg))
+        }
         None => Ok(()),
     }
 }

@@ -25,6 +25,5 @@ mod reduce;
 pub use comm::Comm;
 pub use dist_mesh::DistributedMesh;
 pub use error::{DistError, DistErrorKind};
-pub use halo::HaloLayout;
 pub use laplacian::{DistSolution, DistSolveParams};
 pub(crate) use level_layout::Distribution;
