@@ -1,0 +1,131 @@
+//! Meshes split into slabs by x, each rank's part with one layer of ghost cells: what an MPI
+//! host hands `DistributedMesh::new`. Shared by the distributed test and the distributed example
+//! (which includes this file by its path).
+
+use meshmove::{CellType, MeshData};
+
+/// The boundary motion: smooth, different in every component.
+pub fn motion(x: &[f64]) -> [f64; 3] {
+    let z = x.get(2).copied().unwrap_or(0.0);
+    [0.1 * (2.0 * x[0] + x[1]).sin(), 0.08 * (x[0] - 3.0 * x[1] + z).cos(), 0.05 * (x[0] + x[1] + 2.0 * z).sin()]
+}
+
+/// A jitter in [-0.5, 0.5) from an index (deterministic).
+fn jitter(k: usize) -> f64 {
+    ((k as u64).wrapping_mul(2654435761) % 1000) as f64 / 1000.0 - 0.5
+}
+
+/// nx × ny squares of the unit square, each split into two triangles, interior vertices moved.
+pub fn grid2d(nx: usize, ny: usize) -> MeshData {
+    let mut d = MeshData::new(2);
+    for j in 0..=ny {
+        for i in 0..=nx {
+            let inner = i > 0 && i < nx && j > 0 && j < ny;
+            let s = if inner { 0.3 } else { 0.0 };
+            let k = j * (nx + 1) + i;
+            d.push_vertex(&[
+                (i as f64 + s * jitter(2 * k)) / nx as f64,
+                (j as f64 + s * jitter(2 * k + 1)) / ny as f64,
+            ]);
+        }
+    }
+    let v = |i: usize, j: usize| (j * (nx + 1) + i) as u32;
+    for j in 0..ny {
+        for i in 0..nx {
+            d.push_cell(CellType::Triangle, &[v(i, j), v(i + 1, j), v(i + 1, j + 1)], 0);
+            d.push_cell(CellType::Triangle, &[v(i, j), v(i + 1, j + 1), v(i, j + 1)], 0);
+        }
+    }
+    d
+}
+
+/// n³ cubes of the unit cube (hexahedra, or six tetrahedra each), interior vertices moved.
+pub fn box3d(n: usize, tets: bool) -> MeshData {
+    let mut d = MeshData::new(3);
+    let v = |i: usize, j: usize, k: usize| ((k * (n + 1) + j) * (n + 1) + i) as u32;
+    for k in 0..=n {
+        for j in 0..=n {
+            for i in 0..=n {
+                let inner = [i, j, k].iter().all(|&a| a > 0 && a < n);
+                let s = if inner { 0.25 } else { 0.0 };
+                let m = v(i, j, k) as usize;
+                let p = [i, j, k].map(|a| a as f64);
+                d.push_vertex(&[0, 1, 2].map(|c| (p[c] + s * jitter(3 * m + c)) / n as f64));
+            }
+        }
+    }
+    for k in 0..n {
+        for j in 0..n {
+            for i in 0..n {
+                let c = [
+                    v(i, j, k),
+                    v(i + 1, j, k),
+                    v(i + 1, j + 1, k),
+                    v(i, j + 1, k),
+                    v(i, j, k + 1),
+                    v(i + 1, j, k + 1),
+                    v(i + 1, j + 1, k + 1),
+                    v(i, j + 1, k + 1),
+                ];
+                if !tets {
+                    d.push_cell(CellType::Hexahedron, &c, 0);
+                    continue;
+                }
+                // Six tetrahedra around the diagonal 0–6 (positively oriented).
+                for [a, b] in [[1, 2], [2, 3], [3, 7], [7, 4], [4, 5], [5, 1]] {
+                    d.push_cell(CellType::Tetra, &[c[0], c[a], c[b], c[6]], 0);
+                }
+            }
+        }
+    }
+    d
+}
+
+/// The slab of x that owns each cell of `d` on `size` ranks (by its centroid).
+pub fn slab_owner(d: &MeshData, size: usize) -> Vec<usize> {
+    (0..d.num_cells())
+        .map(|c| {
+            let t = d.cell(c);
+            let x = t.iter().map(|&v| d.point(v as usize)[0]).sum::<f64>() / t.len() as f64;
+            ((x * size as f64) as usize).min(size - 1)
+        })
+        .collect()
+}
+
+/// Rank `rank`'s part: its owned cells, the cells sharing a vertex with them as ghosts, their
+/// vertices in reverse global order (any order is allowed), global ids offset from the indices.
+pub struct Part {
+    pub data: MeshData,
+    pub gids: Vec<u64>,
+    pub ghost: Vec<bool>,
+    /// The global vertex of each local one.
+    pub global: Vec<usize>,
+}
+
+const GID_BASE: u64 = 1000;
+
+pub fn part(d: &MeshData, owner: &[usize], rank: usize, with_ghosts: bool) -> Part {
+    let mut touches = vec![false; d.num_vertices()];
+    (0..d.num_cells())
+        .filter(|&c| owner[c] == rank)
+        .for_each(|c| d.cell(c).iter().for_each(|&v| touches[v as usize] = true));
+    let cells: Vec<usize> = (0..d.num_cells())
+        .filter(|&c| owner[c] == rank || (with_ghosts && d.cell(c).iter().any(|&v| touches[v as usize])))
+        .collect();
+    let mut used = vec![false; d.num_vertices()];
+    cells.iter().for_each(|&c| d.cell(c).iter().for_each(|&v| used[v as usize] = true));
+    let global: Vec<usize> = (0..d.num_vertices()).rev().filter(|&v| used[v]).collect();
+    let mut local_of = vec![u32::MAX; d.num_vertices()];
+    global.iter().enumerate().for_each(|(i, &v)| local_of[v] = i as u32);
+    let mut data = MeshData::new(d.dim);
+    global.iter().for_each(|&v| {
+        data.push_vertex(d.point(v));
+    });
+    for &c in &cells {
+        let t: Vec<u32> = d.cell(c).iter().map(|&v| local_of[v as usize]).collect();
+        data.push_cell(d.cell_types[c], &t, 0);
+    }
+    let ghost = cells.iter().map(|&c| owner[c] != rank).collect();
+    let gids = global.iter().map(|&v| v as u64 + GID_BASE).collect();
+    Part { data, gids, ghost, global }
+}
