@@ -1,7 +1,8 @@
 //! Conjugate gradients over a distributed level, preconditioned by the level's polynomial
 //! (Chebyshev–Jacobi) smoother from a zero start: a fixed symmetric positive operator, so a valid
-//! preconditioner. Each iteration reduces twice: pᵀAp alone, then rᵀz with rᵀr fused into one
-//! collective.
+//! preconditioner. The iteration is Chronopoulos and Gear's (1989): it carries s = A p beside p
+//! and forms the step from rᵀu and (Au)ᵀu of the preconditioned residual u, so all of an
+//! iteration's inner products (with rᵀr for the stopping test) go in one collective.
 
 use super::halo::HaloLayout;
 use crate::multigrid::group::{GroupOp, Scratch};
@@ -44,33 +45,43 @@ pub(crate) fn pcg(
         out.converged = true;
         return out;
     }
-    let mut w: Vec<Scratch> = (0..op.len()).map(|_| Scratch::new(op.n(), Method::Laplacian)).collect();
-    let (mut r, mut z, mut p, mut q) = (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]);
-    let mut s = vec![0.0; op.n()];
+    let mut work: Vec<Scratch> = (0..op.len()).map(|_| Scratch::new(op.n(), Method::Laplacian)).collect();
+    let [mut r, mut u, mut w, mut p, mut s] = std::array::from_fn(|_| vec![0.0; n]);
+    let mut scratch = vec![0.0; op.n()];
     for _ in 0..=RESTARTS {
-        op.residual(b, x, &mut r, &mut s);
-        smooth(op, sm, &r, &mut z, &mut w, Start::Zero, false);
-        let [mut rz, mut rr] = fused(halo, &r, &z);
-        p.copy_from_slice(&z);
+        op.residual(b, x, &mut r, &mut scratch);
+        smooth(op, sm, &r, &mut u, &mut work, Start::Zero, false);
+        op.apply(&mut u, &mut w, &mut scratch);
+        let [mut gamma, mut delta, mut rr] = reduced(halo, &r, &u, &w);
+        // (γ, α) of the previous iteration; none at a start.
+        let mut previous: Option<(f64, f64)> = None;
         while rr.sqrt() > tol * bnorm && out.iterations < max_iterations {
-            out.iterations += 1;
-            op.apply(&mut p, &mut q, &mut s);
-            let pq = op.dot(&p, &q);
-            if pq <= 0.0 || !pq.is_finite() {
-                out.breakdown = Some(out.iterations);
+            let (beta, denom) = match previous {
+                None => (0.0, delta),
+                Some((gamma_prev, alpha_prev)) => {
+                    let beta = gamma / gamma_prev;
+                    (beta, delta - beta * gamma / alpha_prev)
+                }
+            };
+            // pᵀAp = δ − β γ / α_prev: not positive and finite means A (or the
+            // preconditioner) is not positive definite.
+            if denom <= 0.0 || !denom.is_finite() {
+                out.breakdown = Some(out.iterations + 1);
                 break;
             }
-            let alpha = rz / pq;
+            let alpha = gamma / denom;
+            let (ur, wr) = (&u, &w);
+            par_update(&mut p, |i, v| ur[i] + beta * v);
+            par_update(&mut s, |i, v| wr[i] + beta * v);
             axpy(alpha, &p, x);
-            axpy(-alpha, &q, &mut r);
-            smooth(op, sm, &r, &mut z, &mut w, Start::Zero, false);
-            let [rz_new, rr_new] = fused(halo, &r, &z);
-            let beta = rz_new / rz;
-            (rz, rr) = (rz_new, rr_new);
-            let zr = &z;
-            par_update(&mut p, |i, d| zr[i] + beta * d);
+            axpy(-alpha, &s, &mut r);
+            out.iterations += 1;
+            smooth(op, sm, &r, &mut u, &mut work, Start::Zero, false);
+            op.apply(&mut u, &mut w, &mut scratch);
+            previous = Some((gamma, alpha));
+            [gamma, delta, rr] = reduced(halo, &r, &u, &w);
         }
-        op.residual(b, x, &mut r, &mut s);
+        op.residual(b, x, &mut r, &mut scratch);
         out.rel_residual = op.norm(&r) / bnorm;
         out.converged = out.rel_residual <= tol;
         if out.converged || out.breakdown.is_some() || out.iterations >= max_iterations {
@@ -80,8 +91,8 @@ pub(crate) fn pcg(
     out
 }
 
-/// (rᵀz, rᵀr) over every rank, in one collective.
-fn fused(halo: &HaloLayout, r: &[f64], z: &[f64]) -> [f64; 2] {
-    let d = halo.dots(&[(r, z), (r, r)]);
-    [d[0], d[1]]
+/// (rᵀu, wᵀu, rᵀr) over every rank, in one collective.
+fn reduced(halo: &HaloLayout, r: &[f64], u: &[f64], w: &[f64]) -> [f64; 3] {
+    let d = halo.dots(&[(r, u), (w, u), (r, r)]);
+    [d[0], d[1], d[2]]
 }
