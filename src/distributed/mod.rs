@@ -27,3 +27,6 @@ pub use dist_mesh::DistributedMesh;
 pub use error::{DistError, DistErrorKind};
 pub use laplacian::{DistSolution, DistSolveParams};
 pub(crate) use level_layout::Distribution;
+/// The MPI bindings (rsmpi) the library is built with: a host in Rust names its communicators
+/// with these types.
+pub use mpi;
