@@ -45,7 +45,7 @@ cargo test --release
 (cd build && ctest --output-on-failure -j "$(nproc)")
 # The distributed build: the library with the `mpi` feature linted, and its test, which runs
 # itself under mpirun on 1 to 4 ranks (tests/distributed.rs).
-cargo clippy --release --all-targets --features mpi -- -D warnings
+cargo clippy --release -p meshmove --all-targets --features mpi -- -D warnings
 cargo test --release --features mpi --test distributed
 # The API documentation builds without a warning (broken links, bad markup).
 RUSTDOCFLAGS="-D warnings" cargo doc --release --no-deps
