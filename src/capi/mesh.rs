@@ -210,6 +210,7 @@ fn mesh_data(a: &Arrays) -> Result<MeshData, CError> {
         face_offsets,
         face_vertices,
         face_patch: a.face_patch.to_vec(),
+        polyhedron_faces: Vec::new(),
     })
 }
 

@@ -171,6 +171,9 @@ pub(crate) fn check_data(d: &MeshData, what: &str) -> Result<(), IoError> {
         }
     }
     for (c, t) in d.cell_types.iter().enumerate() {
+        if t.is_general() {
+            return bad(format!("cell {c} is a {t}; the writers take cells of fixed types only"));
+        }
         if d.cell(c).len() != t.num_corners() {
             return bad(format!("cell {c} is a {t} of {} corners; a {t} has {}", d.cell(c).len(), t.num_corners()));
         }

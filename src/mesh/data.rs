@@ -28,6 +28,13 @@ pub struct MeshData {
     pub face_vertices: Vec<u32>,
     /// Patch id of each tagged face.
     pub face_patch: Vec<i32>,
+    /// The faces of the polyhedral cells ([`CellType::Polyhedron`]) in VTK's layout: for each
+    /// polyhedron in cell order, its number of faces, then each face's vertex count and its
+    /// vertices, a loop whose right-hand normal points out of the cell (or into it, for every
+    /// cell of a mesh given in the other orientation). A polyhedron's corners in
+    /// `cell_vertices` are its distinct vertices, in any order. Empty when there is no
+    /// polyhedron.
+    pub polyhedron_faces: Vec<u32>,
 }
 
 impl MeshData {
@@ -73,6 +80,24 @@ impl MeshData {
         self.cell_offsets.push(self.cell_vertices.len() as u32);
     }
 
+    /// Appends a polyhedron in region `region` given by its faces (loops of vertices whose
+    /// right-hand normals point out of it); its corners are the faces' distinct vertices in the
+    /// order they first appear.
+    pub fn push_polyhedron(&mut self, faces: &[&[u32]], region: i32) {
+        let mut corners: Vec<u32> = Vec::new();
+        self.polyhedron_faces.push(faces.len() as u32);
+        for f in faces {
+            self.polyhedron_faces.push(f.len() as u32);
+            self.polyhedron_faces.extend_from_slice(f);
+            f.iter().for_each(|v| {
+                if !corners.contains(v) {
+                    corners.push(*v)
+                }
+            });
+        }
+        self.push_cell(CellType::Polyhedron, &corners, region);
+    }
+
     /// Appends a tagged face on patch `patch`.
     pub fn push_face(&mut self, vertices: &[u32], patch: i32) {
         if self.face_offsets.is_empty() {
@@ -111,6 +136,7 @@ impl super::Mesh {
         for f in self.patch_faces() {
             d.push_face(f.vertices, f.patch);
         }
+        d.polyhedron_faces = super::polyhedra::stream(self);
         d
     }
 }
