@@ -280,6 +280,12 @@ impl GeneralPoints {
                 spread(&col, &mut out);
                 (0..n).for_each(|i| k[i * n + j] = out[i]);
             }
+            // The upper triangle mirrored: K is symmetric bitwise, whatever the order of the sums.
+            for i in 0..n {
+                for j in i + 1..n {
+                    k[j * n + i] = k[i * n + j];
+                }
+            }
         }
     }
 }
@@ -334,19 +340,30 @@ mod tests {
         assert!((g.signed_measure() + 1.0).abs() < 1e-14 && g.is_inverted());
     }
 
-    /// An L-shaped hexagon: area, masses, a linear field's energy, its smallest angle.
+    /// An irregular hexagon: area (shoelace), masses, a linear field's energy, its smallest
+    /// angle (at corner 1, between the sides to (3, 1) and to (0, 0)).
     #[test]
     fn polygon_element() {
-        let c = [[0., 0.], [2., 0.], [2., 1.], [1., 1.], [1., 2.], [0., 2.]];
+        let c = [[0., 0.], [2., 0.], [3., 1.], [2., 2.5], [0.5, 2.], [-0.5, 1.]];
+        let area = 0.5 * (0..6).map(|k| c[k][0] * c[(k + 1) % 6][1] - c[(k + 1) % 6][0] * c[k][1]).sum::<f64>();
         let coords: Vec<f64> = c.iter().flatten().copied().collect();
         let g = GeneralPoints::gather(&[0, 1, 2, 3, 4, 5], std::iter::empty(), &coords, 2);
-        assert!((g.signed_measure() - 3.0).abs() < 1e-14 && !g.is_inverted());
+        assert!((g.signed_measure() - area).abs() < 1e-14 && !g.is_inverted());
         let (mut k, mut m) = (vec![0.0; 36], vec![0.0; 6]);
         g.element(Some(&mut k), Some(&mut m));
-        assert!((m.iter().sum::<f64>() - 3.0).abs() < 1e-14);
+        assert!((m.iter().sum::<f64>() - area).abs() < 1e-14);
         let u: Vec<f64> = c.iter().map(|p| 2.0 * p[0] + p[1]).collect();
         let energy: f64 = (0..36).map(|ij| u[ij / 6] * k[ij] * u[ij % 6]).sum();
-        assert!((energy - 5.0 * 3.0).abs() < 1e-12, "{energy}");
-        assert!((g.min_angle_deg() - 90.0).abs() < 1e-12);
+        assert!((energy - 5.0 * area).abs() < 1e-12, "{energy}");
+        let at = |k: usize| {
+            let (a, b) = (sub(&g.p[(k + 1) % 6], &g.p[k]), sub(&g.p[(k + 5) % 6], &g.p[k]));
+            (a[0] * b[1] - a[1] * b[0]).atan2(a[0] * b[0] + a[1] * b[1]).to_degrees()
+        };
+        assert_eq!(g.min_angle_deg(), (0..6).map(at).fold(180.0, f64::min));
+        assert!((g.min_angle_deg() - 90.0).abs() < 30.0);
+        // Its mirror image is inverted: every sub-triangle turns over, and no angle is kept.
+        let mirrored: Vec<f64> = c.iter().flat_map(|p| [-p[0], p[1]]).collect();
+        let g = GeneralPoints::gather(&[0, 1, 2, 3, 4, 5], std::iter::empty(), &mirrored, 2);
+        assert!(g.is_inverted() && g.min_angle_deg() == 0.0 && g.signed_measure() < 0.0);
     }
 }

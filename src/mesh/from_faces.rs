@@ -350,9 +350,14 @@ mod tests {
         faces[0].rotate_left(1);
         let refs: Vec<&[u32]> = faces.iter().map(|f| f.as_slice()).collect();
         assert_eq!(recognise(&refs), Some((CellType::Hexahedron, c.to_vec())));
-        // The same cube with its faces reversed is inside out: not taken for a hexahedron.
+        // The same cube with its faces reversed is its mirror image: 1 and 3 swap (and 5 and 7).
         let rev: Vec<Vec<u32>> = faces.iter().map(|f| f.iter().rev().copied().collect()).collect();
         let refs: Vec<&[u32]> = rev.iter().map(|f| f.as_slice()).collect();
+        assert_eq!(recognise(&refs), Some((CellType::Hexahedron, vec![0, 2, 3, 1, 4, 6, 7, 5])));
+        // Six quads on eight vertices that do not make a cube: two faces swapped for others.
+        let mut odd = cube_faces(c);
+        odd[0] = vec![0, 2, 7, 1];
+        let refs: Vec<&[u32]> = odd.iter().map(|f| f.as_slice()).collect();
         assert_eq!(recognise(&refs), None);
     }
 
