@@ -244,8 +244,8 @@ impl GeneralPoints {
                 v
             };
             // Rows sum to zero: constants are in the null space of every sub-simplex.
-            for i in 0..s.len() {
-                local[i][i] = -(0..s.len()).filter(|&j| j != i).map(|j| local[i][j]).sum::<f64>();
+            for (i, row) in local.iter_mut().enumerate().take(s.len()) {
+                row[i] = -(0..s.len()).filter(|&j| j != i).map(|j| row[j]).sum::<f64>();
             }
             let share = v / s.len() as f64;
             for (i, &a) in s.iter().enumerate() {
