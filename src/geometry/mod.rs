@@ -197,6 +197,13 @@ impl CellGeometry {
             CellGeometry::General(g) => g.longest_edge_squared(),
         }
     }
+    /// [`CellGeometry::is_inverted`] given the cell's signed measure `m`.
+    pub(crate) fn inverted_with_measure(&self, m: f64) -> bool {
+        match self {
+            CellGeometry::Fixed(g) => g.inverted_with_measure(m),
+            CellGeometry::General(g) => g.is_inverted(),
+        }
+    }
     /// The smallest angle, degrees (see [`CellPoints::min_angle_deg`]).
     pub(crate) fn min_angle_deg(&self) -> f64 {
         match self {

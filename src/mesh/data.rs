@@ -122,6 +122,57 @@ impl MeshData {
     pub fn point(&self, v: usize) -> &[f64] {
         &self.coords[v * self.dim..(v + 1) * self.dim]
     }
+
+    /// Where each polyhedron's faces lie in `polyhedron_faces` (None for the other cells),
+    /// checked: each polyhedron's list is whole, its vertices are below the vertex count, and
+    /// nothing follows the last one (`n`: the vertex count). The error says what is wrong.
+    pub(crate) fn polyhedron_spans(&self, n: usize) -> Result<Vec<Option<std::ops::Range<usize>>>, String> {
+        let s = &self.polyhedron_faces;
+        let mut at = 0usize;
+        let mut out = Vec::with_capacity(self.num_cells());
+        for (c, &t) in self.cell_types.iter().enumerate() {
+            if t != CellType::Polyhedron {
+                out.push(None);
+                continue;
+            }
+            let start = at;
+            at = polyhedron_list_end(s, at, n).map_err(|p| format!("polyhedron {c}: {p}"))?;
+            out.push(Some(start..at));
+        }
+        if at != s.len() {
+            return Err(format!("{} values follow the last polyhedron's faces", s.len() - at));
+        }
+        Ok(out)
+    }
+}
+
+/// Where the face list of one polyhedron starting at `at` in `s` ends, checked: whole, and its
+/// vertices below `n`.
+pub(crate) fn polyhedron_list_end(s: &[u32], mut at: usize, n: usize) -> Result<usize, String> {
+    let short = || "its face list is cut short".to_string();
+    let faces = *s.get(at).ok_or_else(short)?;
+    at += 1;
+    for _ in 0..faces {
+        let len = *s.get(at).ok_or_else(short)? as usize;
+        let face = s.get(at + 1..at + 1 + len).ok_or_else(short)?;
+        if let Some(v) = face.iter().find(|&&v| v as usize >= n) {
+            return Err(format!("a face has vertex {v}, outside 0..{n}"));
+        }
+        at += 1 + len;
+    }
+    Ok(at)
+}
+
+/// The faces of one polyhedron's checked list (its number of faces, then each face's vertex
+/// count and vertices; see [`MeshData::polyhedron_spans`]).
+pub(crate) fn faces_in(list: &[u32]) -> impl Iterator<Item = &[u32]> + '_ {
+    let mut at = 1usize;
+    (0..list.first().copied().unwrap_or(0)).map(move |_| {
+        let len = list[at] as usize;
+        let face = &list[at + 1..at + 1 + len];
+        at += 1 + len;
+        face
+    })
 }
 
 impl super::Mesh {

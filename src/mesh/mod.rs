@@ -24,6 +24,7 @@ mod topology;
 pub(crate) mod validate;
 
 pub use data::MeshData;
+pub(crate) use data::{faces_in, polyhedron_list_end};
 pub use error::MeshError;
 pub use from_faces::FaceMeshData;
 pub use quality::{inverted_cells, quality, signed_measures, Quality};
