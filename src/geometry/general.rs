@@ -330,6 +330,26 @@ mod tests {
         assert_eq!(g.edges().len(), 12);
     }
 
+    /// On a tetrahedron the element is P1's: the centres' values are the linear interpolant's,
+    /// so the piecewise linear function on the sub-tetrahedra is the tetrahedron's own.
+    #[test]
+    fn a_tetrahedron_gets_p1() {
+        let p = [[0.1, 0.0, 0.0], [1.0, 0.2, 0.1], [0.3, 1.1, 0.0], [0.2, 0.3, 0.9]];
+        let coords: Vec<f64> = p.iter().flatten().copied().collect();
+        let faces: Vec<Vec<u32>> =
+            super::super::CellType::Tetra.faces().iter().map(|f| f.iter().map(|&k| k as u32).collect()).collect();
+        let g = GeneralPoints::gather(&[0, 1, 2, 3], faces.iter().map(|f| f.as_slice()), &coords, 3);
+        let mut k = vec![0.0; 16];
+        g.element(Some(&mut k), None);
+        let mut p1 = [0.0; 6];
+        super::super::simplex::tet_stiffness(&p, &mut p1);
+        for (m, &[i, j]) in super::super::CellType::Tetra.edges().iter().enumerate() {
+            let (i, j) = (i as usize, j as usize);
+            assert!((k[i * 4 + j] - p1[m]).abs() < 1e-14, "{i}-{j}: {} {}", k[i * 4 + j], p1[m]);
+        }
+        assert!((g.signed_measure() - super::super::simplex::tet_volume(&p)).abs() < 1e-15);
+    }
+
     /// A corner pushed through the opposite face inverts a sub-tetrahedron while the volume
     /// stays positive; a mirrored cube has a negative volume.
     #[test]
