@@ -175,6 +175,17 @@ module meshmove_c
       integer(c_int32_t), intent(in) :: cell_connectivity(*), cell_types(*), face_connectivity(*), face_patch(*)
       type(c_ptr), intent(out) :: out
     end function
+    integer(c_int32_t) function meshmove_mesh_create_from_faces(dim, num_vertices, coords, num_faces, face_offsets, &
+        num_face_vertices, face_connectivity, face_owner, face_neighbour, face_patch, num_cells, cell_region, &
+        index_base, out) bind(c)
+      import :: c_int32_t, c_double, c_ptr
+      integer(c_int32_t), value :: dim, num_vertices, num_faces, num_face_vertices, num_cells, index_base
+      real(c_double), intent(in) :: coords(*)
+      integer(c_int32_t), intent(in) :: face_offsets(*), face_connectivity(*), face_owner(*), face_neighbour(*), &
+        face_patch(*)
+      type(c_ptr), value :: cell_region
+      type(c_ptr), intent(out) :: out
+    end function
     integer(c_int32_t) function meshmove_mesh_create_triangles(num_vertices, coords, num_cells, cells, index_base, &
         num_tagged, tagged_edges, tagged_patches, regions, out) bind(c)
       import :: c_int32_t, c_double, c_ptr
@@ -461,6 +472,7 @@ module meshmove
   contains
     procedure :: create => mesh_create
     procedure :: create_triangles => mesh_create_triangles
+    procedure :: create_from_faces => mesh_create_from_faces
     procedure :: read_msh => mesh_read_msh
     procedure :: free => mesh_free
     procedure :: sizes => mesh_sizes
@@ -970,6 +982,53 @@ contains
     call check(meshmove_mesh_create_triangles(int(size(coords, 2), c_int32_t), coords, &
       int(size(cells, 2), c_int32_t), cells, 1_c_int32_t, int(size(patches), c_int32_t), tagged, patches, r, &
       self%h), w, stat)
+    if (present(errmsg)) call message(errmsg)
+  end subroutine
+
+  !> A mesh from its faces, as finite-volume codes store it (OpenFOAM, code_saturne): coords(dim, nv); face f's
+  !> vertices are face_vertices(face_offsets(f) : face_offsets(f + 1) - 1) (offsets and vertices 1-based), a loop
+  !> whose right-hand normal points out of cell owner(f) into cell neighbour(f) (0 on the boundary); patch(f) >= 0
+  !> on every boundary face, -1 on an untagged interior face; cells 1 to num_cells; regions(num_cells) optional.
+  !> Tetrahedra, hexahedra, wedges and pyramids (triangles, quads in 2D) are recognised, other cells are polyhedra.
+  subroutine mesh_create_from_faces(self, coords, face_offsets, face_vertices, owner, neighbour, patch, num_cells, &
+      regions, stat, errmsg)
+    class(mm_mesh), intent(inout) :: self
+    real(c_double), intent(in), contiguous :: coords(:, :)
+    integer(c_int32_t), intent(in), contiguous :: face_offsets(:), face_vertices(:), owner(:), neighbour(:), patch(:)
+    integer(c_int32_t), intent(in) :: num_cells
+    integer(c_int32_t), intent(in), contiguous, target, optional :: regions(:)
+    integer(c_int32_t), intent(out), optional :: stat
+    character(len=:), allocatable, intent(out), optional :: errmsg
+    character(*), parameter :: w = "mesh_create_from_faces"
+    integer(c_int32_t), allocatable :: fo(:)
+    type(c_ptr) :: r
+    integer :: nf
+    r = c_null_ptr
+    nf = size(owner)
+    if (size(face_offsets) /= nf + 1 .or. size(neighbour) /= nf .or. size(patch) /= nf) then
+      call fail(MESHMOVE_STATUS_INVALID_ARGUMENT, w, "owner has " // str(nf) // " entries (one per face): " // &
+        "face_offsets needs one more, neighbour and patch as many", stat)
+      if (present(errmsg)) call message(errmsg)
+      return
+    end if
+    if (size(coords, 2) > MESHMOVE_MAX_VERTICES .or. nf > MESHMOVE_MAX_VERTICES) then
+      call fail(MESHMOVE_STATUS_INVALID_ARGUMENT, w, "more than MESHMOVE_MAX_VERTICES vertices or faces", stat)
+      if (present(errmsg)) call message(errmsg)
+      return
+    end if
+    if (present(regions)) then
+      if (size(regions) /= num_cells) then
+        call fail(MESHMOVE_STATUS_INVALID_ARGUMENT, w, "regions has " // str(size(regions)) // &
+          " entries; there are " // str(int(num_cells)) // " cells", stat)
+        if (present(errmsg)) call message(errmsg)
+        return
+      end if
+      if (size(regions) > 0) r = c_loc(regions)
+    end if
+    allocate (fo, source=face_offsets - 1_c_int32_t)
+    call check(meshmove_mesh_create_from_faces(int(size(coords, 1), c_int32_t), int(size(coords, 2), c_int32_t), &
+      coords, int(nf, c_int32_t), fo, int(size(face_vertices), c_int32_t), face_vertices, owner, neighbour, patch, &
+      num_cells, r, 1_c_int32_t, self%h), w, stat)
     if (present(errmsg)) call message(errmsg)
   end subroutine
 

@@ -835,6 +835,47 @@ meshmove_status meshmove_mesh_create(int32_t dim,
                                      struct meshmove_mesh **out);
 
 /*
+ Validates and creates a mesh from its faces, as finite-volume codes store it (OpenFOAM's
+ polyMesh, code_saturne): the arrays are copied.
+
+ - `dim`, `num_vertices`, `coords`: as `meshmove_mesh_create`.
+ - Faces (at most `MESHMOVE_MAX_VERTICES`): face f's vertices are
+   `face_connectivity[face_offsets[f] .. face_offsets[f + 1]]` (`num_faces + 1` positions from
+   0 to `num_face_vertices`): in 3D a loop of at least 3 whose right-hand normal points out of
+   its owner cell `face_owner[f]` into its neighbour `face_neighbour[f]`; in 2D a segment
+   whose normal (dy, -dx) does. A neighbour below `index_base` (-1 in C, 0 or -1 in Fortran)
+   marks a boundary face. `face_patch[f]`: the patch of a boundary face (>= 0); on an interior
+   face -1, or a patch id that tags it as an interface.
+ - Cells are numbered from `index_base` to `num_cells` (at most `MESHMOVE_MAX_CELLS`); each
+   must own or neighbour a face. `cell_region`: NULL, or one region id per cell.
+
+ Each cell is recognised as a tetrahedron, hexahedron, wedge or pyramid (triangle or quad in
+ 2D) where its faces make one, else kept as a polyhedron (polygon); see docs/DESIGN.md §2 for
+ its corner order. Sizes and indices are checked (`MESHMOVE_STATUS_INVALID_ARGUMENT` names the
+ array), then the faces and the geometry (`MESHMOVE_STATUS_INVALID_MESH` names the face or
+ cell: a face of too few vertices, an owner or neighbour out of range, a boundary face
+ without a patch, a cell whose faces do not close it). On failure `*out` is NULL.
+
+ # Safety
+ Each non-NULL array must hold the number of elements stated; `out` must be writable.
+ */
+MESHMOVE_MUST_USE
+meshmove_status meshmove_mesh_create_from_faces(int32_t dim,
+                                                int32_t num_vertices,
+                                                const double *coords,
+                                                int32_t num_faces,
+                                                const int32_t *face_offsets,
+                                                int32_t num_face_vertices,
+                                                const int32_t *face_connectivity,
+                                                const int32_t *face_owner,
+                                                const int32_t *face_neighbour,
+                                                const int32_t *face_patch,
+                                                int32_t num_cells,
+                                                const int32_t *cell_region,
+                                                int32_t index_base,
+                                                struct meshmove_mesh **out);
+
+/*
  Validates and creates a 2D triangle mesh: `meshmove_mesh_create` for the common case.
 
  `coords`: `2 num_vertices` doubles (x0, y0, x1, y1, ...). `cells`: `3 num_cells` vertex

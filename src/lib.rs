@@ -55,7 +55,7 @@ pub mod solver;
 pub use bc::{BoundaryConditions, InterfaceVariant, Kind, Link};
 pub use error::{Error, Result};
 pub use geometry::CellType;
-pub use mesh::{IndexBase, Mesh, MeshData, MeshError, PatchFace, Quality};
+pub use mesh::{FaceMeshData, IndexBase, Mesh, MeshData, MeshError, PatchFace, Quality};
 pub use motion::{Motion, RigidMotion};
 pub use multigrid::coarsen::CoarsenParams;
 pub use multigrid::hierarchy::{CoarseOperator, HierarchyParams};

@@ -101,9 +101,13 @@ impl Dofs {
         };
         let index = |v: u32, c: usize| key_index(root[v as usize], regions[c]);
         let mut by_vertex = Csr::new();
+        // A cell's corners, of any number (a polyhedron's too).
+        let mut corners = Vec::new();
         for c in 0..mesh.num_cells() {
             let t = mesh.cell(c);
-            by_vertex.push(&Corners::from_fn(t.len(), |k| index(t[k], c)));
+            corners.clear();
+            corners.extend(t.iter().map(|&v| index(v, c)));
+            by_vertex.push(&corners);
         }
         // Renumber for locality of the operators' gathers (see `numbering`).
         let order = reverse_cuthill_mckee(n, &by_vertex);
@@ -116,7 +120,9 @@ impl Dofs {
         let mut split_corners: Vec<(u32, i32, u32)> = Vec::new();
         for c in 0..mesh.num_cells() {
             let t = mesh.cell(c);
-            let d = Corners::from_fn(t.len(), |k| new_of[index(t[k], c) as usize]);
+            corners.clear();
+            corners.extend(t.iter().map(|&v| new_of[index(v, c) as usize]));
+            let d = &corners;
             for k in 0..t.len() {
                 if vertex_dof[t[k] as usize] == u32::MAX {
                     vertex_dof[t[k] as usize] = d[k];
@@ -193,13 +199,26 @@ impl Dofs {
             return Corners::from_fn(t.len(), |k| self.vertex_dof[t[k] as usize]);
         }
         let r = mesh.regions()[c];
-        Corners::from_fn(t.len(), |k| {
-            let v = t[k];
-            match self.split_corners.binary_search_by(|e| (e.0, e.1).cmp(&(v, r))) {
-                Ok(k) => self.split_corners[k].2,
-                Err(_) => self.vertex_dof[v as usize],
-            }
-        })
+        Corners::from_fn(t.len(), |k| self.corner_dof(t[k], r))
+    }
+
+    /// The unknown of each corner of cell `c` of any corner count (a polygon's or a
+    /// polyhedron's; [`Dofs::cell_dofs`] holds at most `MAX_CORNERS`).
+    pub(crate) fn general_cell_dofs(&self, mesh: &Mesh, c: usize) -> Vec<u32> {
+        let r = mesh.regions()[c];
+        mesh.cell(c).iter().map(|&v| self.corner_dof(v, r)).collect()
+    }
+
+    /// The unknown of vertex `v` as a corner of a cell in region `r`.
+    #[inline]
+    fn corner_dof(&self, v: u32, r: i32) -> u32 {
+        if self.split_corners.is_empty() {
+            return self.vertex_dof[v as usize];
+        }
+        match self.split_corners.binary_search_by(|e| (e.0, e.1).cmp(&(v, r))) {
+            Ok(k) => self.split_corners[k].2,
+            Err(_) => self.vertex_dof[v as usize],
+        }
     }
 }
 

@@ -210,6 +210,7 @@ fn mesh_data(a: &Arrays) -> Result<MeshData, CError> {
         face_offsets,
         face_vertices,
         face_patch: a.face_patch.to_vec(),
+        polyhedron_faces: Vec::new(),
     })
 }
 
@@ -310,6 +311,123 @@ pub unsafe extern "C" fn meshmove_mesh_create(
         };
         // SAFETY: `out` passed `check_out`.
         unsafe { create(&a, out) }
+    })
+}
+
+/// Validates and creates a mesh from its faces, as finite-volume codes store it (OpenFOAM's
+/// polyMesh, code_saturne): the arrays are copied.
+///
+/// - `dim`, `num_vertices`, `coords`: as `meshmove_mesh_create`.
+/// - Faces (at most `MESHMOVE_MAX_VERTICES`): face f's vertices are
+///   `face_connectivity[face_offsets[f] .. face_offsets[f + 1]]` (`num_faces + 1` positions from
+///   0 to `num_face_vertices`): in 3D a loop of at least 3 whose right-hand normal points out of
+///   its owner cell `face_owner[f]` into its neighbour `face_neighbour[f]`; in 2D a segment
+///   whose normal (dy, -dx) does. A neighbour below `index_base` (-1 in C, 0 or -1 in Fortran)
+///   marks a boundary face. `face_patch[f]`: the patch of a boundary face (>= 0); on an interior
+///   face -1, or a patch id that tags it as an interface.
+/// - Cells are numbered from `index_base` to `num_cells` (at most `MESHMOVE_MAX_CELLS`); each
+///   must own or neighbour a face. `cell_region`: NULL, or one region id per cell.
+///
+/// Each cell is recognised as a tetrahedron, hexahedron, wedge or pyramid (triangle or quad in
+/// 2D) where its faces make one, else kept as a polyhedron (polygon); see docs/DESIGN.md §2 for
+/// its corner order. Sizes and indices are checked (`MESHMOVE_STATUS_INVALID_ARGUMENT` names the
+/// array), then the faces and the geometry (`MESHMOVE_STATUS_INVALID_MESH` names the face or
+/// cell: a face of too few vertices, an owner or neighbour out of range, a boundary face
+/// without a patch, a cell whose faces do not close it). On failure `*out` is NULL.
+///
+/// # Safety
+/// Each non-NULL array must hold the number of elements stated; `out` must be writable.
+#[no_mangle]
+#[must_use]
+pub unsafe extern "C" fn meshmove_mesh_create_from_faces(
+    dim: i32,
+    num_vertices: i32,
+    coords: *const f64,
+    num_faces: i32,
+    face_offsets: *const i32,
+    num_face_vertices: i32,
+    face_connectivity: *const i32,
+    face_owner: *const i32,
+    face_neighbour: *const i32,
+    face_patch: *const i32,
+    num_cells: i32,
+    cell_region: *const i32,
+    index_base: i32,
+    out: *mut *mut meshmove_mesh,
+) -> meshmove_status {
+    ffi_body!(meshmove_mesh_create_from_faces, {
+        // SAFETY: the caller guarantees `out` is NULL (refused) or writable.
+        unsafe { check_out(out, "out") }?;
+        let dim = bounded(dim, "dim", 2, 3)?;
+        let nv = vertex_count(num_vertices, dim)?;
+        let nf = bounded(num_faces, "num_faces", 0, limits::MAX_VERTICES)?;
+        let nc = bounded(num_cells, "num_cells", 0, limits::MAX_CELLS)?;
+        let nfv = count(num_face_vertices, "num_face_vertices")?;
+        let base = handles::index_base(index_base)?;
+        // SAFETY: the caller guarantees that each non-NULL array holds the number of elements
+        // stated by the counts (checked non-negative and bounded above); NULL is refused where
+        // an array is required and its length is not 0.
+        let (coords, offsets, vertices, owner, neighbour, patch, regions) = unsafe {
+            (
+                slice(coords, dim * nv, "coords")?,
+                slice(face_offsets, nf + 1, "face_offsets")?,
+                slice(face_connectivity, nfv, "face_connectivity")?,
+                slice(face_owner, nf, "face_owner")?,
+                slice(face_neighbour, nf, "face_neighbour")?,
+                slice(face_patch, nf, "face_patch")?,
+                (!cell_region.is_null()).then(|| slice(cell_region, nc, "cell_region")).transpose()?,
+            )
+        };
+        let face_offsets = checked_offsets(offsets, nfv, "face_offsets", "num_face_vertices", |_, _| Ok(()))?;
+        let b = base as i64;
+        let vertex = |f: usize, v: i32| {
+            let i = i64::from(v) - b;
+            u32::try_from(i).ok().filter(|&i| (i as usize) < nv).ok_or(MeshError::FaceIndexOutOfRange {
+                face: f,
+                what: "vertex",
+                index: i64::from(v),
+                end: nv as i64 + b,
+            })
+        };
+        let mut face_vertices = Vec::with_capacity(nfv);
+        for f in 0..nf {
+            for &v in &vertices[face_offsets[f] as usize..face_offsets[f + 1] as usize] {
+                face_vertices.push(vertex(f, v).map_err(|e| in_base(e, base))?);
+            }
+        }
+        let cell = |f: usize, c: i32, what: &'static str| {
+            let i = i64::from(c) - b;
+            if i >= nc as i64 || (what == "owner" && i < 0) {
+                return Err(in_base(
+                    MeshError::FaceIndexOutOfRange { face: f, what, index: c.into(), end: nc as i64 + b },
+                    base,
+                ));
+            }
+            Ok(i.max(-1))
+        };
+        let mut faces = crate::FaceMeshData {
+            dim,
+            coords: coords.to_vec(),
+            face_offsets,
+            face_vertices,
+            patch: patch.to_vec(),
+            regions: regions.map(<[i32]>::to_vec).unwrap_or_default(),
+            ..Default::default()
+        };
+        for f in 0..nf {
+            faces.owner.push(cell(f, owner[f], "owner")?);
+            faces.neighbour.push(cell(f, neighbour[f], "neighbour")?);
+        }
+        let data = faces.to_data().map_err(|e| in_base(e, base))?;
+        if data.num_cells() != nc {
+            let msg = format!("cell {} has no face (num_cells is {nc})", named(data.num_cells(), base));
+            return Err(CError::new(meshmove_status::InvalidMesh, format!("invalid mesh: {msg}")));
+        }
+        let need = memory::mesh_bytes(dim, nv, nc, data.cell_vertices.len(), nf);
+        memory::check_available(need, 0, "the mesh")?;
+        let mesh = Mesh::from_data(&data).map_err(|e| in_base(e, base))?;
+        // SAFETY: `out` passed `check_out`.
+        unsafe { hand_out(mesh, out) }
     })
 }
 
@@ -426,6 +544,20 @@ fn in_base(e: MeshError, base: i32) -> CError {
                 listed(vertices, base)
             )
         }
+        MeshError::FaceSize { face, count, .. } => format!("face {} has {count} vertices", n(face)),
+        MeshError::FaceIndexOutOfRange { face, what, index, end } => {
+            format!("face {}'s {what} is {index}, outside {base}..{end}", n(face))
+        }
+        MeshError::BoundaryFaceWithoutPatch { face, patch } => {
+            format!("face {} is a boundary face (no neighbour) without a patch (patch id {patch})", n(face))
+        }
+        MeshError::OpenCell { cell, from, to, .. } => format!(
+            "the faces of cell {} do not close it at its side {} -> {}",
+            n(cell),
+            n(&(*from as usize)),
+            n(&(*to as usize))
+        ),
+        MeshError::FaceBasedCell { cell, problem } => format!("cell {}: {problem}", n(cell)),
         MeshError::Overlap { first, second, face } => format!(
             "cells {} and {} lie on the same side of their shared face {}: the mesh overlaps itself",
             n(first),

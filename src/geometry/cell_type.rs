@@ -17,19 +17,41 @@ pub enum CellType {
     Wedge = 13,
     /// Five corners: quad 0–1–2–3, whose right-hand normal points to the apex 4 (3D).
     Pyramid = 14,
+    /// A polygon of three or more corners, counter-clockwise (2D): a general cell whose element
+    /// is a fan of triangles around its corners' average (docs/DESIGN.md §2).
+    Polygon = 7,
+    /// A polyhedron given by its faces (3D): its corners are its distinct vertices, its faces are
+    /// listed per cell (`MeshData::polyhedron_faces`); a general cell whose element is a set of
+    /// tetrahedra through its face centres and its centre (docs/DESIGN.md §2).
+    Polyhedron = 42,
 }
 
 /// The most corners a cell of any type has (a hexahedron's).
 pub const MAX_CORNERS: usize = 8;
 
 impl CellType {
-    /// Every cell type, in VTK id order.
+    /// Every cell type of a fixed corner count (and fixed tables), in VTK id order.
     pub const ALL: [CellType; 6] =
         [CellType::Triangle, CellType::Quad, CellType::Tetra, CellType::Hexahedron, CellType::Wedge, CellType::Pyramid];
 
-    /// The type of a VTK cell type id, or None for a type meshmove does not handle.
+    /// The general cell types: their corners and faces are listed per cell.
+    pub const GENERAL: [CellType; 2] = [CellType::Polygon, CellType::Polyhedron];
+
+    /// The fixed type of a VTK cell type id, or None for a type meshmove does not handle or a
+    /// general type (see [`CellType::general_from_vtk`]).
     pub fn from_vtk(id: i64) -> Option<CellType> {
         CellType::ALL.into_iter().find(|t| *t as i64 == id)
+    }
+
+    /// The type of a VTK cell type id, the general types (polygon 7, polyhedron 42) included.
+    pub fn general_from_vtk(id: i64) -> Option<CellType> {
+        CellType::ALL.into_iter().chain(CellType::GENERAL).find(|t| *t as i64 == id)
+    }
+
+    /// True for a polygon or a polyhedron: a cell whose corner count and faces are its own, not
+    /// its type's.
+    pub fn is_general(self) -> bool {
+        matches!(self, CellType::Polygon | CellType::Polyhedron)
     }
 
     /// VTK's id of this type.
@@ -40,14 +62,15 @@ impl CellType {
     /// The dimension of the space this cell fills.
     pub fn dim(self) -> usize {
         match self {
-            CellType::Triangle | CellType::Quad => 2,
+            CellType::Triangle | CellType::Quad | CellType::Polygon => 2,
             _ => 3,
         }
     }
 
-    /// Number of corners (vertices).
+    /// Number of corners (vertices); 0 for the general types, whose cells have their own.
     pub fn num_corners(self) -> usize {
         match self {
+            CellType::Polygon | CellType::Polyhedron => 0,
             CellType::Triangle => 3,
             CellType::Quad | CellType::Tetra => 4,
             CellType::Pyramid => 5,
@@ -65,13 +88,17 @@ impl CellType {
             CellType::Hexahedron => "hexahedron",
             CellType::Wedge => "wedge",
             CellType::Pyramid => "pyramid",
+            CellType::Polygon => "polygon",
+            CellType::Polyhedron => "polyhedron",
         }
     }
 
     /// The cell's edges as pairs of local corners: the springs of the spring analogy and the
-    /// couplings of the stiffness pattern's edge graph (never face or body diagonals).
+    /// couplings of the stiffness pattern's edge graph (never face or body diagonals). Empty for
+    /// the general types: their edges are their faces' sides.
     pub fn edges(self) -> &'static [[u8; 2]] {
         match self {
+            CellType::Polygon | CellType::Polyhedron => &[],
             CellType::Triangle => &[[0, 1], [1, 2], [2, 0]],
             CellType::Quad => &[[0, 1], [1, 2], [2, 3], [3, 0]],
             CellType::Tetra => &[[0, 1], [1, 2], [2, 0], [0, 3], [1, 3], [2, 3]],
@@ -85,9 +112,10 @@ impl CellType {
 
     /// The cell's faces (its sides: segments in 2D, triangles and quads in 3D) as local corners,
     /// each ordered so that its right-hand normal points out of the cell (in 2D: the cell lies
-    /// on the left of the segment).
+    /// on the left of the segment). Empty for the general types: their faces are their own.
     pub fn faces(self) -> &'static [&'static [u8]] {
         match self {
+            CellType::Polygon | CellType::Polyhedron => &[],
             CellType::Triangle => &[&[0, 1], &[1, 2], &[2, 0]],
             CellType::Quad => &[&[0, 1], &[1, 2], &[2, 3], &[3, 0]],
             CellType::Tetra => &[&[0, 1, 3], &[1, 2, 3], &[2, 0, 3], &[0, 2, 1]],

@@ -11,12 +11,14 @@ mod cell_type;
 pub(crate) mod closest;
 mod decomposed;
 mod face;
+mod general;
 pub(crate) mod rotation;
 mod simplex;
 mod tensor;
 
 pub use cell_type::{CellType, MAX_CORNERS};
 pub(crate) use face::face_area_vector;
+pub(crate) use general::GeneralPoints;
 
 /// Up to `MAX_CORNERS` values, one per corner of a cell.
 #[derive(Clone, Copy, Debug)]
@@ -157,9 +159,64 @@ impl CellPoints {
     }
 }
 
+/// One cell of any type: the fixed types' corners, or a general cell's corners and faces.
+pub(crate) enum CellGeometry {
+    /// A cell of a fixed type.
+    Fixed(CellPoints),
+    /// A polygon or a polyhedron.
+    General(GeneralPoints),
+}
+
+impl CellGeometry {
+    /// Signed area (2D) or volume (3D).
+    pub(crate) fn signed_measure(&self) -> f64 {
+        match self {
+            CellGeometry::Fixed(g) => g.signed_measure(),
+            CellGeometry::General(g) => g.signed_measure(),
+        }
+    }
+    /// The smallest corner (fixed types) or sub-simplex (general cells) Jacobian.
+    pub(crate) fn min_corner_jacobian(&self) -> f64 {
+        match self {
+            CellGeometry::Fixed(g) => g.min_corner_jacobian(),
+            CellGeometry::General(g) => g.min_corner_jacobian(),
+        }
+    }
+    /// True when the cell is inverted (see [`CellPoints::is_inverted`]; a general cell: a
+    /// sub-simplex not positive).
+    pub(crate) fn is_inverted(&self) -> bool {
+        match self {
+            CellGeometry::Fixed(g) => g.is_inverted(),
+            CellGeometry::General(g) => g.is_inverted(),
+        }
+    }
+    /// The squared length of the longest edge.
+    pub(crate) fn longest_edge_squared(&self) -> f64 {
+        match self {
+            CellGeometry::Fixed(g) => g.longest_edge_squared(),
+            CellGeometry::General(g) => g.longest_edge_squared(),
+        }
+    }
+    /// [`CellGeometry::is_inverted`] given the cell's signed measure `m`.
+    pub(crate) fn inverted_with_measure(&self, m: f64) -> bool {
+        match self {
+            CellGeometry::Fixed(g) => g.inverted_with_measure(m),
+            CellGeometry::General(g) => g.is_inverted(),
+        }
+    }
+    /// The smallest angle, degrees (see [`CellPoints::min_angle_deg`]).
+    pub(crate) fn min_angle_deg(&self) -> f64 {
+        match self {
+            CellGeometry::Fixed(g) => g.min_angle_deg(),
+            CellGeometry::General(g) => g.min_angle_deg(),
+        }
+    }
+}
+
 impl CellType {
     /// The pairs of corners the stiffness couples: a simplex's edges (in `edges()` order), a
-    /// tensor cell's every pair (its basis functions overlap across face diagonals too).
+    /// tensor cell's every pair (its basis functions overlap across face diagonals too); empty
+    /// for the general types, which couple every pair of their own corners.
     pub(crate) fn couplings(self) -> &'static [[u8; 2]] {
         match self {
             CellType::Triangle | CellType::Tetra => self.edges(),
@@ -167,10 +224,12 @@ impl CellType {
             CellType::Hexahedron => &ALL_PAIRS_8,
             CellType::Wedge => &ALL_PAIRS_6,
             CellType::Pyramid => &ALL_PAIRS_5,
+            CellType::Polygon | CellType::Polyhedron => &[],
         }
     }
 
-    /// The corner order of the same cell in the opposite orientation.
+    /// The corner order of the same cell in the opposite orientation (empty for the general
+    /// types: a polygon's loop or a polyhedron's faces are reversed instead).
     pub fn flipped(self) -> &'static [u8] {
         match self {
             CellType::Triangle => &[0, 2, 1],
@@ -179,6 +238,7 @@ impl CellType {
             CellType::Hexahedron => &[0, 3, 2, 1, 4, 7, 6, 5],
             CellType::Wedge => &[0, 2, 1, 3, 5, 4],
             CellType::Pyramid => &[0, 3, 2, 1, 4],
+            CellType::Polygon | CellType::Polyhedron => &[],
         }
     }
 }

@@ -170,6 +170,7 @@ fn corner_frames(ty: CellType) -> &'static [&'static [u8]] {
         CellType::Pyramid => &[&[1, 3, 4], &[2, 0, 4], &[3, 1, 4], &[0, 2, 4]],
         CellType::Triangle => &[&[1, 2], &[2, 0], &[0, 1]],
         CellType::Tetra => &[&[1, 2, 3], &[2, 0, 3], &[0, 1, 3], &[1, 0, 2]],
+        CellType::Polygon | CellType::Polyhedron => &[],
     }
 }
 

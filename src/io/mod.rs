@@ -25,6 +25,7 @@ pub use vtu::{
     PointField, VtuData, VtuEncoding,
 };
 
+use crate::geometry::CellType;
 use crate::mesh::{MeshData, MeshError};
 use std::path::{Path, PathBuf};
 use thiserror::Error;
@@ -171,13 +172,20 @@ pub(crate) fn check_data(d: &MeshData, what: &str) -> Result<(), IoError> {
         }
     }
     for (c, t) in d.cell_types.iter().enumerate() {
-        if d.cell(c).len() != t.num_corners() {
+        let least = if *t == CellType::Polyhedron { 4 } else { 3 };
+        if t.is_general() && d.cell(c).len() < least {
+            return bad(format!("cell {c} is a {t} of {} corners; it needs at least {least}", d.cell(c).len()));
+        }
+        if !t.is_general() && d.cell(c).len() != t.num_corners() {
             return bad(format!("cell {c} is a {t} of {} corners; a {t} has {}", d.cell(c).len(), t.num_corners()));
         }
     }
-    let face_sizes: &[usize] = if d.dim == 2 { &[2] } else { &[3, 4] };
-    if let Some(f) = (0..d.num_faces()).find(|&f| !face_sizes.contains(&d.face(f).len())) {
-        return bad(format!("face {f} has {} vertices; a face in {}D has {face_sizes:?}", d.face(f).len(), d.dim));
+    if let Some(f) = (0..d.num_faces()).find(|&f| if d.dim == 2 { d.face(f).len() != 2 } else { d.face(f).len() < 3 }) {
+        let want = if d.dim == 2 { "2" } else { "at least 3" };
+        return bad(format!("face {f} has {} vertices; a face in {}D has {want}", d.face(f).len(), d.dim));
+    }
+    if let Err(problem) = d.polyhedron_spans(d.num_vertices()) {
+        return bad(format!("polyhedron faces: {problem}"));
     }
     if !d.regions.is_empty() && d.regions.len() != d.num_cells() {
         return bad(format!("{} regions for {} cells", d.regions.len(), d.num_cells()));

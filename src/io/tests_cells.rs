@@ -355,7 +355,14 @@ fn vtu_cell_errors() {
     let ok = cells_vtu(4, "0 1 3 2", "4", "9");
     assert_eq!(parse_vtu(ok.as_bytes()).unwrap().mesh.cell_types, vec![CellType::Quad]);
     let polygon = cells_vtu(4, "0 1 3 2", "4", "7");
-    assert!(matches!(parse_vtu(polygon.as_bytes()), Err(IoError::Unsupported(m)) if m.contains("VTK cell type 7")));
+    assert_eq!(parse_vtu(polygon.as_bytes()).unwrap().mesh.cell_types, vec![CellType::Polygon]);
+    let pixel = cells_vtu(4, "0 1 3 2", "4", "8");
+    assert!(matches!(parse_vtu(pixel.as_bytes()), Err(IoError::Unsupported(m)) if m.contains("VTK cell type 8")));
+    // A polyhedron needs its faces.
+    let polyhedron = cells_vtu(8, "0 1 2 3 4 5 6 7", "8", "42");
+    assert!(
+        matches!(parse_vtu(polyhedron.as_bytes()), Err(IoError::Parse { message, .. }) if message.contains("faceoffsets"))
+    );
     let (line, msg) = match parse_vtu(cells_vtu(4, "0 1 3 2", "3", "9").as_bytes()) {
         Err(IoError::Parse { line, message, .. }) => (line, message),
         other => panic!("{other:?}"),

@@ -28,6 +28,13 @@ pub struct MeshData {
     pub face_vertices: Vec<u32>,
     /// Patch id of each tagged face.
     pub face_patch: Vec<i32>,
+    /// The faces of the polyhedral cells ([`CellType::Polyhedron`]) in VTK's layout: for each
+    /// polyhedron in cell order, its number of faces, then each face's vertex count and its
+    /// vertices, a loop whose right-hand normal points out of the cell (or into it, for every
+    /// cell of a mesh given in the other orientation). A polyhedron's corners in
+    /// `cell_vertices` are its distinct vertices, in any order. Empty when there is no
+    /// polyhedron.
+    pub polyhedron_faces: Vec<u32>,
 }
 
 impl MeshData {
@@ -73,6 +80,24 @@ impl MeshData {
         self.cell_offsets.push(self.cell_vertices.len() as u32);
     }
 
+    /// Appends a polyhedron in region `region` given by its faces (loops of vertices whose
+    /// right-hand normals point out of it); its corners are the faces' distinct vertices in the
+    /// order they first appear.
+    pub fn push_polyhedron(&mut self, faces: &[&[u32]], region: i32) {
+        let mut corners: Vec<u32> = Vec::new();
+        self.polyhedron_faces.push(faces.len() as u32);
+        for f in faces {
+            self.polyhedron_faces.push(f.len() as u32);
+            self.polyhedron_faces.extend_from_slice(f);
+            f.iter().for_each(|v| {
+                if !corners.contains(v) {
+                    corners.push(*v)
+                }
+            });
+        }
+        self.push_cell(CellType::Polyhedron, &corners, region);
+    }
+
     /// Appends a tagged face on patch `patch`.
     pub fn push_face(&mut self, vertices: &[u32], patch: i32) {
         if self.face_offsets.is_empty() {
@@ -97,6 +122,57 @@ impl MeshData {
     pub fn point(&self, v: usize) -> &[f64] {
         &self.coords[v * self.dim..(v + 1) * self.dim]
     }
+
+    /// Where each polyhedron's faces lie in `polyhedron_faces` (None for the other cells),
+    /// checked: each polyhedron's list is whole, its vertices are below the vertex count, and
+    /// nothing follows the last one (`n`: the vertex count). The error says what is wrong.
+    pub(crate) fn polyhedron_spans(&self, n: usize) -> Result<Vec<Option<std::ops::Range<usize>>>, String> {
+        let s = &self.polyhedron_faces;
+        let mut at = 0usize;
+        let mut out = Vec::with_capacity(self.num_cells());
+        for (c, &t) in self.cell_types.iter().enumerate() {
+            if t != CellType::Polyhedron {
+                out.push(None);
+                continue;
+            }
+            let start = at;
+            at = polyhedron_list_end(s, at, n).map_err(|p| format!("polyhedron {c}: {p}"))?;
+            out.push(Some(start..at));
+        }
+        if at != s.len() {
+            return Err(format!("{} values follow the last polyhedron's faces", s.len() - at));
+        }
+        Ok(out)
+    }
+}
+
+/// Where the face list of one polyhedron starting at `at` in `s` ends, checked: whole, and its
+/// vertices below `n`.
+pub(crate) fn polyhedron_list_end(s: &[u32], mut at: usize, n: usize) -> Result<usize, String> {
+    let short = || "its face list is cut short".to_string();
+    let faces = *s.get(at).ok_or_else(short)?;
+    at += 1;
+    for _ in 0..faces {
+        let len = *s.get(at).ok_or_else(short)? as usize;
+        let face = s.get(at + 1..at + 1 + len).ok_or_else(short)?;
+        if let Some(v) = face.iter().find(|&&v| v as usize >= n) {
+            return Err(format!("a face has vertex {v}, outside 0..{n}"));
+        }
+        at += 1 + len;
+    }
+    Ok(at)
+}
+
+/// The faces of one polyhedron's checked list (its number of faces, then each face's vertex
+/// count and vertices; see [`MeshData::polyhedron_spans`]).
+pub(crate) fn faces_in(list: &[u32]) -> impl Iterator<Item = &[u32]> + '_ {
+    let mut at = 1usize;
+    (0..list.first().copied().unwrap_or(0)).map(move |_| {
+        let len = list[at] as usize;
+        let face = &list[at + 1..at + 1 + len];
+        at += 1 + len;
+        face
+    })
 }
 
 impl super::Mesh {
@@ -111,6 +187,7 @@ impl super::Mesh {
         for f in self.patch_faces() {
             d.push_face(f.vertices, f.patch);
         }
+        d.polyhedron_faces = super::polyhedra::stream(self);
         d
     }
 }

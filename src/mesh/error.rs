@@ -231,6 +231,83 @@ pub enum MeshError {
         /// The mesh dimension.
         dim: usize,
     },
+    /// The faces of the polyhedra (`MeshData::polyhedron_faces`) do not describe them: the
+    /// list is too short or too long, a face has fewer than 3 vertices or a vertex that is not
+    /// a corner of its cell, or a corner is on no face.
+    #[error("the faces of the polyhedra{}: {problem}", cell_note(.cell))]
+    PolyhedronFaces {
+        /// The offending cell (0-based), when the problem is one cell's.
+        cell: Option<usize>,
+        /// What is wrong.
+        problem: String,
+    },
+    /// A cell's faces do not close it: a side of a face is not run along the other way by
+    /// another face (the cell is open or its faces are not oriented alike), or it is run along
+    /// twice the same way.
+    #[error("the faces of cell {cell} do not close it: its side {from} → {to} {}", if *.twice { "is run along twice in the same direction" } else { "has no face running back along it" })]
+    OpenCell {
+        /// The offending cell (0-based).
+        cell: usize,
+        /// The side's first vertex (0-based).
+        from: u32,
+        /// The side's second vertex (0-based).
+        to: u32,
+        /// True when the side is run along twice the same way (else it is not run back).
+        twice: bool,
+    },
+    /// A face of a face-based mesh has too few vertices (fewer than 3 in 3D, not 2 in 2D).
+    #[error("face {face} has {count} vertices; a face of a {dim}D mesh has {}", if *.dim == 2 { "2" } else { "at least 3" })]
+    FaceSize {
+        /// The offending face (0-based).
+        face: usize,
+        /// Its number of vertices.
+        count: usize,
+        /// The mesh dimension.
+        dim: usize,
+    },
+    /// A face of a face-based mesh names a vertex or a cell outside the range given.
+    #[error("face {face}'s {what} is {index}, outside 0..{end}")]
+    FaceIndexOutOfRange {
+        /// The offending face (0-based).
+        face: usize,
+        /// What is out of range: "owner", "neighbour" or "vertex".
+        what: &'static str,
+        /// The index found (0-based).
+        index: i64,
+        /// One past the last valid index.
+        end: i64,
+    },
+    /// A boundary face of a face-based mesh (one without a neighbour) has no patch.
+    #[error("face {face} is a boundary face (no neighbour) without a patch (patch id {patch})")]
+    BoundaryFaceWithoutPatch {
+        /// The offending face (0-based).
+        face: usize,
+        /// The patch id found (negative).
+        patch: i32,
+    },
+    /// The arrays of a face-based mesh do not agree in length.
+    #[error("face-based mesh: {problem}")]
+    FaceArrays {
+        /// Which arrays disagree, and how.
+        problem: String,
+    },
+    /// A cell of a face-based mesh has no face, or faces of one side only in 2D that do not
+    /// make one loop.
+    #[error("cell {cell} of the face-based mesh: {problem}")]
+    FaceBasedCell {
+        /// The offending cell (0-based).
+        cell: usize,
+        /// What is wrong.
+        problem: String,
+    },
+    /// Uniform refinement of a mesh with cells it does not split (polygons).
+    #[error("uniform refinement splits triangles and quads; cell {cell} is a {cell_type}")]
+    RefinementCellType {
+        /// The first such cell (0-based).
+        cell: usize,
+        /// Its type.
+        cell_type: crate::geometry::CellType,
+    },
     /// The mesh has more vertices than 32-bit vertex indices can number.
     #[error("the mesh has {vertices} vertices; at most {max} are supported")]
     TooLarge {
@@ -239,4 +316,9 @@ pub enum MeshError {
         /// The largest number of vertices supported (`u32::MAX - 1`).
         max: usize,
     },
+}
+
+/// " of cell c" when the problem is one cell's.
+fn cell_note(cell: &Option<usize>) -> String {
+    cell.map(|c| format!(" of cell {c}")).unwrap_or_default()
 }

@@ -11,6 +11,8 @@ mod error;
 pub(crate) mod features;
 #[cfg(test)]
 pub(crate) mod fixtures;
+mod from_faces;
+mod polyhedra;
 /// Cell quality (public with the `internals` feature: the paper's cases measure with it).
 #[cfg(feature = "internals")]
 #[doc(hidden)]
@@ -22,11 +24,13 @@ mod topology;
 pub(crate) mod validate;
 
 pub use data::MeshData;
+pub(crate) use data::{faces_in, polyhedron_list_end};
 pub use error::MeshError;
+pub use from_faces::FaceMeshData;
 pub use quality::{inverted_cells, quality, signed_measures, Quality};
 pub(crate) use topology::{edge_key, EdgeCells, VertexCells};
 
-use crate::geometry::CellType;
+use crate::geometry::{CellGeometry, CellPoints, CellType, GeneralPoints};
 
 /// First index of the caller's vertex numbering: C passes 0, Fortran 1.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -117,6 +121,32 @@ impl Csr {
     }
 }
 
+/// The faces of a mesh's polyhedra, each a loop of vertices whose right-hand normal points out
+/// of its cell: cell `c`'s faces are `faces.get(f)` for `f` in `first[c]..first[c + 1]`. Both
+/// are empty when the mesh has no polyhedron (every other cell's faces come from its type).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub(crate) struct PolyhedronFaces {
+    first: Vec<u32>,
+    faces: Csr,
+}
+
+impl PolyhedronFaces {
+    /// The faces of cell `c` (none for a cell that is not a polyhedron).
+    pub(crate) fn of(&self, c: usize) -> impl ExactSizeIterator<Item = &[u32]> + '_ {
+        let r = if self.first.is_empty() { 0..0 } else { self.first[c] as usize..self.first[c + 1] as usize };
+        r.map(move |f| self.faces.get(f))
+    }
+    /// Reverses every face loop of cell `c`: the polyhedron in the opposite orientation.
+    fn reverse(&mut self, c: usize) {
+        if self.first.is_empty() {
+            return;
+        }
+        for f in self.first[c] as usize..self.first[c + 1] as usize {
+            self.faces.get_mut(f).reverse();
+        }
+    }
+}
+
 /// A validated mesh in 2 or 3 dimensions. Cells are stored positively oriented whatever the
 /// input orientation (a mesh given entirely in the other orientation is flipped as a whole).
 ///
@@ -135,6 +165,7 @@ pub struct Mesh {
     faces: Csr,
     face_patch: Vec<i32>,
     face_interior: Vec<bool>,
+    polyhedra: PolyhedronFaces,
 }
 
 impl Mesh {
@@ -197,7 +228,8 @@ impl Mesh {
         face_patch: Vec<i32>,
         face_interior: Vec<bool>,
     ) -> Mesh {
-        let mut m = Mesh { dim, coords, types, cells, regions, faces, face_patch, face_interior };
+        let polyhedra = PolyhedronFaces::default();
+        let mut m = Mesh { dim, coords, types, cells, regions, faces, face_patch, face_interior, polyhedra };
         // Multigrid levels keep their meshes for the solver's life: no spare capacity.
         m.coords.shrink_to_fit();
         m.types.shrink_to_fit();
@@ -243,6 +275,28 @@ impl Mesh {
     /// The types of all cells.
     pub fn cell_types(&self) -> &[CellType] {
         &self.types
+    }
+    /// The faces of cell `c` if it is a polyhedron (none otherwise), each a loop of vertices
+    /// whose right-hand normal points out of the cell.
+    pub fn polyhedron_faces(&self, c: usize) -> impl ExactSizeIterator<Item = &[u32]> + '_ {
+        self.polyhedra.of(c)
+    }
+    /// True when a cell is a polygon or a polyhedron.
+    pub(crate) fn has_general_cells(&self) -> bool {
+        self.types.iter().any(|t| t.is_general())
+    }
+    /// The corners of a general cell `c` (a polygon or a polyhedron) at positions `coords`.
+    pub(crate) fn general_points(&self, coords: &[f64], c: usize) -> GeneralPoints {
+        GeneralPoints::gather(self.cell(c), self.polyhedra.of(c), coords, self.dim)
+    }
+    /// Cell `c` at positions `coords`, whatever its type.
+    pub(crate) fn cell_geometry(&self, coords: &[f64], c: usize) -> CellGeometry {
+        let ty = self.types[c];
+        if ty.is_general() {
+            CellGeometry::General(self.general_points(coords, c))
+        } else {
+            CellGeometry::Fixed(CellPoints::gather(ty, self.cell(c), coords, self.dim))
+        }
     }
     /// Region of each cell.
     pub fn regions(&self) -> &[i32] {
@@ -301,10 +355,14 @@ impl Mesh {
 
     /// Each cell split at its edge midpoints (a triangle into four, a quad into four); patches
     /// and regions inherited. The splitting is written for 2D cells: a 3D mesh gives
-    /// [`MeshError::RefinementDimension`].
+    /// [`MeshError::RefinementDimension`], a mesh with polygons
+    /// [`MeshError::RefinementCellType`].
     pub fn refined(&self) -> Result<Mesh, MeshError> {
         if self.dim() != 2 {
             return Err(MeshError::RefinementDimension { dim: self.dim() });
+        }
+        if let Some(cell) = self.types.iter().position(|t| t.is_general()) {
+            return Err(MeshError::RefinementCellType { cell, cell_type: self.types[cell] });
         }
         Ok(refine::uniform(self))
     }

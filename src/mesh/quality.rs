@@ -2,11 +2,11 @@
 //! (docs/DESIGN.md §7).
 
 use super::Mesh;
-use crate::geometry::CellPoints;
+use crate::geometry::CellGeometry;
 
 /// Cell `c` of `mesh`'s topology at positions `coords`.
-fn points(mesh: &Mesh, coords: &[f64], c: usize) -> CellPoints {
-    CellPoints::gather(mesh.cell_type(c), mesh.cell(c), coords, mesh.dim())
+fn points(mesh: &Mesh, coords: &[f64], c: usize) -> CellGeometry {
+    mesh.cell_geometry(coords, c)
 }
 
 /// Signed area (2D) or volume (3D) of every cell of `mesh`'s topology at positions `coords`.

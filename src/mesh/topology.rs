@@ -1,7 +1,7 @@
 //! Faces and the cells beside them, boundary and interface patches, and the cells around
 //! vertices.
 
-use super::{Csr, MeshError};
+use super::{Csr, MeshError, PolyhedronFaces};
 use crate::geometry::CellType;
 use std::collections::HashMap;
 
@@ -21,29 +21,80 @@ pub(crate) fn face_key(v: &[u32]) -> [u32; 4] {
 }
 
 /// A cell and one of its local faces.
-pub(crate) type CellFace = (u32, u8);
+pub(crate) type CellFace = (u32, u32);
 
 /// Every face of the mesh with the one or two cells beside it.
 pub(crate) struct FaceCells {
-    /// Sorted by key: (key, the cells beside it; the second is `u32::MAX` on the boundary).
+    /// Faces of up to 4 vertices, sorted by key: (key, the cells beside it; the second is
+    /// `u32::MAX` on the boundary).
     pub(crate) faces: Vec<([u32; 4], [CellFace; 2])>,
+    /// Faces of more than 4 vertices (polyhedra's), sorted by their sorted vertices.
+    pub(crate) large: Vec<(Vec<u32>, [CellFace; 2])>,
+}
+
+/// The cells of a mesh being validated, for their faces.
+#[derive(Clone, Copy)]
+pub(super) struct CellsView<'a> {
+    pub(super) types: &'a [CellType],
+    pub(super) cells: &'a Csr,
+    pub(super) polyhedra: &'a PolyhedronFaces,
+}
+
+impl CellsView<'_> {
+    /// The number of faces of cell `c`.
+    fn num_faces(&self, c: usize) -> usize {
+        match self.types[c] {
+            CellType::Polygon => self.cells.get(c).len(),
+            CellType::Polyhedron => self.polyhedra.of(c).len(),
+            t => t.faces().len(),
+        }
+    }
+
+    /// Face `f` of cell `c` with the cell's outward orientation.
+    fn face(&self, c: u32, f: u32) -> Vec<u32> {
+        let (c, f) = (c as usize, f as usize);
+        let t = self.cells.get(c);
+        match self.types[c] {
+            CellType::Polygon => vec![t[f], t[(f + 1) % t.len()]],
+            CellType::Polyhedron => self.polyhedra.of(c).nth(f).map(|v| v.to_vec()).unwrap_or_default(),
+            ty => ty.faces()[f].iter().map(|&k| t[k as usize]).collect(),
+        }
+    }
 }
 
 /// The faces of all cells, paired: a face shared by more than two cells is an error, and so is
 /// one whose two cells run along it in the same direction (they lie on the same side: the mesh
 /// overlaps itself).
-pub(super) fn cell_faces(types: &[CellType], cells: &Csr) -> Result<FaceCells, MeshError> {
-    let listed: usize = types.iter().map(|t| t.faces().len()).sum();
-    let mut all: Vec<([u32; 4], u32, u8)> = reserved(listed, "the faces of every cell")?;
-    for (c, &ty) in types.iter().enumerate() {
-        let t = cells.get(c);
-        for (f, local) in ty.faces().iter().enumerate() {
-            let v: Vec<u32> = local.iter().map(|&k| t[k as usize]).collect();
-            all.push((face_key(&v), c as u32, f as u8));
+pub(super) fn cell_faces(view: CellsView) -> Result<FaceCells, MeshError> {
+    let n = view.types.len();
+    let listed: usize = (0..n).map(|c| view.num_faces(c)).sum();
+    let mut all: Vec<([u32; 4], u32, u32)> = reserved(listed, "the faces of every cell")?;
+    let mut large: Vec<(Vec<u32>, u32, u32)> = Vec::new();
+    for c in 0..n {
+        for f in 0..view.num_faces(c) {
+            let v = view.face(c as u32, f as u32);
+            if v.len() > 4 {
+                let mut key = v;
+                key.sort_unstable();
+                large.push((key, c as u32, f as u32));
+            } else {
+                all.push((face_key(&v), c as u32, f as u32));
+            }
         }
     }
+    let faces = paired(all, view, |k| k.iter().copied().filter(|&v| v != u32::MAX).collect())?;
+    let large = paired(large, view, |k| k.clone())?;
+    Ok(FaceCells { faces, large })
+}
+
+/// Faces keyed by their vertex set, sorted and paired with the cells beside them.
+fn paired<K: Ord + Clone>(
+    mut all: Vec<(K, u32, u32)>,
+    view: CellsView,
+    listed: impl Fn(&K) -> Vec<u32>,
+) -> Result<Vec<(K, [CellFace; 2])>, MeshError> {
     all.sort_unstable();
-    let distinct = 1 + all.windows(2).filter(|w| w[0].0 != w[1].0).count();
+    let distinct = usize::from(!all.is_empty()) + all.windows(2).filter(|w| w[0].0 != w[1].0).count();
     let mut faces = reserved(distinct, "the faces of the mesh")?;
     let mut i = 0;
     while i < all.len() {
@@ -51,23 +102,22 @@ pub(super) fn cell_faces(types: &[CellType], cells: &Csr) -> Result<FaceCells, M
         while j < all.len() && all[j].0 == all[i].0 {
             j += 1;
         }
-        let key = all[i].0;
-        let listed: Vec<u32> = key.iter().copied().filter(|&v| v != u32::MAX).collect();
         if j - i > 2 {
-            return Err(MeshError::NonManifoldFace { face: listed, cells: j - i });
+            return Err(MeshError::NonManifoldFace { face: listed(&all[i].0), cells: j - i });
         }
         let second = if j - i == 2 { (all[i + 1].1, all[i + 1].2) } else { (u32::MAX, 0) };
         if second.0 != u32::MAX {
-            let fa = oriented_face(types, cells, all[i].1, all[i].2);
-            let fb = oriented_face(types, cells, second.0, second.1);
+            let fa = view.face(all[i].1, all[i].2);
+            let fb = view.face(second.0, second.1);
             if same_direction(&fa, &fb) {
-                return Err(MeshError::Overlap { first: all[i].1 as usize, second: second.0 as usize, face: listed });
+                let face = listed(&all[i].0);
+                return Err(MeshError::Overlap { first: all[i].1 as usize, second: second.0 as usize, face });
             }
         }
-        faces.push((key, [(all[i].1, all[i].2), second]));
+        faces.push((all[i].0.clone(), [(all[i].1, all[i].2), second]));
         i = j;
     }
-    Ok(FaceCells { faces })
+    Ok(faces)
 }
 
 /// An empty vector with room for `n` items, or `MeshError::OutOfMemory` naming `what` when the
@@ -82,12 +132,6 @@ fn reserved<T>(n: usize, what: &'static str) -> Result<Vec<T>, MeshError> {
     Ok(v)
 }
 
-/// Local face `f` of cell `c` with the cell's outward orientation.
-fn oriented_face(types: &[CellType], cells: &Csr, c: u32, f: u8) -> Vec<u32> {
-    let t = cells.get(c as usize);
-    types[c as usize].faces()[f as usize].iter().map(|&k| t[k as usize]).collect()
-}
-
 /// True when two orderings of the same vertex set run the same way round (segments: the same
 /// order; polygons: the same cyclic order).
 fn same_direction(a: &[u32], b: &[u32]) -> bool {
@@ -99,31 +143,41 @@ fn same_direction(a: &[u32], b: &[u32]) -> bool {
 }
 
 /// The patch faces: every boundary face (with its tag, or patch 0) with the outward orientation
-/// of its cell, and every tagged interior face as given, in key order.
+/// of its cell, and every tagged interior face as given, in key order (faces of up to 4
+/// vertices first).
 pub(super) fn patch_faces(
-    types: &[CellType],
-    cells: &Csr,
+    view: CellsView,
     faces: &FaceCells,
     tagged: &[(Vec<u32>, i32)],
 ) -> Result<(Csr, Vec<i32>, Vec<bool>), MeshError> {
+    // Tags of faces of up to 4 vertices by their key, of larger faces by their sorted vertices.
     let mut tags: HashMap<[u32; 4], (usize, i32)> = HashMap::with_capacity(tagged.len());
+    let mut large_tags: HashMap<Vec<u32>, (usize, i32)> = HashMap::new();
     for (e, (v, patch)) in tagged.iter().enumerate() {
-        let key = face_key(v);
-        if v.len() < 2 || v.len() > 4 || faces.faces.binary_search_by(|f| f.0.cmp(&key)).is_err() {
-            return Err(MeshError::TaggedFaceNotAFace { face: e, vertices: v.clone() });
-        }
-        if let Some(&(_, first)) = tags.get(&key) {
+        let earlier = if v.len() > 4 {
+            let mut key = v.clone();
+            key.sort_unstable();
+            if faces.large.binary_search_by(|f| f.0.cmp(&key)).is_err() {
+                return Err(MeshError::TaggedFaceNotAFace { face: e, vertices: v.clone() });
+            }
+            large_tags.insert(key, (e, *patch))
+        } else {
+            let key = face_key(v);
+            if v.len() < 2 || faces.faces.binary_search_by(|f| f.0.cmp(&key)).is_err() {
+                return Err(MeshError::TaggedFaceNotAFace { face: e, vertices: v.clone() });
+            }
+            tags.insert(key, (e, *patch))
+        };
+        if let Some((_, first)) = earlier {
             if first != *patch {
                 return Err(MeshError::TaggedFaceTwice { face: e, vertices: v.clone(), first, second: *patch });
             }
         }
-        tags.insert(key, (e, *patch));
     }
     let (mut out, mut patch, mut interior) = (Csr::new(), Vec::new(), Vec::new());
-    for (key, [(c0, f0), (c1, _)]) in &faces.faces {
-        let tag = tags.get(key).map(|&(e, p)| (e, p));
-        if *c1 == u32::MAX {
-            out.push(&oriented_face(types, cells, *c0, *f0));
+    let mut add = |tag: Option<(usize, i32)>, [(c0, f0), (c1, _)]: [CellFace; 2]| {
+        if c1 == u32::MAX {
+            out.push(&view.face(c0, f0));
             patch.push(tag.map_or(0, |t| t.1));
             interior.push(false);
         } else if let Some((e, p)) = tag {
@@ -131,7 +185,9 @@ pub(super) fn patch_faces(
             patch.push(p);
             interior.push(true);
         }
-    }
+    };
+    faces.faces.iter().for_each(|(key, cells)| add(tags.get(key).copied(), *cells));
+    faces.large.iter().for_each(|(key, cells)| add(large_tags.get(key).copied(), *cells));
     Ok((out, patch, interior))
 }
 

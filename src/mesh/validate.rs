@@ -1,9 +1,9 @@
 //! Checks on a caller's mesh, each returning the named error of docs/DESIGN.md §2, and the
 //! construction of the validated mesh (orientation normalised, patch faces derived).
 
-use super::topology::{cell_faces, patch_faces};
-use super::{Csr, IndexBase, Mesh, MeshData, MeshError};
-use crate::geometry::{CellPoints, CellType};
+use super::topology::{cell_faces, patch_faces, CellsView};
+use super::{Csr, IndexBase, Mesh, MeshData, MeshError, PolyhedronFaces};
+use crate::geometry::{CellGeometry, CellPoints, CellType, GeneralPoints};
 
 /// Converts caller indices to 0-based vertices; on failure, the position and the raw index.
 pub(crate) fn indices<I: Copy + TryInto<i64>, const N: usize>(
@@ -62,13 +62,17 @@ pub(super) fn mesh(d: &MeshData) -> Result<Mesh, MeshError> {
         r => return Err(MeshError::RegionCount { regions: r, cells: nc }),
     };
     all_used(&cells, n)?;
+    let mut polyhedra = super::polyhedra::faces(d, &cells)?;
     let mut cells = cells;
-    orient(&d.coords, dim, &d.cell_types, &mut cells)?;
+    orient(&d.coords, dim, &d.cell_types, &mut cells, &mut polyhedra)?;
     distinct(&cells)?;
-    let faces = cell_faces(&d.cell_types, &cells)?;
+    let view = CellsView { types: &d.cell_types, cells: &cells, polyhedra: &polyhedra };
+    let faces = cell_faces(view)?;
     let tagged = tagged_faces(d, n)?;
-    let (pf, patch, interior) = patch_faces(&d.cell_types, &cells, &faces, &tagged)?;
-    Ok(Mesh::from_parts(dim, d.coords.clone(), d.cell_types.clone(), cells, regions, pf, patch, interior))
+    let (pf, patch, interior) = patch_faces(view, &faces, &tagged)?;
+    let mut mesh = Mesh::from_parts(dim, d.coords.clone(), d.cell_types.clone(), cells, regions, pf, patch, interior);
+    mesh.polyhedra = polyhedra;
+    Ok(mesh)
 }
 
 /// The cells as CSR, every count, type and index checked.
@@ -83,7 +87,13 @@ fn cells(d: &MeshData, n: usize) -> Result<Csr, MeshError> {
         if ty.dim() != d.dim {
             return Err(MeshError::CellTypeNotInDimension { cell: c, cell_type: ty, dim: d.dim });
         }
-        if off[c + 1] < off[c] || (off[c + 1] - off[c]) as usize != ty.num_corners() {
+        let least = match ty {
+            CellType::Polygon => 3,
+            CellType::Polyhedron => 4,
+            _ => ty.num_corners(),
+        };
+        let fits = |n: usize| if ty.is_general() { n >= least } else { n == least };
+        if off[c + 1] < off[c] || !fits((off[c + 1] - off[c]) as usize) {
             return Err(MeshError::CornerCount { cell: c, cell_type: ty, count: off[c + 1] as i64 - off[c] as i64 });
         }
         let t = &d.cell_vertices[off[c] as usize..off[c + 1] as usize];
@@ -115,10 +125,24 @@ fn all_used(cells: &Csr, n: usize) -> Result<(), MeshError> {
 /// rest's (flipping cells one by one would accept a tangled mesh). The reported cell is the
 /// first one of the smaller group (the first negative one on a tie). After orienting, every
 /// corner of every cell must have a positive Jacobian (a non-convex quad is refused).
-fn orient(coords: &[f64], dim: usize, types: &[CellType], cells: &mut Csr) -> Result<(), MeshError> {
+fn orient(
+    coords: &[f64],
+    dim: usize,
+    types: &[CellType],
+    cells: &mut Csr,
+    polyhedra: &mut PolyhedronFaces,
+) -> Result<(), MeshError> {
+    let geometry = |cells: &Csr, polyhedra: &PolyhedronFaces, c: usize| {
+        let ty = types[c];
+        if ty.is_general() {
+            CellGeometry::General(GeneralPoints::gather(cells.get(c), polyhedra.of(c), coords, dim))
+        } else {
+            CellGeometry::Fixed(CellPoints::gather(ty, cells.get(c), coords, dim))
+        }
+    };
     let mut negative = Vec::with_capacity(types.len());
-    for (c, &ty) in types.iter().enumerate() {
-        let g = CellPoints::gather(ty, cells.get(c), coords, dim);
+    for c in 0..types.len() {
+        let g = geometry(cells, polyhedra, c);
         let m = g.signed_measure();
         // Relative test: the measure against the longest edge's, so the check is scale-free.
         let edge2 = g.longest_edge_squared();
@@ -145,12 +169,19 @@ fn orient(coords: &[f64], dim: usize, types: &[CellType], cells: &mut Csr) -> Re
     for (c, &ty) in types.iter().enumerate() {
         if neg > 0 {
             let cell = cells.get_mut(c);
-            let old = cell.to_vec();
-            for (k, &f) in ty.flipped().iter().enumerate() {
-                cell[k] = old[f as usize];
+            match ty {
+                // A polygon's loop runs the other way round from the same first corner.
+                CellType::Polygon => cell[1..].reverse(),
+                CellType::Polyhedron => polyhedra.reverse(c),
+                _ => {
+                    let old = cell.to_vec();
+                    for (k, &f) in ty.flipped().iter().enumerate() {
+                        cell[k] = old[f as usize];
+                    }
+                }
             }
         }
-        let g = CellPoints::gather(ty, cells.get(c), coords, dim);
+        let g = geometry(cells, polyhedra, c);
         if g.min_corner_jacobian() <= 0.0 {
             return Err(MeshError::InvertedCorner { cell: c, cell_type: ty });
         }
@@ -160,7 +191,21 @@ fn orient(coords: &[f64], dim: usize, types: &[CellType], cells: &mut Csr) -> Re
 
 /// Two cells with the same vertex set are an error (the second one names the pair).
 fn distinct(cells: &Csr) -> Result<(), MeshError> {
+    // Cells of more than 8 corners (general cells) compare among themselves.
+    let mut large: Vec<(Vec<u32>, u32)> = (0..cells.len())
+        .filter(|&c| cells.get(c).len() > 8)
+        .map(|c| {
+            let mut k = cells.get(c).to_vec();
+            k.sort_unstable();
+            (k, c as u32)
+        })
+        .collect();
+    large.sort_unstable();
+    if let Some(w) = large.windows(2).find(|w| w[0].0 == w[1].0) {
+        return Err(MeshError::RepeatedCell { first: w[0].1 as usize, second: w[1].1 as usize });
+    }
     let mut keys: Vec<([u32; 8], u32)> = (0..cells.len())
+        .filter(|&c| cells.get(c).len() <= 8)
         .map(|c| {
             let mut k = [u32::MAX; 8];
             let t = cells.get(c);

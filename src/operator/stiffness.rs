@@ -19,6 +19,10 @@ fn cell_points(mesh: &Mesh, c: usize) -> CellPoints {
 pub(crate) fn stiffness_pattern(mesh: &Mesh, dofs: &Dofs) -> CsrMatrix {
     let mut pairs: Vec<(u32, u32)> = (0..dofs.n as u32).map(|i| (i, i)).collect();
     for c in 0..mesh.num_cells() {
+        if mesh.cell_type(c).is_general() {
+            super::general::pattern(mesh, dofs, c, &mut pairs);
+            continue;
+        }
         let d = dofs.cell_dofs(mesh, c);
         for &[i, j] in mesh.cell_type(c).couplings() {
             let (a, b) = (d[i as usize], d[j as usize]);
@@ -54,6 +58,10 @@ pub(crate) fn stiffness(k: &mut CsrMatrix, mesh: &Mesh, dofs: &Dofs) {
     k.vals.iter_mut().for_each(|v| *v = 0.0);
     let mut local = [0.0; 28];
     for c in 0..mesh.num_cells() {
+        if mesh.cell_type(c).is_general() {
+            super::general::add(Some(k), None, mesh, dofs, c);
+            continue;
+        }
         let d = dofs.cell_dofs(mesh, c);
         let g = cell_points(mesh, c);
         g.stiffness(&mut local);
@@ -93,11 +101,18 @@ pub(crate) fn stiffness_and_mass(k: &mut CsrMatrix, mesh: &Mesh, dofs: &Dofs) ->
             .with_min_len(256)
             .map(|c| {
                 let (mut kl, mut ml) = ([0.0; MAX_COUPLINGS], [0.0; MAX_CORNERS]);
-                cell_points(mesh, c).stiffness_and_mass(&mut kl, &mut ml);
+                // General cells are evaluated as they are added, below.
+                if !mesh.cell_type(c).is_general() {
+                    cell_points(mesh, c).stiffness_and_mass(&mut kl, &mut ml);
+                }
                 (kl, ml)
             })
             .collect_into_vec(&mut elems);
         for (c, (kl, ml)) in cells.zip(&elems) {
+            if mesh.cell_type(c).is_general() {
+                super::general::add(Some(k), Some(&mut v), mesh, dofs, c);
+                continue;
+            }
             let d = dofs.cell_dofs(mesh, c);
             for (m, &[i, j]) in mesh.cell_type(c).couplings().iter().enumerate() {
                 let (di, dj) = (d[i as usize] as usize, d[j as usize] as usize);
@@ -124,6 +139,10 @@ pub(crate) fn spring_stiffness(k: &mut CsrMatrix, mesh: &Mesh, dofs: &Dofs) {
     k.vals.iter_mut().for_each(|v| *v = 0.0);
     let mut seen = vec![false; k.nnz()];
     for c in 0..mesh.num_cells() {
+        if mesh.cell_type(c).is_general() {
+            super::general::add_springs(k, &mut seen, mesh, dofs, c);
+            continue;
+        }
         let d = dofs.cell_dofs(mesh, c);
         let g = cell_points(mesh, c);
         for &[i, j] in g.ty.edges() {
@@ -148,6 +167,10 @@ pub(crate) fn lumped_mass(mesh: &Mesh, dofs: &Dofs) -> Vec<f64> {
     let mut v = vec![0.0; dofs.n];
     let mut local = [0.0; crate::geometry::MAX_CORNERS];
     for c in 0..mesh.num_cells() {
+        if mesh.cell_type(c).is_general() {
+            super::general::add(None, Some(&mut v), mesh, dofs, c);
+            continue;
+        }
         let d = dofs.cell_dofs(mesh, c);
         cell_points(mesh, c).lumped_mass(&mut local);
         for (k, &i) in d.iter().enumerate() {

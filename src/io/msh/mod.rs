@@ -87,6 +87,11 @@ pub fn write_msh22(mesh: &Mesh, path: &Path) -> Result<(), IoError> {
 /// [`read_msh_data`] gives the same `MeshData` bit for bit when every vertex is a cell's.
 pub fn write_msh22_data(data: &MeshData, path: &Path) -> Result<(), IoError> {
     check_data(data, "write_msh22")?;
+    // Gmsh's elements have fixed node counts: no polygon or polyhedron.
+    if let Some(c) = data.cell_types.iter().position(|t| t.is_general()) {
+        let t = data.cell_types[c];
+        return Err(IoError::InvalidArgument(format!("write_msh22: cell {c} is a {t}, which Gmsh has no element for")));
+    }
     let dim = data.dim;
     let (n, m) = (data.num_vertices(), data.num_cells());
     let mut s = String::with_capacity(64 * (n + m));

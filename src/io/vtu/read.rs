@@ -278,7 +278,8 @@ pub fn parse_vtu(bytes: &[u8]) -> Result<VtuData, IoError> {
     let mut field_data: Vec<(String, Vec<f64>)> = Vec::new();
     let mut region_array = None;
     for a in &arrays {
-        let cell_array = matches!(a.name.as_deref(), Some("connectivity" | "offsets" | "types"));
+        let cell_array =
+            matches!(a.name.as_deref(), Some("connectivity" | "offsets" | "types" | "faces" | "faceoffsets"));
         match a.section {
             Section::None => continue,
             Section::Cells if !cell_array => continue,
@@ -427,6 +428,8 @@ fn split_faces(
     let dim = out.mesh.dim;
     let all = std::mem::replace(&mut out.mesh, MeshData::new(dim));
     let mesh = &mut out.mesh;
+    // Polyhedra are 3D, so cells of a 3D mesh: their face lists stay in cell order.
+    mesh.polyhedron_faces = all.polyhedron_faces.clone();
     let regions = region.or_else(|| ids.clone());
     let mut cells = 0;
     for (c, &(kind, ty)) in kinds.iter().enumerate() {
@@ -503,16 +506,24 @@ fn build_cells(
     for (c, (&t, &o)) in types.iter().zip(offsets).enumerate() {
         let ty = Some(t).filter(|t| t.fract() == 0.0).map(|t| t as i64);
         // (dimension, corners, cell type): VTK's vertex and line, then the cell types.
+        // A polygon's or polyhedron's corners are as many as its offsets give (at least 3, 4).
+        let general = |ty: CellType, least: usize| {
+            let given = o - prev as f64;
+            let n = if given >= least as f64 && given.fract() == 0.0 { given as usize } else { least };
+            (ty.dim(), n, Some(ty))
+        };
         let shape = match ty {
             Some(1) => Some((0, 1, None)),
             Some(3) => Some((1, 2, None)),
+            Some(7) => Some(general(CellType::Polygon, 3)),
+            Some(42) => Some(general(CellType::Polyhedron, 4)),
             Some(t) => CellType::from_vtk(t).map(|ty| (ty.dim(), ty.num_corners(), Some(ty))),
             None => None,
         };
         let (_, corners, ty) = shape.ok_or_else(|| {
             IoError::Unsupported(format!(
                 "cell {c} has VTK cell type {t}; the types read are vertex (1), line (3), triangle (5), \
-                 quad (9), tetra (10), hexahedron (12), wedge (13) and pyramid (14)"
+                 polygon (7), quad (9), tetra (10), hexahedron (12), wedge (13), pyramid (14) and polyhedron (42)"
             ))
         })?;
         shapes.push(shape.expect("checked above"));
@@ -554,6 +565,7 @@ fn build_cells(
         mesh.cell_vertices.push(v as u32);
     }
     mesh.dim = if shapes.iter().any(|s| s.0 == 3) { 3 } else { 2 };
+    polyhedra(mesh, arrays, &shapes, n, ctx, end)?;
     let kinds = shapes
         .iter()
         .map(|&(d, _, ty)| {
@@ -566,6 +578,62 @@ fn build_cells(
         })
         .collect();
     Ok(kinds)
+}
+
+/// The polyhedra's face lists from the arrays `faces` (each polyhedron's number of faces, then
+/// each face's vertex count and vertices) and `faceoffsets` (where each cell's list ends, −1
+/// for a cell that is not a polyhedron) into `mesh.polyhedron_faces`, checked.
+fn polyhedra(
+    mesh: &mut MeshData,
+    arrays: &[(String, Vec<f64>, usize)],
+    shapes: &[(usize, usize, Option<CellType>)],
+    n: usize,
+    ctx: &Ctx,
+    end: usize,
+) -> Result<(), IoError> {
+    let get = |name: &str| arrays.iter().find(|(k, _, _)| k == name).map(|(_, v, at)| (v, *at));
+    let any = shapes.iter().any(|s| s.2 == Some(CellType::Polyhedron));
+    let (Some((faces, faces_at)), Some((ends, ends_at))) = (get("faces"), get("faceoffsets")) else {
+        if any {
+            return Err(
+                ctx.err(end, "<Cells> has polyhedra (type 42) but no DataArray `faces` or `faceoffsets`".into())
+            );
+        }
+        return Ok(());
+    };
+    if ends.len() != shapes.len() {
+        let msg = format!("DataArray `faceoffsets` in <Cells>: expected {} values, found {}", shapes.len(), ends.len());
+        return Err(ctx.err(ends_at, msg));
+    }
+    let mut at = 0usize;
+    for (c, s) in shapes.iter().enumerate() {
+        if s.2 != Some(CellType::Polyhedron) {
+            continue;
+        }
+        let e = ends[c];
+        if !(e.fract() == 0.0 && e >= at as f64 && e <= faces.len() as f64) {
+            let msg = format!("DataArray `faceoffsets` in <Cells>: cell {c}'s list ends at {e}, after {at}");
+            return Err(ctx.err(ends_at, msg));
+        }
+        let list = &faces[at..e as usize];
+        if let Some(v) = list.iter().find(|&&v| !(v >= 0.0 && v.fract() == 0.0 && v < u32::MAX as f64)) {
+            return Err(ctx.err(faces_at, format!("DataArray `faces` in <Cells>: cell {c}'s list holds {v}")));
+        }
+        let list: Vec<u32> = list.iter().map(|&v| v as u32).collect();
+        match crate::mesh::polyhedron_list_end(&list, 0, n) {
+            Ok(e) if e == list.len() => {}
+            Ok(_) => {
+                return Err(ctx.err(faces_at, format!("DataArray `faces` in <Cells>: cell {c}'s list is too long")))
+            }
+            Err(p) => return Err(ctx.err(faces_at, format!("DataArray `faces` in <Cells>: cell {c}: {p}"))),
+        }
+        mesh.polyhedron_faces.extend(list);
+        at = e as usize;
+    }
+    if at != faces.len() {
+        return Err(ctx.err(faces_at, "DataArray `faces` in <Cells>: values follow the last polyhedron's list".into()));
+    }
+    Ok(())
 }
 
 /// Values of a DataArray as f64 (exact for every integer type up to 2^53).

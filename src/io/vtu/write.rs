@@ -2,8 +2,9 @@
 //! ASCII with shortest round-trip floats; every encoding reads back to the same bits.
 
 use super::{CellField, PointField};
-use crate::geometry::CellPoints;
+use crate::geometry::{CellGeometry, CellPoints, GeneralPoints};
 use crate::io::{check_data, io_err, IoError};
+use crate::mesh::faces_in;
 use crate::mesh::{Mesh, MeshData};
 use std::fmt::Write as _;
 use std::io::Write as _;
@@ -92,7 +93,8 @@ fn vtu_bytes(
     let face_vtk = |f: usize| match (mesh.dim, mesh.face(f).len()) {
         (2, _) => 3u8,
         (_, 3) => 5,
-        _ => 9,
+        (_, 4) => 9,
+        _ => 7,
     };
     let mut w = Writer::new(encoding, 80 * n + 40 * m);
     w.xml.push_str("<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\"");
@@ -137,6 +139,16 @@ fn vtu_bytes(
     w.array(Some("offsets"), 1, Values::I64(&cell_ends.chain(face_ends).collect::<Vec<_>>()));
     let types: Vec<u8> = mesh.cell_types.iter().map(|t| t.vtk_id()).chain((0..nf).map(face_vtk)).collect();
     w.array(Some("types"), 1, Values::U8(&types));
+    if !mesh.polyhedron_faces.is_empty() {
+        // VTK's polyhedra: every polyhedron's face list, one after another, in `faces`, and
+        // where each cell's list ends in `faceoffsets` (−1 for a cell that is not a polyhedron).
+        let spans = mesh.polyhedron_spans(n).map_err(|p| IoError::InvalidArgument(format!("write_vtu: {p}")))?;
+        let ends: Vec<i64> =
+            spans.iter().map(|s| s.as_ref().map_or(-1, |r| r.end as i64)).chain((0..nf).map(|_| -1)).collect();
+        let faces: Vec<i64> = mesh.polyhedron_faces.iter().map(|&v| i64::from(v)).collect();
+        w.array(Some("faces"), 1, Values::I64(&faces));
+        w.array(Some("faceoffsets"), 1, Values::I64(&ends));
+    }
     w.xml.push_str("</Cells>\n</Piece>\n</UnstructuredGrid>\n");
     Ok(w.finish())
 }
@@ -309,6 +321,8 @@ pub fn write_deformed_as(
     let moved_coords: Vec<f64> = data.coords.iter().zip(displacement).map(|(x, d)| x + d).collect();
     let moved = MeshData { coords: moved_coords, ..data.clone() };
     let m = data.num_cells();
+    let spans = data.polyhedron_spans(n).map_err(|p| IoError::InvalidArgument(format!("write_deformed: {p}")))?;
+    let cell_points = |d: &MeshData, c: usize| cell_geometry(d, &spans, c);
     let (mut ratio, mut inverted, mut min_angle) =
         (Vec::with_capacity(m), Vec::with_capacity(m), Vec::with_capacity(m));
     for c in 0..m {
@@ -342,4 +356,14 @@ pub(crate) fn signed_measure(d: &MeshData, c: usize) -> f64 {
 
 fn cell_points(d: &MeshData, c: usize) -> CellPoints {
     CellPoints::gather(d.cell_types[c], d.cell(c), &d.coords, d.dim)
+}
+
+/// Cell `c` of `d` of any type; `spans` are `d`'s polyhedron spans.
+fn cell_geometry(d: &MeshData, spans: &[Option<std::ops::Range<usize>>], c: usize) -> CellGeometry {
+    if d.cell_types[c].is_general() {
+        let list = spans[c].clone().map_or(&[][..], |r| &d.polyhedron_faces[r]);
+        CellGeometry::General(GeneralPoints::gather(d.cell(c), faces_in(list), &d.coords, d.dim))
+    } else {
+        CellGeometry::Fixed(cell_points(d, c))
+    }
 }

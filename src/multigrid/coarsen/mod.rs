@@ -186,6 +186,13 @@ pub(crate) fn coarsen(fine: &Mesh, links: &[[u32; 2]], params: &CoarsenParams) -
     if let Some(l) = links.iter().find(|l| l.iter().any(|&v| v as usize >= nv)) {
         return Err(Error::Coarsening(format!("link [{}, {}] names a vertex beyond {}", l[0], l[1], nv)));
     }
+    if fine.has_general_cells() {
+        return Err(Error::Coarsening(
+            "coarse meshes are made from triangles and quads; a mesh with polygons uses kept unknowns (coarse levels \
+             `auto` or least squares)"
+                .into(),
+        ));
+    }
     if nv < params.min_vertices || (nv as f64) < params.min_ratio * params.min_vertices as f64 {
         return Ok(None);
     }
