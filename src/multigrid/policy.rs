@@ -116,7 +116,7 @@ impl CycleParams {
 pub(crate) fn degrees(h: &Hierarchy, p: &SolveParams) -> (usize, usize) {
     let (fine, coarse) = match (h.method, h.has_kept_levels()) {
         (Method::Biharmonic, false) => (6, 4),
-        (Method::Biharmonic, true) if h.has_lines() => (8, 16),
+        (Method::Biharmonic, true) if h.has_lines() => (10, 16),
         (Method::Biharmonic, true) => (8, 8),
         _ => (3, 2),
     };

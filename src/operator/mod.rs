@@ -2,6 +2,7 @@
 //! V, and per method the operator A, its right-hand side and its l1 Jacobi bound.
 
 mod fused;
+mod galerkin_biharmonic;
 mod level;
 mod stiffness;
 
