@@ -34,7 +34,12 @@ fn main() {
     let motion = motion(&v, m);
     let t = Instant::now();
     let mut solver = Solver::new(&v.mesh, &bcs, Options { method, ..Default::default() }).expect("a solver");
-    println!("{kind} {size} {method:?} {}: {} vertices, setup {:.2} s", m.name(), v.mesh.num_vertices(), t.elapsed().as_secs_f64());
+    println!(
+        "{kind} {size} {method:?} {}: {} vertices, setup {:.2} s",
+        m.name(),
+        v.mesh.num_vertices(),
+        t.elapsed().as_secs_f64()
+    );
     print!("{}", solver.describe());
     let mut its = Vec::new();
     for i in 0..steps {

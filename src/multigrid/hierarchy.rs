@@ -103,9 +103,13 @@ fn kept_level(fine: &Level, c: CoarseUnknowns, bcs: &BoundaryConditions, t: &mut
 }
 
 /// The operator of a level of kept unknowns below `fine` with the interpolation `prolong`:
-/// Galerkin K_c and V_c, and for the biharmonic below wall layers (a finer level with lines, or
-/// one already assembled) A_c = Pᵀ A P assembled (`LevelOperator::galerkin_assembled`), where
-/// every component holds S free at the same unknowns (else K_c V_c⁻¹ K_c).
+/// Galerkin K_c and V_c, and for the biharmonic below wall layers A_c = Pᵀ A P assembled
+/// (`LevelOperator::galerkin_assembled`) when `fine` is itself a level of kept unknowns with
+/// lines, or already assembled, and every component holds S free at the same unknowns; else
+/// K_c V_c⁻¹ K_c. The first kept level keeps K_c V_c⁻¹ K_c: with linear interpolation the
+/// product of the fourth-order operator is stiffer there than the operator itself on coarse
+/// functions, while below it the product's faithfulness across the coarsened layers wins
+/// (docs/DESIGN.md §5, "Wall layers").
 fn coarse_operator(fine: &Level, prolong: &CsrMatrix) -> LevelOperator {
     let restrict = prolong.transpose();
     let layered = fine.op.is_assembled() || (fine.mesh.is_none() && !fine.lines.is_empty());
@@ -458,7 +462,7 @@ impl Hierarchy {
                     let (p, op) = (&*down.prolong, &mut coarse.op);
                     timed(&mut t.galerkin, || match same {
                         true => op.update_galerkin(&fine.op, p, &p.transpose()),
-                        false => *op = LevelOperator::galerkin(&fine.op, p, &p.transpose()),
+                        false => *op = op.galerkin_again(&fine.op, p, &p.transpose()),
                     });
                     k_pattern_changed = !same;
                 }

@@ -57,8 +57,73 @@ impl LevelOperator {
         op
     }
 
+    /// This coarse operator made again from `fine` with a new interpolation (new patterns):
+    /// `galerkin`, or `galerkin_assembled` with the same S flags when it is assembled.
+    pub fn galerkin_again(&self, fine: &LevelOperator, prolong: &CsrMatrix, restrict: &CsrMatrix) -> Self {
+        match &self.assembled {
+            Some(a) => LevelOperator::galerkin_assembled(fine, a.s_free.clone(), prolong, restrict),
+            None => LevelOperator::galerkin(fine, prolong, restrict),
+        }
+    }
+
     /// Whether the level's biharmonic is the assembled Galerkin product.
     pub fn is_assembled(&self) -> bool {
         self.assembled.is_some()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bc::{Dofs, Z};
+    use crate::mesh::fixtures::rect;
+    use crate::operator::Method;
+
+    /// An interpolation from every other unknown: kept unknowns take themselves, the others
+    /// the mean of two kept ones (any weights serve the identity checked below).
+    fn prolong(n: usize) -> CsrMatrix {
+        let nc = n.div_ceil(2);
+        let t = (0..n as u32)
+            .flat_map(|i| match i % 2 {
+                0 => vec![(i, i / 2, 1.0)],
+                _ => vec![(i, i / 2, 0.5), (i, ((i / 2 + 1) as usize).min(nc - 1) as u32, 0.5)],
+            })
+            .collect();
+        CsrMatrix::from_triplets(n, nc, t)
+    }
+
+    /// xᵀ A y for the operator `op` with `flags` (no P unknowns here).
+    fn energy(op: &LevelOperator, flags: &[u8], x: &[f64], y: &[f64]) -> f64 {
+        let (mut ay, mut s) = (vec![0.0; y.len()], vec![0.0; y.len()]);
+        op.apply(flags, y, &mut ay, &mut s);
+        x.iter().zip(&ay).map(|(a, b)| a * b).sum()
+    }
+
+    /// Two levels down, the assembled operator is the fine biharmonic's energy on the
+    /// interpolated vectors: x_cᵀ A_c y_c = (P x_c)ᵀ A (P y_c), the Z unknowns' S held at zero.
+    #[test]
+    fn assembled_levels_are_the_fine_energy_of_interpolated_vectors() {
+        let mesh = rect(6, 5, [0.0, 1.0, 0.0, 0.02]);
+        let dofs = Dofs::build(&mesh, &[], &[]);
+        let fine = LevelOperator::new(Method::Biharmonic, &mesh, &dofs);
+        let n = fine.n();
+        let flags: Vec<u8> = (0..n).map(|i| if i % 7 == 3 { Z } else { 0 }).collect();
+        let p1 = prolong(n);
+        let l1 = LevelOperator::galerkin_assembled(&fine, flags.iter().map(|&f| f & Z == 0).collect(), &p1, &p1.transpose());
+        let p2 = prolong(l1.n());
+        let l2 = LevelOperator::galerkin_assembled(&l1, Vec::new(), &p2, &p2.transpose());
+        assert!(l1.is_assembled() && l2.is_assembled() && l2.n() < l1.n());
+        let xc: Vec<f64> = (0..l2.n()).map(|i| ((i * 37 % 11) as f64 - 5.0) / 3.0).collect();
+        let yc: Vec<f64> = (0..l2.n()).map(|i| ((i * 13 % 7) as f64 - 3.0) / 2.0).collect();
+        let up = |v: &[f64]| {
+            let (mut a, mut b) = (vec![0.0; l1.n()], vec![0.0; n]);
+            p2.mul_vec(v, &mut a);
+            p1.mul_vec(&a, &mut b);
+            b
+        };
+        let coarse = energy(&l2, &vec![0; l2.n()], &xc, &yc);
+        let fine_e = energy(&fine, &flags, &up(&xc), &up(&yc));
+        assert!(fine_e.abs() > 1.0, "{fine_e}");
+        assert!((coarse - fine_e).abs() <= 1e-10 * fine_e.abs(), "{coarse} vs {fine_e}");
     }
 }
