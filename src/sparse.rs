@@ -5,9 +5,7 @@
 
 mod product;
 
-#[cfg(test)]
-pub use product::matmul;
-pub use product::{same_pattern, triple_product, triple_product_values};
+pub use product::{matmul, same_pattern, triple_product, triple_product_values};
 use rayon::prelude::*;
 
 /// Rows below this count are processed serially: rayon's overhead dominates on small levels.

@@ -19,7 +19,7 @@ use super::level::Transfer;
 use super::restriction::Restriction;
 use super::slip;
 use super::{coarsener_for, CoarseLevels};
-use crate::bc::{check_well_posed, component_flags, BoundaryConditions, Dofs};
+use crate::bc::{check_well_posed, component_flags, BoundaryConditions, Dofs, Z};
 use crate::mesh::quality::is_inverted;
 use crate::operator::{LevelOperator, Method};
 use crate::{Mesh, Result};
@@ -79,7 +79,7 @@ fn kept_level(fine: &Level, c: CoarseUnknowns, bcs: &BoundaryConditions, t: &mut
     let dim = fine.dim();
     let points = kept.iter().flat_map(|&d| fine_points[d as usize * dim..(d as usize + 1) * dim].iter().copied()).collect();
     let flags = fine.flags.iter().map(|f| kept.iter().map(|&d| f[d as usize]).collect()).collect();
-    let op = timed(&mut t.galerkin, || LevelOperator::galerkin(&fine.op, &transfer.prolong, &transfer.prolong.transpose()));
+    let op = timed(&mut t.galerkin, || coarse_operator(fine, &transfer.prolong));
     let layout = Distribution::new(kept.len());
     let mut level = Level {
         mesh: None,
@@ -100,6 +100,27 @@ fn kept_level(fine: &Level, c: CoarseUnknowns, bcs: &BoundaryConditions, t: &mut
     timed(&mut t.unknowns, || slip::attach(&mut level, Some(fine), bcs));
     timed(&mut t.bounds, || refresh_bounds(&mut level));
     (level, transfer)
+}
+
+/// The operator of a level of kept unknowns below `fine` with the interpolation `prolong`:
+/// Galerkin K_c and V_c, and for the biharmonic below wall layers A_c = Pᵀ A P assembled
+/// (`LevelOperator::galerkin_assembled`) when `fine` is itself a level of kept unknowns with
+/// lines, or already assembled, and every component holds S free at the same unknowns; else
+/// K_c V_c⁻¹ K_c. The first kept level keeps K_c V_c⁻¹ K_c: with linear interpolation the
+/// product of the fourth-order operator is stiffer there than the operator itself on coarse
+/// functions, while below it the product's faithfulness across the coarsened layers wins
+/// (docs/DESIGN.md §5, "Wall layers").
+fn coarse_operator(fine: &Level, prolong: &CsrMatrix) -> LevelOperator {
+    let restrict = prolong.transpose();
+    let layered = fine.op.is_assembled() || (fine.mesh.is_none() && !fine.lines.is_empty());
+    let z = |f: &Vec<u8>| f.iter().map(|&v| v & Z == 0).collect::<Vec<bool>>();
+    let s_free = fine.flags.first().map(z).filter(|s| fine.flags.iter().all(|f| z(f) == *s));
+    match s_free {
+        Some(s_free) if fine.op.method == Method::Biharmonic && layered => {
+            LevelOperator::galerkin_assembled(&fine.op, s_free, prolong, &restrict)
+        }
+        _ => LevelOperator::galerkin(&fine.op, prolong, &restrict),
+    }
 }
 
 /// The level's Jacobi diagonals and λmax estimates, after its flags and slip frames.
@@ -441,7 +462,7 @@ impl Hierarchy {
                     let (p, op) = (&*down.prolong, &mut coarse.op);
                     timed(&mut t.galerkin, || match same {
                         true => op.update_galerkin(&fine.op, p, &p.transpose()),
-                        false => *op = LevelOperator::galerkin(&fine.op, p, &p.transpose()),
+                        false => *op = op.galerkin_again(&fine.op, p, &p.transpose()),
                     });
                     k_pattern_changed = !same;
                 }

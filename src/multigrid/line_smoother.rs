@@ -221,8 +221,8 @@ impl LineBlocks {
                 Some(q) if q > p && q - p <= b => {}
                 _ => off += a.abs(),
             };
-            match op.method {
-                Method::Biharmonic => {
+            match op.one_pass() {
+                None => {
                     let (cols, vals) = k_mat.row(v as usize);
                     for (&kk, &kik) in cols.iter().zip(vals) {
                         if flags[kk as usize] & Z != 0 {
@@ -235,8 +235,8 @@ impl LineBlocks {
                         }
                     }
                 }
-                _ => {
-                    let (cols, vals) = k_mat.row(v as usize);
+                Some(a) => {
+                    let (cols, vals) = a.row(v as usize);
                     for (&j, &a) in cols.iter().zip(vals) {
                         add(j, a, row);
                     }

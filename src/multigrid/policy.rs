@@ -109,14 +109,16 @@ impl CycleParams {
 ///   smoothing pays), and with slip walls the coarse levels at the finest level's degree (the
 ///   natural tangential condition makes the rediscretised coarse operators' boundary rows a
 ///   poorer match) unless the caller chose the coarse degree;
-///   and 16 on the coarse levels of kept unknowns below thin wall layers (levels with lines,
-///   `multigrid::lines`): their Galerkin operators, many layers thick, need the stronger
-///   smoothing where the finest level's lines already serve;
+///   and 10 and 16 below thin wall layers (levels with lines, `multigrid::lines`): the coarse
+///   levels' Galerkin operators, many layers thick, need the stronger smoothing, and with the
+///   assembled Galerkin biharmonic below the first kept level (`multigrid::hierarchy`) the
+///   finest level's degree 10 is what brings the layered meshes to a fixed count of iterations
+///   (docs/perf-history.md);
 /// - the Laplacian and the spring: 3 and 2.
 pub(crate) fn degrees(h: &Hierarchy, p: &SolveParams) -> (usize, usize) {
     let (fine, coarse) = match (h.method, h.has_kept_levels()) {
         (Method::Biharmonic, false) => (6, 4),
-        (Method::Biharmonic, true) if h.has_lines() => (8, 16),
+        (Method::Biharmonic, true) if h.has_lines() => (10, 16),
         (Method::Biharmonic, true) => (8, 8),
         _ => (3, 2),
     };

@@ -7,6 +7,7 @@
 //! Vectors live on the unknowns; corrections are zero on P unknowns.
 
 use super::fused::{FusePlan, Iterate};
+use super::galerkin_biharmonic::Assembled;
 use super::{close_diagonal, lumped_mass, spring_stiffness, stiffness_and_mass, stiffness_pattern, Method};
 use crate::bc::{Dofs, P, Z};
 use crate::sparse::{par_fill, par_update, par_update2, triple_product, triple_product_values, CsrMatrix};
@@ -22,13 +23,17 @@ pub struct LevelOperator {
     pub inv_v: Vec<f64>,
     /// The biharmonic's two passes fused on a large level (`fused.rs`); None keeps them apart.
     pub(super) fuse: Option<FusePlan>,
+    /// The biharmonic's A of a coarse level assembled as the Galerkin product of the finer
+    /// level's (`galerkin_biharmonic.rs`), applied in one pass instead of K_c V_c⁻¹ K_c; None
+    /// on every other level.
+    pub(super) assembled: Option<Assembled>,
 }
 
 impl LevelOperator {
     pub fn new(method: Method, mesh: &Mesh, dofs: &Dofs) -> Self {
         let k = stiffness_pattern(mesh, dofs);
         let fuse = fuse_plan(method, &k);
-        let mut op = LevelOperator { method, k, inv_v: Vec::new(), fuse };
+        let mut op = LevelOperator { method, k, inv_v: Vec::new(), fuse, assembled: None };
         op.reassemble(mesh, dofs);
         op
     }
@@ -60,7 +65,7 @@ impl LevelOperator {
         close_diagonal(&mut k);
         let inv_v = galerkin_inv_mass(fine, restrict);
         let fuse = fuse_plan(fine.method, &k);
-        LevelOperator { method: fine.method, k, inv_v, fuse }
+        LevelOperator { method: fine.method, k, inv_v, fuse, assembled: None }
     }
 
     /// `galerkin`'s values refilled in place when K's pattern and P's are those this operator
@@ -69,6 +74,20 @@ impl LevelOperator {
         triple_product_values(restrict, &fine.k, prolong, &mut self.k);
         close_diagonal(&mut self.k);
         self.inv_v = galerkin_inv_mass(fine, restrict);
+        if let Some(a) = self.assembled.take() {
+            self.assembled = Some(Assembled::product(fine, a.s_free, prolong, restrict));
+        }
+    }
+
+    /// The matrix A is applied from in one pass: K for the Laplacian and the spring, the
+    /// assembled Galerkin A of a biharmonic coarse level; None for the biharmonic's two passes
+    /// over K.
+    pub(crate) fn one_pass(&self) -> Option<&CsrMatrix> {
+        match (&self.assembled, self.method) {
+            (Some(a), _) => Some(&a.a),
+            (None, Method::Biharmonic) => None,
+            (None, _) => Some(&self.k),
+        }
     }
 
     pub fn n(&self) -> usize {
@@ -96,23 +115,15 @@ impl LevelOperator {
         (self.k.row_dot_offset(j, x, base) - g.map_or(0.0, |g| g[j])) * self.inv_v[j]
     }
 
-    /// y = K u on unknowns without P, zero on P.
-    fn k_free_rows(&self, flags: &[u8], u: &[f64], y: &mut [f64]) {
-        let k = &self.k;
-        par_fill(y, |i| if flags[i] & P != 0 { 0.0 } else { k.row_dot(i, u) });
-    }
-
     /// y = A x. `s` is scratch of length n.
     pub fn apply(&self, flags: &[u8], x: &[f64], y: &mut [f64], s: &mut [f64]) {
-        match (self.method, &self.fuse) {
-            (Method::Biharmonic, Some(plan)) => {
-                self.fused_pass(plan, flags, Iterate::Read(x), s, y, |_, t, _| t.unwrap_or(0.0))
-            }
-            (Method::Biharmonic, None) => {
+        match (self.one_pass(), &self.fuse) {
+            (Some(a), _) => free_rows(a, flags, x, y),
+            (None, Some(plan)) => self.fused_pass(plan, flags, Iterate::Read(x), s, y, |_, t, _| t.unwrap_or(0.0)),
+            (None, None) => {
                 self.source(flags, x, None, s);
-                self.k_free_rows(flags, s, y);
+                free_rows(&self.k, flags, s, y);
             }
-            _ => self.k_free_rows(flags, x, y),
         }
     }
 
@@ -134,17 +145,14 @@ impl LevelOperator {
         out: &mut [f64],
         f: impl Fn(usize, f64, f64) -> f64 + Sync + Send,
     ) {
-        if let (Method::Biharmonic, Some(plan)) = (self.method, &self.fuse) {
-            return self.fused_pass(plan, flags, Iterate::Read(x), s, out, with_residual(b, f));
-        }
-        let u: &[f64] = match self.method {
-            Method::Biharmonic => {
+        let (k, u): (&CsrMatrix, &[f64]) = match (self.one_pass(), &self.fuse) {
+            (Some(a), _) => (a, x),
+            (None, Some(plan)) => return self.fused_pass(plan, flags, Iterate::Read(x), s, out, with_residual(b, f)),
+            (None, None) => {
                 self.source(flags, x, None, s);
-                s
+                (&self.k, s)
             }
-            _ => x,
         };
-        let k = &self.k;
         par_update(out, |i, o| {
             let r = if flags[i] & P != 0 { b[i] } else { b[i] - k.row_dot(i, u) };
             f(i, r, o)
@@ -164,7 +172,7 @@ impl LevelOperator {
         d: &mut [f64],
         f: impl Fn(usize, f64, f64) -> f64 + Sync + Send,
     ) {
-        if self.method != Method::Biharmonic {
+        if self.one_pass().is_some() {
             self.update_with_residual(flags, b, x, s, d, f);
             par_update(x, |i, x| x + d[i]);
             return;
@@ -184,21 +192,21 @@ impl LevelOperator {
     /// Right-hand side for the unknowns without P, given prescribed values `dp` (zero off P)
     /// and the optional rigid-motion flux source `g`: b = −A_{U,P} dp (+ the source's share).
     pub fn rhs(&self, flags: &[u8], dp: &[f64], g: Option<&[f64]>, b: &mut [f64], s: &mut [f64]) {
-        match self.method {
-            Method::Biharmonic => {
+        match self.one_pass() {
+            Some(a) => free_rows(a, flags, dp, b),
+            None => {
                 self.source(flags, dp, g, s);
-                self.k_free_rows(flags, s, b);
+                free_rows(&self.k, flags, s, b);
             }
-            _ => self.k_free_rows(flags, dp, b),
         }
         b.iter_mut().for_each(|b| *b = -*b);
     }
 
     /// 1/D with D the l1 (Gershgorin) row bound of docs/DESIGN.md §3, zero on P unknowns:
     /// biharmonic D_i = Σ_{k without Z} |K_ik| (Σ_j |K_kj|) / V_k  (bounds Σ_j |A_ij|, paper Eq. 8),
-    /// Laplacian and spring D_i = Σ_j |K_ij|.
+    /// Laplacian and spring D_i = Σ_j |K_ij|, an assembled Galerkin biharmonic D_i = Σ_j |A_ij|.
     pub fn inv_l1_diag(&self, flags: &[u8]) -> Vec<f64> {
-        let k = &self.k;
+        let k = self.one_pass().unwrap_or(&self.k);
         let mut rowabs = vec![0.0; self.n()];
         par_fill(&mut rowabs, |i| k.row(i).1.iter().map(|a| a.abs()).sum());
         let mut inv = vec![0.0; self.n()];
@@ -206,8 +214,8 @@ impl LevelOperator {
             if flags[i] & P != 0 {
                 return 0.0;
             }
-            let d = match self.method {
-                Method::Biharmonic => {
+            let d = match self.one_pass() {
+                None => {
                     let (c, v) = k.row(i);
                     c.iter()
                         .zip(v)
@@ -238,6 +246,11 @@ fn galerkin_inv_mass(fine: &LevelOperator, restrict: &CsrMatrix) -> Vec<f64> {
         rows.iter().zip(w).map(|(&i, &w)| w.max(0.0) * mass[i as usize]).sum()
     });
     v.iter().map(|&v| 1.0 / v).collect()
+}
+
+/// y = M u on unknowns without P, zero on P.
+fn free_rows(m: &CsrMatrix, flags: &[u8], u: &[f64], y: &mut [f64]) {
+    par_fill(y, |i| if flags[i] & P != 0 { 0.0 } else { m.row_dot(i, u) });
 }
 
 /// The fused sweep's plan for a biharmonic level large enough to gain from it.

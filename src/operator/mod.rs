@@ -3,6 +3,7 @@
 
 mod fused;
 mod general;
+mod galerkin_biharmonic;
 mod level;
 mod stiffness;
 

@@ -124,7 +124,6 @@ fn by_rows<S>(
 }
 
 /// C = A B, row by row (each row of C from one row of A). Column indices come out sorted.
-#[cfg(test)]
 pub fn matmul(a: &CsrMatrix, b: &CsrMatrix) -> CsrMatrix {
     assert_eq!(a.ncols, b.nrows, "matmul: A has {} columns, B has {} rows", a.ncols, b.nrows);
     let count = |sum: &mut RowSum, i: usize| {

@@ -1,0 +1,67 @@
+//! The biharmonic's iterations on the wall-layered meshes, with the hierarchy's levels:
+//! `cargo run --release -p meshmove-cases --example galerkin_probe -- airfoil 64 [pitch|plunge] [STEPS] [METHOD]`
+//! (kinds and sizes as in `viscous_sizes`).
+
+use meshmove::{Method, Options, Solver};
+use meshmove_cases::viscous::*;
+use std::time::Instant;
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let kind = args.first().map_or("airfoil", |s| s.as_str());
+    let size = args.get(1).map_or("64", |s| s.as_str());
+    let m = match args.get(2).map(|s| s.as_str()) {
+        Some("plunge") => BodyMotion::Plunge,
+        _ => BodyMotion::Pitch,
+    };
+    let steps: usize = args.get(3).map_or(1, |s| s.parse().expect("steps"));
+    let method = match args.get(4).map(|s| s.as_str()) {
+        Some("laplacian") => Method::Laplacian,
+        Some("spring") => Method::Spring,
+        _ => Method::Biharmonic,
+    };
+    let num = |x: &str| x.parse::<usize>().expect("a size");
+    let v = match kind {
+        "airfoil" => airfoil_2d(&AirfoilParams::new(num(size))),
+        "spheroid" => spheroid_3d(&SpheroidParams::new(num(size))),
+        _ => {
+            let (p, z) = size.split_once(':').expect("P:S");
+            wing_3d(&WingParams::new(num(p), num(z)))
+        }
+    }
+    .expect("a mesh");
+    let bcs = boundary_conditions(&v);
+    let motion = motion(&v, m);
+    let t = Instant::now();
+    let mut solver = Solver::new(&v.mesh, &bcs, Options { method, ..Default::default() }).expect("a solver");
+    println!(
+        "{kind} {size} {method:?} {}: {} vertices, setup {:.2} s",
+        m.name(),
+        v.mesh.num_vertices(),
+        t.elapsed().as_secs_f64()
+    );
+    print!("{}", solver.describe());
+    let mut its = Vec::new();
+    for i in 0..steps {
+        let t = Instant::now();
+        match solver.advance(&motion.increment(i, steps)) {
+            Ok(sol) => {
+                its.push(sol.report.cycles);
+                println!(
+                    "step {}: {} iterations, residual {:.2e}, converged {}, inverted {}, {:.2} s",
+                    i + 1,
+                    sol.report.cycles,
+                    sol.report.rel_residual,
+                    sol.report.converged,
+                    sol.quality.inverted,
+                    t.elapsed().as_secs_f64()
+                );
+            }
+            Err(e) => {
+                println!("step {}: {e}", i + 1);
+                break;
+            }
+        }
+    }
+    println!("iterations max {:?} of {:?}", its.iter().max(), its);
+}

@@ -1,0 +1,129 @@
+//! The biharmonic's coarse operator as the Galerkin product of the finer level's operator,
+//! assembled: A_c = Pᵀ A P, with A = K_{U,F} V_F⁻¹ K_{F,U} on a level with K and V (docs/DESIGN.md
+//! §3) or the finer level's own assembled A_c.
+//!
+//! The coarse levels otherwise apply K_c V_c⁻¹ K_c from their Galerkin K_c = PᵀKP and lumped V_c.
+//! Across thin wall layers coarsened several times that product drifts from the fine operator's
+//! energy on coarse functions (the lumped mass of a coarse unknown spans layers whose cells differ
+//! in volume by orders of magnitude), and the cycle needs more iterations as the mesh grows; Pᵀ A P
+//! is the fine operator's energy on the coarse functions whatever the layers, at the price of a
+//! denser coarse operator (A couples neighbours of neighbours). The hierarchy assembles it on the
+//! kept levels below wall layers only (`multigrid::hierarchy`), where the drift shows.
+
+use super::LevelOperator;
+use crate::sparse::{matmul, triple_product, CsrMatrix};
+
+/// A coarse level's assembled biharmonic and what remaking it at a new reference needs.
+#[derive(Clone)]
+pub(crate) struct Assembled {
+    /// A_c = Pᵀ A P (coarse unknowns × coarse unknowns; the P rows of the flags are applied when
+    /// it is applied, as for K).
+    pub(crate) a: CsrMatrix,
+    /// Per unknown of the finer level, whether S is free there (no Z flag); used when the finer
+    /// level has no assembled A of its own. Empty otherwise.
+    pub(crate) s_free: Vec<bool>,
+}
+
+impl Assembled {
+    /// Pᵀ A P for the finer level `fine`: from its own assembled A when it has one, else from
+    /// K_{:,F} V_F⁻¹ K_{F,:} with F the unknowns where `s_free` is set.
+    pub(crate) fn product(fine: &LevelOperator, s_free: Vec<bool>, prolong: &CsrMatrix, restrict: &CsrMatrix) -> Assembled {
+        if let Some(f) = &fine.assembled {
+            return Assembled { a: triple_product(restrict, &f.a, prolong), s_free: Vec::new() };
+        }
+        // Pᵀ K W K P = Gᵀ W G with G = K P and W = V⁻¹ on the unknowns without Z, 0 on them.
+        let g = matmul(&fine.k, prolong);
+        let n = fine.n();
+        let w = CsrMatrix {
+            nrows: n,
+            ncols: n,
+            row_ptr: (0..=n as u32).collect(),
+            cols: (0..n as u32).collect(),
+            vals: (0..n).map(|i| if s_free[i] { fine.inv_v[i] } else { 0.0 }).collect(),
+        };
+        Assembled { a: triple_product(&g.transpose(), &w, &g), s_free }
+    }
+}
+
+impl LevelOperator {
+    /// `galerkin`'s K_c and V_c, with the biharmonic's A_c = Pᵀ A P assembled and applied
+    /// instead of K_c V_c⁻¹ K_c. `s_free` as in `Assembled::product`: per unknown of the finer
+    /// level, S free there (the same for every component; the caller checks).
+    pub fn galerkin_assembled(fine: &LevelOperator, s_free: Vec<bool>, prolong: &CsrMatrix, restrict: &CsrMatrix) -> Self {
+        let mut op = LevelOperator::galerkin(fine, prolong, restrict);
+        op.assembled = Some(Assembled::product(fine, s_free, prolong, restrict));
+        // The fused sweep is the two-pass operator's; the assembled one is applied in one pass.
+        op.fuse = None;
+        op
+    }
+
+    /// This coarse operator made again from `fine` with a new interpolation (new patterns):
+    /// `galerkin`, or `galerkin_assembled` with the same S flags when it is assembled.
+    pub fn galerkin_again(&self, fine: &LevelOperator, prolong: &CsrMatrix, restrict: &CsrMatrix) -> Self {
+        match &self.assembled {
+            Some(a) => LevelOperator::galerkin_assembled(fine, a.s_free.clone(), prolong, restrict),
+            None => LevelOperator::galerkin(fine, prolong, restrict),
+        }
+    }
+
+    /// Whether the level's biharmonic is the assembled Galerkin product.
+    pub fn is_assembled(&self) -> bool {
+        self.assembled.is_some()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bc::{Dofs, Z};
+    use crate::mesh::fixtures::rect;
+    use crate::operator::Method;
+
+    /// An interpolation from every other unknown: kept unknowns take themselves, the others
+    /// the mean of two kept ones (any weights serve the identity checked below).
+    fn prolong(n: usize) -> CsrMatrix {
+        let nc = n.div_ceil(2);
+        let t = (0..n as u32)
+            .flat_map(|i| match i % 2 {
+                0 => vec![(i, i / 2, 1.0)],
+                _ => vec![(i, i / 2, 0.5), (i, ((i / 2 + 1) as usize).min(nc - 1) as u32, 0.5)],
+            })
+            .collect();
+        CsrMatrix::from_triplets(n, nc, t)
+    }
+
+    /// xᵀ A y for the operator `op` with `flags` (no P unknowns here).
+    fn energy(op: &LevelOperator, flags: &[u8], x: &[f64], y: &[f64]) -> f64 {
+        let (mut ay, mut s) = (vec![0.0; y.len()], vec![0.0; y.len()]);
+        op.apply(flags, y, &mut ay, &mut s);
+        x.iter().zip(&ay).map(|(a, b)| a * b).sum()
+    }
+
+    /// Two levels down, the assembled operator is the fine biharmonic's energy on the
+    /// interpolated vectors: x_cᵀ A_c y_c = (P x_c)ᵀ A (P y_c), the Z unknowns' S held at zero.
+    #[test]
+    fn assembled_levels_are_the_fine_energy_of_interpolated_vectors() {
+        let mesh = rect(6, 5, [0.0, 1.0, 0.0, 0.02]);
+        let dofs = Dofs::build(&mesh, &[], &[]);
+        let fine = LevelOperator::new(Method::Biharmonic, &mesh, &dofs);
+        let n = fine.n();
+        let flags: Vec<u8> = (0..n).map(|i| if i % 7 == 3 { Z } else { 0 }).collect();
+        let p1 = prolong(n);
+        let l1 = LevelOperator::galerkin_assembled(&fine, flags.iter().map(|&f| f & Z == 0).collect(), &p1, &p1.transpose());
+        let p2 = prolong(l1.n());
+        let l2 = LevelOperator::galerkin_assembled(&l1, Vec::new(), &p2, &p2.transpose());
+        assert!(l1.is_assembled() && l2.is_assembled() && l2.n() < l1.n());
+        let xc: Vec<f64> = (0..l2.n()).map(|i| ((i * 37 % 11) as f64 - 5.0) / 3.0).collect();
+        let yc: Vec<f64> = (0..l2.n()).map(|i| ((i * 13 % 7) as f64 - 3.0) / 2.0).collect();
+        let up = |v: &[f64]| {
+            let (mut a, mut b) = (vec![0.0; l1.n()], vec![0.0; n]);
+            p2.mul_vec(v, &mut a);
+            p1.mul_vec(&a, &mut b);
+            b
+        };
+        let coarse = energy(&l2, &vec![0; l2.n()], &xc, &yc);
+        let fine_e = energy(&fine, &flags, &up(&xc), &up(&yc));
+        assert!(fine_e.abs() > 1.0, "{fine_e}");
+        assert!((coarse - fine_e).abs() <= 1e-10 * fine_e.abs(), "{coarse} vs {fine_e}");
+    }
+}
