@@ -69,6 +69,7 @@ impl RowSum {
     }
 
     /// Row i of A B.
+    #[cfg(test)]
     fn product_row(&mut self, a: &CsrMatrix, b: &CsrMatrix, i: usize, cols: &mut Vec<u32>, vals: &mut Vec<f64>) {
         let (ac, av) = a.row(i);
         for (&k, &x) in ac.iter().zip(av) {
@@ -135,30 +136,34 @@ pub fn matmul(a: &CsrMatrix, b: &CsrMatrix) -> CsrMatrix {
 }
 
 /// R K P, bitwise `matmul(r, &matmul(k, p))` but without holding K P (the largest matrix of a
-/// Galerkin hierarchy): each of its rows is recomputed where R uses it.
+/// Galerkin hierarchy): its rows are formed where R uses them and kept a while (`KpRows`), so a
+/// row used by several neighbouring rows of R is mostly formed once.
 pub fn triple_product(r: &CsrMatrix, k: &CsrMatrix, p: &CsrMatrix) -> CsrMatrix {
     assert_eq!(r.ncols, k.nrows, "triple_product: R has {} columns, K has {} rows", r.ncols, k.nrows);
     assert_eq!(k.ncols, p.nrows, "triple_product: K has {} columns, P has {} rows", k.ncols, p.nrows);
-    let init = || (RowSum::new(p.ncols), RowSum::new(p.ncols), Vec::new(), Vec::new());
-    let count = |(outer, ..): &mut (RowSum, RowSum, Vec<u32>, Vec<f64>), j: usize| {
+    let init = || (KpRows::new(k.nrows, p.ncols), RowSum::new(p.ncols));
+    let count = |(kp, outer): &mut (KpRows, RowSum), j: usize| {
         for &i in r.row(j).0 {
-            k.row(i as usize).0.iter().for_each(|&l| outer.add_pattern(p.row(l as usize).0));
+            let e = kp.form(k, p, i as usize);
+            outer.add_pattern(&kp.cols[e]);
         }
+        kp.bound();
         outer.take_count()
     };
-    by_rows(r.nrows, p.ncols, init, count, |(outer, inner, kp_c, kp_v), j, c, v| {
+    by_rows(r.nrows, p.ncols, init, count, |(kp, outer), j, c, v| {
         let (rc, rv) = r.row(j);
         for (&i, &x) in rc.iter().zip(rv) {
-            inner.product_row(k, p, i as usize, kp_c, kp_v);
-            outer.add(x, (kp_c, kp_v));
+            let e = kp.form(k, p, i as usize);
+            outer.add(x, (&kp.cols[e.clone()], &kp.vals[e]));
         }
+        kp.bound();
         outer.finish(c, v);
     })
 }
 
-/// Rows of K P for one block of rows of R K P, each formed once however many rows of R use it
-/// (a fine row is used by every coarse unknown it interpolates from): `at[i]` is the position
-/// of K P's row i in `ptr` (`NOT_FORMED` for rows the block has not formed).
+/// Rows of K P formed for neighbouring rows of R K P, each once however many of them use it (a
+/// fine row is used by every coarse unknown it interpolates from) until they are forgotten:
+/// `at[i]` is the position of K P's row i in `ptr` (`NOT_FORMED` for rows not formed).
 struct KpRows {
     at: Vec<u32>,
     formed: Vec<u32>,
@@ -172,6 +177,9 @@ struct KpRows {
 }
 
 const NOT_FORMED: u32 = u32::MAX;
+
+/// Most entries of K P a task keeps formed (a few megabytes).
+const KP_KEPT: usize = 1 << 18;
 
 impl KpRows {
     fn new(k_rows: usize, p_cols: usize) -> Self {
@@ -214,7 +222,15 @@ impl KpRows {
         self.ptr[f]..self.ptr[f + 1]
     }
 
-    /// Forgets the block's rows.
+    /// Forgets the rows formed when they hold more than `KP_KEPT` entries (the rows are formed
+    /// the same whenever they are, so when they are forgotten changes no value).
+    fn bound(&mut self) {
+        if self.cols.len() > KP_KEPT {
+            self.clear();
+        }
+    }
+
+    /// Forgets the rows formed.
     fn clear(&mut self) {
         self.formed.iter().for_each(|&i| self.at[i as usize] = NOT_FORMED);
         self.formed.clear();
@@ -261,6 +277,7 @@ pub fn triple_product_values(r: &CsrMatrix, k: &CsrMatrix, p: &CsrMatrix, c: &mu
                     row[kp.pos[m as usize] as usize] += x * y;
                 }
             }
+            kp.bound();
         }
         kp.clear();
     });
