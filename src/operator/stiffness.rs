@@ -1,8 +1,9 @@
 //! Assembly of K (the stiffness ∫∇φ_i·∇φ_j, or spring weights) and the lumped mass V on the
 //! unknowns, from the element kernels of `geometry`.
 //!
-//! The pattern is built once per level; re-evaluating on a moved mesh only refills its values,
-//! serially in cell order, so sums never depend on thread count.
+//! The pattern is built once per level; re-evaluating on a moved mesh only refills its values.
+//! Every entry sums its cells' contributions in cell order (serially on one thread, row by row
+//! on more), so sums never depend on thread count.
 
 use crate::bc::Dofs;
 use crate::geometry::{dist2, CellPoints};
@@ -285,6 +286,25 @@ mod tests {
         d.push_cell(CellType::Tetra, &[0, 4, 3, 11], 4);
         d.push_face(&[0, 3, 2, 1], 1);
         Mesh::from_data(&d).unwrap()
+    }
+
+    /// Over several chunks of cells, the row-by-row adding of several threads is bitwise the
+    /// serial loop of one thread.
+    #[test]
+    fn rows_added_in_parallel_are_the_serial_sums_bitwise() {
+        let mesh = crate::mesh::fixtures::rect(130, 130, [0.0, 1.0, 0.0, 0.7]);
+        assert!(mesh.num_cells() > 2 * ASSEMBLY_CHUNK);
+        let dofs = Dofs::build(&mesh, &[], &[]);
+        let run = |threads: usize| {
+            let mut k = stiffness_pattern(&mesh, &dofs);
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            let v = pool.install(|| stiffness_and_mass(&mut k, &mesh, &dofs));
+            (k.vals, v)
+        };
+        let ((k1, v1), (k3, v3)) = (run(1), run(3));
+        let same = |a: &[f64], b: &[f64]| a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits());
+        assert!(same(&k1, &k3) && same(&v1, &v3));
+        assert!(v1.iter().all(|v| *v > 0.0) && k1.iter().any(|v| *v < 0.0));
     }
 
     /// The one-pass parallel assembly is bitwise the separate stiffness and lumped mass, from
