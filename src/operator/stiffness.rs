@@ -2,8 +2,8 @@
 //! unknowns, from the element kernels of `geometry`.
 //!
 //! The pattern is built once per level; re-evaluating on a moved mesh only refills its values.
-//! Every entry sums its cells' contributions in cell order (serially on one thread, row by row
-//! on more), so sums never depend on thread count.
+//! Every entry sums its cells' contributions in cell order (serially on one or two threads, row
+//! by row beyond), so sums never depend on thread count.
 
 use crate::bc::Dofs;
 use crate::geometry::{dist2, CellPoints};
@@ -80,13 +80,15 @@ const MAX_COUPLINGS: usize = 28;
 /// `stiffness` and `lumped_mass` in one pass, bitwise both: each chunk of cells has its element
 /// matrices evaluated in parallel (a cell's stiffness and mass share its quadrature points), then
 /// added into K and V in cell order, as `stiffness` and `lumped_mass` add them: serially on one
-/// thread, row by row in parallel on more (`add_by_rows`), with the same sums either way.
+/// or two threads, row by row in parallel on more (`add_by_rows`), with the same sums either way.
 pub(crate) fn stiffness_and_mass(k: &mut CsrMatrix, mesh: &Mesh, dofs: &Dofs) -> Vec<f64> {
     use rayon::prelude::*;
     use crate::geometry::MAX_CORNERS;
     k.vals.iter_mut().for_each(|v| *v = 0.0);
     let mut v = vec![0.0; dofs.n];
-    let by_rows = (rayon::current_num_threads() > 1).then(|| RowCells::new(mesh, dofs));
+    // A row visits every cell around it and picks its couplings out of the cell's: more index
+    // work than the serial loop's, which pays back only beyond two threads (profiled).
+    let by_rows = (rayon::current_num_threads() > 2).then(|| RowCells::new(mesh, dofs));
     let mut elems = Vec::new();
     for start in (0..mesh.num_cells()).step_by(ASSEMBLY_CHUNK) {
         let cells = start..(start + ASSEMBLY_CHUNK).min(mesh.num_cells());
