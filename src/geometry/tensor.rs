@@ -212,34 +212,54 @@ pub(super) fn volume_by_faces(ty: CellType, p: &[[f64; 3]]) -> f64 {
 /// angles can all be fine, has a dihedral angle near 0 (or 180°).
 pub(super) fn min_dihedral_deg(ty: CellType, p: &[[f64; 3]]) -> f64 {
     let mut min = 180.0f64;
-    for &[a, b] in ty.edges() {
+    for (&[a, b], off) in ty.edges().iter().zip(edge_face_corners(ty)) {
         let (pa, pb) = (&p[a as usize], &p[b as usize]);
         let e = sub(pb, pa);
         let ee = dot3(&e, &e);
-        let mut dirs = [[0.0; 3]; 2];
-        let mut found = 0;
-        for f in ty.faces() {
-            let n = f.len();
-            for k in 0..n {
-                let (u, v) = (f[k], f[(k + 1) % n]);
-                if (u, v) != (a, b) && (u, v) != (b, a) {
-                    continue;
-                }
-                // The face's corner after the edge: a vertex of the face off the edge, beside it.
-                let off = f[(k + 2) % n];
-                if found < 2 {
-                    let w = sub(&p[off as usize], pa);
-                    let t = dot3(&w, &e) / ee;
-                    dirs[found] = [w[0] - t * e[0], w[1] - t * e[1], w[2] - t * e[2]];
-                    found += 1;
-                }
-            }
-        }
+        let dirs = off.map(|o| {
+            let w = sub(&p[o as usize], pa);
+            let t = dot3(&w, &e) / ee;
+            [w[0] - t * e[0], w[1] - t * e[1], w[2] - t * e[2]]
+        });
         let (u, v) = (&dirs[0], &dirs[1]);
         let s = cross(u, v);
         min = min.min(dot3(&s, &s).sqrt().atan2(dot3(u, v)).to_degrees());
     }
     min
+}
+
+/// Per edge of `ty` (in `edges` order), the corners of its two faces after it: the faces'
+/// corners off the edge, beside it, which `min_dihedral_deg` measures the faces by. Worked out
+/// once per cell type (the search over the faces cost more than the angles).
+fn edge_face_corners(ty: CellType) -> &'static [[u8; 2]] {
+    static TABLES: std::sync::OnceLock<Vec<Vec<[u8; 2]>>> = std::sync::OnceLock::new();
+    let tables = TABLES.get_or_init(|| CellType::ALL.iter().map(|&t| search_edge_face_corners(t)).collect());
+    let at = CellType::ALL.iter().position(|&t| t == ty).unwrap_or(0);
+    &tables[at]
+}
+
+/// `edge_face_corners` by a search of the faces: for each edge, the corner after it in the
+/// first two faces that hold it (the edge's first corner where a face is missing).
+fn search_edge_face_corners(ty: CellType) -> Vec<[u8; 2]> {
+    let faces = if ty.dim() == 3 { ty.faces() } else { &[] };
+    ty.edges()
+        .iter()
+        .map(|&[a, b]| {
+            let mut off = [a; 2];
+            let mut found = 0;
+            for f in faces {
+                let n = f.len();
+                for k in 0..n {
+                    let (u, v) = (f[k], f[(k + 1) % n]);
+                    if ((u, v) == (a, b) || (u, v) == (b, a)) && found < 2 {
+                        off[found] = f[(k + 2) % n];
+                        found += 1;
+                    }
+                }
+            }
+            off
+        })
+        .collect()
 }
 
 /// The smallest angle between the two (2D) or three (3D) edges of any corner's frame, degrees.

@@ -2,7 +2,7 @@
 //! vectors of free components; a slip unknown's tangents), dense Cholesky.
 
 use super::group::{GroupOp, Scratch};
-use super::smoother::{smooth, Smoother, Start};
+use super::smoother::{smooth, Coefficients, Smoother, Start};
 use crate::bc::P;
 use crate::dense::Cholesky;
 use crate::{Error, Result};
@@ -128,8 +128,9 @@ impl CoarseSolve {
             CoarseSolve::Empty => {}
             CoarseSolve::Smoothed => {
                 let sm = Smoother::Chebyshev { degree: 25, lower_ratio: 200.0 };
+                let mut cache = Coefficients::default();
                 for _ in 0..4 {
-                    smooth(op, sm, b, x, w, Start::Guess, false);
+                    smooth(op, sm, b, x, w, &mut cache, Start::Guess, false);
                 }
             }
             CoarseSolve::Dense { basis, chol } => {

@@ -7,7 +7,7 @@ use super::group::{block, block_mut, GroupOp};
 use super::hierarchy::Hierarchy;
 pub use super::policy::CycleParams;
 use super::group::Scratch;
-use super::smoother::{smooth, Start};
+use super::smoother::{smooth, Coefficients, Start};
 use crate::bc::P;
 use crate::sparse::par_update;
 
@@ -20,6 +20,9 @@ struct LevelWork {
     r: Vec<f64>,
     /// One smoother scratch per component of the group.
     scratch: Vec<Scratch>,
+    /// Per group, by its first component: the smoother's coefficients of its last visit to the
+    /// level (kept while its bounds are).
+    coefficients: Vec<Coefficients>,
 }
 
 pub(crate) struct Workspace {
@@ -37,7 +40,13 @@ impl Workspace {
                 let n = lev.n();
                 let nbx = if l == 0 { 0 } else { group * n };
                 let scratch = (0..group).map(|_| Scratch::new(n, h.method)).collect();
-                LevelWork { b: vec![0.0; nbx], x: vec![0.0; nbx], r: vec![0.0; group * n], scratch }
+                LevelWork {
+                    b: vec![0.0; nbx],
+                    x: vec![0.0; nbx],
+                    r: vec![0.0; group * n],
+                    scratch,
+                    coefficients: (0..lev.dim()).map(|_| Coefficients::default()).collect(),
+                }
             })
             .collect();
         Workspace { levels }
@@ -99,7 +108,7 @@ fn level_cycle(
     let mut start = start;
     for k in 0..p.pre {
         // Only the first fine-level sweep's correction is reported (the paper's measure).
-        let m = smooth(&op, sm, b, x, &mut work.scratch, start, l == 0 && k == 0);
+        let m = smooth(&op, sm, b, x, &mut work.scratch, &mut work.coefficients[comps.start], start, l == 0 && k == 0);
         start = Start::Guess;
         if k == 0 {
             first = m;
@@ -145,7 +154,8 @@ fn level_cycle(
     ws.levels[l + 1].b = bc;
     ws.levels[l + 1].x = xc;
     for _ in 0..p.post {
-        smooth(&op, sm, b, x, &mut ws.levels[l].scratch, Start::Guess, false);
+        let work = &mut ws.levels[l];
+        smooth(&op, sm, b, x, &mut work.scratch, &mut work.coefficients[comps.start], Start::Guess, false);
     }
     first
 }

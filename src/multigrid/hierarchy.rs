@@ -125,8 +125,17 @@ fn coarse_operator(fine: &Level, prolong: &CsrMatrix) -> LevelOperator {
 
 /// The level's Jacobi diagonals and λmax estimates, after its flags and slip frames.
 fn refresh_bounds(level: &mut Level) {
-    // The components are independent: side by side, so small levels use several threads.
-    level.inv_d = (0..level.flags.len()).into_par_iter().map(|c| level.op.inv_l1_diag(&level.flags[c])).collect();
+    // Every component has the same K and V: components with the same flags (walls fixed in
+    // every direction) have the same diagonal, line factors and λmax, computed once for the
+    // first of them. The others are independent: side by side, so small levels use several
+    // threads.
+    let nc = level.flags.len();
+    let alike: Vec<usize> = (0..nc).map(|c| (0..c).find(|&e| level.flags[e] == level.flags[c]).unwrap_or(c)).collect();
+    let own: Vec<usize> = (0..nc).filter(|&c| alike[c] == c).collect();
+    // Component c's values among those of `own`.
+    let at: Vec<usize> = alike.iter().map(|e| own.iter().position(|o| o == e).unwrap_or(0)).collect();
+    let inv_d: Vec<Vec<f64>> = own.par_iter().map(|&c| level.op.inv_l1_diag(&level.flags[c])).collect();
+    level.inv_d = at.iter().map(|&i| inv_d[i].clone()).collect();
     level.refresh_lines();
     // The l1 bound guarantees λmax(D⁻¹A) ≤ 1. For the second-order operators it is nearly
     // tight (the CG iteration counts of the estimate, see docs/perf-history.md), and the
@@ -135,7 +144,8 @@ fn refresh_bounds(level: &mut Level) {
     // estimate.
     level.lambda_max = if level.op.method == Method::Biharmonic {
         let lv = &*level;
-        (0..level.flags.len()).into_par_iter().map(|c| estimate_lambda_max(&GroupOp::new(lv, c..c + 1, false))).collect()
+        let own: Vec<f64> = own.par_iter().map(|&c| estimate_lambda_max(&GroupOp::new(lv, c..c + 1, false))).collect();
+        at.iter().map(|&i| own[i]).collect()
     } else {
         vec![1.0; level.flags.len()]
     };

@@ -44,11 +44,40 @@ fn coefficients(sm: Smoother, lambda_max: f64) -> (f64, Vec<(f64, f64)>) {
     }
 }
 
+/// A smoother's coefficients for each block of a group, kept for the smoother and the λmax
+/// they were computed for: the cycle calls `smooth` on a level many times between two refreshes
+/// of its bounds, and each call finds them here instead of running the recurrence again.
+#[derive(Default)]
+pub(crate) struct Coefficients {
+    /// The smoother and each block's λmax (as bits) the coefficients are for.
+    smoother: Option<Smoother>,
+    lambda_bits: Vec<u64>,
+    /// Per block: the first step's coefficient and the (c1, c2) of the others.
+    blocks: Vec<(f64, Vec<(f64, f64)>)>,
+}
+
+impl Coefficients {
+    /// The coefficients of `sm` for each block of `op`, computed again only when the smoother
+    /// or a block's λmax differs from the last call's.
+    fn for_group(&mut self, op: &GroupOp, sm: Smoother) -> &[(f64, Vec<(f64, f64)>)] {
+        let g = op.len();
+        let same = self.smoother == Some(sm)
+            && self.lambda_bits.len() == g
+            && (0..g).all(|k| self.lambda_bits[k] == op.lambda_max(k).to_bits());
+        if !same {
+            self.smoother = Some(sm);
+            self.lambda_bits = (0..g).map(|k| op.lambda_max(k).to_bits()).collect();
+            self.blocks = (0..g).map(|k| coefficients(sm, op.lambda_max(k))).collect();
+        }
+        &self.blocks
+    }
+}
+
 /// One application of the smoother `sm` to the group `op`: a polynomial of D⁻¹A as a two-term
 /// recurrence (damped Jacobi is its one-step case), every block's step in lockstep and each
 /// step moved into the group's free subspace (for a coupled group, one polynomial of the
 /// group's λmax; D⁻¹ commutes with the projection there, see `multigrid::slip`). `w` holds one
-/// scratch per block. With `measure`, returns the largest correction it made (an extra pass
+/// scratch per block, `cache` the coefficients of the level's last call. With `measure`, returns the largest correction it made (an extra pass
 /// over the vector, so the hot path asks only where the value is reported); otherwise 0.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn smooth(
@@ -57,12 +86,13 @@ pub(crate) fn smooth(
     b: &[f64],
     x: &mut [f64],
     w: &mut [Scratch],
+    cache: &mut Coefficients,
     start: Start,
     measure: bool,
 ) -> f64 {
     let (n, g) = (op.n(), op.len());
     let w = &mut w[..g];
-    let coeffs: Vec<(f64, Vec<(f64, f64)>)> = (0..g).map(|k| coefficients(sm, op.lambda_max(k))).collect();
+    let coeffs = cache.for_group(op, sm);
     if start == Start::Guess {
         op.exchange(x);
     }

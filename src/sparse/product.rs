@@ -69,6 +69,7 @@ impl RowSum {
     }
 
     /// Row i of A B.
+    #[cfg(test)]
     fn product_row(&mut self, a: &CsrMatrix, b: &CsrMatrix, i: usize, cols: &mut Vec<u32>, vals: &mut Vec<f64>) {
         let (ac, av) = a.row(i);
         for (&k, &x) in ac.iter().zip(av) {
@@ -134,42 +135,115 @@ pub fn matmul(a: &CsrMatrix, b: &CsrMatrix) -> CsrMatrix {
 }
 
 /// R K P, bitwise `matmul(r, &matmul(k, p))` but without holding K P (the largest matrix of a
-/// Galerkin hierarchy): each of its rows is recomputed where R uses it.
+/// Galerkin hierarchy): its rows are formed where R uses them and kept a while (`KpRows`), so a
+/// row used by several neighbouring rows of R is mostly formed once.
 pub fn triple_product(r: &CsrMatrix, k: &CsrMatrix, p: &CsrMatrix) -> CsrMatrix {
     assert_eq!(r.ncols, k.nrows, "triple_product: R has {} columns, K has {} rows", r.ncols, k.nrows);
     assert_eq!(k.ncols, p.nrows, "triple_product: K has {} columns, P has {} rows", k.ncols, p.nrows);
-    let init = || (RowSum::new(p.ncols), RowSum::new(p.ncols), Vec::new(), Vec::new());
-    let count = |(outer, ..): &mut (RowSum, RowSum, Vec<u32>, Vec<f64>), j: usize| {
+    let init = || (KpRows::new(k.nrows, p.ncols), RowSum::new(p.ncols));
+    let count = |(kp, outer): &mut (KpRows, RowSum), j: usize| {
         for &i in r.row(j).0 {
-            k.row(i as usize).0.iter().for_each(|&l| outer.add_pattern(p.row(l as usize).0));
+            let e = kp.form(k, p, i as usize);
+            outer.add_pattern(&kp.cols[e]);
         }
+        kp.bound();
         outer.take_count()
     };
-    by_rows(r.nrows, p.ncols, init, count, |(outer, inner, kp_c, kp_v), j, c, v| {
+    by_rows(r.nrows, p.ncols, init, count, |(kp, outer), j, c, v| {
         let (rc, rv) = r.row(j);
         for (&i, &x) in rc.iter().zip(rv) {
-            inner.product_row(k, p, i as usize, kp_c, kp_v);
-            outer.add(x, (kp_c, kp_v));
+            let e = kp.form(k, p, i as usize);
+            outer.add(x, (&kp.cols[e.clone()], &kp.vals[e]));
         }
+        kp.bound();
         outer.finish(c, v);
     })
 }
 
-/// A row's positions by column: `slot[m]` is the position of column m in the row being filled
-/// (set for the row's columns only), `mark`/`stamp` tell which positions the current row of K P
-/// reached, `kp` their sums.
-struct RowSlots {
+/// Rows of K P formed for neighbouring rows of R K P, each once however many of them use it (a
+/// fine row is used by every coarse unknown it interpolates from) until they are forgotten:
+/// `at[i]` is the position of K P's row i in `ptr` (`NOT_FORMED` for rows not formed).
+struct KpRows {
+    at: Vec<u32>,
+    formed: Vec<u32>,
+    ptr: Vec<usize>,
+    cols: Vec<u32>,
+    vals: Vec<f64>,
+    /// Per column of P: its position in the row of K P being formed (`NOT_FORMED` when absent).
     slot: Vec<u32>,
-    mark: Vec<u32>,
-    stamp: u32,
-    kp: Vec<f64>,
-    touched: Vec<u32>,
+    /// Per column of P: its position in the row of the result being filled.
+    pos: Vec<u32>,
+}
+
+const NOT_FORMED: u32 = u32::MAX;
+
+/// Most entries of K P a task keeps formed (a few megabytes).
+const KP_KEPT: usize = 1 << 18;
+
+impl KpRows {
+    fn new(k_rows: usize, p_cols: usize) -> Self {
+        KpRows {
+            at: vec![NOT_FORMED; k_rows],
+            formed: Vec::new(),
+            ptr: vec![0],
+            cols: Vec::new(),
+            vals: Vec::new(),
+            slot: vec![NOT_FORMED; p_cols],
+            pos: vec![0; p_cols],
+        }
+    }
+
+    /// Forms row i of K P unless the block has: its columns in order of first appearance,
+    /// each the sum of its products in the order of K's and P's rows from zero, as `RowSum`
+    /// sums them. Returns its range in `cols` and `vals`.
+    fn form(&mut self, k: &CsrMatrix, p: &CsrMatrix, i: usize) -> std::ops::Range<usize> {
+        if self.at[i] == NOT_FORMED {
+            self.at[i] = offset(self.formed.len());
+            self.formed.push(offset(i));
+            let start = self.cols.len();
+            let (kc, kv) = k.row(i);
+            for (&l, &y) in kc.iter().zip(kv) {
+                let (pc, pv) = p.row(l as usize);
+                for (&m, &z) in pc.iter().zip(pv) {
+                    let s = &mut self.slot[m as usize];
+                    if *s == NOT_FORMED {
+                        *s = offset(self.cols.len() - start);
+                        self.cols.push(m);
+                        self.vals.push(0.0);
+                    }
+                    self.vals[start + *s as usize] += y * z;
+                }
+            }
+            self.cols[start..].iter().for_each(|&m| self.slot[m as usize] = NOT_FORMED);
+            self.ptr.push(self.cols.len());
+        }
+        let f = self.at[i] as usize;
+        self.ptr[f]..self.ptr[f + 1]
+    }
+
+    /// Forgets the rows formed when they hold more than `KP_KEPT` entries (the rows are formed
+    /// the same whenever they are, so when they are forgotten changes no value).
+    fn bound(&mut self) {
+        if self.cols.len() > KP_KEPT {
+            self.clear();
+        }
+    }
+
+    /// Forgets the rows formed.
+    fn clear(&mut self) {
+        self.formed.iter().for_each(|&i| self.at[i as usize] = NOT_FORMED);
+        self.formed.clear();
+        self.ptr.truncate(1);
+        self.cols.clear();
+        self.vals.clear();
+    }
 }
 
 /// The values of R K P into `c`, whose pattern is `triple_product(r, k, p)`'s (the numeric phase
 /// on a stored symbolic one: a moved mesh changes the values of K and P, not their patterns).
 /// Bitwise `triple_product(r, k, p)`: each entry of a row of K P and of C is the sum of the same
-/// products in the same order, from the same zero.
+/// products in the same order, from the same zero. Each block of C's rows forms the rows of
+/// K P it uses once (`KpRows`), so only the rows shared with a neighbouring block are formed twice.
 pub fn triple_product_values(r: &CsrMatrix, k: &CsrMatrix, p: &CsrMatrix, c: &mut CsrMatrix) {
     assert_eq!((c.nrows, c.ncols), (r.nrows, p.ncols), "triple_product_values: C is not R K P's shape");
     let row_ptr = &c.row_ptr;
@@ -183,44 +257,28 @@ pub fn triple_product_values(r: &CsrMatrix, k: &CsrMatrix, p: &CsrMatrix, c: &mu
         rest = next;
         blocks.push((start..end, v));
     }
-    let init = || RowSlots { slot: vec![0; p.ncols], mark: Vec::new(), stamp: 0, kp: Vec::new(), touched: Vec::new() };
-    blocks.into_par_iter().for_each_init(init, |st, (rows, out)| {
+    let init = || KpRows::new(k.nrows, p.ncols);
+    blocks.into_par_iter().for_each_init(init, |kp, (rows, out)| {
         let base = row_ptr[rows.start] as usize;
         for j in rows {
             let (a, b) = (row_ptr[j] as usize, row_ptr[j + 1] as usize);
             for (q, &m) in cols[a..b].iter().enumerate() {
-                st.slot[m as usize] = q as u32;
+                kp.pos[m as usize] = q as u32;
             }
-            let len = b - a;
-            st.mark.clear();
-            st.mark.resize(len, 0);
-            st.stamp = 0;
-            st.kp.resize(len.max(st.kp.len()), 0.0);
             let row = &mut out[a - base..b - base];
             row.iter_mut().for_each(|v| *v = 0.0);
             let (rc, rv) = r.row(j);
             for (&i, &x) in rc.iter().zip(rv) {
-                // Row i of K P at the positions of row j, then x times it into row j.
-                st.stamp += 1;
-                st.touched.clear();
-                let (kc, kv) = k.row(i as usize);
-                for (&l, &y) in kc.iter().zip(kv) {
-                    let (pc, pv) = p.row(l as usize);
-                    for (&m, &z) in pc.iter().zip(pv) {
-                        let q = st.slot[m as usize] as usize;
-                        if st.mark[q] != st.stamp {
-                            st.mark[q] = st.stamp;
-                            st.kp[q] = 0.0;
-                            st.touched.push(q as u32);
-                        }
-                        st.kp[q] += y * z;
-                    }
-                }
-                for &q in &st.touched {
-                    row[q as usize] += x * st.kp[q as usize];
+                // Row i of K P, then x times it into row j (every column of it is in row j's
+                // pattern).
+                let e = kp.form(k, p, i as usize);
+                for (&m, &y) in kp.cols[e.clone()].iter().zip(&kp.vals[e]) {
+                    row[kp.pos[m as usize] as usize] += x * y;
                 }
             }
+            kp.bound();
         }
+        kp.clear();
     });
 }
 
