@@ -69,7 +69,6 @@ impl RowSum {
     }
 
     /// Row i of A B.
-    #[cfg(test)]
     fn product_row(&mut self, a: &CsrMatrix, b: &CsrMatrix, i: usize, cols: &mut Vec<u32>, vals: &mut Vec<f64>) {
         let (ac, av) = a.row(i);
         for (&k, &x) in ac.iter().zip(av) {
