@@ -43,9 +43,12 @@ cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DMESHMOVE_WITH_CLI=ON
 cmake --build build -j "$(nproc)"
 cargo test --release
 (cd build && ctest --output-on-failure -j "$(nproc)")
-# The distributed build: the library with the `mpi` feature linted, and its test, which runs
+# The library alone, as a user builds it, linted with and without the `mpi` feature (the
+# workspace above turns on `internals`); the distributed test, which runs
 # itself under mpirun on 1 to 4 ranks (tests/distributed.rs).
-cargo clippy --release -p meshmove --all-targets --features mpi -- -D warnings
+cargo clippy --release -p meshmove -- -D warnings
+cargo clippy --release -p meshmove --features mpi -- -D warnings
+cargo clippy --release -p meshmove --all-targets --features mpi,internals -- -D warnings
 cargo test --release --features mpi --test distributed
 # The API documentation builds without a warning (broken links, bad markup).
 RUSTDOCFLAGS="-D warnings" cargo doc --release --no-deps

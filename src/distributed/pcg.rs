@@ -6,7 +6,7 @@
 
 use super::halo::HaloLayout;
 use crate::multigrid::group::{GroupOp, Scratch};
-use crate::multigrid::smoother::{smooth, Smoother, Start};
+use crate::multigrid::smoother::{smooth, Coefficients, Smoother, Start};
 use crate::operator::Method;
 use crate::sparse::{axpy, par_update};
 
@@ -48,9 +48,10 @@ pub(crate) fn pcg(
     let mut work: Vec<Scratch> = (0..op.len()).map(|_| Scratch::new(op.n(), Method::Laplacian)).collect();
     let [mut r, mut u, mut w, mut p, mut s] = std::array::from_fn(|_| vec![0.0; n]);
     let mut scratch = vec![0.0; op.n()];
+    let mut coefficients = Coefficients::default();
     for _ in 0..=RESTARTS {
         op.residual(b, x, &mut r, &mut scratch);
-        smooth(op, sm, &r, &mut u, &mut work, Start::Zero, false);
+        smooth(op, sm, &r, &mut u, &mut work, &mut coefficients, Start::Zero, false);
         op.apply(&mut u, &mut w, &mut scratch);
         let [mut gamma, mut delta, mut rr] = reduced(halo, &r, &u, &w);
         // (γ, α) of the previous iteration; none at a start.
@@ -76,7 +77,7 @@ pub(crate) fn pcg(
             axpy(alpha, &p, x);
             axpy(-alpha, &s, &mut r);
             out.iterations += 1;
-            smooth(op, sm, &r, &mut u, &mut work, Start::Zero, false);
+            smooth(op, sm, &r, &mut u, &mut work, &mut coefficients, Start::Zero, false);
             op.apply(&mut u, &mut w, &mut scratch);
             previous = Some((gamma, alpha));
             [gamma, delta, rr] = reduced(halo, &r, &u, &w);

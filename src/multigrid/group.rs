@@ -108,7 +108,7 @@ impl<'a> GroupOp<'a> {
 
     /// Block `k`'s operator and bounds, as the smoother's steps take them.
     pub(crate) fn problem(&self, k: usize) -> Problem<'a> {
-        Problem { op: &self.level.op, flags: self.flags(k), inv_d: self.inv_d(k), lambda_max: self.lambda_max(k) }
+        Problem { op: &self.level.op, flags: self.flags(k), inv_d: self.inv_d(k) }
     }
 
     /// Makes the halo of every block of `x` current (`Layout::exchange`) before an operator
@@ -189,13 +189,12 @@ impl<'a> GroupOp<'a> {
     }
 }
 
-/// The operator of one level and component, with its Jacobi bound.
+/// The operator of one level and component, with its Jacobi scaling.
 #[derive(Clone, Copy)]
 pub struct Problem<'a> {
     pub op: &'a LevelOperator,
     pub flags: &'a [u8],
     pub inv_d: &'a [f64],
-    pub lambda_max: f64,
 }
 
 /// Scratch of one block of a level's smoother: the biharmonic's S (empty for the second-order

@@ -88,6 +88,7 @@ fn done(p: &SolveParams, max_corr: f64, rel: f64, scale: f64) -> bool {
 /// initial guess in `x`; `b` and `x` hold one block of n values per component, and the group is
 /// one system: one set of CG scalars over all its blocks. `scale` is the largest prescribed
 /// displacement (for the max-correction criterion).
+#[cfg(feature = "internals")]
 pub fn solve(h: &Hierarchy, comps: Range<usize>, p: &SolveParams, b: &[f64], x: &mut [f64], scale: f64) -> Report {
     solve_until(h, comps, p, b, x, scale, &|| false)
 }
