@@ -3,8 +3,9 @@
 //! what VTK, ParaView and meshio write) and out (appended raw binary by default; zlib-compressed
 //! or ASCII when asked).
 //!
-//! Cells of every [`CellType`](crate::geometry::CellType) (triangles and quads in 2D; tetrahedra,
-//! hexahedra, wedges and pyramids in 3D) are read and written, in VTK's corner order. `.msh` files
+//! Cells of every [cell type](crate::geometry::CellType) (triangles and quads in 2D; tetrahedra,
+//! hexahedra, wedges and pyramids in 3D) are read and written, in VTK's corner order; `.vtu`
+//! files also carry polygons and polyhedra (VTK types 7 and 42), which `.msh` files do not. `.msh` files
 //! carry the tagged faces (lines in 2D, triangles and quads in 3D) with their patch ids as
 //! physical groups; `.vtu` files as cells of one dimension less with a cell array of patch ids
 //! (`vtu` says which), beside point and cell fields. The readers return `MeshData`
