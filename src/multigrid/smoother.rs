@@ -77,8 +77,9 @@ impl Coefficients {
 /// recurrence (damped Jacobi is its one-step case), every block's step in lockstep and each
 /// step moved into the group's free subspace (for a coupled group, one polynomial of the
 /// group's λmax; D⁻¹ commutes with the projection there, see `multigrid::slip`). `w` holds one
-/// scratch per block, `cache` the coefficients of the level's last call. With `measure`, returns the largest correction it made (an extra pass
-/// over the vector, so the hot path asks only where the value is reported); otherwise 0.
+/// scratch per block, `cache` the coefficients of the level's last call. With `measure`, returns
+/// the largest correction it made (an extra pass over the vector, so the hot path asks only
+/// where the value is reported); otherwise 0.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn smooth(
     op: &GroupOp,

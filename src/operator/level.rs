@@ -74,8 +74,8 @@ impl LevelOperator {
         triple_product_values(restrict, &fine.k, prolong, &mut self.k);
         close_diagonal(&mut self.k);
         self.inv_v = galerkin_inv_mass(fine, restrict);
-        if let Some(a) = self.assembled.take() {
-            self.assembled = Some(Assembled::product(fine, a.s_free, prolong, restrict));
+        if let Some(a) = &mut self.assembled {
+            a.refill(fine, prolong, restrict);
         }
     }
 
