@@ -1,0 +1,31 @@
+! At the end of every time step: the step's number and the coordinates code_saturne ends it
+! with, appended to coords.bin (native integers and reals, read by check_steps.f90), and the
+! wall-clock seconds since the last step to steps.txt.
+
+subroutine cs_f_user_extra_operations(nvar, nscal, dt)
+  use optcal, only: ntcabs
+  use mesh, only: ncelet, nnod, xyznod
+  implicit none
+  integer nvar, nscal
+  double precision dt(ncelet)
+  ! Units of the two files (no NEWUNIT in Fortran 2003, which code_saturne compiles user files as).
+  integer, parameter :: coords_unit = 9072, steps_unit = 9073
+  integer, parameter :: int64 = selected_int_kind(18)
+  logical, save :: first = .true.
+  integer(int64), save :: last = 0
+  integer(int64) :: now, rate
+  call system_clock(now, rate)
+  if (first) then
+    first = .false.
+    open (coords_unit, file="coords.bin", access="stream", form="unformatted", status="replace")
+    write (coords_unit) nnod
+    open (steps_unit, file="steps.txt", status="replace")
+    write (steps_unit, "(a)") "# step  seconds since the previous step's end"
+  else
+    write (steps_unit, "(i6, es14.6)") ntcabs, real(now - last) / real(rate)
+    flush (steps_unit)
+  end if
+  last = now
+  write (coords_unit) ntcabs, xyznod(:, 1:nnod)
+  flush (coords_unit)
+end subroutine cs_f_user_extra_operations
