@@ -7,9 +7,11 @@
 ! measure, the same for either mover) and the largest over the steps. With `reference`, the
 ! same motion is also made by meshmove alone (the module meshmove_cylinder that usalcl uses,
 ! fed the same faces), and code_saturne's coordinates at the end of step n are compared with
-! meshmove's result of step n - 1: usalcl runs at the start of a time step, and code_saturne
-! moves its vertices to what usalcl imposes at the end of the next one. It fails when a
-! difference exceeds 1e-12 or a step is missing.
+! meshmove's result of step n - 1: code_saturne moves its vertices to what usalcl imposed in
+! step n after that step's user operations, so the flow solve of step n + 1 runs on them and
+! the coordinates written at the end of step n are still those of step n - 1. It fails when a
+! difference exceeds 1e-12 or a step is missing. The amplitude of the motion is read from
+! CS_AMPLITUDE as the run's usalcl read it (run.sh sets it).
 program check_steps
   use, intrinsic :: iso_c_binding
   use meshmove
@@ -36,6 +38,7 @@ program check_steps
   if (command_argument_count() > 2) call get_command_argument(3, mode)
   reference = mode == "reference"
 
+  call read_motion()
   call read_face_mesh(m, trim(faces_path))
   ! The volume ratios are measured by a solver on the original mesh (its reference).
   call mesh%create_from_faces(m%coords, m%offsets, m%vertices, m%owner, m%neighbour, m%patch, m%num_cells)

@@ -1,16 +1,18 @@
 #!/usr/bin/env bash
-# Runs the example case: run.sh WORKDIR [meshmove|code_saturne] [STEPS]
+# Runs the example case: run.sh WORKDIR [meshmove|code_saturne] [STEPS [AMPLITUDE]]
 #   WORKDIR       made anew: a code_saturne study (MESH/, case/DATA, case/SRC, case/RESU);
 #                 the run's files end in WORKDIR/case/RESU/run
 #   meshmove      usalcl moves the mesh with meshmove (the default);
 #   code_saturne  code_saturne's own ALE mesh solve, only the cylinder imposed
 #   STEPS         time steps (default 40, one period of the motion)
+#   AMPLITUDE     of the cylinder's motion across the channel (default 1, its diameter)
 # MESHMOVE_FFLAGS and MESHMOVE_LIBS say where meshmove is (DATA/cs_user_scripts.py).
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
-work=${1:?usage: run.sh WORKDIR [meshmove|code_saturne] [STEPS]}
+work=${1:?usage: run.sh WORKDIR [meshmove|code_saturne] [STEPS [AMPLITUDE]]}
 mover=${2:-meshmove}
 steps=${3:-40}
+amplitude=${4:-1}
 case "$mover" in
     meshmove | code_saturne) ;;
     *) echo "run.sh: the mover is meshmove or code_saturne, not '$mover'" >&2; exit 2 ;;
@@ -20,7 +22,7 @@ export USER="${USER:-$(id -un)}"
 if [ "$(id -u)" -eq 0 ]; then
     export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 fi
-export CS_MESH_MOVER="$mover" CS_STEPS="$steps" OMP_NUM_THREADS=1
+export CS_MESH_MOVER="$mover" CS_STEPS="$steps" CS_AMPLITUDE="$amplitude" OMP_NUM_THREADS=1
 rm -rf "$work"
 mkdir -p "$work/MESH" "$work/case/DATA" "$work/case/SRC" "$work/case/RESU"
 cp "$here/cylinder.msh" "$work/MESH/"

@@ -43,6 +43,7 @@ subroutine usalcl(itrale, nvar, nscal, icodcl, itypfb, ialtyb, impale, dt, rcodc
   if (first) then
     call get_environment_variable("CS_MESH_MOVER", mover)
     with_meshmove = mover /= "code_saturne"
+    call read_motion()
     call faces_of_saturne(m)
     call write_face_mesh(m, "meshmove_faces.bin")
     if (with_meshmove) then

@@ -1,10 +1,12 @@
 ! At the end of every time step: the step's number and the coordinates code_saturne ends it
-! with, appended to coords.bin (native integers and reals, read by check_steps.f90), and the
-! wall-clock seconds since the last step to steps.txt.
+! with, appended to coords.bin (native integers and reals, read by check_steps.f90), and to
+! steps.txt the wall-clock seconds of the step (since the last step's end) and of meshmove's
+! move in it (0 when code_saturne moves the mesh itself).
 
 subroutine cs_f_user_extra_operations(nvar, nscal, dt)
   use optcal, only: ntcabs
   use mesh, only: ncelet, nnod, xyznod
+  use meshmove_cylinder, only: move_seconds
   implicit none
   integer nvar, nscal
   double precision dt(ncelet)
@@ -13,6 +15,7 @@ subroutine cs_f_user_extra_operations(nvar, nscal, dt)
   integer, parameter :: int64 = selected_int_kind(18)
   logical, save :: first = .true.
   integer(int64), save :: last = 0
+  double precision, save :: last_move = 0
   integer(int64) :: now, rate
   call system_clock(now, rate)
   if (first) then
@@ -20,12 +23,13 @@ subroutine cs_f_user_extra_operations(nvar, nscal, dt)
     open (coords_unit, file="coords.bin", access="stream", form="unformatted", status="replace")
     write (coords_unit) nnod
     open (steps_unit, file="steps.txt", status="replace")
-    write (steps_unit, "(a)") "# step  seconds since the previous step's end"
+    write (steps_unit, "(a)") "# step  seconds  meshmove_seconds"
   else
-    write (steps_unit, "(i6, es14.6)") ntcabs, real(now - last) / real(rate)
+    write (steps_unit, "(i6, 2es14.6)") ntcabs, real(now - last) / real(rate), move_seconds - last_move
     flush (steps_unit)
   end if
   last = now
+  last_move = move_seconds
   write (coords_unit) ntcabs, xyznod(:, 1:nnod)
   flush (coords_unit)
 end subroutine cs_f_user_extra_operations

@@ -20,8 +20,9 @@ module meshmove_cylinder
   integer(c_int32_t), parameter, public :: num_zones = 5
 
   !> The motion: the cylinder (diameter 1, centre (0, 0)) moves across the channel,
-  !> y = amplitude sin(2 pi n / steps_per_period) at the end of time step n.
-  real(c_double), parameter, public :: amplitude = 1.0_c_double
+  !> y = amplitude sin(2 pi n / steps_per_period) at the end of time step n; the amplitude is
+  !> 1 unless the environment variable CS_AMPLITUDE says otherwise (read_motion).
+  real(c_double), protected, public :: amplitude = 1
   integer, parameter, public :: steps_per_period = 40
 
   !> A mesh as finite-volume codes store it: vertices, faces as CSR lists of vertices (1-based
@@ -41,9 +42,18 @@ module meshmove_cylinder
 
   type(mm_solver), save :: solver
 
-  public :: body_offset, start_meshmove, advance_meshmove, stop_meshmove, write_face_mesh, read_face_mesh
+  public :: read_motion, body_offset, start_meshmove, advance_meshmove, stop_meshmove, write_face_mesh, read_face_mesh
 
 contains
+
+  !> The amplitude from the environment variable CS_AMPLITUDE when it is set (the host and the
+  !> check program both read it, so both make the same motion).
+  subroutine read_motion()
+    character(len=64) :: text
+    integer :: length, status
+    call get_environment_variable("CS_AMPLITUDE", text, length, status)
+    if (status == 0 .and. length > 0) read (text, *) amplitude
+  end subroutine
 
   !> The cylinder's displacement across the channel at the end of time step n.
   pure function body_offset(n) result(y)
