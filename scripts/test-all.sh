@@ -4,19 +4,20 @@
 #   library and tests, header freshness (tests/header_fresh.rs), CMake build of the C and Fortran
 #   examples into build/, cargo test and ctest (examples vs the Rust reference, the C bad-input
 #   test under valgrind, install + C and Fortran consumers by find_package, pkg-config and plain
-#   compiler flags); the distributed build (the `mpi` feature: clippy, its test under mpirun on
-#   1 to 4 ranks, rustdoc).
+#   compiler flags, code_saturne moving its mesh with meshmove); the distributed build (the
+#   `mpi` feature: clippy, its test under mpirun on 1 to 4 ranks, rustdoc).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-# cmake, gfortran, valgrind and pkg-config, and for the distributed build (the `mpi` feature)
-# OpenMPI and libclang (rsmpi generates its bindings with bindgen): installed when missing (CI
-# runs as root on Debian/Ubuntu).
+# cmake, gfortran, valgrind and pkg-config, for the distributed build (the `mpi` feature)
+# OpenMPI and libclang (rsmpi generates its bindings with bindgen), and code_saturne with its
+# Fortran modules for the example that moves code_saturne's mesh (examples/code_saturne):
+# installed when missing (CI runs as root on Debian/Ubuntu).
 missing=()
 for tool in cmake gfortran valgrind pkg-config; do
     command -v "$tool" >/dev/null 2>&1 || missing+=("$tool")
 done
-for pkg in libopenmpi-dev openmpi-bin libclang-dev; do
+for pkg in libopenmpi-dev openmpi-bin libclang-dev code-saturne code-saturne-include; do
     dpkg -s "$pkg" >/dev/null 2>&1 || missing+=("$pkg")
 done
 if ((${#missing[@]})); then
@@ -26,6 +27,9 @@ if ((${#missing[@]})); then
     $SUDO apt-get update -qq
     $SUDO env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "${missing[@]}" >/dev/null
 fi
+
+# code_saturne's run script needs USER, which containers often leave unset.
+export USER="${USER:-$(id -un)}"
 
 # clippy and rustfmt: rustup components, added when missing.
 for component in clippy rustfmt; do

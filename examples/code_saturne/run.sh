@@ -6,6 +6,8 @@
 #   code_saturne  code_saturne's own ALE mesh solve, only the cylinder imposed
 #   STEPS         time steps (default 40, one period of the motion)
 #   AMPLITUDE     of the cylinder's motion across the channel (default 1, its diameter)
+# Exit status 0: the run made every step; 1: it failed; 3: code_saturne stopped before the
+# last step (the files of the steps made are kept).
 # MESHMOVE_FFLAGS and MESHMOVE_LIBS say where meshmove is (DATA/cs_user_scripts.py).
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
@@ -36,4 +38,13 @@ if ! code_saturne run --id run > "$work/run.log" 2>&1; then
     done
     exit 1
 fi
-echo "$work/case/RESU/run"
+result="$work/case/RESU/run"
+# code_saturne ends a run that stops early (a negative cell volume) with a success status: the
+# run is complete when its last time step's coordinates are written (cs_user_extra_operations).
+last=$(grep -o "TIME STEP NUMBER *[0-9]*" "$result/listing" | tail -n 1 | grep -o "[0-9]*$" || true)
+if [ "${last:-0}" != "$steps" ] || grep -q "^Abort" "$result/listing"; then
+    grep "^Abort" "$result/listing" >&2 || true
+    echo "run.sh: code_saturne stopped at time step ${last:-0} of $steps ($result)" >&2
+    exit 3
+fi
+echo "$result"
