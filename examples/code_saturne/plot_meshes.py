@@ -79,7 +79,7 @@ def main():
         title, run_dir, step = spec.rsplit(":", 2)
         pc = panel(ax, title, run_dir, int(step))
     fig.colorbar(pc, ax=axes[0].tolist(), shrink=0.8, label="cell area / original area")
-    fig.savefig(out, dpi=110)
+    fig.savefig(out, dpi=90, bbox_inches="tight")
 
 
 if __name__ == "__main__":
