@@ -47,6 +47,11 @@ subroutine usalcl(itrale, nvar, nscal, icodcl, itypfb, ialtyb, impale, dt, rcodc
     call faces_of_saturne(m)
     call write_face_mesh(m, "meshmove_faces.bin")
     if (with_meshmove) then
+      ! Ghost cells (MPI ranks, periodicity) need meshmove's distributed solver, not this one.
+      if (ncelet /= ncel) then
+        write (nfecra, "(a)") "usalcl: meshmove moves a serial mesh without periodicity here (ncelet /= ncel)"
+        call csexit(1)
+      end if
       call start_meshmove(m, stat, errmsg)
       call stop_on_failure("the meshmove solver")
     end if
@@ -61,6 +66,8 @@ subroutine usalcl(itrale, nvar, nscal, icodcl, itypfb, ialtyb, impale, dt, rcodc
       impale(inod) = 1
     end do
   else
+    ! code_saturne's own solve: the cylinder (zone 4) imposed, the inlet, outlet and walls (1, 2,
+    ! 3) fixed, the symmetry planes (5) sliding.
     allocate (lstelt(nfabor))
     dy = body_offset(ntcabs)
     call getfbr("4", nlelt, lstelt)
