@@ -10,8 +10,8 @@
 ! meshmove's result of step n - 1: code_saturne moves its vertices to what usalcl imposed in
 ! step n after that step's user operations, so the flow solve of step n + 1 runs on them and
 ! the coordinates written at the end of step n are still those of step n - 1. It fails when a
-! difference exceeds 1e-12 or a step is missing. The amplitude of the motion is read from
-! CS_AMPLITUDE as the run's usalcl read it (run.sh sets it).
+! difference exceeds 1e-12, a cell is inverted or a step is missing. The amplitude of the
+! motion is read from CS_AMPLITUDE as the run's usalcl read it (run.sh sets it).
 program check_steps
   use, intrinsic :: iso_c_binding
   use meshmove
@@ -26,6 +26,7 @@ program check_steps
   character(len=4096) :: faces_path, coords_path, mode
   real(c_double), allocatable :: xyz(:, :), previous(:, :)
   real(c_double) :: worst_ratio, diff, worst_diff
+  integer(c_int32_t) :: inverted
   integer(c_int32_t) :: nv, step, stat
   character(len=:), allocatable :: msg
   integer :: u, ios, count, expected
@@ -58,6 +59,7 @@ program check_steps
   allocate (previous, source=m%coords)
   worst_ratio = huge(1.0_c_double)
   worst_diff = 0
+  inverted = 0
   count = 0
   expected = 1
   write (*, "(a)") "# step  min_volume_ratio  inverted" // merge("  max|x_cs - x_meshmove|", "                        ", &
@@ -70,6 +72,7 @@ program check_steps
     count = count + 1
     call measure%quality(xyz - m%coords, q)
     worst_ratio = min(worst_ratio, q%min_volume_ratio)
+    inverted = max(inverted, q%inverted)
     if (reference) then
       ! meshmove's result of step n - 1, made from the same faces and motion.
       if (step > 1) then
@@ -93,6 +96,7 @@ program check_steps
     write (*, "(a, es10.3, a, es8.1, a)") "largest difference from meshmove's own steps: ", worst_diff, &
       " (tolerance ", tol, ")"
     if (.not. (worst_diff <= tol)) error stop "code_saturne's coordinates differ from meshmove's"
+    if (inverted > 0) error stop "meshmove's mesh has inverted cells"
   end if
 contains
 
