@@ -62,8 +62,11 @@ program check_steps
   inverted = 0
   count = 0
   expected = 1
-  write (*, "(a)") "# step  min_volume_ratio  inverted" // merge("  max|x_cs - x_meshmove|", "                        ", &
-    reference)
+  if (reference) then
+    write (*, "(a)") "# step  min_volume_ratio  inverted  max|x_cs - x_meshmove|"
+  else
+    write (*, "(a)") "# step  min_volume_ratio  inverted"
+  end if
   do
     read (u, iostat=ios) step, xyz
     if (ios /= 0) exit

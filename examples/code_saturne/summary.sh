@@ -12,5 +12,9 @@ awk '!/^#/ { n++; s += $2; m += $3 }
 awk '/Summary of resolutions for "Mesh Velocity"/ { on = 1 }
      on && /Number of calls:/ { calls = $NF }
      on && /Total setup time:/ { t += $NF }
-     on && /Total solution time:/ { t += $NF; printf "code_saturne mesh-velocity solve: %d calls, %.4f s per call\n", calls, t / calls; exit }' \
+     on && /Total solution time:/ {
+         t += $NF
+         printf "code_saturne mesh-velocity solve: %d calls, %.4f s per call\n", calls, t / calls
+         exit
+     }' \
     "$run/performance.log"
