@@ -21,8 +21,8 @@ use meshmove::{
 };
 use meshmove_cases::report::{patch_measures, run_series_with};
 use meshmove_cases::setups::CaseSetup;
-use serde::Deserialize;
 use output::{step_path, PolyMeshSource};
+use serde::Deserialize;
 use series::{periodic, FieldTrack, RigidTrack, Series};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
