@@ -271,3 +271,38 @@ fn malformed_polymesh_is_a_clear_error_and_nothing_is_written() {
     assert!(!out.exists());
     std::fs::remove_dir_all(&d).unwrap();
 }
+
+#[test]
+fn the_hexahedral_box_as_a_polymesh_moves_bitwise_as_from_its_msh() {
+    let d = tmp("box");
+    let o = meshmove(&["bench", "--peer-case", "8", "--out", d.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", text(&o));
+    // The same case with the polyMesh's patch names (bottom, top, x0, x1, y0, y1).
+    let mut toml = String::from("method = \"biharmonic\"\ntolerance = 1e-8\nthreads = 1\n");
+    for (p, kind) in [
+        ("bottom", "\"fixed\""),
+        ("top", "\"clamped\""),
+        ("x0", "[\"fixed\", \"free\", \"free\"]"),
+        ("x1", "[\"fixed\", \"free\", \"free\"]"),
+        ("y0", "[\"free\", \"fixed\", \"free\"]"),
+        ("y1", "[\"free\", \"fixed\", \"free\"]"),
+    ] {
+        toml += &format!("\n[[patch]]\npatch = \"{p}\"\nkind = {kind}\n");
+    }
+    toml += "\n[[motion]]\nfile = \"top.csv\"\npatch = \"top\"\n";
+    std::fs::write(d.join("foam.toml"), toml).unwrap();
+    let s = |p: PathBuf| p.to_str().unwrap().to_string();
+    let run = |mesh: PathBuf, config: &str, out: PathBuf| {
+        let o = meshmove(&["deform", &s(mesh), "--config", &s(d.join(config)), "-o", &s(out)]);
+        assert!(o.status.success(), "{}", text(&o));
+        assert!(text(&o).contains("(729 vertices, 512 cells)"), "{}", text(&o));
+    };
+    run(d.join("box.msh"), "case.toml", d.join("box.vtu"));
+    run(d.join("foam"), "foam.toml", d.join("moved"));
+    let cells = read_vtu(&d.join("box.vtu")).unwrap().mesh.coords;
+    let faces = read_polymesh(&d.join("moved")).unwrap().faces.coords;
+    assert_eq!(cells.len(), faces.len());
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<u64>>();
+    assert_eq!(bits(&cells), bits(&faces));
+    std::fs::remove_dir_all(&d).unwrap();
+}
