@@ -100,7 +100,8 @@ fn a_case_directory_leads_to_its_polymesh() {
 
 #[test]
 fn malformed_files_are_clear_errors() {
-    let cases: Vec<(usize, Box<dyn Fn(&[u8]) -> Vec<u8>>, &str)> = vec![
+    type Edit = Box<dyn Fn(&[u8]) -> Vec<u8>>;
+    let cases: Vec<(usize, Edit, &str)> = vec![
         // Truncated: the last points are missing.
         (
             0,
