@@ -120,7 +120,7 @@ polyhedra=$(awk '/polyhedra:/ {print $2; exit}' check0.log)
 
 /usr/bin/time -v moveMesh -case "$C" >foam-move.log 2>foam-time.log
 foam_its=$(grep -o 'cellDisplacementx, .*No Iterations [0-9]*' foam-move.log | awk '{print $NF}')
-foam_exec=$(grep -o 'ExecutionTime = [0-9.]*' foam-move.log | tail -1 | awk '{print $3}')
+foam_exec=$(grep -o 'ExecutionTime = [0-9.]*' foam-move.log | tail -1 | awk '{printf "%.2f", $3}')
 checkMesh -case "$C" -time 1 >foam-check.log 2>&1 || true
 
 ours() {
