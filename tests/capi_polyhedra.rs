@@ -7,37 +7,19 @@ use meshmove::capi::*;
 use meshmove::io::read_polymesh;
 use meshmove::CellType;
 use std::path::Path;
-use std::ptr::{null, null_mut};
+use std::ptr::null_mut;
+
+#[path = "common/faces_c.rs"]
+mod faces_c;
+use faces_c::create_from_faces;
 
 fn polymesh() -> meshmove::FaceMeshData {
     read_polymesh(&Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/foam/sphere_ascii")).unwrap().faces
 }
 
 fn create(f: &meshmove::FaceMeshData) -> *mut meshmove_mesh {
-    let i32s = |v: &[i64]| v.iter().map(|&x| x as i32).collect::<Vec<i32>>();
-    let off: Vec<i32> = f.face_offsets.iter().map(|&o| o as i32).collect();
-    let conn: Vec<i32> = f.face_vertices.iter().map(|&v| v as i32).collect();
-    let (owner, neighbour) = (i32s(&f.owner), i32s(&f.neighbour));
     let nc = f.owner.iter().chain(&f.neighbour).max().unwrap() + 1;
-    let mut m = null_mut();
-    let s = unsafe {
-        meshmove_mesh_create_from_faces(
-            3,
-            (f.coords.len() / 3) as i32,
-            f.coords.as_ptr(),
-            owner.len() as i32,
-            off.as_ptr(),
-            conn.len() as i32,
-            conn.as_ptr(),
-            owner.as_ptr(),
-            neighbour.as_ptr(),
-            f.patch.as_ptr(),
-            nc as i32,
-            null(),
-            0,
-            &mut m,
-        )
-    };
+    let (s, m) = create_from_faces(f, 0, nc as i32);
     assert_eq!(s, meshmove_status::Ok);
     m
 }

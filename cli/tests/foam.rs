@@ -8,7 +8,11 @@ use meshmove::capi::*;
 use meshmove::io::{read_polymesh, read_vtu};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
-use std::ptr::{null, null_mut};
+use std::ptr::null_mut;
+
+#[path = "../../tests/common/faces_c.rs"]
+mod faces_c;
+use faces_c::create_from_faces;
 
 fn meshmove(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_meshmove")).args(args).output().expect("runs meshmove")
@@ -57,30 +61,10 @@ fn error() -> String {
 /// (`meshmove_mesh_create_from_faces`), the ball moved rigidly by `meshmove_solver_move`.
 fn moved_through_the_c_abi(polymesh: &Path) -> Vec<f64> {
     let f = read_polymesh(polymesh).unwrap().faces;
-    let i32s = |v: &[i64]| v.iter().map(|&x| x as i32).collect::<Vec<i32>>();
-    let off: Vec<i32> = f.face_offsets.iter().map(|&o| o as i32).collect();
-    let conn: Vec<i32> = f.face_vertices.iter().map(|&v| v as i32).collect();
-    let (owner, neighbour) = (i32s(&f.owner), i32s(&f.neighbour));
     let nv = f.coords.len() / 3;
+    let (s, mesh) = create_from_faces(&f, 0, 243);
+    assert_eq!(s, meshmove_status::Ok, "{}", error());
     unsafe {
-        let mut mesh = null_mut();
-        let s = meshmove_mesh_create_from_faces(
-            3,
-            nv as i32,
-            f.coords.as_ptr(),
-            owner.len() as i32,
-            off.as_ptr(),
-            conn.len() as i32,
-            conn.as_ptr(),
-            owner.as_ptr(),
-            neighbour.as_ptr(),
-            f.patch.as_ptr(),
-            243,
-            null(),
-            0,
-            &mut mesh,
-        );
-        assert_eq!(s, meshmove_status::Ok, "{}", error());
         let mut bcs = null_mut();
         assert_eq!(meshmove_bcs_create(&mut bcs), meshmove_status::Ok);
         assert_eq!(meshmove_bcs_set_kinds(bcs, 1, meshmove_kind::Fixed as i32), meshmove_status::Ok);
