@@ -1,4 +1,6 @@
-//! `meshmove deform MESH --config CASE.toml -o OUT.vtu`: the user's own mesh and case.
+//! `meshmove deform MESH --config CASE.toml -o OUT.vtu`: the user's own mesh and case. MESH is a
+//! `.msh`, a `.vtu` or an OpenFOAM polyMesh (or case) directory, whose moved mesh is written as a
+//! polyMesh directory at OUT unless OUT ends in `.vtu` (`output`).
 //!
 //! The case file (TOML): every key, its default and an example of each feature are in
 //! docs/CASE-FORMAT.md, whose examples tests/case_format.rs runs.
