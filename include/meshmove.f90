@@ -231,6 +231,18 @@ module meshmove_c
       integer(c_int32_t), value :: index_base, num_offsets, num_connectivity, num_patches
       integer(c_int32_t), intent(out) :: offsets(*), connectivity(*), patches(*)
     end function
+    integer(c_int32_t) function meshmove_mesh_polyhedron_sizes(mesh, num_faces, num_face_vertices) bind(c)
+      import :: c_int32_t, c_ptr
+      type(c_ptr), value :: mesh
+      integer(c_int32_t), intent(out) :: num_faces, num_face_vertices
+    end function
+    integer(c_int32_t) function meshmove_mesh_get_polyhedron_faces(mesh, index_base, num_cell_faces, cell_faces, &
+        num_face_offsets, face_offsets, num_connectivity, connectivity) bind(c)
+      import :: c_int32_t, c_ptr
+      type(c_ptr), value :: mesh
+      integer(c_int32_t), value :: index_base, num_cell_faces, num_face_offsets, num_connectivity
+      integer(c_int32_t), intent(out) :: cell_faces(*), face_offsets(*), connectivity(*)
+    end function
     integer(c_int32_t) function meshmove_mesh_get_regions(mesh, len, regions) bind(c)
       import :: c_int32_t, c_ptr
       type(c_ptr), value :: mesh
@@ -482,6 +494,7 @@ module meshmove
     procedure :: coords => mesh_coords
     procedure :: cells => mesh_cells
     procedure :: faces => mesh_faces
+    procedure :: polyhedron_faces => mesh_polyhedron_faces
     procedure :: regions => mesh_regions
     procedure :: patch_vertices => mesh_patch_vertices
     procedure :: write_vtu => mesh_write_vtu
@@ -1144,6 +1157,30 @@ contains
     call check(int(s, c_int32_t), "mesh_get_cells", stat)
     if (present(errmsg)) call message(errmsg)
     if (present(offsets)) offsets = o + 1_c_int32_t
+  end subroutine
+
+  !> The faces of the polyhedral cells (mesh%cells gives a polyhedron's corners): cell c's faces are
+  !> cell_faces(c) : cell_faces(c + 1) - 1 (none for a cell of another type), face f's vertices
+  !> connectivity(face_offsets(f) : face_offsets(f + 1) - 1), a loop whose normal points out of the cell
+  !> (all 1-based).
+  subroutine mesh_polyhedron_faces(self, cell_faces, face_offsets, connectivity, stat, errmsg)
+    class(mm_mesh), intent(in) :: self
+    integer(c_int32_t), allocatable, intent(out) :: cell_faces(:), face_offsets(:), connectivity(:)
+    integer(c_int32_t), intent(out), optional :: stat
+    character(len=:), allocatable, intent(out), optional :: errmsg
+    integer(c_int32_t) :: nc, nf, nfv, s
+    nc = 0
+    nf = 0
+    nfv = 0
+    call self%sizes(num_cells=nc, stat=s)
+    if (s == MESHMOVE_STATUS_OK) s = meshmove_mesh_polyhedron_sizes(self%h, nf, nfv)
+    allocate (cell_faces(nc + 1), face_offsets(nf + 1), connectivity(nfv))
+    if (s == MESHMOVE_STATUS_OK) s = meshmove_mesh_get_polyhedron_faces(self%h, 1_c_int32_t, nc + 1_c_int32_t, &
+      cell_faces, nf + 1_c_int32_t, face_offsets, nfv, connectivity)
+    call check(int(s, c_int32_t), "mesh_polyhedron_faces", stat)
+    if (present(errmsg)) call message(errmsg)
+    cell_faces = cell_faces + 1_c_int32_t
+    face_offsets = face_offsets + 1_c_int32_t
   end subroutine
 
   !> The faces on patches (every boundary face, untagged ones on patch 0, and every tagged

@@ -1184,6 +1184,44 @@ meshmove_status meshmove_options_set_reference_mode(struct meshmove_options *opt
                                                     int32_t mode);
 
 /*
+ The sizes of the polyhedra's faces (either pointer may be NULL): `num_faces`, the faces of
+ every polyhedral cell together (a face shared by two polyhedra counted for each), and
+ `num_face_vertices`, the vertex indices in them: the lengths
+ `meshmove_mesh_get_polyhedron_faces` needs (faces + 1 offsets). Both are 0 for a mesh
+ without polyhedra.
+
+ # Safety
+ Non-NULL pointers must be writable.
+ */
+MESHMOVE_MUST_USE
+meshmove_status meshmove_mesh_polyhedron_sizes(const struct meshmove_mesh *mesh,
+                                               int32_t *num_faces,
+                                               int32_t *num_face_vertices);
+
+/*
+ Copies the faces of every polyhedral cell: `cell_faces` (`num_cell_faces` = cells + 1, from
+ 0): cell c's faces are `cell_faces[c] .. cell_faces[c + 1]` of the face list (none for a cell
+ of another type); `face_offsets` (`num_face_offsets` = the faces of
+ `meshmove_mesh_polyhedron_sizes` + 1, from 0): face f's vertices are
+ `connectivity[face_offsets[f] .. face_offsets[f + 1]]` (`num_connectivity` = its
+ `num_face_vertices`; indices plus `index_base`), a loop whose right-hand normal points out of
+ the cell. Any of the three may be NULL with its length 0 to skip it; every length is checked
+ before anything is written.
+
+ # Safety
+ Each non-NULL array must hold its stated number of `int32_t`.
+ */
+MESHMOVE_MUST_USE
+meshmove_status meshmove_mesh_get_polyhedron_faces(const struct meshmove_mesh *mesh,
+                                                   int32_t index_base,
+                                                   int32_t num_cell_faces,
+                                                   int32_t *cell_faces,
+                                                   int32_t num_face_offsets,
+                                                   int32_t *face_offsets,
+                                                   int32_t num_connectivity,
+                                                   int32_t *connectivity);
+
+/*
  Creates a solver for `mesh` and `bcs` (both copied; they may be freed afterwards) with
  `options` (NULL for the defaults; copied). Checks the boundary conditions against the mesh
  (unknown patches, links that do not match, ill-posed components) and builds the multigrid

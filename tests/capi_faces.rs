@@ -4,7 +4,11 @@
 use meshmove::capi::*;
 use meshmove::{FaceMeshData, Mesh};
 use std::ffi::CStr;
-use std::ptr::{null, null_mut};
+use std::ptr::null_mut;
+
+#[path = "common/faces_c.rs"]
+mod faces_c;
+use faces_c::create_from_faces;
 
 fn last() -> String {
     let mut buf = vec![0 as std::ffi::c_char; 512];
@@ -33,30 +37,7 @@ fn faces() -> FaceMeshData {
 fn create(base: i32, edit: impl Fn(&mut FaceMeshData)) -> (meshmove_status, *mut meshmove_mesh) {
     let mut f = faces();
     edit(&mut f);
-    let b = |v: &[u32]| v.iter().map(|&x| x as i32 + base).collect::<Vec<i32>>();
-    let cells = |v: &[i64]| v.iter().map(|&x| if x < 0 { -1 } else { x as i32 + base }).collect::<Vec<i32>>();
-    let off: Vec<i32> = f.face_offsets.iter().map(|&o| o as i32).collect();
-    let (conn, owner, neighbour) = (b(&f.face_vertices), cells(&f.owner), cells(&f.neighbour));
-    let mut m = null_mut();
-    let s = unsafe {
-        meshmove_mesh_create_from_faces(
-            2,
-            (f.coords.len() / 2) as i32,
-            f.coords.as_ptr(),
-            owner.len() as i32,
-            off.as_ptr(),
-            conn.len() as i32,
-            conn.as_ptr(),
-            owner.as_ptr(),
-            neighbour.as_ptr(),
-            f.patch.as_ptr(),
-            2,
-            null(),
-            base,
-            &mut m,
-        )
-    };
-    (s, m)
+    create_from_faces(&f, base, 2)
 }
 
 #[test]

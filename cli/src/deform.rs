@@ -1,4 +1,6 @@
-//! `meshmove deform MESH --config CASE.toml -o OUT.vtu`: the user's own mesh and case.
+//! `meshmove deform MESH --config CASE.toml -o OUT.vtu`: the user's own mesh and case. MESH is a
+//! `.msh`, a `.vtu` or an OpenFOAM polyMesh (or case) directory, whose moved mesh is written as a
+//! polyMesh directory at OUT unless OUT ends in `.vtu` (`output`).
 //!
 //! The case file (TOML): every key, its default and an example of each feature are in
 //! docs/CASE-FORMAT.md, whose examples tests/case_format.rs runs.
@@ -9,17 +11,19 @@
 //! written to `OUT.last-valid.vtu` beside the requested output; 5 when Ctrl-C stopped the run: the
 //! last valid mesh is written there too (a second Ctrl-C exits at once, with 130).
 
+mod output;
 mod series;
 
 use indicatif::{ProgressBar, ProgressStyle};
 use meshmove::bc::SlipSurface;
-use meshmove::io::{read_msh, read_vtu, write_deformed_as, VtuEncoding};
+use meshmove::io::{read_msh, read_polymesh, read_vtu, VtuEncoding};
 use meshmove::solver::{ReferenceMode, StepReport};
 use meshmove::{
     BoundaryConditions, InterfaceVariant, Kind, Link, Mesh, Method, Motion, Options, Progress, RigidMotion,
 };
 use meshmove_cases::report::{patch_measures, run_series_with};
 use meshmove_cases::setups::CaseSetup;
+use output::{step_path, PolyMeshSource};
 use serde::Deserialize;
 use series::{periodic, FieldTrack, RigidTrack, Series};
 use std::path::{Path, PathBuf};
@@ -28,7 +32,8 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// The mesh: Gmsh .msh (2.2 or 4.1; physical groups are patches) or .vtu.
+    /// The mesh: Gmsh .msh (2.2 or 4.1; physical groups are patches), .vtu, or an OpenFOAM
+    /// polyMesh directory (or a case directory with constant/polyMesh; its patches by name).
     mesh: PathBuf,
     /// The case file (TOML).
     #[arg(long)]
@@ -36,9 +41,14 @@ pub struct Args {
     /// Also draw the deformed mesh to this PNG file (title, inverted cells, min area ratio).
     #[arg(long, value_name = "FILE")]
     png: Option<PathBuf>,
-    /// Where to write the deformed mesh (.vtu).
+    /// Where to write the deformed mesh: a .vtu file; for a polyMesh, a polyMesh directory
+    /// (the input's files with the moved points; the input directory itself to move it in
+    /// place) unless the name ends in .vtu.
     #[arg(short, long)]
     output: PathBuf,
+    /// Also write the deformed mesh to this .vtu file.
+    #[arg(long, value_name = "FILE")]
+    vtu: Option<PathBuf>,
     /// Also write one JSON object per sub-step (JSON lines) to this file.
     #[arg(long)]
     report: Option<PathBuf>,
@@ -284,23 +294,32 @@ fn slip_shape(p: &PatchCfg, dim: usize, what: &str) -> Result<Option<SlipSurface
     }))
 }
 
+/// What `read_mesh` returns: the mesh, the names of its patches, the polyMesh it came from.
+type MeshRead = (Mesh, Vec<(i32, String)>, Option<PolyMeshSource>);
+
 /// The mesh and the names of its patches (Gmsh physical groups of dimension `dim - 1`; a
-/// `.vtu`'s field data).
-fn read_mesh(path: &Path) -> Result<(Mesh, Vec<(i32, String)>), String> {
+/// `.vtu`'s field data; a polyMesh's patches), and for a polyMesh (a directory) where it came
+/// from.
+fn read_mesh(path: &Path) -> Result<MeshRead, String> {
+    if path.is_dir() {
+        let m = read_polymesh(path).map_err(|e| format!("mesh {}: {e}", path.display()))?;
+        let mesh = m.to_mesh().map_err(|e| format!("mesh {}: {e}", path.display()))?;
+        return Ok((mesh, m.patch_names, Some(PolyMeshSource { dir: m.dir, format: m.format })));
+    }
     let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
     match ext.as_str() {
         "msh" => {
             let m = read_msh(path).map_err(|e| format!("mesh {}: {e}", path.display()))?;
             let pd = m.mesh.dim() as i32 - 1;
             let names = m.physical_names.iter().filter(|(d, _, _)| *d == pd).map(|(_, t, n)| (*t, n.clone())).collect();
-            Ok((m.mesh, names))
+            Ok((m.mesh, names, None))
         }
         "vtu" => {
             let d = read_vtu(path).map_err(|e| format!("mesh {}: {e}", path.display()))?;
             let m = d.to_mesh().map_err(|e| format!("mesh {}: {e}", path.display()))?;
-            Ok((m, d.patch_names))
+            Ok((m, d.patch_names, None))
         }
-        _ => Err(format!("mesh {}: unknown extension (expected .msh or .vtu)", path.display())),
+        _ => Err(format!("mesh {}: unknown extension (expected .msh, .vtu or a polyMesh directory)", path.display())),
     }
 }
 
@@ -354,11 +373,14 @@ fn read_displacement(path: &Path, nv: usize, dim: usize) -> Result<Vec<Option<[f
     Ok(out)
 }
 
-fn build(args: &Args) -> Result<(CaseSetup, Options, Series), String> {
+/// What `build` returns: the case, the options, the motion's series, the polyMesh read.
+type Built = (CaseSetup, Options, Series, Option<PolyMeshSource>);
+
+fn build(args: &Args) -> Result<Built, String> {
     let text = std::fs::read_to_string(&args.config).map_err(|e| format!("config {}: {e}", args.config.display()))?;
     let cfg: Config = toml::from_str(&text).map_err(|e| format!("config {}: {e}", args.config.display()))?;
     let base = args.config.parent().unwrap_or(Path::new("."));
-    let (mesh, names) = read_mesh(&args.mesh)?;
+    let (mesh, names, foam) = read_mesh(&args.mesh)?;
     let dim = mesh.dim();
     if dim != 2 && dim != 3 {
         return Err(format!("mesh {}: a {dim}D mesh; `deform` moves 2D and 3D meshes", args.mesh.display()));
@@ -556,7 +578,7 @@ fn build(args: &Args) -> Result<(CaseSetup, Options, Series), String> {
     }
     bcs.check(&mesh).map_err(|e| format!("config: {e}"))?;
     let name = args.mesh.file_stem().and_then(|s| s.to_str()).unwrap_or("mesh").to_string();
-    Ok((CaseSetup { name, mesh, bcs, motion, steps, moved_patch, upper_region: None }, opts, series))
+    Ok((CaseSetup { name, mesh, bcs, motion, steps, moved_patch, upper_region: None }, opts, series, foam))
 }
 
 /// The number of steps the tables of the case's motions give (each table a row per step), if
@@ -685,11 +707,9 @@ fn on_ctrl_c(opts: &mut Options) {
 }
 
 pub fn run(args: Args) -> Result<ExitCode, String> {
-    let (setup, mut opts, series) = build(&args)?;
+    let (setup, mut opts, series, foam) = build(&args)?;
     let encoding = args.encoding.vtu();
-    let write = |path: &Path, disp: &[f64]| {
-        write_deformed_as(path, &setup.mesh.to_data(), disp, encoding).map_err(|e| format!("{}: {e}", path.display()))
-    };
+    let write = |path: &Path, disp: &[f64]| output::write(path, &setup.mesh, disp, encoding, foam.as_ref());
     let mut step_file_error = None;
     on_ctrl_c(&mut opts);
     let bar = if setup.steps >= 5 { ProgressBar::new(setup.steps as u64) } else { ProgressBar::hidden() };
@@ -699,7 +719,7 @@ pub fn run(args: Args) -> Result<ExitCode, String> {
     let increment = |i| series.increment(&setup.motion, i, setup.steps);
     let r = run_series_with(&setup, opts.method, &opts, increment, |step, reps, coords| {
         if args.every.is_some_and(|k| step % k.get() == 0 || step == setup.steps) {
-            let path = step_path(&args.output, step, setup.steps);
+            let path = step_path(&args.output, step, setup.steps, foam.is_some());
             let disp: Vec<f64> = coords.iter().zip(setup.mesh.coords()).map(|(a, b)| a - b).collect();
             if let Err(e) = write(&path, &disp) {
                 step_file_error.get_or_insert(e);
@@ -741,6 +761,9 @@ pub fn run(args: Args) -> Result<ExitCode, String> {
     }
     let disp = r.displacement(&setup.mesh);
     write(&args.output, &disp)?;
+    if let Some(vtu) = &args.vtu {
+        output::write(vtu, &setup.mesh, &disp, encoding, None)?;
+    }
     let substeps = r.reports.iter().filter(|x| x.accepted).count();
     println!(
         "mesh            {} ({} vertices, {} cells)",
@@ -776,6 +799,9 @@ pub fn run(args: Args) -> Result<ExitCode, String> {
         );
     }
     println!("wrote           {}", args.output.display());
+    if let Some(vtu) = &args.vtu {
+        println!("wrote           {}", vtu.display());
+    }
     if let Some(png) = &args.png {
         case_png(png, &setup, &r.coords, opts.method, r.steps)?;
     }
@@ -788,15 +814,6 @@ pub fn run(args: Args) -> Result<ExitCode, String> {
         return Ok(ExitCode::from(3));
     }
     Ok(ExitCode::SUCCESS)
-}
-
-/// Where `--every` writes the mesh after step `step` of `steps`: OUT_NNNN.vtu beside OUT.vtu,
-/// the step in as many digits as the last one has (at least 4), so that the files sort in order
-/// and ParaView opens them as one series.
-fn step_path(output: &Path, step: usize, steps: usize) -> PathBuf {
-    let stem = output.file_stem().and_then(|s| s.to_str()).unwrap_or("out");
-    let width = steps.to_string().len().max(4);
-    output.with_file_name(format!("{stem}_{step:0width$}.vtu"))
 }
 
 /// One sub-step as a JSON object (non-finite numbers as null).

@@ -679,7 +679,7 @@ pub unsafe extern "C" fn meshmove_mesh_get_coords(
 ///
 /// # Safety
 /// A non-NULL `p` must hold `len` writable elements.
-unsafe fn out_array<'a>(
+pub(super) unsafe fn out_array<'a>(
     p: *mut i32,
     len: i32,
     want: usize,

@@ -13,13 +13,19 @@
 //! ([`parse_msh`], [`VtuData::to_mesh`]) with [`Mesh::from_data`](crate::mesh::Mesh::from_data),
 //! which checks what the core handles.
 //!
-//! Both formats are handled by small parsers of our own; `msh` and `vtu` say why the crates
+//! OpenFOAM's polyMesh directories are read (ASCII or binary, gzip-compressed or not) as a
+//! [`FaceMeshData`](crate::FaceMeshData) with patch names ([`read_polymesh`]), and moved points
+//! written back in the format read ([`write_points`], [`write_polymesh`]); `foam` says how.
+//!
+//! All formats are handled by small parsers of our own; `msh` and `vtu` say why the crates
 //! that exist (`mshio`, `vtkio`) were not used. XML tokenising is `quick-xml`'s, inflating
 //! `flate2`'s.
 
+mod foam;
 mod msh;
 mod vtu;
 
+pub use foam::{format_points, polymesh_dir, read_polymesh, write_points, write_polymesh, FoamFormat, FoamMesh};
 pub use msh::{parse_msh, parse_msh_data, read_msh, read_msh_data, write_msh22, write_msh22_data, MshMesh, MshParts};
 pub use vtu::{
     parse_vtu, read_vtu, write_deformed, write_deformed_as, write_deformed_data, write_vtu, write_vtu_as, CellField,

@@ -2,11 +2,12 @@
 //! their vertices, the cell on each side of a face, a patch per boundary face. Each cell's faces
 //! are gathered (the owner's as given, the neighbour's reversed) and the cell is recognised as a
 //! tetrahedron, hexahedron, wedge or pyramid where its faces make one, in a corner order that
-//! depends on its vertices only (below), else kept as a polyhedron; in 2D, where the faces are
+//! depends on its vertices only (below), else kept as a polyhedron (so is a cell of a fixed type
+//! with a concave corner, which that type's element would refuse); in 2D, where the faces are
 //! segments, as a triangle, quad or polygon.
 
 use super::{polyhedra, Mesh, MeshData, MeshError};
-use crate::geometry::CellType;
+use crate::geometry::{CellPoints, CellType};
 
 /// A mesh given by its faces, in the layout of OpenFOAM's polyMesh and of code_saturne: 0-based
 /// arrays. A face's vertices run round it so that its right-hand normal (in 2D, where faces are
@@ -129,7 +130,7 @@ impl FaceMeshData {
             }
             let faces: Vec<&[u32]> = loops.iter().map(|v| v.as_slice()).collect();
             polyhedra::closed(c, faces.iter().copied())?;
-            match recognise(&faces) {
+            match recognise(&faces).filter(|(ty, corners)| convex(*ty, corners, &self.coords)) {
                 Some((ty, corners)) => d.push_cell(ty, &corners, region),
                 None => d.push_polyhedron(&faces, region),
             }
@@ -245,6 +246,16 @@ fn polygon(cell: usize, sides: &[Vec<u32>]) -> Result<Vec<u32>, MeshError> {
         return Err(MeshError::FaceBasedCell { cell, problem });
     }
     Ok(corners)
+}
+
+/// False for a recognised cell that its type's element would refuse although its volume is
+/// positive: a corner of non-positive Jacobian, as a snapped hexahedron's concave corner (mesh
+/// generators such as snappyHexMesh make them and finite-volume codes accept them). Such a cell
+/// is kept as a polyhedron, whose element is valid while its sub-tetrahedra are. A cell of
+/// negative volume keeps its type: the mesh's orientation is checked as a whole afterwards.
+fn convex(ty: CellType, corners: &[u32], coords: &[f64]) -> bool {
+    let p = CellPoints::gather(ty, corners, coords, 3);
+    p.signed_measure() <= 0.0 || !p.is_inverted()
 }
 
 /// The type and corners of a closed cell of outward `faces` that is a tetrahedron, hexahedron,
