@@ -11,6 +11,7 @@
 //! collective and returns the same status on every rank.
 
 mod agreement;
+mod bcs;
 mod comm;
 mod coverage;
 mod dist_mesh;
@@ -21,12 +22,13 @@ mod level_layout;
 mod ownership;
 mod pcg;
 mod reduce;
+mod solver;
 
 pub use comm::Comm;
 pub use dist_mesh::DistributedMesh;
 pub use error::{DistError, DistErrorKind};
-pub use laplacian::{DistSolution, DistSolveParams};
 pub(crate) use level_layout::Distribution;
 /// The MPI bindings (rsmpi) the library is built with: a host in Rust names its communicators
 /// with these types.
 pub use mpi;
+pub use solver::{DistSolution, DistSolveParams, DistributedSolver};
