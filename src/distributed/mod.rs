@@ -12,6 +12,7 @@
 
 mod agreement;
 mod bcs;
+pub mod capi;
 mod comm;
 mod coverage;
 mod dist_mesh;
