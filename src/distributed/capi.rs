@@ -17,10 +17,10 @@
 use super::agreement::agree;
 use super::comm::Comm;
 use super::{DistError, DistErrorKind, DistSolution, DistSolveParams, DistributedMesh, DistributedSolver};
+use crate::capi::bcs::meshmove_bcs;
 use crate::capi::error::{guard, CError};
 use crate::capi::handles::{self, check_out, get, get_mut, hand_out, Handle, Slot};
 use crate::capi::mesh::meshmove_mesh;
-use crate::capi::bcs::meshmove_bcs;
 use crate::capi::status::meshmove_status;
 use crate::capi::types;
 use crate::Motion;
@@ -108,6 +108,12 @@ impl From<DistError> for CError {
     }
 }
 
+/// Agrees on a rank's argument checks over `comm`: the same error (of rank `me` or another) on
+/// every rank when any rank's arguments are wrong.
+fn agree_checks<T>(comm: &Comm, me: usize, checked: Result<T, CError>) -> Result<T, DistError> {
+    agree(comm, checked.map_err(|e| DistError::new(me, DistErrorKind::Input, e.msg)))
+}
+
 /// Builds this rank's part of a distributed mesh (collective over `comm`; the library
 /// duplicates it). `local` is the rank's cells (owned and ghost) with their vertices and tagged
 /// faces, made by a `meshmove_mesh_create_*` call; `global_ids` (`num_ids` = its vertex count)
@@ -191,28 +197,28 @@ unsafe fn dist_mesh_create(
     let arrays = match &mesh {
         Err(e) => Err(CError::new(e.status, e.msg.clone())),
         Ok(m) => (|| {
-        let nv = m.num_vertices();
-        let ids = handles::count(num_ids, "num_ids")?;
-        if ids != nv {
-            return Err(CError::arg(format!("{ids} global ids given for {nv} vertices")));
-        }
-        // SAFETY: `global_ids` holds `num_ids` values (contract).
-        let gids = unsafe { handles::slice(global_ids, ids, "global_ids") }?;
-        let gids: Vec<u64> = gids
-            .iter()
-            .map(|&g| u64::try_from(g).map_err(|_| CError::arg(format!("global id {g} is negative"))))
-            .collect::<Result<_, _>>()?;
-        let ghost = if ghost_cells.is_null() {
-            Vec::new()
-        } else {
-            let n = handles::count(num_ghost, "num_ghost")?;
-            // SAFETY: a non-NULL `ghost_cells` holds `num_ghost` values (contract).
-            unsafe { handles::slice(ghost_cells, n, "ghost_cells") }?.iter().map(|&g| g != 0).collect()
-        };
-        Ok((m.to_data(), gids, ghost))
+            let nv = m.num_vertices();
+            let ids = handles::count(num_ids, "num_ids")?;
+            if ids != nv {
+                return Err(CError::arg(format!("{ids} global ids given for {nv} vertices")));
+            }
+            // SAFETY: `global_ids` holds `num_ids` values (contract).
+            let gids = unsafe { handles::slice(global_ids, ids, "global_ids") }?;
+            let gids: Vec<u64> = gids
+                .iter()
+                .map(|&g| u64::try_from(g).map_err(|_| CError::arg(format!("global id {g} is negative"))))
+                .collect::<Result<_, _>>()?;
+            let ghost = if ghost_cells.is_null() {
+                Vec::new()
+            } else {
+                let n = handles::count(num_ghost, "num_ghost")?;
+                // SAFETY: a non-NULL `ghost_cells` holds `num_ghost` values (contract).
+                unsafe { handles::slice(ghost_cells, n, "ghost_cells") }?.iter().map(|&g| g != 0).collect()
+            };
+            Ok((m.to_data(), gids, ghost))
         })(),
     };
-    let (data, gids, ghost) = agree(&checks, arrays.map_err(|e| DistError::new(me, DistErrorKind::Input, e.msg)))?;
+    let (data, gids, ghost) = agree_checks(&checks, me, arrays)?;
     drop(mesh);
     let dm = DistributedMesh::new(&host, &data, &gids, &ghost)?;
     // SAFETY: `out` passed `check_out`.
@@ -287,7 +293,7 @@ pub unsafe extern "C" fn meshmove_dist_solver_create(
             let max_iterations = handles::count(max_iterations, "max_iterations")?;
             Ok((b, method, DistSolveParams { tol, max_iterations, ..Default::default() }))
         })();
-        let (b, method, params) = agree(comm, checked.map_err(|e: CError| DistError::new(m.rank(), DistErrorKind::Input, e.msg)))?;
+        let (b, method, params) = agree_checks(comm, m.rank(), checked)?;
         let solver = DistributedSolver::new(&m, &b, method, params)?;
         // SAFETY: `out` passed `check_out`.
         unsafe { hand_out::<meshmove_dist_solver>(solver, out) }
@@ -374,7 +380,7 @@ unsafe fn read_local(
 ) -> Result<Vec<f64>, CError> {
     let (dim, nv) = (s.mesh().dim(), s.mesh().num_local_vertices());
     let me = s.mesh().rank();
-    let read = (|| {
+    let read = (|| -> Result<Vec<f64>, CError> {
         // SAFETY: the caller's contract.
         let d = unsafe { crate::capi::points::read(input, len, dim, nv, "displacement") }?;
         // SAFETY: the caller's contract.
@@ -384,8 +390,7 @@ unsafe fn read_local(
         }
         Ok(d)
     })();
-    let agreed = agree(s.mesh().halo().comm(), read.map_err(|e: CError| DistError::new(me, DistErrorKind::Input, e.msg)));
-    Ok(agreed?)
+    Ok(agree_checks(s.mesh().halo().comm(), me, read)?)
 }
 
 /// Writes `values` to `out` and the report.

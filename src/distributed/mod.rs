@@ -5,9 +5,10 @@
 //! What is distributed today: the mesh with its ownership, global numbering and halo exchange
 //! lists and every check of the serial mesh (each rank's part alone, then across ranks);
 //! vectors over owned and halo entries with halo exchanges by nonblocking point-to-point
-//! messages and inner products reproducible for a fixed number of ranks; and the Laplacian
-//! mover with every boundary vertex prescribed, solved by conjugate gradients preconditioned by
-//! the multigrid's Chebyshev–Jacobi smoother (one level, not yet the multigrid). Every call is
+//! messages and inner products reproducible for a fixed number of ranks; and the mesh mover
+//! ([`DistributedSolver`]: the three methods with FIXED, CLAMPED and FREE patches and rigid
+//! motions), solved by conjugate gradients preconditioned by the multigrid's Chebyshev–Jacobi
+//! smoother (one level, not yet the multigrid), with its C ABI ([`capi`]). Every call is
 //! collective and returns the same status on every rank.
 
 mod agreement;

@@ -248,7 +248,7 @@ impl DistributedSolver {
 
     /// Per component the right-hand side and the prescribed values (the owners' values on the
     /// halo); an error where the right-hand side overflows.
-    fn right_hand_sides(&self, motion: &Motion, vals: &[f64]) -> Result<Vec<(Vec<f64>, Vec<f64>)>, DistError> {
+    fn right_hand_sides(&self, motion: &Motion, vals: &[f64]) -> Result<Vec<System>, DistError> {
         let (dim, nv, owned) = (self.mesh.dim(), self.local().num_vertices(), self.halo().owned());
         let mut out = Vec::with_capacity(dim);
         for c in 0..dim {
@@ -320,6 +320,9 @@ impl DistributedSolver {
         (quality, worst_rank)
     }
 }
+
+/// A component's right-hand side and its prescribed values (the owners' on the halo).
+type System = (Vec<f64>, Vec<f64>);
 
 /// The rank's level of `method` on `mesh` (layout order) with the flags of `bcs` (collective).
 fn build_level(halo: &Arc<HaloLayout>, mesh: Mesh, bcs: &BoundaryConditions, method: Method) -> Level {
