@@ -6,9 +6,10 @@
 //! lists and every check of the serial mesh (each rank's part alone, then across ranks);
 //! vectors over owned and halo entries with halo exchanges by nonblocking point-to-point
 //! messages and inner products reproducible for a fixed number of ranks; and the mesh mover
-//! ([`DistributedSolver`]: the three methods with FIXED, CLAMPED and FREE patches and rigid
-//! motions), solved by conjugate gradients preconditioned by the multigrid's Chebyshev–Jacobi
-//! smoother (one level, not yet the multigrid), with its C ABI ([`capi`]). Every call is
+//! ([`DistributedSolver`](crate::distributed::DistributedSolver): the three methods with FIXED,
+//! CLAMPED and FREE patches and rigid motions), solved by conjugate gradients preconditioned by
+//! the multigrid's Chebyshev–Jacobi smoother (one level, not yet the multigrid), with its C ABI
+//! ([`capi`](crate::distributed::capi)). Every call is
 //! collective and returns the same status on every rank.
 
 mod agreement;
