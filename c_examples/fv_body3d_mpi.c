@@ -1,11 +1,13 @@
 /* The mesh motion of fv_body3d.c run as an MPI code runs it: the box [-1,1]^3 as a 12^3 grid of
  * hexahedra without the cells of the body [-1/3,1/3]^3, walls FIXED (patch 1), body CLAMPED
- * (patch 2) and turned by 5 degrees about the y axis. Every rank owns a slab of cells in x and
+ * (patch 2) and turned rigidly by 5 degrees about the y axis (its held wall spacing turning with
+ * it). Every rank owns a slab of cells in x and
  * holds one layer of ghost cells around it, as a finite-volume code's partition does; it hands
  * meshmove its local cells (through the serial meshmove_mesh_create), the global id of each
  * local vertex and its ghost-cell flags, and moves its part with the distributed solver:
  *     meshmove_dist_mesh_create(MPI_COMM_WORLD, local, gids, nv, ghost, nc, &dm);
  *     meshmove_dist_solver_create(dm, bcs, MESHMOVE_METHOD_BIHARMONIC, 1e-12, 5000, &ds);
+ *     meshmove_dist_solver_set_rigid_motion(ds, BODY, t, (0, angle, 0), centre);
  *     meshmove_dist_solver_move(ds, 3 * nv, boundary_displacement, xyz, 3 * nv, &report);
  * Each rank checks its part against the serial solver on the whole mesh (to 1e-10 of the motion,
  * both solved to 1e-12), that the report is the same on every rank and the serial quality's, and
@@ -20,7 +22,9 @@
 #define N 12
 #define LO 4
 #define HI 8
+#define ANGLE (5.0 * 3.14159265358979323846 / 180.0)
 enum { WALL = 1, BODY = 2 };
+static const double ZERO[3] = {0.0, 0.0, 0.0}, TURN[3] = {0.0, ANGLE, 0.0};
 
 static const int HEX_FACE[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
 static const int HEX_DIR[6][3] = {{0, 0, -1}, {0, 0, 1}, {0, -1, 0}, {1, 0, 0}, {0, 1, 0}, {-1, 0, 0}};
@@ -123,9 +127,10 @@ static meshmove_mesh *mesh_of(const part *p) {
     return m;
 }
 
-/* The body turned by 5 degrees about the y axis through the origin; nothing else moves. */
+/* The body turned by ANGLE about the y axis through the origin (what its rigid motion gives
+ * too); nothing else moves. */
 static void boundary_motion(const part *p, double *d) {
-    const double a = 5.0 * 3.14159265358979323846 / 180.0;
+    const double a = ANGLE;
     for (int v = 0; v < p->nv; v++) {
         const double *x = p->xyz + 3 * v;
         int on_body = fabs(x[0]) <= 1.0 / 3 + 1e-12 && fabs(x[1]) <= 1.0 / 3 + 1e-12 && fabs(x[2]) <= 1.0 / 3 + 1e-12;
@@ -152,6 +157,7 @@ int main(int argc, char **argv) {
     CHECK(meshmove_options_set_tol(o, 1e-12));
     meshmove_solver *serial = NULL;
     CHECK(meshmove_solver_create(wm, bcs, o, &serial));
+    CHECK(meshmove_solver_set_rigid_motion(serial, BODY, ZERO, TURN, ZERO));
     double *dw = malloc(3 * whole.nv * sizeof(double)), *ref = malloc(3 * whole.nv * sizeof(double));
     boundary_motion(&whole, dw);
     CHECK(meshmove_solver_solve(serial, 3 * whole.nv, dw, NULL, ref, NULL));
@@ -170,6 +176,7 @@ int main(int argc, char **argv) {
     CHECK(meshmove_mesh_free(lm));
     meshmove_dist_solver *ds = NULL;
     CHECK(meshmove_dist_solver_create(dm, bcs, MESHMOVE_METHOD_BIHARMONIC, 1e-12, 5000, &ds));
+    CHECK(meshmove_dist_solver_set_rigid_motion(ds, BODY, ZERO, TURN, ZERO));
     double *d = malloc(3 * p.nv * sizeof(double)), *out = malloc(3 * p.nv * sizeof(double));
     double *xyz = malloc(3 * p.nv * sizeof(double));
     boundary_motion(&p, d);

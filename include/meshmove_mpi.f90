@@ -55,6 +55,18 @@ module meshmove_mpi
       import :: c_int32_t, c_ptr
       type(c_ptr), value :: solver
     end function
+    !> Makes `patch` move rigidly in the following solves (collective; every rank sets the same).
+    integer(c_int32_t) function meshmove_dist_solver_set_rigid_motion(solver, patch, translation, rotation, center) &
+        bind(c)
+      import :: c_int32_t, c_double, c_ptr
+      type(c_ptr), value :: solver
+      integer(c_int32_t), value :: patch
+      real(c_double), intent(in) :: translation(*), rotation(*), center(*)
+    end function
+    integer(c_int32_t) function meshmove_dist_solver_clear_rigid_motions(solver) bind(c)
+      import :: c_int32_t, c_ptr
+      type(c_ptr), value :: solver
+    end function
     !> The displacement of every local vertex (out) from the prescribed one (displacement).
     integer(c_int32_t) function meshmove_dist_solver_solve(solver, displacement, len, out, out_len, report) bind(c)
       import :: c_int32_t, c_double, c_ptr, meshmove_dist_report

@@ -27,7 +27,7 @@ typedef struct meshmove_dist_mesh meshmove_dist_mesh;
 
 /*
  A distributed mesh mover: one method and one set of boundary conditions on a distributed
- mesh (which it copies).
+ mesh (which it copies), and the rigid motions currently set.
  */
 typedef struct meshmove_dist_solver meshmove_dist_solver;
 
@@ -154,6 +154,33 @@ meshmove_status meshmove_dist_solver_create(const struct meshmove_dist_mesh *mes
  `solver` must be NULL or a pointer received from meshmove (checked).
  */
 MESHMOVE_MUST_USE meshmove_status meshmove_dist_solver_free(struct meshmove_dist_solver *solver);
+
+/*
+ Makes `patch` move rigidly in the following solves (collective: every rank sets the same
+ motion, whether or not it holds the patch), as `meshmove_solver_set_rigid_motion` does:
+ rotation by `rotation` about `center`, then translation by `translation` (`dim` values each,
+ `rotation` 1 value in 2D and 3 in 3D). The patch's vertices then ignore the displacement
+ array; on a CLAMPED patch the biharmonic's held spacing rotates with it. Setting a patch again
+ replaces its motion.
+
+ # Safety
+ `solver` must be a handle from meshmove (checked); the arrays must hold the values stated.
+ */
+MESHMOVE_MUST_USE
+meshmove_status meshmove_dist_solver_set_rigid_motion(struct meshmove_dist_solver *solver,
+                                                      int32_t patch,
+                                                      const double *translation,
+                                                      const double *rotation,
+                                                      const double *center);
+
+/*
+ Removes every rigid motion (not collective: every rank clears its own, as every rank must).
+
+ # Safety
+ `solver` must be a handle from meshmove (checked).
+ */
+MESHMOVE_MUST_USE
+meshmove_status meshmove_dist_solver_clear_rigid_motions(struct meshmove_dist_solver *solver);
 
 /*
  Solves for the displacement of every local vertex (collective): `displacement` gives `dim`

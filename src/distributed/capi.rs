@@ -21,9 +21,10 @@ use crate::capi::bcs::meshmove_bcs;
 use crate::capi::error::{guard, CError};
 use crate::capi::handles::{self, check_out, get, get_mut, hand_out, Handle, Slot};
 use crate::capi::mesh::meshmove_mesh;
+use crate::capi::points;
 use crate::capi::status::meshmove_status;
 use crate::capi::types;
-use crate::Motion;
+use crate::{Motion, RigidMotion};
 use mpi::ffi::MPI_Comm;
 use mpi::raw::FromRaw;
 use mpi::topology::SimpleCommunicator;
@@ -33,8 +34,20 @@ use mpi::topology::SimpleCommunicator;
 pub struct meshmove_dist_mesh(Slot<DistributedMesh>);
 
 /// A distributed mesh mover: one method and one set of boundary conditions on a distributed
-/// mesh (which it copies).
-pub struct meshmove_dist_solver(Slot<DistributedSolver>);
+/// mesh (which it copies), and the rigid motions currently set.
+pub struct meshmove_dist_solver(Slot<DistSolverState>);
+
+/// A distributed solver and the rigid motions of its following calls.
+pub(crate) struct DistSolverState {
+    solver: DistributedSolver,
+    rigid: Vec<(i32, RigidMotion)>,
+}
+
+impl DistSolverState {
+    fn motion(&self, displacement: Vec<f64>) -> Motion {
+        Motion { displacement, rigid: self.rigid.clone() }
+    }
+}
 
 impl Handle for meshmove_dist_mesh {
     type Payload = DistributedMesh;
@@ -48,12 +61,12 @@ impl Handle for meshmove_dist_mesh {
 }
 
 impl Handle for meshmove_dist_solver {
-    type Payload = DistributedSolver;
+    type Payload = DistSolverState;
     const NAME: &'static str = "meshmove_dist_solver";
-    fn slot(&self) -> &Slot<DistributedSolver> {
+    fn slot(&self) -> &Slot<DistSolverState> {
         &self.0
     }
-    fn from_slot(slot: Slot<DistributedSolver>) -> Self {
+    fn from_slot(slot: Slot<DistSolverState>) -> Self {
         meshmove_dist_solver(slot)
     }
 }
@@ -295,8 +308,9 @@ pub unsafe extern "C" fn meshmove_dist_solver_create(
         })();
         let (b, method, params) = agree_checks(comm, m.rank(), checked)?;
         let solver = DistributedSolver::new(&m, &b, method, params)?;
+        let state = DistSolverState { solver, rigid: Vec::new() };
         // SAFETY: `out` passed `check_out`.
-        unsafe { hand_out::<meshmove_dist_solver>(solver, out) }
+        unsafe { hand_out::<meshmove_dist_solver>(state, out) }
     })
 }
 
@@ -308,6 +322,64 @@ pub unsafe extern "C" fn meshmove_dist_solver_create(
 #[must_use]
 pub unsafe extern "C" fn meshmove_dist_solver_free(solver: *mut meshmove_dist_solver) -> meshmove_status {
     guard("meshmove_dist_solver_free", move || handles::free(solver, "solver"))
+}
+
+/// Makes `patch` move rigidly in the following solves (collective: every rank sets the same
+/// motion, whether or not it holds the patch), as `meshmove_solver_set_rigid_motion` does:
+/// rotation by `rotation` about `center`, then translation by `translation` (`dim` values each,
+/// `rotation` 1 value in 2D and 3 in 3D). The patch's vertices then ignore the displacement
+/// array; on a CLAMPED patch the biharmonic's held spacing rotates with it. Setting a patch again
+/// replaces its motion.
+///
+/// # Safety
+/// `solver` must be a handle from meshmove (checked); the arrays must hold the values stated.
+#[no_mangle]
+#[must_use]
+pub unsafe extern "C" fn meshmove_dist_solver_set_rigid_motion(
+    solver: *mut meshmove_dist_solver,
+    patch: i32,
+    translation: *const f64,
+    rotation: *const f64,
+    center: *const f64,
+) -> meshmove_status {
+    guard("meshmove_dist_solver_set_rigid_motion", move || {
+        let mut s = get_mut(solver, "solver")?;
+        let (dim, me) = (s.solver.mesh().dim(), s.solver.mesh().rank());
+        let read = (|| -> Result<RigidMotion, CError> {
+            // SAFETY: the caller guarantees `translation` and `center` hold `dim` doubles and
+            // `rotation` 1 (2D) or 3 (3D).
+            let (t, r, c) = unsafe {
+                (
+                    handles::slice(translation, dim, "translation")?,
+                    handles::slice(rotation, points::rotation_len(dim), "rotation")?,
+                    handles::slice(center, dim, "center")?,
+                )
+            };
+            if !t.iter().chain(r).chain(c).all(|v| v.is_finite()) {
+                return Err(CError::arg(format!("the rigid motion of patch {patch} is not finite")));
+            }
+            points::rigid_motion(dim, t, r, c)
+        })();
+        let m = agree_checks(s.solver.mesh().halo().comm(), me, read)?;
+        s.rigid.retain(|(p, _)| *p != patch);
+        s.rigid.push((patch, m));
+        Ok(())
+    })
+}
+
+/// Removes every rigid motion (not collective: every rank clears its own, as every rank must).
+///
+/// # Safety
+/// `solver` must be a handle from meshmove (checked).
+#[no_mangle]
+#[must_use]
+pub unsafe extern "C" fn meshmove_dist_solver_clear_rigid_motions(
+    solver: *mut meshmove_dist_solver,
+) -> meshmove_status {
+    guard("meshmove_dist_solver_clear_rigid_motions", move || {
+        get_mut(solver, "solver")?.rigid.clear();
+        Ok(())
+    })
 }
 
 /// Solves for the displacement of every local vertex (collective): `displacement` gives `dim`
@@ -332,8 +404,8 @@ pub unsafe extern "C" fn meshmove_dist_solver_solve(
     guard("meshmove_dist_solver_solve", move || {
         let s = get(solver, "solver")?;
         // SAFETY: the caller's contract for the arrays.
-        let d = unsafe { read_local(&s, displacement, len, out, out_len, report) }?;
-        let sol = s.solve(&Motion::from_displacement(d))?;
+        let d = unsafe { read_local(&s.solver, displacement, len, out, out_len, report) }?;
+        let sol = s.solver.solve(&s.motion(d))?;
         // SAFETY: `out` and `report` were checked by `read_local`.
         unsafe { write_solution(&sol.displacement, out, &sol, report) }
     })
@@ -358,10 +430,11 @@ pub unsafe extern "C" fn meshmove_dist_solver_move(
     guard("meshmove_dist_solver_move", move || {
         let mut s = get_mut(solver, "solver")?;
         // SAFETY: the caller's contract for the arrays.
-        let d = unsafe { read_local(&s, displacement, len, coords, out_len, report) }?;
-        let sol = s.advance(&Motion::from_displacement(d))?;
+        let d = unsafe { read_local(&s.solver, displacement, len, coords, out_len, report) }?;
+        let motion = s.motion(d);
+        let sol = s.solver.advance(&motion)?;
         // SAFETY: `coords` and `report` were checked by `read_local`.
-        unsafe { write_solution(&s.current_coords(), coords, &sol, report) }
+        unsafe { write_solution(&s.solver.current_coords(), coords, &sol, report) }
     })
 }
 
@@ -382,9 +455,9 @@ unsafe fn read_local(
     let me = s.mesh().rank();
     let read = (|| -> Result<Vec<f64>, CError> {
         // SAFETY: the caller's contract.
-        let d = unsafe { crate::capi::points::read(input, len, dim, nv, "displacement") }?;
+        let d = unsafe { points::read(input, len, dim, nv, "displacement") }?;
         // SAFETY: the caller's contract.
-        unsafe { crate::capi::points::check_out(out, out_len, dim, nv, "out") }?;
+        unsafe { points::check_out(out, out_len, dim, nv, "out") }?;
         if !report.is_null() {
             handles::check_aligned(report, "report")?;
         }
@@ -404,7 +477,7 @@ unsafe fn write_solution(
     report: *mut meshmove_dist_report,
 ) -> Result<(), CError> {
     // SAFETY: checked by `read_local` for this many values.
-    unsafe { crate::capi::points::write(out, values) };
+    unsafe { points::write(out, values) };
     // SAFETY: checked by `read_local`.
     unsafe { handles::write_opt(report, meshmove_dist_report::from(sol), "report") }
 }
