@@ -64,6 +64,7 @@ fn rank_main() -> ExitCode {
         }
     }
     bad_conditions_fail_on_every_rank(&world, &tagged(&grid2d(14, 12)));
+    advance_moves_the_reference(&world, &grid2d(14, 12));
     ExitCode::SUCCESS
 }
 
@@ -305,5 +306,32 @@ fn bad_conditions_fail_on_every_rank(world: &SimpleCommunicator, d: &MeshData) {
     assert_eq!((e.rank, e.kind), (last, DistErrorKind::Input), "{e}");
     if rank == 0 {
         println!("{size} ranks, bad conditions and motions on the last rank: every rank returns the error");
+    }
+}
+
+/// `advance` makes the moved positions the reference; a motion that inverts cells is refused on
+/// every rank, naming the rank of the worst cell, and changes nothing.
+fn advance_moves_the_reference(world: &SimpleCommunicator, d: &MeshData) {
+    let (rank, size) = (world.rank() as usize, world.size() as usize);
+    let p = part(d, &slab_owner(d, size), rank, true);
+    let dm = DistributedMesh::new(world, &p.data, &p.gids, &p.ghost).unwrap();
+    let params = DistSolveParams { tol: 1e-12, ..Default::default() };
+    let mut solver = DistributedSolver::new(&dm, &BoundaryConditions::new(), Method::Laplacian, params).unwrap();
+    let local: Vec<f64> = p.global.iter().flat_map(|&v| motion(d.point(v))[..2].to_vec()).collect();
+    let before = solver.current_coords();
+    assert_eq!(before, p.data.coords, "the reference starts at the host's positions");
+    let sol = solver.advance(&Motion::from_displacement(local.clone())).unwrap();
+    let after = solver.current_coords();
+    let moved: Vec<f64> = before.iter().zip(&sol.displacement).map(|(x, d)| x + d).collect();
+    assert_eq!(after, moved, "the reference is the moved mesh");
+    let big: Vec<f64> = local.iter().map(|x| 50.0 * x).collect();
+    let e = solver.advance(&Motion::from_displacement(big)).unwrap_err();
+    assert_eq!(e.kind, DistErrorKind::Inverted, "{e}");
+    assert_eq!(solver.current_coords(), after, "a refused step changes nothing");
+    let mut ranks = vec![0u64; size];
+    world.all_gather_into(&(e.rank as u64), &mut ranks[..]);
+    assert!(ranks.iter().all(|&r| r == ranks[0]), "the ranks blame different ranks: {ranks:?}");
+    if rank == 0 {
+        println!("{size} ranks, advance: the reference moves; an inverting step is refused: \"{e}\"");
     }
 }
