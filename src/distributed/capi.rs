@@ -345,21 +345,9 @@ pub unsafe extern "C" fn meshmove_dist_solver_set_rigid_motion(
     guard("meshmove_dist_solver_set_rigid_motion", move || {
         let mut s = get_mut(solver, "solver")?;
         let (dim, me) = (s.solver.mesh().dim(), s.solver.mesh().rank());
-        let read = (|| -> Result<RigidMotion, CError> {
-            // SAFETY: the caller guarantees `translation` and `center` hold `dim` doubles and
-            // `rotation` 1 (2D) or 3 (3D).
-            let (t, r, c) = unsafe {
-                (
-                    handles::slice(translation, dim, "translation")?,
-                    handles::slice(rotation, points::rotation_len(dim), "rotation")?,
-                    handles::slice(center, dim, "center")?,
-                )
-            };
-            if !t.iter().chain(r).chain(c).all(|v| v.is_finite()) {
-                return Err(CError::arg(format!("the rigid motion of patch {patch} is not finite")));
-            }
-            points::rigid_motion(dim, t, r, c)
-        })();
+        // SAFETY: the caller guarantees `translation` and `center` hold `dim` doubles and
+        // `rotation` 1 (2D) or 3 (3D).
+        let read = unsafe { points::read_rigid_motion(dim, patch, translation, rotation, center) };
         let m = agree_checks(s.solver.mesh().halo().comm(), me, read)?;
         s.rigid.retain(|(p, _)| *p != patch);
         s.rigid.push((patch, m));
