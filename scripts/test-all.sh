@@ -54,6 +54,12 @@ cargo clippy --release -p meshmove -- -D warnings
 cargo clippy --release -p meshmove --features mpi -- -D warnings
 cargo clippy --release -p meshmove --all-targets --features mpi,internals -- -D warnings
 cargo test --release --features mpi --test distributed
+# The C and Fortran programs of the distributed calls under mpirun on 1 to 4 ranks: a second
+# CMake build with MESHMOVE_WITH_MPI (its own cargo target directory, kept between runs), of
+# those programs alone.
+cmake -S . -B build-mpi -DCMAKE_BUILD_TYPE=Release -DMESHMOVE_WITH_MPI=ON
+cmake --build build-mpi -j "$(nproc)" --target fv_body3d_mpi_c free_surface_mpi_f
+(cd build-mpi && ctest --output-on-failure -R '_mpi_(c|f)_np')
 # The API documentation builds without a warning (broken links, bad markup).
 RUSTDOCFLAGS="-D warnings" cargo doc --release --no-deps
 RUSTDOCFLAGS="-D warnings" cargo doc --release --no-deps -p meshmove --features mpi

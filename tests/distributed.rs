@@ -3,15 +3,18 @@
 //! 2, 3 and 4 ranks (each run under a time limit, so a rank left waiting fails the test instead
 //! of hanging it); each rank partitions the mesh into slabs by x, checks its part of the
 //! distributed Laplacian solve against the serial solver, and checks that bad input on one rank
-//! makes every rank return the error naming that rank.
+//! makes every rank return the error naming that rank. Then each method (Laplacian, spring,
+//! biharmonic) with each set of conditions (every patch FIXED; a CLAMPED body moving rigidly
+//! and the rest FIXED; a FREE side) on a 2D and a 3D mesh equals the serial solver, with the
+//! same quality report, and bad conditions or motions on one rank fail on every rank.
 
 mod slabs;
 
-use meshmove::distributed::{DistErrorKind, DistSolveParams, DistributedMesh};
-use meshmove::{BoundaryConditions, Mesh, MeshData, Method, Motion, Options, Solver};
+use meshmove::distributed::{DistErrorKind, DistSolveParams, DistributedMesh, DistributedSolver};
+use meshmove::{BoundaryConditions, Kind, Mesh, MeshData, Method, Motion, Options, RigidMotion, Solver};
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
-use slabs::{box3d, grid2d, motion, part, slab_owner, Part};
+use slabs::{box3d, grid2d, motion, part, slab_owner, tagged, Part, BODY, SIDE};
 use std::process::{Command, ExitCode};
 
 fn main() -> ExitCode {
@@ -22,7 +25,7 @@ fn main() -> ExitCode {
     let mut ok = true;
     for np in 1..=4 {
         let out = Command::new("timeout")
-            .args(["120", "mpirun", "--oversubscribe", "-np", &np.to_string()])
+            .args(["300", "mpirun", "--oversubscribe", "-np", &np.to_string()])
             .arg(&exe)
             .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
             .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
@@ -53,6 +56,15 @@ fn rank_main() -> ExitCode {
     }
     bad_input_fails_on_every_rank(&world, &meshes[0].1);
     bad_input_fails_on_every_rank(&world, &meshes[1].1);
+    for (name, mesh) in [("2D triangles", tagged(&grid2d(14, 12))), ("3D hexahedra", tagged(&box3d(5, false)))] {
+        for method in [Method::Laplacian, Method::Spring, Method::Biharmonic] {
+            for case in [Case::AllFixed, Case::ClampedBody, Case::FreeSide] {
+                solver_agrees_with_serial(&world, name, &mesh, method, case);
+            }
+        }
+    }
+    bad_conditions_fail_on_every_rank(&world, &tagged(&grid2d(14, 12)));
+    advance_moves_the_reference(&world, &grid2d(14, 12));
     ExitCode::SUCCESS
 }
 
@@ -170,4 +182,156 @@ fn bad_input_fails_on_every_rank(world: &SimpleCommunicator, d: &MeshData) {
     // cells around them.
     let p = part(d, &owner, rank, rank != 0);
     expect("no ghost layer", &p, 0, DistErrorKind::MissingGhostCell);
+}
+
+/// The boundary conditions of a comparison.
+#[derive(Clone, Copy, Debug)]
+enum Case {
+    /// Every patch FIXED, each vertex moved by `motion`.
+    AllFixed,
+    /// The body CLAMPED, moved rigidly (rotated and translated); the rest FIXED, moved by `motion`.
+    ClampedBody,
+    /// The side FREE; the rest FIXED, moved by `motion`.
+    FreeSide,
+}
+
+impl Case {
+    fn conditions(self) -> BoundaryConditions {
+        let mut bcs = BoundaryConditions::new();
+        match self {
+            Case::AllFixed => {}
+            Case::ClampedBody => {
+                bcs.set_kinds(BODY, Kind::Clamped);
+            }
+            Case::FreeSide => {
+                bcs.set_kinds(SIDE, Kind::Free);
+            }
+        }
+        bcs
+    }
+
+    fn rigid(self) -> Vec<(i32, RigidMotion)> {
+        match self {
+            Case::ClampedBody => vec![(
+                BODY,
+                RigidMotion { translation: [0.02, -0.01, 0.01], rotation: [0.0, 0.0, 0.05], center: [0.0, 0.5, 0.5] },
+            )],
+            _ => Vec::new(),
+        }
+    }
+}
+
+/// The distributed solver equals the serial one to 1e-10 of the motion (both to a relative
+/// residual of 1e-12), with the same inverted count and smallest area ratio.
+fn solver_agrees_with_serial(world: &SimpleCommunicator, name: &str, d: &MeshData, method: Method, case: Case) {
+    let (rank, size) = (world.rank() as usize, world.size() as usize);
+    let dim = d.dim;
+    let all: Vec<f64> = (0..d.num_vertices()).flat_map(|v| motion(d.point(v))[..dim].to_vec()).collect();
+    let bcs = case.conditions();
+    let mut o = Options { method, threads: 1, ..Default::default() };
+    o.solve.tol = 1e-12;
+    let serial = Solver::new(&Mesh::from_data(d).unwrap(), &bcs, o).unwrap();
+    let reference = serial.solve(&Motion { displacement: all.clone(), rigid: case.rigid() }).unwrap();
+    let scale = reference.displacement.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+
+    let p = part(d, &slab_owner(d, size), rank, true);
+    let dm = DistributedMesh::new(world, &p.data, &p.gids, &p.ghost).unwrap();
+    let params = DistSolveParams { tol: 1e-12, ..Default::default() };
+    let solver = DistributedSolver::new(&dm, &bcs, method, params).unwrap();
+    let local: Vec<f64> = p.global.iter().flat_map(|&v| all[v * dim..(v + 1) * dim].to_vec()).collect();
+    let sol = solver.solve(&Motion { displacement: local, rigid: case.rigid() }).unwrap();
+    let mut worst = 0.0f64;
+    for (i, &v) in p.global.iter().enumerate() {
+        for c in 0..dim {
+            worst = worst.max((sol.displacement[i * dim + c] - reference.displacement[v * dim + c]).abs());
+        }
+    }
+    let what = format!("{name}, {method:?}, {case:?} on {size} ranks");
+    assert!(worst <= 1e-10 * scale, "{what}: rank {rank} differs by {worst:e} (motion {scale:e})");
+    assert!(sol.rel_residual <= 1e-12, "{what}: {}", sol.rel_residual);
+    let (q, r) = (sol.quality, reference.quality);
+    assert_eq!((q.inverted, q.non_positive_measure), (r.inverted, r.non_positive_measure), "{what}");
+    for (a, b) in [
+        (q.min_area_ratio, r.min_area_ratio),
+        (q.max_area_ratio, r.max_area_ratio),
+        (q.min_corner_jacobian_ratio, r.min_corner_jacobian_ratio),
+        (q.min_angle_deg, r.min_angle_deg),
+    ] {
+        assert!((a - b).abs() <= 1e-8 * b.abs().max(1.0), "{what}: quality {q:?} against serial {r:?}");
+    }
+    // Every rank has the same report.
+    let mut reports = vec![0.0; 2 * size];
+    world.all_gather_into(&[q.min_area_ratio, sol.worst_rank as f64][..], &mut reports[..]);
+    assert!(reports.chunks(2).all(|x| x == &reports[..2]), "{what}: the ranks' reports differ");
+    if rank == 0 {
+        println!(
+            "{size} ranks, {what}: iterations {:?} (serial {} cycles), largest difference {:.1e} of the motion, \
+             min ratio {:.6} on rank {}",
+            sol.iterations,
+            reference.report.cycles,
+            worst / scale,
+            q.min_area_ratio,
+            sol.worst_rank
+        );
+    }
+}
+
+/// Conditions the distributed solver does not take, or a bad motion, on the last rank alone
+/// make every rank return the error naming that rank.
+fn bad_conditions_fail_on_every_rank(world: &SimpleCommunicator, d: &MeshData) {
+    let (rank, size) = (world.rank() as usize, world.size() as usize);
+    let last = size - 1;
+    let p = part(d, &slab_owner(d, size), rank, true);
+    let dm = DistributedMesh::new(world, &p.data, &p.gids, &p.ghost).unwrap();
+    let mut bcs = BoundaryConditions::new();
+    if rank == last {
+        bcs.set_kinds(0, Kind::Slip);
+    }
+    let e = DistributedSolver::new(&dm, &bcs, Method::Biharmonic, DistSolveParams::default()).unwrap_err();
+    assert_eq!((e.rank, e.kind), (last, DistErrorKind::Input), "{e}");
+    assert!(e.message.contains("SLIP"), "{e}");
+    // No component prescribed anywhere: every patch FREE.
+    let mut free = BoundaryConditions::new();
+    free.default_kind = [Kind::Free; 3];
+    let e = DistributedSolver::new(&dm, &free, Method::Laplacian, DistSolveParams::default()).unwrap_err();
+    assert_eq!(e.kind, DistErrorKind::Input, "{e}");
+    let solver =
+        DistributedSolver::new(&dm, &BoundaryConditions::new(), Method::Biharmonic, DistSolveParams::default())
+            .unwrap();
+    let mut m = Motion::from_displacement(vec![0.0; p.data.coords.len()]);
+    if rank == last {
+        m.displacement.pop();
+    }
+    let e = solver.solve(&m).unwrap_err();
+    assert_eq!((e.rank, e.kind), (last, DistErrorKind::Input), "{e}");
+    if rank == 0 {
+        println!("{size} ranks, bad conditions and motions on the last rank: every rank returns the error");
+    }
+}
+
+/// `advance` makes the moved positions the reference; a motion that inverts cells is refused on
+/// every rank, naming the rank of the worst cell, and changes nothing.
+fn advance_moves_the_reference(world: &SimpleCommunicator, d: &MeshData) {
+    let (rank, size) = (world.rank() as usize, world.size() as usize);
+    let p = part(d, &slab_owner(d, size), rank, true);
+    let dm = DistributedMesh::new(world, &p.data, &p.gids, &p.ghost).unwrap();
+    let params = DistSolveParams { tol: 1e-12, ..Default::default() };
+    let mut solver = DistributedSolver::new(&dm, &BoundaryConditions::new(), Method::Laplacian, params).unwrap();
+    let local: Vec<f64> = p.global.iter().flat_map(|&v| motion(d.point(v))[..2].to_vec()).collect();
+    let before = solver.current_coords();
+    assert_eq!(before, p.data.coords, "the reference starts at the host's positions");
+    let sol = solver.advance(&Motion::from_displacement(local.clone())).unwrap();
+    let after = solver.current_coords();
+    let moved: Vec<f64> = before.iter().zip(&sol.displacement).map(|(x, d)| x + d).collect();
+    assert_eq!(after, moved, "the reference is the moved mesh");
+    let big: Vec<f64> = local.iter().map(|x| 50.0 * x).collect();
+    let e = solver.advance(&Motion::from_displacement(big)).unwrap_err();
+    assert_eq!(e.kind, DistErrorKind::Inverted, "{e}");
+    assert_eq!(solver.current_coords(), after, "a refused step changes nothing");
+    let mut ranks = vec![0u64; size];
+    world.all_gather_into(&(e.rank as u64), &mut ranks[..]);
+    assert!(ranks.iter().all(|&r| r == ranks[0]), "the ranks blame different ranks: {ranks:?}");
+    if rank == 0 {
+        println!("{size} ranks, advance: the reference moves; an inverting step is refused: \"{e}\"");
+    }
 }

@@ -110,17 +110,40 @@ pub(crate) fn rotation_len(dim: usize) -> usize {
 
 /// A rigid motion from its C arrays: `translation` and `center` of `dim` values, `rotation` of
 /// [`rotation_len`] values (all checked finite by the caller).
-pub(crate) fn rigid_motion(
-    dim: usize,
-    translation: &[f64],
-    rotation: &[f64],
-    center: &[f64],
-) -> Result<RigidMotion, CError> {
+fn rigid_motion(dim: usize, translation: &[f64], rotation: &[f64], center: &[f64]) -> Result<RigidMotion, CError> {
     let mut m = RigidMotion { translation: [0.0; 3], rotation: [0.0; 3], center: [0.0; 3] };
     m.translation[..dim].copy_from_slice(&translation[..dim]);
     m.center[..dim].copy_from_slice(&center[..dim]);
     m.rotation = rotation::from_values(rotation, dim);
     Ok(m)
+}
+
+/// The rigid motion of `patch` from the caller's arrays: `translation` and `center` of `dim`
+/// values, `rotation` of [`rotation_len`] values, all finite.
+///
+/// # Safety
+/// Each non-NULL array must hold the values stated.
+pub(crate) unsafe fn read_rigid_motion(
+    dim: usize,
+    patch: i32,
+    translation: *const f64,
+    rotation: *const f64,
+    center: *const f64,
+) -> Result<RigidMotion, CError> {
+    // SAFETY: this function's contract.
+    let (t, r, c) = unsafe {
+        (
+            slice(translation, dim, "translation")?,
+            slice(rotation, rotation_len(dim), "rotation")?,
+            slice(center, dim, "center")?,
+        )
+    };
+    if !t.iter().chain(r).chain(c).all(|v| v.is_finite()) {
+        return Err(CError::arg(format!(
+            "rigid motion of patch {patch} is not finite (translation {t:?}, rotation {r:?}, center {c:?})"
+        )));
+    }
+    rigid_motion(dim, t, r, c)
 }
 
 /// A vector of 2 or 3 components (a periodic link's offset), z = 0 for a 2D one.

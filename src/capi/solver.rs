@@ -218,28 +218,15 @@ pub unsafe extern "C" fn meshmove_solver_set_rigid_motion(
 ) -> meshmove_status {
     ffi_body!(meshmove_solver_set_rigid_motion, {
         let mut s = get_mut(solver, "solver")?;
-        let dim = s.dim();
         // SAFETY: the caller guarantees `translation` and `center` hold `dim` doubles and
         // `rotation` 1 (2D) or 3 (3D).
-        let (t, r, c) = unsafe {
-            (
-                handles::slice(translation, dim, "translation")?,
-                handles::slice(rotation, points::rotation_len(dim), "rotation")?,
-                handles::slice(center, dim, "center")?,
-            )
-        };
-        if !t.iter().chain(r).chain(c).all(|v| v.is_finite()) {
-            return Err(CError::arg(format!(
-                "rigid motion of patch {patch} is not finite (translation {t:?}, rotation {r:?}, center {c:?})"
-            )));
-        }
+        let m = unsafe { points::read_rigid_motion(s.dim(), patch, translation, rotation, center) }?;
         if s.solver.mesh().patch_ids().binary_search(&patch).is_err() {
             return Err(CError::arg(format!(
                 "patch {patch} is not in the mesh (patches: {:?})",
                 s.solver.mesh().patch_ids()
             )));
         }
-        let m = points::rigid_motion(dim, t, r, c)?;
         s.rigid.retain(|(p, _)| *p != patch);
         s.rigid.push((patch, m));
         Ok(())

@@ -21,13 +21,16 @@ use std::sync::Arc;
 /// The rank's local vertices are kept in layout order: the vertices it owns first (by global
 /// id), then the others grouped by owner rank (by global id within a group). The methods that
 /// take or return per-vertex arrays use the host's order, the one given to [`new`](Self::new).
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub struct DistributedMesh {
     comm: Arc<Comm>,
     /// The local part in layout order, validated.
     mesh: Mesh,
     /// Layout position → the host's local vertex index.
     host_index: Vec<u32>,
+    /// Whether each cell is this rank's (not a ghost), in the host's cell order (which the local
+    /// part keeps).
+    owned_cells: Vec<bool>,
     /// Global id of each vertex, layout order.
     global_ids: Vec<u64>,
     /// Owner rank of each vertex, layout order.
@@ -92,6 +95,7 @@ impl DistributedMesh {
             comm,
             mesh: mesh?,
             host_index,
+            owned_cells: owned_cell,
             global_ids,
             owners,
             global_numbers,
@@ -165,6 +169,11 @@ impl DistributedMesh {
     /// The local part in layout order.
     pub(crate) fn local_mesh(&self) -> &Mesh {
         &self.mesh
+    }
+
+    /// Whether each local cell is owned (not a ghost).
+    pub(crate) fn owned_cells(&self) -> &[bool] {
+        &self.owned_cells
     }
 
     /// The halo layout of the local vertices.

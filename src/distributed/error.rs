@@ -20,6 +20,8 @@ pub enum DistErrorKind {
     MissingGhostCell,
     /// A distributed solve did not reach its tolerance or broke down.
     Solve,
+    /// The solved motion inverts cells (of the rank named, the one with the smallest ratio).
+    Inverted,
 }
 
 /// The error every rank returns from a failed collective call.
@@ -50,7 +52,7 @@ impl DistErrorKind {
     /// The kind of a code from `code`.
     pub(crate) fn from_code(code: i32) -> DistErrorKind {
         use DistErrorKind::*;
-        [Input, LocalMesh, Inconsistent, MissingGhostCell, Solve]
+        [Input, LocalMesh, Inconsistent, MissingGhostCell, Solve, Inverted]
             .into_iter()
             .find(|k| k.code() == code)
             .unwrap_or(Solve)

@@ -5,12 +5,16 @@
 //! What is distributed today: the mesh with its ownership, global numbering and halo exchange
 //! lists and every check of the serial mesh (each rank's part alone, then across ranks);
 //! vectors over owned and halo entries with halo exchanges by nonblocking point-to-point
-//! messages and inner products reproducible for a fixed number of ranks; and the Laplacian
-//! mover with every boundary vertex prescribed, solved by conjugate gradients preconditioned by
-//! the multigrid's Chebyshev–Jacobi smoother (one level, not yet the multigrid). Every call is
+//! messages and inner products reproducible for a fixed number of ranks; and the mesh mover
+//! ([`DistributedSolver`](crate::distributed::DistributedSolver): the three methods with FIXED,
+//! CLAMPED and FREE patches and rigid motions), solved by conjugate gradients preconditioned by
+//! the multigrid's Chebyshev–Jacobi smoother (one level, not yet the multigrid), with its C ABI
+//! ([`capi`](crate::distributed::capi)). Every call is
 //! collective and returns the same status on every rank.
 
 mod agreement;
+mod bcs;
+pub mod capi;
 mod comm;
 mod coverage;
 mod dist_mesh;
@@ -21,12 +25,13 @@ mod level_layout;
 mod ownership;
 mod pcg;
 mod reduce;
+mod solver;
 
 pub use comm::Comm;
 pub use dist_mesh::DistributedMesh;
 pub use error::{DistError, DistErrorKind};
-pub use laplacian::{DistSolution, DistSolveParams};
 pub(crate) use level_layout::Distribution;
 /// The MPI bindings (rsmpi) the library is built with: a host in Rust names its communicators
 /// with these types.
 pub use mpi;
+pub use solver::{DistSolution, DistSolveParams, DistributedSolver};

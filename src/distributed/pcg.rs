@@ -7,7 +7,6 @@
 use super::halo::HaloLayout;
 use crate::multigrid::group::{GroupOp, Scratch};
 use crate::multigrid::smoother::{smooth, Coefficients, Smoother, Start};
-use crate::operator::Method;
 use crate::sparse::{axpy, par_update};
 
 /// What a distributed PCG solve did.
@@ -45,7 +44,7 @@ pub(crate) fn pcg(
         out.converged = true;
         return out;
     }
-    let mut work: Vec<Scratch> = (0..op.len()).map(|_| Scratch::new(op.n(), Method::Laplacian)).collect();
+    let mut work: Vec<Scratch> = (0..op.len()).map(|_| Scratch::new(op.n(), op.level().op.method)).collect();
     let [mut r, mut u, mut w, mut p, mut s] = std::array::from_fn(|_| vec![0.0; n]);
     let mut scratch = vec![0.0; op.n()];
     let mut coefficients = Coefficients::default();

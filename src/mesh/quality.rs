@@ -51,6 +51,12 @@ pub struct Quality {
 
 /// Quality of `mesh`'s topology at `deformed` positions, measures against `mesh` itself.
 pub fn quality(mesh: &Mesh, deformed: &[f64]) -> Quality {
+    quality_of_cells(mesh, deformed, 0..mesh.num_cells())
+}
+
+/// `quality` over the cells `cells` of `mesh` alone (a rank's owned cells); no cell gives the
+/// neutral values (infinite ratios, 180°).
+pub(crate) fn quality_of_cells(mesh: &Mesh, deformed: &[f64], cells: impl Iterator<Item = usize>) -> Quality {
     let mut q = Quality {
         inverted: 0,
         non_positive_measure: 0,
@@ -59,7 +65,7 @@ pub fn quality(mesh: &Mesh, deformed: &[f64]) -> Quality {
         max_area_ratio: f64::NEG_INFINITY,
         min_angle_deg: 180.0,
     };
-    for c in 0..mesh.num_cells() {
+    for c in cells {
         let (p0, p1) = (points(mesh, mesh.coords(), c), points(mesh, deformed, c));
         let (a0, a1) = (p0.signed_measure(), p1.signed_measure());
         let r = a1 / a0;

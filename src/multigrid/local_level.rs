@@ -8,16 +8,15 @@ use super::layout::Distribution;
 use super::level::Level;
 use super::line_smoother::LineBlocks;
 use crate::bc::Dofs;
-use crate::operator::{LevelOperator, Method};
+use crate::operator::LevelOperator;
 use crate::Mesh;
 
-/// The level of `method` on `mesh` (the rank's local vertices in layout order), with the
-/// per-component `flags` and the Jacobi bounds of the smoother (collective: λmax is estimated
-/// over every rank's rows).
-pub(crate) fn local_level(mesh: Mesh, method: Method, flags: Vec<Vec<u8>>, layout: Distribution) -> Level {
-    let n = mesh.num_vertices();
-    let dofs = Dofs::identity(n);
-    let op = LevelOperator::new(method, &mesh, &dofs);
+/// The level of the operator `op` on `mesh` (the rank's local vertices in layout order; a
+/// biharmonic's operator carries its halo exchange between the passes), with the per-component
+/// `flags` and the Jacobi bounds of the smoother (collective: λmax is estimated over every
+/// rank's rows).
+pub(crate) fn local_level(mesh: Mesh, op: LevelOperator, flags: Vec<Vec<u8>>, layout: Distribution) -> Level {
+    let dofs = Dofs::identity(mesh.num_vertices());
     let inv_d = flags.iter().map(|f| op.inv_l1_diag(f)).collect();
     let comps = flags.len();
     let mut level = Level {

@@ -12,6 +12,10 @@ use super::{close_diagonal, lumped_mass, spring_stiffness, stiffness_and_mass, s
 use crate::bc::{Dofs, P, Z};
 use crate::sparse::{par_fill, par_update, par_update2, triple_product, triple_product_values, CsrMatrix};
 use crate::Mesh;
+use std::sync::Arc;
+
+/// Makes a vector's halo entries their owners' values (a distributed level's exchange).
+pub(crate) type HaloExchange = Arc<dyn Fn(&mut [f64]) + Send + Sync>;
 
 #[derive(Clone)]
 pub struct LevelOperator {
@@ -27,13 +31,16 @@ pub struct LevelOperator {
     /// level's (`galerkin_biharmonic.rs`), applied in one pass instead of K_c V_c⁻¹ K_c; None
     /// on every other level.
     pub(super) assembled: Option<Assembled>,
+    /// On a rank's part of a distributed mesh: the biharmonic's S, complete only on the owned
+    /// rows, takes its owners' values on the halo between the two passes. None in one process.
+    pub(super) source_halo: Option<HaloExchange>,
 }
 
 impl LevelOperator {
     pub fn new(method: Method, mesh: &Mesh, dofs: &Dofs) -> Self {
         let k = stiffness_pattern(mesh, dofs);
         let fuse = fuse_plan(method, &k);
-        let mut op = LevelOperator { method, k, inv_v: Vec::new(), fuse, assembled: None };
+        let mut op = LevelOperator { method, k, inv_v: Vec::new(), fuse, assembled: None, source_halo: None };
         op.reassemble(mesh, dofs);
         op
     }
@@ -65,7 +72,7 @@ impl LevelOperator {
         close_diagonal(&mut k);
         let inv_v = galerkin_inv_mass(fine, restrict);
         let fuse = fuse_plan(fine.method, &k);
-        LevelOperator { method: fine.method, k, inv_v, fuse, assembled: None }
+        LevelOperator { method: fine.method, k, inv_v, fuse, assembled: None, source_halo: None }
     }
 
     /// `galerkin`'s values refilled in place when K's pattern and P's are those this operator
@@ -103,6 +110,20 @@ impl LevelOperator {
     /// source `g` (the rigid-motion flux of docs/DESIGN.md §4).
     fn source(&self, flags: &[u8], x: &[f64], g: Option<&[f64]>, s: &mut [f64]) {
         par_fill(s, |i| self.source_row(flags, i, x, 0, g));
+        if let Some(exchange) = &self.source_halo {
+            exchange(s);
+        }
+    }
+
+    /// The operator of a rank's part of a distributed mesh: `exchange` makes the biharmonic's S
+    /// current on the halo between its two passes (a halo row of K lacks the cells beyond the
+    /// ghost layer, so only the owner forms S there). The two passes stay apart (no fused
+    /// sweep), as the exchange runs between them.
+    #[cfg(feature = "mpi")]
+    pub(crate) fn with_source_exchange(mut self, exchange: HaloExchange) -> Self {
+        self.fuse = None;
+        self.source_halo = Some(exchange);
+        self
     }
 
     /// Row j of `source`, with x's entry m read at `x[m − base]` (the fused sweep passes a

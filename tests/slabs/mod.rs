@@ -2,7 +2,7 @@
 //! host hands `DistributedMesh::new`. Shared by the distributed test and the distributed example
 //! (which includes this file by its path).
 
-use meshmove::{CellType, MeshData};
+use meshmove::{CellType, Mesh, MeshData};
 
 /// The boundary motion: smooth, different in every component.
 pub fn motion(x: &[f64]) -> [f64; 3] {
@@ -81,6 +81,31 @@ pub fn box3d(n: usize, tets: bool) -> MeshData {
     d
 }
 
+/// The patch of the body (the side x = 0), CLAMPED in the tests.
+pub const BODY: i32 = 1;
+/// The patch of the side y = 0, FREE in the tests.
+pub const SIDE: i32 = 2;
+
+/// `d` with its boundary faces on x = 0 tagged `BODY` and those on y = 0 (the others) `SIDE`;
+/// the rest stay untagged (patch 0, the far field).
+#[allow(dead_code)] // the distributed example does not tag
+pub fn tagged(d: &MeshData) -> MeshData {
+    let mesh = Mesh::from_data(d).expect("a valid mesh");
+    let mut out = d.clone();
+    for f in mesh.patch_faces() {
+        let on = |c: usize| f.vertices.iter().all(|&v| d.point(v as usize)[c] == 0.0);
+        let patch = if on(0) {
+            BODY
+        } else if on(1) {
+            SIDE
+        } else {
+            continue;
+        };
+        out.push_face(f.vertices, patch);
+    }
+    out
+}
+
 /// The slab of x that owns each cell of `d` on `size` ranks (by its centroid).
 pub fn slab_owner(d: &MeshData, size: usize) -> Vec<usize> {
     (0..d.num_cells())
@@ -124,6 +149,14 @@ pub fn part(d: &MeshData, owner: &[usize], rank: usize, with_ghosts: bool) -> Pa
     for &c in &cells {
         let t: Vec<u32> = d.cell(c).iter().map(|&v| local_of[v as usize]).collect();
         data.push_cell(d.cell_types[c], &t, 0);
+    }
+    // The tagged faces of the part's cells.
+    for f in 0..d.num_faces() {
+        let face = d.face(f);
+        if cells.iter().any(|&c| face.iter().all(|v| d.cell(c).contains(v))) {
+            let t: Vec<u32> = face.iter().map(|&v| local_of[v as usize]).collect();
+            data.push_face(&t, d.face_patch[f]);
+        }
     }
     let ghost = cells.iter().map(|&c| owner[c] != rank).collect();
     let gids = global.iter().map(|&v| v as u64 + GID_BASE).collect();

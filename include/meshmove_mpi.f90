@@ -1,0 +1,89 @@
+! meshmove_mpi.f90: Fortran bindings of the distributed calls (include/meshmove_mpi.h), for a
+! library built with the `mpi` feature (CMake option MESHMOVE_WITH_MPI). Raw bind(c) interfaces,
+! one per C function, as the module meshmove_c has for the serial ones; the local mesh and the
+! boundary conditions are meshmove_c's handles (type(c_ptr)).
+!
+! The communicator is Fortran's integer handle: an `mpi` program passes MPI_COMM_WORLD (or its
+! own communicator), an `mpi_f08` one comm%MPI_VAL; the library converts it with MPI_Comm_f2c and
+! duplicates it. Every call is collective over that communicator and returns the same status on
+! every rank. Vertex indices are the local mesh's; global ids are any 64-bit integers >= 0.
+module meshmove_mpi
+  use, intrinsic :: iso_c_binding
+  implicit none (type, external)
+  public
+
+  !> How a distributed solve went, the same on every rank.
+  type, bind(c) :: meshmove_dist_report
+    integer(c_int32_t) :: iterations
+    real(c_double) :: rel_residual
+    integer(c_int32_t) :: inverted
+    real(c_double) :: min_area_ratio, max_area_ratio, min_angle_deg
+    integer(c_int32_t) :: worst_rank
+  end type
+
+  interface
+    !> This rank's part of a distributed mesh from its local mesh (owned and ghost cells), the
+    !> global id of each local vertex and the ghost flags of its cells (non-zero: another rank's).
+    integer(c_int32_t) function meshmove_dist_mesh_create_f(comm, local, global_ids, num_ids, ghost_cells, &
+        num_ghost, out) bind(c)
+      import :: c_int32_t, c_int64_t, c_ptr
+      integer(c_int32_t), value :: comm, num_ids, num_ghost
+      type(c_ptr), value :: local
+      integer(c_int64_t), intent(in) :: global_ids(*)
+      integer(c_int32_t), intent(in) :: ghost_cells(*)
+      type(c_ptr), intent(out) :: out
+    end function
+    integer(c_int32_t) function meshmove_dist_mesh_free(mesh) bind(c)
+      import :: c_int32_t, c_ptr
+      type(c_ptr), value :: mesh
+    end function
+    integer(c_int32_t) function meshmove_dist_mesh_sizes(mesh, dim, local_vertices, owned_vertices, &
+        global_vertices) bind(c)
+      import :: c_int32_t, c_int64_t, c_ptr
+      type(c_ptr), value :: mesh
+      integer(c_int32_t), intent(out) :: dim, local_vertices, owned_vertices
+      integer(c_int64_t), intent(out) :: global_vertices
+    end function
+    integer(c_int32_t) function meshmove_dist_solver_create(mesh, bcs, method, tol, max_iterations, out) bind(c)
+      import :: c_int32_t, c_double, c_ptr
+      type(c_ptr), value :: mesh, bcs
+      integer(c_int32_t), value :: method, max_iterations
+      real(c_double), value :: tol
+      type(c_ptr), intent(out) :: out
+    end function
+    integer(c_int32_t) function meshmove_dist_solver_free(solver) bind(c)
+      import :: c_int32_t, c_ptr
+      type(c_ptr), value :: solver
+    end function
+    !> Makes `patch` move rigidly in the following solves (collective; every rank sets the same).
+    integer(c_int32_t) function meshmove_dist_solver_set_rigid_motion(solver, patch, translation, rotation, center) &
+        bind(c)
+      import :: c_int32_t, c_double, c_ptr
+      type(c_ptr), value :: solver
+      integer(c_int32_t), value :: patch
+      real(c_double), intent(in) :: translation(*), rotation(*), center(*)
+    end function
+    integer(c_int32_t) function meshmove_dist_solver_clear_rigid_motions(solver) bind(c)
+      import :: c_int32_t, c_ptr
+      type(c_ptr), value :: solver
+    end function
+    !> The displacement of every local vertex (out) from the prescribed one (displacement).
+    integer(c_int32_t) function meshmove_dist_solver_solve(solver, displacement, len, out, out_len, report) bind(c)
+      import :: c_int32_t, c_double, c_ptr, meshmove_dist_report
+      type(c_ptr), value :: solver
+      integer(c_int32_t), value :: len, out_len
+      real(c_double), intent(in) :: displacement(*)
+      real(c_double), intent(out) :: out(*)
+      type(meshmove_dist_report), intent(out) :: report
+    end function
+    !> As meshmove_dist_solver_solve, then the moved positions (coords) become the reference.
+    integer(c_int32_t) function meshmove_dist_solver_move(solver, displacement, len, coords, out_len, report) bind(c)
+      import :: c_int32_t, c_double, c_ptr, meshmove_dist_report
+      type(c_ptr), value :: solver
+      integer(c_int32_t), value :: len, out_len
+      real(c_double), intent(in) :: displacement(*)
+      real(c_double), intent(out) :: coords(*)
+      type(meshmove_dist_report), intent(out) :: report
+    end function
+  end interface
+end module

@@ -1,0 +1,349 @@
+//! The distributed mesh mover: the serial methods (Laplacian, spring, biharmonic) and boundary
+//! conditions (FIXED, CLAMPED with prescribed displacements or rigid motions, FREE) on a rank's
+//! owned rows, solved by conjugate gradients preconditioned by the Chebyshev–Jacobi smoother.
+//!
+//! Each rank's operator has the serial operator's rows for the vertices it owns: every cell
+//! around an owned vertex is held (owned or ghost), so its rows of K and its lumped mass are
+//! complete. The biharmonic K V⁻¹ K is applied as K, a halo exchange of S = V⁻¹ K x (only the
+//! owner has S's complete row), then K again: no second ring of ghost cells is needed. The
+//! flags P and Z of a vertex are its owner's; halo rows carry P, so only owned rows are
+//! equations. The discrete system is thus the serial one, and the solution equals the serial
+//! solver's to the solves' tolerance.
+
+use super::agreement::agree;
+use super::bcs;
+use super::dist_mesh::DistributedMesh;
+use super::error::{DistError, DistErrorKind};
+use super::halo::HaloLayout;
+use super::level_layout::Distribution;
+use super::pcg::pcg;
+use super::reduce::{gather, sum_in_rank_order};
+use crate::bc::{Dofs, Kind, COMPONENT, P};
+use crate::mesh::quality::quality_of_cells;
+use crate::multigrid::group::GroupOp;
+use crate::multigrid::layout::Layout;
+use crate::multigrid::level::Level;
+use crate::multigrid::local_level::local_level;
+use crate::multigrid::smoother::Smoother;
+use crate::operator::{LevelOperator, Method};
+use crate::{BoundaryConditions, Mesh, Motion, Quality};
+use std::sync::Arc;
+
+/// How a distributed solve iterates.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DistSolveParams {
+    /// Relative residual ‖b − A x‖₂ / ‖b‖₂ to reach, per component.
+    pub tol: f64,
+    /// Most iterations per component.
+    pub max_iterations: usize,
+    /// Degree of the fourth-kind Chebyshev–Jacobi preconditioner.
+    pub degree: usize,
+}
+
+impl Default for DistSolveParams {
+    fn default() -> Self {
+        DistSolveParams { tol: 1e-8, max_iterations: 5000, degree: 4 }
+    }
+}
+
+/// The displacement of a distributed solve and how it went (the same report on every rank).
+#[derive(Clone, Debug, PartialEq)]
+pub struct DistSolution {
+    /// Displacement of every local vertex (owned and not), `dim` values each, in the host's
+    /// order: the owners' values on every rank that holds a vertex.
+    pub displacement: Vec<f64>,
+    /// Conjugate gradient iterations of each component.
+    pub iterations: Vec<usize>,
+    /// The largest final relative residual over the components.
+    pub rel_residual: f64,
+    /// The moved mesh against the mesh the displacement starts from, over every rank's owned
+    /// cells: inverted cells summed, ratios and angles the extremes over all ranks.
+    pub quality: Quality,
+    /// The rank whose owned cells hold the smallest area (volume) ratio (the lowest such rank).
+    pub worst_rank: usize,
+}
+
+/// A mesh mover for one distributed mesh, one method and one set of boundary conditions: each
+/// call turns a prescribed [`Motion`] on the rank's local vertices into the displacement of
+/// every local vertex. Every call is collective over the mesh's communicator and returns the
+/// same status (and the same report) on every rank.
+pub struct DistributedSolver {
+    mesh: DistributedMesh,
+    bcs: BoundaryConditions,
+    params: DistSolveParams,
+    /// The rank's level on the current reference positions (layout order).
+    level: Level,
+}
+
+impl std::fmt::Debug for DistributedSolver {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "DistributedSolver {{ rank: {}, method: {:?} }}", self.mesh.rank(), self.level.op.method)
+    }
+}
+
+impl DistributedSolver {
+    /// The solver of `method` on `mesh` with the conditions `bcs` (collective). FIXED, CLAMPED
+    /// and FREE are distributed; SLIP walls, links and split interfaces are refused, as are
+    /// conditions that prescribe a component nowhere.
+    pub fn new(
+        mesh: &DistributedMesh,
+        bcs: &BoundaryConditions,
+        method: Method,
+        params: DistSolveParams,
+    ) -> Result<DistributedSolver, DistError> {
+        let me = mesh.rank();
+        let local = mesh.local_mesh();
+        let checked = check_params(me, &params).and_then(|_| bcs::check_supported(me, bcs, local));
+        agree(mesh.halo().comm(), checked)?;
+        let level = build_level(mesh.halo(), local.clone(), bcs, method);
+        agree(mesh.halo().comm(), bcs::check_prescribed(me, mesh.halo(), &level.flags))?;
+        Ok(DistributedSolver { mesh: mesh.clone(), bcs: bcs.clone(), params, level })
+    }
+
+    /// The distributed mesh (its reference positions are the ones it was made with).
+    pub fn mesh(&self) -> &DistributedMesh {
+        &self.mesh
+    }
+
+    /// The method.
+    pub fn method(&self) -> Method {
+        self.level.op.method
+    }
+
+    /// The iteration parameters.
+    pub fn params(&self) -> DistSolveParams {
+        self.params
+    }
+
+    /// Changes the iteration parameters (collective: every rank gives the same).
+    pub fn set_params(&mut self, params: DistSolveParams) -> Result<(), DistError> {
+        agree(self.halo().comm(), check_params(self.mesh.rank(), &params))?;
+        self.params = params;
+        Ok(())
+    }
+
+    /// The current reference positions of the local vertices, `dim` each, in the host's order.
+    pub fn current_coords(&self) -> Vec<f64> {
+        self.mesh.to_host_order(self.local().coords(), self.mesh.dim())
+    }
+
+    /// Solves for the displacement of every local vertex from the current reference
+    /// (collective). `motion.displacement` has `dim` values per local vertex in the host's
+    /// order, read where a component is prescribed (the owner's value counts); its rigid
+    /// motions move whole patches. Nothing changes.
+    pub fn solve(&self, motion: &Motion) -> Result<DistSolution, DistError> {
+        let me = self.mesh.rank();
+        let vals = agree(self.halo().comm(), self.layout_values(motion))?;
+        let rhs = agree(self.halo().comm(), self.right_hand_sides(motion, &vals))?;
+        let (dim, nv) = (self.mesh.dim(), self.local().num_vertices());
+        let halo = self.halo();
+        let sm = Smoother::Fourth { degree: self.params.degree };
+        let mut total = vec![0.0; nv * dim];
+        let (mut iterations, mut worst, mut failure) = (Vec::with_capacity(dim), 0.0f64, None);
+        for (c, (b, mut dp)) in rhs.into_iter().enumerate() {
+            let op = GroupOp::new(&self.level, c..c + 1, false);
+            let mut x = vec![0.0; nv];
+            let out = pcg(&op, halo, sm, &b, &mut x, self.params.tol, self.params.max_iterations);
+            if !out.converged && failure.is_none() {
+                let why = match out.breakdown {
+                    Some(k) => format!("conjugate gradients broke down at iteration {k}"),
+                    None => format!("relative residual {:e} after {} iterations", out.rel_residual, out.iterations),
+                };
+                failure = Some(format!("component {} did not reach {:e}: {why}", COMPONENT[c], self.params.tol));
+            }
+            iterations.push(out.iterations);
+            worst = worst.max(out.rel_residual);
+            x.iter_mut().zip(&dp).for_each(|(x, p)| *x += p);
+            halo.refresh(&mut x);
+            dp.clear();
+            (0..nv).for_each(|v| total[v * dim + c] = x[v]);
+        }
+        // The PCG scalars are global, so every rank reaches the same verdict; rank 0 speaks.
+        let verdict = match failure {
+            Some(msg) if me == 0 => Err(DistError::new(0, DistErrorKind::Solve, msg)),
+            _ => Ok(()),
+        };
+        agree(halo.comm(), verdict)?;
+        let bad = total.iter().position(|d| !d.is_finite()).map(|i| {
+            let gid = self.mesh.layout_global_ids()[i / dim];
+            DistError::new(me, DistErrorKind::Solve, format!("the displacement of global id {gid} is not finite"))
+        });
+        agree(halo.comm(), bad.map_or(Ok(()), Err))?;
+        let (quality, worst_rank) = self.quality(&total);
+        Ok(DistSolution {
+            displacement: self.mesh.to_host_order(&total, dim),
+            iterations,
+            rel_residual: worst,
+            quality,
+            worst_rank,
+        })
+    }
+
+    /// Solves for `increment` from the current reference and, when no cell of any rank inverts,
+    /// makes the moved positions the reference of the next call (collective). On any error
+    /// nothing changes.
+    pub fn advance(&mut self, increment: &Motion) -> Result<DistSolution, DistError> {
+        let sol = self.solve(increment)?;
+        if sol.quality.inverted > 0 {
+            return Err(DistError::new(
+                sol.worst_rank,
+                DistErrorKind::Inverted,
+                format!(
+                    "the motion inverts {} cell(s) (smallest area or volume ratio {:e}, on rank {}); nothing was changed",
+                    sol.quality.inverted, sol.quality.min_area_ratio, sol.worst_rank
+                ),
+            ));
+        }
+        let dim = self.mesh.dim();
+        let host = self.mesh.host_index();
+        let local = self.local();
+        let mut coords = local.coords().to_vec();
+        for (i, &h) in host.iter().enumerate() {
+            let h = h as usize;
+            (0..dim).for_each(|c| coords[i * dim + c] += sol.displacement[h * dim + c]);
+        }
+        let moved = local.with_coords(coords);
+        self.level = build_level(self.mesh.halo(), moved, &self.bcs, self.level.op.method);
+        Ok(sol)
+    }
+
+    fn halo(&self) -> &Arc<HaloLayout> {
+        self.mesh.halo()
+    }
+
+    /// The rank's part at the current reference, layout order.
+    fn local(&self) -> &Mesh {
+        self.level.mesh()
+    }
+
+    /// The motion's values on the local vertices in layout order, rigid motions applied;
+    /// checked (sizes, finite values, one rigid motion per patch).
+    fn layout_values(&self, motion: &Motion) -> Result<Vec<f64>, DistError> {
+        let (me, dim) = (self.mesh.rank(), self.mesh.dim());
+        let host = self.mesh.host_index();
+        let input = |msg: String| Err(DistError::new(me, DistErrorKind::Input, msg));
+        if motion.displacement.len() != host.len() * dim {
+            let n = motion.displacement.len();
+            return input(format!("{n} displacement values given for {} vertices of dimension {dim}", host.len()));
+        }
+        if let Some(i) = motion.displacement.iter().position(|d| !d.is_finite()) {
+            let gid = self.mesh.global_ids()[i / dim];
+            return input(format!("local vertex {} (global id {gid}) has a non-finite displacement", i / dim));
+        }
+        for (k, (p, m)) in motion.rigid.iter().enumerate() {
+            if motion.rigid[..k].iter().any(|(q, _)| q == p) {
+                return input(format!("patch {p} is given two rigid motions: give one (compose them first)"));
+            }
+            if !m.translation.iter().chain(&m.rotation).chain(&m.center).all(|x| x.is_finite()) {
+                return input(format!("the rigid motion of patch {p} is not finite"));
+            }
+        }
+        let mut d = vec![0.0; host.len() * dim];
+        for (i, &h) in host.iter().enumerate() {
+            d[i * dim..(i + 1) * dim].copy_from_slice(&motion.displacement[h as usize * dim..(h as usize + 1) * dim]);
+        }
+        let m = Motion { displacement: d, rigid: motion.rigid.clone() };
+        Ok(m.vertex_values(self.local()).into_owned())
+    }
+
+    /// Per component the right-hand side and the prescribed values (the owners' values on the
+    /// halo); an error where the right-hand side overflows.
+    fn right_hand_sides(&self, motion: &Motion, vals: &[f64]) -> Result<Vec<System>, DistError> {
+        let (dim, nv, owned) = (self.mesh.dim(), self.local().num_vertices(), self.halo().owned());
+        let mut out = Vec::with_capacity(dim);
+        for c in 0..dim {
+            let flags = &self.level.flags[c];
+            let mut dp: Vec<f64> =
+                (0..nv).map(|v| if v < owned && flags[v] & P != 0 { vals[v * dim + c] } else { 0.0 }).collect();
+            self.halo().refresh(&mut dp);
+            let g = self.rigid_flux(motion, c);
+            let (mut b, mut s) = (vec![0.0; nv], vec![0.0; nv]);
+            self.level.op.rhs(flags, &dp, g.as_deref(), &mut b, &mut s);
+            if let Some(i) = b[..owned].iter().position(|v| !v.is_finite()) {
+                let gid = self.mesh.layout_global_ids()[i];
+                return Err(DistError::new(
+                    self.mesh.rank(),
+                    DistErrorKind::Input,
+                    format!(
+                        "the prescribed {} displacements overflow the operator at global id {gid}: displacements \
+                         must be of the order of the mesh",
+                        COMPONENT[c]
+                    ),
+                ));
+            }
+            out.push((b, dp));
+        }
+        Ok(out)
+    }
+
+    /// The biharmonic's source from the CLAMPED patches moving rigidly (docs/DESIGN.md §4, as
+    /// the serial solver's): (K L) on the patch vertices, L the rigid displacement. Only the
+    /// owned rows are read, and they are complete.
+    fn rigid_flux(&self, motion: &Motion, c: usize) -> Option<Vec<f64>> {
+        if self.level.op.method != Method::Biharmonic {
+            return None;
+        }
+        let mesh = self.local();
+        let mut g: Option<Vec<f64>> = None;
+        for &(patch, m) in motion.rigid.iter().filter(|(p, _)| self.bcs.kind(*p, c) == Kind::Clamped) {
+            let l: Vec<f64> = (0..mesh.num_vertices()).map(|v| m.displacement(mesh.point(v))[c]).collect();
+            let g = g.get_or_insert_with(|| vec![0.0; mesh.num_vertices()]);
+            for v in mesh.patch_vertices(patch) {
+                g[v as usize] = self.level.op.k.row_dot(v as usize, &l);
+            }
+        }
+        g
+    }
+
+    /// The quality of the moved owned cells over every rank, and the rank of the smallest area
+    /// ratio (collective).
+    fn quality(&self, displacement: &[f64]) -> (Quality, usize) {
+        let mesh = self.local();
+        let moved: Vec<f64> = mesh.coords().iter().zip(displacement).map(|(x, d)| x + d).collect();
+        let owned = self.mesh.owned_cells();
+        let q = quality_of_cells(mesh, &moved, (0..mesh.num_cells()).filter(|&c| owned[c]));
+        let comm = self.halo().comm();
+        let counts = sum_in_rank_order(comm, &[q.inverted as f64, q.non_positive_measure as f64]);
+        let extremes =
+            gather(comm, &[q.min_corner_jacobian_ratio, q.min_area_ratio, -q.max_area_ratio, q.min_angle_deg]);
+        let min_at = |k: usize| extremes.chunks_exact(4).map(|e| e[k]).fold(f64::INFINITY, f64::min);
+        let worst = min_at(1);
+        let worst_rank = extremes.chunks_exact(4).position(|e| e[1] == worst).unwrap_or(0);
+        let quality = Quality {
+            inverted: counts[0] as usize,
+            non_positive_measure: counts[1] as usize,
+            min_corner_jacobian_ratio: min_at(0),
+            min_area_ratio: worst,
+            max_area_ratio: -min_at(2),
+            min_angle_deg: min_at(3),
+        };
+        (quality, worst_rank)
+    }
+}
+
+/// A component's right-hand side and its prescribed values (the owners' on the halo).
+type System = (Vec<f64>, Vec<f64>);
+
+/// The rank's level of `method` on `mesh` (layout order) with the flags of `bcs` (collective).
+fn build_level(halo: &Arc<HaloLayout>, mesh: Mesh, bcs: &BoundaryConditions, method: Method) -> Level {
+    let flags: Vec<Vec<u8>> = (0..mesh.dim()).map(|c| bcs::flags(&mesh, halo, bcs, c)).collect();
+    let mut op = LevelOperator::new(method, &mesh, &Dofs::identity(mesh.num_vertices()));
+    if method == Method::Biharmonic {
+        let h = halo.clone();
+        op = op.with_source_exchange(Arc::new(move |s: &mut [f64]| h.refresh(s)));
+    }
+    // The owners' lumped masses on the halo, so the Jacobi bounds read the complete ones.
+    let mut mass = op.mass();
+    halo.refresh(&mut mass);
+    op.inv_v = mass.iter().map(|&v| 1.0 / v).collect();
+    local_level(mesh, op, flags, Distribution::Halo(halo.clone()))
+}
+
+/// The parameters are usable.
+fn check_params(me: usize, p: &DistSolveParams) -> Result<(), DistError> {
+    if p.tol.is_finite() && p.tol > 0.0 && p.degree >= 1 && p.degree <= 64 {
+        Ok(())
+    } else {
+        Err(DistError::new(me, DistErrorKind::Input, format!("unusable solve parameters {p:?}")))
+    }
+}
