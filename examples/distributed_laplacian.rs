@@ -56,5 +56,11 @@ fn main() {
             col(2).max().unwrap_or(0),
             sol.iterations
         );
+        println!(
+            "  levels (unknowns over all ranks) {:?}, halo values per exchange {:?}, coarsest {}",
+            sol.level_rows,
+            sol.level_halo_values,
+            if sol.coarsest_gathered { "gathered on every rank" } else { "smoothed" }
+        );
     }
 }

@@ -1,19 +1,22 @@
 //! The first distributed solve: the Laplacian mover (∇²d = 0) with every boundary vertex's
 //! displacement prescribed, on a rank's owned rows assembled from its owned and ghost cells,
-//! solved by conjugate gradients preconditioned by the Chebyshev–Jacobi smoother of the serial
-//! multigrid's levels. The distributed multigrid is not built yet: iterations grow with the
-//! mesh as a one-level method's do.
+//! solved by conjugate gradients preconditioned by a V-cycle of the distributed multigrid
+//! (`distributed::mg`), or with one level by the Chebyshev–Jacobi smoother alone.
 
 use super::agreement::agree;
 use super::dist_mesh::DistributedMesh;
 use super::error::{DistError, DistErrorKind};
+use super::halo::HaloLayout;
 use super::level_layout::Distribution;
-use super::pcg::pcg;
+use super::mg::{Multigrid, OwnedRows};
+use super::pcg::{pcg, OneLevel, Preconditioner};
 use crate::bc::{P, Z};
 use crate::multigrid::group::GroupOp;
+use crate::multigrid::layout::Layout;
 use crate::multigrid::local_level::local_level;
 use crate::multigrid::smoother::Smoother;
 use crate::operator::Method;
+use crate::sparse::CsrMatrix;
 
 /// How a distributed solve iterates.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -22,13 +25,15 @@ pub struct DistSolveParams {
     pub tol: f64,
     /// Most iterations per component.
     pub max_iterations: usize,
-    /// Degree of the fourth-kind Chebyshev–Jacobi preconditioner.
+    /// Degree of the fourth-kind Chebyshev–Jacobi smoother.
     pub degree: usize,
+    /// Most levels of the multigrid preconditioner; 1 preconditions by the smoother alone.
+    pub max_levels: usize,
 }
 
 impl Default for DistSolveParams {
     fn default() -> Self {
-        DistSolveParams { tol: 1e-8, max_iterations: 5000, degree: 4 }
+        DistSolveParams { tol: 1e-8, max_iterations: 5000, degree: 4, max_levels: 20 }
     }
 }
 
@@ -42,6 +47,13 @@ pub struct DistSolution {
     pub iterations: Vec<usize>,
     /// The largest final relative residual over the components.
     pub rel_residual: f64,
+    /// Unknowns of each level of the multigrid over all ranks, finest first (the finest level's
+    /// are the vertices not prescribed); empty with one level.
+    pub level_rows: Vec<u64>,
+    /// Values all ranks send per halo exchange of one vector, on each level.
+    pub level_halo_values: Vec<u64>,
+    /// The coarsest level is gathered and factored on every rank (else it is smoothed).
+    pub coarsest_gathered: bool,
 }
 
 impl DistributedMesh {
@@ -69,6 +81,17 @@ impl DistributedMesh {
             Distribution::Halo(halo.clone()),
         );
         let sm = Smoother::Fourth { degree: params.degree };
+        let mut multigrid = match params.max_levels {
+            1 => None,
+            levels => {
+                let fine = OwnedRows {
+                    a: free_rows(&level.op.k, &level.flags[0], halo),
+                    gids: self.layout_global_ids().to_vec(),
+                    halo: halo.clone(),
+                };
+                Some(Multigrid::build(fine, levels, sm)?)
+            }
+        };
         let mut total = vec![0.0; nv * dim];
         let mut iterations = Vec::with_capacity(dim);
         let mut worst = 0.0f64;
@@ -91,7 +114,12 @@ impl DistributedMesh {
             let (mut b, mut s) = (vec![0.0; nv], vec![0.0; nv]);
             level.op.rhs(&level.flags[c], &dp, None, &mut b, &mut s);
             let mut x = vec![0.0; nv];
-            let out = pcg(&op, halo, sm, &b, &mut x, params.tol, params.max_iterations);
+            let mut one_level = OneLevel::new(op, sm);
+            let pre: &mut dyn Preconditioner = match &mut multigrid {
+                Some(mg) => mg,
+                None => &mut one_level,
+            };
+            let out = pcg(&op, halo, pre, &b, &mut x, params.tol, params.max_iterations);
             if !out.converged && failure.is_none() {
                 let why = match out.breakdown {
                     Some(k) => format!("conjugate gradients broke down at iteration {k}"),
@@ -111,7 +139,15 @@ impl DistributedMesh {
             _ => Ok(()),
         };
         agree(halo.comm(), verdict)?;
-        Ok(DistSolution { displacement: self.to_host_order(&total, dim), iterations, rel_residual: worst })
+        let sizes = multigrid.as_ref().map(|mg| mg.sizes()).unwrap_or_default();
+        Ok(DistSolution {
+            displacement: self.to_host_order(&total, dim),
+            iterations,
+            rel_residual: worst,
+            level_rows: sizes.iter().map(|s| s.rows).collect(),
+            level_halo_values: sizes.iter().map(|s| s.halo_values).collect(),
+            coarsest_gathered: multigrid.as_ref().is_some_and(|mg| mg.gathers()),
+        })
     }
 
     /// Whether each local vertex (layout order) lies on a boundary face of the local part. For an
@@ -125,6 +161,20 @@ impl DistributedMesh {
         }
         on
     }
+}
+
+/// The rows of `k` (a level's local matrix) the solve has: the owned rows without P in `flags`,
+/// over the columns without P, a halo column's P being its owner's (collective).
+fn free_rows(k: &CsrMatrix, flags: &[u8], halo: &HaloLayout) -> CsrMatrix {
+    let owned = halo.owned();
+    let mut out: Vec<u8> = flags.iter().enumerate().map(|(v, f)| u8::from(v >= owned || f & P != 0)).collect();
+    halo.refresh(&mut out);
+    let mut t = Vec::new();
+    for i in (0..owned).filter(|&i| out[i] == 0) {
+        let (cols, vals) = k.row(i);
+        t.extend(cols.iter().zip(vals).filter(|(&j, _)| out[j as usize] == 0).map(|(&j, &v)| (i as u32, j, v)));
+    }
+    CsrMatrix::from_triplets(k.nrows, k.ncols, t)
 }
 
 /// `boundary` has `dim` values per local vertex, finite on the boundary vertices (`host` and

@@ -18,6 +18,7 @@ mod error;
 mod halo;
 mod laplacian;
 mod level_layout;
+mod mg;
 mod ownership;
 mod pcg;
 mod reduce;
