@@ -7,8 +7,8 @@
 //! vectors over owned and halo entries with halo exchanges by nonblocking point-to-point
 //! messages and inner products reproducible for a fixed number of ranks; and the Laplacian
 //! mover with every boundary vertex prescribed, solved by conjugate gradients preconditioned by
-//! the multigrid's Chebyshev–Jacobi smoother (one level, not yet the multigrid). Every call is
-//! collective and returns the same status on every rank.
+//! the distributed multigrid (`mg`: algebraic kept-unknowns levels across ranks, the coarsest
+//! gathered on every rank). Every call is collective and returns the same status on every rank.
 
 mod agreement;
 mod comm;

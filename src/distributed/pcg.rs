@@ -1,8 +1,9 @@
 //! Conjugate gradients over a distributed level, preconditioned by any fixed symmetric positive
 //! operator (`Preconditioner`): the distributed multigrid's V-cycle (`distributed::mg`), or the
-//! level's polynomial (Chebyshev–Jacobi) smoother from a zero start (`OneLevel`). The iteration is Chronopoulos and Gear's (1989): it carries s = A p beside p
-//! and forms the step from rᵀu and (Au)ᵀu of the preconditioned residual u, so all of an
-//! iteration's inner products (with rᵀr for the stopping test) go in one collective.
+//! level's polynomial (Chebyshev–Jacobi) smoother from a zero start (`OneLevel`). The iteration
+//! is Chronopoulos and Gear's (1989): it carries s = A p beside p and forms the step from rᵀu
+//! and (Au)ᵀu of the preconditioned residual u, so all of an iteration's inner products (with
+//! rᵀr for the stopping test) go in one collective.
 
 use super::halo::HaloLayout;
 use crate::multigrid::group::{GroupOp, Scratch};
