@@ -70,6 +70,7 @@ impl LevelOperator {
 
     /// A second-order operator given as its matrix K (applied in one pass, unit mass): a
     /// distributed level whose rows come assembled, such as a Galerkin coarse level across ranks.
+    #[cfg(feature = "mpi")]
     pub(crate) fn from_matrix(method: Method, k: CsrMatrix) -> Self {
         debug_assert!(method != Method::Biharmonic, "a matrix is applied in one pass");
         let inv_v = vec![1.0; k.nrows];
