@@ -27,6 +27,7 @@ pub(crate) struct Outcome {
 /// z = M r for a fixed symmetric positive M over a level's vectors (owned entries then halo;
 /// z's halo need not be current). Collective.
 pub(crate) trait Preconditioner {
+    /// z = M r.
     fn apply(&mut self, r: &[f64], z: &mut [f64]);
 }
 

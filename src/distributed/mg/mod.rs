@@ -168,16 +168,15 @@ impl Multigrid {
         let mut xc = std::mem::take(&mut self.work[l + 1].x);
         down.restrict.mul_vec(&self.work[l].r, &mut bc);
         // Pᵀ r: the contributions to coarse halo entries belong to their owners.
-        let coarse_halo = self.levels[l + 1].halo.clone();
+        let (coarse_halo, prolong) = (self.levels[l + 1].halo.clone(), down.prolong.clone());
         coarse_halo.add_to_owners(&mut bc);
         bc[coarse_halo.owned()..].iter_mut().for_each(|v| *v = 0.0);
         self.cycle(l + 1, &bc, &mut xc);
         coarse_halo.refresh(&mut xc);
+        // x ← x + P x_c on the owned unknowns (P's rows of the halo and prescribed are empty).
         let lev = &self.levels[l];
-        let (flags, prolong) = (&lev.level.flags[0], &lev.level.down.as_ref().map(|d| d.prolong.clone()));
-        if let Some(prolong) = prolong {
-            par_update(x, |i, xv| if flags[i] & P != 0 { xv } else { xv + prolong.row_dot(i, &xc) });
-        }
+        let flags = &lev.level.flags[0];
+        par_update(x, |i, xv| if flags[i] & P != 0 { xv } else { xv + prolong.row_dot(i, &xc) });
         self.work[l + 1].b = bc;
         self.work[l + 1].x = xc;
         let op = GroupOp::new(&lev.level, 0..1, false);
