@@ -1,8 +1,9 @@
 //! Times the distributed mesh and the distributed Laplacian solve on an n³ hexahedral box split
 //! into slabs by x (the `mpi` feature). Run under MPI, e.g.
 //! `mpirun -np 4 --oversubscribe target/release/examples/distributed_laplacian 24`
-//! (a second argument `tets` splits every cube into six tetrahedra, `tri` makes an n × n square
-//! of triangles instead).
+//! (further arguments: `tets` splits every cube into six tetrahedra, `tri` makes an n × n square
+//! of triangles instead; `blocks` partitions into hashed blocks instead of slabs; `one-level`
+//! preconditions by the smoother alone instead of the multigrid).
 
 #[path = "../tests/slabs/mod.rs"]
 mod slabs;
@@ -17,12 +18,20 @@ fn main() {
     let (rank, size) = (world.rank() as usize, world.size() as usize);
     let args: Vec<String> = std::env::args().collect();
     let n: usize = args.get(1).and_then(|a| a.parse().ok()).unwrap_or(16);
-    let shape = args.get(2).map_or("hex", |a| a.as_str());
+    let has = |w: &str| args.iter().skip(2).any(|a| a == w);
+    let shape = if has("tri") {
+        "tri"
+    } else if has("tets") {
+        "tets"
+    } else {
+        "hex"
+    };
     let d = match shape {
         "tri" => slabs::grid2d(n, n),
         _ => slabs::box3d(n, shape == "tets"),
     };
-    let p = slabs::part(&d, &slabs::slab_owner(&d, size), rank, true);
+    let owner = if has("blocks") { slabs::block_owner(&d, size) } else { slabs::slab_owner(&d, size) };
+    let p = slabs::part(&d, &owner, rank, true);
     let boundary: Vec<f64> = p.global.iter().flat_map(|&v| slabs::motion(d.point(v))[..d.dim].to_vec()).collect();
 
     world.barrier();
@@ -30,7 +39,8 @@ fn main() {
     let dm = DistributedMesh::new(&world, &p.data, &p.gids, &p.ghost).expect("a valid partition");
     world.barrier();
     let t_mesh = t0.elapsed().as_secs_f64();
-    let params = DistSolveParams { tol: 1e-8, ..Default::default() };
+    let max_levels = if has("one-level") { 1 } else { DistSolveParams::default().max_levels };
+    let params = DistSolveParams { tol: 1e-8, max_levels, ..Default::default() };
     let t1 = Instant::now();
     let sol = dm.solve_laplacian(&boundary, &params).expect("a converged solve");
     world.barrier();
@@ -55,6 +65,12 @@ fn main() {
             col(1).max().unwrap_or(0),
             col(2).max().unwrap_or(0),
             sol.iterations
+        );
+        println!(
+            "  levels (unknowns over all ranks) {:?}, halo values per exchange {:?}, coarsest {}",
+            sol.level_rows,
+            sol.level_halo_values,
+            if sol.coarsest_gathered { "gathered on every rank" } else { "smoothed" }
         );
     }
 }

@@ -1,12 +1,14 @@
 //! The distributed mesh and the first distributed solve (the `mpi` feature). Run by
 //! `cargo test --features mpi --test distributed`: the test starts itself under `mpirun` on 1,
 //! 2, 3 and 4 ranks (each run under a time limit, so a rank left waiting fails the test instead
-//! of hanging it); each rank partitions the mesh into slabs by x, checks its part of the
-//! distributed Laplacian solve against the serial solver, and checks that bad input on one rank
-//! makes every rank return the error naming that rank. Then each method (Laplacian, spring,
-//! biharmonic) with each set of conditions (every patch FIXED; a CLAMPED body moving rigidly
-//! and the rest FIXED; a FREE side) on a 2D and a 3D mesh equals the serial solver, with the
-//! same quality report, and bad conditions or motions on one rank fail on every rank.
+//! of hanging it); each rank partitions the mesh into slabs by x and into hashed blocks, checks
+//! its part of the distributed Laplacian solve (PCG with the distributed multigrid) against the
+//! serial solver, and checks that bad input on one rank makes every rank return the error naming
+//! that rank. The launching process then compares the runs: the multigrid's iterations and
+//! level sizes do not depend on the rank count or the partition. Then each method (Laplacian,
+//! spring, biharmonic) with each set of conditions (every patch FIXED; a CLAMPED body moving
+//! rigidly and the rest FIXED; a FREE side) on a 2D and a 3D mesh equals the serial solver, with
+//! the same quality report, and bad conditions or motions on one rank fail on every rank.
 
 mod slabs;
 
@@ -14,7 +16,8 @@ use meshmove::distributed::{DistErrorKind, DistSolveParams, DistributedMesh, Dis
 use meshmove::{BoundaryConditions, Kind, Mesh, MeshData, Method, Motion, Options, RigidMotion, Solver};
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
-use slabs::{box3d, grid2d, motion, part, slab_owner, tagged, Part, BODY, SIDE};
+use slabs::{block_owner, box3d, grid2d, motion, part, slab_owner, tagged, Part, BODY, SIDE};
+use std::collections::BTreeMap;
 use std::process::{Command, ExitCode};
 
 fn main() -> ExitCode {
@@ -23,6 +26,8 @@ fn main() -> ExitCode {
     }
     let exe = std::env::current_exe().expect("the test's own path");
     let mut ok = true;
+    // Per mesh and partition: the iterations and level sizes each rank count reported.
+    let mut runs: BTreeMap<String, Vec<(usize, String, String)>> = BTreeMap::new();
     for np in 1..=4 {
         let out = Command::new("timeout")
             .args(["300", "mpirun", "--oversubscribe", "-np", &np.to_string()])
@@ -31,13 +36,19 @@ fn main() -> ExitCode {
             .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
             .output()
             .expect("mpirun (openmpi-bin) and timeout on PATH");
-        print!("{}", String::from_utf8_lossy(&out.stdout));
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        print!("{stdout}");
+        for line in stdout.lines().filter_map(|l| l.strip_prefix("multigrid: ")) {
+            let f: Vec<&str> = line.split(" | ").collect();
+            runs.entry(f[0].to_string()).or_default().push((np, f[1].to_string(), f[2].to_string()));
+        }
         if !out.status.success() {
             eprint!("{}", String::from_utf8_lossy(&out.stderr));
             eprintln!("FAILED on {np} ranks: {}", out.status);
             ok = false;
         }
     }
+    ok &= same_multigrid_on_every_rank_count(&runs);
     if ok {
         ExitCode::SUCCESS
     } else {
@@ -45,14 +56,40 @@ fn main() -> ExitCode {
     }
 }
 
+/// Every rank count and partition built the same levels, and took the same iterations as one
+/// rank within one.
+fn same_multigrid_on_every_rank_count(runs: &BTreeMap<String, Vec<(usize, String, String)>>) -> bool {
+    let mut ok = !runs.is_empty();
+    for (mesh, list) in runs {
+        let (_, iters1, levels1) = &list[0];
+        let first: Vec<i64> = numbers(iters1);
+        for (np, iters, levels) in list {
+            let close = numbers(iters).iter().zip(&first).all(|(a, b)| (a - b).abs() <= 1);
+            if levels != levels1 || !close {
+                eprintln!("{mesh} on {np} ranks: iterations {iters} levels {levels}, on 1 rank {iters1} {levels1}");
+                ok = false;
+            }
+        }
+        println!("{mesh}: {} rank counts, iterations {iters1}, levels {levels1}", list.len());
+    }
+    ok
+}
+
+/// The integers of a printed list such as "[5, 6]".
+fn numbers(s: &str) -> Vec<i64> {
+    s.split(|c: char| !c.is_ascii_digit()).filter(|t| !t.is_empty()).filter_map(|t| t.parse().ok()).collect()
+}
+
 /// One rank: every check, in the same order on every rank (they are collective).
 fn rank_main() -> ExitCode {
     let universe = mpi::initialize().expect("MPI initialises once");
     let world = universe.world();
     let meshes =
-        [("2D triangles", grid2d(20, 16)), ("3D hexahedra", box3d(7, false)), ("3D tetrahedra", box3d(5, true))];
+        [("2D triangles", grid2d(40, 32)), ("3D hexahedra", box3d(16, false)), ("3D tetrahedra", box3d(12, true))];
+    let size = world.size() as usize;
     for (name, mesh) in &meshes {
-        agrees_with_serial(&world, name, mesh);
+        agrees_with_serial(&world, &format!("{name}, slabs"), mesh, &slab_owner(mesh, size));
+        agrees_with_serial(&world, &format!("{name}, hashed blocks"), mesh, &block_owner(mesh, size));
     }
     bad_input_fails_on_every_rank(&world, &meshes[0].1);
     bad_input_fails_on_every_rank(&world, &meshes[1].1);
@@ -68,9 +105,10 @@ fn rank_main() -> ExitCode {
     ExitCode::SUCCESS
 }
 
-/// The distributed Laplacian solve equals the serial one to 1e-10 of the motion (both to a
-/// relative residual of 1e-12), and is bitwise the same on a second run and a second mesh.
-fn agrees_with_serial(world: &SimpleCommunicator, name: &str, d: &MeshData) {
+/// The distributed Laplacian solve on the partition `owner` equals the serial one to 1e-10 of
+/// the motion (both to a relative residual of 1e-12), is bitwise the same on a second run and a
+/// second mesh with the same levels, and takes far fewer iterations than with one level.
+fn agrees_with_serial(world: &SimpleCommunicator, name: &str, d: &MeshData, owner: &[usize]) {
     let (rank, size) = (world.rank() as usize, world.size() as usize);
     let dim = d.dim;
     let all: Vec<f64> = (0..d.num_vertices()).flat_map(|v| motion(d.point(v))[..dim].to_vec()).collect();
@@ -80,7 +118,7 @@ fn agrees_with_serial(world: &SimpleCommunicator, name: &str, d: &MeshData) {
     let reference = serial.solve(&Motion::from_displacement(all.clone())).unwrap();
     let scale = all.iter().fold(0.0f64, |m, x| m.max(x.abs()));
 
-    let p = part(d, &slab_owner(d, size), rank, true);
+    let p = part(d, owner, rank, true);
     let dm = DistributedMesh::new(world, &p.data, &p.gids, &p.ghost).unwrap();
     assert_eq!(dm.num_global_vertices(), d.num_vertices() as u64, "{name}");
     let owned = dm.owner_ranks().iter().filter(|&&o| o == rank).count();
@@ -105,14 +143,24 @@ fn agrees_with_serial(world: &SimpleCommunicator, name: &str, d: &MeshData) {
     let dm2 = DistributedMesh::new(world, &p.data, &p.gids, &p.ghost).unwrap();
     let third = dm2.solve_laplacian(&boundary, &params).unwrap();
     assert_eq!(bits(&sol.displacement), bits(&third.displacement), "{name}: a second mesh differs");
+    assert_eq!(sol.level_rows, again.level_rows, "{name}: a second solve's levels differ");
+    assert_eq!(sol.level_rows, third.level_rows, "{name}: a second mesh's levels differ");
+    assert!(sol.level_rows.len() >= 2 && sol.coarsest_gathered, "{name}: levels {:?}", sol.level_rows);
+    let one = dm.solve_laplacian(&boundary, &DistSolveParams { max_levels: 1, ..params }).unwrap();
+    for (mg, one) in sol.iterations.iter().zip(&one.iterations) {
+        assert!(*mg <= 15 && 3 * mg <= 2 * one, "{name}: {mg} iterations with the multigrid, {one} with one level");
+    }
     if rank == 0 {
         println!(
-            "{size} ranks, {name}: {} vertices, iterations {:?} (serial {} cycles), largest difference {:.1e} of the motion",
+            "{size} ranks, {name}: {} vertices, iterations {:?} (one level {:?}; serial {} cycles), largest \
+             difference {:.1e} of the motion",
             d.num_vertices(),
             sol.iterations,
+            one.iterations,
             reference.report.cycles,
             worst / scale
         );
+        println!("multigrid: {name} | {:?} | {:?}", sol.iterations, sol.level_rows);
     }
 }
 

@@ -269,7 +269,12 @@ fn layout_order(me: usize, gids: &[u64], owners: &[usize]) -> Vec<u32> {
 
 /// The halo exchange lists of the layout `order` (collective): each rank asks each owner for its
 /// halo vertices by global id; the owner finds them among its owned vertices.
-fn halo_lists(comm: &Arc<Comm>, order: &[u32], gids: &[u64], owners: &[usize]) -> (HaloLayout, Option<DistError>) {
+pub(super) fn halo_lists(
+    comm: &Arc<Comm>,
+    order: &[u32],
+    gids: &[u64],
+    owners: &[usize],
+) -> (HaloLayout, Option<DistError>) {
     let me = comm.rank();
     let owned = order.iter().take_while(|&&v| owners[v as usize] == me).count();
     let mut asks = vec![Vec::new(); comm.size()];

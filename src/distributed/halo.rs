@@ -47,12 +47,41 @@ impl HaloLayout {
         &self.comm
     }
 
+    /// The library's communicator, shared (for the layouts built from this one).
+    pub(crate) fn shared_comm(&self) -> &Arc<Comm> {
+        &self.comm
+    }
+
     /// The neighbour ranks this rank sends to and receives from.
     pub(crate) fn neighbours(&self) -> Vec<usize> {
         let mut n: Vec<usize> = self.sends.iter().map(|s| s.0).chain(self.recvs.iter().map(|r| r.0)).collect();
         n.sort_unstable();
         n.dedup();
         n
+    }
+
+    /// Per neighbour rank: the owned entries it receives from us, in global id order.
+    pub(crate) fn send_lists(&self) -> &[(usize, Vec<u32>)] {
+        &self.sends
+    }
+
+    /// Per owner rank: the range of halo entries it sends us.
+    pub(crate) fn recv_ranges(&self) -> &[(usize, Range<usize>)] {
+        &self.recvs
+    }
+
+    /// The owner rank of every entry (this rank for the owned ones).
+    pub(crate) fn owner_ranks(&self) -> Vec<usize> {
+        let mut owners = vec![self.comm.rank(); self.len];
+        for (rank, range) in &self.recvs {
+            owners[range.clone()].iter_mut().for_each(|o| *o = *rank);
+        }
+        owners
+    }
+
+    /// Owned plus halo entries.
+    pub(crate) fn len(&self) -> usize {
+        self.len
     }
 
     /// Values sent per exchange of one vector (owned entries copied to neighbours).

@@ -7,10 +7,12 @@
 //! vectors over owned and halo entries with halo exchanges by nonblocking point-to-point
 //! messages and inner products reproducible for a fixed number of ranks; and the mesh mover
 //! ([`DistributedSolver`](crate::distributed::DistributedSolver): the three methods with FIXED,
-//! CLAMPED and FREE patches and rigid motions), solved by conjugate gradients preconditioned by
-//! the multigrid's Chebyshev–Jacobi smoother (one level, not yet the multigrid), with its C ABI
-//! ([`capi`](crate::distributed::capi)). Every call is
-//! collective and returns the same status on every rank.
+//! CLAMPED and FREE patches and rigid motions) with its C ABI
+//! ([`capi`](crate::distributed::capi)), solved by conjugate gradients preconditioned by the
+//! distributed multigrid (`mg`: algebraic kept-unknowns levels across ranks, the coarsest
+//! gathered on every rank) for the Laplacian and the spring, and by the Chebyshev–Jacobi
+//! smoother alone for the biharmonic. Every call is collective and returns the same status on
+//! every rank.
 
 mod agreement;
 mod bcs;
@@ -22,6 +24,7 @@ mod error;
 mod halo;
 mod laplacian;
 mod level_layout;
+mod mg;
 mod ownership;
 mod pcg;
 mod reduce;

@@ -1,12 +1,14 @@
-//! Conjugate gradients over a distributed level, preconditioned by the level's polynomial
-//! (Chebyshev–Jacobi) smoother from a zero start: a fixed symmetric positive operator, so a valid
-//! preconditioner. The iteration is Chronopoulos and Gear's (1989): it carries s = A p beside p
-//! and forms the step from rᵀu and (Au)ᵀu of the preconditioned residual u, so all of an
-//! iteration's inner products (with rᵀr for the stopping test) go in one collective.
+//! Conjugate gradients over a distributed level, preconditioned by any fixed symmetric positive
+//! operator (`Preconditioner`): the distributed multigrid's V-cycle (`distributed::mg`), or the
+//! level's polynomial (Chebyshev–Jacobi) smoother from a zero start (`OneLevel`). The iteration
+//! is Chronopoulos and Gear's (1989): it carries s = A p beside p and forms the step from rᵀu
+//! and (Au)ᵀu of the preconditioned residual u, so all of an iteration's inner products (with
+//! rᵀr for the stopping test) go in one collective.
 
 use super::halo::HaloLayout;
 use crate::multigrid::group::{GroupOp, Scratch};
 use crate::multigrid::smoother::{smooth, Coefficients, Smoother, Start};
+use crate::operator::Method;
 use crate::sparse::{axpy, par_update};
 
 /// What a distributed PCG solve did.
@@ -22,15 +24,44 @@ pub(crate) struct Outcome {
     pub(crate) breakdown: Option<usize>,
 }
 
+/// z = M r for a fixed symmetric positive M over a level's vectors (owned entries then halo;
+/// z's halo need not be current). Collective.
+pub(crate) trait Preconditioner {
+    /// z = M r.
+    fn apply(&mut self, r: &[f64], z: &mut [f64]);
+}
+
+/// One level's Chebyshev–Jacobi smoother from a zero start, with its scratch.
+pub(crate) struct OneLevel<'a> {
+    op: GroupOp<'a>,
+    sm: Smoother,
+    work: Vec<Scratch>,
+    coefficients: Coefficients,
+}
+
+impl<'a> OneLevel<'a> {
+    /// The smoother `sm` of the group `op`.
+    pub(crate) fn new(op: GroupOp<'a>, sm: Smoother) -> Self {
+        let work = (0..op.len()).map(|_| Scratch::new(op.n(), op.level().op.method)).collect();
+        OneLevel { op, sm, work, coefficients: Coefficients::default() }
+    }
+}
+
+impl Preconditioner for OneLevel<'_> {
+    fn apply(&mut self, r: &[f64], z: &mut [f64]) {
+        smooth(&self.op, self.sm, r, z, &mut self.work, &mut self.coefficients, Start::Zero, false);
+    }
+}
+
 /// Restarts from the true residual when the updated one claimed convergence it does not have.
 const RESTARTS: usize = 2;
 
 /// Solves A x = b for the group `op` (over `halo`) from x to a relative residual `tol`, in at
-/// most `max_iterations` iterations, preconditioned by `sm` (collective).
+/// most `max_iterations` iterations, preconditioned by `pre` (collective).
 pub(crate) fn pcg(
     op: &GroupOp,
     halo: &HaloLayout,
-    sm: Smoother,
+    pre: &mut dyn Preconditioner,
     b: &[f64],
     x: &mut [f64],
     tol: f64,
@@ -44,13 +75,11 @@ pub(crate) fn pcg(
         out.converged = true;
         return out;
     }
-    let mut work: Vec<Scratch> = (0..op.len()).map(|_| Scratch::new(op.n(), op.level().op.method)).collect();
     let [mut r, mut u, mut w, mut p, mut s] = std::array::from_fn(|_| vec![0.0; n]);
     let mut scratch = vec![0.0; op.n()];
-    let mut coefficients = Coefficients::default();
     for _ in 0..=RESTARTS {
         op.residual(b, x, &mut r, &mut scratch);
-        smooth(op, sm, &r, &mut u, &mut work, &mut coefficients, Start::Zero, false);
+        pre.apply(&r, &mut u);
         op.apply(&mut u, &mut w, &mut scratch);
         let [mut gamma, mut delta, mut rr] = reduced(halo, &r, &u, &w);
         // (γ, α) of the previous iteration; none at a start.
@@ -76,7 +105,7 @@ pub(crate) fn pcg(
             axpy(alpha, &p, x);
             axpy(-alpha, &s, &mut r);
             out.iterations += 1;
-            smooth(op, sm, &r, &mut u, &mut work, &mut coefficients, Start::Zero, false);
+            pre.apply(&r, &mut u);
             op.apply(&mut u, &mut w, &mut scratch);
             previous = Some((gamma, alpha));
             [gamma, delta, rr] = reduced(halo, &r, &u, &w);

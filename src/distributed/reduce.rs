@@ -31,6 +31,25 @@ pub(crate) fn gather<T: Equivalence + Copy + Default>(comm: &Comm, values: &[T])
     all
 }
 
+/// Every rank's `values` (any length per rank), by rank: one exchange of counts, then one of
+/// the values.
+pub(crate) fn gather_varcount<T: Equivalence + Copy + Default>(comm: &Comm, values: &[T]) -> Vec<Vec<T>> {
+    let counts: Vec<i32> = gather(comm, &[values.len() as i32]);
+    let displs: Vec<i32> = counts.iter().scan(0i32, |acc, &x| Some(std::mem::replace(acc, *acc + x))).collect();
+    let mut all = vec![T::default(); counts.iter().map(|&c| c as usize).sum()];
+    {
+        let mut rp = mpi::datatype::PartitionMut::new(&mut all[..], &counts[..], &displs[..]);
+        comm.mpi().all_gather_varcount_into(values, &mut rp);
+    }
+    let mut out = Vec::with_capacity(counts.len());
+    let mut start = 0;
+    for &c in &counts {
+        out.push(all[start..start + c as usize].to_vec());
+        start += c as usize;
+    }
+    out
+}
+
 /// Personalised all-to-all: `send[r]` goes to rank r; returns what each rank sent here, by
 /// source rank. One exchange of counts, then one of the values.
 pub(crate) fn all_to_all<T: Equivalence + Copy + Default>(comm: &Comm, send: &[Vec<T>]) -> Vec<Vec<T>> {

@@ -1,6 +1,9 @@
 //! The distributed mesh mover: the serial methods (Laplacian, spring, biharmonic) and boundary
 //! conditions (FIXED, CLAMPED with prescribed displacements or rigid motions, FREE) on a rank's
-//! owned rows, solved by conjugate gradients preconditioned by the Chebyshev–Jacobi smoother.
+//! owned rows, solved by conjugate gradients preconditioned by a V-cycle of the distributed
+//! multigrid (`distributed::mg`, built on the assembled matrix of the Laplacian and the spring)
+//! or, for the biharmonic (applied, not assembled) and with one level, by the Chebyshev–Jacobi
+//! smoother alone.
 //!
 //! Each rank's operator has the serial operator's rows for the vertices it owns: every cell
 //! around an owned vertex is held (owned or ghost), so its rows of K and its lumped mass are
@@ -16,8 +19,9 @@ use super::dist_mesh::DistributedMesh;
 use super::error::{DistError, DistErrorKind};
 use super::halo::HaloLayout;
 use super::level_layout::Distribution;
-use super::pcg::pcg;
-use super::reduce::{gather, sum_in_rank_order};
+use super::mg::{Multigrid, OwnedRows};
+use super::pcg::{pcg, OneLevel, Preconditioner};
+use super::reduce::{gather, max_over_ranks, sum_in_rank_order};
 use crate::bc::{Dofs, Kind, COMPONENT, P};
 use crate::mesh::quality::quality_of_cells;
 use crate::multigrid::group::GroupOp;
@@ -26,6 +30,7 @@ use crate::multigrid::level::Level;
 use crate::multigrid::local_level::local_level;
 use crate::multigrid::smoother::Smoother;
 use crate::operator::{LevelOperator, Method};
+use crate::sparse::CsrMatrix;
 use crate::{BoundaryConditions, Mesh, Motion, Quality};
 use std::sync::Arc;
 
@@ -36,13 +41,16 @@ pub struct DistSolveParams {
     pub tol: f64,
     /// Most iterations per component.
     pub max_iterations: usize,
-    /// Degree of the fourth-kind Chebyshev–Jacobi preconditioner.
+    /// Degree of the fourth-kind Chebyshev–Jacobi smoother.
     pub degree: usize,
+    /// Most levels of the multigrid preconditioner (Laplacian and spring); 1 preconditions by
+    /// the smoother alone.
+    pub max_levels: usize,
 }
 
 impl Default for DistSolveParams {
     fn default() -> Self {
-        DistSolveParams { tol: 1e-8, max_iterations: 5000, degree: 4 }
+        DistSolveParams { tol: 1e-8, max_iterations: 5000, degree: 4, max_levels: 20 }
     }
 }
 
@@ -61,6 +69,13 @@ pub struct DistSolution {
     pub quality: Quality,
     /// The rank whose owned cells hold the smallest area (volume) ratio (the lowest such rank).
     pub worst_rank: usize,
+    /// Unknowns of each level of the first component's multigrid over all ranks, finest first
+    /// (the finest level's are the vertices not prescribed); empty with one level.
+    pub level_rows: Vec<u64>,
+    /// Values all ranks send per halo exchange of one vector, on each level.
+    pub level_halo_values: Vec<u64>,
+    /// The coarsest level is gathered and factored on every rank (else it is smoothed).
+    pub coarsest_gathered: bool,
 }
 
 /// A mesh mover for one distributed mesh, one method and one set of boundary conditions: each
@@ -140,10 +155,34 @@ impl DistributedSolver {
         let sm = Smoother::Fourth { degree: self.params.degree };
         let mut total = vec![0.0; nv * dim];
         let (mut iterations, mut worst, mut failure) = (Vec::with_capacity(dim), 0.0f64, None);
+        let mut multigrid: Option<Multigrid> = None;
+        let mut sizes = None;
         for (c, (b, mut dp)) in rhs.into_iter().enumerate() {
             let op = GroupOp::new(&self.level, c..c + 1, false);
+            if self.multigrid_pays() {
+                // A component whose flags equal the previous one's on every rank reuses its
+                // hierarchy; the decision is global, as the build is collective.
+                let same = c > 0 && self.level.flags[c] == self.level.flags[c - 1];
+                let rebuild = max_over_ranks(halo.comm(), if same { 0.0 } else { 1.0 }) != 0.0;
+                if multigrid.is_none() || rebuild {
+                    let fine = OwnedRows {
+                        a: free_rows(&self.level.op.k, &self.level.flags[c], halo),
+                        gids: self.mesh.layout_global_ids().to_vec(),
+                        halo: halo.clone(),
+                    };
+                    multigrid = Some(Multigrid::build(fine, self.params.max_levels, sm)?);
+                }
+            }
+            if sizes.is_none() {
+                sizes = Some(multigrid.as_ref().map(|mg| (mg.sizes(), mg.gathers())).unwrap_or_default());
+            }
             let mut x = vec![0.0; nv];
-            let out = pcg(&op, halo, sm, &b, &mut x, self.params.tol, self.params.max_iterations);
+            let mut one_level = OneLevel::new(op, sm);
+            let pre: &mut dyn Preconditioner = match &mut multigrid {
+                Some(mg) => mg,
+                None => &mut one_level,
+            };
+            let out = pcg(&op, halo, pre, &b, &mut x, self.params.tol, self.params.max_iterations);
             if !out.converged && failure.is_none() {
                 let why = match out.breakdown {
                     Some(k) => format!("conjugate gradients broke down at iteration {k}"),
@@ -170,12 +209,16 @@ impl DistributedSolver {
         });
         agree(halo.comm(), bad.map_or(Ok(()), Err))?;
         let (quality, worst_rank) = self.quality(&total);
+        let (sizes, coarsest_gathered) = sizes.unwrap_or_default();
         Ok(DistSolution {
             displacement: self.mesh.to_host_order(&total, dim),
             iterations,
             rel_residual: worst,
             quality,
             worst_rank,
+            level_rows: sizes.iter().map(|s| s.rows).collect(),
+            level_halo_values: sizes.iter().map(|s| s.halo_values).collect(),
+            coarsest_gathered,
         })
     }
 
@@ -205,6 +248,13 @@ impl DistributedSolver {
         let moved = local.with_coords(coords);
         self.level = build_level(self.mesh.halo(), moved, &self.bcs, self.level.op.method);
         Ok(sol)
+    }
+
+    /// The multigrid preconditions this solve: the method's operator is an assembled matrix
+    /// (the Laplacian's and the spring's K; the biharmonic K V⁻¹ K is applied in passes) and
+    /// more than one level is allowed.
+    fn multigrid_pays(&self) -> bool {
+        self.level.op.method != Method::Biharmonic && self.params.max_levels > 1
     }
 
     fn halo(&self) -> &Arc<HaloLayout> {
@@ -341,9 +391,23 @@ fn build_level(halo: &Arc<HaloLayout>, mesh: Mesh, bcs: &BoundaryConditions, met
 
 /// The parameters are usable.
 fn check_params(me: usize, p: &DistSolveParams) -> Result<(), DistError> {
-    if p.tol.is_finite() && p.tol > 0.0 && p.degree >= 1 && p.degree <= 64 {
+    if p.tol.is_finite() && p.tol > 0.0 && p.degree >= 1 && p.degree <= 64 && p.max_levels >= 1 {
         Ok(())
     } else {
         Err(DistError::new(me, DistErrorKind::Input, format!("unusable solve parameters {p:?}")))
     }
+}
+
+/// The rows of `k` (a level's local matrix) the solve has: the owned rows without P in `flags`,
+/// over the columns without P, a halo column's P being its owner's (collective).
+fn free_rows(k: &CsrMatrix, flags: &[u8], halo: &HaloLayout) -> CsrMatrix {
+    let owned = halo.owned();
+    let mut out: Vec<u8> = flags.iter().enumerate().map(|(v, f)| u8::from(v >= owned || f & P != 0)).collect();
+    halo.refresh(&mut out);
+    let mut t = Vec::new();
+    for i in (0..owned).filter(|&i| out[i] == 0) {
+        let (cols, vals) = k.row(i);
+        t.extend(cols.iter().zip(vals).filter(|(&j, _)| out[j as usize] == 0).map(|(&j, &v)| (i as u32, j, v)));
+    }
+    CsrMatrix::from_triplets(k.nrows, k.ncols, t)
 }

@@ -14,7 +14,7 @@ const DENSE_MAX: usize = 1500;
 /// The Cholesky factor of the dense m×m matrix `a` assembled column by column from operator
 /// products, its rounding symmetrised first so Cholesky sees an exactly symmetric matrix; None
 /// when it is not positive definite.
-fn symmetric_cholesky(m: usize, mut a: Vec<f64>) -> Option<Cholesky> {
+pub(crate) fn symmetric_cholesky(m: usize, mut a: Vec<f64>) -> Option<Cholesky> {
     for i in 0..m {
         for j in 0..i {
             let v = 0.5 * (a[i * m + j] + a[j * m + i]);

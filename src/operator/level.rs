@@ -75,6 +75,15 @@ impl LevelOperator {
         LevelOperator { method: fine.method, k, inv_v, fuse, assembled: None, source_halo: None }
     }
 
+    /// A second-order operator given as its matrix K (applied in one pass, unit mass): a
+    /// distributed level whose rows come assembled, such as a Galerkin coarse level across ranks.
+    #[cfg(feature = "mpi")]
+    pub(crate) fn from_matrix(method: Method, k: CsrMatrix) -> Self {
+        debug_assert!(method != Method::Biharmonic, "a matrix is applied in one pass");
+        let inv_v = vec![1.0; k.nrows];
+        LevelOperator { method, k, inv_v, fuse: None, assembled: None }
+    }
+
     /// `galerkin`'s values refilled in place when K's pattern and P's are those this operator
     /// was made from (a moved mesh): only the numeric phase of PᵀKP runs. Bitwise `galerkin`.
     pub fn update_galerkin(&mut self, fine: &LevelOperator, prolong: &CsrMatrix, restrict: &CsrMatrix) {

@@ -117,6 +117,22 @@ pub fn slab_owner(d: &MeshData, size: usize) -> Vec<usize> {
         .collect()
 }
 
+/// An irregular partition of `d` on `size` ranks: the unit box cut into 4 blocks per axis, each
+/// block's cells given to a rank by a hash of the block's index, so parts are scattered blocks
+/// with boundaries in every direction.
+pub fn block_owner(d: &MeshData, size: usize) -> Vec<usize> {
+    (0..d.num_cells())
+        .map(|c| {
+            let t = d.cell(c);
+            let key = (0..d.dim).fold(0u64, |key, a| {
+                let x = t.iter().map(|&v| d.point(v as usize)[a]).sum::<f64>() / t.len() as f64;
+                key * 4 + ((x * 4.0) as u64).min(3)
+            });
+            ((key.wrapping_mul(0x9e37_79b9_7f4a_7c15) >> 40) % size as u64) as usize
+        })
+        .collect()
+}
+
 /// Rank `rank`'s part: its owned cells, the cells sharing a vertex with them as ghosts, their
 /// vertices in reverse global order (any order is allowed), global ids offset from the indices.
 pub struct Part {

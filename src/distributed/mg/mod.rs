@@ -1,0 +1,250 @@
+//! The distributed multigrid: a hierarchy of kept-unknowns levels built across ranks from a
+//! symmetric operator given as each rank's owned rows, and its V-cycle as the preconditioner of
+//! the distributed conjugate gradients (`distributed::pcg`).
+//!
+//! Each level is a rank's owned rows over its local columns (owned, then a halo) with its own
+//! exchange lists. Coarsening keeps an independent set of the strong-coupling graph chosen by
+//! priorities from the global ids (`select`), interpolates the other unknowns from their kept
+//! strong neighbours with operator-based weights (`interpolate`), and forms the coarse operator
+//! as the Galerkin product Pᵀ A P across ranks (`galerkin`), so no coarse level needs a mesh.
+//! Once a level is small it is gathered on every rank and solved there by a dense factor
+//! (`gathered`). The smoother is the serial multigrid's Chebyshev–Jacobi smoother on owned rows,
+//! run through the level's `GroupOp` and halo layout.
+
+mod galerkin;
+mod gathered;
+mod interpolate;
+mod select;
+
+use super::error::DistError;
+use super::halo::HaloLayout;
+use super::level_layout::Distribution;
+use super::pcg::Preconditioner;
+use super::reduce::sum_in_rank_order;
+use crate::bc::{Dofs, P, Z};
+use crate::multigrid::group::{estimate_lambda_max, GroupOp, Scratch};
+use crate::multigrid::layout::Layout;
+use crate::multigrid::level::{Level, Transfer};
+use crate::multigrid::restriction::Restriction;
+use crate::multigrid::smoother::{smooth, Coefficients, Smoother, Start};
+use crate::operator::{LevelOperator, Method};
+use crate::sparse::{par_update, CsrMatrix};
+use gathered::Gathered;
+use std::sync::Arc;
+
+/// A level of this many unknowns over all ranks, or fewer, is gathered and solved directly on
+/// every rank: its dense factor is cheap, and below it the smoothed levels would do little
+/// local work per message.
+const GATHER_ROWS: u64 = 400;
+
+/// A coarse level that keeps more than this share of its fine level's unknowns ends the
+/// coarsening: another level would cost nearly as much as the one above it.
+const MIN_REDUCTION: f64 = 0.85;
+
+/// A symmetric operator over one level's vectors: a rank's owned rows over its local columns
+/// (owned entries first, then the halo); the rows past the owned ones are empty, as is the row
+/// of an owned unknown that is prescribed (kept out of the solve).
+pub(crate) struct OwnedRows {
+    /// Local entries × local entries.
+    pub(crate) a: CsrMatrix,
+    /// The global id of each local entry (unique over all ranks).
+    pub(crate) gids: Vec<u64>,
+    pub(crate) halo: Arc<HaloLayout>,
+}
+
+/// One level of the distributed hierarchy: the smoother's view of it (`Level`, with the
+/// transfer to the next coarser level) and its exchange lists.
+struct DistLevel {
+    level: Level,
+    halo: Arc<HaloLayout>,
+}
+
+/// How the coarsest level is solved.
+enum Coarsest {
+    /// Gathered on every rank and factored.
+    Gathered(Gathered),
+    /// Too large to gather (coarsening stopped early): a fixed number of smoothing sweeps, a
+    /// fixed symmetric operator, so still a valid preconditioner.
+    Smoothed,
+}
+
+/// Vectors of one level's visit; the finest level's right-hand side and iterate are the
+/// caller's, so its `b` and `x` stay empty.
+struct Work {
+    b: Vec<f64>,
+    x: Vec<f64>,
+    r: Vec<f64>,
+    scratch: Vec<Scratch>,
+    coefficients: Coefficients,
+}
+
+/// The size of one level over all ranks.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct LevelSize {
+    /// Unknowns over all ranks (the finest level's prescribed vertices are not unknowns).
+    pub(crate) rows: u64,
+    /// Values all ranks send per halo exchange of one vector.
+    pub(crate) halo_values: u64,
+}
+
+/// The distributed multigrid preconditioner: its levels, its coarsest solve, its smoother and
+/// the scratch of its cycles.
+pub(crate) struct Multigrid {
+    levels: Vec<DistLevel>,
+    coarsest: Coarsest,
+    smoother: Smoother,
+    work: Vec<Work>,
+}
+
+impl Multigrid {
+    /// Builds the hierarchy of the operator `fine` with at most `max_levels` levels (the gathered
+    /// one included), smoothed by `smoother` (collective; every rank returns the same result).
+    pub(crate) fn build(fine: OwnedRows, max_levels: usize, smoother: Smoother) -> Result<Multigrid, DistError> {
+        let mut levels = Vec::new();
+        let mut current = fine;
+        loop {
+            let rows = global_rows(&current);
+            let last = rows <= GATHER_ROWS || levels.len() + 1 >= max_levels.max(1);
+            let coarse = if last { None } else { galerkin::coarsen(&current)? };
+            match coarse {
+                Some((next, prolong)) if (global_rows(&next) as f64) < MIN_REDUCTION * rows as f64 => {
+                    levels.push(dist_level(current, Some(prolong)));
+                    current = next;
+                }
+                _ => {
+                    let coarsest = if rows <= GATHER_ROWS {
+                        Coarsest::Gathered(Gathered::new(&current)?)
+                    } else {
+                        Coarsest::Smoothed
+                    };
+                    levels.push(dist_level(current, None));
+                    let work = levels.iter().enumerate().map(|(l, d)| work(&d.level, l == 0)).collect();
+                    return Ok(Multigrid { levels, coarsest, smoother, work });
+                }
+            }
+        }
+    }
+
+    /// Unknowns and halo values per level, finest first (collective).
+    pub(crate) fn sizes(&self) -> Vec<LevelSize> {
+        self.levels
+            .iter()
+            .map(|d| {
+                let mine = [unknowns(&d.level.op.k, d.halo.owned()) as f64, d.halo.sent_per_exchange() as f64];
+                let all = sum_in_rank_order(d.halo.comm(), &mine);
+                LevelSize { rows: all[0] as u64, halo_values: all[1] as u64 }
+            })
+            .collect()
+    }
+
+    /// Whether the coarsest level is gathered on every rank (else it is smoothed).
+    pub(crate) fn gathers(&self) -> bool {
+        matches!(self.coarsest, Coarsest::Gathered(_))
+    }
+
+    /// x = B b on level `l` from a zero start: one V-cycle (collective).
+    fn cycle(&mut self, l: usize, b: &[f64], x: &mut [f64]) {
+        let lev = &self.levels[l];
+        let op = GroupOp::new(&lev.level, 0..1, false);
+        let sm = self.smoother;
+        let Some(down) = &lev.level.down else {
+            match &self.coarsest {
+                Coarsest::Gathered(g) => g.solve(b, x),
+                Coarsest::Smoothed => {
+                    let w = &mut self.work[l];
+                    let mut start = Start::Zero;
+                    for _ in 0..COARSEST_SWEEPS {
+                        smooth(&op, sm, b, x, &mut w.scratch, &mut w.coefficients, start, false);
+                        start = Start::Guess;
+                    }
+                }
+            }
+            return;
+        };
+        let w = &mut self.work[l];
+        smooth(&op, sm, b, x, &mut w.scratch, &mut w.coefficients, Start::Zero, false);
+        op.residual(b, x, &mut w.r, &mut w.scratch[0].s);
+        let mut bc = std::mem::take(&mut self.work[l + 1].b);
+        let mut xc = std::mem::take(&mut self.work[l + 1].x);
+        down.restrict.mul_vec(&self.work[l].r, &mut bc);
+        // Pᵀ r: the contributions to coarse halo entries belong to their owners.
+        let (coarse_halo, prolong) = (self.levels[l + 1].halo.clone(), down.prolong.clone());
+        coarse_halo.add_to_owners(&mut bc);
+        bc[coarse_halo.owned()..].iter_mut().for_each(|v| *v = 0.0);
+        self.cycle(l + 1, &bc, &mut xc);
+        coarse_halo.refresh(&mut xc);
+        // x ← x + P x_c on the owned unknowns (P's rows of the halo and prescribed are empty).
+        let lev = &self.levels[l];
+        let flags = &lev.level.flags[0];
+        par_update(x, |i, xv| if flags[i] & P != 0 { xv } else { xv + prolong.row_dot(i, &xc) });
+        self.work[l + 1].b = bc;
+        self.work[l + 1].x = xc;
+        let op = GroupOp::new(&lev.level, 0..1, false);
+        let w = &mut self.work[l];
+        smooth(&op, sm, b, x, &mut w.scratch, &mut w.coefficients, Start::Guess, false);
+    }
+}
+
+/// Smoothing sweeps of a coarsest level too large to gather.
+const COARSEST_SWEEPS: usize = 4;
+
+impl Preconditioner for Multigrid {
+    fn apply(&mut self, r: &[f64], z: &mut [f64]) {
+        self.cycle(0, r, z);
+    }
+}
+
+/// Unknowns of `m` over all ranks: owned rows that are not empty (collective).
+fn global_rows(m: &OwnedRows) -> u64 {
+    sum_in_rank_order(m.halo.comm(), &[unknowns(&m.a, m.halo.owned()) as f64])[0] as u64
+}
+
+/// The rows of `a` among its first `owned` that are not empty.
+fn unknowns(a: &CsrMatrix, owned: usize) -> usize {
+    (0..owned).filter(|&i| !a.row(i).0.is_empty()).count()
+}
+
+/// The smoother's level of `m` (its empty rows and its halo prescribed, so neither is smoothed
+/// nor read as an unknown) with the transfer `prolong` to the next coarser level (collective:
+/// the smoother's bound is estimated over every rank's rows).
+fn dist_level(m: OwnedRows, prolong: Option<CsrMatrix>) -> DistLevel {
+    let OwnedRows { a, halo, .. } = m;
+    let (n, owned) = (halo.len(), halo.owned());
+    let flags: Vec<u8> = (0..n).map(|i| if i >= owned || a.row(i).0.is_empty() { P | Z } else { 0 }).collect();
+    let op = LevelOperator::from_matrix(Method::Laplacian, a);
+    let inv_d = vec![op.inv_l1_diag(&flags)];
+    let down = prolong.map(|p| {
+        let prolong = Arc::new(p);
+        Transfer { restrict: Restriction::new(prolong.clone()), prolong }
+    });
+    let mut level = Level {
+        mesh: None,
+        points: Vec::new(),
+        pairs: Vec::new(),
+        dofs: Dofs::identity(n),
+        op,
+        flags: vec![flags],
+        inv_d,
+        lambda_max: vec![1.0],
+        lines: Default::default(),
+        parent_vertex: Vec::new(),
+        down,
+        slip: None,
+        layout: Distribution::Halo(halo.clone()),
+    };
+    level.lambda_max = vec![estimate_lambda_max(&GroupOp::new(&level, 0..1, false))];
+    DistLevel { level, halo }
+}
+
+/// The vectors of a visit to `level` (`finest`: its b and x are the caller's).
+fn work(level: &Level, finest: bool) -> Work {
+    let n = level.n();
+    let nbx = if finest { 0 } else { n };
+    Work {
+        b: vec![0.0; nbx],
+        x: vec![0.0; nbx],
+        r: vec![0.0; n],
+        scratch: vec![Scratch::new(n, Method::Laplacian)],
+        coefficients: Coefficients::default(),
+    }
+}
