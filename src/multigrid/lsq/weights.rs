@@ -144,7 +144,7 @@ impl Context<'_> {
         cands.extend(by_distance(far));
         let second = (near + 1).max(fdim + 1).min(cands.len());
         if self.donors == Donors::Fewest {
-            cands.truncate(FEWEST_MAX.max(second));
+            cands.truncate(FEWEST_MAX);
             return self.first_bounded(v, &cands, second).unwrap_or_else(|| self.least_spread(v, &cands, fdim + 1));
         }
         self.first_bounded(v, &cands, second).unwrap_or_else(|| {
