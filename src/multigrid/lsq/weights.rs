@@ -8,7 +8,11 @@
 //! this is the barycentric interpolation; more donors spread the weights. Donors are the kept
 //! neighbours first, then kept neighbours of neighbours by distance, added one at a time until
 //! the system is well conditioned and the weights are bounded (Σ|w| ≤ 2, no extrapolation far
-//! outside the donors).
+//! outside the donors). Under wall layers (`Donors::Fewest`) a row starts from as few of its
+//! nearest strong kept neighbours as its feature needs and holds 12 donors at most, the one with
+//! the smallest Σ|w| when none is bounded: the Galerkin levels' stencils grow with P's rows, and
+//! with every strong neighbour the deep levels under the layers turned dense
+//! (docs/DESIGN.md §5, "Wall layers").
 
 use super::Features;
 use crate::multigrid::level::Level;
