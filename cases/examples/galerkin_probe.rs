@@ -48,14 +48,16 @@ fn main() {
             Ok(sol) => {
                 its.push(sol.report.cycles);
                 println!(
-                    "step {}: {} iterations, residual {:.2e}, converged {}, inverted {}, {:.2} s",
+                    "step {}: {} iterations, residual {:.2e}, converged {}, inverted {}, solve {:.2} s, step {:.2} s",
                     i + 1,
                     sol.report.cycles,
                     sol.report.rel_residual,
                     sol.report.converged,
                     sol.quality.inverted,
+                    sol.report.seconds,
                     t.elapsed().as_secs_f64()
                 );
+                println!("re-reference phases: {:?}", solver.hierarchy().phases());
             }
             Err(e) => {
                 println!("step {}: {e}", i + 1);

@@ -8,7 +8,6 @@
 use super::halo::HaloLayout;
 use crate::multigrid::group::{GroupOp, Scratch};
 use crate::multigrid::smoother::{smooth, Coefficients, Smoother, Start};
-use crate::operator::Method;
 use crate::sparse::{axpy, par_update};
 
 /// What a distributed PCG solve did.

@@ -485,22 +485,29 @@ impl Hierarchy {
         Ok(true)
     }
 
-    /// A table of the levels (PyAMG style): unknowns, cells, nonzeros, and complexities.
+    /// A table of the levels (PyAMG style): unknowns, cells, nonzeros of K and of the assembled
+    /// biharmonic where a level has one, nonzeros per row, and the complexities (operator
+    /// complexity over what each level applies: K, or the assembled A).
     pub fn describe(&self) -> String {
-        let mut s = String::from("level  unknowns     cells       nnz(K)\n");
+        let mut s = String::from("level  unknowns     cells       nnz(K)       nnz(A)  per row  P per row\n");
         let (mut nsum, mut zsum) = (0usize, 0usize);
+        let applied = |lev: &Level| lev.op.assembled_nnz().unwrap_or(lev.op.k.nnz());
         for (l, lev) in self.levels.iter().enumerate() {
             let cells = lev.mesh.as_ref().map_or("-".to_string(), |m| m.num_cells().to_string());
-            s += &format!("{l:>5} {:>9} {cells:>9} {:>12}\n", lev.n(), lev.op.k.nnz());
+            let a = lev.op.assembled_nnz().map_or("-".to_string(), |z| z.to_string());
+            let per_row = applied(lev) as f64 / lev.n().max(1) as f64;
+            let p = lev.down.as_ref().map_or(0.0, |d| d.prolong.nnz() as f64 / d.prolong.nrows.max(1) as f64);
+            s += &format!("{l:>5} {:>9} {cells:>9} {:>12} {a:>12} {per_row:>8.1} {p:>10.2}\n", lev.n(), lev.op.k.nnz());
             nsum += lev.n();
-            zsum += lev.op.k.nnz();
+            zsum += applied(lev);
         }
         let f = &self.levels[0];
         s += &format!(
             "grid complexity {:.3}, operator complexity {:.3}\n",
             nsum as f64 / f.n() as f64,
-            zsum as f64 / f.op.k.nnz() as f64
+            zsum as f64 / applied(f) as f64
         );
+        s += &format!("setup phases: {:?}\n", self.phases);
         s
     }
 }

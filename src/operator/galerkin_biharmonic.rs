@@ -84,6 +84,11 @@ impl LevelOperator {
         }
     }
 
+    /// The nonzeros of the assembled Galerkin biharmonic, when the level has one.
+    pub fn assembled_nnz(&self) -> Option<usize> {
+        self.assembled.as_ref().map(|a| a.a.nnz())
+    }
+
     /// Whether the level's biharmonic is the assembled Galerkin product.
     pub fn is_assembled(&self) -> bool {
         self.assembled.is_some()

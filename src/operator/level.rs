@@ -81,7 +81,7 @@ impl LevelOperator {
     pub(crate) fn from_matrix(method: Method, k: CsrMatrix) -> Self {
         debug_assert!(method != Method::Biharmonic, "a matrix is applied in one pass");
         let inv_v = vec![1.0; k.nrows];
-        LevelOperator { method, k, inv_v, fuse: None, assembled: None }
+        LevelOperator { method, k, inv_v, fuse: None, assembled: None, source_halo: None }
     }
 
     /// `galerkin`'s values refilled in place when K's pattern and P's are those this operator

@@ -31,11 +31,23 @@ pub(crate) struct LeastSquares {
     /// Per level, what the coarsener knows of its unknowns (the pieces of boundary they lie
     /// on, their regions): built from the mesh of the last level that has one, subsets below.
     features: Vec<Features>,
+    /// Whether the level the features were built on has lines across wall layers: its kept
+    /// levels interpolate from the fewest donors that fit (`weights::Donors::Fewest`).
+    layered: bool,
 }
 
 impl LeastSquares {
     pub(crate) fn new(params: CoarsenParams) -> Self {
-        LeastSquares { params, features: Vec::new() }
+        LeastSquares { params, features: Vec::new(), layered: false }
+    }
+
+    /// How the rows of P choose their donors on this hierarchy.
+    fn donors(&self) -> weights::Donors {
+        if self.layered {
+            weights::Donors::Fewest
+        } else {
+            weights::Donors::Strong
+        }
     }
 }
 
@@ -56,6 +68,7 @@ impl Coarsener for LeastSquares {
             let mesh = fine.mesh.as_ref()?;
             let regions = fine.dof_regions();
             self.features.push(Features::build(mesh, &fine.dofs, &fine.pairs, regions, self.params.corner_angle_deg));
+            self.layered = !fine.lines.is_empty();
         }
         self.features.truncate(l + 1);
         let features = &self.features[l];
@@ -65,31 +78,31 @@ impl Coarsener for LeastSquares {
         if nc < self.params.min_vertices || (n as f64) < self.params.min_ratio * nc as f64 {
             return None;
         }
-        let transfer = transfer(fine, features, &kept);
+        let transfer = transfer(fine, features, &kept, self.donors());
         let coarse = features.subset(&kept);
         self.features.push(coarse);
         Some(CoarseUnknowns { kept, transfer })
     }
 
     fn transfer(&mut self, l: usize, fine: &Level, coarse: &Level) -> Transfer {
-        transfer(fine, &self.features[l], &coarse.parent_vertex)
+        transfer(fine, &self.features[l], &coarse.parent_vertex, self.donors())
     }
 
     fn update(&self, l: usize, t: &mut Transfer, fine: &Level, coarse: &Level) {
-        t.prolong = Arc::new(weights::prolongation(fine, &self.features[l], &coarse.parent_vertex, None));
+        t.prolong = Arc::new(weights::prolongation(fine, &self.features[l], &coarse.parent_vertex, self.donors(), None));
         t.restrict = Restriction::new(Arc::clone(&t.prolong));
     }
 
     fn update_rows(&self, l: usize, t: &mut Transfer, fine: &Level, coarse: &Level, redo: &[bool]) {
         let keep = Some((&*t.prolong, redo));
-        t.prolong = Arc::new(weights::prolongation(fine, &self.features[l], &coarse.parent_vertex, keep));
+        t.prolong = Arc::new(weights::prolongation(fine, &self.features[l], &coarse.parent_vertex, self.donors(), keep));
         t.restrict = Restriction::new(Arc::clone(&t.prolong));
     }
 }
 
 /// The transfer from `fine`, whose unknowns have the features `f`, to its unknowns `kept`.
-fn transfer(fine: &Level, f: &Features, kept: &[u32]) -> Transfer {
-    let prolong = Arc::new(weights::prolongation(fine, f, kept, None));
+fn transfer(fine: &Level, f: &Features, kept: &[u32], donors: weights::Donors) -> Transfer {
+    let prolong = Arc::new(weights::prolongation(fine, f, kept, donors, None));
     let restrict = Restriction::new(Arc::clone(&prolong));
     Transfer { prolong, restrict }
 }

@@ -8,7 +8,11 @@
 //! this is the barycentric interpolation; more donors spread the weights. Donors are the kept
 //! neighbours first, then kept neighbours of neighbours by distance, added one at a time until
 //! the system is well conditioned and the weights are bounded (Σ|w| ≤ 2, no extrapolation far
-//! outside the donors).
+//! outside the donors). Under wall layers (`Donors::Fewest`) a row starts from as few of its
+//! nearest strong kept neighbours as its feature needs and holds 12 donors at most, the one with
+//! the smallest Σ|w| when none is bounded: the Galerkin levels' stencils grow with P's rows, and
+//! with every strong neighbour the deep levels under the layers turned dense
+//! (docs/DESIGN.md §5, "Wall layers").
 
 use super::Features;
 use crate::multigrid::level::Level;
@@ -17,14 +21,32 @@ use rayon::prelude::*;
 
 /// Rows per parallel task.
 const CHUNK: usize = 2048;
+/// Most donors of a row with `Donors::Fewest`.
+const FEWEST_MAX: usize = 12;
 /// Largest Σ|w| accepted while more donors remain.
 const MAX_ABS_SUM: f64 = 2.0;
+
+/// Which donors a row of P starts from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Donors {
+    /// Every strongly coupled kept neighbour: the weights spread over them all.
+    Strong,
+    /// The nearest strongly coupled kept neighbours, as few as fit the feature's linear fields
+    /// with bounded weights. Rows of a few donors keep the Galerkin levels sparse.
+    Fewest,
+}
 
 /// P: fine unknowns × the coarse unknowns `kept` (fine numbering, ascending), donors and weights
 /// chosen at the current positions (a moved mesh may need other donors: a set that lay in the
 /// plane of its unknown, across a thin layer, no longer does). With `keep` = (P₀, redo), the
 /// rows without `redo` are P₀'s rows as they are, the others chosen anew.
-pub(super) fn prolongation(fine: &Level, f: &Features, kept: &[u32], keep: Option<(&CsrMatrix, &[bool])>) -> CsrMatrix {
+pub(super) fn prolongation(
+    fine: &Level,
+    f: &Features,
+    kept: &[u32],
+    donors: Donors,
+    keep: Option<(&CsrMatrix, &[bool])>,
+) -> CsrMatrix {
     let points = fine.unknown_points();
     let dim = f.dim();
     let n = fine.n();
@@ -32,7 +54,7 @@ pub(super) fn prolongation(fine: &Level, f: &Features, kept: &[u32], keep: Optio
     for (c, &d) in kept.iter().enumerate() {
         coarse_of[d as usize] = c as u32;
     }
-    let ctx = Context { k: &fine.op.k, f, points: &points, dim, coarse_of: &coarse_of };
+    let ctx = Context { k: &fine.op.k, f, points: &points, dim, coarse_of: &coarse_of, donors };
     let chunks: Vec<(Vec<u32>, Vec<u32>, Vec<f64>)> = (0..n.div_ceil(CHUNK))
         .into_par_iter()
         .map(|c| {
@@ -78,6 +100,7 @@ struct Context<'a> {
     points: &'a [f64],
     dim: usize,
     coarse_of: &'a [u32],
+    donors: Donors,
 }
 
 impl Context<'_> {
@@ -100,9 +123,18 @@ impl Context<'_> {
         };
         let row = self.k.row(v).0;
         let mut cands = by_distance(super::strong(self.k, v, |u| self.rel(v, u)).filter(|&u| is_donor(u)).collect());
+        if self.donors == Donors::Fewest {
+            // Only the nearest few: a far donor widens the Galerkin levels' stencils more than
+            // its weight improves the interpolation.
+            cands.truncate(FEWEST_MAX);
+        }
         let fdim = self.f.feature_dim(v);
         let near = cands.len();
-        if let Some(found) = self.first_bounded(v, &cands, near.max(fdim + 1).min(near).max(1)) {
+        let start = match self.donors {
+            Donors::Strong => near,
+            Donors::Fewest => (fdim + 1).min(near),
+        };
+        if let Some(found) = self.first_bounded(v, &cands, start.max(1)) {
             return found;
         }
         let mut far: Vec<u32> = row
@@ -114,11 +146,37 @@ impl Context<'_> {
         far.sort_unstable();
         far.dedup();
         cands.extend(by_distance(far));
-        self.first_bounded(v, &cands, (near + 1).max(fdim + 1).min(cands.len())).unwrap_or_else(|| {
+        let second = (near + 1).max(fdim + 1).min(cands.len());
+        if self.donors == Donors::Fewest {
+            cands.truncate(FEWEST_MAX);
+            return self.first_bounded(v, &cands, second).unwrap_or_else(|| self.least_spread(v, &cands, fdim + 1));
+        }
+        self.first_bounded(v, &cands, second).unwrap_or_else(|| {
             cands.sort_unstable();
             let w = self.fit(v, &cands);
             (cands, w)
         })
+    }
+
+    /// Of the prefixes of `cands` at least `start` long, the one whose fit has the smallest
+    /// Σ|w|: its donors ascending and their weights; without any fit, `cands` with none (the
+    /// nearest of them then interpolates alone).
+    fn least_spread(&self, v: usize, cands: &[u32], start: usize) -> (Vec<u32>, Option<Vec<f64>>) {
+        let mut best: Option<(f64, Vec<u32>, Vec<f64>)> = None;
+        for m in start.max(1)..=cands.len() {
+            let mut set = cands[..m].to_vec();
+            set.sort_unstable();
+            if let Some(w) = self.fit(v, &set) {
+                let spread: f64 = w.iter().map(|w| w.abs()).sum();
+                if best.as_ref().is_none_or(|b| spread < b.0) {
+                    best = Some((spread, set, w));
+                }
+            }
+        }
+        match best {
+            Some((_, set, w)) => (set, Some(w)),
+            None => (cands.to_vec(), None),
+        }
     }
 
     /// The shortest prefix of `cands`, at least `start` long, whose fit exists with Σ|w| bounded:
