@@ -99,7 +99,7 @@ impl Context<'_> {
             keyed.into_iter().map(|(_, u)| u).collect()
         };
         let row = self.k.row(v).0;
-        let mut cands = by_distance(super::strong(self.k, v, |u| self.rel(v, u)).filter(|&u| is_donor(u)).collect());
+        let mut cands = by_distance(super::strong(self.k, self.f, v, |u| self.rel(v, u)).filter(|&u| is_donor(u)).collect());
         let fdim = self.f.feature_dim(v);
         let near = cands.len();
         if let Some(found) = self.first_bounded(v, &cands, near.max(fdim + 1).min(near).max(1)) {
