@@ -59,10 +59,12 @@ impl Coarsener for LeastSquares {
         }
         self.features.truncate(l + 1);
         let points = fine.unknown_points();
-        let too_few_dropped = |kept: &[u32]| (n as f64) < self.params.min_ratio * kept.len() as f64;
         let mut kept = select(&fine.op.k, &self.features[l], &points);
-        // A layer one cell thick that the general rule cannot coarsen is coarsened within its
-        // planes (`Features::in_plane`); every other level keeps the general rule.
+        // A layer one cell thick that the general rule cannot coarsen enough (a layer thinner
+        // than its cells are wide: few unknowns have a strong neighbour that may interpolate
+        // them) is coarsened within its planes (`Features::in_plane`); every other level keeps
+        // the general rule.
+        let too_few_dropped = |kept: &[u32]| (n as f64) < self.params.min_ratio * kept.len() as f64;
         if too_few_dropped(&kept) && self.features[l].one_layer() {
             self.features[l].set_in_plane();
             kept = select(&fine.op.k, &self.features[l], &points);
