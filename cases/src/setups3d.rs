@@ -129,3 +129,50 @@ pub fn case3d(name: &str, scale: Scale) -> Option<CaseSetup> {
         .find(|&(c, a)| name == free_surface_3d_name(c, a))
         .map(|(c, a)| free_surface_3d_case(c, n, a, 1))
 }
+
+/// [`slab_case`]: the bottom symmetry plane, z = 0.
+pub const SLAB_Z0: i32 = 3;
+/// [`slab_case`]: the top symmetry plane, z = the thickness.
+pub const SLAB_Z1: i32 = 4;
+
+/// How a quasi-2D slab's two symmetry planes hold their vertices.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SymmetryPlanes {
+    /// SLIP: the normal (z) displacement prescribed zero, the tangential free.
+    Slip,
+    /// Per component: x and y FREE, z FIXED (OpenFOAM's "empty" patches, code_saturne's
+    /// symmetry planes seen by the mesh).
+    PerComponent,
+}
+
+/// A quasi-2D finite-volume mesh: the 2D case `flat` (its mesh extruded one layer of
+/// `thickness`, its triangles wedges and its quads hexahedra) between the symmetry planes
+/// [`SLAB_Z0`] and [`SLAB_Z1`] held as `planes` says; the 2D case's patches, kinds and rigid
+/// motions carried over with a zero z component. The 2D mesh's patch ids must differ from the
+/// planes'.
+pub fn slab_case(flat: &CaseSetup, thickness: f64, planes: SymmetryPlanes) -> CaseSetup {
+    let data = extrude(&flat.mesh.to_data(), 1, [0.0, thickness], [SLAB_Z0, SLAB_Z1]);
+    let mesh = Mesh::from_data(&data).expect("valid extruded mesh");
+    let mut bcs = flat.bcs.clone();
+    for p in [SLAB_Z0, SLAB_Z1] {
+        match planes {
+            SymmetryPlanes::Slip => bcs.set_kinds(p, Kind::Slip),
+            SymmetryPlanes::PerComponent => {
+                bcs.set_kinds(p, Kind::Free).set_kind(p, 2, Kind::Fixed).expect("component < 3")
+            }
+        };
+    }
+    let mut motion = Motion::zero(&mesh);
+    for &(p, m) in &flat.motion.rigid {
+        motion = motion.with_rigid(p, m);
+    }
+    CaseSetup {
+        name: format!("{}_slab", flat.name),
+        mesh,
+        bcs,
+        motion,
+        steps: flat.steps,
+        moved_patch: flat.moved_patch,
+        upper_region: None,
+    }
+}

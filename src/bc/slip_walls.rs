@@ -226,6 +226,12 @@ impl PlWall {
                     }
                 }
             }
+            // A point on the wall exactly (a slipped vertex on a flat wall after a solve) is
+            // its own closest point: no simplex can be strictly nearer, so the rings further
+            // out cannot change the answer.
+            if best_d2 == 0.0 {
+                break;
+            }
             // With open sides, one ring more than strictly needed: an open side's extension may
             // reach out of its simplex's cells.
             let reach = (r as f64 - f64::from(u8::from(self.open))) * self.h;

@@ -86,16 +86,26 @@ pub(super) fn on_wall_values(
     displacement: &[f64],
 ) -> Option<Vec<f64>> {
     let dim = lev.dim();
+    let position = |v: usize| -> Vec<f64> {
+        let x0 = lev.mesh().point(v);
+        (0..dim).map(|c| x0[c] + displacement[v * dim + c]).collect()
+    };
+    // The projections are needed only when some vertex is off its walls.
+    let far = slipped(walls, lev, deformed).any(|(v, patches, edge)| {
+        let p = position(v);
+        !on_wall(walls.distance(at, &patches, edge, &p), &p)
+    });
+    if !far {
+        return None;
+    }
     let mut out = vals.to_vec();
-    let mut far = false;
     for (v, patches, edge) in slipped(walls, lev, deformed) {
         let x0 = lev.mesh().point(v);
-        let mut p: Vec<f64> = (0..dim).map(|c| x0[c] + displacement[v * dim + c]).collect();
-        far |= !on_wall(walls.distance(at, &patches, edge, &p), &p);
+        let mut p = position(v);
         walls.project(at, &patches, edge, &mut p);
         (0..dim).for_each(|c| out[v * dim + c] = p[c] - x0[c]);
     }
-    far.then_some(out)
+    Some(out)
 }
 
 /// Whether a slipped vertex at `p` is `off` from its wall by rounding only (1e-13 of its

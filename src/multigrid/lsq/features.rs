@@ -30,6 +30,10 @@ pub(crate) struct Features {
     offsets: Arc<Vec<[f64; 3]>>,
     /// Space dimension.
     dim: usize,
+    /// Every unknown lies on the boundary (`one_layer`).
+    all_on_boundary: bool,
+    /// The level is coarsened within the planes of its layer (`in_plane`).
+    in_plane: bool,
 }
 
 impl Features {
@@ -52,7 +56,7 @@ impl Features {
         let mut sets = vec![Vec::new()];
         let mut index: HashMap<Vec<u32>, u32> = HashMap::from([(Vec::new(), 0)]);
         let mut linked = vec![false; dofs.n];
-        let set_of = (0..dofs.n)
+        let set_of: Vec<u32> = (0..dofs.n)
             .map(|d| {
                 let vs = dofs.vertices_of(d);
                 linked[d] = vs.len() > 1;
@@ -66,7 +70,8 @@ impl Features {
             })
             .collect();
         let offsets = link_offsets(mesh, pairs);
-        Features { sets: Arc::new(sets), set_of, region, linked, offsets: Arc::new(offsets), dim }
+        let all_on_boundary = set_of.iter().all(|&s| s != 0);
+        Features { sets: Arc::new(sets), set_of, region, linked, offsets: Arc::new(offsets), dim, all_on_boundary, in_plane: false }
     }
 
     /// The features of the unknowns `kept` (ascending) of this level, for the next coarser one.
@@ -79,7 +84,29 @@ impl Features {
             linked: kept.iter().map(|k| self.linked[pick(k)]).collect(),
             offsets: Arc::clone(&self.offsets),
             dim: self.dim,
+            all_on_boundary: self.all_on_boundary,
+            in_plane: false,
         }
+    }
+
+    /// Whether every unknown lies on the boundary: a layer one cell thick, as a quasi-2D
+    /// finite-volume mesh between two symmetry planes is. When its unknowns couple most
+    /// strongly across the thickness, to unknowns on the other plane that may not interpolate
+    /// them, the general rule drops none, and it is coarsened within each plane instead
+    /// (`set_in_plane`).
+    pub(crate) fn one_layer(&self) -> bool {
+        self.all_on_boundary
+    }
+
+    /// Whether this level is coarsened within the planes of its layer (`lsq::strong`,
+    /// `lsq::select`).
+    pub(crate) fn in_plane(&self) -> bool {
+        self.in_plane
+    }
+
+    /// Coarsens this level (a `one_layer` level) within the planes of its layer.
+    pub(crate) fn set_in_plane(&mut self) {
+        self.in_plane = true;
     }
 
     /// The space dimension.

@@ -71,11 +71,20 @@ impl Coarsener for LeastSquares {
             self.layered = !fine.lines.is_empty();
         }
         self.features.truncate(l + 1);
-        let features = &self.features[l];
         let points = fine.unknown_points();
-        let kept = select(&fine.op.k, features, &points);
+        let mut kept = select(&fine.op.k, &self.features[l], &points);
+        // A layer one cell thick that the general rule cannot coarsen enough (a layer thinner
+        // than its cells are wide: few unknowns have a strong neighbour that may interpolate
+        // them) is coarsened within its planes (`Features::in_plane`); every other level keeps
+        // the general rule.
+        let too_few_dropped = |kept: &[u32]| (n as f64) < self.params.min_ratio * kept.len() as f64;
+        if too_few_dropped(&kept) && self.features[l].one_layer() {
+            self.features[l].set_in_plane();
+            kept = select(&fine.op.k, &self.features[l], &points);
+        }
+        let features = &self.features[l];
         let nc = kept.len();
-        if nc < self.params.min_vertices || (n as f64) < self.params.min_ratio * nc as f64 {
+        if nc < self.params.min_vertices || too_few_dropped(&kept) {
             return None;
         }
         let transfer = transfer(fine, features, &kept, self.donors());
@@ -113,21 +122,41 @@ fn transfer(fine: &Level, f: &Features, kept: &[u32], donors: weights::Donors) -
 /// (`Features::donor_ok`) is already kept. Every dropped unknown thus has a kept neighbour to
 /// interpolate from, features are coarsened along themselves (every other vertex of a crease,
 /// an independent set of a wall), and thin cells are coarsened across their thickness only.
+/// Within the planes of a one-cell layer (`Features::in_plane`) each unknown is visited beside
+/// its partner across the layer
+/// (`partner`), so the two planes, coarsened apart, keep the same unknowns where their graphs
+/// agree (an extruded 2D mesh): the coarse levels stay slabs of the 2D section's coarse levels.
 fn select(k: &CsrMatrix, f: &Features, points: &[f64]) -> Vec<u32> {
     let n = k.nrows;
     let dim = f.dim();
-    let mut order: Vec<u32> = (0..n as u32).collect();
-    order.sort_by_key(|&d| (f.feature_dim(d as usize), d));
-    let mut kept = vec![false; n];
     let at = |d: usize| &points[d * dim..(d + 1) * dim];
+    let pair = |d: usize| if f.in_plane() { partner(k, f, d, |u| f.relative(d, u, at(d), at(u))).min(d) } else { d };
+    let mut order: Vec<u32> = (0..n as u32).collect();
+    order.sort_by_cached_key(|&d| (f.feature_dim(d as usize), pair(d as usize), d));
+    let mut kept = vec![false; n];
     for &v in &order {
         let v = v as usize;
         let rel = |u: usize| f.relative(v, u, at(v), at(u));
-        if !strong(k, v, rel).any(|u| kept[u as usize] && f.donor_ok(v, u as usize)) {
+        if !strong(k, f, v, rel).any(|u| kept[u as usize] && f.donor_ok(v, u as usize)) {
             kept[v] = true;
         }
     }
     (0..n as u32).filter(|&d| kept[d as usize]).collect()
+}
+
+/// The unknown across a one-cell layer from `v` (`v` itself when there is none): its nearest
+/// neighbour in K's graph on a feature of the same dimension that neither may interpolate the
+/// other (the other plane's copy of `v`'s wall, edge or corner).
+fn partner(k: &CsrMatrix, f: &Features, v: usize, rel: impl Fn(usize) -> [f64; 3]) -> usize {
+    let fd = f.feature_dim(v);
+    k.row(v)
+        .0
+        .iter()
+        .map(|&u| u as usize)
+        .filter(|&u| u != v && f.feature_dim(u) == fd && !f.donor_ok(v, u) && !f.donor_ok(u, v))
+        .map(|u| (norm2(rel(u)), u))
+        .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)))
+        .map_or(v, |(_, u)| u)
 }
 
 /// How much farther than the nearest neighbour a neighbour may be and still count as strongly
@@ -139,12 +168,32 @@ const STRONG_REACH: f64 = 2.0;
 /// distance, `rel(u)` giving u's offset from `v`. The stiffness couples neighbours as the
 /// inverse square of their distance, so the near ones are the strong ones; K's own entries are
 /// no guide, as a trilinear hexahedron couples face neighbours by zero.
-pub(super) fn strong(k: &CsrMatrix, v: usize, rel: impl Fn(usize) -> [f64; 3]) -> impl Iterator<Item = u32> + '_ {
+///
+/// On a layer one cell thick coarsened within its planes (`Features::in_plane`), an unknown
+/// whose strong neighbours all lie across the thickness, on the other plane, could never be
+/// dropped: none of them may interpolate it (`Features::donor_ok`). For such an unknown only the
+/// neighbours that may interpolate it (on its own plane, or its edge) count, the nearest among
+/// them setting the reach, so each plane is coarsened as its 2D section would be; every other
+/// unknown keeps the rule above.
+pub(super) fn strong<'a>(
+    k: &'a CsrMatrix,
+    f: &Features,
+    v: usize,
+    rel: impl Fn(usize) -> [f64; 3],
+) -> impl Iterator<Item = u32> + 'a {
     let cols = k.row(v).0;
-    let d2: Vec<f64> = cols.iter().map(|&u| if u as usize == v { f64::INFINITY } else { norm2(rel(u as usize)) }).collect();
-    let nearest = d2.iter().copied().fold(f64::INFINITY, f64::min);
-    let reach = STRONG_REACH * STRONG_REACH * nearest;
-    cols.iter().zip(d2).filter(move |&(_, d)| d <= reach).map(|(&u, _)| u)
+    let within = |counts: &dyn Fn(u32) -> bool| -> Vec<f64> {
+        let d2: Vec<f64> = cols.iter().map(|&u| if counts(u) { norm2(rel(u as usize)) } else { f64::INFINITY }).collect();
+        let nearest = d2.iter().copied().fold(f64::INFINITY, f64::min);
+        let reach = STRONG_REACH * STRONG_REACH * nearest;
+        d2.into_iter().map(|d| if d <= reach { d } else { f64::NAN }).collect()
+    };
+    let mut d2 = within(&|u| u as usize != v);
+    let eligible = |u: u32| u as usize != v && f.donor_ok(v, u as usize);
+    if f.in_plane() && !cols.iter().zip(&d2).any(|(&u, d)| !d.is_nan() && eligible(u)) {
+        d2 = within(&eligible).into_iter().map(|d| if d < f64::INFINITY { d } else { f64::NAN }).collect();
+    }
+    cols.iter().zip(d2).filter(|&(_, d)| !d.is_nan()).map(|(&u, _)| u)
 }
 
 fn norm2(r: [f64; 3]) -> f64 {

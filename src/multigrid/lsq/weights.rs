@@ -122,7 +122,7 @@ impl Context<'_> {
             keyed.into_iter().map(|(_, u)| u).collect()
         };
         let row = self.k.row(v).0;
-        let mut cands = by_distance(super::strong(self.k, v, |u| self.rel(v, u)).filter(|&u| is_donor(u)).collect());
+        let mut cands = by_distance(super::strong(self.k, self.f, v, |u| self.rel(v, u)).filter(|&u| is_donor(u)).collect());
         if self.donors == Donors::Fewest {
             // Only the nearest few: a far donor widens the Galerkin levels' stencils more than
             // its weight improves the interpolation.
