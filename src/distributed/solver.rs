@@ -162,9 +162,11 @@ impl DistributedSolver {
             if self.multigrid_pays() {
                 // A component whose flags equal the previous one's on every rank reuses its
                 // hierarchy; the decision is global, as the build is collective.
-                let same = c > 0 && self.level.flags[c] == self.level.flags[c - 1];
-                let rebuild = max_over_ranks(halo.comm(), if same { 0.0 } else { 1.0 }) != 0.0;
-                if multigrid.is_none() || rebuild {
+                let reuse = multigrid.is_some() && {
+                    let same = self.level.flags[c] == self.level.flags[c - 1];
+                    max_over_ranks(halo.comm(), if same { 0.0 } else { 1.0 }) == 0.0
+                };
+                if !reuse {
                     let fine = OwnedRows {
                         a: free_rows(&self.level.op.k, &self.level.flags[c], halo),
                         gids: self.mesh.layout_global_ids().to_vec(),
@@ -177,10 +179,13 @@ impl DistributedSolver {
                 sizes = Some(multigrid.as_ref().map(|mg| (mg.sizes(), mg.gathers())).unwrap_or_default());
             }
             let mut x = vec![0.0; nv];
-            let mut one_level = OneLevel::new(op, sm);
+            let mut one_level;
             let pre: &mut dyn Preconditioner = match &mut multigrid {
                 Some(mg) => mg,
-                None => &mut one_level,
+                None => {
+                    one_level = OneLevel::new(op, sm);
+                    &mut one_level
+                }
             };
             let out = pcg(&op, halo, pre, &b, &mut x, self.params.tol, self.params.max_iterations);
             if !out.converged && failure.is_none() {
