@@ -22,6 +22,7 @@ mod coverage;
 mod dist_mesh;
 mod error;
 mod halo;
+mod kept;
 mod laplacian;
 mod level_layout;
 mod mg;

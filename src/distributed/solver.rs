@@ -18,10 +18,11 @@ use super::bcs;
 use super::dist_mesh::DistributedMesh;
 use super::error::{DistError, DistErrorKind};
 use super::halo::HaloLayout;
+use super::kept::{Hierarchies, Kept};
 use super::level_layout::Distribution;
-use super::mg::{Multigrid, OwnedRows};
+use super::mg::{biharmonic_rows, Guide, OwnedRows};
 use super::pcg::{pcg, OneLevel, Preconditioner};
-use super::reduce::{gather, max_over_ranks, sum_in_rank_order};
+use super::reduce::{gather, sum_in_rank_order};
 use crate::bc::{Dofs, Kind, COMPONENT, P};
 use crate::mesh::quality::quality_of_cells;
 use crate::multigrid::group::GroupOp;
@@ -88,6 +89,8 @@ pub struct DistributedSolver {
     params: DistSolveParams,
     /// The rank's level on the current reference positions (layout order).
     level: Level,
+    /// The multigrid of each component on the current reference, once a solve has built it.
+    multigrids: Kept,
 }
 
 impl std::fmt::Debug for DistributedSolver {
@@ -112,7 +115,7 @@ impl DistributedSolver {
         agree(mesh.halo().comm(), checked)?;
         let level = build_level(mesh.halo(), local.clone(), bcs, method);
         agree(mesh.halo().comm(), bcs::check_prescribed(me, mesh.halo(), &level.flags))?;
-        Ok(DistributedSolver { mesh: mesh.clone(), bcs: bcs.clone(), params, level })
+        Ok(DistributedSolver { mesh: mesh.clone(), bcs: bcs.clone(), params, level, multigrids: Kept::default() })
     }
 
     /// The distributed mesh (its reference positions are the ones it was made with).
@@ -134,6 +137,7 @@ impl DistributedSolver {
     pub fn set_params(&mut self, params: DistSolveParams) -> Result<(), DistError> {
         agree(self.halo().comm(), check_params(self.mesh.rank(), &params))?;
         self.params = params;
+        self.multigrids.clear();
         Ok(())
     }
 
@@ -155,33 +159,17 @@ impl DistributedSolver {
         let sm = Smoother::Fourth { degree: self.params.degree };
         let mut total = vec![0.0; nv * dim];
         let (mut iterations, mut worst, mut failure) = (Vec::with_capacity(dim), 0.0f64, None);
-        let mut multigrid: Option<Multigrid> = None;
-        let mut sizes = None;
+        let mut kept = self.multigrids.lock();
+        if self.multigrid_pays() && kept.is_none() {
+            let fine = |c| self.fine_rows(c);
+            *kept = Some(Hierarchies::build(halo, &self.level.flags, fine, self.params.max_levels, sm)?);
+        }
         for (c, (b, mut dp)) in rhs.into_iter().enumerate() {
             let op = GroupOp::new(&self.level, c..c + 1, false);
-            if self.multigrid_pays() {
-                // A component whose flags equal the previous one's on every rank reuses its
-                // hierarchy; the decision is global, as the build is collective.
-                let reuse = multigrid.is_some() && {
-                    let same = self.level.flags[c] == self.level.flags[c - 1];
-                    max_over_ranks(halo.comm(), if same { 0.0 } else { 1.0 }) == 0.0
-                };
-                if !reuse {
-                    let fine = OwnedRows {
-                        a: free_rows(&self.level.op.k, &self.level.flags[c], halo),
-                        gids: self.mesh.layout_global_ids().to_vec(),
-                        halo: halo.clone(),
-                    };
-                    multigrid = Some(Multigrid::build(fine, self.params.max_levels, sm)?);
-                }
-            }
-            if sizes.is_none() {
-                sizes = Some(multigrid.as_ref().map(|mg| (mg.sizes(), mg.gathers())).unwrap_or_default());
-            }
             let mut x = vec![0.0; nv];
             let mut one_level;
-            let pre: &mut dyn Preconditioner = match &mut multigrid {
-                Some(mg) => mg,
+            let pre: &mut dyn Preconditioner = match kept.as_mut() {
+                Some(h) => h.of(c),
                 None => {
                     one_level = OneLevel::new(op, sm);
                     &mut one_level
@@ -214,7 +202,7 @@ impl DistributedSolver {
         });
         agree(halo.comm(), bad.map_or(Ok(()), Err))?;
         let (quality, worst_rank) = self.quality(&total);
-        let (sizes, coarsest_gathered) = sizes.unwrap_or_default();
+        let (sizes, coarsest_gathered) = kept.as_ref().map(|h| (h.sizes.clone(), h.gathers)).unwrap_or_default();
         Ok(DistSolution {
             displacement: self.mesh.to_host_order(&total, dim),
             iterations,
@@ -252,14 +240,27 @@ impl DistributedSolver {
         }
         let moved = local.with_coords(coords);
         self.level = build_level(self.mesh.halo(), moved, &self.bcs, self.level.op.method);
+        self.multigrids.clear();
         Ok(sol)
     }
 
-    /// The multigrid preconditions this solve: the method's operator is an assembled matrix
-    /// (the Laplacian's and the spring's K; the biharmonic K V⁻¹ K is applied in passes) and
-    /// more than one level is allowed.
+    /// The multigrid preconditions this solve: more than one level is allowed.
     fn multigrid_pays(&self) -> bool {
-        self.level.op.method != Method::Biharmonic && self.params.max_levels > 1
+        self.params.max_levels > 1
+    }
+
+    /// The owned rows of component `c`'s operator, the multigrid's finest level, and what the
+    /// biharmonic's coarse levels are made from (collective): K's free rows for the Laplacian
+    /// and the spring; the biharmonic's K V⁻¹ K assembled, with K's free rows and V.
+    fn fine_rows(&self, c: usize) -> Result<(OwnedRows, Option<Guide>), DistError> {
+        let (op, flags, halo) = (&self.level.op, &self.level.flags[c], self.halo());
+        let gids = self.mesh.layout_global_ids();
+        let k = OwnedRows { a: free_rows(&op.k, flags, halo), gids: gids.to_vec(), halo: halo.clone() };
+        if op.method == Method::Biharmonic {
+            let a = biharmonic_rows(&op.k, &op.inv_v, flags, gids, halo, &[])?;
+            return Ok((a, Some(Guide { k, mass: op.mass() })));
+        }
+        Ok((k, None))
     }
 
     fn halo(&self) -> &Arc<HaloLayout> {

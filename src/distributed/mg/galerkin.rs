@@ -15,6 +15,7 @@ use super::OwnedRows;
 use crate::distributed::agreement::agree;
 use crate::distributed::dist_mesh::halo_lists;
 use crate::distributed::error::{DistError, DistErrorKind};
+use crate::distributed::halo::HaloLayout;
 use crate::distributed::reduce::{all_to_all, sum_in_rank_order};
 use crate::multigrid::layout::Layout;
 use crate::sparse::{triple_product, CsrMatrix};
@@ -22,23 +23,35 @@ use std::collections::HashMap;
 use std::sync::Arc;
 
 /// A P row in global terms: (coarse global id, its owner rank, weight) per entry.
-type GlobalRow = Vec<(u64, usize, f64)>;
+pub(super) type GlobalRow = Vec<(u64, usize, f64)>;
 
 /// The next coarser level of `m` and the prolongation to it (fine local entries × coarse local
 /// entries; the fine halo's rows empty), or None when no rank keeps an unknown (collective).
 pub(super) fn coarsen(m: &OwnedRows) -> Result<Option<(OwnedRows, CsrMatrix)>, DistError> {
-    let comm = m.halo.shared_comm().clone();
-    let (me, size) = (comm.rank(), comm.size());
-    let (n, owned) = (m.halo.len(), m.halo.owned());
+    product(m, &interpolation(m))
+}
+
+/// The P rows of `m`'s owned unknowns in global terms: the kept unknowns (`select`) and the
+/// weights of the others (`interpolate`), from `m`'s strong couplings (collective).
+pub(super) fn interpolation(m: &OwnedRows) -> Vec<GlobalRow> {
     let owners = m.halo.owner_ranks();
     let strong = strong(m);
     let state = select(m, &strong);
-    let local_rows = weights(m, &strong, &state);
-    let mut rows: Vec<GlobalRow> = local_rows
+    weights(m, &strong, &state)
         .iter()
         .map(|r| r.iter().map(|&(j, w)| (m.gids[j as usize], owners[j as usize], w)).collect())
-        .collect();
-    rows.extend(halo_rows(m, &rows));
+        .collect()
+}
+
+/// The Galerkin product Pᵀ m P with P's owned rows `owned_rows` (global terms; the rows of
+/// `m`'s owned entries, which may come from another operator over the same unknowns) and the
+/// prolongation to it, or None when no rank keeps an unknown (collective).
+pub(super) fn product(m: &OwnedRows, owned_rows: &[GlobalRow]) -> Result<Option<(OwnedRows, CsrMatrix)>, DistError> {
+    let comm = m.halo.shared_comm().clone();
+    let (me, size) = (comm.rank(), comm.size());
+    let (n, owned) = (m.halo.len(), m.halo.owned());
+    let mut rows = owned_rows.to_vec();
+    rows.extend(halo_rows(&m.halo, &rows));
 
     // Coarse unknowns as met: the owned kept ones first (in the fine order), then the others.
     let mut index: HashMap<u64, u32> = HashMap::new();
@@ -130,11 +143,12 @@ pub(super) fn coarsen(m: &OwnedRows) -> Result<Option<(OwnedRows, CsrMatrix)>, D
     Ok(Some((OwnedRows { a, gids, halo: Arc::new(layout) }, prolong)))
 }
 
-/// The P rows of the fine halo entries, from their owners (`rows` holds the owned ones).
-fn halo_rows(m: &OwnedRows, rows: &[GlobalRow]) -> Vec<GlobalRow> {
-    let comm = m.halo.comm();
+/// The rows of `halo`'s halo entries, from their owners (`rows` holds the owned ones): a
+/// matrix's rows in global terms, such as P's (collective).
+pub(super) fn halo_rows(halo: &HaloLayout, rows: &[GlobalRow]) -> Vec<GlobalRow> {
+    let comm = halo.comm();
     let mut send: Vec<Vec<u64>> = vec![Vec::new(); comm.size()];
-    for (rank, idx) in m.halo.send_lists() {
+    for (rank, idx) in halo.send_lists() {
         for &i in idx {
             let row = &rows[i as usize];
             send[*rank].push(row.len() as u64);
@@ -142,8 +156,8 @@ fn halo_rows(m: &OwnedRows, rows: &[GlobalRow]) -> Vec<GlobalRow> {
         }
     }
     let received = all_to_all(comm, &send);
-    let mut out = Vec::with_capacity(m.halo.len() - m.halo.owned());
-    for (rank, range) in m.halo.recv_ranges() {
+    let mut out = Vec::with_capacity(halo.len() - halo.owned());
+    for (rank, range) in halo.recv_ranges() {
         let mut words = received[*rank].iter().copied();
         for _ in range.clone() {
             let len = words.next().unwrap_or(0) as usize;

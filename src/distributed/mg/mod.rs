@@ -11,6 +11,7 @@
 //! (`gathered`). The smoother is the serial multigrid's Chebyshev–Jacobi smoother on owned rows,
 //! run through the level's `GroupOp` and halo layout.
 
+mod biharmonic;
 mod galerkin;
 mod gathered;
 mod interpolate;
@@ -29,6 +30,7 @@ use crate::multigrid::restriction::Restriction;
 use crate::multigrid::smoother::{smooth, Coefficients, Smoother, Start};
 use crate::operator::{LevelOperator, Method};
 use crate::sparse::{par_update, CsrMatrix};
+pub(crate) use biharmonic::{biharmonic_rows, Guide};
 use gathered::Gathered;
 use std::sync::Arc;
 
@@ -76,6 +78,8 @@ struct Work {
     r: Vec<f64>,
     scratch: Vec<Scratch>,
     coefficients: Coefficients,
+    /// A later visit's right-hand side and correction (a W-cycle's coarse levels).
+    again: (Vec<f64>, Vec<f64>),
 }
 
 /// The size of one level over all ranks.
@@ -93,19 +97,47 @@ pub(crate) struct Multigrid {
     levels: Vec<DistLevel>,
     coarsest: Coarsest,
     smoother: Smoother,
+    /// Coarse visits per level: 1 a V-cycle, 2 a W-cycle.
+    visits: usize,
     work: Vec<Work>,
+    /// The finest level's right-hand side and iterate when the caller's vectors have another
+    /// halo (`Preconditioner::apply`).
+    entry: (Vec<f64>, Vec<f64>),
 }
 
 impl Multigrid {
     /// Builds the hierarchy of the operator `fine` with at most `max_levels` levels (the gathered
     /// one included), smoothed by `smoother` (collective; every rank returns the same result).
-    pub(crate) fn build(fine: OwnedRows, max_levels: usize, smoother: Smoother) -> Result<Multigrid, DistError> {
+    ///
+    /// With a `guide` (the biharmonic's K and V beside its A = K V⁻¹ K) each coarse level is
+    /// made from the guide's (`biharmonic::coarsen`); without, by the Galerkin product of the
+    /// level above.
+    pub(crate) fn build(
+        fine: OwnedRows,
+        guide: Option<Guide>,
+        max_levels: usize,
+        smoother: Smoother,
+    ) -> Result<Multigrid, DistError> {
         let mut levels = Vec::new();
-        let mut current = fine;
+        // The biharmonic's coarse operators K_c V_c⁻¹ K_c are softer than the Galerkin product of
+        // the level above, so one coarse visit corrects too little; the W-cycle's second visit
+        // makes it up, as in the serial cycle.
+        let visits = if guide.is_some() { 2 } else { 1 };
+        let (mut current, mut guide) = (fine, guide);
         loop {
             let rows = global_rows(&current);
             let last = rows <= GATHER_ROWS || levels.len() + 1 >= max_levels.max(1);
-            let coarse = if last { None } else { galerkin::coarsen(&current)? };
+            let coarse = match (&guide, last) {
+                (_, true) => None,
+                (None, false) => galerkin::coarsen(&current)?,
+                (Some(g), false) => match biharmonic::coarsen(&current, g)? {
+                    Some((next, prolong, next_guide)) => {
+                        guide = Some(next_guide);
+                        Some((next, prolong))
+                    }
+                    None => None,
+                },
+            };
             match coarse {
                 Some((next, prolong)) if (global_rows(&next) as f64) < MIN_REDUCTION * rows as f64 => {
                     levels.push(dist_level(current, Some(prolong)));
@@ -119,7 +151,8 @@ impl Multigrid {
                     };
                     levels.push(dist_level(current, None));
                     let work = levels.iter().enumerate().map(|(l, d)| work(&d.level, l == 0)).collect();
-                    return Ok(Multigrid { levels, coarsest, smoother, work });
+                    let entry = Default::default();
+                    return Ok(Multigrid { levels, coarsest, smoother, visits, work, entry });
                 }
             }
         }
@@ -142,12 +175,12 @@ impl Multigrid {
         matches!(self.coarsest, Coarsest::Gathered(_))
     }
 
-    /// x = B b on level `l` from a zero start: one V-cycle (collective).
+    /// x = B b on level `l` from a zero start: one V- or W-cycle (collective).
     fn cycle(&mut self, l: usize, b: &[f64], x: &mut [f64]) {
         let lev = &self.levels[l];
         let op = GroupOp::new(&lev.level, 0..1, false);
         let sm = self.smoother;
-        let Some(down) = &lev.level.down else {
+        if lev.level.down.is_none() {
             match &self.coarsest {
                 Coarsest::Gathered(g) => g.solve(b, x),
                 Coarsest::Smoothed => {
@@ -160,9 +193,24 @@ impl Multigrid {
                 }
             }
             return;
-        };
+        }
         let w = &mut self.work[l];
         smooth(&op, sm, b, x, &mut w.scratch, &mut w.coefficients, Start::Zero, false);
+        self.correct(l, b, x);
+        let op = GroupOp::new(&self.levels[l].level, 0..1, false);
+        let w = &mut self.work[l];
+        smooth(&op, sm, b, x, &mut w.scratch, &mut w.coefficients, Start::Guess, false);
+    }
+
+    /// x ← x + P x_c on level `l`, x_c from `visits` cycles on the coarser level's system
+    /// A_c x_c = Pᵀ (b − A x), each from the residual the previous left (collective).
+    fn correct(&mut self, l: usize, b: &[f64], x: &mut [f64]) {
+        let lev = &self.levels[l];
+        let Some(down) = &lev.level.down else {
+            return;
+        };
+        let op = GroupOp::new(&lev.level, 0..1, false);
+        let w = &mut self.work[l];
         op.residual(b, x, &mut w.r, &mut w.scratch[0].s);
         let mut bc = std::mem::take(&mut self.work[l + 1].b);
         let mut xc = std::mem::take(&mut self.work[l + 1].x);
@@ -172,6 +220,16 @@ impl Multigrid {
         coarse_halo.add_to_owners(&mut bc);
         bc[coarse_halo.owned()..].iter_mut().for_each(|v| *v = 0.0);
         self.cycle(l + 1, &bc, &mut xc);
+        // A coarsest level solved exactly leaves nothing for a second visit.
+        let exact = l + 2 == self.levels.len() && matches!(self.coarsest, Coarsest::Gathered(_));
+        for _ in 1..if exact { 1 } else { self.visits } {
+            let (mut rc, mut dx) = std::mem::take(&mut self.work[l + 1].again);
+            let op = GroupOp::new(&self.levels[l + 1].level, 0..1, false);
+            op.residual(&bc, &mut xc, &mut rc, &mut self.work[l + 1].scratch[0].s);
+            self.cycle(l + 1, &rc, &mut dx);
+            xc.iter_mut().zip(&dx).for_each(|(x, d)| *x += d);
+            self.work[l + 1].again = (rc, dx);
+        }
         coarse_halo.refresh(&mut xc);
         // x ← x + P x_c on the owned unknowns (P's rows of the halo and prescribed are empty).
         let lev = &self.levels[l];
@@ -179,9 +237,6 @@ impl Multigrid {
         par_update(x, |i, xv| if flags[i] & P != 0 { xv } else { xv + prolong.row_dot(i, &xc) });
         self.work[l + 1].b = bc;
         self.work[l + 1].x = xc;
-        let op = GroupOp::new(&lev.level, 0..1, false);
-        let w = &mut self.work[l];
-        smooth(&op, sm, b, x, &mut w.scratch, &mut w.coefficients, Start::Guess, false);
     }
 }
 
@@ -189,8 +244,24 @@ impl Multigrid {
 const COARSEST_SWEEPS: usize = 4;
 
 impl Preconditioner for Multigrid {
+    /// One cycle. The caller's vectors share the finest level's owned entries; their halo may
+    /// differ (the biharmonic's assembled rows reach two rings of vertices, the solve's one), so
+    /// then the owned entries are copied in and out and z's halo is left zero.
     fn apply(&mut self, r: &[f64], z: &mut [f64]) {
-        self.cycle(0, r, z);
+        let n = self.levels[0].level.n();
+        if r.len() == n {
+            return self.cycle(0, r, z);
+        }
+        let owned = self.levels[0].halo.owned();
+        let (mut b, mut x) = std::mem::take(&mut self.entry);
+        b.clear();
+        b.extend_from_slice(&r[..owned]);
+        b.resize(n, 0.0);
+        x.resize(n, 0.0);
+        self.cycle(0, &b, &mut x);
+        z[..owned].copy_from_slice(&x[..owned]);
+        z[owned..].iter_mut().for_each(|v| *v = 0.0);
+        self.entry = (b, x);
     }
 }
 
@@ -246,5 +317,6 @@ fn work(level: &Level, finest: bool) -> Work {
         r: vec![0.0; n],
         scratch: vec![Scratch::new(n, Method::Laplacian)],
         coefficients: Coefficients::default(),
+        again: (vec![0.0; nbx], vec![0.0; nbx]),
     }
 }
