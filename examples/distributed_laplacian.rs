@@ -17,20 +17,8 @@ fn main() {
     let world = universe.world();
     let (rank, size) = (world.rank() as usize, world.size() as usize);
     let args: Vec<String> = std::env::args().collect();
-    let n: usize = args.get(1).and_then(|a| a.parse().ok()).unwrap_or(16);
     let has = |w: &str| args.iter().skip(2).any(|a| a == w);
-    let shape = if has("tri") {
-        "tri"
-    } else if has("tets") {
-        "tets"
-    } else {
-        "hex"
-    };
-    let d = match shape {
-        "tri" => slabs::grid2d(n, n),
-        _ => slabs::box3d(n, shape == "tets"),
-    };
-    let owner = if has("blocks") { slabs::block_owner(&d, size) } else { slabs::slab_owner(&d, size) };
+    let (d, cells, owner) = slabs::from_args(&args, size);
     let p = slabs::part(&d, &owner, rank, true);
     let boundary: Vec<f64> = p.global.iter().flat_map(|&v| slabs::motion(d.point(v))[..d.dim].to_vec()).collect();
 
@@ -55,11 +43,7 @@ fn main() {
             "{size} ranks, {} vertices ({}): owned per rank {}..{}, local up to {}, halo values sent per \
              exchange up to {}; mesh {t_mesh:.3} s, solve {t_solve:.3} s to 1e-8, iterations {:?}",
             dm.num_global_vertices(),
-            match shape {
-                "tri" => "triangles",
-                "tets" => "tetrahedra",
-                _ => "hexahedra",
-            },
+            cells,
             col(0).min().unwrap_or(0),
             col(0).max().unwrap_or(0),
             col(1).max().unwrap_or(0),

@@ -9,10 +9,9 @@
 //! ([`DistributedSolver`](crate::distributed::DistributedSolver): the three methods with FIXED,
 //! CLAMPED and FREE patches and rigid motions) with its C ABI
 //! ([`capi`](crate::distributed::capi)), solved by conjugate gradients preconditioned by the
-//! distributed multigrid (`mg`: algebraic kept-unknowns levels across ranks, the coarsest
-//! gathered on every rank) for the Laplacian and the spring, and by the Chebyshev–Jacobi
-//! smoother alone for the biharmonic. Every call is collective and returns the same status on
-//! every rank.
+//! distributed multigrid (`mg`: algebraic kept-unknowns levels across ranks, the biharmonic's
+//! K_c V_c⁻¹ K_c assembled on them, the coarsest gathered on every rank; kept between solves on
+//! one reference, `kept`). Every call is collective and returns the same status on every rank.
 
 mod agreement;
 mod bcs;

@@ -1,9 +1,9 @@
 //! The distributed mesh mover: the serial methods (Laplacian, spring, biharmonic) and boundary
 //! conditions (FIXED, CLAMPED with prescribed displacements or rigid motions, FREE) on a rank's
-//! owned rows, solved by conjugate gradients preconditioned by a V-cycle of the distributed
-//! multigrid (`distributed::mg`, built on the assembled matrix of the Laplacian and the spring)
-//! or, for the biharmonic (applied, not assembled) and with one level, by the Chebyshev–Jacobi
-//! smoother alone.
+//! owned rows, solved by conjugate gradients preconditioned by a cycle of the distributed
+//! multigrid (`distributed::mg`: on K for the Laplacian and the spring, on K V⁻¹ K assembled
+//! for the biharmonic; built on the first solve from a reference and kept, `distributed::kept`)
+//! or, with one level, by the Chebyshev–Jacobi smoother alone.
 //!
 //! Each rank's operator has the serial operator's rows for the vertices it owns: every cell
 //! around an owned vertex is held (owned or ghost), so its rows of K and its lumped mass are
@@ -44,8 +44,7 @@ pub struct DistSolveParams {
     pub max_iterations: usize,
     /// Degree of the fourth-kind Chebyshev–Jacobi smoother.
     pub degree: usize,
-    /// Most levels of the multigrid preconditioner (Laplacian and spring); 1 preconditions by
-    /// the smoother alone.
+    /// Most levels of the multigrid preconditioner; 1 preconditions by the smoother alone.
     pub max_levels: usize,
 }
 

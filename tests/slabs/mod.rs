@@ -86,6 +86,25 @@ pub const BODY: i32 = 1;
 /// The patch of the side y = 0, FREE in the tests.
 pub const SIDE: i32 = 2;
 
+/// The mesh and partition an example's command line names: argument 1 is n (16 unless given),
+/// an n³ box of hexahedra, of tetrahedra with `tets`, or an n × n square of triangles with
+/// `tri`; slabs by x over `size` ranks, or hashed blocks with `blocks`. Returns the mesh, the
+/// name of its cells and each vertex's owner.
+#[allow(dead_code)] // the test chooses its own meshes
+pub fn from_args(args: &[String], size: usize) -> (MeshData, &'static str, Vec<usize>) {
+    let n: usize = args.get(1).and_then(|a| a.parse().ok()).unwrap_or(16);
+    let has = |w: &str| args.iter().skip(2).any(|a| a == w);
+    let (d, cells) = if has("tri") {
+        (grid2d(n, n), "triangles")
+    } else if has("tets") {
+        (box3d(n, true), "tetrahedra")
+    } else {
+        (box3d(n, false), "hexahedra")
+    };
+    let owner = if has("blocks") { block_owner(&d, size) } else { slab_owner(&d, size) };
+    (d, cells, owner)
+}
+
 /// `d` with its boundary faces on x = 0 tagged `BODY` and those on y = 0 (the others) `SIDE`;
 /// the rest stay untagged (patch 0, the far field).
 #[allow(dead_code)] // the distributed example does not tag

@@ -1,5 +1,5 @@
 //! The distributed multigrid: a hierarchy of kept-unknowns levels built across ranks from a
-//! symmetric operator given as each rank's owned rows, and its V-cycle as the preconditioner of
+//! symmetric operator given as each rank's owned rows, and its cycle as the preconditioner of
 //! the distributed conjugate gradients (`distributed::pcg`).
 //!
 //! Each level is a rank's owned rows over its local columns (owned, then a halo) with its own
@@ -7,7 +7,8 @@
 //! priorities from the global ids (`select`), interpolates the other unknowns from their kept
 //! strong neighbours with operator-based weights (`interpolate`), and forms the coarse operator
 //! as the Galerkin product Pᵀ A P across ranks (`galerkin`), so no coarse level needs a mesh.
-//! Once a level is small it is gathered on every rank and solved there by a dense factor
+//! The biharmonic's levels follow K's coarsening instead, each A = K V⁻¹ K assembled across
+//! ranks (`biharmonic`), and its cycle is a W-cycle. Once a level is small it is gathered on every rank and solved there by a dense factor
 //! (`gathered`). The smoother is the serial multigrid's Chebyshev–Jacobi smoother on owned rows,
 //! run through the level's `GroupOp` and halo layout.
 
