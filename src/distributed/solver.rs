@@ -294,12 +294,7 @@ impl DistributedSolver {
                 return input(format!("the rigid motion of patch {p} is not finite"));
             }
         }
-        let mut d = vec![0.0; host.len() * dim];
-        for (i, &h) in host.iter().enumerate() {
-            d[i * dim..(i + 1) * dim].copy_from_slice(&motion.displacement[h as usize * dim..(h as usize + 1) * dim]);
-        }
-        let m = Motion { displacement: d, rigid: motion.rigid.clone() };
-        Ok(m.vertex_values(self.local()).into_owned())
+        Ok(self.to_layout(motion).vertex_values(self.local()).into_owned())
     }
 
     /// Per component the right-hand side and the prescribed values (the owners' values on the

@@ -197,7 +197,7 @@ impl DistributedSolver {
     }
 
     /// `motion` with its displacement in layout order.
-    fn to_layout(&self, motion: &Motion) -> Motion {
+    pub(super) fn to_layout(&self, motion: &Motion) -> Motion {
         let dim = self.mesh.dim();
         let host = self.mesh.host_index();
         let mut d = vec![0.0; host.len() * dim];
