@@ -27,7 +27,7 @@ use std::time::Instant;
 pub(crate) mod memory;
 mod progress;
 mod slip;
-mod steps;
+pub(crate) mod steps;
 mod units;
 
 pub use progress::{Cancel, Progress};

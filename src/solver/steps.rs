@@ -80,15 +80,16 @@ impl StepReport {
     }
 }
 
-/// One step of a motion: its increment and the fractions of the whole motion it spans.
-struct Step<'a> {
-    number: usize,
+/// One step of a motion: its increment and the fractions of the whole motion it spans (also the
+/// distributed solver's).
+pub(crate) struct Step<'a> {
+    pub(crate) number: usize,
     /// The call's number of steps.
-    count: usize,
-    increment: &'a Motion,
-    from: f64,
-    to: f64,
-    last: bool,
+    pub(crate) count: usize,
+    pub(crate) increment: &'a Motion,
+    pub(crate) from: f64,
+    pub(crate) to: f64,
+    pub(crate) last: bool,
 }
 
 /// One step of `increment` from the current positions, or first from `from` (the caller moved

@@ -19,6 +19,7 @@ use crate::distributed::error::{DistError, DistErrorKind};
 use crate::distributed::reduce::gather;
 use crate::mesh::quality::is_inverted;
 use crate::multigrid::level::Level;
+use crate::solver::steps::Step;
 use crate::solver::MAX_STEPS;
 use crate::{BoundaryConditions, Cancel, Method, Motion, Options, Progress, ReferenceMode, StepReport};
 use std::time::Instant;
@@ -66,17 +67,6 @@ struct Undo {
     /// The level the call started on, once a step replaced it.
     level: Option<Level>,
     total: Option<(Motion, Vec<f64>)>,
-}
-
-/// One step of a motion: its increment (host order) and the fractions of the whole it spans.
-struct Step<'a> {
-    number: usize,
-    /// The call's number of steps.
-    count: usize,
-    increment: &'a Motion,
-    from: f64,
-    to: f64,
-    last: bool,
 }
 
 impl DistributedSolver {
