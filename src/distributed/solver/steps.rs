@@ -19,7 +19,7 @@ use crate::distributed::error::{DistError, DistErrorKind};
 use crate::distributed::reduce::gather;
 use crate::mesh::quality::is_inverted;
 use crate::multigrid::level::Level;
-use crate::solver::steps::Step;
+use crate::solver::steps::{Halving, Step};
 use crate::solver::MAX_STEPS;
 use crate::{BoundaryConditions, Cancel, Method, Motion, Options, Progress, ReferenceMode, StepReport};
 use std::time::Instant;
@@ -412,13 +412,12 @@ fn do_step(s: &mut DistributedSolver, step: &Step, undo: &mut Undo) -> Result<Di
     }
     let (max_substeps, min_ratio) = (s.steps.opts.max_substeps, s.steps.opts.min_volume_ratio);
     let split = max_substeps > 1;
-    let smallest = if split { 1.0 / max_substeps as f64 } else { 1.0 };
-    let (mut done, mut size, mut substep) = (0.0f64, 1.0f64, 0usize);
-    let mut acc = None;
-    while done < 1.0 {
+    let mut halving = Halving::new(max_substeps);
+    let (mut substep, mut acc) = (0usize, None);
+    while !halving.finished() {
         substep += 1;
-        let end = if done + size >= 1.0 { 1.0 } else { done + size };
-        let part = step.increment.between(done, end);
+        let end = halving.end();
+        let part = step.increment.between(halving.done, end);
         let t0 = Instant::now();
         let (sol, failure) = s.solve_report(&part)?;
         let mut rep = report(step, substep, end, &sol, failure.is_none(), t0);
@@ -432,12 +431,11 @@ fn do_step(s: &mut DistributedSolver, step: &Step, undo: &mut Undo) -> Result<Di
             rep.report.accepted = true;
             record(s, step, rep)?;
             acc = Some(accumulate(acc, sol));
-            done = end;
+            halving.done = end;
             continue;
         }
-        if split && size / 2.0 >= smallest * (1.0 - 1e-12) {
+        if halving.halve() {
             record(s, step, rep)?;
-            size /= 2.0;
             continue;
         }
         record(s, step, rep)?;
@@ -458,7 +456,7 @@ fn do_step(s: &mut DistributedSolver, step: &Step, undo: &mut Undo) -> Result<Di
                 "step {}: sub-stepping reached its limit of {max_substeps} sub-steps at {:.4} of the motion: the next \
                  sub-step would give {why}; nothing was changed",
                 step.number,
-                step.from + (step.to - step.from) * done
+                step.from + (step.to - step.from) * halving.done
             ),
         ));
     }
