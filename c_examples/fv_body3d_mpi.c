@@ -6,12 +6,16 @@
  * meshmove its local cells (through the serial meshmove_mesh_create), the global id of each
  * local vertex and its ghost-cell flags, and moves its part with the distributed solver:
  *     meshmove_dist_mesh_create(MPI_COMM_WORLD, local, gids, nv, ghost, nc, &dm);
- *     meshmove_dist_solver_create(dm, bcs, MESHMOVE_METHOD_BIHARMONIC, 1e-12, 5000, &ds);
+ *     meshmove_dist_solver_create(dm, bcs, options, &ds);   (the serial options handle)
  *     meshmove_dist_solver_set_rigid_motion(ds, BODY, t, (0, angle, 0), centre);
- *     meshmove_dist_solver_move(ds, 3 * nv, boundary_displacement, xyz, 3 * nv, &report);
+ *     meshmove_dist_solver_move(ds, boundary_displacement, 3 * nv, xyz, 3 * nv, &report);
+ *     meshmove_dist_solver_move_in_steps(ds, motion, 3 * nv, steps, xyz, 3 * nv, n, reports);
  * Each rank checks its part against the serial solver on the whole mesh (to 1e-10 of the motion,
- * both solved to 1e-12), that the report is the same on every rank and the serial quality's, and
- * that one rank's wrong array length makes every rank return MESHMOVE_STATUS_INVALID_ARGUMENT.
+ * both solved to 1e-12): a solve, a move and a move in two steps from the original mesh (the
+ * serial calls meshmove_solver_move and _move_in_steps beside them); that the report is the same
+ * on every rank and the serial quality's; that the progress callback runs on rank 0 after each
+ * step; and that one rank's wrong array length makes every rank return
+ * MESHMOVE_STATUS_INVALID_ARGUMENT.
  * Run: mpirun -np 1..4 fv_body3d_mpi */
 #include <math.h>
 #include <stdlib.h>
@@ -33,6 +37,14 @@ static int vid(int i, int j, int k) { return (k * (N + 1) + j) * (N + 1) + i; }
 static int hole(int i, int j, int k) { return i >= LO && i < HI && j >= LO && j < HI && k >= LO && k < HI; }
 static int inside(int i, int j, int k) { return i >= 0 && i < N && j >= 0 && j < N && k >= 0 && k < N; }
 static int cell_rank(int i, int size) { return i * size / N; }
+
+/* The progress callback: counts the sub-steps it is told of. */
+static int count_steps(void *user_data, const meshmove_step_report *report, int32_t steps) {
+    (void)report;
+    (void)steps;
+    ++*(int *)user_data;
+    return 0;
+}
 
 /* A mesh's arrays: vertices by grid id (local ones renumbered), hexahedra, tagged faces. */
 typedef struct {
@@ -155,6 +167,9 @@ int main(int argc, char **argv) {
     meshmove_options *o = NULL;
     CHECK(meshmove_options_create(&o));
     CHECK(meshmove_options_set_tol(o, 1e-12));
+    /* The biharmonic's distributed solve is preconditioned by its smoother alone: more iterations. */
+    CHECK(meshmove_options_set_max_cycles(o, 5000));
+    CHECK(meshmove_options_set_reference_mode(o, MESHMOVE_REFERENCE_ORIGINAL));
     meshmove_solver *serial = NULL;
     CHECK(meshmove_solver_create(wm, bcs, o, &serial));
     CHECK(meshmove_solver_set_rigid_motion(serial, BODY, ZERO, TURN, ZERO));
@@ -175,7 +190,7 @@ int main(int argc, char **argv) {
     CHECK(meshmove_dist_mesh_create(MPI_COMM_WORLD, lm, gids, p.nv, p.ghost, p.nc, &dm));
     CHECK(meshmove_mesh_free(lm));
     meshmove_dist_solver *ds = NULL;
-    CHECK(meshmove_dist_solver_create(dm, bcs, MESHMOVE_METHOD_BIHARMONIC, 1e-12, 5000, &ds));
+    CHECK(meshmove_dist_solver_create(dm, bcs, o, &ds));
     CHECK(meshmove_dist_solver_set_rigid_motion(ds, BODY, ZERO, TURN, ZERO));
     double *d = malloc(3 * p.nv * sizeof(double)), *out = malloc(3 * p.nv * sizeof(double));
     double *xyz = malloc(3 * p.nv * sizeof(double));
@@ -204,7 +219,8 @@ int main(int argc, char **argv) {
         fprintf(stderr, "rank %d: the ranks' reports differ\n", rank);
         failed = 1;
     }
-    /* The step: the moved positions become the reference. */
+    /* The step: the moved positions become the current mesh, here and serially. */
+    memcpy(xyz, p.xyz, 3 * p.nv * sizeof(double));
     CHECK(meshmove_dist_solver_move(ds, d, 3 * p.nv, xyz, 3 * p.nv, &rep));
     for (int i = 0; i < 3 * p.nv; i++)
         if (fabs(xyz[i] - (p.xyz[i] + out[i])) > 1e-14) {
@@ -212,6 +228,27 @@ int main(int argc, char **argv) {
             failed = 1;
             break;
         }
+    double *wxyz = malloc(3 * whole.nv * sizeof(double));
+    memcpy(wxyz, whole.xyz, 3 * whole.nv * sizeof(double));
+    CHECK(meshmove_solver_move(serial, 3 * whole.nv, dw, wxyz, NULL, NULL));
+    /* Two more steps of the turn (the total of the call) from the original mesh, with rank 0's
+     * progress callback. */
+    int told = 0;
+    CHECK(meshmove_dist_solver_set_progress(ds, count_steps, &told));
+    meshmove_dist_step_report steps[4];
+    CHECK(meshmove_dist_solver_move_in_steps(ds, d, 3 * p.nv, 2, xyz, 3 * p.nv, 4, steps));
+    CHECK(meshmove_solver_move_in_steps(serial, 3 * whole.nv, dw, 2, 0, NULL));
+    CHECK(meshmove_solver_get_coords(serial, 3 * whole.nv, wxyz));
+    double off = 0.0;
+    for (int v = 0; v < p.nv; v++)
+        for (int c = 0; c < 3; c++) off = fmax(off, fabs(xyz[3 * v + c] - wxyz[3 * at[p.gid[v]] + c]));
+    int32_t nsteps = 0;
+    meshmove_status asked = meshmove_dist_solver_step_reports(ds, 0, NULL, &nsteps);
+    if (asked != MESHMOVE_STATUS_BUFFER_TOO_SMALL || off > 1e-10 * scale || nsteps != 2 || !steps[1].step.accepted || told != (rank == 0 ? 2 : 0)) {
+        fprintf(stderr, "rank %d: in steps: differs from the serial solver by %.3e, %d step reports, told of %d\n",
+                rank, off, (int)nsteps, told);
+        failed = 1;
+    }
     /* One rank's wrong length: every rank returns the error. */
     int len = rank == size - 1 ? 3 * p.nv - 1 : 3 * p.nv;
     meshmove_status st = meshmove_dist_solver_solve(ds, d, len, out, 3 * p.nv, NULL);
@@ -220,9 +257,10 @@ int main(int argc, char **argv) {
         failed = 1;
     }
     if (rank == 0)
-        printf("fv_body3d_mpi on %d ranks: %d vertices, %d iterations, largest difference %.2e of the motion, "
-               "min volume ratio %.6f on rank %d\n",
-               size, whole.nv, rep.iterations, worst / scale, rep.min_area_ratio, rep.worst_rank);
+        printf("fv_body3d_mpi on %d ranks: %d vertices, %d iterations, largest difference %.2e of the motion "
+               "(in two steps %.2e, %d and %d iterations), min volume ratio %.6f on rank %d\n",
+               size, whole.nv, rep.iterations, worst / scale, off / scale, steps[0].step.cycles, steps[1].step.cycles,
+               rep.min_area_ratio, rep.worst_rank);
     CHECK(meshmove_dist_solver_free(ds));
     CHECK(meshmove_dist_mesh_free(dm));
     CHECK(meshmove_solver_free(serial));
@@ -231,7 +269,7 @@ int main(int argc, char **argv) {
     CHECK(meshmove_bcs_free(bcs));
     free_part(&p);
     free_part(&whole);
-    free(dw); free(ref); free(at); free(gids); free(d); free(out); free(xyz);
+    free(dw); free(ref); free(at); free(gids); free(d); free(out); free(xyz); free(wxyz);
     int any = 0;
     MPI_Allreduce(&failed, &any, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
     MPI_Finalize();

@@ -9,6 +9,7 @@
 ! every rank. Vertex indices are the local mesh's; global ids are any 64-bit integers >= 0.
 module meshmove_mpi
   use, intrinsic :: iso_c_binding
+  use meshmove_c, only: meshmove_step_report
   implicit none (type, external)
   public
 
@@ -18,6 +19,13 @@ module meshmove_mpi
     real(c_double) :: rel_residual
     integer(c_int32_t) :: inverted
     real(c_double) :: min_area_ratio, max_area_ratio, min_angle_deg
+    integer(c_int32_t) :: worst_rank
+  end type
+
+  !> What one sub-step of a distributed move did (the same on every rank but the seconds): the
+  !> serial step report and the rank of the smallest area (volume) ratio.
+  type, bind(c) :: meshmove_dist_step_report
+    type(meshmove_step_report) :: step
     integer(c_int32_t) :: worst_rank
   end type
 
@@ -44,11 +52,11 @@ module meshmove_mpi
       integer(c_int32_t), intent(out) :: dim, local_vertices, owned_vertices
       integer(c_int64_t), intent(out) :: global_vertices
     end function
-    integer(c_int32_t) function meshmove_dist_solver_create(mesh, bcs, method, tol, max_iterations, out) bind(c)
-      import :: c_int32_t, c_double, c_ptr
-      type(c_ptr), value :: mesh, bcs
-      integer(c_int32_t), value :: method, max_iterations
-      real(c_double), value :: tol
+    !> The distributed solver with the serial options handle (meshmove_options_create; c_null_ptr:
+    !> the defaults).
+    integer(c_int32_t) function meshmove_dist_solver_create(mesh, bcs, options, out) bind(c)
+      import :: c_int32_t, c_ptr
+      type(c_ptr), value :: mesh, bcs, options
       type(c_ptr), intent(out) :: out
     end function
     integer(c_int32_t) function meshmove_dist_solver_free(solver) bind(c)
@@ -76,14 +84,45 @@ module meshmove_mpi
       real(c_double), intent(out) :: out(*)
       type(meshmove_dist_report), intent(out) :: report
     end function
-    !> As meshmove_dist_solver_solve, then the moved positions (coords) become the reference.
+    !> The time step's move (as meshmove_solver_move): coords holds the current positions on entry
+    !> and the moved ones on return; displacement is the increment since the last call.
     integer(c_int32_t) function meshmove_dist_solver_move(solver, displacement, len, coords, out_len, report) bind(c)
       import :: c_int32_t, c_double, c_ptr, meshmove_dist_report
       type(c_ptr), value :: solver
       integer(c_int32_t), value :: len, out_len
       real(c_double), intent(in) :: displacement(*)
-      real(c_double), intent(out) :: coords(*)
+      real(c_double), intent(inout) :: coords(*)
       type(meshmove_dist_report), intent(out) :: report
+    end function
+    !> Moves the boundary to `prescribed` in `steps` equal steps (as meshmove_solver_move_in_steps);
+    !> coords receives the moved positions, reports the first num_reports step reports.
+    integer(c_int32_t) function meshmove_dist_solver_move_in_steps(solver, prescribed, len, steps, coords, out_len, &
+        num_reports, reports) bind(c)
+      import :: c_int32_t, c_double, c_ptr, meshmove_dist_step_report
+      type(c_ptr), value :: solver
+      integer(c_int32_t), value :: len, steps, out_len, num_reports
+      real(c_double), intent(in) :: prescribed(*)
+      real(c_double), intent(out) :: coords(*)
+      type(meshmove_dist_step_report), intent(out) :: reports(*)
+    end function
+    !> The step reports of the last move (count receives how many; not collective).
+    integer(c_int32_t) function meshmove_dist_solver_step_reports(solver, capacity, reports, count) bind(c)
+      import :: c_int32_t, c_ptr, meshmove_dist_step_report
+      type(c_ptr), value :: solver
+      integer(c_int32_t), value :: capacity
+      type(meshmove_dist_step_report), intent(out) :: reports(*)
+      integer(c_int32_t), intent(out) :: count
+    end function
+    !> The progress callback (called on rank 0 only), as meshmove_solver_set_progress.
+    integer(c_int32_t) function meshmove_dist_solver_set_progress(solver, progress, user_data) bind(c)
+      import :: c_int32_t, c_ptr, c_funptr
+      type(c_ptr), value :: solver
+      type(c_funptr), value :: progress
+      type(c_ptr), value :: user_data
+    end function
+    integer(c_int32_t) function meshmove_dist_solver_cancel(solver) bind(c)
+      import :: c_int32_t, c_ptr
+      type(c_ptr), value :: solver
     end function
   end interface
 end module

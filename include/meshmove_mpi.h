@@ -65,6 +65,23 @@ typedef struct meshmove_dist_report {
   int32_t worst_rank;
 } meshmove_dist_report;
 
+/*
+ What one sub-step of a distributed move did, the same on every rank (but for the seconds,
+ the rank's own): the serial step report (`cycles` the most conjugate gradient iterations of
+ a component, `inverted` summed over the ranks, the smallest ratio and angle over all ranks)
+ and the rank whose owned cells hold the smallest area (volume) ratio.
+ */
+typedef struct meshmove_dist_step_report {
+  /*
+   The sub-step as `meshmove_solver_step_reports` gives it.
+   */
+  meshmove_step_report step;
+  /*
+   The rank of the smallest area (volume) ratio.
+   */
+  int32_t worst_rank;
+} meshmove_dist_step_report;
+
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
@@ -131,20 +148,22 @@ meshmove_status meshmove_dist_mesh_sizes(const struct meshmove_dist_mesh *mesh,
                                          int64_t *global_vertices);
 
 /*
- Creates a distributed solver of `method` (a `meshmove_method`) on `mesh` with the conditions
- `bcs` (copied; FIXED, CLAMPED and FREE are distributed, SLIP walls, links and split
- interfaces are refused), solved to the relative residual `tol` in at most `max_iterations`
- conjugate gradient iterations per component (collective).
+ Creates a distributed solver on `mesh` with the conditions `bcs` (copied; FIXED, CLAMPED and
+ FREE are distributed, SLIP walls, links and split interfaces are refused) and the serial
+ solver's `options` (NULL: the defaults; copied), collectively: the method, the tolerance, the
+ iteration limit (`max_cycles`: conjugate gradient iterations per component), the Chebyshev
+ degree, the number of levels, sub-stepping, the reference mode. Options the distributed
+ solver does not take (the paper-faithful mode, the largest-correction criterion, a coarse
+ Chebyshev degree or lower ratio, a memory budget) return `MESHMOVE_STATUS_INVALID_ARGUMENT`
+ on every rank; `threads` has no effect.
 
  # Safety
- `mesh` and `bcs` must be handles from meshmove (checked); `out` writable.
+ `mesh`, `bcs` and a non-NULL `options` must be handles from meshmove (checked); `out` writable.
  */
 MESHMOVE_MUST_USE
 meshmove_status meshmove_dist_solver_create(const struct meshmove_dist_mesh *mesh,
                                             const meshmove_bcs *bcs,
-                                            int32_t method,
-                                            double tol,
-                                            int32_t max_iterations,
+                                            const meshmove_options *options,
                                             struct meshmove_dist_solver **out);
 
 /*
@@ -202,12 +221,19 @@ meshmove_status meshmove_dist_solver_solve(const struct meshmove_dist_solver *so
                                            struct meshmove_dist_report *report);
 
 /*
- As `meshmove_dist_solver_solve`, then the moved positions become the solver's reference
- when no cell of any rank inverts (else `MESHMOVE_STATUS_INVERTED` on every rank and nothing
- changes): `coords` (`out_len` doubles) receives the new positions of the local vertices.
+ The drop-in call of a time step, as `meshmove_solver_move` (collective): `coords` holds the
+ current positions of the local vertices on entry (`out_len` doubles; an owned vertex's value
+ counts) and receives the moved ones; when the positions differ from the solver's (the code
+ moved the mesh itself) they first become its reference, in the same transaction. The
+ boundary displacement is the increment since the last call, with the sub-stepping and the
+ reference mode of the solver's options; `report` (NULL allowed) says how the call went. A
+ result with inverted cells on any rank is refused: `MESHMOVE_STATUS_INVERTED` on every rank,
+ nothing written and nothing changed (so on any failure: `NOT_CONVERGED`, `TANGLED`,
+ `CANCELLED`); `meshmove_dist_solver_step_reports` says how far it got.
 
  # Safety
- As `meshmove_dist_solver_solve`.
+ `displacement` must hold `len` doubles, `coords` `out_len` readable and writable ones; a
+ non-NULL `report` must be writable.
  */
 MESHMOVE_MUST_USE
 meshmove_status meshmove_dist_solver_move(struct meshmove_dist_solver *solver,
@@ -216,6 +242,75 @@ meshmove_status meshmove_dist_solver_move(struct meshmove_dist_solver *solver,
                                           double *coords,
                                           int32_t out_len,
                                           struct meshmove_dist_report *report);
+
+/*
+ Moves the boundary to `prescribed` (the total of this call, `dim` values per local vertex,
+ and the rigid motions set) in `steps` equal steps (1 ≤ `steps` ≤ `MESHMOVE_MAX_STEPS`, the
+ same on every rank), the reference re-evaluated after each, with the sub-stepping and the
+ reference mode of the options, as `meshmove_solver_move_in_steps` (collective). `coords`
+ (`out_len` doubles) receives the moved positions of the local vertices; `reports`: NULL
+ (with `num_reports` 0) or room for `num_reports` step reports, of which the first
+ min(count, `num_reports`) are copied (all: `meshmove_dist_solver_step_reports`). On any
+ failure, and when the last step's result inverts cells (`MESHMOVE_STATUS_INVERTED`), the
+ solver is as before the call and nothing is written; the step reports say how far it got.
+
+ # Safety
+ `prescribed` must hold `len` doubles, `coords` `out_len` writable ones, `reports`
+ `num_reports` structs.
+ */
+MESHMOVE_MUST_USE
+meshmove_status meshmove_dist_solver_move_in_steps(struct meshmove_dist_solver *solver,
+                                                   const double *prescribed,
+                                                   int32_t len,
+                                                   int32_t steps,
+                                                   double *coords,
+                                                   int32_t out_len,
+                                                   int32_t num_reports,
+                                                   struct meshmove_dist_step_report *reports);
+
+/*
+ The step reports of the last `_move` or `_move_in_steps` call on this solver (one per step
+ or sub-step attempt; kept after a failure too), as `meshmove_solver_step_reports`: `*count`
+ receives how many there are; if `capacity` is smaller (e.g. 0 with `reports` NULL, to ask
+ the size), nothing is copied and `MESHMOVE_STATUS_BUFFER_TOO_SMALL` is returned. Not
+ collective.
+
+ # Safety
+ `reports` must hold `capacity` structs; `count` must be writable.
+ */
+MESHMOVE_MUST_USE
+meshmove_status meshmove_dist_solver_step_reports(const struct meshmove_dist_solver *solver,
+                                                  int32_t capacity,
+                                                  struct meshmove_dist_step_report *reports,
+                                                  int32_t *count);
+
+/*
+ Sets the progress callback of the solver's `_move` and `_move_in_steps` calls (see
+ `meshmove_progress`; NULL removes it). It runs on rank 0 only, after every sub-step with
+ that sub-step's global report; a non-zero return on rank 0 stops the call on every rank
+ (`MESHMOVE_STATUS_CANCELLED`, the solver as before the call). Not collective: a callback
+ set on another rank is kept and never called.
+
+ # Safety
+ `solver` must be a handle from meshmove (checked); `progress` a function of the declared type;
+ `user_data` must stay valid while the callback is set.
+ */
+MESHMOVE_MUST_USE
+meshmove_status meshmove_dist_solver_set_progress(struct meshmove_dist_solver *solver,
+                                                  meshmove_progress progress,
+                                                  void *user_data);
+
+/*
+ Asks the call running on `solver` to stop, from any thread of this rank, also while another
+ thread's call holds the solver (it never returns `MESHMOVE_STATUS_BUSY`): the call stops on
+ every rank after its current sub-step with `MESHMOVE_STATUS_CANCELLED` and the solver as
+ before it. When no call runs, the next move stops after its first sub-step.
+
+ # Safety
+ `solver` must be a handle from meshmove (checked).
+ */
+MESHMOVE_MUST_USE
+meshmove_status meshmove_dist_solver_cancel(const struct meshmove_dist_solver *solver);
 
 #ifdef __cplusplus
 }  // extern "C"

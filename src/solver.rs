@@ -27,7 +27,7 @@ use std::time::Instant;
 pub(crate) mod memory;
 mod progress;
 mod slip;
-mod steps;
+pub(crate) mod steps;
 mod units;
 
 pub use progress::{Cancel, Progress};
@@ -906,7 +906,7 @@ fn check_solve_params(p: &SolveParams) -> Result<()> {
     Ok(())
 }
 
-fn check_options(o: &Options) -> Result<()> {
+pub(crate) fn check_options(o: &Options) -> Result<()> {
     check_solve_params(&o.solve)?;
     if o.max_substeps > MAX_SUBSTEPS {
         return Err(Error::InvalidArgument(format!("max_substeps is {}; at most {MAX_SUBSTEPS}", o.max_substeps)));

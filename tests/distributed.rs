@@ -11,11 +11,18 @@
 //! the same quality report (the biharmonic also on meshes large enough for its multigrid to
 //! coarsen), a second solve reusing the kept hierarchy gives bitwise the first, and bad
 //! conditions or motions on one rank fail on every rank.
+//! Then the steps (`move_in_steps`, `advance`, `advance_from`, sub-stepping) in both reference
+//! modes, made with the serial `Options`, equal the serial solver's on a 2D and a 3D mesh; the
+//! options the distributed solver does not take, positions with inverted cells and rank 0's
+//! progress callback stop a call on every rank and change nothing.
 
 mod slabs;
 
-use meshmove::distributed::{DistErrorKind, DistSolveParams, DistributedMesh, DistributedSolver};
-use meshmove::{BoundaryConditions, Kind, Mesh, MeshData, Method, Motion, Options, RigidMotion, Solver};
+use meshmove::distributed::{DistErrorKind, DistSolveParams, DistStepReport, DistributedMesh, DistributedSolver};
+use meshmove::{
+    BoundaryConditions, Kind, Mesh, MeshData, Method, Mode, Motion, Options, Progress, ReferenceMode, RigidMotion,
+    Solver, StepReport,
+};
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
 use slabs::{block_owner, box3d, grid2d, motion, part, slab_owner, tagged, Part, BODY, SIDE};
@@ -115,6 +122,15 @@ fn rank_main() -> ExitCode {
     }
     bad_conditions_fail_on_every_rank(&world, &tagged(&grid2d(14, 12)));
     advance_moves_the_reference(&world, &grid2d(14, 12));
+    for (name, mesh) in [("2D triangles", tagged(&grid2d(14, 12))), ("3D hexahedra", tagged(&box3d(5, false)))] {
+        for method in [Method::Laplacian, Method::Biharmonic] {
+            for reference in [ReferenceMode::Incremental, ReferenceMode::Original] {
+                steps_agree_with_serial(&world, name, &mesh, method, reference);
+            }
+        }
+        substeps_agree_with_serial(&world, name, &mesh);
+    }
+    calls_stop_on_every_rank(&world, &tagged(&grid2d(14, 12)));
     ExitCode::SUCCESS
 }
 
@@ -388,7 +404,8 @@ fn advance_moves_the_reference(world: &SimpleCommunicator, d: &MeshData) {
     let sol = solver.advance(&Motion::from_displacement(local.clone())).unwrap();
     let after = solver.current_coords();
     let moved: Vec<f64> = before.iter().zip(&sol.displacement).map(|(x, d)| x + d).collect();
-    assert_eq!(after, moved, "the reference is the moved mesh");
+    let off = after.iter().zip(&moved).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+    assert!(off <= 1e-15, "the reference is the moved mesh: {off:e} away");
     let big: Vec<f64> = local.iter().map(|x| 50.0 * x).collect();
     let e = solver.advance(&Motion::from_displacement(big)).unwrap_err();
     assert_eq!(e.kind, DistErrorKind::Inverted, "{e}");
@@ -398,5 +415,191 @@ fn advance_moves_the_reference(world: &SimpleCommunicator, d: &MeshData) {
     assert!(ranks.iter().all(|&r| r == ranks[0]), "the ranks blame different ranks: {ranks:?}");
     if rank == 0 {
         println!("{size} ranks, advance: the reference moves; an inverting step is refused: \"{e}\"");
+    }
+}
+
+/// The serial options of a comparison: `method` to a relative residual of 1e-12, one thread.
+fn options(method: Method, reference: ReferenceMode) -> Options {
+    let mut o = Options { method, threads: 1, reference, ..Default::default() };
+    o.solve.tol = 1e-12;
+    // The biharmonic's distributed solve is preconditioned by its smoother alone.
+    o.solve.max_cycles = 5000;
+    o
+}
+
+/// A serial field of `dim` values per vertex on the local vertices of `p`.
+fn local_of(p: &Part, dim: usize, all: &[f64]) -> Vec<f64> {
+    p.global.iter().flat_map(|&v| all[v * dim..(v + 1) * dim].to_vec()).collect()
+}
+
+/// The largest difference between the local field `dist` and the serial field `serial`.
+fn largest_difference(p: &Part, dim: usize, dist: &[f64], serial: &[f64]) -> f64 {
+    local_of(p, dim, serial).iter().zip(dist).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()))
+}
+
+/// The same sub-steps (numbers, fractions, accepted or not, inverted counts) and, to 1e-8,
+/// the same smallest ratios.
+fn same_reports(what: &str, serial: &[StepReport], dist: &[DistStepReport]) {
+    let key = |r: &StepReport| (r.step, r.substep, r.fraction.to_bits(), r.accepted, r.inverted, r.converged);
+    let s: Vec<_> = serial.iter().map(key).collect();
+    let d: Vec<_> = dist.iter().map(|r| key(&r.report)).collect();
+    assert_eq!(s, d, "{what}: the step reports differ");
+    for (a, b) in serial.iter().zip(dist) {
+        let (a, b) = (a.min_volume_ratio, b.report.min_volume_ratio);
+        assert!((a - b).abs() <= 1e-8 * a.abs().max(1.0), "{what}: min ratio {b} against serial {a}");
+    }
+}
+
+/// `move_in_steps`, then `advance`, then `advance_from` positions the host moved itself, made
+/// with the serial options, equal the serial calls to 1e-10 of the motion, with the same step
+/// reports.
+fn steps_agree_with_serial(
+    world: &SimpleCommunicator,
+    name: &str,
+    d: &MeshData,
+    method: Method,
+    reference: ReferenceMode,
+) {
+    let (rank, size) = (world.rank() as usize, world.size() as usize);
+    let dim = d.dim;
+    // A quarter of the comparisons' motions: the clamped side turning against the moving ones
+    // inverts cells near their corners under the whole of them, repeated.
+    let all: Vec<f64> = (0..d.num_vertices())
+        .flat_map(|v| motion(d.point(v))[..dim].iter().map(|x| 0.25 * x).collect::<Vec<_>>())
+        .collect();
+    let bcs = Case::ClampedBody.conditions();
+    let rigid: Vec<(i32, RigidMotion)> =
+        Case::ClampedBody.rigid().iter().map(|&(p, m)| (p, m.between(0.0, 0.25))).collect();
+    let o = options(method, reference);
+    let mut serial = Solver::new(&Mesh::from_data(d).unwrap(), &bcs, o.clone()).unwrap();
+    let p = part(d, &slab_owner(d, size), rank, true);
+    let dm = DistributedMesh::new(world, &p.data, &p.gids, &p.ghost).unwrap();
+    let mut dist = DistributedSolver::with_options(&dm, &bcs, o).unwrap();
+    let what = format!("{name}, {method:?}, {reference:?} on {size} ranks");
+    let whole = |d: &[f64]| Motion { displacement: d.to_vec(), rigid: rigid.clone() };
+    let local = |d: &[f64]| Motion { displacement: local_of(&p, dim, d), rigid: rigid.clone() };
+
+    let sr = serial.move_in_steps(&whole(&all), 3).unwrap();
+    let dr = dist.move_in_steps(&local(&all), 3).unwrap();
+    let scale = serial.total_displacement().iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let off = largest_difference(&p, dim, &dist.current_coords(), serial.current_coords());
+    assert!(off <= 1e-10 * scale, "{what}: move_in_steps: rank {rank} differs by {off:e} (motion {scale:e})");
+    assert_eq!(sr.len(), 3, "{what}");
+    same_reports(&format!("{what}, move_in_steps"), &sr, &dr);
+    assert_eq!(dist.step_reports(), &dr[..], "{what}");
+
+    let half: Vec<f64> = all.iter().map(|x| 0.5 * x).collect();
+    let sa = serial.advance(&whole(&half)).unwrap();
+    let da = dist.advance(&local(&half)).unwrap();
+    let off = largest_difference(&p, dim, &da.displacement, &sa.displacement);
+    assert!(off <= 1e-10 * scale, "{what}: advance: rank {rank} differs by {off:e}");
+    assert_eq!(da.quality.inverted, sa.quality.inverted, "{what}");
+    let (a, b) = (sa.quality.min_area_ratio, da.quality.min_area_ratio);
+    assert!((a - b).abs() <= 1e-8, "{what}: advance: min ratio {b} against serial {a}");
+
+    // The host moves every vertex a little itself, then asks for the next step from there.
+    let moved: Vec<f64> = serial
+        .current_coords()
+        .chunks(dim)
+        .flat_map(|x| {
+            let m = motion(x);
+            (0..dim).map(move |c| x[c] + 0.05 * m[(c + 1) % dim]).collect::<Vec<_>>()
+        })
+        .collect();
+    let sf = serial.advance_from(&moved, &whole(&half)).unwrap();
+    let df = dist.advance_from(&local_of(&p, dim, &moved), &local(&half)).unwrap();
+    let off = largest_difference(&p, dim, &df.displacement, &sf.displacement);
+    let at = largest_difference(&p, dim, &dist.current_coords(), serial.current_coords());
+    assert!(off.max(at) <= 1e-10 * scale, "{what}: advance_from: rank {rank} differs by {off:e}, positions {at:e}");
+    if rank == 0 {
+        println!(
+            "{size} ranks, {what}: move_in_steps, advance and advance_from equal the serial calls (iterations per step \
+             {:?}, serial {:?})",
+            dr.iter().map(|r| r.report.cycles).collect::<Vec<_>>(),
+            sr.iter().map(|r| r.cycles).collect::<Vec<_>>()
+        );
+    }
+}
+
+/// Sub-stepping takes the serial solver's sub-steps: a step whose smallest area ratio falls
+/// below the options' minimum is split in halves, with the same reports and the same result.
+fn substeps_agree_with_serial(world: &SimpleCommunicator, name: &str, d: &MeshData) {
+    let (rank, size) = (world.rank() as usize, world.size() as usize);
+    let dim = d.dim;
+    let big: Vec<f64> = (0..d.num_vertices())
+        .flat_map(|v| motion(d.point(v))[..dim].iter().map(|x| 3.0 * x).collect::<Vec<_>>())
+        .collect();
+    let bcs = BoundaryConditions::new();
+    let mesh = Mesh::from_data(d).unwrap();
+    // The minimum ratio halfway between the whole step's and half of it's, from the mesh.
+    let probe = Solver::new(&mesh, &bcs, options(Method::Laplacian, ReferenceMode::Incremental)).unwrap();
+    let ratio = |f: f64| {
+        let m = Motion::from_displacement(big.iter().map(|x| f * x).collect());
+        probe.solve(&m).unwrap().quality.min_area_ratio
+    };
+    let (whole, half) = (ratio(1.0), ratio(0.5));
+    assert!(half > whole, "{name}: half the motion ({half}) is no better than all of it ({whole})");
+    let mut o = options(Method::Laplacian, ReferenceMode::Incremental);
+    (o.max_substeps, o.min_volume_ratio) = (8, 0.5 * (whole + half));
+    let mut serial = Solver::new(&mesh, &bcs, o.clone()).unwrap();
+    let p = part(d, &slab_owner(d, size), rank, true);
+    let dm = DistributedMesh::new(world, &p.data, &p.gids, &p.ghost).unwrap();
+    let mut dist = DistributedSolver::with_options(&dm, &bcs, o).unwrap();
+    let what = format!("{name}, sub-steps on {size} ranks");
+    // Both reach the end, or both stop at the limit of sub-steps at the same place.
+    let sr = serial.move_in_steps(&Motion::from_displacement(big.clone()), 1);
+    let dr = dist.move_in_steps(&Motion::from_displacement(local_of(&p, dim, &big)), 1);
+    assert_eq!(sr.is_ok(), dr.is_ok(), "{what}: serial {sr:?}, distributed {dr:?}");
+    let (sr, dr) = (serial.step_reports(), dist.step_reports());
+    assert!(sr.iter().any(|r| !r.accepted), "{what}: no sub-step was rejected");
+    same_reports(&what, sr, dr);
+    let scale = big.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let off = largest_difference(&p, dim, &dist.current_coords(), serial.current_coords());
+    assert!(off <= 1e-10 * scale, "{what}: rank {rank} differs by {off:e}");
+    if rank == 0 {
+        let fractions: Vec<String> = dr
+            .iter()
+            .map(|r| format!("{:.3}{}", r.report.fraction, if r.report.accepted { "" } else { " rejected" }))
+            .collect();
+        println!("{size} ranks, {what}: the serial sub-steps [{}]", fractions.join(", "));
+    }
+}
+
+/// Options the distributed solver does not take (on the last rank alone), positions with
+/// inverted cells and rank 0's progress callback stop a call on every rank; a stopped call
+/// changes nothing.
+fn calls_stop_on_every_rank(world: &SimpleCommunicator, d: &MeshData) {
+    let (rank, size) = (world.rank() as usize, world.size() as usize);
+    let last = size - 1;
+    let p = part(d, &slab_owner(d, size), rank, true);
+    let dm = DistributedMesh::new(world, &p.data, &p.gids, &p.ghost).unwrap();
+    let bcs = BoundaryConditions::new();
+    let mut o = options(Method::Laplacian, ReferenceMode::Incremental);
+    if rank == last {
+        o.solve.mode = Mode::PaperFaithful;
+    }
+    let e = DistributedSolver::with_options(&dm, &bcs, o).unwrap_err();
+    assert_eq!((e.rank, e.kind), (last, DistErrorKind::Input), "{e}");
+    assert!(e.message.contains("paper-faithful"), "{e}");
+
+    let mut o = options(Method::Laplacian, ReferenceMode::Incremental);
+    o.progress = Some(Progress::new(|r, _| r.step < 2));
+    let mut solver = DistributedSolver::with_options(&dm, &bcs, o).unwrap();
+    let dim = d.dim;
+    let all: Vec<f64> = p.data.coords.chunks(dim).flat_map(|x| motion(x)[..dim].to_vec()).collect();
+    let before = solver.current_coords();
+    let e = solver.move_in_steps(&Motion::from_displacement(all.clone()), 3).unwrap_err();
+    assert_eq!((e.rank, e.kind), (0, DistErrorKind::Cancelled), "{e}");
+    assert_eq!(solver.current_coords(), before, "a cancelled call changes nothing");
+    assert_eq!(solver.step_reports().len(), 2, "the reports say how far it got");
+
+    // Every position mirrored: every cell inverted, rank 0 the first to say so.
+    let mirrored: Vec<f64> =
+        p.data.coords.iter().enumerate().map(|(i, &x)| if i % dim == 0 { -x } else { x }).collect();
+    let e = solver.advance_from(&mirrored, &Motion::from_displacement(all)).unwrap_err();
+    assert_eq!((e.rank, e.kind), (0, DistErrorKind::Tangled), "{e}");
+    assert_eq!(solver.current_coords(), before, "a refused call changes nothing");
+    if rank == 0 {
+        println!("{size} ranks, refused options, cancelled steps and tangled positions: every rank returns the error");
     }
 }

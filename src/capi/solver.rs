@@ -532,12 +532,27 @@ unsafe fn copy_steps<T: for<'a> From<&'a crate::StepReport>>(
     what: &str,
 ) -> Result<(), CError> {
     let s = get(solver, "solver")?;
+    // SAFETY: the caller's contract is `copy_reports`'.
+    unsafe { copy_reports(s.solver.step_reports(), capacity, out, count, what) }
+}
+
+/// Writes the number of `reports` to `count` and, when `capacity` is large enough, one `T` per
+/// report to `out` (`what` names it in errors); else `MESHMOVE_STATUS_BUFFER_TOO_SMALL`.
+///
+/// # Safety
+/// `out` must hold `capacity` values of `T`; `count` must be writable.
+pub(crate) unsafe fn copy_reports<R, T: for<'a> From<&'a R>>(
+    reports: &[R],
+    capacity: i32,
+    out: *mut T,
+    count: *mut i32,
+    what: &str,
+) -> Result<(), CError> {
     let cap = handles::count(capacity, "capacity")?;
     if count.is_null() {
         return Err(CError::null("count"));
     }
-    let steps = s.solver.step_reports();
-    let n = steps.len();
+    let n = reports.len();
     // SAFETY: `count` is not NULL; the caller guarantees it is writable.
     unsafe { handles::write_out(count, n.min(i32::MAX as usize) as i32, "count") }?;
     if cap < n {
@@ -548,7 +563,7 @@ unsafe fn copy_steps<T: for<'a> From<&'a crate::StepReport>>(
     }
     // SAFETY: the caller guarantees `out` holds `capacity` >= `n` values.
     let out = unsafe { handles::slice_mut(out, n, what) }?;
-    for (o, r) in out.iter_mut().zip(steps) {
+    for (o, r) in out.iter_mut().zip(reports) {
         *o = T::from(r);
     }
     Ok(())
@@ -611,19 +626,24 @@ pub unsafe extern "C" fn meshmove_solver_set_progress(
     ffi_body!(meshmove_solver_set_progress, {
         let mut s = get_mut(solver, "solver")?;
         let mut o = s.solver.options().clone();
-        o.progress = progress.map(|f| {
-            let user = UserData(user_data);
-            Progress::new(move |r, steps| {
-                let user = &user;
-                let report = meshmove_step_report::from(r);
-                let steps = steps.min(i32::MAX as usize) as i32;
-                // SAFETY: the caller guarantees the callback and its context (documented above);
-                // `report` lives until the callback returns.
-                unsafe { f(user.0, &report, steps) == 0 }
-            })
-        });
+        o.progress = progress_hook(progress, user_data);
         s.solver.set_options(o)?;
         Ok(())
+    })
+}
+
+/// The caller's progress callback and its `user_data` as a `Progress` (None for NULL).
+pub(crate) fn progress_hook(progress: meshmove_progress, user_data: *mut c_void) -> Option<Progress> {
+    progress.map(|f| {
+        let user = UserData(user_data);
+        Progress::new(move |r, steps| {
+            let user = &user;
+            let report = meshmove_step_report::from(r);
+            let steps = steps.min(i32::MAX as usize) as i32;
+            // SAFETY: the caller guarantees the callback and its context (`meshmove_progress`);
+            // `report` lives until the callback returns.
+            unsafe { f(user.0, &report, steps) == 0 }
+        })
     })
 }
 

@@ -16,18 +16,21 @@
 
 use super::agreement::agree;
 use super::comm::Comm;
-use super::{DistError, DistErrorKind, DistSolution, DistSolveParams, DistributedMesh, DistributedSolver};
+use super::{DistError, DistErrorKind, DistSolution, DistStepReport, DistributedMesh, DistributedSolver};
 use crate::capi::bcs::meshmove_bcs;
 use crate::capi::error::{guard, CError};
 use crate::capi::handles::{self, check_out, get, get_mut, hand_out, Handle, Slot};
 use crate::capi::mesh::meshmove_mesh;
+use crate::capi::options::meshmove_options;
 use crate::capi::points;
+use crate::capi::solver::{copy_reports, meshmove_progress, progress_hook};
 use crate::capi::status::meshmove_status;
-use crate::capi::types;
+use crate::capi::types::meshmove_step_report;
 use crate::{Motion, RigidMotion};
 use mpi::ffi::MPI_Comm;
 use mpi::raw::FromRaw;
 use mpi::topology::SimpleCommunicator;
+use std::ffi::c_void;
 
 /// A rank's part of a distributed mesh: its vertices with their owners, the global numbering
 /// and the halo exchange lists, and the library's own duplicate of the communicator.
@@ -106,6 +109,26 @@ impl From<&DistSolution> for meshmove_dist_report {
     }
 }
 
+/// What one sub-step of a distributed move did, the same on every rank (but for the seconds,
+/// the rank's own): the serial step report (`cycles` the most conjugate gradient iterations of
+/// a component, `inverted` summed over the ranks, the smallest ratio and angle over all ranks)
+/// and the rank whose owned cells hold the smallest area (volume) ratio.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct meshmove_dist_step_report {
+    /// The sub-step as `meshmove_solver_step_reports` gives it.
+    pub step: meshmove_step_report,
+    /// The rank of the smallest area (volume) ratio.
+    pub worst_rank: i32,
+}
+
+impl From<&DistStepReport> for meshmove_dist_step_report {
+    fn from(r: &DistStepReport) -> Self {
+        let worst_rank = i32::try_from(r.worst_rank).unwrap_or(i32::MAX);
+        meshmove_dist_step_report { step: meshmove_step_report::from(&r.report), worst_rank }
+    }
+}
+
 /// The status of a distributed error; the message names the rank at fault.
 impl From<DistError> for CError {
     fn from(e: DistError) -> Self {
@@ -116,6 +139,8 @@ impl From<DistError> for CError {
             }
             DistErrorKind::Solve => meshmove_status::NotConverged,
             DistErrorKind::Inverted => meshmove_status::Inverted,
+            DistErrorKind::Tangled => meshmove_status::Tangled,
+            DistErrorKind::Cancelled => meshmove_status::Cancelled,
         };
         CError::new(status, e.to_string())
     }
@@ -278,21 +303,23 @@ pub unsafe extern "C" fn meshmove_dist_mesh_sizes(
     })
 }
 
-/// Creates a distributed solver of `method` (a `meshmove_method`) on `mesh` with the conditions
-/// `bcs` (copied; FIXED, CLAMPED and FREE are distributed, SLIP walls, links and split
-/// interfaces are refused), solved to the relative residual `tol` in at most `max_iterations`
-/// conjugate gradient iterations per component (collective).
+/// Creates a distributed solver on `mesh` with the conditions `bcs` (copied; FIXED, CLAMPED and
+/// FREE are distributed, SLIP walls, links and split interfaces are refused) and the serial
+/// solver's `options` (NULL: the defaults; copied), collectively: the method, the tolerance, the
+/// iteration limit (`max_cycles`: conjugate gradient iterations per component), the Chebyshev
+/// degree, the number of levels, sub-stepping, the reference mode. Options the distributed
+/// solver does not take (the paper-faithful mode, the largest-correction criterion, a coarse
+/// Chebyshev degree or lower ratio, a memory budget) return `MESHMOVE_STATUS_INVALID_ARGUMENT`
+/// on every rank; `threads` has no effect.
 ///
 /// # Safety
-/// `mesh` and `bcs` must be handles from meshmove (checked); `out` writable.
+/// `mesh`, `bcs` and a non-NULL `options` must be handles from meshmove (checked); `out` writable.
 #[no_mangle]
 #[must_use]
 pub unsafe extern "C" fn meshmove_dist_solver_create(
     mesh: *const meshmove_dist_mesh,
     bcs: *const meshmove_bcs,
-    method: i32,
-    tol: f64,
-    max_iterations: i32,
+    options: *const meshmove_options,
     out: *mut *mut meshmove_dist_solver,
 ) -> meshmove_status {
     guard("meshmove_dist_solver_create", move || {
@@ -302,15 +329,15 @@ pub unsafe extern "C" fn meshmove_dist_solver_create(
             // SAFETY: the caller guarantees `out` is NULL (refused) or writable.
             unsafe { check_out(out, "out") }?;
             let b = get(bcs, "bcs")?.clone();
-            let method = types::method(method)?;
-            let max_iterations = handles::count(max_iterations, "max_iterations")?;
-            Ok((b, method, DistSolveParams { tol, max_iterations, ..Default::default() }))
+            let o = if options.is_null() { crate::Options::default() } else { get(options, "options")?.clone() };
+            Ok((b, o))
         })();
-        let (b, method, params) = agree_checks(comm, m.rank(), checked)?;
-        let solver = DistributedSolver::new(&m, &b, method, params)?;
+        let (b, o) = agree_checks(comm, m.rank(), checked)?;
+        let solver = DistributedSolver::with_options(&m, &b, o)?;
+        let cancel = solver.canceller();
         let state = DistSolverState { solver, rigid: Vec::new() };
         // SAFETY: `out` passed `check_out`.
-        unsafe { hand_out::<meshmove_dist_solver>(state, out) }
+        unsafe { handles::hand_out_slot::<meshmove_dist_solver>(Slot::cancellable(state, cancel), out) }
     })
 }
 
@@ -399,12 +426,19 @@ pub unsafe extern "C" fn meshmove_dist_solver_solve(
     })
 }
 
-/// As `meshmove_dist_solver_solve`, then the moved positions become the solver's reference
-/// when no cell of any rank inverts (else `MESHMOVE_STATUS_INVERTED` on every rank and nothing
-/// changes): `coords` (`out_len` doubles) receives the new positions of the local vertices.
+/// The drop-in call of a time step, as `meshmove_solver_move` (collective): `coords` holds the
+/// current positions of the local vertices on entry (`out_len` doubles; an owned vertex's value
+/// counts) and receives the moved ones; when the positions differ from the solver's (the code
+/// moved the mesh itself) they first become its reference, in the same transaction. The
+/// boundary displacement is the increment since the last call, with the sub-stepping and the
+/// reference mode of the solver's options; `report` (NULL allowed) says how the call went. A
+/// result with inverted cells on any rank is refused: `MESHMOVE_STATUS_INVERTED` on every rank,
+/// nothing written and nothing changed (so on any failure: `NOT_CONVERGED`, `TANGLED`,
+/// `CANCELLED`); `meshmove_dist_solver_step_reports` says how far it got.
 ///
 /// # Safety
-/// As `meshmove_dist_solver_solve`.
+/// `displacement` must hold `len` doubles, `coords` `out_len` readable and writable ones; a
+/// non-NULL `report` must be writable.
 #[no_mangle]
 #[must_use]
 pub unsafe extern "C" fn meshmove_dist_solver_move(
@@ -419,10 +453,122 @@ pub unsafe extern "C" fn meshmove_dist_solver_move(
         let mut s = get_mut(solver, "solver")?;
         // SAFETY: the caller's contract for the arrays.
         let d = unsafe { read_local(&s.solver, displacement, len, coords, out_len, report) }?;
+        // SAFETY: `coords` holds `out_len` doubles (contract), checked by `read_local` to be
+        // `dim` per local vertex.
+        let x = unsafe { std::slice::from_raw_parts(coords.cast_const(), d.len()) }.to_vec();
         let motion = s.motion(d);
-        let sol = s.solver.advance(&motion)?;
+        let sol = s.solver.advance_from(&x, &motion)?;
         // SAFETY: `coords` and `report` were checked by `read_local`.
         unsafe { write_solution(&s.solver.current_coords(), coords, &sol, report) }
+    })
+}
+
+/// Moves the boundary to `prescribed` (the total of this call, `dim` values per local vertex,
+/// and the rigid motions set) in `steps` equal steps (1 ≤ `steps` ≤ `MESHMOVE_MAX_STEPS`, the
+/// same on every rank), the reference re-evaluated after each, with the sub-stepping and the
+/// reference mode of the options, as `meshmove_solver_move_in_steps` (collective). `coords`
+/// (`out_len` doubles) receives the moved positions of the local vertices; `reports`: NULL
+/// (with `num_reports` 0) or room for `num_reports` step reports, of which the first
+/// min(count, `num_reports`) are copied (all: `meshmove_dist_solver_step_reports`). On any
+/// failure, and when the last step's result inverts cells (`MESHMOVE_STATUS_INVERTED`), the
+/// solver is as before the call and nothing is written; the step reports say how far it got.
+///
+/// # Safety
+/// `prescribed` must hold `len` doubles, `coords` `out_len` writable ones, `reports`
+/// `num_reports` structs.
+#[no_mangle]
+#[must_use]
+pub unsafe extern "C" fn meshmove_dist_solver_move_in_steps(
+    solver: *mut meshmove_dist_solver,
+    prescribed: *const f64,
+    len: i32,
+    steps: i32,
+    coords: *mut f64,
+    out_len: i32,
+    num_reports: i32,
+    reports: *mut meshmove_dist_step_report,
+) -> meshmove_status {
+    guard("meshmove_dist_solver_move_in_steps", move || {
+        let mut s = get_mut(solver, "solver")?;
+        // SAFETY: the caller's contract for the arrays.
+        let d = unsafe { read_local(&s.solver, prescribed, len, coords, out_len, std::ptr::null_mut()) }?;
+        let me = s.solver.mesh().rank();
+        let checked = (|| {
+            let n = handles::count(steps, "steps")?;
+            let cap = handles::count(num_reports, "num_reports")?;
+            // SAFETY: the caller guarantees `reports` holds `num_reports` structs.
+            let out = unsafe { handles::slice_mut(reports, cap, "reports") }?;
+            Ok((n, out))
+        })();
+        let (n, out) = agree_checks(s.solver.mesh().halo().comm(), me, checked)?;
+        let motion = s.motion(d);
+        let done = s.solver.move_in_steps(&motion, n)?;
+        out.iter_mut().zip(&done).for_each(|(o, r)| *o = meshmove_dist_step_report::from(r));
+        // SAFETY: `coords` was checked by `read_local`.
+        unsafe { points::write(coords, &s.solver.current_coords()) };
+        Ok(())
+    })
+}
+
+/// The step reports of the last `_move` or `_move_in_steps` call on this solver (one per step
+/// or sub-step attempt; kept after a failure too), as `meshmove_solver_step_reports`: `*count`
+/// receives how many there are; if `capacity` is smaller (e.g. 0 with `reports` NULL, to ask
+/// the size), nothing is copied and `MESHMOVE_STATUS_BUFFER_TOO_SMALL` is returned. Not
+/// collective.
+///
+/// # Safety
+/// `reports` must hold `capacity` structs; `count` must be writable.
+#[no_mangle]
+#[must_use]
+pub unsafe extern "C" fn meshmove_dist_solver_step_reports(
+    solver: *const meshmove_dist_solver,
+    capacity: i32,
+    reports: *mut meshmove_dist_step_report,
+    count: *mut i32,
+) -> meshmove_status {
+    guard("meshmove_dist_solver_step_reports", move || {
+        let s = get(solver, "solver")?;
+        // SAFETY: the caller's contract is `copy_reports`'.
+        unsafe { copy_reports(s.solver.step_reports(), capacity, reports, count, "reports") }
+    })
+}
+
+/// Sets the progress callback of the solver's `_move` and `_move_in_steps` calls (see
+/// `meshmove_progress`; NULL removes it). It runs on rank 0 only, after every sub-step with
+/// that sub-step's global report; a non-zero return on rank 0 stops the call on every rank
+/// (`MESHMOVE_STATUS_CANCELLED`, the solver as before the call). Not collective: a callback
+/// set on another rank is kept and never called.
+///
+/// # Safety
+/// `solver` must be a handle from meshmove (checked); `progress` a function of the declared type;
+/// `user_data` must stay valid while the callback is set.
+#[no_mangle]
+#[must_use]
+pub unsafe extern "C" fn meshmove_dist_solver_set_progress(
+    solver: *mut meshmove_dist_solver,
+    progress: meshmove_progress,
+    user_data: *mut c_void,
+) -> meshmove_status {
+    guard("meshmove_dist_solver_set_progress", move || {
+        let mut s = get_mut(solver, "solver")?;
+        s.solver.set_progress(progress_hook(progress, user_data));
+        Ok(())
+    })
+}
+
+/// Asks the call running on `solver` to stop, from any thread of this rank, also while another
+/// thread's call holds the solver (it never returns `MESHMOVE_STATUS_BUSY`): the call stops on
+/// every rank after its current sub-step with `MESHMOVE_STATUS_CANCELLED` and the solver as
+/// before it. When no call runs, the next move stops after its first sub-step.
+///
+/// # Safety
+/// `solver` must be a handle from meshmove (checked).
+#[no_mangle]
+#[must_use]
+pub unsafe extern "C" fn meshmove_dist_solver_cancel(solver: *const meshmove_dist_solver) -> meshmove_status {
+    guard("meshmove_dist_solver_cancel", move || {
+        handles::cancel_of(solver, "solver")?.cancel();
+        Ok(())
     })
 }
 

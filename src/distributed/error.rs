@@ -22,6 +22,11 @@ pub enum DistErrorKind {
     Solve,
     /// The solved motion inverts cells (of the rank named, the one with the smallest ratio).
     Inverted,
+    /// A mesh a step would start from has inverted cells: positions given as the reference, or
+    /// a step's result that later steps would start from.
+    Tangled,
+    /// The progress callback (rank 0's) or a cancellation request stopped the call.
+    Cancelled,
 }
 
 /// The error every rank returns from a failed collective call.
@@ -52,7 +57,7 @@ impl DistErrorKind {
     /// The kind of a code from `code`.
     pub(crate) fn from_code(code: i32) -> DistErrorKind {
         use DistErrorKind::*;
-        [Input, LocalMesh, Inconsistent, MissingGhostCell, Solve, Inverted]
+        [Input, LocalMesh, Inconsistent, MissingGhostCell, Solve, Inverted, Tangled, Cancelled]
             .into_iter()
             .find(|k| k.code() == code)
             .unwrap_or(Solve)

@@ -7,7 +7,9 @@
 //! vectors over owned and halo entries with halo exchanges by nonblocking point-to-point
 //! messages and inner products reproducible for a fixed number of ranks; and the mesh mover
 //! ([`DistributedSolver`](crate::distributed::DistributedSolver): the three methods with FIXED,
-//! CLAMPED and FREE patches and rigid motions) with its C ABI
+//! CLAMPED and FREE patches and rigid motions, made with the serial `Options`; the serial
+//! solver's steps: `advance`, `advance_from`, `move_in_steps`, sub-stepping, both reference
+//! modes, per-step reports) with its C ABI
 //! ([`capi`](crate::distributed::capi)), solved by conjugate gradients preconditioned by the
 //! distributed multigrid (`mg`: algebraic kept-unknowns levels across ranks, the biharmonic's
 //! K_c V_c⁻¹ K_c assembled on them, the coarsest gathered on every rank; kept between solves on
@@ -37,4 +39,4 @@ pub(crate) use level_layout::Distribution;
 /// The MPI bindings (rsmpi) the library is built with: a host in Rust names its communicators
 /// with these types.
 pub use mpi;
-pub use solver::{DistSolution, DistSolveParams, DistributedSolver};
+pub use solver::{DistSolution, DistSolveParams, DistStepReport, DistributedSolver};

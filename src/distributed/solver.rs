@@ -35,6 +35,11 @@ use crate::sparse::CsrMatrix;
 use crate::{BoundaryConditions, Mesh, Motion, Quality};
 use std::sync::Arc;
 
+mod options;
+mod steps;
+
+pub use steps::DistStepReport;
+
 /// How a distributed solve iterates.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DistSolveParams {
@@ -90,6 +95,9 @@ pub struct DistributedSolver {
     level: Level,
     /// The multigrid of each component on the current reference, once a solve has built it.
     multigrids: Kept,
+    /// The serial options of the steps, the motion done in the original-reference mode, the
+    /// last call's step reports (`steps.rs`).
+    steps: steps::State,
 }
 
 impl std::fmt::Debug for DistributedSolver {
@@ -114,7 +122,8 @@ impl DistributedSolver {
         agree(mesh.halo().comm(), checked)?;
         let level = build_level(mesh.halo(), local.clone(), bcs, method);
         agree(mesh.halo().comm(), bcs::check_prescribed(me, mesh.halo(), &level.flags))?;
-        Ok(DistributedSolver { mesh: mesh.clone(), bcs: bcs.clone(), params, level, multigrids: Kept::default() })
+        let steps = steps::State::new(method, params);
+        Ok(DistributedSolver { mesh: mesh.clone(), bcs: bcs.clone(), params, level, multigrids: Kept::default(), steps })
     }
 
     /// The distributed mesh (its reference positions are the ones it was made with).
@@ -140,9 +149,10 @@ impl DistributedSolver {
         Ok(())
     }
 
-    /// The current reference positions of the local vertices, `dim` each, in the host's order.
+    /// The positions after the last step of the local vertices, `dim` each, in the host's order:
+    /// the reference, or in `ReferenceMode::Original` the original mesh moved by the motion so far.
     pub fn current_coords(&self) -> Vec<f64> {
-        self.mesh.to_host_order(self.local().coords(), self.mesh.dim())
+        self.mesh.to_host_order(self.steps.current().unwrap_or(self.local().coords()), self.mesh.dim())
     }
 
     /// Solves for the displacement of every local vertex from the current reference
@@ -150,6 +160,19 @@ impl DistributedSolver {
     /// order, read where a component is prescribed (the owner's value counts); its rigid
     /// motions move whole patches. Nothing changes.
     pub fn solve(&self, motion: &Motion) -> Result<DistSolution, DistError> {
+        let (sol, failure) = self.solve_report(motion)?;
+        // The PCG scalars are global, so every rank reaches the same verdict; rank 0 speaks.
+        let verdict = match failure {
+            Some(msg) if self.mesh.rank() == 0 => Err(DistError::new(0, DistErrorKind::Solve, msg)),
+            _ => Ok(()),
+        };
+        agree(self.halo().comm(), verdict)?;
+        Ok(sol)
+    }
+
+    /// [`DistributedSolver::solve`] also when a component stops above its tolerance: the
+    /// solution and, then, what went wrong (the same on every rank).
+    fn solve_report(&self, motion: &Motion) -> Result<(DistSolution, Option<String>), DistError> {
         let me = self.mesh.rank();
         let vals = agree(self.halo().comm(), self.layout_values(motion))?;
         let rhs = agree(self.halo().comm(), self.right_hand_sides(motion, &vals))?;
@@ -189,12 +212,6 @@ impl DistributedSolver {
             dp.clear();
             (0..nv).for_each(|v| total[v * dim + c] = x[v]);
         }
-        // The PCG scalars are global, so every rank reaches the same verdict; rank 0 speaks.
-        let verdict = match failure {
-            Some(msg) if me == 0 => Err(DistError::new(0, DistErrorKind::Solve, msg)),
-            _ => Ok(()),
-        };
-        agree(halo.comm(), verdict)?;
         let bad = total.iter().position(|d| !d.is_finite()).map(|i| {
             let gid = self.mesh.layout_global_ids()[i / dim];
             DistError::new(me, DistErrorKind::Solve, format!("the displacement of global id {gid} is not finite"))
@@ -202,7 +219,7 @@ impl DistributedSolver {
         agree(halo.comm(), bad.map_or(Ok(()), Err))?;
         let (quality, worst_rank) = self.quality(&total);
         let (sizes, coarsest_gathered) = kept.as_ref().map(|h| (h.sizes.clone(), h.gathers)).unwrap_or_default();
-        Ok(DistSolution {
+        let sol = DistSolution {
             displacement: self.mesh.to_host_order(&total, dim),
             iterations,
             rel_residual: worst,
@@ -211,36 +228,19 @@ impl DistributedSolver {
             level_rows: sizes.iter().map(|s| s.rows).collect(),
             level_halo_values: sizes.iter().map(|s| s.halo_values).collect(),
             coarsest_gathered,
-        })
+        };
+        Ok((sol, failure))
     }
 
-    /// Solves for `increment` from the current reference and, when no cell of any rank inverts,
-    /// makes the moved positions the reference of the next call (collective). On any error
-    /// nothing changes.
+    /// The drop-in call of a time step, as [`crate::Solver::advance`] (collective): moves the
+    /// mesh by `increment` (the boundary motion since the last call, host order) from the
+    /// current positions, with the sub-stepping and reference mode of the options, and makes the
+    /// result the current mesh. Returns the displacement from the positions before the call and
+    /// its quality against them. A result that inverts a cell of any rank is refused
+    /// (`DistErrorKind::Inverted`, naming the rank of the worst cell); on any error nothing
+    /// changes and [`DistributedSolver::step_reports`] say how far the call got.
     pub fn advance(&mut self, increment: &Motion) -> Result<DistSolution, DistError> {
-        let sol = self.solve(increment)?;
-        if sol.quality.inverted > 0 {
-            return Err(DistError::new(
-                sol.worst_rank,
-                DistErrorKind::Inverted,
-                format!(
-                    "the motion inverts {} cell(s) (smallest area or volume ratio {:e}, on rank {}); nothing was changed",
-                    sol.quality.inverted, sol.quality.min_area_ratio, sol.worst_rank
-                ),
-            ));
-        }
-        let dim = self.mesh.dim();
-        let host = self.mesh.host_index();
-        let local = self.local();
-        let mut coords = local.coords().to_vec();
-        for (i, &h) in host.iter().enumerate() {
-            let h = h as usize;
-            (0..dim).for_each(|c| coords[i * dim + c] += sol.displacement[h * dim + c]);
-        }
-        let moved = local.with_coords(coords);
-        self.level = build_level(self.mesh.halo(), moved, &self.bcs, self.level.op.method);
-        self.multigrids.clear();
-        Ok(sol)
+        steps::advance(self, None, increment)
     }
 
     /// The multigrid preconditions this solve: more than one level is allowed.
@@ -293,12 +293,7 @@ impl DistributedSolver {
                 return input(format!("the rigid motion of patch {p} is not finite"));
             }
         }
-        let mut d = vec![0.0; host.len() * dim];
-        for (i, &h) in host.iter().enumerate() {
-            d[i * dim..(i + 1) * dim].copy_from_slice(&motion.displacement[h as usize * dim..(h as usize + 1) * dim]);
-        }
-        let m = Motion { displacement: d, rigid: motion.rigid.clone() };
-        Ok(m.vertex_values(self.local()).into_owned())
+        Ok(self.to_layout(motion).vertex_values(self.local()).into_owned())
     }
 
     /// Per component the right-hand side and the prescribed values (the owners' values on the
@@ -355,8 +350,14 @@ impl DistributedSolver {
     fn quality(&self, displacement: &[f64]) -> (Quality, usize) {
         let mesh = self.local();
         let moved: Vec<f64> = mesh.coords().iter().zip(displacement).map(|(x, d)| x + d).collect();
+        self.quality_between(mesh, &moved)
+    }
+
+    /// The quality of the positions `moved` (layout order) against `mesh` over every rank's
+    /// owned cells, and the rank of the smallest area ratio (collective).
+    fn quality_between(&self, mesh: &Mesh, moved: &[f64]) -> (Quality, usize) {
         let owned = self.mesh.owned_cells();
-        let q = quality_of_cells(mesh, &moved, (0..mesh.num_cells()).filter(|&c| owned[c]));
+        let q = quality_of_cells(mesh, moved, (0..mesh.num_cells()).filter(|&c| owned[c]));
         let comm = self.halo().comm();
         let counts = sum_in_rank_order(comm, &[q.inverted as f64, q.non_positive_measure as f64]);
         let extremes =

@@ -80,15 +80,16 @@ impl StepReport {
     }
 }
 
-/// One step of a motion: its increment and the fractions of the whole motion it spans.
-struct Step<'a> {
-    number: usize,
+/// One step of a motion: its increment and the fractions of the whole motion it spans (also the
+/// distributed solver's).
+pub(crate) struct Step<'a> {
+    pub(crate) number: usize,
     /// The call's number of steps.
-    count: usize,
-    increment: &'a Motion,
-    from: f64,
-    to: f64,
-    last: bool,
+    pub(crate) count: usize,
+    pub(crate) increment: &'a Motion,
+    pub(crate) from: f64,
+    pub(crate) to: f64,
+    pub(crate) last: bool,
 }
 
 /// One step of `increment` from the current positions, or first from `from` (the caller moved
@@ -236,12 +237,12 @@ fn do_step(s: &mut Solver, step: &Step, undo: &mut Undo) -> Result<()> {
         return original_step(s, step);
     }
     let split = s.opts.max_substeps > 1;
-    let smallest = if split { 1.0 / s.opts.max_substeps as f64 } else { 1.0 };
-    let (mut done, mut size, mut substep) = (0.0f64, 1.0f64, 0usize);
-    while done < 1.0 {
+    let mut halving = Halving::new(s.opts.max_substeps);
+    let mut substep = 0usize;
+    while !halving.finished() {
         substep += 1;
-        let end = if done + size >= 1.0 { 1.0 } else { done + size };
-        let part = step.increment.between(done, end);
+        let end = halving.end();
+        let part = step.increment.between(halving.done, end);
         let t0 = Instant::now();
         let vals = part.vertex_values(s.mesh()).into_owned();
         let guess = extrapolated(s, &vals);
@@ -261,12 +262,11 @@ fn do_step(s: &mut Solver, step: &Step, undo: &mut Undo) -> Result<()> {
             rep.accepted = true;
             s.last_valid = moved;
             record(s, step, rep)?;
-            done = end;
+            halving.done = end;
             continue;
         }
-        if split && size / 2.0 >= smallest * (1.0 - 1e-12) {
+        if halving.halve() {
             record(s, step, rep)?;
-            size /= 2.0;
             continue;
         }
         if sol.report.converged && !split {
@@ -299,10 +299,52 @@ fn do_step(s: &mut Solver, step: &Step, undo: &mut Undo) -> Result<()> {
              give {why}; the mesh stays at the last valid state",
             step.number,
             s.opts.max_substeps,
-            step.from + (step.to - step.from) * done
+            step.from + (step.to - step.from) * halving.done
         )));
     }
     Ok(())
+}
+
+/// How a step is split into sub-steps (also the distributed solver's): the part of it done, the
+/// size of the next attempt, halved after a rejected one down to 1/`max_substeps` of the step.
+pub(crate) struct Halving {
+    /// The fraction of the step done.
+    pub(crate) done: f64,
+    size: f64,
+    smallest: f64,
+    split: bool,
+}
+
+impl Halving {
+    /// A step not begun; `max_substeps` 0 or 1 never splits it.
+    pub(crate) fn new(max_substeps: usize) -> Halving {
+        let split = max_substeps > 1;
+        let smallest = if split { 1.0 / max_substeps as f64 } else { 1.0 };
+        Halving { done: 0.0, size: 1.0, smallest, split }
+    }
+
+    /// True once the whole step is done.
+    pub(crate) fn finished(&self) -> bool {
+        self.done >= 1.0
+    }
+
+    /// The fraction of the step the next attempt ends at.
+    pub(crate) fn end(&self) -> f64 {
+        if self.done + self.size >= 1.0 {
+            1.0
+        } else {
+            self.done + self.size
+        }
+    }
+
+    /// Halves the next attempt; false when sub-stepping is off or at its limit.
+    pub(crate) fn halve(&mut self) -> bool {
+        let halved = self.split && self.size / 2.0 >= self.smallest * (1.0 - 1e-12);
+        if halved {
+            self.size /= 2.0;
+        }
+        halved
+    }
 }
 
 /// Solves one part of a step; a solve that stops above its tolerance on a hierarchy moved from
