@@ -12,6 +12,8 @@ mod direct;
 mod extrapolate;
 mod jacobi;
 mod peer;
+#[cfg(feature = "mpi")]
+mod ranks;
 mod slip;
 mod steps;
 mod table;
@@ -52,6 +54,11 @@ pub enum Part {
     /// (`DIR/viscous.csv`; not in the default parts).
     #[value(name = "viscous")]
     Viscous,
+    /// The distributed solver on the hexahedral box and the graded sphere, run under
+    /// `mpirun -np N` in a build with the `mpi` feature (`DIR/ranks.csv`; alone, not in the
+    /// default parts).
+    #[value(name = "ranks")]
+    Ranks,
 }
 
 /// The cells of a 3D box.
@@ -590,6 +597,9 @@ pub fn run(a: &Args) -> Result<(), String> {
     if let Some(vtu) = &a.peer_points {
         return peer::write_points(vtu, &a.out.join("foam"));
     }
+    if a.parts.contains(&Part::Ranks) {
+        return distributed(a);
+    }
     let has = |p: Part| a.parts.contains(&p);
     // The smallest mesh is cheap to build; checking against it first keeps a too-small
     // --max-vertices from writing anything.
@@ -737,4 +747,18 @@ pub fn run(a: &Args) -> Result<(), String> {
     );
     println!("wrote {}", path.display());
     Ok(())
+}
+
+/// The `ranks` part: alone, under mpirun, in a build with the `mpi` feature.
+fn distributed(a: &Args) -> Result<(), String> {
+    if a.parts.len() > 1 {
+        return Err("--parts ranks runs alone (every rank would run the other parts)".into());
+    }
+    #[cfg(feature = "mpi")]
+    if crate::distributed::launched() {
+        return ranks::run(a);
+    }
+    Err("--parts ranks runs under `mpirun -np N` in a build with the `mpi` feature \
+         (cargo build --release --features mpi)"
+        .into())
 }
