@@ -32,9 +32,7 @@ pub fn run(a: &Args) -> Result<(), String> {
     let world = universe.world();
     let lead = world.rank() == 0;
     let makers: [fn(bool) -> Case; 2] = [
-        |quick| {
-            cases::free_surface_box(if quick { cases::BASE_N_3D } else { 2 * cases::BASE_N_3D + 1 }, BoxCells::Hexes)
-        },
+        |quick| cases::free_surface_box(if quick { cases::BASE_N_3D } else { 2 * cases::BASE_N_3D }, BoxCells::Hexes),
         |quick| cases::graded_sphere(SPHERE[usize::from(quick)]),
     ];
     let mut csv = String::new();

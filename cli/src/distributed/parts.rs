@@ -53,9 +53,9 @@ fn cut_one(
         .for_each(|c| data.cell(c).iter().for_each(|&v| local_of[v as usize] = 0));
     let mut out = MeshData::new(data.dim);
     let mut gids = Vec::new();
-    for v in 0..nv {
-        if local_of[v] == 0 {
-            local_of[v] = out.push_vertex(data.point(v));
+    for (v, l) in local_of.iter_mut().enumerate() {
+        if *l == 0 {
+            *l = out.push_vertex(data.point(v));
             gids.push(v as u64);
         }
     }
