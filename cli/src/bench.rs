@@ -61,6 +61,15 @@ pub enum Part {
     Ranks,
 }
 
+/// A method of the `ranks` part.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RanksMethod {
+    /// Conjugate gradients with the distributed multigrid.
+    Laplacian,
+    /// Conjugate gradients with the Chebyshev–Jacobi smoother alone.
+    Biharmonic,
+}
+
 /// The cells of a 3D box.
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum BoxKind {
@@ -150,6 +159,9 @@ pub struct Args {
     /// rows stop does not depend on the machine).
     #[arg(long, default_value_t = 500)]
     pub viscous_max_cycles: usize,
+    /// The methods of the `ranks` part, comma separated: laplacian, biharmonic.
+    #[arg(long, value_delimiter = ',', default_value = "laplacian,biharmonic")]
+    pub ranks_methods: Vec<RanksMethod>,
     /// Instead of running: write the 3D peer case (the hexahedral box of this many cells per
     /// side as box.msh, its motion as top.csv, the case as case.toml) to --out, for
     /// scripts/peer-openfoam.sh.

@@ -2,7 +2,8 @@
 //! solver on the hexahedral box of the 3D part (the 250k-vertex size; `--quick`: the 33k one) and
 //! the graded sphere of the graded part (tetrahedra, 240k vertices; `--quick`: 30k), with the
 //! Laplacian (conjugate gradients preconditioned by the distributed multigrid) and the
-//! biharmonic (preconditioned by the Chebyshev–Jacobi smoother alone), to `--tol`. Rank 0 makes
+//! biharmonic (preconditioned by the Chebyshev–Jacobi smoother alone; `--ranks-methods` picks),
+//! to `--tol`. Rank 0 makes
 //! each mesh, splits its cells with METIS and sends each rank its part, as `deform` under mpirun
 //! does. Per run: the seconds to split, to make the distributed mesh and solver, and to solve
 //! (the multigrid's hierarchies included: one per component), the iterations, the owned
@@ -10,7 +11,7 @@
 //! exchange over all ranks. Rank 0 appends the rows to `DIR/ranks.csv` and prints them.
 
 use super::cases::{self, Case};
-use super::Args;
+use super::{Args, RanksMethod};
 use crate::distributed::{case, partition::partition, parts, wire};
 use meshmove::distributed::mpi::collective::SystemOperation;
 use meshmove::distributed::mpi::topology::SimpleCommunicator;
@@ -38,7 +39,11 @@ pub fn run(a: &Args) -> Result<(), String> {
     let mut csv = String::new();
     for make in makers {
         let case = lead.then(|| make(a.quick));
-        for method in [Method::Laplacian, Method::Biharmonic] {
+        for m in &a.ranks_methods {
+            let method = match m {
+                RanksMethod::Laplacian => Method::Laplacian,
+                RanksMethod::Biharmonic => Method::Biharmonic,
+            };
             match run_one(&world, case.as_ref(), method, a.tol) {
                 Ok(Some(row)) => {
                     println!("{row}");
