@@ -771,6 +771,6 @@ fn distributed(a: &Args) -> Result<(), String> {
         return ranks::run(a);
     }
     Err("--parts ranks runs under `mpirun -np N` in a build with the `mpi` feature \
-         (cargo build --release --features mpi)"
+         (cargo build --release -p meshmove-cli --features mpi)"
         .into())
 }
