@@ -5,7 +5,8 @@
 #   examples into build/, cargo test and ctest (examples vs the Rust reference, the C bad-input
 #   test under valgrind, install + C and Fortran consumers by find_package, pkg-config and plain
 #   compiler flags, code_saturne moving its mesh with meshmove); the distributed build (the
-#   `mpi` feature: clippy, its test under mpirun on 1 to 4 ranks, rustdoc).
+#   `mpi` feature: clippy, its test under mpirun on 1 to 4 ranks, rustdoc; the command line's
+#   `deform` under mpirun against the serial command).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -54,6 +55,11 @@ cargo clippy --release -p meshmove -- -D warnings
 cargo clippy --release -p meshmove --features mpi -- -D warnings
 cargo clippy --release -p meshmove --all-targets --features mpi,internals -- -D warnings
 cargo test --release --features mpi --test distributed
+# The command line under mpirun (its `mpi` feature: METIS's partition, the parts, `deform`
+# against the serial command on 1 to 4 ranks: cli/tests/deform_mpi.rs).
+cargo clippy --release -p meshmove-cli --all-targets --features mpi -- -D warnings
+cargo test --release -p meshmove-cli --features mpi --bin meshmove distributed
+cargo test --release -p meshmove-cli --features mpi --test deform_mpi
 # The C and Fortran programs of the distributed calls under mpirun on 1 to 4 ranks: a second
 # CMake build with MESHMOVE_WITH_MPI (its own cargo target directory, kept between runs), of
 # those programs alone.

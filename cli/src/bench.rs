@@ -12,6 +12,8 @@ mod direct;
 mod extrapolate;
 mod jacobi;
 mod peer;
+#[cfg(feature = "mpi")]
+mod ranks;
 mod slip;
 mod steps;
 mod table;
@@ -52,6 +54,20 @@ pub enum Part {
     /// (`DIR/viscous.csv`; not in the default parts).
     #[value(name = "viscous")]
     Viscous,
+    /// The distributed solver on the hexahedral box and the graded sphere, run under
+    /// `mpirun -np N` in a build with the `mpi` feature (`DIR/ranks.csv`; alone, not in the
+    /// default parts).
+    #[value(name = "ranks")]
+    Ranks,
+}
+
+/// A method of the `ranks` part.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RanksMethod {
+    /// Conjugate gradients with the distributed multigrid.
+    Laplacian,
+    /// Conjugate gradients with the Chebyshev–Jacobi smoother alone.
+    Biharmonic,
 }
 
 /// The cells of a 3D box.
@@ -143,6 +159,9 @@ pub struct Args {
     /// rows stop does not depend on the machine).
     #[arg(long, default_value_t = 500)]
     pub viscous_max_cycles: usize,
+    /// The methods of the `ranks` part, comma separated: laplacian, biharmonic.
+    #[arg(long, value_delimiter = ',', default_value = "laplacian,biharmonic")]
+    pub ranks_methods: Vec<RanksMethod>,
     /// Instead of running: write the 3D peer case (the hexahedral box of this many cells per
     /// side as box.msh, its motion as top.csv, the case as case.toml) to --out, for
     /// scripts/peer-openfoam.sh.
@@ -590,6 +609,9 @@ pub fn run(a: &Args) -> Result<(), String> {
     if let Some(vtu) = &a.peer_points {
         return peer::write_points(vtu, &a.out.join("foam"));
     }
+    if a.parts.contains(&Part::Ranks) {
+        return distributed(a);
+    }
     let has = |p: Part| a.parts.contains(&p);
     // The smallest mesh is cheap to build; checking against it first keeps a too-small
     // --max-vertices from writing anything.
@@ -737,4 +759,18 @@ pub fn run(a: &Args) -> Result<(), String> {
     );
     println!("wrote {}", path.display());
     Ok(())
+}
+
+/// The `ranks` part: alone, under mpirun, in a build with the `mpi` feature.
+fn distributed(a: &Args) -> Result<(), String> {
+    if a.parts.len() > 1 {
+        return Err("--parts ranks runs alone (every rank would run the other parts)".into());
+    }
+    #[cfg(feature = "mpi")]
+    if crate::distributed::launched() {
+        return ranks::run(a);
+    }
+    Err("--parts ranks runs under `mpirun -np N` in a build with the `mpi` feature \
+         (cargo build --release -p meshmove-cli --features mpi)"
+        .into())
 }

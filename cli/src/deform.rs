@@ -12,6 +12,8 @@
 //! last valid mesh is written there too (a second Ctrl-C exits at once, with 130).
 
 mod output;
+#[cfg(feature = "mpi")]
+mod ranks;
 mod series;
 
 use indicatif::{ProgressBar, ProgressStyle};
@@ -374,7 +376,9 @@ fn read_displacement(path: &Path, nv: usize, dim: usize) -> Result<Vec<Option<[f
 }
 
 /// What `build` returns: the case, the options, the motion's series, the polyMesh read.
-type Built = (CaseSetup, Options, Series, Option<PolyMeshSource>);
+/// A case read: its set-up, options and step-by-step motions, the polyMesh it came from, and
+/// what it asks that only the serial solver does ([`serial_only`]).
+type Built = (CaseSetup, Options, Series, Option<PolyMeshSource>, Vec<String>);
 
 fn build(args: &Args) -> Result<Built, String> {
     let text = std::fs::read_to_string(&args.config).map_err(|e| format!("config {}: {e}", args.config.display()))?;
@@ -577,8 +581,33 @@ fn build(args: &Args) -> Result<Built, String> {
         }
     }
     bcs.check(&mesh).map_err(|e| format!("config: {e}"))?;
+    let serial = serial_only(&cfg, &opts, &bcs, &patches);
     let name = args.mesh.file_stem().and_then(|s| s.to_str()).unwrap_or("mesh").to_string();
-    Ok((CaseSetup { name, mesh, bcs, motion, steps, moved_patch, upper_region: None }, opts, series, foam))
+    Ok((CaseSetup { name, mesh, bcs, motion, steps, moved_patch, upper_region: None }, opts, series, foam, serial))
+}
+
+/// What the case asks that the distributed solver does not do (yet), in the case file's words:
+/// `deform` under mpirun refuses such a case.
+fn serial_only(cfg: &Config, opts: &Options, bcs: &BoundaryConditions, patches: &Patches) -> Vec<String> {
+    let mut out: Vec<String> = patches
+        .ids
+        .iter()
+        .filter(|&&p| bcs.is_slip(p))
+        .map(|&p| format!("SLIP walls (patch {})", patches.name(p)))
+        .collect();
+    if !cfg.link.is_empty() {
+        out.push("periodic links ([[link]])".into());
+    }
+    if !cfg.interface.is_empty() {
+        out.push("interfaces ([[interface]])".into());
+    }
+    if opts.max_substeps > 0 {
+        out.push("sub-steps (steps = \"auto\" or max_substeps)".into());
+    }
+    if opts.reference == ReferenceMode::Original {
+        out.push("reference = \"original\"".into());
+    }
+    out
 }
 
 /// The number of steps the tables of the case's motions give (each table a row per step), if
@@ -707,7 +736,11 @@ fn on_ctrl_c(opts: &mut Options) {
 }
 
 pub fn run(args: Args) -> Result<ExitCode, String> {
-    let (setup, mut opts, series, foam) = build(&args)?;
+    #[cfg(feature = "mpi")]
+    if crate::distributed::launched() {
+        return ranks::run(&args);
+    }
+    let (setup, mut opts, series, foam, _) = build(&args)?;
     let encoding = args.encoding.vtu();
     let write = |path: &Path, disp: &[f64]| output::write(path, &setup.mesh, disp, encoding, foam.as_ref());
     let mut step_file_error = None;
@@ -744,12 +777,30 @@ pub fn run(args: Args) -> Result<ExitCode, String> {
         let text: String = r.reports.iter().map(|x| json_line(x) + "\n").collect();
         std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))?;
     }
+    let done = r.reports.iter().filter(|x| x.accepted).map(|x| x.fraction).fold(0.0, f64::max);
+    let substeps = r.reports.iter().filter(|x| x.accepted).count();
+    let how = format!(
+        "{:?}, {} step(s) in {substeps} sub-step(s), {} cycles, {:.3} s, converged",
+        opts.method, r.steps, r.cycles, r.seconds,
+    );
+    finish(&args, &setup, &r, (&how, done), write)
+}
+
+/// Writes a run's result and prints its summary (`how`: how it was solved; `done`: the fraction
+/// of the motion its last valid mesh reached): the exit status of the run.
+fn finish(
+    args: &Args,
+    setup: &CaseSetup,
+    r: &meshmove_cases::report::CaseResult,
+    (how, done): (&str, f64),
+    write: impl Fn(&Path, &[f64]) -> Result<(), String>,
+) -> Result<ExitCode, String> {
+    let encoding = args.encoding.vtu();
     let original = setup.mesh.coords();
     if let Some(f) = &r.failure {
         let partial = args.output.with_extension("last-valid.vtu");
         let disp: Vec<f64> = r.last_valid.iter().zip(original).map(|(a, b)| a - b).collect();
         write(&partial, &disp)?;
-        let done = r.reports.iter().filter(|x| x.accepted).map(|x| x.fraction).fold(0.0, f64::max);
         eprintln!("meshmove: error: {f}");
         eprintln!(
             "meshmove: the last valid mesh ({:.1}% of the motion) is written to {}; {} is not written",
@@ -764,17 +815,13 @@ pub fn run(args: Args) -> Result<ExitCode, String> {
     if let Some(vtu) = &args.vtu {
         output::write(vtu, &setup.mesh, &disp, encoding, None)?;
     }
-    let substeps = r.reports.iter().filter(|x| x.accepted).count();
     println!(
         "mesh            {} ({} vertices, {} cells)",
         args.mesh.display(),
         setup.mesh.num_vertices(),
         setup.mesh.num_cells()
     );
-    println!(
-        "method          {:?}, {} step(s) in {substeps} sub-step(s), {} cycles, {:.3} s, converged",
-        opts.method, r.steps, r.cycles, r.seconds,
-    );
+    println!("method          {how}");
     let measure = if setup.mesh.dim() == 2 { "area" } else { "volume" };
     println!(
         "inverted cells  {} (a corner Jacobian or volume <= 0), {} of non-positive {measure}",
@@ -803,7 +850,7 @@ pub fn run(args: Args) -> Result<ExitCode, String> {
         println!("wrote           {}", vtu.display());
     }
     if let Some(png) = &args.png {
-        case_png(png, &setup, &r.coords, opts.method, r.steps)?;
+        case_png(png, setup, &r.coords, r.method, r.steps)?;
     }
     if r.inverted > 0 {
         eprintln!(

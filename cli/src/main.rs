@@ -6,6 +6,8 @@ mod bench;
 mod compare;
 mod deform;
 mod demo;
+#[cfg(feature = "mpi")]
+mod distributed;
 mod plot;
 mod plot3d;
 

@@ -79,6 +79,8 @@ pub struct DistSolution {
     pub level_rows: Vec<u64>,
     /// Values all ranks send per halo exchange of one vector, on each level.
     pub level_halo_values: Vec<u64>,
+    /// Messages all ranks send per halo exchange, on each level.
+    pub level_messages: Vec<u64>,
     /// The coarsest level is gathered and factored on every rank (else it is smoothed).
     pub coarsest_gathered: bool,
 }
@@ -227,6 +229,7 @@ impl DistributedSolver {
             worst_rank,
             level_rows: sizes.iter().map(|s| s.rows).collect(),
             level_halo_values: sizes.iter().map(|s| s.halo_values).collect(),
+            level_messages: sizes.iter().map(|s| s.messages).collect(),
             coarsest_gathered,
         };
         Ok((sol, failure))

@@ -112,9 +112,14 @@ pub fn graded_cases(max_vertices_2d: usize, max_vertices_3d: usize) -> Vec<Box<d
         out.push(Box::new(move || graded(ogrid::cylinder_with_vertices(n, CellKind::Simplex), "graded-cylinder-2d")));
     }
     for n in sizes(max_vertices_3d, 8) {
-        out.push(Box::new(move || graded(ogrid::sphere_with_vertices(n, CellKind::Simplex), "graded-sphere-3d")));
+        out.push(Box::new(move || graded_sphere(n)));
     }
     out
+}
+
+/// The 3D graded case (tetrahedra) at about `vertices` vertices.
+pub fn graded_sphere(vertices: usize) -> Case {
+    graded(ogrid::sphere_with_vertices(vertices, CellKind::Simplex), "graded-sphere-3d")
 }
 
 /// A graded O-grid case: walls fixed, the body clamped and translated by 0.1 in x.

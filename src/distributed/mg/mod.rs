@@ -90,6 +90,8 @@ pub(crate) struct LevelSize {
     pub(crate) rows: u64,
     /// Values all ranks send per halo exchange of one vector.
     pub(crate) halo_values: u64,
+    /// Messages all ranks send per halo exchange (one per rank and neighbour it sends to).
+    pub(crate) messages: u64,
 }
 
 /// The distributed multigrid preconditioner: its levels, its coarsest solve, its smoother and
@@ -164,9 +166,13 @@ impl Multigrid {
         self.levels
             .iter()
             .map(|d| {
-                let mine = [unknowns(&d.level.op.k, d.halo.owned()) as f64, d.halo.sent_per_exchange() as f64];
+                let mine = [
+                    unknowns(&d.level.op.k, d.halo.owned()) as f64,
+                    d.halo.sent_per_exchange() as f64,
+                    d.halo.send_lists().len() as f64,
+                ];
                 let all = sum_in_rank_order(d.halo.comm(), &mine);
-                LevelSize { rows: all[0] as u64, halo_values: all[1] as u64 }
+                LevelSize { rows: all[0] as u64, halo_values: all[1] as u64, messages: all[2] as u64 }
             })
             .collect()
     }
