@@ -14,6 +14,7 @@ use crate::multigrid::cycle::{cycle, Workspace};
 use crate::multigrid::group::GroupOp;
 pub use crate::multigrid::hierarchy::CoarseOperator;
 use crate::multigrid::hierarchy::{Carried, Hierarchy, HierarchyParams, Level};
+use crate::multigrid::phases::Phases;
 use crate::multigrid::policy::CycleParams;
 use crate::multigrid::smoother::Start;
 use crate::multigrid::solve::{solve_until, Report, SolveParams};
@@ -21,9 +22,11 @@ use crate::operator::Method;
 use crate::pool::Pool;
 use crate::sparse::max_abs;
 use crate::{Error, Mesh, Result};
+use deferred::Deferred;
 use std::ops::Range;
 use std::time::Instant;
 
+mod deferred;
 pub(crate) mod memory;
 mod progress;
 mod slip;
@@ -104,6 +107,51 @@ struct Undo {
     generation: u64,
     /// The hierarchy as it was before the first rebuild of the call.
     hierarchy: Option<Hierarchy>,
+    /// The reference mesh's positions when its re-reference waited at the start of the call.
+    waits_for: Option<Vec<f64>>,
+}
+
+/// What building or moving a hierarchy needs besides the mesh: the solver's pool, conditions
+/// and options.
+struct Builder<'a> {
+    pool: &'a Pool,
+    bcs: &'a BoundaryConditions,
+    opts: &'a Options,
+    params: &'a HierarchyParams,
+}
+
+impl<'a> Builder<'a> {
+    fn of(pool: &'a Pool, bcs: &'a BoundaryConditions, opts: &'a Options, params: &'a HierarchyParams) -> Self {
+        Builder { pool, bcs, opts, params }
+    }
+
+    /// A hierarchy built on `mesh` with the link pairs `pairs`, beside the one the solver
+    /// holds (the memory for it checked first).
+    fn build(&self, mesh: &Mesh, pairs: &[[u32; 2]]) -> Result<Hierarchy> {
+        let need = memory::solver_bytes(mesh, self.opts.method);
+        memory::check_available(need, self.opts.memory_budget, "the rebuilt hierarchy")?;
+        let (bcs, method, hp) = (self.bcs, self.opts.method, self.params);
+        self.pool.install(|| Hierarchy::build(mesh, pairs.to_vec(), bcs, method, hp))?
+    }
+
+    /// Moves `h` to `mesh` (`None`), or builds a new hierarchy there when a coarse cell would
+    /// invert (`Some`, `h` unchanged). On an error `h` is moved back as it was when `restoring`
+    /// (else the caller's transaction restores it).
+    fn settle(&self, h: &mut Hierarchy, mesh: &Mesh, restoring: bool) -> Result<Option<Hierarchy>> {
+        let generation = h.generation();
+        let before = restoring.then(|| (h.fine().mesh().coords().to_vec(), h.carried()));
+        match self.pool.install(|| h.move_to(mesh.coords().to_vec()))? {
+            Ok(true) => Ok(None),
+            Ok(false) => self.build(mesh, &h.fine().pairs).map(Some),
+            Err(e) => {
+                if let Some((coords, carried)) = before.filter(|_| h.generation() != generation) {
+                    let moved = self.pool.install(|| h.restore(coords, carried));
+                    debug_assert!(matches!(moved, Ok(Ok(true))), "moving back to a previous reference failed");
+                }
+                Err(e)
+            }
+        }
+    }
 }
 
 /// A mesh mover for one mesh and one set of boundary conditions: the multigrid hierarchy is built
@@ -111,7 +159,8 @@ struct Undo {
 pub struct Solver {
     opts: Options,
     bcs: BoundaryConditions,
-    hierarchy: Hierarchy,
+    /// The hierarchy at the reference mesh, or waiting to be moved there (`deferred`).
+    hierarchy: Deferred,
     pool: Pool,
     /// `ReferenceMode::Original`: the motion done so far (the sum of the increments) and the
     /// positions it gave; the hierarchy stays on the original mesh.
@@ -170,7 +219,7 @@ impl Solver {
         Ok(Solver {
             opts,
             bcs: bcs.clone(),
-            hierarchy,
+            hierarchy: Deferred::new(hierarchy),
             pool,
             total: None,
             steps,
@@ -199,7 +248,35 @@ impl Solver {
 
     /// The reference mesh (the mesh at the start of the step).
     pub fn mesh(&self) -> &Mesh {
-        self.hierarchy.fine().mesh()
+        self.hierarchy.mesh()
+    }
+
+    /// The hierarchy at the reference mesh, moved there first when its re-reference waits
+    /// (`deferred`): on an error the solver is as it was.
+    fn current(&self) -> Result<&Hierarchy> {
+        let b = Builder::of(&self.pool, &self.bcs, &self.opts, &self.built_with);
+        self.hierarchy.get(&|h, mesh| b.settle(h, mesh, true))
+    }
+
+    /// The hierarchy once `current` (or `settle`) has moved it to the reference mesh.
+    fn h(&self) -> &Hierarchy {
+        self.hierarchy.ready().expect("the hierarchy is moved to the reference before it is read")
+    }
+
+    /// Inside a call's transaction: the hierarchy moved to the reference mesh when its
+    /// re-reference waits (a hierarchy replaced by a new one kept in `undo`). Returns the seconds.
+    fn settle(&mut self, undo: &mut Undo) -> Result<f64> {
+        if self.hierarchy.ready().is_some() {
+            self.hierarchy.tidy();
+            return Ok(0.0);
+        }
+        let t = Instant::now();
+        let b = Builder::of(&self.pool, &self.bcs, &self.opts, &self.built_with);
+        let old = &mut undo.hierarchy;
+        self.hierarchy.get_mut(&|h, mesh| b.settle(h, mesh, false), |h| {
+            old.get_or_insert(h);
+        })?;
+        Ok(t.elapsed().as_secs_f64())
     }
 
     /// The positions after the last step: the reference mesh, or in `ReferenceMode::Original`
@@ -256,18 +333,33 @@ impl Solver {
 
     /// The number of multigrid levels, the fine one included.
     pub fn num_levels(&self) -> usize {
-        self.hierarchy.levels.len()
+        match self.current() {
+            Ok(h) => h.levels.len(),
+            // The re-reference that waits failed: the levels of the hierarchy that waits.
+            Err(_) => self.hierarchy.with_any(|h| h.levels.len()),
+        }
     }
 
     /// A table of the multigrid levels.
     pub fn describe(&self) -> String {
-        self.hierarchy.describe()
+        match self.current() {
+            Ok(h) => h.describe(),
+            Err(e) => format!("{}(not yet at the reference mesh: {e})\n", self.hierarchy.with_any(|h| h.describe())),
+        }
     }
 
-    /// The multigrid hierarchy (internals: the bench and tests).
+    /// The multigrid hierarchy at the reference mesh (internals: the bench and tests). Panics
+    /// when the re-reference that waited fails (the solving calls report that as an error).
     #[doc(hidden)]
     pub fn hierarchy(&self) -> &Hierarchy {
-        &self.hierarchy
+        self.current().unwrap_or_else(|e| panic!("the hierarchy could not be moved to the reference mesh: {e}"))
+    }
+
+    /// The seconds per phase of the hierarchy's last build or re-reference (internals: the
+    /// bench); a re-reference that waits is not done by asking.
+    #[doc(hidden)]
+    pub fn phases(&self) -> Phases {
+        self.hierarchy.phases()
     }
 
     /// The sub-steps of the last [`Solver::advance`] or [`Solver::move_in_steps`] call, also when
@@ -316,7 +408,7 @@ impl Solver {
 
     /// Prescribed values (zero off P) and the rigid-motion flux source of component `c`.
     fn prescribed(&self, motion: &Motion, vals: &[f64], c: usize) -> Result<(Vec<f64>, Option<Vec<f64>>)> {
-        let lev = self.hierarchy.fine();
+        let lev = self.h().fine();
         let dim = lev.dim();
         let flags = &lev.flags[c];
         let mut dp = vec![0.0; lev.n()];
@@ -341,7 +433,7 @@ impl Solver {
             }
             dp[d] = v0;
         }
-        Ok((dp, rigid_flux(&self.hierarchy, &self.bcs, motion, c)))
+        Ok((dp, rigid_flux(self.h(), &self.bcs, motion, c)))
     }
 
     /// The right-hand side of component `c` (its scratch S freed before the solve starts).
@@ -394,6 +486,7 @@ impl Solver {
         if let Some(g) = guess {
             check_guess(g, self.mesh())?;
         }
+        self.current()?;
         Ok(self.run(|| self.solve_inner(motion, guess))??.0)
     }
 
@@ -401,6 +494,7 @@ impl Solver {
     /// of its quality check.
     fn solve_timed(&self, motion: &Motion, guess: Option<&[f64]>) -> Result<(Solution, f64)> {
         self.check_motion(motion)?;
+        self.current()?;
         self.run(|| self.solve_inner(motion, guess))?
     }
 
@@ -412,7 +506,7 @@ impl Solver {
         comps: Range<usize>,
         guess: Option<&[f64]>,
     ) -> Result<(Vec<f64>, Vec<f64>)> {
-        let lev = self.hierarchy.fine();
+        let lev = self.h().fine();
         let (n, dim) = (lev.n(), lev.dim());
         let (mut b, mut x) = (vec![0.0; comps.len() * n], vec![0.0; comps.len() * n]);
         // Slip walls: the system is for w = d − g, g the prescribed normal parts, in the free
@@ -469,7 +563,7 @@ impl Solver {
 
     /// The solution and the seconds of its quality check.
     fn solve_inner(&self, motion: &Motion, guess: Option<&[f64]>) -> Result<(Solution, f64)> {
-        let lev = self.hierarchy.fine();
+        let lev = self.h().fine();
         let vals = motion.vertex_values(lev.mesh());
         let (mut displacement, mut report) = self.solve_groups(motion, &vals, guess)?;
         if let Some(walls) = &self.walls {
@@ -517,7 +611,7 @@ impl Solver {
     /// Solves every group of components for the prescribed values `vals` (`dim` per vertex),
     /// from `guess`: the displacement of every vertex and the combined report.
     fn solve_groups(&self, motion: &Motion, vals: &[f64], guess: Option<&[f64]>) -> Result<(Vec<f64>, Report)> {
-        let lev = self.hierarchy.fine();
+        let lev = self.h().fine();
         let scale = Self::scale(vals);
         // Displacements far from 1 are solved scaled by a power of two (exact), see `units`.
         let f = units::factor(scale);
@@ -526,7 +620,7 @@ impl Solver {
         let mut solved: Vec<(Range<usize>, Vec<f64>)> = Vec::new();
         let mut report: Option<Report> = None;
         let stop = || self.cancel.is_requested();
-        for comps in self.hierarchy.groups() {
+        for comps in self.h().groups() {
             let name = group_name(comps.clone());
             // One group at a time: only its right-hand side and iterate are alive (memory).
             let (mut b, mut x) = self.group_system(motion, vals, comps.clone(), guess)?;
@@ -534,7 +628,7 @@ impl Solver {
                 units::scale(&mut b, f);
                 units::scale(&mut x, f);
             }
-            let mut rep = solve_until(&self.hierarchy, comps.clone(), &self.opts.solve, &b, &mut x, scale * f, &stop);
+            let mut rep = solve_until(self.h(), comps.clone(), &self.opts.solve, &b, &mut x, scale * f, &stop);
             drop(b);
             if self.cancel.take() {
                 return Err(Error::Cancelled(format!(
@@ -582,6 +676,7 @@ impl Solver {
     pub fn cycle(&self, motion: &Motion, displacement: &mut [f64]) -> Result<Report> {
         self.check_motion(motion)?;
         check_guess(displacement, self.mesh())?;
+        self.current()?;
         let (out, rep) = self.run(|| self.cycle_inner(motion, displacement))??;
         if let Some(i) = out.iter().position(|d| !d.is_finite()) {
             return Err(Error::Diverged(format!(
@@ -594,19 +689,19 @@ impl Solver {
     }
 
     fn cycle_inner(&self, motion: &Motion, displacement: &[f64]) -> Result<(Vec<f64>, Report)> {
-        let lev = self.hierarchy.fine();
+        let lev = self.h().fine();
         let vals = motion.vertex_values(lev.mesh());
         let mut out = vec![0.0; displacement.len()];
         let mut report: Option<Report> = None;
-        for comps in self.hierarchy.groups() {
+        for comps in self.h().groups() {
             let t0 = Instant::now();
             let (b, mut x) = self.group_system(motion, &vals, comps.clone(), Some(displacement))?;
             let mut s = vec![0.0; lev.n()];
             let mut r = vec![0.0; b.len()];
             let before = x.clone();
-            let mut ws = Workspace::new(&self.hierarchy, comps.len());
-            let cp = CycleParams::resolve(&self.hierarchy, &self.opts.solve);
-            cycle(&self.hierarchy, comps.clone(), &cp, &b, &mut x, Start::Guess, &mut ws);
+            let mut ws = Workspace::new(self.h(), comps.len());
+            let cp = CycleParams::resolve(self.h(), &self.opts.solve);
+            cycle(self.h(), comps.clone(), &cp, &b, &mut x, Start::Guess, &mut ws);
             GroupOp::new(lev, comps.clone(), false).residual(&b, &mut x, &mut r, &mut s);
             let bn = crate::sparse::dot(&b, &b).sqrt();
             let rn = crate::sparse::dot(&r, &r).sqrt();
@@ -641,25 +736,23 @@ impl Solver {
         Ok((out, report.expect("at least one component")))
     }
 
-    /// Makes `coords` the new reference mesh: K and V re-evaluated on every level, the coarse
-    /// topology kept (rebuilt only if a coarse cell would invert). Positions with a cell of
-    /// non-positive area are `Error::Tangled`; on any error the solver is unchanged.
+    /// Makes `coords` the new reference mesh. The hierarchy follows when a later call needs it:
+    /// K and V re-evaluated on every level, the coarse topology kept (rebuilt only if a coarse
+    /// cell would invert); that call reports a failure to move it and leaves the solver as it
+    /// was. Positions with a cell of non-positive area are `Error::Tangled`; on any error the
+    /// solver is unchanged.
     pub fn set_reference(&mut self, coords: Vec<f64>) -> Result<()> {
         self.check_reference(&coords)?;
-        let mut undo = self.undo();
-        let r = self.set_reference_inner(coords, &mut undo);
+        self.set_reference_inner(coords);
         self.last_increment = None;
-        match r {
-            // In `ReferenceMode::Original` the new reference is the new original mesh.
-            Ok(()) => self.drop_total(),
-            Err(_) => self.restore(undo),
-        }
-        r
+        // In `ReferenceMode::Original` the new reference is the new original mesh.
+        self.drop_total();
+        Ok(())
     }
 
     /// Finite positions, one per vertex, no cell of non-positive area.
     pub(crate) fn check_reference(&self, coords: &[f64]) -> Result<()> {
-        let mesh = self.hierarchy.fine().mesh();
+        let mesh = self.mesh();
         if coords.len() != mesh.coords().len() {
             return Err(Error::InvalidArgument(format!(
                 "new reference needs {} values ({} vertices × {}), got {}",
@@ -672,7 +765,7 @@ impl Solver {
         if let Some(i) = coords.iter().position(|p| !p.is_finite()) {
             return Err(Error::InvalidArgument(format!("new reference: vertex {} is not finite", i / mesh.dim())));
         }
-        check_not_tangled(self.hierarchy.fine().mesh(), coords)
+        check_not_tangled(mesh, coords)
     }
 
     /// Forgets the total motion of `ReferenceMode::Original` (the current mesh becomes the
@@ -683,52 +776,46 @@ impl Solver {
         }
     }
 
-    fn undo(&self) -> Undo {
-        let h = &self.hierarchy;
-        Undo {
-            coords: h.fine().mesh().coords().to_vec(),
-            carried: h.carried(),
-            generation: h.generation(),
-            hierarchy: None,
-        }
+    /// The state to restore when the call that begins fails.
+    fn undo(&mut self) -> Undo {
+        self.hierarchy.tidy();
+        let waits_for = self.hierarchy.waits_for().map(<[f64]>::to_vec);
+        let (coords, carried, generation) =
+            self.hierarchy.with_any(|h| (h.fine().mesh().coords().to_vec(), h.carried(), h.generation()));
+        Undo { coords, carried, generation, hierarchy: None, waits_for }
     }
 
     /// Puts the solver back to the state `undo` recorded: the hierarchy it had (moved back to
     /// its positions with the weights and estimates it had there, which recomputes every value
-    /// bitwise as it was).
+    /// bitwise as it was), and the re-reference that waited then.
     fn restore(&mut self, undo: Undo) {
+        self.hierarchy.cancel();
         if let Some(h) = undo.hierarchy {
-            self.hierarchy = h;
+            self.hierarchy.replace(h);
         }
-        if self.hierarchy.generation() != undo.generation {
-            let hierarchy = &mut self.hierarchy;
+        let hierarchy = self.hierarchy.ready_mut();
+        if hierarchy.generation() != undo.generation {
             let moved = self.pool.install(|| hierarchy.restore(undo.coords, undo.carried));
             // The same topology at positions it had before: every coarse cell was valid there.
             debug_assert!(matches!(moved, Ok(Ok(true))), "moving back to a previous reference failed");
         }
-    }
-
-    fn set_reference_inner(&mut self, coords: Vec<f64>, undo: &mut Undo) -> Result<()> {
-        let hierarchy = &mut self.hierarchy;
-        let kept = self.pool.install(|| hierarchy.move_to(coords.clone()))??;
-        if !kept {
-            self.rebuild(coords, undo)?;
+        if let Some(x) = undo.waits_for {
+            self.set_reference_inner(x);
         }
-        Ok(())
     }
 
-    /// A new hierarchy built from `coords`, the old one kept in `undo` (the first time).
-    fn rebuild(&mut self, coords: Vec<f64>, undo: &mut Undo) -> Result<()> {
-        let mesh = self.hierarchy.fine().mesh().with_coords(coords);
-        // The new hierarchy is built beside the old one (kept for the undo): reserved first.
-        let need = memory::solver_bytes(&mesh, self.opts.method);
-        memory::check_available(need, self.opts.memory_budget, "the rebuilt hierarchy")?;
-        let pairs = self.hierarchy.fine().pairs.clone();
-        let (bcs, method, hp) = (&self.bcs, self.opts.method, &self.built_with);
-        let built = self.pool.install(|| Hierarchy::build(&mesh, pairs, bcs, method, hp))??;
-        let old = std::mem::replace(&mut self.hierarchy, built);
-        if undo.hierarchy.is_none() {
-            undo.hierarchy = Some(old);
+    /// Makes `coords` the reference; the hierarchy is moved there when a call needs it.
+    fn set_reference_inner(&mut self, coords: Vec<f64>) {
+        let mesh = self.mesh().with_coords(coords);
+        self.hierarchy.defer(mesh);
+    }
+
+    /// A new hierarchy built at the reference mesh, the old one kept in `undo` (the first time).
+    fn rebuild(&mut self, undo: &mut Undo) -> Result<()> {
+        let b = Builder::of(&self.pool, &self.bcs, &self.opts, &self.built_with);
+        let built = b.build(self.mesh(), &self.h().fine().pairs)?;
+        if let Some(old) = self.hierarchy.replace(built) {
+            undo.hierarchy.get_or_insert(old);
         }
         Ok(())
     }

@@ -240,7 +240,37 @@ fn step_reports_give_solve_quality_and_reference_apart() {
     let _ = s.move_in_steps(&on_patch(&mesh, TOP, [0.0, -0.6]), 1);
     let r = s.step_reports();
     assert!(r.len() > 1 && !r[0].accepted, "{}", r[0].line());
-    assert!(r.iter().filter(|r| !r.accepted).all(|r| r.reference_seconds == 0.0));
+    // The first attempt moved the hierarchy to the last call's result; an attempt after a
+    // rejected one starts from the same reference.
+    assert!(r.windows(2).filter(|w| !w[0].accepted).all(|w| w[1].reference_seconds == 0.0));
+}
+
+/// A step's result is the reference at once, and the hierarchy follows when a call needs it: a
+/// call's last step leaves it where it was, and the results are bitwise those of a solver whose
+/// hierarchy a read-only call moves after every step.
+#[test]
+fn the_hierarchy_follows_the_reference_when_a_call_needs_it() {
+    let (mesh, mut lazy) = grid_solver(ReferenceMode::Incremental);
+    let (_, mut eager) = grid_solver(ReferenceMode::Incremental);
+    let built = lazy.phases();
+    let inc = on_patch(&mesh, TOP, [0.01, 0.03]);
+    let bitwise = |a: &[f64], b: &[f64]| a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits());
+    for k in 0..4 {
+        let a = lazy.advance(&inc).unwrap();
+        let b = eager.advance(&inc).unwrap();
+        // A read-only call moves the eager one's hierarchy to the new reference.
+        assert!(eager.num_levels() >= 1);
+        assert!(bitwise(&a.displacement, &b.displacement), "step {k}");
+        assert!(bitwise(lazy.mesh().coords(), eager.mesh().coords()), "step {k}");
+        if k == 0 {
+            // Nothing was re-referenced yet: the phases are the build's.
+            assert_eq!(lazy.phases(), built);
+        }
+    }
+    let m = on_patch(&mesh, TOP, [0.02, -0.01]);
+    let (a, b) = (lazy.solve(&m).unwrap(), eager.solve(&m).unwrap());
+    assert!(bitwise(&a.displacement, &b.displacement));
+    assert_ne!(lazy.mesh().coords(), mesh.coords());
 }
 
 /// A smooth motion's steps start from the last step's displacement scaled to their prescribed

@@ -57,7 +57,7 @@ fn main() {
                     sol.report.seconds,
                     t.elapsed().as_secs_f64()
                 );
-                println!("re-reference phases: {:?}", solver.hierarchy().phases());
+                println!("re-reference phases (the one this step began with): {:?}", solver.phases());
             }
             Err(e) => {
                 println!("step {}: {e}", i + 1);

@@ -687,7 +687,7 @@ pub unsafe extern "C" fn meshmove_solver_set_reference_mode(
 }
 
 /// Makes `coords` (`len` = dim × vertices, finite) the solver's reference mesh: the operators are
-/// re-evaluated there, the coarse topology is kept when it can be.
+/// re-evaluated there (by the next call that solves), the coarse topology is kept when it can be.
 ///
 /// # Safety
 /// `coords` must hold `len` doubles.

@@ -48,9 +48,11 @@ pub struct StepReport {
     pub solve_seconds: f64,
     /// Of `seconds`, the quality check of the result (inverted cells, volume ratios, angles).
     pub quality_seconds: f64,
-    /// Seconds making the solver's reference the mesh this attempt starts from or ends at,
-    /// outside `seconds`: re-evaluating the hierarchy at the accepted result, and on the first
-    /// attempt of `advance_from` at the caller's positions (0 for a rejected attempt).
+    /// Seconds making the solver's hierarchy follow the mesh this attempt starts from, outside
+    /// `seconds`: re-evaluating it at the previous step's (or sub-step's) result, or at the
+    /// positions `set_reference` or `advance_from` gave. A step's result becomes the reference
+    /// at once, but the hierarchy follows only when the next solve needs it, so the last step
+    /// of a run pays none.
     pub reference_seconds: f64,
     /// The result became the new mesh (false: rejected and split, or the call failed here).
     pub accepted: bool,
@@ -102,7 +104,7 @@ pub(super) fn advance(s: &mut Solver, from: Option<&[f64]>, increment: &Motion) 
         |s, undo| {
             if let Some(x) = from {
                 let t = Instant::now();
-                rebase(s, x, undo)?;
+                rebase(s, x)?;
                 s.rebase_seconds = t.elapsed().as_secs_f64();
             }
             let before = s.current_coords().to_vec();
@@ -144,10 +146,10 @@ pub(super) fn move_in_steps(s: &mut Solver, motion: &Motion, steps: usize) -> Re
 
 /// Makes `x` the current mesh: the reference (incremental) or the original mesh with no motion
 /// done yet (original).
-fn rebase(s: &mut Solver, x: &[f64], undo: &mut Undo) -> Result<()> {
+fn rebase(s: &mut Solver, x: &[f64]) -> Result<()> {
     s.check_reference(x)?;
     if x != s.mesh().coords() {
-        s.set_reference_inner(x.to_vec(), undo)?;
+        s.set_reference_inner(x.to_vec());
         s.last_increment = None;
     }
     s.drop_total();
@@ -234,13 +236,16 @@ fn record(s: &mut Solver, step: &Step, mut rep: StepReport) -> Result<()> {
 
 fn do_step(s: &mut Solver, step: &Step, undo: &mut Undo) -> Result<()> {
     if s.opts.reference == ReferenceMode::Original {
-        return original_step(s, step);
+        let reference_s = s.settle(undo)?;
+        return original_step(s, step, reference_s);
     }
     let split = s.opts.max_substeps > 1;
     let mut halving = Halving::new(s.opts.max_substeps);
     let mut substep = 0usize;
     while !halving.finished() {
         substep += 1;
+        // The previous step's (or sub-step's) result is the reference: the hierarchy follows.
+        let reference_s = s.settle(undo)?;
         let end = halving.end();
         let part = step.increment.between(halving.done, end);
         let t0 = Instant::now();
@@ -248,13 +253,13 @@ fn do_step(s: &mut Solver, step: &Step, undo: &mut Undo) -> Result<()> {
         let guess = extrapolated(s, &vals);
         let (sol, rebuilt, quality_s) = solve_part(s, &part, guess.as_deref(), undo)?;
         let mut rep = report(step, substep, end, &sol, rebuilt, t0, quality_s);
+        rep.reference_seconds = reference_s;
         let q = &sol.quality;
         let valid = q.inverted == 0 && (!split || q.min_area_ratio >= s.opts.min_volume_ratio);
         if sol.report.converged && valid {
             let moved: Vec<f64> = crate::solver::moved(s.mesh().coords(), &sol.displacement);
-            let t1 = Instant::now();
-            s.set_reference_inner(moved.clone(), undo)?;
-            rep.reference_seconds = t1.elapsed().as_secs_f64();
+            // The hierarchy follows when the next solve needs it (never, after a call's last step).
+            s.set_reference_inner(moved.clone());
             s.last_increment = Some((vals, sol.displacement));
             if let Some(w) = s.walls.as_mut() {
                 w.move_walls(&part.rigid);
@@ -352,11 +357,10 @@ impl Halving {
 /// solution, whether the hierarchy was rebuilt and the seconds of the result's quality check.
 fn solve_part(s: &mut Solver, part: &Motion, guess: Option<&[f64]>, undo: &mut Undo) -> Result<(Solution, bool, f64)> {
     let (sol, quality_s) = s.solve_timed(part, guess)?;
-    if sol.report.converged || s.hierarchy.fresh {
+    if sol.report.converged || s.h().fresh {
         return Ok((sol, false, quality_s));
     }
-    let x = s.mesh().coords().to_vec();
-    s.rebuild(x, undo)?;
+    s.rebuild(undo)?;
     let (sol, quality_s) = s.solve_timed(part, guess)?;
     Ok((sol, true, quality_s))
 }
@@ -373,7 +377,7 @@ const CONSISTENT_WITHIN: f64 = 0.1;
 /// the guess's prescribed values with the step's own.
 fn extrapolated(s: &Solver, vals: &[f64]) -> Option<Vec<f64>> {
     let (prev, disp) = s.last_increment.as_ref()?;
-    let lev = s.hierarchy.fine();
+    let lev = s.h().fine();
     let dim = lev.dim();
     let (mut vv, mut vp, mut pp) = (0.0, 0.0, 0.0);
     for (c, flags) in lev.flags.iter().enumerate() {
@@ -395,7 +399,7 @@ fn extrapolated(s: &Solver, vals: &[f64]) -> Option<Vec<f64>> {
 }
 
 /// `ReferenceMode::Original`: the total motion so far solved from the original mesh.
-fn original_step(s: &mut Solver, step: &Step) -> Result<()> {
+fn original_step(s: &mut Solver, step: &Step, reference_s: f64) -> Result<()> {
     let total = match &s.total {
         Some((m, _)) => m.then(step.increment, s.mesh()),
         None => step.increment.clone(),
@@ -403,6 +407,7 @@ fn original_step(s: &mut Solver, step: &Step) -> Result<()> {
     let t0 = Instant::now();
     let (sol, quality_s) = s.solve_timed(&total, None)?;
     let mut rep = report(step, 1, 1.0, &sol, false, t0, quality_s);
+    rep.reference_seconds = reference_s;
     if !sol.report.converged {
         record(s, step, rep)?;
         return check_converged(&sol.report, Some((step.number, 1)));

@@ -83,7 +83,7 @@ pub fn run(
         let mut solver = Solver::new(&case.mesh, &case.bcs, opts)
             .map_err(|e| format!("{} steps at {nv} vertices: {e}", case.name))?;
         let setup_s = t.elapsed().as_secs_f64();
-        let setup_phases = solver.hierarchy().phases();
+        let setup_phases = solver.phases();
         let op_s = op_seconds(solver.hierarchy().fine(), case.comp);
         let levels = solver.num_levels();
         let mut steps = Vec::with_capacity(STEPS);
@@ -100,7 +100,7 @@ pub fn run(
                 solve_s: reps.iter().map(|r| r.seconds).sum(),
                 substeps: reps.len(),
                 rebuilt: reps.iter().any(|r| r.rebuilt),
-                phases: solver.hierarchy().phases(),
+                phases: solver.phases(),
             });
         }
         let bytes_per_vertex = alloc::peak_above(base) as f64 / nv as f64;
