@@ -243,13 +243,9 @@ impl DistributedSolver {
             ));
         }
         let dim = self.mesh.dim();
-        let host = self.mesh.host_index();
+        let displacement = self.mesh.to_layout_order_exchanged(&sol.displacement, dim);
         let local = self.local();
-        let mut coords = local.coords().to_vec();
-        for (i, &h) in host.iter().enumerate() {
-            let h = h as usize;
-            (0..dim).for_each(|c| coords[i * dim + c] += sol.displacement[h * dim + c]);
-        }
+        let coords: Vec<f64> = local.coords().iter().zip(&displacement).map(|(x, d)| x + d).collect();
         let moved = local.with_coords(coords);
         self.level = build_level(self.mesh.halo(), moved, &self.bcs, self.level.op.method);
         Ok(sol)
@@ -275,11 +271,11 @@ impl DistributedSolver {
     /// checked (sizes, finite values, one rigid motion per patch).
     fn layout_values(&self, motion: &Motion) -> Result<Vec<f64>, DistError> {
         let (me, dim) = (self.mesh.rank(), self.mesh.dim());
-        let host = self.mesh.host_index();
+        let n = self.mesh.num_local_vertices();
         let input = |msg: String| Err(DistError::new(me, DistErrorKind::Input, msg));
-        if motion.displacement.len() != host.len() * dim {
-            let n = motion.displacement.len();
-            return input(format!("{n} displacement values given for {} vertices of dimension {dim}", host.len()));
+        if motion.displacement.len() != n * dim {
+            let given = motion.displacement.len();
+            return input(format!("{given} displacement values given for {n} vertices of dimension {dim}"));
         }
         if let Some(i) = motion.displacement.iter().position(|d| !d.is_finite()) {
             let gid = self.mesh.global_ids()[i / dim];
@@ -293,10 +289,8 @@ impl DistributedSolver {
                 return input(format!("the rigid motion of patch {p} is not finite"));
             }
         }
-        let mut d = vec![0.0; host.len() * dim];
-        for (i, &h) in host.iter().enumerate() {
-            d[i * dim..(i + 1) * dim].copy_from_slice(&motion.displacement[h as usize * dim..(h as usize + 1) * dim]);
-        }
+        // The fetched vertices are never owned: their values are not read.
+        let d = self.mesh.to_layout_order(&motion.displacement, dim);
         let m = Motion { displacement: d, rigid: motion.rigid.clone() };
         Ok(m.vertex_values(self.local()).into_owned())
     }
