@@ -233,6 +233,11 @@ struct Reader<'a> {
 }
 
 impl Reader<'_> {
+    /// True once every value is read (a count beyond the message reads nothing more).
+    fn done(&self) -> bool {
+        self.at >= self.msg.len()
+    }
+
     fn one(&mut self) -> u64 {
         let x = self.msg.get(self.at).copied().unwrap_or(0);
         self.at += 1;
@@ -274,6 +279,9 @@ fn merge(
         let mut r = Reader { msg, at: 0 };
         let (nv, nc, nf) = (r.one(), r.one(), r.one());
         for _ in 0..nv {
+            if r.done() {
+                break;
+            }
             let (g, o) = (r.one(), r.one());
             let x: Vec<f64> = (0..dim).map(|_| f64::from_bits(r.one())).collect();
             if let Entry::Vacant(e) = index.entry(g) {
@@ -282,13 +290,20 @@ fn merge(
             }
         }
         for _ in 0..nc {
+            if r.done() {
+                break;
+            }
             let ty = CellType::general_from_vtk(r.one() as i64).unwrap_or(CellType::Polyhedron);
             let region = r.one() as i64 as i32;
             let corners = r.list().to_vec();
-            let faces = (0..r.one()).map(|_| r.list().to_vec()).collect();
+            let n = r.one();
+            let faces = (0..n).map_while(|_| (!r.done()).then(|| r.list().to_vec())).collect();
             fetched.push(Fetched { ty, region, corners, faces });
         }
         for _ in 0..nf {
+            if r.done() {
+                break;
+            }
             let patch = r.one() as i64 as i32;
             fetched_faces.push((patch, r.list().to_vec()));
         }
