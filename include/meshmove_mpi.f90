@@ -30,8 +30,9 @@ module meshmove_mpi
   end type
 
   interface
-    !> This rank's part of a distributed mesh from its local mesh (owned and ghost cells), the
-    !> global id of each local vertex and the ghost flags of its cells (non-zero: another rank's).
+    !> This rank's part of a distributed mesh from its local mesh (its owned cells, and any ghost
+    !> cells: the library fetches those it lacks), the global id of each local vertex and the
+    !> ghost flags of its cells (non-zero: another rank's).
     integer(c_int32_t) function meshmove_dist_mesh_create_f(comm, local, global_ids, num_ids, ghost_cells, &
         num_ghost, out) bind(c)
       import :: c_int32_t, c_int64_t, c_ptr
@@ -39,6 +40,22 @@ module meshmove_mpi
       type(c_ptr), value :: local
       integer(c_int64_t), intent(in) :: global_ids(*)
       integer(c_int32_t), intent(in) :: ghost_cells(*)
+      type(c_ptr), intent(out) :: out
+    end function
+    !> This rank's part of a distributed mesh from its own cells given by their faces (the arrays
+    !> of meshmove_mesh_create_from_faces; a face to another rank's cell has that side below
+    !> index_base and a patch below 0), and the global id of each local vertex. The library
+    !> fetches the other ranks' cells around this rank's vertices.
+    integer(c_int32_t) function meshmove_dist_mesh_create_from_faces_f(comm, dim, num_vertices, coords, num_faces, &
+        face_offsets, num_face_vertices, face_connectivity, face_owner, face_neighbour, face_patch, num_cells, &
+        cell_region, index_base, global_ids, out) bind(c)
+      import :: c_int32_t, c_int64_t, c_double, c_ptr
+      integer(c_int32_t), value :: comm, dim, num_vertices, num_faces, num_face_vertices, num_cells, index_base
+      real(c_double), intent(in) :: coords(*)
+      integer(c_int32_t), intent(in) :: face_offsets(*), face_connectivity(*), face_owner(*), face_neighbour(*), &
+        face_patch(*)
+      type(c_ptr), value :: cell_region
+      integer(c_int64_t), intent(in) :: global_ids(*)
       type(c_ptr), intent(out) :: out
     end function
     integer(c_int32_t) function meshmove_dist_mesh_free(mesh) bind(c)

@@ -88,10 +88,11 @@ extern "C" {
 
 /*
  Builds this rank's part of a distributed mesh (collective over `comm`; the library
- duplicates it). `local` is the rank's cells (owned and ghost) with their vertices and tagged
- faces, made by a `meshmove_mesh_create_*` call; `global_ids` (`num_ids` = its vertex count)
- the global id of each local vertex; `ghost_cells` (NULL: none, else `num_cells` flags,
- non-zero for a cell another rank owns). A vertex held by several ranks is owned by the lowest
+ duplicates it). `local` is the rank's cells (its owned ones, and any ghost cells) with their
+ vertices and tagged faces, made by a `meshmove_mesh_create_*` call; `global_ids` (`num_ids` =
+ its vertex count) the global id of each local vertex; `ghost_cells` (NULL: none, else
+ `num_cells` flags, non-zero for a cell another rank owns). The library fetches the cells of
+ other ranks around this rank's vertices that the rank lacks, so ghost cells may be left out. A vertex held by several ranks is owned by the lowest
  rank that has it in an owned cell. Every rank returns the same status; the message names the
  rank and the global id at fault.
 
@@ -123,6 +124,62 @@ meshmove_status meshmove_dist_mesh_create_f(int32_t comm,
                                             const int32_t *ghost_cells,
                                             int32_t num_ghost,
                                             struct meshmove_dist_mesh **out);
+
+/*
+ Builds this rank's part of a distributed mesh from its owned cells given by their faces, as
+ a finite-volume code stores its partition (collective over `comm`; the library duplicates
+ it). The arrays are those of `meshmove_mesh_create_from_faces` for the rank's cells alone,
+ and a face between one of them and another rank's cell has that side below `index_base` (its
+ owner or its neighbour) and a patch below 0: it is neither a boundary face nor tagged.
+ `global_ids`: the global id of each of the `num_vertices` local vertices. The library fetches
+ the cells of other ranks around this rank's vertices (no ghost cells are given). Every rank
+ returns the same status; the message names the rank and the face, cell or global id at fault.
+
+ # Safety
+ Each non-NULL array must hold the number of elements stated; `out` must be writable.
+ */
+MESHMOVE_MUST_USE
+meshmove_status meshmove_dist_mesh_create_from_faces(MPI_Comm comm,
+                                                     int32_t dim,
+                                                     int32_t num_vertices,
+                                                     const double *coords,
+                                                     int32_t num_faces,
+                                                     const int32_t *face_offsets,
+                                                     int32_t num_face_vertices,
+                                                     const int32_t *face_connectivity,
+                                                     const int32_t *face_owner,
+                                                     const int32_t *face_neighbour,
+                                                     const int32_t *face_patch,
+                                                     int32_t num_cells,
+                                                     const int32_t *cell_region,
+                                                     int32_t index_base,
+                                                     const int64_t *global_ids,
+                                                     struct meshmove_dist_mesh **out);
+
+/*
+ As `meshmove_dist_mesh_create_from_faces`, with the communicator as Fortran's integer
+ handle (converted by `MPI_Comm_f2c`): the Fortran module's entry.
+
+ # Safety
+ As `meshmove_dist_mesh_create_from_faces`.
+ */
+MESHMOVE_MUST_USE
+meshmove_status meshmove_dist_mesh_create_from_faces_f(int32_t comm,
+                                                       int32_t dim,
+                                                       int32_t num_vertices,
+                                                       const double *coords,
+                                                       int32_t num_faces,
+                                                       const int32_t *face_offsets,
+                                                       int32_t num_face_vertices,
+                                                       const int32_t *face_connectivity,
+                                                       const int32_t *face_owner,
+                                                       const int32_t *face_neighbour,
+                                                       const int32_t *face_patch,
+                                                       int32_t num_cells,
+                                                       const int32_t *cell_region,
+                                                       int32_t index_base,
+                                                       const int64_t *global_ids,
+                                                       struct meshmove_dist_mesh **out);
 
 /*
  Frees a distributed mesh; NULL is accepted. Collective when it holds the last reference to

@@ -358,77 +358,125 @@ pub unsafe extern "C" fn meshmove_mesh_create_from_faces(
     ffi_body!(meshmove_mesh_create_from_faces, {
         // SAFETY: the caller guarantees `out` is NULL (refused) or writable.
         unsafe { check_out(out, "out") }?;
-        let dim = bounded(dim, "dim", 2, 3)?;
-        let nv = vertex_count(num_vertices, dim)?;
-        let nf = bounded(num_faces, "num_faces", 0, limits::MAX_VERTICES)?;
-        let nc = bounded(num_cells, "num_cells", 0, limits::MAX_CELLS)?;
-        let nfv = count(num_face_vertices, "num_face_vertices")?;
-        let base = handles::index_base(index_base)?;
-        // SAFETY: the caller guarantees that each non-NULL array holds the number of elements
-        // stated by the counts (checked non-negative and bounded above); NULL is refused where
-        // an array is required and its length is not 0.
-        let (coords, offsets, vertices, owner, neighbour, patch, regions) = unsafe {
-            (
-                slice(coords, dim * nv, "coords")?,
-                slice(face_offsets, nf + 1, "face_offsets")?,
-                slice(face_connectivity, nfv, "face_connectivity")?,
-                slice(face_owner, nf, "face_owner")?,
-                slice(face_neighbour, nf, "face_neighbour")?,
-                slice(face_patch, nf, "face_patch")?,
-                (!cell_region.is_null()).then(|| slice(cell_region, nc, "cell_region")).transpose()?,
+        // SAFETY: the caller's contract for every array.
+        let data = unsafe {
+            faces_to_cells(
+                dim,
+                num_vertices,
+                coords,
+                num_faces,
+                face_offsets,
+                num_face_vertices,
+                face_connectivity,
+                face_owner,
+                face_neighbour,
+                face_patch,
+                num_cells,
+                cell_region,
+                index_base,
+                false,
             )
-        };
-        let face_offsets = checked_offsets(offsets, nfv, "face_offsets", "num_face_vertices", |_, _| Ok(()))?;
-        let b = base as i64;
-        let vertex = |f: usize, v: i32| {
-            let i = i64::from(v) - b;
-            u32::try_from(i).ok().filter(|&i| (i as usize) < nv).ok_or(MeshError::FaceIndexOutOfRange {
-                face: f,
-                what: "vertex",
-                index: i64::from(v),
-                end: nv as i64 + b,
-            })
-        };
-        let mut face_vertices = Vec::with_capacity(nfv);
-        for f in 0..nf {
-            for &v in &vertices[face_offsets[f] as usize..face_offsets[f + 1] as usize] {
-                face_vertices.push(vertex(f, v).map_err(|e| in_base(e, base))?);
-            }
-        }
-        let cell = |f: usize, c: i32, what: &'static str| {
-            let i = i64::from(c) - b;
-            if i >= nc as i64 || (what == "owner" && i < 0) {
-                return Err(in_base(
-                    MeshError::FaceIndexOutOfRange { face: f, what, index: c.into(), end: nc as i64 + b },
-                    base,
-                ));
-            }
-            Ok(i.max(-1))
-        };
-        let mut faces = crate::FaceMeshData {
-            dim,
-            coords: coords.to_vec(),
-            face_offsets,
-            face_vertices,
-            patch: patch.to_vec(),
-            regions: regions.map(<[i32]>::to_vec).unwrap_or_default(),
-            ..Default::default()
-        };
-        for f in 0..nf {
-            faces.owner.push(cell(f, owner[f], "owner")?);
-            faces.neighbour.push(cell(f, neighbour[f], "neighbour")?);
-        }
-        let data = faces.to_data().map_err(|e| in_base(e, base))?;
-        if data.num_cells() != nc {
-            let msg = format!("cell {} has no face (num_cells is {nc})", named(data.num_cells(), base));
-            return Err(CError::new(meshmove_status::InvalidMesh, format!("invalid mesh: {msg}")));
-        }
-        let need = memory::mesh_bytes(dim, nv, nc, data.cell_vertices.len(), nf);
+        }?;
+        // The faces as given (checked by `faces_to_cells`).
+        let nf = usize::try_from(num_faces).unwrap_or(0);
+        let need = memory::mesh_bytes(data.dim, data.num_vertices(), data.num_cells(), data.cell_vertices.len(), nf);
         memory::check_available(need, 0, "the mesh")?;
+        let base = handles::index_base(index_base)?;
         let mesh = Mesh::from_data(&data).map_err(|e| in_base(e, base))?;
         // SAFETY: `out` passed `check_out`.
         unsafe { hand_out(mesh, out) }
     })
+}
+
+/// The cells of a mesh given by its faces (`meshmove_mesh_create_from_faces`'s arrays,
+/// checked and converted); in a `part` of a partitioned mesh a face may have its owner or its
+/// neighbour on another rank (below `index_base`, with a patch below 0).
+///
+/// # Safety
+/// As `meshmove_mesh_create_from_faces`.
+#[allow(clippy::too_many_arguments)]
+pub(crate) unsafe fn faces_to_cells(
+    dim: i32,
+    num_vertices: i32,
+    coords: *const f64,
+    num_faces: i32,
+    face_offsets: *const i32,
+    num_face_vertices: i32,
+    face_connectivity: *const i32,
+    face_owner: *const i32,
+    face_neighbour: *const i32,
+    face_patch: *const i32,
+    num_cells: i32,
+    cell_region: *const i32,
+    index_base: i32,
+    part: bool,
+) -> Result<MeshData, CError> {
+    let dim = bounded(dim, "dim", 2, 3)?;
+    let nv = vertex_count(num_vertices, dim)?;
+    let nf = bounded(num_faces, "num_faces", 0, limits::MAX_VERTICES)?;
+    let nc = bounded(num_cells, "num_cells", 0, limits::MAX_CELLS)?;
+    let nfv = count(num_face_vertices, "num_face_vertices")?;
+    let base = handles::index_base(index_base)?;
+    // SAFETY: the caller guarantees that each non-NULL array holds the number of elements
+    // stated by the counts (checked non-negative and bounded above); NULL is refused where
+    // an array is required and its length is not 0.
+    let (coords, offsets, vertices, owner, neighbour, patch, regions) = unsafe {
+        (
+            slice(coords, dim * nv, "coords")?,
+            slice(face_offsets, nf + 1, "face_offsets")?,
+            slice(face_connectivity, nfv, "face_connectivity")?,
+            slice(face_owner, nf, "face_owner")?,
+            slice(face_neighbour, nf, "face_neighbour")?,
+            slice(face_patch, nf, "face_patch")?,
+            (!cell_region.is_null()).then(|| slice(cell_region, nc, "cell_region")).transpose()?,
+        )
+    };
+    let face_offsets = checked_offsets(offsets, nfv, "face_offsets", "num_face_vertices", |_, _| Ok(()))?;
+    let b = base as i64;
+    let vertex = |f: usize, v: i32| {
+        let i = i64::from(v) - b;
+        u32::try_from(i).ok().filter(|&i| (i as usize) < nv).ok_or(MeshError::FaceIndexOutOfRange {
+            face: f,
+            what: "vertex",
+            index: i64::from(v),
+            end: nv as i64 + b,
+        })
+    };
+    let mut face_vertices = Vec::with_capacity(nfv);
+    for f in 0..nf {
+        for &v in &vertices[face_offsets[f] as usize..face_offsets[f + 1] as usize] {
+            face_vertices.push(vertex(f, v).map_err(|e| in_base(e, base))?);
+        }
+    }
+    let cell = |f: usize, c: i32, what: &'static str| {
+        let i = i64::from(c) - b;
+        if i >= nc as i64 || (what == "owner" && i < 0 && !part) {
+            return Err(in_base(
+                MeshError::FaceIndexOutOfRange { face: f, what, index: c.into(), end: nc as i64 + b },
+                base,
+            ));
+        }
+        Ok(i.max(-1))
+    };
+    let mut faces = crate::FaceMeshData {
+        dim,
+        coords: coords.to_vec(),
+        face_offsets,
+        face_vertices,
+        patch: patch.to_vec(),
+        regions: regions.map(<[i32]>::to_vec).unwrap_or_default(),
+        ..Default::default()
+    };
+    for f in 0..nf {
+        faces.owner.push(cell(f, owner[f], "owner")?);
+        faces.neighbour.push(cell(f, neighbour[f], "neighbour")?);
+    }
+    let data = if part { faces.to_part_data() } else { faces.to_data() }.map_err(|e| in_base(e, base))?;
+    if data.num_cells() != nc {
+        let msg = format!("cell {} has no face (num_cells is {nc})", named(data.num_cells(), base));
+        return Err(CError::new(meshmove_status::InvalidMesh, format!("invalid mesh: {msg}")));
+    }
+    Ok(data)
 }
 
 /// Validates and creates a 2D triangle mesh: `meshmove_mesh_create` for the common case.

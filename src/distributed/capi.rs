@@ -20,7 +20,7 @@ use super::{DistError, DistErrorKind, DistSolution, DistStepReport, DistributedM
 use crate::capi::bcs::meshmove_bcs;
 use crate::capi::error::{guard, CError};
 use crate::capi::handles::{self, check_out, get, get_mut, hand_out, Handle, Slot};
-use crate::capi::mesh::meshmove_mesh;
+use crate::capi::mesh::{faces_to_cells, meshmove_mesh};
 use crate::capi::options::meshmove_options;
 use crate::capi::points;
 use crate::capi::solver::{copy_reports, meshmove_progress, progress_hook};
@@ -153,10 +153,11 @@ fn agree_checks<T>(comm: &Comm, me: usize, checked: Result<T, CError>) -> Result
 }
 
 /// Builds this rank's part of a distributed mesh (collective over `comm`; the library
-/// duplicates it). `local` is the rank's cells (owned and ghost) with their vertices and tagged
-/// faces, made by a `meshmove_mesh_create_*` call; `global_ids` (`num_ids` = its vertex count)
-/// the global id of each local vertex; `ghost_cells` (NULL: none, else `num_cells` flags,
-/// non-zero for a cell another rank owns). A vertex held by several ranks is owned by the lowest
+/// duplicates it). `local` is the rank's cells (its owned ones, and any ghost cells) with their
+/// vertices and tagged faces, made by a `meshmove_mesh_create_*` call; `global_ids` (`num_ids` =
+/// its vertex count) the global id of each local vertex; `ghost_cells` (NULL: none, else
+/// `num_cells` flags, non-zero for a cell another rank owns). The library fetches the cells of
+/// other ranks around this rank's vertices that the rank lacks, so ghost cells may be left out. A vertex held by several ranks is owned by the lowest
 /// rank that has it in an owned cell. Every rank returns the same status; the message names the
 /// rank and the global id at fault.
 ///
@@ -220,15 +221,8 @@ unsafe fn dist_mesh_create(
 ) -> Result<(), CError> {
     // SAFETY: the caller guarantees `out` is NULL (refused) or writable.
     unsafe { check_out(out, "out") }?;
-    // SAFETY: MPI_Comm_dup on the host's communicator (collective, as this call is); the
-    // duplicate is this call's own, freed when `host` drops.
-    let host = unsafe {
-        let mut dup = comm;
-        if mpi::ffi::MPI_Comm_dup(comm, &mut dup) != 0 {
-            return Err(CError::arg("MPI_Comm_dup failed on `comm`: not a valid communicator"));
-        }
-        SimpleCommunicator::from_raw(dup)
-    };
+    // SAFETY: the caller's communicator.
+    let host = unsafe { host_comm(comm) }?;
     let checks = Comm::duplicate(&host);
     let mesh = get(local, "local");
     let me = checks.rank();
@@ -241,11 +235,7 @@ unsafe fn dist_mesh_create(
                 return Err(CError::arg(format!("{ids} global ids given for {nv} vertices")));
             }
             // SAFETY: `global_ids` holds `num_ids` values (contract).
-            let gids = unsafe { handles::slice(global_ids, ids, "global_ids") }?;
-            let gids: Vec<u64> = gids
-                .iter()
-                .map(|&g| u64::try_from(g).map_err(|_| CError::arg(format!("global id {g} is negative"))))
-                .collect::<Result<_, _>>()?;
+            let gids = unsafe { read_global_ids(global_ids, ids) }?;
             let ghost = if ghost_cells.is_null() {
                 Vec::new()
             } else {
@@ -261,6 +251,152 @@ unsafe fn dist_mesh_create(
     let dm = DistributedMesh::new(&host, &data, &gids, &ghost)?;
     // SAFETY: `out` passed `check_out`.
     unsafe { hand_out::<meshmove_dist_mesh>(dm, out) }
+}
+
+/// A duplicate of the host's communicator (collective, as the calls that make one are),
+/// freed when it drops.
+///
+/// # Safety
+/// `comm` must be a communicator handle of the MPI the library is linked with.
+unsafe fn host_comm(comm: MPI_Comm) -> Result<SimpleCommunicator, CError> {
+    // SAFETY: MPI_Comm_dup on the host's communicator; the duplicate is the caller's own.
+    unsafe {
+        let mut dup = comm;
+        if mpi::ffi::MPI_Comm_dup(comm, &mut dup) != 0 {
+            return Err(CError::arg("MPI_Comm_dup failed on `comm`: not a valid communicator"));
+        }
+        Ok(SimpleCommunicator::from_raw(dup))
+    }
+}
+
+/// `n` global ids, each >= 0.
+///
+/// # Safety
+/// `global_ids` must hold `n` values.
+unsafe fn read_global_ids(global_ids: *const i64, n: usize) -> Result<Vec<u64>, CError> {
+    // SAFETY: the caller's contract.
+    let gids = unsafe { handles::slice(global_ids, n, "global_ids") }?;
+    gids.iter().map(|&g| u64::try_from(g).map_err(|_| CError::arg(format!("global id {g} is negative")))).collect()
+}
+
+/// Builds this rank's part of a distributed mesh from its owned cells given by their faces, as
+/// a finite-volume code stores its partition (collective over `comm`; the library duplicates
+/// it). The arrays are those of `meshmove_mesh_create_from_faces` for the rank's cells alone,
+/// and a face between one of them and another rank's cell has that side below `index_base` (its
+/// owner or its neighbour) and a patch below 0: it is neither a boundary face nor tagged.
+/// `global_ids`: the global id of each of the `num_vertices` local vertices. The library fetches
+/// the cells of other ranks around this rank's vertices (no ghost cells are given). Every rank
+/// returns the same status; the message names the rank and the face, cell or global id at fault.
+///
+/// # Safety
+/// Each non-NULL array must hold the number of elements stated; `out` must be writable.
+#[no_mangle]
+#[must_use]
+pub unsafe extern "C" fn meshmove_dist_mesh_create_from_faces(
+    comm: MPI_Comm,
+    dim: i32,
+    num_vertices: i32,
+    coords: *const f64,
+    num_faces: i32,
+    face_offsets: *const i32,
+    num_face_vertices: i32,
+    face_connectivity: *const i32,
+    face_owner: *const i32,
+    face_neighbour: *const i32,
+    face_patch: *const i32,
+    num_cells: i32,
+    cell_region: *const i32,
+    index_base: i32,
+    global_ids: *const i64,
+    out: *mut *mut meshmove_dist_mesh,
+) -> meshmove_status {
+    guard("meshmove_dist_mesh_create_from_faces", move || {
+        // SAFETY: the caller guarantees `out` is NULL (refused) or writable.
+        unsafe { check_out(out, "out") }?;
+        // SAFETY: the caller's communicator.
+        let host = unsafe { host_comm(comm) }?;
+        let checks = Comm::duplicate(&host);
+        let me = checks.rank();
+        // SAFETY: the caller's contract for every array.
+        let read = unsafe {
+            faces_to_cells(
+                dim,
+                num_vertices,
+                coords,
+                num_faces,
+                face_offsets,
+                num_face_vertices,
+                face_connectivity,
+                face_owner,
+                face_neighbour,
+                face_patch,
+                num_cells,
+                cell_region,
+                index_base,
+                true,
+            )
+        }
+        .and_then(|data| {
+            // SAFETY: `global_ids` holds `num_vertices` values (contract).
+            let gids = unsafe { read_global_ids(global_ids, data.num_vertices()) }?;
+            Ok((data, gids))
+        });
+        let (data, gids) = agree_checks(&checks, me, read)?;
+        let dm = DistributedMesh::new(&host, &data, &gids, &[])?;
+        // SAFETY: `out` passed `check_out`.
+        unsafe { hand_out::<meshmove_dist_mesh>(dm, out) }
+    })
+}
+
+/// As `meshmove_dist_mesh_create_from_faces`, with the communicator as Fortran's integer
+/// handle (converted by `MPI_Comm_f2c`): the Fortran module's entry.
+///
+/// # Safety
+/// As `meshmove_dist_mesh_create_from_faces`.
+#[no_mangle]
+#[must_use]
+pub unsafe extern "C" fn meshmove_dist_mesh_create_from_faces_f(
+    comm: i32,
+    dim: i32,
+    num_vertices: i32,
+    coords: *const f64,
+    num_faces: i32,
+    face_offsets: *const i32,
+    num_face_vertices: i32,
+    face_connectivity: *const i32,
+    face_owner: *const i32,
+    face_neighbour: *const i32,
+    face_patch: *const i32,
+    num_cells: i32,
+    cell_region: *const i32,
+    index_base: i32,
+    global_ids: *const i64,
+    out: *mut *mut meshmove_dist_mesh,
+) -> meshmove_status {
+    // SAFETY: MPI_Comm_f2c takes any integer; an invalid one gives MPI_COMM_NULL or an invalid
+    // handle, which MPI_Comm_dup reports.
+    let c = unsafe { mpi::ffi::MPI_Comm_f2c(comm) };
+    // SAFETY: the caller's contract for every pointer.
+    unsafe {
+        meshmove_dist_mesh_create_from_faces(
+            c,
+            dim,
+            num_vertices,
+            coords,
+            num_faces,
+            face_offsets,
+            num_face_vertices,
+            face_connectivity,
+            face_owner,
+            face_neighbour,
+            face_patch,
+            num_cells,
+            cell_region,
+            index_base,
+            global_ids,
+            out,
+        )
+    }
 }
 
 /// Frees a distributed mesh; NULL is accepted. Collective when it holds the last reference to

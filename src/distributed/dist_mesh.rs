@@ -4,12 +4,12 @@
 
 use super::agreement::agree;
 use super::comm::Comm;
-use super::coverage;
 use super::error::{DistError, DistErrorKind};
+use super::ghosts;
 use super::halo::HaloLayout;
 use super::ownership;
 use super::reduce::{all_to_all, gather};
-use crate::{Mesh, MeshData, MeshError};
+use crate::{FaceMeshData, Mesh, MeshData, MeshError};
 use mpi::topology::Communicator;
 use std::collections::HashMap;
 use std::ops::Range;
@@ -18,18 +18,23 @@ use std::sync::Arc;
 /// One rank's part of a mesh spread over the ranks of a communicator, with who owns each vertex,
 /// the global numbering and the halo exchange lists.
 ///
-/// The rank's local vertices are kept in layout order: the vertices it owns first (by global
-/// id), then the others grouped by owner rank (by global id within a group). The methods that
-/// take or return per-vertex arrays use the host's order, the one given to [`new`](Self::new).
+/// The rank's local part is the host's cells with the ghost layer the library completes: every
+/// cell another rank owns around the vertices of the rank's owned cells, fetched from its owner
+/// with the vertices the host lacks. Its vertices are kept in layout order: the vertices it owns
+/// first (by global id), then the others grouped by owner rank (by global id within a group).
+/// The methods that take or return per-vertex arrays use the host's vertices in the host's
+/// order, the one given to [`new`](Self::new); the fetched vertices are the library's own.
 #[derive(Clone, Debug)]
 pub struct DistributedMesh {
     comm: Arc<Comm>,
     /// The local part in layout order, validated.
     mesh: Mesh,
-    /// Layout position → the host's local vertex index.
+    /// Layout position → the host's local vertex index (from `host_vertices` on: the vertices
+    /// the library fetched with the ghost layer, in global id order).
     host_index: Vec<u32>,
-    /// Whether each cell is this rank's (not a ghost), in the host's cell order (which the local
-    /// part keeps).
+    /// The vertices the host gave.
+    host_vertices: usize,
+    /// Whether each cell of the local part is this rank's (not a ghost).
     owned_cells: Vec<bool>,
     /// Global id of each vertex, layout order.
     global_ids: Vec<u64>,
@@ -47,23 +52,52 @@ impl DistributedMesh {
     /// Builds this rank's part of a distributed mesh (collective over `comm`: every rank calls it,
     /// and every rank returns the same error if any rank's input is wrong).
     ///
-    /// - `local`: the rank's vertices (any order, local 0-based indices), its cells (owned and
-    ///   ghost), their regions and its tagged faces, as for [`Mesh::from_data`].
+    /// - `local`: the rank's vertices (any order, local 0-based indices), its cells (its owned
+    ///   ones, and any ghost cells), their regions and the tagged faces on them, as for
+    ///   [`Mesh::from_data`].
     /// - `global_ids`: the global id of each local vertex (the same id for the same vertex on
     ///   every rank that has it, with the same coordinates to the bit).
     /// - `ghost_cells`: true for a cell another rank owns (empty: every cell is owned). Each
-    ///   cell is owned by exactly one rank; each rank must hold every cell around the vertices it
-    ///   owns (one layer of ghost cells around its owned cells does).
+    ///   cell is owned by exactly one rank.
     ///
-    /// A vertex held by several ranks is owned by the lowest rank that has it in an owned cell.
-    /// The library duplicates `comm` for its own messages.
+    /// The library completes the ghost layer: every cell another rank owns around a vertex of
+    /// this rank's owned cells is fetched from its owner (with its vertices, region and tagged
+    /// faces), and a ghost cell the host gave is replaced by its owner's copy, so a partition
+    /// given with or without ghost cells is solved bitwise the same. A vertex held by several
+    /// ranks is owned by the lowest rank that has it in an owned cell. The library duplicates
+    /// `comm` for its own messages.
     pub fn new<C: Communicator>(
         comm: &C,
         local: &MeshData,
         global_ids: &[u64],
         ghost_cells: &[bool],
     ) -> Result<DistributedMesh, DistError> {
+        DistributedMesh::build(Arc::new(Comm::duplicate(comm)), local, global_ids, ghost_cells)
+    }
+
+    /// Builds this rank's part of a distributed mesh from its owned cells given by their faces,
+    /// as a finite-volume code stores its partition (collective over `comm`): see
+    /// [`FaceMeshData::to_part_data`] for the faces shared with other ranks' cells, and
+    /// [`new`](Self::new) for the global ids and the ghost layer, which the library fetches.
+    pub fn from_faces<C: Communicator>(
+        comm: &C,
+        faces: &FaceMeshData,
+        global_ids: &[u64],
+    ) -> Result<DistributedMesh, DistError> {
         let comm = Arc::new(Comm::duplicate(comm));
+        let me = comm.rank();
+        let data = faces.to_part_data().map_err(|e| DistError::new(me, DistErrorKind::LocalMesh, e.to_string()));
+        let data = agree(&comm, data)?;
+        DistributedMesh::build(comm, &data, global_ids, &[])
+    }
+
+    /// [`new`](Self::new) on the library's communicator.
+    fn build(
+        comm: Arc<Comm>,
+        local: &MeshData,
+        global_ids: &[u64],
+        ghost_cells: &[bool],
+    ) -> Result<DistributedMesh, DistError> {
         let me = comm.rank();
         let checked = agree(&comm, local_checks(me, local, global_ids, ghost_cells));
         let flipped = checked?;
@@ -76,26 +110,28 @@ impl DistributedMesh {
         }
         let (owners, found) = ownership::owners(&comm, local.dim, global_ids, &local.coords, &in_owned_cell);
         agree(&comm, found.map_or(Ok(()), Err))?;
-        let cells: Vec<&[u32]> = (0..local.num_cells()).map(|c| local.cell(c)).collect();
-        let missing = coverage::check(&comm, &cells, &owned_cell, global_ids, &owners);
-        agree(&comm, missing.map_or(Ok(()), Err))?;
-        let host_index = layout_order(me, global_ids, &owners);
-        let (halo, found) = halo_lists(&comm, &host_index, global_ids, &owners);
+        let (part, clash) = ghosts::complete(&comm, local, global_ids, &owners, &owned_cell);
+        agree(&comm, clash.map_or(Ok(()), Err))?;
+        let host_index = layout_order(me, &part.gids, &part.owners);
+        let (halo, found) = halo_lists(&comm, &host_index, &part.gids, &part.owners);
         agree(&comm, found.map_or(Ok(()), Err))?;
-        let owned = owners.iter().filter(|&&o| o == me).count();
+        let owned = part.owners.iter().filter(|&&o| o == me).count();
         let (first, global_vertices) = ownership::first_global_number(&comm, owned);
-        let global_ids: Vec<u64> = host_index.iter().map(|&v| global_ids[v as usize]).collect();
-        let owners: Vec<usize> = host_index.iter().map(|&v| owners[v as usize]).collect();
+        let global_ids: Vec<u64> = host_index.iter().map(|&v| part.gids[v as usize]).collect();
+        let owners: Vec<usize> = host_index.iter().map(|&v| part.owners[v as usize]).collect();
         let mut global_numbers: Vec<u64> = (0..host_index.len() as u64).map(|i| first + i).collect();
         halo.refresh(&mut global_numbers);
-        // The part in layout order: the same cells, validated again (the checks passed above).
-        let mesh =
-            agree(&comm, Mesh::from_data(&reordered(local, &host_index)).map_err(|e| local_error(me, &e, local, &[])));
+        // The completed part in layout order, validated again (the host's cells passed above;
+        // the fetched ones passed on their owners).
+        let mesh = Mesh::from_data(&reordered(&part.data, &host_index))
+            .map_err(|e| local_error(me, &e, &part.data, &part.gids));
+        let mesh = agree(&comm, mesh);
         Ok(DistributedMesh {
             comm,
             mesh: mesh?,
             host_index,
-            owned_cells: owned_cell,
+            host_vertices: nv,
+            owned_cells: part.owned_cell,
             global_ids,
             owners,
             global_numbers,
@@ -119,8 +155,15 @@ impl DistributedMesh {
         self.mesh.dim()
     }
 
-    /// The vertices this rank holds (owned and not).
+    /// The vertices the host gave this rank (owned and not): the length of the per-vertex
+    /// arrays of the distributed calls.
     pub fn num_local_vertices(&self) -> usize {
+        self.host_vertices
+    }
+
+    /// The vertices of this rank's part: the host's and those the library fetched with the
+    /// ghost layer.
+    pub fn num_part_vertices(&self) -> usize {
         self.host_index.len()
     }
 
@@ -181,16 +224,35 @@ impl DistributedMesh {
         &self.halo
     }
 
-    /// Layout position → the host's local index.
-    pub(crate) fn host_index(&self) -> &[u32] {
-        &self.host_index
+    /// `values` (`per` per vertex, layout order) on the host's vertices, in the host's order.
+    pub(crate) fn to_host_order<T: Copy + Default>(&self, values: &[T], per: usize) -> Vec<T> {
+        let mut out = vec![T::default(); self.host_vertices * per];
+        for (i, &h) in self.host_index.iter().enumerate().filter(|(_, &h)| (h as usize) < self.host_vertices) {
+            out[h as usize * per..(h as usize + 1) * per].copy_from_slice(&values[i * per..(i + 1) * per]);
+        }
+        out
     }
 
-    /// `values` (`per` per vertex, layout order) in the host's order.
-    pub(crate) fn to_host_order<T: Copy + Default>(&self, values: &[T], per: usize) -> Vec<T> {
-        let mut out = vec![T::default(); values.len()];
-        for (i, &h) in self.host_index.iter().enumerate() {
-            out[h as usize * per..(h as usize + 1) * per].copy_from_slice(&values[i * per..(i + 1) * per]);
+    /// `values` (`per` per host vertex, the host's order) in layout order; the fetched
+    /// vertices, which this rank never owns, get `T::default()`.
+    pub(crate) fn to_layout_order<T: Copy + Default>(&self, values: &[T], per: usize) -> Vec<T> {
+        let mut out = vec![T::default(); self.host_index.len() * per];
+        for (i, &h) in self.host_index.iter().enumerate().filter(|(_, &h)| (h as usize) < self.host_vertices) {
+            out[i * per..(i + 1) * per].copy_from_slice(&values[h as usize * per..(h as usize + 1) * per]);
+        }
+        out
+    }
+
+    /// As [`to_layout_order`](Self::to_layout_order), with every halo vertex (the fetched ones
+    /// included) given its owner's values (collective).
+    pub(crate) fn to_layout_order_exchanged(&self, values: &[f64], per: usize) -> Vec<f64> {
+        let mut out = self.to_layout_order(values, per);
+        let n = self.host_index.len();
+        let mut one = vec![0.0; n];
+        for c in 0..per {
+            (0..n).for_each(|v| one[v] = out[v * per + c]);
+            self.halo.refresh(&mut one);
+            (0..n).for_each(|v| out[v * per + c] = one[v]);
         }
         out
     }
@@ -319,5 +381,19 @@ fn reordered(local: &MeshData, order: &[u32]) -> MeshData {
     d.coords = order.iter().flat_map(|&v| local.point(v as usize)[..dim].iter().copied()).collect();
     d.cell_vertices.iter_mut().for_each(|v| *v = at[*v as usize]);
     d.face_vertices.iter_mut().for_each(|v| *v = at[*v as usize]);
+    // The polyhedra's faces: per polyhedron its face count, then per face its length and
+    // vertices; only the vertices are renumbered.
+    let s = &mut d.polyhedron_faces;
+    let mut i = 0;
+    while i < s.len() {
+        let faces = s[i] as usize;
+        i += 1;
+        for _ in 0..faces {
+            let len = s.get(i).map_or(0, |&n| n as usize);
+            let end = (i + 1 + len).min(s.len());
+            s[i + 1..end].iter_mut().for_each(|v| *v = at[*v as usize]);
+            i = end;
+        }
+    }
     d
 }

@@ -16,7 +16,8 @@ pub enum DistErrorKind {
     /// The ranks disagree: a global id at different positions on two ranks, a global id twice
     /// on one rank, a vertex in no rank's owned cells, orientations that differ between ranks.
     Inconsistent,
-    /// A rank owns a vertex but lacks a cell around it (its ghost layer is too thin).
+    /// A rank owns a vertex but lacks a cell around it. The library completes each rank's ghost
+    /// layer from the cells' owners, so a mesh it builds never lacks one.
     MissingGhostCell,
     /// A distributed solve did not reach its tolerance or broke down.
     Solve,

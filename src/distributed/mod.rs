@@ -1,6 +1,7 @@
 //! Distributed meshes over MPI (the `mpi` feature): each rank gives its part of the mesh — its
-//! vertices with global ids, its owned cells and a layer of ghost cells, its tagged faces —
-//! through the host's communicator, which the library duplicates for its own messages.
+//! vertices with global ids, its owned cells (and any ghost cells: the library fetches the layer
+//! it needs from the cells' owners), its tagged faces — through the host's communicator, which
+//! the library duplicates for its own messages.
 //!
 //! What is distributed today: the mesh with its ownership, global numbering and halo exchange
 //! lists and every check of the serial mesh (each rank's part alone, then across ranks);
@@ -19,9 +20,9 @@ mod agreement;
 mod bcs;
 pub mod capi;
 mod comm;
-mod coverage;
 mod dist_mesh;
 mod error;
+mod ghosts;
 mod halo;
 mod kept;
 mod laplacian;

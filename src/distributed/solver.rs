@@ -278,11 +278,11 @@ impl DistributedSolver {
     /// checked (sizes, finite values, one rigid motion per patch).
     fn layout_values(&self, motion: &Motion) -> Result<Vec<f64>, DistError> {
         let (me, dim) = (self.mesh.rank(), self.mesh.dim());
-        let host = self.mesh.host_index();
+        let n = self.mesh.num_local_vertices();
         let input = |msg: String| Err(DistError::new(me, DistErrorKind::Input, msg));
-        if motion.displacement.len() != host.len() * dim {
-            let n = motion.displacement.len();
-            return input(format!("{n} displacement values given for {} vertices of dimension {dim}", host.len()));
+        if motion.displacement.len() != n * dim {
+            let given = motion.displacement.len();
+            return input(format!("{given} displacement values given for {n} vertices of dimension {dim}"));
         }
         if let Some(i) = motion.displacement.iter().position(|d| !d.is_finite()) {
             let gid = self.mesh.global_ids()[i / dim];
@@ -296,7 +296,10 @@ impl DistributedSolver {
                 return input(format!("the rigid motion of patch {p} is not finite"));
             }
         }
-        Ok(self.to_layout(motion).vertex_values(self.local()).into_owned())
+        // The fetched vertices are never owned: their values are not read.
+        let d = self.mesh.to_layout_order(&motion.displacement, dim);
+        let m = Motion { displacement: d, rigid: motion.rigid.clone() };
+        Ok(m.vertex_values(self.local()).into_owned())
     }
 
     /// Per component the right-hand side and the prescribed values (the owners' values on the

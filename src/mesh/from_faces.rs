@@ -69,7 +69,21 @@ impl FaceMeshData {
     /// arrays of different lengths, a face of too few vertices, a vertex, owner or neighbour out
     /// of range, a boundary face without a patch, a cell whose faces do not close it.
     pub fn to_data(&self) -> Result<MeshData, MeshError> {
-        let nf = self.check()?;
+        self.cells(false)
+    }
+
+    /// One rank's part of a partitioned mesh as cells: as [`to_data`](Self::to_data), where a
+    /// face between a cell of the part and a cell of another rank has that side negative (its
+    /// owner or its neighbour) and a negative patch. Such a face is not a boundary face and is
+    /// not tagged; the distributed mesh fetches the cell beyond it.
+    pub fn to_part_data(&self) -> Result<MeshData, MeshError> {
+        self.cells(true)
+    }
+
+    /// The cells of [`to_data`](Self::to_data), or of [`to_part_data`](Self::to_part_data)
+    /// when `part`.
+    fn cells(&self, part: bool) -> Result<MeshData, MeshError> {
+        let nf = self.check(part)?;
         let dim = self.dim;
         let nc = (0..nf).map(|f| self.owner[f].max(self.neighbour[f]) + 1).max().unwrap_or(0) as usize;
         // Every cell has at least 3 faces and a face at most 2 cells.
@@ -80,7 +94,9 @@ impl FaceMeshData {
         // Each cell's faces, outward: (face, reversed).
         let mut count = vec![0u32; nc + 1];
         for f in 0..nf {
-            count[self.owner[f] as usize + 1] += 1;
+            if self.owner[f] >= 0 {
+                count[self.owner[f] as usize + 1] += 1;
+            }
             if self.neighbour[f] >= 0 {
                 count[self.neighbour[f] as usize + 1] += 1;
             }
@@ -89,9 +105,11 @@ impl FaceMeshData {
         let mut next = count.clone();
         let mut sides = vec![(0u32, false); count[nc] as usize];
         for f in 0..nf {
-            let o = self.owner[f] as usize;
-            sides[next[o] as usize] = (f as u32, false);
-            next[o] += 1;
+            if self.owner[f] >= 0 {
+                let o = self.owner[f] as usize;
+                sides[next[o] as usize] = (f as u32, false);
+                next[o] += 1;
+            }
             if self.neighbour[f] >= 0 {
                 let n = self.neighbour[f] as usize;
                 sides[next[n] as usize] = (f as u32, true);
@@ -139,7 +157,11 @@ impl FaceMeshData {
             return Err(MeshError::RegionCount { regions: self.regions.len(), cells: nc });
         }
         for f in 0..nf {
-            if self.neighbour[f] < 0 || self.patch[f] >= 0 {
+            if self.patch[f] >= 0 && self.owner[f] < 0 {
+                // A tagged face of the part whose owner is another rank's: outward from the part.
+                let v: Vec<u32> = self.face(f).iter().rev().copied().collect();
+                d.push_face(&v, self.patch[f]);
+            } else if self.patch[f] >= 0 || (self.neighbour[f] < 0 && !part) {
                 d.push_face(self.face(f), self.patch[f]);
             }
         }
@@ -151,8 +173,9 @@ impl FaceMeshData {
         Mesh::from_data(&self.to_data()?)
     }
 
-    /// Checks the arrays' lengths and ranges; returns the number of faces.
-    fn check(&self) -> Result<usize, MeshError> {
+    /// Checks the arrays' lengths and ranges; returns the number of faces. In a `part` a face
+    /// may have one side negative, and then needs no patch.
+    fn check(&self, part: bool) -> Result<usize, MeshError> {
         let dim = self.dim;
         if dim != 2 && dim != 3 {
             return Err(MeshError::Dimension { dim });
@@ -197,14 +220,16 @@ impl FaceMeshData {
                 });
             }
             let (o, n) = (self.owner[f], self.neighbour[f]);
-            if !(0..cells_max).contains(&o) {
+            // In a part, a face whose owner is another rank's cell has its neighbour here.
+            let elsewhere = part && o < 0 && (0..cells_max).contains(&n);
+            if !(0..cells_max).contains(&o) && !elsewhere {
                 return Err(MeshError::FaceIndexOutOfRange { face: f, what: "owner", index: o, end: cells_max });
             }
-            if n >= cells_max || n == o {
+            if n >= cells_max || (n == o && n >= 0) {
                 let end = if n == o { o } else { cells_max };
                 return Err(MeshError::FaceIndexOutOfRange { face: f, what: "neighbour", index: n, end });
             }
-            if n < 0 && self.patch[f] < 0 {
+            if n < 0 && self.patch[f] < 0 && !part {
                 return Err(MeshError::BoundaryFaceWithoutPatch { face: f, patch: self.patch[f] });
             }
         }

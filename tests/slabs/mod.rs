@@ -3,6 +3,7 @@
 //! (which includes this file by its path).
 
 use meshmove::{CellType, Mesh, MeshData};
+use std::collections::HashMap;
 
 /// The boundary motion: smooth, different in every component.
 pub fn motion(x: &[f64]) -> [f64; 3] {
@@ -152,8 +153,9 @@ pub fn block_owner(d: &MeshData, size: usize) -> Vec<usize> {
         .collect()
 }
 
-/// Rank `rank`'s part: its owned cells, the cells sharing a vertex with them as ghosts, their
-/// vertices in reverse global order (any order is allowed), global ids offset from the indices.
+/// Rank `rank`'s part: its owned cells, the cells sharing a vertex with them as ghosts (unless
+/// `with_ghosts` is false), their vertices in reverse global order (any order is allowed),
+/// global ids offset from the indices; polyhedra with their faces.
 pub struct Part {
     pub data: MeshData,
     pub gids: Vec<u64>,
@@ -181,9 +183,20 @@ pub fn part(d: &MeshData, owner: &[usize], rank: usize, with_ghosts: bool) -> Pa
     global.iter().for_each(|&v| {
         data.push_vertex(d.point(v));
     });
+    let polyhedra = polyhedron_faces(d);
     for &c in &cells {
-        let t: Vec<u32> = d.cell(c).iter().map(|&v| local_of[v as usize]).collect();
-        data.push_cell(d.cell_types[c], &t, 0);
+        match polyhedra.get(&c) {
+            Some(faces) => {
+                let faces: Vec<Vec<u32>> =
+                    faces.iter().map(|f| f.iter().map(|&v| local_of[v as usize]).collect()).collect();
+                let refs: Vec<&[u32]> = faces.iter().map(|f| f.as_slice()).collect();
+                data.push_polyhedron(&refs, 0);
+            }
+            None => {
+                let t: Vec<u32> = d.cell(c).iter().map(|&v| local_of[v as usize]).collect();
+                data.push_cell(d.cell_types[c], &t, 0);
+            }
+        }
     }
     // The tagged faces of the part's cells.
     for f in 0..d.num_faces() {
@@ -196,4 +209,37 @@ pub fn part(d: &MeshData, owner: &[usize], rank: usize, with_ghosts: bool) -> Pa
     let ghost = cells.iter().map(|&c| owner[c] != rank).collect();
     let gids = global.iter().map(|&v| v as u64 + GID_BASE).collect();
     Part { data, gids, ghost, global }
+}
+
+/// The faces of each polyhedron of `d`, by cell.
+fn polyhedron_faces(d: &MeshData) -> HashMap<usize, Vec<Vec<u32>>> {
+    let mut out = HashMap::new();
+    let s = &d.polyhedron_faces;
+    let mut at = 0;
+    for c in (0..d.num_cells()).filter(|&c| d.cell_types[c] == CellType::Polyhedron) {
+        let n = s[at] as usize;
+        at += 1;
+        let mut faces = Vec::with_capacity(n);
+        for _ in 0..n {
+            let len = s[at] as usize;
+            faces.push(s[at + 1..at + 1 + len].to_vec());
+            at += 1 + len;
+        }
+        out.insert(c, faces);
+    }
+    out
+}
+
+/// Runs this test's own executable under `mpirun` on `np` ranks (oversubscribed, allowed as
+/// root), within a time limit so that a rank left waiting fails the run instead of hanging it.
+#[allow(dead_code)] // the distributed example does not launch itself
+pub fn mpirun(np: usize) -> std::process::Output {
+    let exe = std::env::current_exe().expect("the test's own path");
+    std::process::Command::new("timeout")
+        .args(["300", "mpirun", "--oversubscribe", "-np", &np.to_string()])
+        .arg(&exe)
+        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+        .output()
+        .expect("mpirun (openmpi-bin) and timeout on PATH")
 }

@@ -189,12 +189,9 @@ impl DistributedSolver {
 
     /// `motion` with its displacement in layout order.
     pub(super) fn to_layout(&self, motion: &Motion) -> Motion {
-        let dim = self.mesh.dim();
-        let host = self.mesh.host_index();
-        let mut d = vec![0.0; host.len() * dim];
-        for (i, &h) in host.iter().enumerate() {
-            d[i * dim..(i + 1) * dim].copy_from_slice(&motion.displacement[h as usize * dim..(h as usize + 1) * dim]);
-        }
+        let d = self.mesh.to_layout_order(&motion.displacement, self.mesh.dim());
+        Motion { displacement: d, rigid: motion.rigid.clone() }
+    }
         Motion { displacement: d, rigid: motion.rigid.clone() }
     }
 
@@ -215,14 +212,7 @@ impl DistributedSolver {
             Ok(())
         };
         agree(self.halo().comm(), checked.map_err(|m| DistError::new(me, DistErrorKind::Input, m)))?;
-        let mut x = self.to_layout(&Motion::from_displacement(coords.to_vec())).displacement;
-        let nv = n / dim;
-        for c in 0..dim {
-            let mut xc: Vec<f64> = (0..nv).map(|v| x[v * dim + c]).collect();
-            self.halo().refresh(&mut xc);
-            (0..nv).for_each(|v| x[v * dim + c] = xc[v]);
-        }
-        Ok(x)
+        Ok(self.mesh.to_layout_order_exchanged(coords, dim))
     }
 
     /// True on every rank when `local` is true on any rank.
@@ -366,12 +356,9 @@ fn record(s: &mut DistributedSolver, step: &Step, rep: DistStepReport) -> Result
 
 /// The moved positions (layout order) of the reference moved by `displacement` (host order).
 fn moved(s: &DistributedSolver, displacement: &[f64]) -> Vec<f64> {
-    let dim = s.mesh.dim();
-    let mut x = s.local().coords().to_vec();
-    for (i, &h) in s.mesh.host_index().iter().enumerate() {
-        (0..dim).for_each(|c| x[i * dim + c] += displacement[h as usize * dim + c]);
-    }
-    x
+    // The fetched vertices move with their owners.
+    let d = s.mesh.to_layout_order_exchanged(displacement, s.mesh.dim());
+    s.local().coords().iter().zip(&d).map(|(x, d)| x + d).collect()
 }
 
 /// The error of a solve that stopped above its tolerance at `step`.`substep`.
