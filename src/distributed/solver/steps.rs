@@ -192,8 +192,6 @@ impl DistributedSolver {
         let d = self.mesh.to_layout_order(&motion.displacement, self.mesh.dim());
         Motion { displacement: d, rigid: motion.rigid.clone() }
     }
-        Motion { displacement: d, rigid: motion.rigid.clone() }
-    }
 
     /// The host's positions `coords` in layout order with the owners' values on the halo;
     /// checked (size, finite) over every rank.
