@@ -125,7 +125,14 @@ impl DistributedSolver {
         let level = build_level(mesh.halo(), local.clone(), bcs, method);
         agree(mesh.halo().comm(), bcs::check_prescribed(me, mesh.halo(), &level.flags))?;
         let steps = steps::State::new(method, params);
-        Ok(DistributedSolver { mesh: mesh.clone(), bcs: bcs.clone(), params, level, multigrids: Kept::default(), steps })
+        Ok(DistributedSolver {
+            mesh: mesh.clone(),
+            bcs: bcs.clone(),
+            params,
+            level,
+            multigrids: Kept::default(),
+            steps,
+        })
     }
 
     /// The distributed mesh (its reference positions are the ones it was made with).
