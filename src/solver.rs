@@ -26,7 +26,7 @@ use std::time::Instant;
 
 pub(crate) mod memory;
 mod progress;
-mod slip;
+pub(crate) mod slip;
 mod steps;
 mod units;
 

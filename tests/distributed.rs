@@ -8,12 +8,17 @@
 //! level sizes do not depend on the rank count or the partition. Then each method (Laplacian,
 //! spring, biharmonic) with each set of conditions (every patch FIXED; a CLAMPED body moving
 //! rigidly and the rest FIXED; a FREE side) on a 2D and a 3D mesh equals the serial solver, with
-//! the same quality report, and bad conditions or motions on one rank fail on every rank.
+//! the same quality report, and bad conditions or motions on one rank fail on every rank. SLIP
+//! walls: a quarter annulus (2D) and a quarter cylindrical shell (3D) whose inner curved wall,
+//! straight side and (3D) ends slide, put back on the curved wall from its faces or its
+//! closest-point function, equal the serial solver for the three methods.
 
 mod slabs;
 
 use meshmove::distributed::{DistErrorKind, DistSolveParams, DistributedMesh, DistributedSolver};
-use meshmove::{BoundaryConditions, Kind, Mesh, MeshData, Method, Motion, Options, RigidMotion, Solver};
+use meshmove::{
+    BoundaryConditions, Kind, Link, Mesh, MeshData, Method, Motion, Options, RigidMotion, SlipSurface, Solver,
+};
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
 use slabs::{block_owner, box3d, grid2d, motion, part, slab_owner, tagged, Part, BODY, SIDE};
@@ -96,7 +101,15 @@ fn rank_main() -> ExitCode {
     for (name, mesh) in [("2D triangles", tagged(&grid2d(14, 12))), ("3D hexahedra", tagged(&box3d(5, false)))] {
         for method in [Method::Laplacian, Method::Spring, Method::Biharmonic] {
             for case in [Case::AllFixed, Case::ClampedBody, Case::FreeSide] {
-                solver_agrees_with_serial(&world, name, &mesh, method, case);
+                let unscaled = (mesh.clone(), vec![1.0; mesh.num_vertices()]);
+                solver_agrees_with_serial(&world, name, &unscaled, method, case);
+            }
+        }
+    }
+    for (name, flat) in [("2D quarter annulus", grid2d(10, 16)), ("3D quarter shell", box3d(5, false))] {
+        for method in [Method::Laplacian, Method::Spring, Method::Biharmonic] {
+            for surface in [false, true] {
+                solver_agrees_with_serial(&world, name, &bent(&flat), method, Case::Slip { surface });
             }
         }
     }
@@ -232,6 +245,39 @@ fn bad_input_fails_on_every_rank(world: &SimpleCommunicator, d: &MeshData) {
     expect("no ghost layer", &p, 0, DistErrorKind::MissingGhostCell);
 }
 
+/// The patch of the ends z = 0 and z = 1 of a 3D mesh, SLIP in the slip case.
+const ENDS: i32 = 3;
+
+/// `d` (the unit square or cube, as `grid2d` and `box3d` make it) with its faces on x = 0
+/// tagged `BODY`, on y = 0 `SIDE` and in 3D on z = 0 and z = 1 `ENDS`, then bent into a quarter
+/// annulus (a quarter cylindrical shell): radius 1 + x, angle y π/2. Its first component keeps
+/// the unbent x (zero on the inner wall): (bent, x).
+fn bent(d: &MeshData) -> (MeshData, Vec<f64>) {
+    let mesh = Mesh::from_data(d).expect("a valid mesh");
+    let mut out = d.clone();
+    for f in mesh.patch_faces() {
+        let on = |c: usize, x: f64| f.vertices.iter().all(|&v| d.point(v as usize)[c] == x);
+        let patch = if on(0, 0.0) {
+            BODY
+        } else if on(1, 0.0) {
+            SIDE
+        } else if d.dim == 3 && (on(2, 0.0) || on(2, 1.0)) {
+            ENDS
+        } else {
+            continue;
+        };
+        out.push_face(f.vertices, patch);
+    }
+    let x: Vec<f64> = (0..d.num_vertices()).map(|v| d.point(v)[0]).collect();
+    for v in 0..d.num_vertices() {
+        let p = d.point(v);
+        let (r, t) = (1.0 + p[0], p[1] * std::f64::consts::FRAC_PI_2);
+        out.coords[v * d.dim] = r * t.cos();
+        out.coords[v * d.dim + 1] = r * t.sin();
+    }
+    (out, x)
+}
+
 /// The boundary conditions of a comparison.
 #[derive(Clone, Copy, Debug)]
 enum Case {
@@ -241,10 +287,15 @@ enum Case {
     ClampedBody,
     /// The side FREE; the rest FIXED, moved by `motion`.
     FreeSide,
+    /// On a `bent` mesh the inner curved wall, the straight side and the ends SLIP, the curved
+    /// wall given by its faces or (`surface`) as a cylinder; the rest FIXED. Every vertex moved
+    /// by `motion` scaled by the unbent x, so the curved wall's normal parts are zero and its
+    /// slipped vertices are put back on it.
+    Slip { surface: bool },
 }
 
 impl Case {
-    fn conditions(self) -> BoundaryConditions {
+    fn conditions(self, dim: usize) -> BoundaryConditions {
         let mut bcs = BoundaryConditions::new();
         match self {
             Case::AllFixed => {}
@@ -253,6 +304,15 @@ impl Case {
             }
             Case::FreeSide => {
                 bcs.set_kinds(SIDE, Kind::Free);
+            }
+            Case::Slip { surface } => {
+                bcs.set_kinds(BODY, Kind::Slip).set_kinds(SIDE, Kind::Slip);
+                if dim == 3 {
+                    bcs.set_kinds(ENDS, Kind::Slip);
+                }
+                if surface {
+                    bcs.set_slip_surface(BODY, SlipSurface::cylinder([0.0; 3], [0.0, 0.0, 1.0], 1.0));
+                }
             }
         }
         bcs
@@ -271,11 +331,20 @@ impl Case {
 
 /// The distributed solver equals the serial one to 1e-10 of the motion (both to a relative
 /// residual of 1e-12), with the same inverted count and smallest area ratio.
-fn solver_agrees_with_serial(world: &SimpleCommunicator, name: &str, d: &MeshData, method: Method, case: Case) {
+/// On a `bent` mesh (given with its unbent x) every vertex's motion is scaled by that x.
+fn solver_agrees_with_serial(
+    world: &SimpleCommunicator,
+    name: &str,
+    (d, scaled): &(MeshData, Vec<f64>),
+    method: Method,
+    case: Case,
+) {
     let (rank, size) = (world.rank() as usize, world.size() as usize);
     let dim = d.dim;
-    let all: Vec<f64> = (0..d.num_vertices()).flat_map(|v| motion(d.point(v))[..dim].to_vec()).collect();
-    let bcs = case.conditions();
+    let all: Vec<f64> = (0..d.num_vertices())
+        .flat_map(|v| motion(d.point(v))[..dim].iter().map(|m| m * scaled[v]).collect::<Vec<_>>())
+        .collect();
+    let bcs = case.conditions(dim);
     let mut o = Options { method, threads: 1, ..Default::default() };
     o.solve.tol = 1e-12;
     let serial = Solver::new(&Mesh::from_data(d).unwrap(), &bcs, o).unwrap();
@@ -331,13 +400,29 @@ fn bad_conditions_fail_on_every_rank(world: &SimpleCommunicator, d: &MeshData) {
     let last = size - 1;
     let p = part(d, &slab_owner(d, size), rank, true);
     let dm = DistributedMesh::new(world, &p.data, &p.gids, &p.ghost).unwrap();
+    // A patch SLIP in one component only, on the last rank.
     let mut bcs = BoundaryConditions::new();
     if rank == last {
-        bcs.set_kinds(0, Kind::Slip);
+        bcs.set_kind(0, 1, Kind::Slip).unwrap();
     }
     let e = DistributedSolver::new(&dm, &bcs, Method::Biharmonic, DistSolveParams::default()).unwrap_err();
     assert_eq!((e.rank, e.kind), (last, DistErrorKind::Input), "{e}");
     assert!(e.message.contains("SLIP"), "{e}");
+    // Conditions that differ between ranks: a SLIP patch on the last rank alone.
+    if size > 1 {
+        let mut bcs = BoundaryConditions::new();
+        if rank == last {
+            bcs.set_kinds(0, Kind::Slip);
+        }
+        let e = DistributedSolver::new(&dm, &bcs, Method::Biharmonic, DistSolveParams::default()).unwrap_err();
+        assert_eq!((e.rank, e.kind), (last, DistErrorKind::Input), "{e}");
+        assert!(e.message.contains("differ from rank 0"), "{e}");
+    }
+    // Links are serial only: refused on every rank.
+    let mut linked = BoundaryConditions::new();
+    linked.add_link(Link::ByOffset { a: BODY, b: 0, offset: [1.0, 0.0, 0.0], tol: 1e-9 });
+    let e = DistributedSolver::new(&dm, &linked, Method::Laplacian, DistSolveParams::default()).unwrap_err();
+    assert!(e.kind == DistErrorKind::Input && e.message.contains("link"), "{e}");
     // No component prescribed anywhere: every patch FREE.
     let mut free = BoundaryConditions::new();
     free.default_kind = [Kind::Free; 3];

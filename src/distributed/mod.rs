@@ -16,6 +16,7 @@
 
 mod agreement;
 mod bcs;
+mod blocks;
 pub mod capi;
 mod comm;
 mod coverage;
@@ -28,6 +29,7 @@ mod mg;
 mod ownership;
 mod pcg;
 mod reduce;
+mod slip;
 mod solver;
 
 pub use comm::Comm;

@@ -15,6 +15,7 @@
 
 use super::agreement::agree;
 use super::bcs;
+use super::blocks::Blocks;
 use super::dist_mesh::DistributedMesh;
 use super::error::{DistError, DistErrorKind};
 use super::halo::HaloLayout;
@@ -22,14 +23,16 @@ use super::level_layout::Distribution;
 use super::mg::{Multigrid, OwnedRows};
 use super::pcg::{pcg, OneLevel, Preconditioner};
 use super::reduce::{gather, max_over_ranks, sum_in_rank_order};
-use crate::bc::{Dofs, Kind, COMPONENT, P};
+use crate::bc::{Dofs, Kind, SlipWalls, COMPONENT, P};
 use crate::mesh::quality::quality_of_cells;
 use crate::multigrid::group::GroupOp;
 use crate::multigrid::layout::Layout;
 use crate::multigrid::level::Level;
 use crate::multigrid::local_level::local_level;
+use crate::multigrid::slip::equalise_bounds;
 use crate::multigrid::smoother::Smoother;
 use crate::operator::{LevelOperator, Method};
+use crate::solver::slip::normal_parts;
 use crate::sparse::CsrMatrix;
 use crate::{BoundaryConditions, Mesh, Motion, Quality};
 use std::sync::Arc;
@@ -88,6 +91,9 @@ pub struct DistributedSolver {
     params: DistSolveParams,
     /// The rank's level on the current reference positions (layout order).
     level: Level,
+    /// The shapes of the SLIP walls of the rank's part as the solver was made, and where the
+    /// walls moved rigidly since are (None without SLIP walls on this rank).
+    walls: Option<SlipWalls>,
 }
 
 impl std::fmt::Debug for DistributedSolver {
@@ -97,9 +103,9 @@ impl std::fmt::Debug for DistributedSolver {
 }
 
 impl DistributedSolver {
-    /// The solver of `method` on `mesh` with the conditions `bcs` (collective). FIXED, CLAMPED
-    /// and FREE are distributed; SLIP walls, links and split interfaces are refused, as are
-    /// conditions that prescribe a component nowhere.
+    /// The solver of `method` on `mesh` with the conditions `bcs` (collective; every rank gives
+    /// the same). FIXED, CLAMPED, FREE and SLIP are distributed; links and split interfaces are
+    /// refused, as are conditions that prescribe a component nowhere.
     pub fn new(
         mesh: &DistributedMesh,
         bcs: &BoundaryConditions,
@@ -110,9 +116,11 @@ impl DistributedSolver {
         let local = mesh.local_mesh();
         let checked = check_params(me, &params).and_then(|_| bcs::check_supported(me, bcs, local));
         agree(mesh.halo().comm(), checked)?;
+        agree(mesh.halo().comm(), bcs::check_same_everywhere(me, mesh.halo(), bcs))?;
         let level = build_level(mesh.halo(), local.clone(), bcs, method);
         agree(mesh.halo().comm(), bcs::check_prescribed(me, mesh.halo(), &level.flags))?;
-        Ok(DistributedSolver { mesh: mesh.clone(), bcs: bcs.clone(), params, level })
+        let walls = SlipWalls::new(local, bcs);
+        Ok(DistributedSolver { mesh: mesh.clone(), bcs: bcs.clone(), params, level, walls })
     }
 
     /// The distributed mesh (its reference positions are the ones it was made with).
@@ -147,22 +155,63 @@ impl DistributedSolver {
     /// order, read where a component is prescribed (the owner's value counts); its rigid
     /// motions move whole patches. Nothing changes.
     pub fn solve(&self, motion: &Motion) -> Result<DistSolution, DistError> {
-        let me = self.mesh.rank();
         let vals = agree(self.halo().comm(), self.layout_values(motion))?;
-        let rhs = agree(self.halo().comm(), self.right_hand_sides(motion, &vals))?;
+        let mut solved = self.solve_values(motion, &vals, None)?;
+        if let Some(walls) = &self.walls {
+            // Curved slip walls: a second solve from the first result, as the serial solver's.
+            let mut second: Option<Solved> = None;
+            let again = |on_wall: &[f64], first: &[f64]| {
+                let s = self.solve_values(motion, on_wall, Some(first))?;
+                let total = s.total.clone();
+                second = Some(s);
+                Ok(total)
+            };
+            let total = std::mem::take(&mut solved.total);
+            solved.total =
+                super::slip::onto_walls_everywhere(walls, &self.level, self.halo(), motion, &vals, total, again)?;
+            if let Some(s) = second {
+                solved.iterations.iter_mut().zip(&s.iterations).for_each(|(a, b)| *a += b);
+                solved.rel_residual = s.rel_residual;
+            }
+        }
+        let dim = self.mesh.dim();
+        let (quality, worst_rank) = self.quality(&solved.total);
+        let (sizes, coarsest_gathered) = solved.sizes;
+        Ok(DistSolution {
+            displacement: self.mesh.to_host_order(&solved.total, dim),
+            iterations: solved.iterations,
+            rel_residual: solved.rel_residual,
+            quality,
+            worst_rank,
+            level_rows: sizes.iter().map(|s| s.rows).collect(),
+            level_halo_values: sizes.iter().map(|s| s.halo_values).collect(),
+            coarsest_gathered,
+        })
+    }
+
+    /// Solves every group of components for the prescribed values `vals` (layout order, `dim`
+    /// per vertex), from `guess` (the same layout) or zero: the displacement of every local
+    /// vertex (layout order) and how the solves went (collective).
+    fn solve_values(&self, motion: &Motion, vals: &[f64], guess: Option<&[f64]>) -> Result<Solved, DistError> {
+        let me = self.mesh.rank();
+        let rhs = agree(self.halo().comm(), self.right_hand_sides(motion, vals))?;
         let (dim, nv) = (self.mesh.dim(), self.local().num_vertices());
         let halo = self.halo();
         let sm = Smoother::Fourth { degree: self.params.degree };
         let mut total = vec![0.0; nv * dim];
         let (mut iterations, mut worst, mut failure) = (Vec::with_capacity(dim), 0.0f64, None);
-        let mut multigrid: Option<Multigrid> = None;
+        // The multigrid of each component, shared by components whose flags are alike.
+        let (mut multigrids, mut of_component): (Vec<Multigrid>, Vec<usize>) = (Vec::new(), Vec::new());
         let mut sizes = None;
-        for (c, (b, mut dp)) in rhs.into_iter().enumerate() {
-            let op = GroupOp::new(&self.level, c..c + 1, false);
-            if self.multigrid_pays() {
+        for comps in self.level.groups() {
+            let op = GroupOp::new(&self.level, comps.clone(), false);
+            for c in comps.clone() {
+                if !self.multigrid_pays() {
+                    break;
+                }
                 // A component whose flags equal the previous one's on every rank reuses its
                 // hierarchy; the decision is global, as the build is collective.
-                let reuse = multigrid.is_some() && {
+                let reuse = !multigrids.is_empty() && {
                     let same = self.level.flags[c] == self.level.flags[c - 1];
                     max_over_ranks(halo.comm(), if same { 0.0 } else { 1.0 }) == 0.0
                 };
@@ -172,35 +221,40 @@ impl DistributedSolver {
                         gids: self.mesh.layout_global_ids().to_vec(),
                         halo: halo.clone(),
                     };
-                    multigrid = Some(Multigrid::build(fine, self.params.max_levels, sm)?);
+                    multigrids.push(Multigrid::build(fine, self.params.max_levels, sm)?);
                 }
+                of_component.push(multigrids.len() - 1);
             }
             if sizes.is_none() {
-                sizes = Some(multigrid.as_ref().map(|mg| (mg.sizes(), mg.gathers())).unwrap_or_default());
+                sizes = Some(multigrids.first().map(|mg| (mg.sizes(), mg.gathers())).unwrap_or_default());
             }
-            let mut x = vec![0.0; nv];
+            let (b, dp, mut x) = self.group_system(&op, &rhs, guess);
             let mut one_level;
-            let pre: &mut dyn Preconditioner = match &mut multigrid {
-                Some(mg) => mg,
-                None => {
-                    one_level = OneLevel::new(op, sm);
-                    &mut one_level
-                }
+            let mut blocks;
+            let pre: &mut dyn Preconditioner = if multigrids.is_empty() {
+                one_level = OneLevel::new(op, sm);
+                &mut one_level
+            } else {
+                blocks = Blocks::new(&op, &mut multigrids, &of_component[comps.clone()]);
+                &mut blocks
             };
             let out = pcg(&op, halo, pre, &b, &mut x, self.params.tol, self.params.max_iterations);
+            let name: String = comps.clone().map(|c| COMPONENT[c]).collect();
             if !out.converged && failure.is_none() {
                 let why = match out.breakdown {
                     Some(k) => format!("conjugate gradients broke down at iteration {k}"),
                     None => format!("relative residual {:e} after {} iterations", out.rel_residual, out.iterations),
                 };
-                failure = Some(format!("component {} did not reach {:e}: {why}", COMPONENT[c], self.params.tol));
+                failure = Some(format!("component {name} did not reach {:e}: {why}", self.params.tol));
             }
             iterations.push(out.iterations);
             worst = worst.max(out.rel_residual);
             x.iter_mut().zip(&dp).for_each(|(x, p)| *x += p);
-            halo.refresh(&mut x);
-            dp.clear();
-            (0..nv).for_each(|v| total[v * dim + c] = x[v]);
+            for (k, c) in comps.enumerate() {
+                let x = &mut x[k * nv..(k + 1) * nv];
+                halo.refresh(x);
+                (0..nv).for_each(|v| total[v * dim + c] = x[v]);
+            }
         }
         // The PCG scalars are global, so every rank reaches the same verdict; rank 0 speaks.
         let verdict = match failure {
@@ -213,18 +267,31 @@ impl DistributedSolver {
             DistError::new(me, DistErrorKind::Solve, format!("the displacement of global id {gid} is not finite"))
         });
         agree(halo.comm(), bad.map_or(Ok(()), Err))?;
-        let (quality, worst_rank) = self.quality(&total);
-        let (sizes, coarsest_gathered) = sizes.unwrap_or_default();
-        Ok(DistSolution {
-            displacement: self.mesh.to_host_order(&total, dim),
-            iterations,
-            rel_residual: worst,
-            quality,
-            worst_rank,
-            level_rows: sizes.iter().map(|s| s.rows).collect(),
-            level_halo_values: sizes.iter().map(|s| s.halo_values).collect(),
-            coarsest_gathered,
-        })
+        Ok(Solved { total, iterations, rel_residual: worst, sizes: sizes.unwrap_or_default() })
+    }
+
+    /// The system of the group `op` from the components' right-hand sides and prescribed values
+    /// `rhs` (one block each, in the group's order): b projected, the prescribed values, and the
+    /// first iterate, `guess` less the prescribed values on the free unknowns (projected; zero
+    /// without a guess). With slip walls the unknowns are w = d − g, g the normal parts.
+    fn group_system(&self, op: &GroupOp, rhs: &[System], guess: Option<&[f64]>) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+        let (dim, nv) = (self.mesh.dim(), op.n());
+        let comps = op.components();
+        let b: Vec<f64> = comps.clone().flat_map(|c| rhs[c].0.iter().copied()).collect();
+        let dp: Vec<f64> = comps.clone().flat_map(|c| rhs[c].1.iter().copied()).collect();
+        let mut x = vec![0.0; b.len()];
+        if let Some(g) = guess {
+            for (k, c) in comps.enumerate() {
+                let flags = &self.level.flags[c];
+                for v in (0..nv).filter(|&v| flags[v] & P == 0) {
+                    x[k * nv + v] = g[v * dim + c] - dp[k * nv + v];
+                }
+            }
+        }
+        let mut b = b;
+        op.project(&mut b);
+        op.project(&mut x);
+        (b, dp, x)
     }
 
     /// Solves for `increment` from the current reference and, when no cell of any rank inverts,
@@ -252,6 +319,9 @@ impl DistributedSolver {
         }
         let moved = local.with_coords(coords);
         self.level = build_level(self.mesh.halo(), moved, &self.bcs, self.level.op.method);
+        if let Some(w) = self.walls.as_mut() {
+            w.move_walls(&increment.rigid);
+        }
         Ok(sol)
     }
 
@@ -306,10 +376,15 @@ impl DistributedSolver {
     fn right_hand_sides(&self, motion: &Motion, vals: &[f64]) -> Result<Vec<System>, DistError> {
         let (dim, nv, owned) = (self.mesh.dim(), self.local().num_vertices(), self.halo().owned());
         let mut out = Vec::with_capacity(dim);
+        // Slip walls prescribe the normal parts at the owned slip unknowns (free in the flags).
+        let normal = normal_parts(&self.level, vals);
         for c in 0..dim {
             let flags = &self.level.flags[c];
             let mut dp: Vec<f64> =
                 (0..nv).map(|v| if v < owned && flags[v] & P != 0 { vals[v * dim + c] } else { 0.0 }).collect();
+            if let Some(g) = &normal {
+                dp.iter_mut().zip(&g[c * nv..(c + 1) * nv]).for_each(|(d, g)| *d += g);
+            }
             self.halo().refresh(&mut dp);
             let g = self.rigid_flux(motion, c);
             let (mut b, mut s) = (vec![0.0; nv], vec![0.0; nv]);
@@ -379,9 +454,21 @@ impl DistributedSolver {
 /// A component's right-hand side and its prescribed values (the owners' on the halo).
 type System = (Vec<f64>, Vec<f64>);
 
+/// The displacements of one pass of solves and how they went.
+struct Solved {
+    /// `dim` values per local vertex, layout order, halo current.
+    total: Vec<f64>,
+    /// Iterations of each group of components.
+    iterations: Vec<usize>,
+    /// The largest final relative residual.
+    rel_residual: f64,
+    /// The first component's multigrid levels and whether its coarsest is gathered.
+    sizes: (Vec<super::mg::LevelSize>, bool),
+}
+
 /// The rank's level of `method` on `mesh` (layout order) with the flags of `bcs` (collective).
 fn build_level(halo: &Arc<HaloLayout>, mesh: Mesh, bcs: &BoundaryConditions, method: Method) -> Level {
-    let flags: Vec<Vec<u8>> = (0..mesh.dim()).map(|c| bcs::flags(&mesh, halo, bcs, c)).collect();
+    let (flags, slip) = bcs::flags_and_frames(&mesh, halo, bcs);
     let mut op = LevelOperator::new(method, &mesh, &Dofs::identity(mesh.num_vertices()));
     if method == Method::Biharmonic {
         let h = halo.clone();
@@ -391,7 +478,12 @@ fn build_level(halo: &Arc<HaloLayout>, mesh: Mesh, bcs: &BoundaryConditions, met
     let mut mass = op.mass();
     halo.refresh(&mut mass);
     op.inv_v = mass.iter().map(|&v| 1.0 / v).collect();
-    local_level(mesh, op, flags, Distribution::Halo(halo.clone()))
+    let mut level = local_level(mesh, op, flags, Distribution::Halo(halo.clone()));
+    if slip.is_some() {
+        level.slip = slip;
+        equalise_bounds(&mut level);
+    }
+    level
 }
 
 /// The parameters are usable.
