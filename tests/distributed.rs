@@ -114,6 +114,12 @@ fn rank_main() -> ExitCode {
         }
     }
     bad_conditions_fail_on_every_rank(&world, &tagged(&grid2d(14, 12)));
+    failing_wall_fails_on_every_rank(&world, &bent(&grid2d(10, 16)));
+    for (name, d) in [("2D periodic triangles", grid2d(16, 10)), ("3D periodic hexahedra", box3d(5, false))] {
+        for method in [Method::Laplacian, Method::Spring, Method::Biharmonic] {
+            solver_agrees_with_serial(&world, name, &periodic(&d), method, Case::Periodic);
+        }
+    }
     advance_moves_the_reference(&world, &grid2d(14, 12));
     ExitCode::SUCCESS
 }
@@ -278,6 +284,37 @@ fn bent(d: &MeshData) -> (MeshData, Vec<f64>) {
     (out, x)
 }
 
+/// The periodic side x = 0, linked to `RIGHT`.
+const LEFT: i32 = 4;
+/// The periodic side x = 1.
+const RIGHT: i32 = 5;
+
+/// `d` (the unit square or cube) with its faces on x = 0 tagged `LEFT` and on x = 1 `RIGHT`,
+/// the rest untagged; no motion scaled.
+fn periodic(d: &MeshData) -> (MeshData, Vec<f64>) {
+    let mesh = Mesh::from_data(d).expect("a valid mesh");
+    let mut out = d.clone();
+    for f in mesh.patch_faces() {
+        let on = |x: f64| f.vertices.iter().all(|&v| d.point(v as usize)[0] == x);
+        let patch = if on(0.0) {
+            LEFT
+        } else if on(1.0) {
+            RIGHT
+        } else {
+            continue;
+        };
+        out.push_face(f.vertices, patch);
+    }
+    (out, vec![1.0; d.num_vertices()])
+}
+
+/// A boundary motion periodic in x (period 1).
+fn motion_periodic(x: &[f64]) -> [f64; 3] {
+    let (s, c) = (2.0 * std::f64::consts::PI * x[0]).sin_cos();
+    let z = x.get(2).copied().unwrap_or(0.0);
+    [0.06 * s * (1.0 + x[1]), 0.05 * c * (x[1] - 0.5) + 0.02 * z, 0.04 * (s + c) * x[1]]
+}
+
 /// The boundary conditions of a comparison.
 #[derive(Clone, Copy, Debug)]
 enum Case {
@@ -292,6 +329,9 @@ enum Case {
     /// by `motion` scaled by the unbent x, so the curved wall's normal parts are zero and its
     /// slipped vertices are put back on it.
     Slip { surface: bool },
+    /// On a `periodic` mesh the sides x = 0 and x = 1 FREE and linked by the offset 1 in x;
+    /// the rest FIXED, moved by `motion_periodic`.
+    Periodic,
 }
 
 impl Case {
@@ -304,6 +344,10 @@ impl Case {
             }
             Case::FreeSide => {
                 bcs.set_kinds(SIDE, Kind::Free);
+            }
+            Case::Periodic => {
+                bcs.set_kinds(LEFT, Kind::Free).set_kinds(RIGHT, Kind::Free);
+                bcs.add_link(Link::ByOffset { a: LEFT, b: RIGHT, offset: [1.0, 0.0, 0.0], tol: 1e-9 });
             }
             Case::Slip { surface } => {
                 bcs.set_kinds(BODY, Kind::Slip).set_kinds(SIDE, Kind::Slip);
@@ -341,8 +385,9 @@ fn solver_agrees_with_serial(
 ) {
     let (rank, size) = (world.rank() as usize, world.size() as usize);
     let dim = d.dim;
+    let moved = |x: &[f64]| if let Case::Periodic = case { motion_periodic(x) } else { motion(x) };
     let all: Vec<f64> = (0..d.num_vertices())
-        .flat_map(|v| motion(d.point(v))[..dim].iter().map(|m| m * scaled[v]).collect::<Vec<_>>())
+        .flat_map(|v| moved(d.point(v))[..dim].iter().map(|m| m * scaled[v]).collect::<Vec<_>>())
         .collect();
     let bcs = case.conditions(dim);
     let mut o = Options { method, threads: 1, ..Default::default() };
@@ -418,11 +463,20 @@ fn bad_conditions_fail_on_every_rank(world: &SimpleCommunicator, d: &MeshData) {
         assert_eq!((e.rank, e.kind), (last, DistErrorKind::Input), "{e}");
         assert!(e.message.contains("differ from rank 0"), "{e}");
     }
-    // Links are serial only: refused on every rank.
+    // A link whose patches do not match vertex by vertex (the far field has more vertices than
+    // the body's side): refused on every rank, naming a global id.
     let mut linked = BoundaryConditions::new();
     linked.add_link(Link::ByOffset { a: BODY, b: 0, offset: [1.0, 0.0, 0.0], tol: 1e-9 });
     let e = DistributedSolver::new(&dm, &linked, Method::Laplacian, DistSolveParams::default()).unwrap_err();
-    assert!(e.kind == DistErrorKind::Input && e.message.contains("link"), "{e}");
+    assert!(
+        e.kind == DistErrorKind::Input && e.message.contains("link 1 -> 0") && e.message.contains("global id"),
+        "{e}"
+    );
+    // Explicit pairs name local vertices: refused.
+    let mut pairs = BoundaryConditions::new();
+    pairs.add_link(Link::Pairs(vec![[0, 1]]));
+    let e = DistributedSolver::new(&dm, &pairs, Method::Laplacian, DistSolveParams::default()).unwrap_err();
+    assert!(e.kind == DistErrorKind::Input && e.message.contains("vertex pairs"), "{e}");
     // No component prescribed anywhere: every patch FREE.
     let mut free = BoundaryConditions::new();
     free.default_kind = [Kind::Free; 3];
@@ -466,5 +520,30 @@ fn advance_moves_the_reference(world: &SimpleCommunicator, d: &MeshData) {
     assert!(ranks.iter().all(|&r| r == ranks[0]), "the ranks blame different ranks: {ranks:?}");
     if rank == 0 {
         println!("{size} ranks, advance: the reference moves; an inverting step is refused: \"{e}\"");
+    }
+}
+
+/// A curved wall's closest-point function that fails on the last rank alone makes every rank's
+/// solve fail, naming that rank and a global id.
+fn failing_wall_fails_on_every_rank(world: &SimpleCommunicator, (d, scaled): &(MeshData, Vec<f64>)) {
+    let (rank, size) = (world.rank() as usize, world.size() as usize);
+    let last = size - 1;
+    let p = part(d, &slab_owner(d, size), rank, true);
+    let dm = DistributedMesh::new(world, &p.data, &p.gids, &p.ghost).unwrap();
+    let mut bcs = Case::Slip { surface: true }.conditions(2);
+    if rank == last {
+        bcs.set_slip_surface(BODY, SlipSurface::fallible(|_| None));
+    }
+    let solver = DistributedSolver::new(&dm, &bcs, Method::Laplacian, DistSolveParams::default()).unwrap();
+    let local: Vec<f64> = p
+        .global
+        .iter()
+        .flat_map(|&v| motion(d.point(v))[..2].iter().map(|m| m * scaled[v]).collect::<Vec<_>>())
+        .collect();
+    let e = solver.solve(&Motion::from_displacement(local)).unwrap_err();
+    assert_eq!((e.rank, e.kind), (last, DistErrorKind::Input), "{e}");
+    assert!(e.message.contains("closest-point") && e.message.contains("global id"), "{e}");
+    if rank == 0 {
+        println!("{size} ranks, a slip wall's function failing on the last rank: every rank returns \"{e}\"");
     }
 }

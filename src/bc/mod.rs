@@ -17,6 +17,8 @@ pub use slip::{Constraint, SlipFrames};
 pub(crate) use slip::{fine_slip_frames, inherit_slip_frames};
 pub use slip_walls::{Placements, SlipSurface, SlipWalls};
 pub(crate) use links::resolve_links;
+#[cfg(feature = "mpi")]
+pub(crate) use links::{check_offset, match_by_offset};
 pub(crate) use well_posed::{check_well_posed, COMPONENT};
 
 use crate::{Error, Mesh, Result};

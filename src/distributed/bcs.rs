@@ -6,22 +6,24 @@
 use super::error::{DistError, DistErrorKind};
 use super::halo::HaloLayout;
 use super::reduce::{gather, sum_in_rank_order};
-use crate::bc::{component_flags, Dofs, COMPONENT, P};
+use super::ties::Ties;
+use crate::bc::{component_flags, Dofs, COMPONENT, P, Z};
 use crate::multigrid::layout::Layout;
 use crate::multigrid::level::LevelSlip;
 use crate::{BoundaryConditions, Mesh};
 
 /// The conditions the distributed solver takes: FIXED, CLAMPED, FREE and SLIP (flat or curved,
-/// with or without a closest-point function) per patch and component. Links (periodic pairs)
-/// and split interfaces are serial only. Checked on the patches of the rank's part (a patch no
+/// with or without a closest-point function) per patch and component, and links by offset
+/// (periodic pairs, `distributed::ties`), but not links and SLIP walls together. Split
+/// interfaces are serial only. Checked on the patches of the rank's part (a patch no
 /// rank has acts nowhere).
 pub(crate) fn check_supported(me: usize, bcs: &BoundaryConditions, mesh: &Mesh) -> Result<(), DistError> {
     let refuse = |what: String| Err(DistError::new(me, DistErrorKind::Input, format!("{what} (serial only)")));
     if let Err(e) = bcs.check_slip_kinds(mesh.dim(), &mesh.patch_ids()) {
         return Err(DistError::new(me, DistErrorKind::Input, e.to_string()));
     }
-    if !bcs.links.is_empty() {
-        return refuse("the boundary conditions link patches, which the distributed solver does not take".into());
+    if !bcs.links.is_empty() && bcs.any_slip() {
+        return refuse("the boundary conditions link patches and have SLIP walls, which the distributed solver does not take together".into());
     }
     if !bcs.split_patches().is_empty() {
         return refuse(
@@ -54,17 +56,32 @@ pub(crate) fn flags_and_frames(
     mesh: &Mesh,
     halo: &HaloLayout,
     bcs: &BoundaryConditions,
+    ties: Option<&Ties>,
 ) -> (Vec<Vec<u8>>, Option<LevelSlip>) {
-    let mut flags: Vec<Vec<u8>> = (0..mesh.dim()).map(|c| component_flags_of(mesh, halo, bcs, c)).collect();
+    let mut flags: Vec<Vec<u8>> = (0..mesh.dim()).map(|c| component_flags_of(mesh, halo, bcs, ties, c)).collect();
     let slip = super::slip::frames(mesh, halo, bcs, &mut flags);
     (flags, slip)
 }
 
-/// The flags of component `c` on every local vertex (layout order): each owner's flags,
+/// The flags of component `c` on every local vertex (layout order): each owner's flags (a
+/// tied vertex's those of any vertex of its class, as one process's merged unknown has),
 /// copied to the halo, where P is added. Collective.
-fn component_flags_of(mesh: &Mesh, halo: &HaloLayout, bcs: &BoundaryConditions, c: usize) -> Vec<u8> {
+fn component_flags_of(
+    mesh: &Mesh,
+    halo: &HaloLayout,
+    bcs: &BoundaryConditions,
+    ties: Option<&Ties>,
+    c: usize,
+) -> Vec<u8> {
     let n = mesh.num_vertices();
     let mut f = component_flags(mesh, &Dofs::identity(n), bcs, c);
+    if let Some(t) = ties {
+        for bit in [P, Z] {
+            let mut any: Vec<f64> = f.iter().map(|&x| f64::from(u8::from(x & bit != 0))).collect();
+            t.total(&mut any);
+            t.members().filter(|&v| any[v] > 0.0).for_each(|v| f[v] |= bit);
+        }
+    }
     halo.refresh(&mut f);
     f[halo.owned()..].iter_mut().for_each(|f| *f |= P);
     f

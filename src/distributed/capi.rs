@@ -75,7 +75,8 @@ impl Handle for meshmove_dist_solver {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct meshmove_dist_report {
-    /// The most conjugate gradient iterations of a component.
+    /// The most conjugate gradient iterations of a group of components (each component alone,
+    /// or all together where slip walls couple them).
     pub iterations: i32,
     /// The largest final relative residual over the components.
     pub rel_residual: f64,
@@ -279,9 +280,11 @@ pub unsafe extern "C" fn meshmove_dist_mesh_sizes(
 }
 
 /// Creates a distributed solver of `method` (a `meshmove_method`) on `mesh` with the conditions
-/// `bcs` (copied; FIXED, CLAMPED and FREE are distributed, SLIP walls, links and split
-/// interfaces are refused), solved to the relative residual `tol` in at most `max_iterations`
-/// conjugate gradient iterations per component (collective).
+/// `bcs` (copied; every rank gives the same; FIXED, CLAMPED, FREE and SLIP walls, flat or
+/// curved with their closest-point callbacks, are distributed, links and split interfaces are
+/// refused), solved to the relative residual `tol` in at most `max_iterations` conjugate
+/// gradient iterations per group of components (collective). A slip wall's callback is called
+/// on the ranks that own its slipped vertices.
 ///
 /// # Safety
 /// `mesh` and `bcs` must be handles from meshmove (checked); `out` writable.

@@ -11,7 +11,7 @@
 use super::error::{DistError, DistErrorKind};
 use super::halo::HaloLayout;
 use super::reduce::{gather_varcount, max_over_ranks};
-use crate::bc::{fine_slip_frames, BoundaryConditions, Dofs, SlipFrames, SlipWalls};
+use crate::bc::{fine_slip_frames, BoundaryConditions, Dofs, Placements, SlipFrames, SlipWalls};
 use crate::multigrid::level::{Level, LevelSlip};
 use crate::solver::slip::{deformed_patches, off_walls, onto_walls, wall_values};
 use crate::{Mesh, Motion};
@@ -50,11 +50,14 @@ fn deformed_everywhere(walls: &SlipWalls, level: &Level, halo: &HaloLayout, moti
 /// any rank is off its walls, `again` solves with their distances to the walls prescribed as
 /// normal parts (its arguments: the prescribed values and the first result); then what remains
 /// is moved onto the walls and the halo refreshed. A closest-point function's failure on any
-/// rank fails every rank, naming the lowest such rank (collective).
+/// rank fails every rank, naming the lowest such rank and the global id (`gids`, layout order)
+/// of a vertex it failed at (collective).
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn onto_walls_everywhere(
     walls: &SlipWalls,
     level: &Level,
     halo: &HaloLayout,
+    gids: &[u64],
     motion: &Motion,
     vals: &[f64],
     mut displacement: Vec<f64>,
@@ -64,26 +67,46 @@ pub(crate) fn onto_walls_everywhere(
     let at = walls.placed_by(&motion.rigid);
     let deformed = deformed_everywhere(walls, level, halo, motion, vals);
     let off = off_walls(walls, &at, level, &deformed, &displacement);
+    let checked = |d: &[f64]| callbacks_succeeded(walls, &at, level, halo, gids, d);
     if max_over_ranks(halo.comm(), f64::from(u8::from(off))) > 0.0 {
         let on_wall = wall_values(walls, &at, level, &deformed, vals, &displacement);
-        callbacks_succeeded(walls, halo)?;
+        checked(&displacement)?;
         displacement = again(&on_wall, &displacement)?;
     }
+    let before = displacement.clone();
     onto_walls(walls, &at, level, &deformed, &mut displacement);
-    callbacks_succeeded(walls, halo)?;
+    checked(&before)?;
     refresh_interleaved(halo, &mut displacement, level.dim());
     Ok(displacement)
 }
 
-/// No rank's closest-point function reported a failure since the last check (collective).
-fn callbacks_succeeded(walls: &SlipWalls, halo: &HaloLayout) -> Result<(), DistError> {
+/// No rank's closest-point function reported a failure since the last check (collective). A
+/// rank whose did names the first slipped vertex (of the result `displacement`) at which it
+/// fails again.
+fn callbacks_succeeded(
+    walls: &SlipWalls,
+    at: &Placements,
+    level: &Level,
+    halo: &HaloLayout,
+    gids: &[u64],
+    displacement: &[f64],
+) -> Result<(), DistError> {
     let me = halo.comm().rank();
-    let failed = walls.take_failure();
-    let local = if failed {
+    let local = if walls.take_failure() {
+        let dim = level.dim();
+        let frames = level.slip.as_ref().map(|s| &s.frames);
+        let failing = frames.into_iter().flat_map(|f| f.constrained()).map(|(d, _)| d as usize).find(|&v| {
+            let x: Vec<f64> = (0..dim).map(|c| level.mesh().point(v)[c] + displacement[v * dim + c]).collect();
+            walls.patches_of(v as u32).for_each(|p| {
+                walls.closest(at, p, &x);
+            });
+            walls.take_failure()
+        });
+        let whose = failing.map_or(String::new(), |v| format!(" (at global id {})", gids[v]));
         Err(DistError::new(
             me,
             DistErrorKind::Input,
-            "a slip wall's closest-point function reported a failure; nothing was changed",
+            format!("a slip wall's closest-point function reported a failure{whose}; nothing was changed"),
         ))
     } else {
         Ok(())

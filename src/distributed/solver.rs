@@ -1,9 +1,10 @@
 //! The distributed mesh mover: the serial methods (Laplacian, spring, biharmonic) and boundary
-//! conditions (FIXED, CLAMPED with prescribed displacements or rigid motions, FREE) on a rank's
-//! owned rows, solved by conjugate gradients preconditioned by a V-cycle of the distributed
-//! multigrid (`distributed::mg`, built on the assembled matrix of the Laplacian and the spring)
-//! or, for the biharmonic (applied, not assembled) and with one level, by the Chebyshev–Jacobi
-//! smoother alone.
+//! conditions (FIXED, CLAMPED with prescribed displacements or rigid motions, FREE, SLIP walls
+//! flat and curved: `distributed::slip`) on a rank's owned rows, solved by conjugate gradients
+//! preconditioned by a V-cycle of the distributed multigrid (`distributed::mg`, built on the
+//! assembled matrix of the Laplacian and the spring; one per component, projected for a group
+//! coupled by slip walls: `distributed::blocks`) or, for the biharmonic (applied, not
+//! assembled) and with one level, by the Chebyshev–Jacobi smoother alone.
 //!
 //! Each rank's operator has the serial operator's rows for the vertices it owns: every cell
 //! around an owned vertex is held (owned or ghost), so its rows of K and its lumped mass are
@@ -23,6 +24,7 @@ use super::level_layout::Distribution;
 use super::mg::{Multigrid, OwnedRows};
 use super::pcg::{pcg, OneLevel, Preconditioner};
 use super::reduce::{gather, max_over_ranks, sum_in_rank_order};
+use super::ties::Ties;
 use crate::bc::{Dofs, Kind, SlipWalls, COMPONENT, P};
 use crate::mesh::quality::quality_of_cells;
 use crate::multigrid::group::GroupOp;
@@ -40,9 +42,9 @@ use std::sync::Arc;
 /// How a distributed solve iterates.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DistSolveParams {
-    /// Relative residual ‖b − A x‖₂ / ‖b‖₂ to reach, per component.
+    /// Relative residual ‖b − A x‖₂ / ‖b‖₂ to reach, per group of components.
     pub tol: f64,
-    /// Most iterations per component.
+    /// Most iterations per group of components.
     pub max_iterations: usize,
     /// Degree of the fourth-kind Chebyshev–Jacobi smoother.
     pub degree: usize,
@@ -63,7 +65,9 @@ pub struct DistSolution {
     /// Displacement of every local vertex (owned and not), `dim` values each, in the host's
     /// order: the owners' values on every rank that holds a vertex.
     pub displacement: Vec<f64>,
-    /// Conjugate gradient iterations of each component.
+    /// Conjugate gradient iterations of each group of components: one per component, or one for
+    /// all where slip walls not normal to an axis couple them (with curved walls, the two
+    /// solves' iterations added).
     pub iterations: Vec<usize>,
     /// The largest final relative residual over the components.
     pub rel_residual: f64,
@@ -94,6 +98,8 @@ pub struct DistributedSolver {
     /// The shapes of the SLIP walls of the rank's part as the solver was made, and where the
     /// walls moved rigidly since are (None without SLIP walls on this rank).
     walls: Option<SlipWalls>,
+    /// The classes of vertices periodic links tie across ranks (None without links).
+    ties: Option<Arc<Ties>>,
 }
 
 impl std::fmt::Debug for DistributedSolver {
@@ -117,10 +123,13 @@ impl DistributedSolver {
         let checked = check_params(me, &params).and_then(|_| bcs::check_supported(me, bcs, local));
         agree(mesh.halo().comm(), checked)?;
         agree(mesh.halo().comm(), bcs::check_same_everywhere(me, mesh.halo(), bcs))?;
-        let level = build_level(mesh.halo(), local.clone(), bcs, method);
+        let ties =
+            Ties::new(mesh.halo().shared_comm(), local, mesh.layout_global_ids(), mesh.halo().owned(), &bcs.links);
+        let ties = agree(mesh.halo().comm(), ties)?.map(Arc::new);
+        let level = build_level(mesh.halo(), local.clone(), bcs, method, ties.as_ref());
         agree(mesh.halo().comm(), bcs::check_prescribed(me, mesh.halo(), &level.flags))?;
         let walls = SlipWalls::new(local, bcs);
-        Ok(DistributedSolver { mesh: mesh.clone(), bcs: bcs.clone(), params, level, walls })
+        Ok(DistributedSolver { mesh: mesh.clone(), bcs: bcs.clone(), params, level, walls, ties })
     }
 
     /// The distributed mesh (its reference positions are the ones it was made with).
@@ -167,8 +176,9 @@ impl DistributedSolver {
                 Ok(total)
             };
             let total = std::mem::take(&mut solved.total);
+            let gids = self.mesh.layout_global_ids();
             solved.total =
-                super::slip::onto_walls_everywhere(walls, &self.level, self.halo(), motion, &vals, total, again)?;
+                super::slip::onto_walls_everywhere(walls, &self.level, self.halo(), gids, motion, &vals, total, again)?;
             if let Some(s) = second {
                 solved.iterations.iter_mut().zip(&s.iterations).for_each(|(a, b)| *a += b);
                 solved.rel_residual = s.rel_residual;
@@ -318,7 +328,7 @@ impl DistributedSolver {
             (0..dim).for_each(|c| coords[i * dim + c] += sol.displacement[h * dim + c]);
         }
         let moved = local.with_coords(coords);
-        self.level = build_level(self.mesh.halo(), moved, &self.bcs, self.level.op.method);
+        self.level = build_level(self.mesh.halo(), moved, &self.bcs, self.level.op.method, self.ties.as_ref());
         if let Some(w) = self.walls.as_mut() {
             w.move_walls(&increment.rigid);
         }
@@ -372,10 +382,14 @@ impl DistributedSolver {
     }
 
     /// Per component the right-hand side and the prescribed values (the owners' values on the
-    /// halo); an error where the right-hand side overflows.
+    /// halo); an error where tied vertices are prescribed different values or the right-hand
+    /// side overflows. Every component's exchanges run on every rank, whatever it finds (the
+    /// first error is returned after them).
     fn right_hand_sides(&self, motion: &Motion, vals: &[f64]) -> Result<Vec<System>, DistError> {
         let (dim, nv, owned) = (self.mesh.dim(), self.local().num_vertices(), self.halo().owned());
+        let (me, gids) = (self.mesh.rank(), self.mesh.layout_global_ids());
         let mut out = Vec::with_capacity(dim);
+        let mut error = None;
         // Slip walls prescribe the normal parts at the owned slip unknowns (free in the flags).
         let normal = normal_parts(&self.level, vals);
         for c in 0..dim {
@@ -385,25 +399,28 @@ impl DistributedSolver {
             if let Some(g) = &normal {
                 dp.iter_mut().zip(&g[c * nv..(c + 1) * nv]).for_each(|(d, g)| *d += g);
             }
+            if let Some(Err(msg)) = self.ties.as_ref().map(|t| t.agreed_values(&mut dp, gids)) {
+                let msg = format!(
+                    "tied vertices (periodic links) are prescribed different {} displacements: {msg}",
+                    COMPONENT[c]
+                );
+                error.get_or_insert(DistError::new(me, DistErrorKind::Input, msg));
+            }
             self.halo().refresh(&mut dp);
             let g = self.rigid_flux(motion, c);
             let (mut b, mut s) = (vec![0.0; nv], vec![0.0; nv]);
             self.level.op.rhs(flags, &dp, g.as_deref(), &mut b, &mut s);
             if let Some(i) = b[..owned].iter().position(|v| !v.is_finite()) {
-                let gid = self.mesh.layout_global_ids()[i];
-                return Err(DistError::new(
-                    self.mesh.rank(),
-                    DistErrorKind::Input,
-                    format!(
-                        "the prescribed {} displacements overflow the operator at global id {gid}: displacements \
-                         must be of the order of the mesh",
-                        COMPONENT[c]
-                    ),
-                ));
+                let msg = format!(
+                    "the prescribed {} displacements overflow the operator at global id {}: displacements must be of \
+                     the order of the mesh",
+                    COMPONENT[c], gids[i]
+                );
+                error.get_or_insert(DistError::new(me, DistErrorKind::Input, msg));
             }
             out.push((b, dp));
         }
-        Ok(out)
+        error.map_or(Ok(out), Err)
     }
 
     /// The biharmonic's source from the CLAMPED patches moving rigidly (docs/DESIGN.md §4, as
@@ -467,18 +484,45 @@ struct Solved {
 }
 
 /// The rank's level of `method` on `mesh` (layout order) with the flags of `bcs` (collective).
-fn build_level(halo: &Arc<HaloLayout>, mesh: Mesh, bcs: &BoundaryConditions, method: Method) -> Level {
-    let (flags, slip) = bcs::flags_and_frames(&mesh, halo, bcs);
+/// With `ties` (periodic links) the tied vertices' flags are their class's, the biharmonic's S
+/// is merged over each class and the solve runs on the tied vectors (`distributed::ties`).
+fn build_level(
+    halo: &Arc<HaloLayout>,
+    mesh: Mesh,
+    bcs: &BoundaryConditions,
+    method: Method,
+    ties: Option<&Arc<Ties>>,
+) -> Level {
+    let (flags, slip) = bcs::flags_and_frames(&mesh, halo, bcs, ties.map(|t| &**t));
     let mut op = LevelOperator::new(method, &mesh, &Dofs::identity(mesh.num_vertices()));
-    if method == Method::Biharmonic {
-        let h = halo.clone();
-        op = op.with_source_exchange(Arc::new(move |s: &mut [f64]| h.refresh(s)));
+    if let (Some(t), Method::Spring) = (ties, method) {
+        t.share_seam_springs(&mut op.k);
     }
     // The owners' lumped masses on the halo, so the Jacobi bounds read the complete ones.
     let mut mass = op.mass();
     halo.refresh(&mut mass);
+    if method == Method::Biharmonic {
+        let h = halo.clone();
+        op = match ties {
+            None => op.with_source_exchange(Arc::new(move |s: &mut [f64]| h.refresh(s))),
+            Some(t) => {
+                let (t, w) = (t.clone(), t.weights(&mass));
+                op.with_source_exchange(Arc::new(move |s: &mut [f64]| {
+                    t.merge_sources(s, &w);
+                    h.refresh(s);
+                }))
+            }
+        };
+    }
     op.inv_v = mass.iter().map(|&v| 1.0 / v).collect();
-    let mut level = local_level(mesh, op, flags, Distribution::Halo(halo.clone()));
+    let layout = match ties {
+        None => Distribution::Halo(halo.clone()),
+        Some(t) => Distribution::Tied(halo.clone(), t.clone()),
+    };
+    let mut level = local_level(mesh, op, flags, layout);
+    if let Some(t) = ties {
+        t.equalise_bounds(&mut level);
+    }
     if slip.is_some() {
         level.slip = slip;
         equalise_bounds(&mut level);
