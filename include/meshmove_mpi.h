@@ -133,9 +133,10 @@ meshmove_status meshmove_dist_mesh_sizes(const struct meshmove_dist_mesh *mesh,
 
 /*
  Creates a distributed solver of `method` (a `meshmove_method`) on `mesh` with the conditions
- `bcs` (copied; every rank gives the same; FIXED, CLAMPED, FREE and SLIP walls, flat or
- curved with their closest-point callbacks, are distributed, links and split interfaces are
- refused), solved to the relative residual `tol` in at most `max_iterations` conjugate
+ `bcs` (copied; every rank gives the same; FIXED, CLAMPED, FREE, SLIP walls, flat or curved
+ with their closest-point callbacks, and links by offset, whose pairs may sit on different
+ ranks, are distributed; split interfaces, links by vertex pairs and links with SLIP walls
+ are refused), solved to the relative residual `tol` in at most `max_iterations` conjugate
  gradient iterations per group of components (collective). A slip wall's callback is called
  on the ranks that own its slipped vertices.
 

@@ -7,7 +7,7 @@
 //! vectors over owned and halo entries with halo exchanges by nonblocking point-to-point
 //! messages and inner products reproducible for a fixed number of ranks; and the mesh mover
 //! ([`DistributedSolver`](crate::distributed::DistributedSolver): the three methods with FIXED,
-//! CLAMPED, FREE and SLIP patches and rigid motions) with its C ABI
+//! CLAMPED, FREE and SLIP patches, periodic links and rigid motions) with its C ABI
 //! ([`capi`](crate::distributed::capi)), solved by conjugate gradients preconditioned by the
 //! distributed multigrid (`mg`: algebraic kept-unknowns levels across ranks, the coarsest
 //! gathered on every rank) for the Laplacian and the spring, and by the Chebyshev–Jacobi

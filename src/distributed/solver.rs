@@ -110,8 +110,9 @@ impl std::fmt::Debug for DistributedSolver {
 
 impl DistributedSolver {
     /// The solver of `method` on `mesh` with the conditions `bcs` (collective; every rank gives
-    /// the same). FIXED, CLAMPED, FREE and SLIP are distributed; links and split interfaces are
-    /// refused, as are conditions that prescribe a component nowhere.
+    /// the same). FIXED, CLAMPED, FREE, SLIP and links by offset (periodic pairs, also across
+    /// ranks) are distributed; split interfaces, links given as vertex pairs and links with SLIP
+    /// walls are refused, as are conditions that prescribe a component nowhere.
     pub fn new(
         mesh: &DistributedMesh,
         bcs: &BoundaryConditions,

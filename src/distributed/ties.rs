@@ -285,7 +285,7 @@ fn gathered_patch(
     let xs: Vec<f64> = mine.iter().flat_map(|&v| mesh.point(v as usize)[..dim].to_vec()).collect();
     let all_ids = gather_varcount(comm, &ids);
     let all_xs = gather_varcount(comm, &xs);
-    let ranks = all_ids.iter().enumerate().flat_map(|(r, l)| std::iter::repeat(r).take(l.len())).collect();
+    let ranks = all_ids.iter().enumerate().flat_map(|(r, l)| std::iter::repeat_n(r, l.len())).collect();
     let points = all_xs
         .iter()
         .flat_map(|l| l.chunks_exact(dim))
