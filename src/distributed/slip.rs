@@ -13,7 +13,7 @@ use super::halo::HaloLayout;
 use super::reduce::{gather_varcount, max_over_ranks};
 use crate::bc::{fine_slip_frames, BoundaryConditions, Dofs, Placements, SlipFrames, SlipWalls};
 use crate::multigrid::level::{Level, LevelSlip};
-use crate::solver::slip::{deformed_patches, off_walls, onto_walls, wall_values};
+use crate::solver::slip::{deformed_patches, moved, off_walls, onto_walls, wall_values};
 use crate::{Mesh, Motion};
 
 /// The slip frames of the owned vertices of `mesh` (layout order) under `bcs`; pinned and axis
@@ -93,10 +93,9 @@ fn callbacks_succeeded(
 ) -> Result<(), DistError> {
     let me = halo.comm().rank();
     let local = if walls.take_failure() {
-        let dim = level.dim();
         let frames = level.slip.as_ref().map(|s| &s.frames);
         let failing = frames.into_iter().flat_map(|f| f.constrained()).map(|(d, _)| d as usize).find(|&v| {
-            let x: Vec<f64> = (0..dim).map(|c| level.mesh().point(v)[c] + displacement[v * dim + c]).collect();
+            let x = moved(level, displacement, v);
             walls.patches_of(v as u32).for_each(|p| {
                 walls.closest(at, p, &x);
             });

@@ -89,7 +89,7 @@ pub(super) fn on_wall_values(
 }
 
 /// The position of vertex `v` of `lev`'s mesh moved by `displacement`.
-fn moved(lev: &Level, displacement: &[f64], v: usize) -> Vec<f64> {
+pub(crate) fn moved(lev: &Level, displacement: &[f64], v: usize) -> Vec<f64> {
     let (dim, x0) = (lev.dim(), lev.mesh().point(v));
     (0..dim).map(|c| x0[c] + displacement[v * dim + c]).collect()
 }
@@ -151,7 +151,7 @@ pub(crate) fn onto_walls(
     let (mut after, mut before) = (0.0f64, 0.0f64);
     for (v, patches, edge) in slipped(walls, lev, deformed) {
         let x0 = lev.mesh().point(v);
-        let mut p: Vec<f64> = (0..dim).map(|c| x0[c] + displacement[v * dim + c]).collect();
+        let mut p = moved(lev, displacement, v);
         let off = walls.distance(at, &patches, edge, &p);
         before = before.max(off);
         // On its wall to rounding (a flat wall): left where the solve put it, which the
