@@ -36,7 +36,8 @@ typedef struct meshmove_dist_solver meshmove_dist_solver;
  */
 typedef struct meshmove_dist_report {
   /*
-   The most conjugate gradient iterations of a component.
+   The most conjugate gradient iterations of a group of components (each component alone,
+   or all together where slip walls couple them).
    */
   int32_t iterations;
   /*
@@ -205,14 +206,18 @@ meshmove_status meshmove_dist_mesh_sizes(const struct meshmove_dist_mesh *mesh,
                                          int64_t *global_vertices);
 
 /*
- Creates a distributed solver on `mesh` with the conditions `bcs` (copied; FIXED, CLAMPED and
- FREE are distributed, SLIP walls, links and split interfaces are refused) and the serial
+ Creates a distributed solver on `mesh` with the conditions `bcs` (copied; every rank gives
+ the same; FIXED, CLAMPED, FREE, SLIP walls, flat or curved with their closest-point
+ callbacks, and links by offset, whose pairs may sit on different ranks, are distributed;
+ split interfaces, links by vertex pairs and links with SLIP walls are refused) and the serial
  solver's `options` (NULL: the defaults; copied), collectively: the method, the tolerance, the
- iteration limit (`max_cycles`: conjugate gradient iterations per component), the Chebyshev
- degree, the number of levels, sub-stepping, the reference mode. Options the distributed
- solver does not take (the paper-faithful mode, the largest-correction criterion, a coarse
- Chebyshev degree or lower ratio, a memory budget) return `MESHMOVE_STATUS_INVALID_ARGUMENT`
- on every rank; `threads` has no effect.
+ iteration limit (`max_cycles`: conjugate gradient iterations per group of components, each
+ component alone or all together where slip walls couple them), the Chebyshev degree, the
+ number of levels, sub-stepping, the reference mode. Options the distributed solver does not
+ take (the paper-faithful mode, the largest-correction criterion, a coarse Chebyshev degree or
+ lower ratio, a memory budget) return `MESHMOVE_STATUS_INVALID_ARGUMENT` on every rank;
+ `threads` has no effect. A slip wall's callback is called on the ranks that own its slipped
+ vertices.
 
  # Safety
  `mesh`, `bcs` and a non-NULL `options` must be handles from meshmove (checked); `out` writable.

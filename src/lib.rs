@@ -52,7 +52,7 @@ pub mod motion;
 mod pool;
 pub mod solver;
 
-pub use bc::{BoundaryConditions, InterfaceVariant, Kind, Link};
+pub use bc::{BoundaryConditions, InterfaceVariant, Kind, Link, SlipSurface};
 pub use error::{Error, Result};
 pub use geometry::CellType;
 pub use mesh::{FaceMeshData, IndexBase, Mesh, MeshData, MeshError, PatchFace, Quality};

@@ -29,7 +29,7 @@ use std::time::Instant;
 mod deferred;
 pub(crate) mod memory;
 mod progress;
-mod slip;
+pub(crate) mod slip;
 pub(crate) mod steps;
 mod units;
 

@@ -10,7 +10,10 @@
 //! rigidly and the rest FIXED; a FREE side) on a 2D and a 3D mesh equals the serial solver, with
 //! the same quality report (the biharmonic also on meshes large enough for its multigrid to
 //! coarsen), a second solve reusing the kept hierarchy gives bitwise the first, and bad
-//! conditions or motions on one rank fail on every rank.
+//! conditions or motions on one rank fail on every rank. SLIP walls: a quarter annulus (2D) and
+//! a quarter cylindrical shell (3D) whose inner curved wall, straight side and (3D) ends slide,
+//! put back on the curved wall from its faces or its closest-point function, equal the serial
+//! solver for the three methods.
 //! Then the steps (`move_in_steps`, `advance`, `advance_from`, sub-stepping) in both reference
 //! modes, made with the serial `Options`, equal the serial solver's on a 2D and a 3D mesh; the
 //! options the distributed solver does not take, positions with inverted cells and rank 0's
@@ -20,8 +23,8 @@ mod slabs;
 
 use meshmove::distributed::{DistErrorKind, DistSolveParams, DistStepReport, DistributedMesh, DistributedSolver};
 use meshmove::{
-    BoundaryConditions, Kind, Mesh, MeshData, Method, Mode, Motion, Options, Progress, ReferenceMode, RigidMotion,
-    Solver, StepReport,
+    BoundaryConditions, Kind, Link, Mesh, MeshData, Method, Mode, Motion, Options, Progress, ReferenceMode,
+    RigidMotion, SlipSurface, Solver, StepReport,
 };
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
@@ -98,7 +101,15 @@ fn rank_main() -> ExitCode {
     for (name, mesh) in [("2D triangles", tagged(&grid2d(14, 12))), ("3D hexahedra", tagged(&box3d(5, false)))] {
         for method in [Method::Laplacian, Method::Spring, Method::Biharmonic] {
             for case in [Case::AllFixed, Case::ClampedBody, Case::FreeSide] {
-                solver_agrees_with_serial(&world, name, &mesh, method, case);
+                let unscaled = (mesh.clone(), vec![1.0; mesh.num_vertices()]);
+                solver_agrees_with_serial(&world, name, &unscaled, method, case);
+            }
+        }
+    }
+    for (name, flat) in [("2D quarter annulus", grid2d(10, 16)), ("3D quarter shell", box3d(5, false))] {
+        for method in [Method::Laplacian, Method::Spring, Method::Biharmonic] {
+            for surface in [false, true] {
+                solver_agrees_with_serial(&world, name, &bent(&flat), method, Case::Slip { surface });
             }
         }
     }
@@ -109,11 +120,18 @@ fn rank_main() -> ExitCode {
         ("3D hexahedra 12³", tagged(&box3d(12, false))),
         ("3D tetrahedra 10³", tagged(&box3d(10, true))),
     ] {
+        let unscaled = (mesh.clone(), vec![1.0; mesh.num_vertices()]);
         for case in [Case::AllFixed, Case::ClampedBody, Case::FreeSide] {
-            solver_agrees_with_serial(&world, name, &mesh, Method::Biharmonic, case);
+            solver_agrees_with_serial(&world, name, &unscaled, Method::Biharmonic, case);
         }
     }
     bad_conditions_fail_on_every_rank(&world, &tagged(&grid2d(14, 12)));
+    failing_wall_fails_on_every_rank(&world, &bent(&grid2d(10, 16)));
+    for (name, d) in [("2D periodic triangles", grid2d(16, 10)), ("3D periodic hexahedra", box3d(5, false))] {
+        for method in [Method::Laplacian, Method::Spring, Method::Biharmonic] {
+            solver_agrees_with_serial(&world, name, &periodic(&d), method, Case::Periodic);
+        }
+    }
     advance_moves_the_reference(&world, &grid2d(14, 12));
     for (name, mesh) in [("2D triangles", tagged(&grid2d(14, 12))), ("3D hexahedra", tagged(&box3d(5, false)))] {
         for method in [Method::Laplacian, Method::Biharmonic] {
@@ -124,6 +142,7 @@ fn rank_main() -> ExitCode {
         substeps_agree_with_serial(&world, name, &mesh);
     }
     calls_stop_on_every_rank(&world, &tagged(&grid2d(14, 12)));
+    slip_steps_agree_with_serial(&world, &bent(&grid2d(10, 16)));
     ExitCode::SUCCESS
 }
 
@@ -253,6 +272,70 @@ fn bad_input_fails_on_every_rank(world: &SimpleCommunicator, d: &MeshData) {
     assert!(DistributedMesh::new(world, &p.data, &p.gids, &p.ghost).is_ok(), "a part without ghost cells");
 }
 
+/// The patch of the ends z = 0 and z = 1 of a 3D mesh, SLIP in the slip case.
+const ENDS: i32 = 3;
+
+/// `d` (the unit square or cube, as `grid2d` and `box3d` make it) with its faces on x = 0
+/// tagged `BODY`, on y = 0 `SIDE` and in 3D on z = 0 and z = 1 `ENDS`, then bent into a quarter
+/// annulus (a quarter cylindrical shell): radius 1 + x, angle y π/2. Its first component keeps
+/// the unbent x (zero on the inner wall): (bent, x).
+fn bent(d: &MeshData) -> (MeshData, Vec<f64>) {
+    let mesh = Mesh::from_data(d).expect("a valid mesh");
+    let mut out = d.clone();
+    for f in mesh.patch_faces() {
+        let on = |c: usize, x: f64| f.vertices.iter().all(|&v| d.point(v as usize)[c] == x);
+        let patch = if on(0, 0.0) {
+            BODY
+        } else if on(1, 0.0) {
+            SIDE
+        } else if d.dim == 3 && (on(2, 0.0) || on(2, 1.0)) {
+            ENDS
+        } else {
+            continue;
+        };
+        out.push_face(f.vertices, patch);
+    }
+    let x: Vec<f64> = (0..d.num_vertices()).map(|v| d.point(v)[0]).collect();
+    for v in 0..d.num_vertices() {
+        let p = d.point(v);
+        let (r, t) = (1.0 + p[0], p[1] * std::f64::consts::FRAC_PI_2);
+        out.coords[v * d.dim] = r * t.cos();
+        out.coords[v * d.dim + 1] = r * t.sin();
+    }
+    (out, x)
+}
+
+/// The periodic side x = 0, linked to `RIGHT`.
+const LEFT: i32 = 4;
+/// The periodic side x = 1.
+const RIGHT: i32 = 5;
+
+/// `d` (the unit square or cube) with its faces on x = 0 tagged `LEFT` and on x = 1 `RIGHT`,
+/// the rest untagged; no motion scaled.
+fn periodic(d: &MeshData) -> (MeshData, Vec<f64>) {
+    let mesh = Mesh::from_data(d).expect("a valid mesh");
+    let mut out = d.clone();
+    for f in mesh.patch_faces() {
+        let on = |x: f64| f.vertices.iter().all(|&v| d.point(v as usize)[0] == x);
+        let patch = if on(0.0) {
+            LEFT
+        } else if on(1.0) {
+            RIGHT
+        } else {
+            continue;
+        };
+        out.push_face(f.vertices, patch);
+    }
+    (out, vec![1.0; d.num_vertices()])
+}
+
+/// A boundary motion periodic in x (period 1).
+fn motion_periodic(x: &[f64]) -> [f64; 3] {
+    let (s, c) = (2.0 * std::f64::consts::PI * x[0]).sin_cos();
+    let z = x.get(2).copied().unwrap_or(0.0);
+    [0.06 * s * (1.0 + x[1]), 0.05 * c * (x[1] - 0.5) + 0.02 * z, 0.04 * (s + c) * x[1]]
+}
+
 /// The boundary conditions of a comparison.
 #[derive(Clone, Copy, Debug)]
 enum Case {
@@ -262,10 +345,18 @@ enum Case {
     ClampedBody,
     /// The side FREE; the rest FIXED, moved by `motion`.
     FreeSide,
+    /// On a `bent` mesh the inner curved wall, the straight side and the ends SLIP, the curved
+    /// wall given by its faces or (`surface`) as a cylinder; the rest FIXED. Every vertex moved
+    /// by `motion` scaled by the unbent x, so the curved wall's normal parts are zero and its
+    /// slipped vertices are put back on it.
+    Slip { surface: bool },
+    /// On a `periodic` mesh the sides x = 0 and x = 1 FREE and linked by the offset 1 in x;
+    /// the rest FIXED, moved by `motion_periodic`.
+    Periodic,
 }
 
 impl Case {
-    fn conditions(self) -> BoundaryConditions {
+    fn conditions(self, dim: usize) -> BoundaryConditions {
         let mut bcs = BoundaryConditions::new();
         match self {
             Case::AllFixed => {}
@@ -274,6 +365,19 @@ impl Case {
             }
             Case::FreeSide => {
                 bcs.set_kinds(SIDE, Kind::Free);
+            }
+            Case::Periodic => {
+                bcs.set_kinds(LEFT, Kind::Free).set_kinds(RIGHT, Kind::Free);
+                bcs.add_link(Link::ByOffset { a: LEFT, b: RIGHT, offset: [1.0, 0.0, 0.0], tol: 1e-9 });
+            }
+            Case::Slip { surface } => {
+                bcs.set_kinds(BODY, Kind::Slip).set_kinds(SIDE, Kind::Slip);
+                if dim == 3 {
+                    bcs.set_kinds(ENDS, Kind::Slip);
+                }
+                if surface {
+                    bcs.set_slip_surface(BODY, SlipSurface::cylinder([0.0; 3], [0.0, 0.0, 1.0], 1.0));
+                }
             }
         }
         bcs
@@ -292,11 +396,21 @@ impl Case {
 
 /// The distributed solver equals the serial one to 1e-10 of the motion (both to a relative
 /// residual of 1e-12), with the same inverted count and smallest area ratio.
-fn solver_agrees_with_serial(world: &SimpleCommunicator, name: &str, d: &MeshData, method: Method, case: Case) {
+/// On a `bent` mesh (given with its unbent x) every vertex's motion is scaled by that x.
+fn solver_agrees_with_serial(
+    world: &SimpleCommunicator,
+    name: &str,
+    (d, scaled): &(MeshData, Vec<f64>),
+    method: Method,
+    case: Case,
+) {
     let (rank, size) = (world.rank() as usize, world.size() as usize);
     let dim = d.dim;
-    let all: Vec<f64> = (0..d.num_vertices()).flat_map(|v| motion(d.point(v))[..dim].to_vec()).collect();
-    let bcs = case.conditions();
+    let moved = |x: &[f64]| if let Case::Periodic = case { motion_periodic(x) } else { motion(x) };
+    let all: Vec<f64> = (0..d.num_vertices())
+        .flat_map(|v| moved(d.point(v))[..dim].iter().map(|m| m * scaled[v]).collect::<Vec<_>>())
+        .collect();
+    let bcs = case.conditions(dim);
     let mut o = Options { method, threads: 1, ..Default::default() };
     o.solve.tol = 1e-12;
     let serial = Solver::new(&Mesh::from_data(d).unwrap(), &bcs, o).unwrap();
@@ -356,13 +470,38 @@ fn bad_conditions_fail_on_every_rank(world: &SimpleCommunicator, d: &MeshData) {
     let last = size - 1;
     let p = part(d, &slab_owner(d, size), rank, true);
     let dm = DistributedMesh::new(world, &p.data, &p.gids, &p.ghost).unwrap();
+    // A patch SLIP in one component only, on the last rank.
     let mut bcs = BoundaryConditions::new();
     if rank == last {
-        bcs.set_kinds(0, Kind::Slip);
+        bcs.set_kind(0, 1, Kind::Slip).unwrap();
     }
     let e = DistributedSolver::new(&dm, &bcs, Method::Biharmonic, DistSolveParams::default()).unwrap_err();
     assert_eq!((e.rank, e.kind), (last, DistErrorKind::Input), "{e}");
     assert!(e.message.contains("SLIP"), "{e}");
+    // Conditions that differ between ranks: a SLIP patch on the last rank alone.
+    if size > 1 {
+        let mut bcs = BoundaryConditions::new();
+        if rank == last {
+            bcs.set_kinds(0, Kind::Slip);
+        }
+        let e = DistributedSolver::new(&dm, &bcs, Method::Biharmonic, DistSolveParams::default()).unwrap_err();
+        assert_eq!((e.rank, e.kind), (last, DistErrorKind::Input), "{e}");
+        assert!(e.message.contains("differ from rank 0"), "{e}");
+    }
+    // A link whose patches do not match vertex by vertex (the far field has more vertices than
+    // the body's side): refused on every rank, naming a global id.
+    let mut linked = BoundaryConditions::new();
+    linked.add_link(Link::ByOffset { a: BODY, b: 0, offset: [1.0, 0.0, 0.0], tol: 1e-9 });
+    let e = DistributedSolver::new(&dm, &linked, Method::Laplacian, DistSolveParams::default()).unwrap_err();
+    assert!(
+        e.kind == DistErrorKind::Input && e.message.contains("link 1 -> 0") && e.message.contains("global id"),
+        "{e}"
+    );
+    // Explicit pairs name local vertices: refused.
+    let mut pairs = BoundaryConditions::new();
+    pairs.add_link(Link::Pairs(vec![[0, 1]]));
+    let e = DistributedSolver::new(&dm, &pairs, Method::Laplacian, DistSolveParams::default()).unwrap_err();
+    assert!(e.kind == DistErrorKind::Input && e.message.contains("vertex pairs"), "{e}");
     // No component prescribed anywhere: every patch FREE.
     let mut free = BoundaryConditions::new();
     free.default_kind = [Kind::Free; 3];
@@ -459,7 +598,7 @@ fn steps_agree_with_serial(
     let all: Vec<f64> = (0..d.num_vertices())
         .flat_map(|v| motion(d.point(v))[..dim].iter().map(|x| 0.25 * x).collect::<Vec<_>>())
         .collect();
-    let bcs = Case::ClampedBody.conditions();
+    let bcs = Case::ClampedBody.conditions(dim);
     let rigid: Vec<(i32, RigidMotion)> =
         Case::ClampedBody.rigid().iter().map(|&(p, m)| (p, m.between(0.0, 0.25))).collect();
     let o = options(method, reference);
@@ -593,5 +732,77 @@ fn calls_stop_on_every_rank(world: &SimpleCommunicator, d: &MeshData) {
     assert_eq!(solver.current_coords(), before, "a refused call changes nothing");
     if rank == 0 {
         println!("{size} ranks, refused options, cancelled steps and tangled positions: every rank returns the error");
+    }
+}
+
+/// A curved wall's closest-point function that fails on the last rank alone makes every rank's
+/// solve fail, naming that rank and a global id.
+fn failing_wall_fails_on_every_rank(world: &SimpleCommunicator, (d, scaled): &(MeshData, Vec<f64>)) {
+    let (rank, size) = (world.rank() as usize, world.size() as usize);
+    let last = size - 1;
+    let p = part(d, &slab_owner(d, size), rank, true);
+    let dm = DistributedMesh::new(world, &p.data, &p.gids, &p.ghost).unwrap();
+    let mut bcs = Case::Slip { surface: true }.conditions(2);
+    if rank == last {
+        bcs.set_slip_surface(BODY, SlipSurface::fallible(|_| None));
+    }
+    let solver = DistributedSolver::new(&dm, &bcs, Method::Laplacian, DistSolveParams::default()).unwrap();
+    let local: Vec<f64> = p
+        .global
+        .iter()
+        .flat_map(|&v| motion(d.point(v))[..2].iter().map(|m| m * scaled[v]).collect::<Vec<_>>())
+        .collect();
+    let e = solver.solve(&Motion::from_displacement(local)).unwrap_err();
+    assert_eq!((e.rank, e.kind), (last, DistErrorKind::Input), "{e}");
+    assert!(e.message.contains("closest-point") && e.message.contains("global id"), "{e}");
+    if rank == 0 {
+        println!("{size} ranks, a slip wall's function failing on the last rank: every rank returns \"{e}\"");
+    }
+}
+
+/// Steps with SLIP walls, the curved wall given as a cylinder and moved rigidly: `move_in_steps`
+/// then `advance` equal the serial calls to 1e-10 of the motion; a refused `advance` (its result
+/// inverts cells) puts the walls back where they were, so the next `advance` still equals the
+/// serial one.
+fn slip_steps_agree_with_serial(world: &SimpleCommunicator, (d, scaled): &(MeshData, Vec<f64>)) {
+    let (rank, size) = (world.rank() as usize, world.size() as usize);
+    let dim = d.dim;
+    let all: Vec<f64> = (0..d.num_vertices())
+        .flat_map(|v| motion(d.point(v))[..dim].iter().map(|m| 0.5 * m * scaled[v]).collect::<Vec<_>>())
+        .collect();
+    let bcs = Case::Slip { surface: true }.conditions(dim);
+    let rigid = vec![(BODY, RigidMotion { translation: [0.01, 0.005, 0.0], rotation: [0.0; 3], center: [0.0; 3] })];
+    let o = options(Method::Laplacian, ReferenceMode::Incremental);
+    let mut serial = Solver::new(&Mesh::from_data(d).unwrap(), &bcs, o.clone()).unwrap();
+    let p = part(d, &slab_owner(d, size), rank, true);
+    let dm = DistributedMesh::new(world, &p.data, &p.gids, &p.ghost).unwrap();
+    let mut dist = DistributedSolver::with_options(&dm, &bcs, o).unwrap();
+    let what = format!("quarter annulus, slip walls moved rigidly, on {size} ranks");
+    let whole = |d: &[f64]| Motion { displacement: d.to_vec(), rigid: rigid.clone() };
+    let local = |d: &[f64]| Motion { displacement: local_of(&p, dim, d), rigid: rigid.clone() };
+
+    serial.move_in_steps(&whole(&all), 2).unwrap();
+    dist.move_in_steps(&local(&all), 2).unwrap();
+    let scale = serial.total_displacement().iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let off = largest_difference(&p, dim, &dist.current_coords(), serial.current_coords());
+    assert!(off <= 1e-10 * scale, "{what}: move_in_steps: rank {rank} differs by {off:e} (motion {scale:e})");
+
+    let big: Vec<f64> = all.iter().map(|x| 40.0 * x).collect();
+    let before = dist.current_coords();
+    let e = dist.advance(&local(&big)).unwrap_err();
+    assert_eq!(e.kind, DistErrorKind::Inverted, "{what}: {e}");
+    assert_eq!(dist.current_coords(), before, "{what}: a refused step changes nothing");
+    assert!(serial.advance(&whole(&big)).unwrap().quality.inverted > 0, "{what}: the big step inverts cells");
+
+    let sa = serial.advance(&whole(&all)).unwrap();
+    let da = dist.advance(&local(&all)).unwrap();
+    let off = largest_difference(&p, dim, &da.displacement, &sa.displacement);
+    let at = largest_difference(&p, dim, &dist.current_coords(), serial.current_coords());
+    assert!(off.max(at) <= 1e-10 * scale, "{what}: advance: rank {rank} differs by {off:e}, positions {at:e}");
+    if rank == 0 {
+        println!(
+            "{size} ranks, {what}: move_in_steps and advance equal the serial calls (iterations {:?})",
+            da.iterations
+        );
     }
 }

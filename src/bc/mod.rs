@@ -17,6 +17,8 @@ pub use slip::{Constraint, SlipFrames};
 pub(crate) use slip::{fine_slip_frames, inherit_slip_frames};
 pub use slip_walls::{Placements, SlipSurface, SlipWalls};
 pub(crate) use links::resolve_links;
+#[cfg(feature = "mpi")]
+pub(crate) use links::{check_offset, match_by_offset};
 pub(crate) use well_posed::{check_well_posed, COMPONENT};
 
 use crate::{Error, Mesh, Result};
@@ -163,18 +165,10 @@ impl BoundaryConditions {
         self.interfaces.iter().filter(|(_, &v)| v == InterfaceVariant::Separate).map(|(&p, _)| p).collect()
     }
 
-    /// Checks the conditions against a mesh: named patches exist, split interfaces are interior
-    /// and prescribe both components.
-    pub fn check(&self, mesh: &Mesh) -> Result<()> {
-        let ids = mesh.patch_ids();
-        for &p in self.kinds.keys().chain(self.interfaces.keys()).chain(self.surfaces.keys()) {
-            if ids.binary_search(&p).is_err() {
-                return Err(Error::Bc(format!("patch {p} is not in the mesh (patches: {ids:?})")));
-            }
-        }
-        let dim = mesh.dim();
-        let patches = ids.iter().copied().chain(self.kinds.keys().copied());
-        for p in patches {
+    /// SLIP is a kind of whole patches: every component of a SLIP patch (of `patches` and of
+    /// those named) is SLIP, and only SLIP patches have slip surfaces.
+    pub(crate) fn check_slip_kinds(&self, dim: usize, patches: &[i32]) -> Result<()> {
+        for p in patches.iter().copied().chain(self.kinds.keys().copied()) {
             let slip = (0..dim).filter(|&c| self.kind(p, c) == Kind::Slip).count();
             if slip != 0 && slip != dim {
                 return Err(Error::Bc(format!(
@@ -188,6 +182,44 @@ impl BoundaryConditions {
                 return Err(Error::Bc(format!("patch {p} has a slip surface but is not SLIP")));
             }
         }
+        Ok(())
+    }
+
+    /// Some patch (named or by default) is SLIP.
+    #[cfg(feature = "mpi")]
+    pub(crate) fn any_slip(&self) -> bool {
+        self.kinds.values().chain([&self.default_kind]).any(|k| k.contains(&Kind::Slip))
+    }
+
+    /// A digest of everything the conditions say (kinds, links, interfaces, which patches have
+    /// slip surfaces), to check that every rank of a distributed solver was given the same.
+    #[cfg(feature = "mpi")]
+    pub(crate) fn digest(&self) -> u64 {
+        use std::hash::{Hash, Hasher};
+        let text = format!(
+            "{:?} {:?} {:?} {:?} {:?}",
+            self.kinds,
+            self.default_kind,
+            self.links,
+            self.interfaces,
+            self.surfaces.keys().collect::<Vec<_>>()
+        );
+        // SipHash with its fixed keys: the same digest in every process of one build.
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        text.hash(&mut h);
+        h.finish()
+    }
+
+    /// Checks the conditions against a mesh: named patches exist, split interfaces are interior
+    /// and prescribe both components.
+    pub fn check(&self, mesh: &Mesh) -> Result<()> {
+        let ids = mesh.patch_ids();
+        for &p in self.kinds.keys().chain(self.interfaces.keys()).chain(self.surfaces.keys()) {
+            if ids.binary_search(&p).is_err() {
+                return Err(Error::Bc(format!("patch {p} is not in the mesh (patches: {ids:?})")));
+            }
+        }
+        self.check_slip_kinds(mesh.dim(), &ids)?;
         for p in self.split_patches() {
             if !mesh.patch_faces().any(|e| e.patch == p && e.interior) {
                 return Err(Error::Bc(format!("interface patch {p} has no interior face between two cells")));

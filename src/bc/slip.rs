@@ -59,6 +59,13 @@ pub enum Constraint {
 }
 
 impl SlipFrames {
+    /// Frames of `dim` components with no slip unknown (a rank whose part touches no slip wall
+    /// while another rank's walls couple the components).
+    #[cfg(feature = "mpi")]
+    pub(crate) fn empty(dim: usize) -> SlipFrames {
+        SlipFrames { dim, dofs: Vec::new(), ptr: vec![0], dirs: Vec::new(), pinned: Vec::new(), axes: Vec::new() }
+    }
+
     /// Every slip unknown, the framed ones first, then the axis ones, with its constraint.
     pub fn constrained(&self) -> impl Iterator<Item = (u32, Constraint)> + '_ {
         let framed = self.dofs.iter().enumerate().map(|(k, &d)| (d, Constraint::Frame(k)));

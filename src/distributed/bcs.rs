@@ -1,25 +1,29 @@
-//! The serial boundary-condition vocabulary on a rank's part: which kinds are distributed, and
-//! the per-vertex flags P and Z of each component, made by each vertex's owner (who holds every
-//! face at it) and copied to the halo.
+//! The serial boundary-condition vocabulary on a rank's part: which kinds are distributed, the
+//! check that every rank was given the same conditions, and the per-vertex flags P and Z of
+//! each component, made by each vertex's owner (who holds every face at it) and copied to the
+//! halo, with the owners' slip frames (`distributed::slip`).
 
 use super::error::{DistError, DistErrorKind};
 use super::halo::HaloLayout;
-use super::reduce::sum_in_rank_order;
-use crate::bc::{component_flags, Dofs, Kind, COMPONENT, P};
+use super::reduce::{gather, sum_in_rank_order};
+use super::ties::Ties;
+use crate::bc::{component_flags, Dofs, COMPONENT, P, Z};
 use crate::multigrid::layout::Layout;
+use crate::multigrid::level::LevelSlip;
 use crate::{BoundaryConditions, Mesh};
 
-/// The conditions the distributed solver takes: FIXED, CLAMPED and FREE per patch and
-/// component. SLIP walls, links (periodic pairs) and split interfaces are serial only.
-/// Checked on the patches of the rank's part (a patch no rank has acts nowhere).
+/// The conditions the distributed solver takes: FIXED, CLAMPED, FREE and SLIP (flat or curved,
+/// with or without a closest-point function) per patch and component, and links by offset
+/// (periodic pairs, `distributed::ties`), but not links and SLIP walls together. Split
+/// interfaces are serial only. Checked on the patches of the rank's part (a patch no
+/// rank has acts nowhere).
 pub(crate) fn check_supported(me: usize, bcs: &BoundaryConditions, mesh: &Mesh) -> Result<(), DistError> {
     let refuse = |what: String| Err(DistError::new(me, DistErrorKind::Input, format!("{what} (serial only)")));
-    let slip = |p: i32| (0..mesh.dim()).any(|c| bcs.kind(p, c) == Kind::Slip);
-    if let Some(p) = mesh.patch_ids().into_iter().find(|&p| slip(p)) {
-        return refuse(format!("patch {p} is a SLIP wall, which the distributed solver does not take"));
+    if let Err(e) = bcs.check_slip_kinds(mesh.dim(), &mesh.patch_ids()) {
+        return Err(DistError::new(me, DistErrorKind::Input, e.to_string()));
     }
-    if !bcs.links.is_empty() {
-        return refuse("the boundary conditions link patches, which the distributed solver does not take".into());
+    if !bcs.links.is_empty() && bcs.any_slip() {
+        return refuse("the boundary conditions link patches and have SLIP walls, which the distributed solver does not take together".into());
     }
     if !bcs.split_patches().is_empty() {
         return refuse(
@@ -29,12 +33,55 @@ pub(crate) fn check_supported(me: usize, bcs: &BoundaryConditions, mesh: &Mesh) 
     Ok(())
 }
 
-/// The flags of component `c` on every local vertex (layout order): each owner's flags from
-/// the patch faces at its vertices, copied to the halo, where P is added (only owned rows are
-/// equations). Collective.
-pub(crate) fn flags(mesh: &Mesh, halo: &HaloLayout, bcs: &BoundaryConditions, c: usize) -> Vec<u8> {
+/// Every rank was given the same conditions (kinds, links, interfaces, which patches have slip
+/// surfaces): else the lowest rank whose conditions differ from rank 0's is blamed (collective;
+/// the closures of slip surfaces cannot be compared, only where they are given).
+pub(crate) fn check_same_everywhere(me: usize, halo: &HaloLayout, bcs: &BoundaryConditions) -> Result<(), DistError> {
+    let all = gather(halo.comm(), &[bcs.digest()]);
+    match all.iter().position(|&d| d != all[0]) {
+        Some(r) if r == me => Err(DistError::new(
+            me,
+            DistErrorKind::Input,
+            format!("the boundary conditions given on rank {me} differ from rank 0's: every rank must give the same"),
+        )),
+        _ => Ok(()),
+    }
+}
+
+/// The flags of every component on every local vertex (layout order) with the slip frames of
+/// the owned vertices: each owner's flags from the patch faces at its vertices, copied to the
+/// halo, where P is added (only owned rows are equations); the frames then make pinned and axis
+/// unknowns P (collective).
+pub(crate) fn flags_and_frames(
+    mesh: &Mesh,
+    halo: &HaloLayout,
+    bcs: &BoundaryConditions,
+    ties: Option<&Ties>,
+) -> (Vec<Vec<u8>>, Option<LevelSlip>) {
+    let mut flags: Vec<Vec<u8>> = (0..mesh.dim()).map(|c| component_flags_of(mesh, halo, bcs, ties, c)).collect();
+    let slip = super::slip::frames(mesh, halo, bcs, &mut flags);
+    (flags, slip)
+}
+
+/// The flags of component `c` on every local vertex (layout order): each owner's flags (a
+/// tied vertex's those of any vertex of its class, as one process's merged unknown has),
+/// copied to the halo, where P is added. Collective.
+fn component_flags_of(
+    mesh: &Mesh,
+    halo: &HaloLayout,
+    bcs: &BoundaryConditions,
+    ties: Option<&Ties>,
+    c: usize,
+) -> Vec<u8> {
     let n = mesh.num_vertices();
     let mut f = component_flags(mesh, &Dofs::identity(n), bcs, c);
+    if let Some(t) = ties {
+        for bit in [P, Z] {
+            let mut any: Vec<f64> = f.iter().map(|&x| f64::from(u8::from(x & bit != 0))).collect();
+            t.total(&mut any);
+            t.members().filter(|&v| any[v] > 0.0).for_each(|v| f[v] |= bit);
+        }
+    }
     halo.refresh(&mut f);
     f[halo.owned()..].iter_mut().for_each(|f| *f |= P);
     f

@@ -3,6 +3,7 @@
 //! distributed solve). The serial variant does exactly what a build without the feature does.
 
 use super::halo::HaloLayout;
+use super::ties::Ties;
 use crate::multigrid::layout::{Layout, Serial};
 use std::sync::Arc;
 
@@ -13,6 +14,8 @@ pub(crate) enum Distribution {
     Serial(Serial),
     /// A rank's owned rows, then its halo.
     Halo(Arc<HaloLayout>),
+    /// A rank's owned rows and halo, with rows tied across ranks (periodic links).
+    Tied(Arc<HaloLayout>, Arc<Ties>),
 }
 
 impl Distribution {
@@ -26,35 +29,41 @@ impl Layout for Distribution {
     fn owned(&self) -> usize {
         match self {
             Distribution::Serial(s) => s.owned(),
-            Distribution::Halo(h) => h.owned(),
+            Distribution::Halo(h) | Distribution::Tied(h, _) => h.owned(),
         }
     }
 
     fn exchange(&self, block: &mut [f64]) {
         match self {
             Distribution::Serial(s) => s.exchange(block),
-            Distribution::Halo(h) => h.exchange(block),
+            Distribution::Halo(h) | Distribution::Tied(h, _) => h.exchange(block),
         }
     }
 
     fn accumulate(&self, block: &mut [f64]) {
         match self {
             Distribution::Serial(s) => s.accumulate(block),
-            Distribution::Halo(h) => h.accumulate(block),
+            Distribution::Halo(h) | Distribution::Tied(h, _) => h.accumulate(block),
         }
     }
 
     fn dot(&self, a: &[f64], b: &[f64]) -> f64 {
         match self {
             Distribution::Serial(s) => s.dot(a, b),
-            Distribution::Halo(h) => h.dot(a, b),
+            Distribution::Halo(h) | Distribution::Tied(h, _) => h.dot(a, b),
         }
     }
 
     fn max_abs(&self, v: &[f64]) -> f64 {
         match self {
             Distribution::Serial(s) => s.max_abs(v),
-            Distribution::Halo(h) => h.max_abs(v),
+            Distribution::Halo(h) | Distribution::Tied(h, _) => h.max_abs(v),
+        }
+    }
+
+    fn tie(&self, block: &mut [f64]) {
+        if let Distribution::Tied(_, t) = self {
+            t.average(block);
         }
     }
 }

@@ -8,9 +8,9 @@
 //! vectors over owned and halo entries with halo exchanges by nonblocking point-to-point
 //! messages and inner products reproducible for a fixed number of ranks; and the mesh mover
 //! ([`DistributedSolver`](crate::distributed::DistributedSolver): the three methods with FIXED,
-//! CLAMPED and FREE patches and rigid motions, made with the serial `Options`; the serial
-//! solver's steps: `advance`, `advance_from`, `move_in_steps`, sub-stepping, both reference
-//! modes, per-step reports) with its C ABI
+//! CLAMPED, FREE and SLIP patches, periodic links and rigid motions, made with the serial
+//! `Options`; the serial solver's steps: `advance`, `advance_from`, `move_in_steps`,
+//! sub-stepping, both reference modes, per-step reports) with its C ABI
 //! ([`capi`](crate::distributed::capi)), solved by conjugate gradients preconditioned by the
 //! distributed multigrid (`mg`: algebraic kept-unknowns levels across ranks, the biharmonic's
 //! K_c V_c⁻¹ K_c assembled on them, the coarsest gathered on every rank; kept between solves on
@@ -18,6 +18,7 @@
 
 mod agreement;
 mod bcs;
+mod blocks;
 pub mod capi;
 mod comm;
 mod dist_mesh;
@@ -31,7 +32,9 @@ mod mg;
 mod ownership;
 mod pcg;
 mod reduce;
+mod slip;
 mod solver;
+mod ties;
 
 pub use comm::Comm;
 pub use dist_mesh::DistributedMesh;

@@ -1,9 +1,12 @@
 //! The distributed mesh mover: the serial methods (Laplacian, spring, biharmonic) and boundary
-//! conditions (FIXED, CLAMPED with prescribed displacements or rigid motions, FREE) on a rank's
-//! owned rows, solved by conjugate gradients preconditioned by a cycle of the distributed
+//! conditions (FIXED, CLAMPED with prescribed displacements or rigid motions, FREE, SLIP walls
+//! flat and curved: `distributed::slip`; periodic links across ranks: `distributed::ties`) on a
+//! rank's owned rows, solved by conjugate gradients preconditioned by a cycle of the distributed
 //! multigrid (`distributed::mg`: on K for the Laplacian and the spring, on K V⁻¹ K assembled
-//! for the biharmonic; built on the first solve from a reference and kept, `distributed::kept`)
-//! or, with one level, by the Chebyshev–Jacobi smoother alone.
+//! for the biharmonic; one per component, built on the first solve from a reference and kept,
+//! `distributed::kept`; projected for a group coupled by slip walls: `distributed::blocks`)
+//! or, with one level (and for the biharmonic with periodic links), by the Chebyshev–Jacobi
+//! smoother alone.
 //!
 //! Each rank's operator has the serial operator's rows for the vertices it owns: every cell
 //! around an owned vertex is held (owned or ghost), so its rows of K and its lumped mass are
@@ -15,6 +18,7 @@
 
 use super::agreement::agree;
 use super::bcs;
+use super::blocks::Blocks;
 use super::dist_mesh::DistributedMesh;
 use super::error::{DistError, DistErrorKind};
 use super::halo::HaloLayout;
@@ -23,14 +27,17 @@ use super::level_layout::Distribution;
 use super::mg::{biharmonic_rows, Guide, OwnedRows};
 use super::pcg::{pcg, OneLevel, Preconditioner};
 use super::reduce::{gather, sum_in_rank_order};
-use crate::bc::{Dofs, Kind, COMPONENT, P};
+use super::ties::Ties;
+use crate::bc::{Dofs, Kind, SlipWalls, COMPONENT, P};
 use crate::mesh::quality::quality_of_cells;
 use crate::multigrid::group::GroupOp;
 use crate::multigrid::layout::Layout;
 use crate::multigrid::level::Level;
 use crate::multigrid::local_level::local_level;
+use crate::multigrid::slip::equalise_bounds;
 use crate::multigrid::smoother::Smoother;
 use crate::operator::{LevelOperator, Method};
+use crate::solver::slip::normal_parts;
 use crate::sparse::CsrMatrix;
 use crate::{BoundaryConditions, Mesh, Motion, Quality};
 use std::sync::Arc;
@@ -43,9 +50,9 @@ pub use steps::DistStepReport;
 /// How a distributed solve iterates.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DistSolveParams {
-    /// Relative residual ‖b − A x‖₂ / ‖b‖₂ to reach, per component.
+    /// Relative residual ‖b − A x‖₂ / ‖b‖₂ to reach, per group of components.
     pub tol: f64,
-    /// Most iterations per component.
+    /// Most iterations per group of components.
     pub max_iterations: usize,
     /// Degree of the fourth-kind Chebyshev–Jacobi smoother.
     pub degree: usize,
@@ -65,7 +72,9 @@ pub struct DistSolution {
     /// Displacement of every local vertex (owned and not), `dim` values each, in the host's
     /// order: the owners' values on every rank that holds a vertex.
     pub displacement: Vec<f64>,
-    /// Conjugate gradient iterations of each component.
+    /// Conjugate gradient iterations of each group of components: one per component, or one for
+    /// all where slip walls not normal to an axis couple them (with curved walls, the two
+    /// solves' iterations added).
     pub iterations: Vec<usize>,
     /// The largest final relative residual over the components.
     pub rel_residual: f64,
@@ -100,6 +109,11 @@ pub struct DistributedSolver {
     /// The serial options of the steps, the motion done in the original-reference mode, the
     /// last call's step reports (`steps.rs`).
     steps: steps::State,
+    /// The shapes of the SLIP walls of the rank's part as the solver was made, and where the
+    /// walls moved rigidly since are (None without SLIP walls on this rank).
+    walls: Option<SlipWalls>,
+    /// The classes of vertices periodic links tie across ranks (None without links).
+    ties: Option<Arc<Ties>>,
 }
 
 impl std::fmt::Debug for DistributedSolver {
@@ -109,9 +123,10 @@ impl std::fmt::Debug for DistributedSolver {
 }
 
 impl DistributedSolver {
-    /// The solver of `method` on `mesh` with the conditions `bcs` (collective). FIXED, CLAMPED
-    /// and FREE are distributed; SLIP walls, links and split interfaces are refused, as are
-    /// conditions that prescribe a component nowhere.
+    /// The solver of `method` on `mesh` with the conditions `bcs` (collective; every rank gives
+    /// the same). FIXED, CLAMPED, FREE, SLIP and links by offset (periodic pairs, also across
+    /// ranks) are distributed; split interfaces, links given as vertex pairs and links with SLIP
+    /// walls are refused, as are conditions that prescribe a component nowhere.
     pub fn new(
         mesh: &DistributedMesh,
         bcs: &BoundaryConditions,
@@ -122,17 +137,16 @@ impl DistributedSolver {
         let local = mesh.local_mesh();
         let checked = check_params(me, &params).and_then(|_| bcs::check_supported(me, bcs, local));
         agree(mesh.halo().comm(), checked)?;
-        let level = build_level(mesh.halo(), local.clone(), bcs, method);
+        agree(mesh.halo().comm(), bcs::check_same_everywhere(me, mesh.halo(), bcs))?;
+        let ties =
+            Ties::new(mesh.halo().shared_comm(), local, mesh.layout_global_ids(), mesh.halo().owned(), &bcs.links);
+        let ties = agree(mesh.halo().comm(), ties)?.map(Arc::new);
+        let level = build_level(mesh.halo(), local.clone(), bcs, method, ties.as_ref());
         agree(mesh.halo().comm(), bcs::check_prescribed(me, mesh.halo(), &level.flags))?;
         let steps = steps::State::new(method, params);
-        Ok(DistributedSolver {
-            mesh: mesh.clone(),
-            bcs: bcs.clone(),
-            params,
-            level,
-            multigrids: Kept::default(),
-            steps,
-        })
+        let walls = SlipWalls::new(local, bcs);
+        let multigrids = Kept::default();
+        Ok(DistributedSolver { mesh: mesh.clone(), bcs: bcs.clone(), params, level, multigrids, steps, walls, ties })
     }
 
     /// The distributed mesh (its reference positions are the ones it was made with).
@@ -179,12 +193,56 @@ impl DistributedSolver {
         Ok(sol)
     }
 
-    /// [`DistributedSolver::solve`] also when a component stops above its tolerance: the
-    /// solution and, then, what went wrong (the same on every rank).
+    /// [`DistributedSolver::solve`] also when a group of components stops above its tolerance:
+    /// the solution and, then, what went wrong (the same on every rank).
     fn solve_report(&self, motion: &Motion) -> Result<(DistSolution, Option<String>), DistError> {
-        let me = self.mesh.rank();
         let vals = agree(self.halo().comm(), self.layout_values(motion))?;
-        let rhs = agree(self.halo().comm(), self.right_hand_sides(motion, &vals))?;
+        let mut solved = self.solve_values(motion, &vals, None)?;
+        // The walls are placed only from a converged first solve (its failure is global, so
+        // every rank skips them alike); an unconverged result is reported as it is.
+        if let (Some(walls), None) = (&self.walls, &solved.failure) {
+            // Curved slip walls: a second solve from the first result, as the serial solver's.
+            let mut second: Option<Solved> = None;
+            let again = |on_wall: &[f64], first: &[f64]| {
+                let s = self.solve_values(motion, on_wall, Some(first))?;
+                let total = s.total.clone();
+                second = Some(s);
+                Ok(total)
+            };
+            let total = std::mem::take(&mut solved.total);
+            let gids = self.mesh.layout_global_ids();
+            solved.total =
+                super::slip::onto_walls_everywhere(walls, &self.level, self.halo(), gids, motion, &vals, total, again)?;
+            if let Some(s) = second {
+                solved.iterations.iter_mut().zip(&s.iterations).for_each(|(a, b)| *a += b);
+                solved.rel_residual = s.rel_residual;
+                solved.failure = s.failure;
+            }
+        }
+        let dim = self.mesh.dim();
+        let (quality, worst_rank) = self.quality(&solved.total);
+        let kept = self.multigrids.lock();
+        let (sizes, coarsest_gathered) = kept.as_ref().map(|h| (h.sizes.clone(), h.gathers)).unwrap_or_default();
+        let sol = DistSolution {
+            displacement: self.mesh.to_host_order(&solved.total, dim),
+            iterations: solved.iterations,
+            rel_residual: solved.rel_residual,
+            quality,
+            worst_rank,
+            level_rows: sizes.iter().map(|s| s.rows).collect(),
+            level_halo_values: sizes.iter().map(|s| s.halo_values).collect(),
+            level_messages: sizes.iter().map(|s| s.messages).collect(),
+            coarsest_gathered,
+        };
+        Ok((sol, solved.failure))
+    }
+
+    /// Solves every group of components for the prescribed values `vals` (layout order, `dim`
+    /// per vertex), from `guess` (the same layout) or zero: the displacement of every local
+    /// vertex (layout order) and how the solves went (collective).
+    fn solve_values(&self, motion: &Motion, vals: &[f64], guess: Option<&[f64]>) -> Result<Solved, DistError> {
+        let me = self.mesh.rank();
+        let rhs = agree(self.halo().comm(), self.right_hand_sides(motion, vals))?;
         let (dim, nv) = (self.mesh.dim(), self.local().num_vertices());
         let halo = self.halo();
         let sm = Smoother::Fourth { degree: self.params.degree };
@@ -195,51 +253,69 @@ impl DistributedSolver {
             let fine = |c| self.fine_rows(c);
             *kept = Some(Hierarchies::build(halo, &self.level.flags, fine, self.params.max_levels, sm)?);
         }
-        for (c, (b, mut dp)) in rhs.into_iter().enumerate() {
-            let op = GroupOp::new(&self.level, c..c + 1, false);
-            let mut x = vec![0.0; nv];
+        for comps in self.level.groups() {
+            let op = GroupOp::new(&self.level, comps.clone(), false);
+            let (b, dp, mut x) = self.group_system(&op, &rhs, guess);
             let mut one_level;
+            let mut blocks;
             let pre: &mut dyn Preconditioner = match kept.as_mut() {
-                Some(h) => h.of(c),
+                Some(h) => {
+                    blocks = Blocks::new(&op, h);
+                    &mut blocks
+                }
                 None => {
                     one_level = OneLevel::new(op, sm);
                     &mut one_level
                 }
             };
             let out = pcg(&op, halo, pre, &b, &mut x, self.params.tol, self.params.max_iterations);
+            let name: String = comps.clone().map(|c| COMPONENT[c]).collect();
             if !out.converged && failure.is_none() {
                 let why = match out.breakdown {
                     Some(k) => format!("conjugate gradients broke down at iteration {k}"),
                     None => format!("relative residual {:e} after {} iterations", out.rel_residual, out.iterations),
                 };
-                failure = Some(format!("component {} did not reach {:e}: {why}", COMPONENT[c], self.params.tol));
+                failure = Some(format!("component {name} did not reach {:e}: {why}", self.params.tol));
             }
             iterations.push(out.iterations);
             worst = worst.max(out.rel_residual);
             x.iter_mut().zip(&dp).for_each(|(x, p)| *x += p);
-            halo.refresh(&mut x);
-            dp.clear();
-            (0..nv).for_each(|v| total[v * dim + c] = x[v]);
+            for (k, c) in comps.enumerate() {
+                let x = &mut x[k * nv..(k + 1) * nv];
+                halo.refresh(x);
+                (0..nv).for_each(|v| total[v * dim + c] = x[v]);
+            }
         }
         let bad = total.iter().position(|d| !d.is_finite()).map(|i| {
             let gid = self.mesh.layout_global_ids()[i / dim];
             DistError::new(me, DistErrorKind::Solve, format!("the displacement of global id {gid} is not finite"))
         });
         agree(halo.comm(), bad.map_or(Ok(()), Err))?;
-        let (quality, worst_rank) = self.quality(&total);
-        let (sizes, coarsest_gathered) = kept.as_ref().map(|h| (h.sizes.clone(), h.gathers)).unwrap_or_default();
-        let sol = DistSolution {
-            displacement: self.mesh.to_host_order(&total, dim),
-            iterations,
-            rel_residual: worst,
-            quality,
-            worst_rank,
-            level_rows: sizes.iter().map(|s| s.rows).collect(),
-            level_halo_values: sizes.iter().map(|s| s.halo_values).collect(),
-            level_messages: sizes.iter().map(|s| s.messages).collect(),
-            coarsest_gathered,
-        };
-        Ok((sol, failure))
+        Ok(Solved { total, iterations, rel_residual: worst, failure })
+    }
+
+    /// The system of the group `op` from the components' right-hand sides and prescribed values
+    /// `rhs` (one block each, in the group's order): b projected, the prescribed values, and the
+    /// first iterate, `guess` less the prescribed values on the free unknowns (projected; zero
+    /// without a guess). With slip walls the unknowns are w = d − g, g the normal parts.
+    fn group_system(&self, op: &GroupOp, rhs: &[System], guess: Option<&[f64]>) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+        let (dim, nv) = (self.mesh.dim(), op.n());
+        let comps = op.components();
+        let b: Vec<f64> = comps.clone().flat_map(|c| rhs[c].0.iter().copied()).collect();
+        let dp: Vec<f64> = comps.clone().flat_map(|c| rhs[c].1.iter().copied()).collect();
+        let mut x = vec![0.0; b.len()];
+        if let Some(g) = guess {
+            for (k, c) in comps.enumerate() {
+                let flags = &self.level.flags[c];
+                for v in (0..nv).filter(|&v| flags[v] & P == 0) {
+                    x[k * nv + v] = g[v * dim + c] - dp[k * nv + v];
+                }
+            }
+        }
+        let mut b = b;
+        op.project(&mut b);
+        op.project(&mut x);
+        (b, dp, x)
     }
 
     /// The drop-in call of a time step, as [`crate::Solver::advance`] (collective): moves the
@@ -253,9 +329,13 @@ impl DistributedSolver {
         steps::advance(self, None, increment)
     }
 
-    /// The multigrid preconditions this solve: more than one level is allowed.
+    /// The multigrid preconditions this solve: more than one level is allowed, and the method
+    /// is not the biharmonic with periodic links. The assembled K V⁻¹ K (`biharmonic_rows`)
+    /// exchanges S over the halo alone, while the tied operator merges S over each class of
+    /// linked vertices: its coarse levels would precondition another operator, so the tied
+    /// biharmonic is preconditioned by the one-level smoother (`ties` is the same on every rank).
     fn multigrid_pays(&self) -> bool {
-        self.params.max_levels > 1
+        self.params.max_levels > 1 && !(self.level.op.method == Method::Biharmonic && self.ties.is_some())
     }
 
     /// The owned rows of component `c`'s operator, the multigrid's finest level, and what the
@@ -310,33 +390,45 @@ impl DistributedSolver {
     }
 
     /// Per component the right-hand side and the prescribed values (the owners' values on the
-    /// halo); an error where the right-hand side overflows.
+    /// halo); an error where tied vertices are prescribed different values or the right-hand
+    /// side overflows. Every component's exchanges run on every rank, whatever it finds (the
+    /// first error is returned after them).
     fn right_hand_sides(&self, motion: &Motion, vals: &[f64]) -> Result<Vec<System>, DistError> {
         let (dim, nv, owned) = (self.mesh.dim(), self.local().num_vertices(), self.halo().owned());
+        let (me, gids) = (self.mesh.rank(), self.mesh.layout_global_ids());
         let mut out = Vec::with_capacity(dim);
+        let mut error = None;
+        // Slip walls prescribe the normal parts at the owned slip unknowns (free in the flags).
+        let normal = normal_parts(&self.level, vals);
         for c in 0..dim {
             let flags = &self.level.flags[c];
             let mut dp: Vec<f64> =
                 (0..nv).map(|v| if v < owned && flags[v] & P != 0 { vals[v * dim + c] } else { 0.0 }).collect();
+            if let Some(g) = &normal {
+                dp.iter_mut().zip(&g[c * nv..(c + 1) * nv]).for_each(|(d, g)| *d += g);
+            }
+            if let Some(Err(msg)) = self.ties.as_ref().map(|t| t.agreed_values(&mut dp, gids)) {
+                let msg = format!(
+                    "tied vertices (periodic links) are prescribed different {} displacements: {msg}",
+                    COMPONENT[c]
+                );
+                error.get_or_insert(DistError::new(me, DistErrorKind::Input, msg));
+            }
             self.halo().refresh(&mut dp);
             let g = self.rigid_flux(motion, c);
             let (mut b, mut s) = (vec![0.0; nv], vec![0.0; nv]);
             self.level.op.rhs(flags, &dp, g.as_deref(), &mut b, &mut s);
             if let Some(i) = b[..owned].iter().position(|v| !v.is_finite()) {
-                let gid = self.mesh.layout_global_ids()[i];
-                return Err(DistError::new(
-                    self.mesh.rank(),
-                    DistErrorKind::Input,
-                    format!(
-                        "the prescribed {} displacements overflow the operator at global id {gid}: displacements \
-                         must be of the order of the mesh",
-                        COMPONENT[c]
-                    ),
-                ));
+                let msg = format!(
+                    "the prescribed {} displacements overflow the operator at global id {}: displacements must be of \
+                     the order of the mesh",
+                    COMPONENT[c], gids[i]
+                );
+                error.get_or_insert(DistError::new(me, DistErrorKind::Input, msg));
             }
             out.push((b, dp));
         }
-        Ok(out)
+        error.map_or(Ok(out), Err)
     }
 
     /// The biharmonic's source from the CLAMPED patches moving rigidly (docs/DESIGN.md §4, as
@@ -393,19 +485,63 @@ impl DistributedSolver {
 /// A component's right-hand side and its prescribed values (the owners' on the halo).
 type System = (Vec<f64>, Vec<f64>);
 
+/// The displacements of one pass of solves and how they went.
+struct Solved {
+    /// `dim` values per local vertex, layout order, halo current.
+    total: Vec<f64>,
+    /// Iterations of each group of components.
+    iterations: Vec<usize>,
+    /// The largest final relative residual.
+    rel_residual: f64,
+    /// What went wrong when a group stopped above its tolerance (the same on every rank).
+    failure: Option<String>,
+}
+
 /// The rank's level of `method` on `mesh` (layout order) with the flags of `bcs` (collective).
-fn build_level(halo: &Arc<HaloLayout>, mesh: Mesh, bcs: &BoundaryConditions, method: Method) -> Level {
-    let flags: Vec<Vec<u8>> = (0..mesh.dim()).map(|c| bcs::flags(&mesh, halo, bcs, c)).collect();
+/// With `ties` (periodic links) the tied vertices' flags are their class's, the biharmonic's S
+/// is merged over each class and the solve runs on the tied vectors (`distributed::ties`).
+fn build_level(
+    halo: &Arc<HaloLayout>,
+    mesh: Mesh,
+    bcs: &BoundaryConditions,
+    method: Method,
+    ties: Option<&Arc<Ties>>,
+) -> Level {
+    let (flags, slip) = bcs::flags_and_frames(&mesh, halo, bcs, ties.map(|t| &**t));
     let mut op = LevelOperator::new(method, &mesh, &Dofs::identity(mesh.num_vertices()));
-    if method == Method::Biharmonic {
-        let h = halo.clone();
-        op = op.with_source_exchange(Arc::new(move |s: &mut [f64]| h.refresh(s)));
+    if let (Some(t), Method::Spring) = (ties, method) {
+        t.share_seam_springs(&mut op.k);
     }
     // The owners' lumped masses on the halo, so the Jacobi bounds read the complete ones.
     let mut mass = op.mass();
     halo.refresh(&mut mass);
+    if method == Method::Biharmonic {
+        let h = halo.clone();
+        op = match ties {
+            None => op.with_source_exchange(Arc::new(move |s: &mut [f64]| h.refresh(s))),
+            Some(t) => {
+                let (t, w) = (t.clone(), t.weights(&mass));
+                op.with_source_exchange(Arc::new(move |s: &mut [f64]| {
+                    t.merge_sources(s, &w);
+                    h.refresh(s);
+                }))
+            }
+        };
+    }
     op.inv_v = mass.iter().map(|&v| 1.0 / v).collect();
-    local_level(mesh, op, flags, Distribution::Halo(halo.clone()))
+    let layout = match ties {
+        None => Distribution::Halo(halo.clone()),
+        Some(t) => Distribution::Tied(halo.clone(), t.clone()),
+    };
+    let mut level = local_level(mesh, op, flags, layout);
+    if let Some(t) = ties {
+        t.equalise_bounds(&mut level);
+    }
+    if slip.is_some() {
+        level.slip = slip;
+        equalise_bounds(&mut level);
+    }
+    level
 }
 
 /// The parameters are usable.

@@ -171,21 +171,33 @@ impl<'a> GroupOp<'a> {
         self.project(r);
     }
 
-    /// u ← Π u (nothing for a group without slip frames).
+    /// u ← Π u (nothing for a group without slip frames and tied rows): the slip frames'
+    /// projection, and the layout's ties (`Layout::tie`).
     pub(crate) fn project(&self, u: &mut [f64]) {
         if let Some(f) = self.frames {
             f.project(self.n(), u);
         }
+        self.tie(u);
+    }
+
+    /// Ties every block of `u` (`Layout::tie`).
+    fn tie(&self, u: &mut [f64]) {
+        let n = self.n();
+        for k in 0..self.len {
+            self.level.layout.tie(block_mut(u, n, k));
+        }
     }
 
     /// Moves a smoothing step into the free subspace: the iterate `x` and the blocks' steps `d`
-    /// in `w` (nothing for a group without slip frames).
+    /// in `w` (nothing for a group without slip frames and tied rows).
     pub(crate) fn project_step(&self, x: &mut [f64], w: &mut [Scratch]) {
         if let Some(f) = self.frames {
             f.project(self.n(), x);
             let mut d: Vec<&mut [f64]> = w.iter_mut().map(|s| s.d.as_mut_slice()).collect();
             f.project_blocks(&mut d);
         }
+        self.tie(x);
+        w.iter_mut().for_each(|s| self.level.layout.tie(&mut s.d));
     }
 }
 

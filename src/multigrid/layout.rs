@@ -24,6 +24,11 @@ pub(crate) trait Layout: Send + Sync {
     fn dot(&self, a: &[f64], b: &[f64]) -> f64;
     /// The largest |vᵢ| over the owned rows of every process (NaN when any is NaN).
     fn max_abs(&self, v: &[f64]) -> f64;
+    /// Projects `block` on the vectors whose tied rows (copies of one unknown on different
+    /// processes, such as periodic pairs) are equal: each tied owned row takes the mean of its
+    /// copies. Nothing where no rows are tied (one process, whose tied vertices are one
+    /// unknown already).
+    fn tie(&self, _block: &mut [f64]) {}
 }
 
 /// One process owns every row: no halo, and the serial deterministic reductions.

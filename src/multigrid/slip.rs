@@ -103,7 +103,7 @@ pub(super) fn set_frames(level: &mut Level, frames: Option<SlipFrames>) {
 
 /// The same Jacobi diagonal for every free component of a slip unknown (the largest D of its
 /// components): D⁻¹ then commutes with Π, and a larger D keeps the l1 bound's A ≤ D.
-pub(super) fn equalise_bounds(level: &mut Level) {
+pub(crate) fn equalise_bounds(level: &mut Level) {
     let Some(s) = level.slip.as_ref().filter(|s| s.coupled) else {
         return;
     };

@@ -10,7 +10,7 @@ use crate::multigrid::hierarchy::Level;
 /// The prescribed part of the displacement at the slip unknowns, Σ (e · v) e over each one's
 /// constrained directions e with v the motion's value there, as `dim` blocks of n values (zero
 /// off slip unknowns); None when the level has no slip unknown.
-pub(super) fn normal_parts(lev: &Level, vals: &[f64]) -> Option<Vec<f64>> {
+pub(crate) fn normal_parts(lev: &Level, vals: &[f64]) -> Option<Vec<f64>> {
     let frames = &lev.slip.as_ref()?.frames;
     if frames.dofs.is_empty() {
         return None;
@@ -30,7 +30,7 @@ pub(super) fn normal_parts(lev: &Level, vals: &[f64]) -> Option<Vec<f64>> {
 /// The SLIP patches `motion` deforms: a displacement with a normal part at a vertex that lies on
 /// no rigidly moved patch. Their shape no longer holds; a rigidly moved wall keeps its shape and
 /// is placed where the motion takes it.
-pub(super) fn deformed_patches(walls: &SlipWalls, lev: &Level, motion: &Motion, vals: &[f64]) -> Vec<i32> {
+pub(crate) fn deformed_patches(walls: &SlipWalls, lev: &Level, motion: &Motion, vals: &[f64]) -> Vec<i32> {
     let dim = lev.dim();
     let rigid = |p: i32| motion.rigid.iter().any(|&(q, _)| q == p);
     let mut out: Vec<i32> = Vec::new();
@@ -85,27 +85,49 @@ pub(super) fn on_wall_values(
     vals: &[f64],
     displacement: &[f64],
 ) -> Option<Vec<f64>> {
-    let dim = lev.dim();
-    let position = |v: usize| -> Vec<f64> {
-        let x0 = lev.mesh().point(v);
-        (0..dim).map(|c| x0[c] + displacement[v * dim + c]).collect()
-    };
-    // The projections are needed only when some vertex is off its walls.
-    let far = slipped(walls, lev, deformed).any(|(v, patches, edge)| {
-        let p = position(v);
+    off_walls(walls, at, lev, deformed, displacement).then(|| wall_values(walls, at, lev, deformed, vals, displacement))
+}
+
+/// The position of vertex `v` of `lev`'s mesh moved by `displacement`.
+pub(crate) fn moved(lev: &Level, displacement: &[f64], v: usize) -> Vec<f64> {
+    let (dim, x0) = (lev.dim(), lev.mesh().point(v));
+    (0..dim).map(|c| x0[c] + displacement[v * dim + c]).collect()
+}
+
+/// Some slipped vertex of the result `displacement` is off its walls (placed as `at` says)
+/// beyond rounding: the walls are curved there.
+pub(crate) fn off_walls(
+    walls: &SlipWalls,
+    at: &Placements,
+    lev: &Level,
+    deformed: &[i32],
+    displacement: &[f64],
+) -> bool {
+    slipped(walls, lev, deformed).any(|(v, patches, edge)| {
+        let p = moved(lev, displacement, v);
         !on_wall(walls.distance(at, &patches, edge, &p), &p)
-    });
-    if !far {
-        return None;
-    }
+    })
+}
+
+/// `vals` with each slipped vertex's value replaced by its displacement to the closest point of
+/// its walls (see `on_wall_values`).
+pub(crate) fn wall_values(
+    walls: &SlipWalls,
+    at: &Placements,
+    lev: &Level,
+    deformed: &[i32],
+    vals: &[f64],
+    displacement: &[f64],
+) -> Vec<f64> {
+    let dim = lev.dim();
     let mut out = vals.to_vec();
     for (v, patches, edge) in slipped(walls, lev, deformed) {
         let x0 = lev.mesh().point(v);
-        let mut p = position(v);
+        let mut p = moved(lev, displacement, v);
         walls.project(at, &patches, edge, &mut p);
         (0..dim).for_each(|c| out[v * dim + c] = p[c] - x0[c]);
     }
-    Some(out)
+    out
 }
 
 /// Whether a slipped vertex at `p` is `off` from its wall by rounding only (1e-13 of its
@@ -118,7 +140,7 @@ fn on_wall(off: f64, p: &[f64]) -> bool {
 /// (`displacement`: `dim` values per vertex, from the positions of `lev`'s mesh). Returns the
 /// largest distance from the walls after and before: (`max_slip_offwall`,
 /// `max_slip_correction`).
-pub(super) fn onto_walls(
+pub(crate) fn onto_walls(
     walls: &SlipWalls,
     at: &Placements,
     lev: &Level,
@@ -129,7 +151,7 @@ pub(super) fn onto_walls(
     let (mut after, mut before) = (0.0f64, 0.0f64);
     for (v, patches, edge) in slipped(walls, lev, deformed) {
         let x0 = lev.mesh().point(v);
-        let mut p: Vec<f64> = (0..dim).map(|c| x0[c] + displacement[v * dim + c]).collect();
+        let mut p = moved(lev, displacement, v);
         let off = walls.distance(at, &patches, edge, &p);
         before = before.max(off);
         // On its wall to rounding (a flat wall): left where the solve put it, which the

@@ -13,6 +13,7 @@
 
 use super::options::{dist_params, serial_options};
 use super::{build_level, DistSolution, DistSolveParams, DistributedSolver};
+use crate::bc::Placements;
 use crate::distributed::agreement::agree;
 use crate::distributed::dist_mesh::DistributedMesh;
 use crate::distributed::error::{DistError, DistErrorKind};
@@ -28,10 +29,10 @@ use std::time::Instant;
 #[derive(Clone, Debug, PartialEq)]
 pub struct DistStepReport {
     /// The sub-step as the serial solver reports it, the same on every rank but for the seconds
-    /// (this rank's): `cycles` the most conjugate gradient iterations of a component, `inverted`
-    /// summed over every rank's owned cells, the smallest ratio and angle over all ranks;
-    /// `solve_seconds` holds the quality check too (`quality_seconds` is 0); `rebuilt` is false
-    /// and `max_slip_offwall` 0.
+    /// (this rank's): `cycles` the most conjugate gradient iterations of a group of components,
+    /// `inverted` summed over every rank's owned cells, the smallest ratio and angle over all
+    /// ranks; `solve_seconds` holds the quality check too (`quality_seconds` is 0); `rebuilt` is
+    /// false and `max_slip_offwall` 0 (the slipped vertices are put on their walls).
     pub report: StepReport,
     /// The rank whose owned cells hold the smallest area (volume) ratio (the lowest such rank).
     pub worst_rank: usize,
@@ -67,6 +68,8 @@ struct Undo {
     /// The level the call started on, once a step replaced it.
     level: Option<Level>,
     total: Option<(Motion, Vec<f64>)>,
+    /// Where the slip walls were when the call began.
+    placed: Option<Placements>,
 }
 
 impl DistributedSolver {
@@ -109,9 +112,11 @@ impl DistributedSolver {
         });
         let params = agree(self.halo().comm(), checked)?;
         if opts.reference != self.steps.opts.reference {
-            if let Some((_, x)) = self.steps.total.take() {
+            if let Some((m, x)) = self.steps.total.take() {
                 self.level = self.level_at(x);
                 self.multigrids.clear();
+                // The slip walls stay where the motion done so far took them.
+                self.move_walls(&m);
             }
         }
         self.params = params;
@@ -179,7 +184,14 @@ impl DistributedSolver {
 
     /// The rank's level at the positions `x` (layout order; collective).
     fn level_at(&self, x: Vec<f64>) -> Level {
-        build_level(self.halo(), self.local().with_coords(x), &self.bcs, self.method())
+        build_level(self.halo(), self.local().with_coords(x), &self.bcs, self.method(), self.ties.as_ref())
+    }
+
+    /// Moves the slip walls rigidly with the rigid motions of `motion`.
+    fn move_walls(&mut self, motion: &Motion) {
+        if let Some(w) = self.walls.as_mut() {
+            w.move_walls(&motion.rigid);
+        }
     }
 
     /// The positions after the last step (layout order).
@@ -269,7 +281,10 @@ fn rebase(s: &mut DistributedSolver, x: Vec<f64>, undo: &mut Undo) -> Result<(),
     if s.any_rank(x != s.local().coords()) {
         set_level(s, x, undo);
     }
-    s.steps.total = None;
+    // The motion done so far is forgotten; the slip walls stay where it took them.
+    if let Some((m, _)) = s.steps.total.take() {
+        s.move_walls(&m);
+    }
     Ok(())
 }
 
@@ -290,7 +305,8 @@ fn run<T>(
     f: impl FnOnce(&mut DistributedSolver, &mut Undo) -> Result<T, DistError>,
 ) -> Result<T, DistError> {
     s.steps.reports.clear();
-    let mut undo = Undo { level: None, total: s.steps.total.clone() };
+    let placed = s.walls.as_ref().map(|w| w.placements().clone());
+    let mut undo = Undo { level: None, total: s.steps.total.clone(), placed };
     let r = f(s, &mut undo);
     if r.is_err() {
         if let Some(level) = undo.level {
@@ -298,6 +314,9 @@ fn run<T>(
             s.multigrids.clear();
         }
         s.steps.total = undo.total;
+        if let (Some(w), Some(p)) = (s.walls.as_mut(), undo.placed) {
+            w.set_placements(p);
+        }
     }
     r
 }
@@ -416,6 +435,8 @@ fn do_step(s: &mut DistributedSolver, step: &Step, undo: &mut Undo) -> Result<Di
             let t1 = Instant::now();
             let x = moved(s, &sol.displacement);
             set_level(s, x, undo);
+            // The slip walls move rigidly with the reference.
+            s.move_walls(&part);
             rep.report.reference_seconds = t1.elapsed().as_secs_f64();
             rep.report.accepted = true;
             record(s, step, rep)?;
