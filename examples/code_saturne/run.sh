@@ -1,5 +1,7 @@
 #!/usr/bin/env bash
-# Runs the example case: run.sh WORKDIR [meshmove|code_saturne] [STEPS [AMPLITUDE]]
+# Runs the example case: run.sh [--nprocs N] WORKDIR [meshmove|code_saturne] [STEPS [AMPLITUDE]]
+#   --nprocs N    code_saturne on N MPI ranks (default 1, serial); with meshmove as the mover,
+#                 N > 1 needs meshmove built with MPI and -DMESHMOVE_MPI in MESHMOVE_FFLAGS
 #   WORKDIR       made anew: a code_saturne study (MESH/, case/DATA, case/SRC, case/RESU);
 #                 the run's files end in WORKDIR/case/RESU/run
 #   meshmove      usalcl moves the mesh with meshmove (the default);
@@ -10,8 +12,16 @@
 # last step (the files of the steps made are kept).
 # MESHMOVE_FFLAGS and MESHMOVE_LIBS say where meshmove is (DATA/cs_user_scripts.py).
 set -euo pipefail
+nprocs=1
+if [ "${1:-}" = "--nprocs" ]; then
+    nprocs=${2:?run.sh: --nprocs needs a number}
+    shift 2
+fi
+case "$nprocs" in
+    '' | *[!0-9]* | 0) echo "run.sh: --nprocs takes a positive number, not '$nprocs'" >&2; exit 2 ;;
+esac
 here=$(cd "$(dirname "$0")" && pwd)
-work=${1:?usage: run.sh WORKDIR [meshmove|code_saturne] [STEPS [AMPLITUDE]]}
+work=${1:?usage: run.sh [--nprocs N] WORKDIR [meshmove|code_saturne] [STEPS [AMPLITUDE]]}
 mover=${2:-meshmove}
 steps=${3:-40}
 amplitude=${4:-1}
@@ -19,19 +29,21 @@ case "$mover" in
     meshmove | code_saturne) ;;
     *) echo "run.sh: the mover is meshmove or code_saturne, not '$mover'" >&2; exit 2 ;;
 esac
-# code_saturne's run script needs USER; its MPI launcher refuses root unless told.
+# code_saturne's run script needs USER; its MPI launcher refuses root unless told, and more
+# ranks than cores unless told.
 export USER="${USER:-$(id -un)}"
 if [ "$(id -u)" -eq 0 ]; then
     export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 fi
+export OMPI_MCA_rmaps_base_oversubscribe=1
 export CS_MESH_MOVER="$mover" CS_STEPS="$steps" CS_AMPLITUDE="$amplitude" OMP_NUM_THREADS=1
 rm -rf "$work"
 mkdir -p "$work/MESH" "$work/case/DATA" "$work/case/SRC" "$work/case/RESU"
 cp "$here/cylinder.msh" "$work/MESH/"
 cp "$here/DATA/cs_user_scripts.py" "$work/case/DATA/"
-cp "$here"/SRC/*.f90 "$work/case/SRC/"
+cp "$here"/SRC/* "$work/case/SRC/"
 cd "$work/case/DATA"
-if ! code_saturne run --id run > "$work/run.log" 2>&1; then
+if ! code_saturne run --id run --nprocs "$nprocs" > "$work/run.log" 2>&1; then
     cat "$work/run.log" >&2
     for f in compile.log run_solver.log listing error; do
         [ -f "$work/case/RESU/run/$f" ] && tail -n 40 "$work/case/RESU/run/$f" >&2
