@@ -6,7 +6,7 @@
 #   test under valgrind, install + C and Fortran consumers by find_package, pkg-config and plain
 #   compiler flags, code_saturne moving its mesh with meshmove); the distributed build (the
 #   `mpi` feature: clippy, its test under mpirun on 1 to 4 ranks, rustdoc; the command line's
-#   `deform` under mpirun against the serial command).
+#   `deform` under mpirun against the serial command; code_saturne on 2 and 4 ranks).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -60,12 +60,15 @@ cargo test --release --features mpi --test distributed
 cargo clippy --release -p meshmove-cli --all-targets --features mpi -- -D warnings
 cargo test --release -p meshmove-cli --features mpi --bin meshmove distributed
 cargo test --release -p meshmove-cli --features mpi --test deform_mpi
-# The C and Fortran programs of the distributed calls under mpirun on 1 to 4 ranks: a second
+# The C and Fortran programs of the distributed calls under mpirun on 1 to 4 ranks, and
+# code_saturne moving its mesh on 1, 2 and 4 ranks with them (examples/code_saturne): a second
 # CMake build with MESHMOVE_WITH_MPI (its own cargo target directory, kept between runs), of
 # those programs alone.
 cmake -S . -B build-mpi -DCMAKE_BUILD_TYPE=Release -DMESHMOVE_WITH_MPI=ON
-cmake --build build-mpi -j "$(nproc)" --target fv_body3d_mpi_c free_surface_mpi_f
-(cd build-mpi && ctest --output-on-failure -R '_mpi_(c|f)_np')
+mpi_targets=(fv_body3d_mpi_c free_surface_mpi_f)
+command -v code_saturne >/dev/null 2>&1 && mpi_targets+=(code_saturne_check)
+cmake --build build-mpi -j "$(nproc)" --target "${mpi_targets[@]}"
+(cd build-mpi && ctest --output-on-failure -R '_mpi_(c|f)_np|^code_saturne_')
 # The API documentation builds without a warning (broken links, bad markup).
 RUSTDOCFLAGS="-D warnings" cargo doc --release --no-deps
 RUSTDOCFLAGS="-D warnings" cargo doc --release --no-deps -p meshmove --features mpi

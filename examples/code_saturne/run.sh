@@ -35,7 +35,7 @@ export USER="${USER:-$(id -un)}"
 if [ "$(id -u)" -eq 0 ]; then
     export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 fi
-export OMPI_MCA_rmaps_base_oversubscribe=1
+export OMPI_MCA_rmaps_base_oversubscribe=1 OMPI_MCA_mpi_yield_when_idle=1
 export CS_MESH_MOVER="$mover" CS_STEPS="$steps" CS_AMPLITUDE="$amplitude" OMP_NUM_THREADS=1
 rm -rf "$work"
 mkdir -p "$work/MESH" "$work/case/DATA" "$work/case/SRC" "$work/case/RESU"
