@@ -107,15 +107,18 @@ end module meshmove_cylinder_ranks
 #endif
 
 subroutine usalcl(itrale, nvar, nscal, icodcl, itypfb, ialtyb, impale, dt, rcodcl, xyzno0, disale)
-  use, intrinsic :: iso_c_binding, only: c_int32_t, c_int64_t
+  use, intrinsic :: iso_c_binding, only: c_int32_t
+#ifdef MESHMOVE_MPI
+  use, intrinsic :: iso_c_binding, only: c_int64_t
+#endif
   use paramx, only: ibfixe, igliss
   use optcal, only: ntcabs
   use entsor, only: nfecra
   use parall, only: irangp
   use mesh, only: ncel, ncelet, nfac, nfabor, nnod, ifacel, ifabor, ipnfac, nodfac, ipnfbr, nodfbr
   use meshmove_cylinder
-  use saturne_ranks
 #ifdef MESHMOVE_MPI
+  use saturne_ranks
   use meshmove_cylinder_ranks
 #endif
   implicit none
@@ -133,7 +136,9 @@ subroutine usalcl(itrale, nvar, nscal, icodcl, itypfb, ialtyb, impale, dt, rcodc
   type(face_mesh) :: m
   character(len=32) :: mover
   integer, allocatable :: lstelt(:)
+#ifdef MESHMOVE_MPI
   integer(c_int64_t), allocatable :: gnum(:)
+#endif
   integer :: nlelt, i, ifac, ii, inod
   integer(c_int32_t) :: stat
   character(len=:), allocatable :: errmsg
@@ -147,9 +152,9 @@ subroutine usalcl(itrale, nvar, nscal, icodcl, itypfb, ialtyb, impale, dt, rcodc
     if (irangp < 0) call write_face_mesh(m, "meshmove_faces.bin")
     if (with_meshmove .and. irangp >= 0) then
       ! Several ranks: the distributed solver on code_saturne's communicator, collectively.
+#ifdef MESHMOVE_MPI
       allocate (gnum(nnod))
       call saturne_global_vertices(int(nnod, c_int32_t), gnum)
-#ifdef MESHMOVE_MPI
       call start_meshmove_ranks(saturne_comm(), m, gnum, stat, errmsg)
       call stop_on_failure("meshmove's distributed solver")
 #else

@@ -9,6 +9,10 @@
 #include "cs_base.h"
 #include "cs_mesh.h"
 
+/* Called from Fortran (module saturne_ranks in cs_user_modules.f90), declared for C here. */
+void meshmove_cs_global_vertices(int32_t n, int64_t *gnum);
+int32_t meshmove_cs_comm(void);
+
 /* The global number (1-based) of each of the rank's n local vertices, into gnum. code_saturne
  * keeps no global numbering where the local numbers are the global ones (global_vtx_num is
  * NULL, as in a serial run): the local number is then the global one. */
