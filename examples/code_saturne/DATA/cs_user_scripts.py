@@ -3,9 +3,9 @@
 #
 # MESHMOVE_FFLAGS: the Fortran flags that find meshmove's modules (-I<dir of meshmove.mod>);
 # MESHMOVE_LIBS: the link flags (-L<dir> -lmeshmove_fortran -lmeshmove -Wl,-rpath,<dir>).
-# Unset, pkg-config's meshmove-fortran (an installed meshmove) gives them. For runs on several
-# ranks meshmove is built with MPI: MESHMOVE_FFLAGS adds -DMESHMOVE_MPI (the user files'
-# distributed part) and MESHMOVE_LIBS -lmeshmove_fortran_mpi before -lmeshmove_fortran.
+# Unset, pkg-config's meshmove-fortran (an installed meshmove) gives them (an MPI build's lists
+# -lmeshmove_fortran_mpi before -lmeshmove_fortran). For runs on several ranks meshmove is built
+# with MPI and MESHMOVE_FFLAGS adds -DMESHMOVE_MPI (the user files' distributed part).
 import os
 import subprocess
 
