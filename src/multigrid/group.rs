@@ -226,28 +226,10 @@ impl Scratch {
     }
 }
 
-/// The power iterations of a λmax estimate from the fixed start: 15, the count the Chebyshev
-/// smoother's interval is tuned to (docs/PERFORMANCE.md, "bounds").
-pub(crate) const POWER_ITERATIONS: usize = 15;
-
 /// Largest eigenvalue of D⁻¹ Π A on the group's free subspace by power iteration from a fixed
 /// start (deterministic), padded by 10% and capped at 1, the l1 bound's guarantee (D the point
 /// or line l1 preconditioner, `GroupOp::precondition`).
 pub(crate) fn estimate_lambda_max(op: &GroupOp) -> f64 {
-    let h = power_iteration(op, POWER_ITERATIONS);
-    padded(h.last().copied().filter(|_| h.len() == POWER_ITERATIONS))
-}
-
-/// The padded, capped estimate of the unpadded `lambda` (None: the power iteration met a
-/// vanishing iterate, and the l1 bound 1 stands).
-pub(crate) fn padded(lambda: Option<f64>) -> f64 {
-    lambda.map_or(1.0, |l| (1.1 * l).clamp(0.05, 1.0))
-}
-
-/// The unpadded estimates of λmax(D⁻¹ Π A) after each of `iterations` power iterations from the
-/// fixed start (‖B x‖ for the unit x of that iteration), B = D⁻¹ Π A; fewer where an iterate
-/// vanishes (none where the start has no free entry).
-pub(crate) fn power_iteration(op: &GroupOp, iterations: usize) -> Vec<f64> {
     let (n, g) = (op.n(), op.len());
     // A fixed, mode-rich start vector: a cheap hash of the index.
     let mut x: Vec<f64> = (0..g * n)
@@ -262,11 +244,11 @@ pub(crate) fn power_iteration(op: &GroupOp, iterations: usize) -> Vec<f64> {
         .collect();
     op.project(&mut x);
     let (mut y, mut s, mut sol) = (vec![0.0; g * n], vec![0.0; n], Vec::new());
-    let mut lambda = Vec::with_capacity(iterations);
-    for _ in 0..iterations {
+    let mut lambda = 0.0;
+    for _ in 0..15 {
         let nx = op.norm(&x);
         if nx == 0.0 {
-            break;
+            return 1.0;
         }
         x.iter_mut().for_each(|v| *v /= nx);
         op.apply_blocks(&mut x, &mut y, &mut s);
@@ -274,8 +256,8 @@ pub(crate) fn power_iteration(op: &GroupOp, iterations: usize) -> Vec<f64> {
             op.precondition(k, block_mut(&mut y, n, k), &mut sol);
         }
         op.project(&mut y);
-        lambda.push(op.norm(&y));
+        lambda = op.norm(&y);
         std::mem::swap(&mut x, &mut y);
     }
-    lambda
+    (1.1 * lambda).clamp(0.05, 1.0)
 }

@@ -9,7 +9,7 @@
 use super::coarse_solve::CoarseSolve;
 use super::coarsen::CoarsenParams;
 use super::coarsener::{CoarseUnknowns, Coarsener};
-use super::group::{padded, power_iteration, GroupOp, POWER_ITERATIONS};
+use super::group::{estimate_lambda_max, GroupOp};
 use super::refit::{donor_offsets, rows_to_redo, updated_offsets};
 use super::layout::Distribution;
 use super::line_smoother::LineBlocks;
@@ -73,7 +73,7 @@ impl LevelParts {
 
 /// The level kept from `fine`'s unknowns `c.kept`: their flags, slip frames and positions,
 /// no mesh, the Galerkin operator.
-fn kept_level(fine: &Level, c: CoarseUnknowns, bcs: &BoundaryConditions, t: &mut Phases) -> (Level, Transfer, Vec<f64>) {
+fn kept_level(fine: &Level, c: CoarseUnknowns, bcs: &BoundaryConditions, t: &mut Phases) -> (Level, Transfer) {
     let CoarseUnknowns { kept, transfer } = c;
     let fine_points = fine.unknown_points();
     let dim = fine.dim();
@@ -98,8 +98,8 @@ fn kept_level(fine: &Level, c: CoarseUnknowns, bcs: &BoundaryConditions, t: &mut
     };
     level.lines = fine.lines.kept(&level.parent_vertex, fine.op.method);
     timed(&mut t.unknowns, || slip::attach(&mut level, Some(fine), bcs));
-    let ratios = timed(&mut t.bounds, || refresh_bounds(&mut level, Bounds::Calibrate));
-    (level, transfer, ratios)
+    timed(&mut t.bounds, || refresh_bounds(&mut level));
+    (level, transfer)
 }
 
 /// The operator of a level of kept unknowns below `fine` with the interpolation `prolong`:
@@ -123,36 +123,8 @@ fn coarse_operator(fine: &Level, prolong: &CsrMatrix) -> LevelOperator {
     }
 }
 
-/// How `refresh_bounds` estimates a biharmonic level's λmax.
-#[derive(Clone, Copy)]
-enum Bounds<'a> {
-    /// The full power iteration from the fixed start (`estimate_lambda_max`), and per component
-    /// the ratio of its estimate to the estimate after the first `RESCALE_ITERATIONS` (setup).
-    Calibrate,
-    /// `RESCALE_ITERATIONS` power iterations from the same start, times each component's ratio
-    /// of the calibration and `RESCALE_MARGIN` (a re-reference of the same topology).
-    Rescale(&'a [f64]),
-}
-
-/// The power iterations of a re-referenced level's λmax estimate (`Bounds::Rescale`).
-const RESCALE_ITERATIONS: usize = 3;
-
-/// The rescaled estimate's margin over the full one. A few iterations from a spread start miss
-/// part of a local top mode that the moved mesh's compressed cells add, and the smoother loses
-/// far more to an estimate below the full one than to one above it (docs/PERFORMANCE.md,
-/// "bounds rescaled"): the margin keeps the rescaled estimate above.
-const RESCALE_MARGIN: f64 = 1.15;
-
-/// The level's Jacobi diagonals and λmax estimates, after its flags and slip frames. Returns
-/// the biharmonic's calibration ratios per component (`Bounds`): those of `bounds` when it
-/// rescales, empty for the other methods.
-///
-/// The Chebyshev interval is tuned to the full power iteration's estimate from the fixed start,
-/// which lies below λmax by an amount that depends on the level's spectrum. A re-reference keeps
-/// the level's topology, so it runs only the first few iterations and scales their estimate by
-/// the setup's ratio of the full estimate to theirs, with a margin (`RESCALE_MARGIN`): a
-/// fraction of the products.
-fn refresh_bounds(level: &mut Level, bounds: Bounds) -> Vec<f64> {
+/// The level's Jacobi diagonals and λmax estimates, after its flags and slip frames.
+fn refresh_bounds(level: &mut Level) {
     // Every component has the same K and V: components with the same flags (walls fixed in
     // every direction) have the same diagonal, line factors and λmax, computed once for the
     // first of them. The others are independent: side by side, so small levels use several
@@ -170,42 +142,14 @@ fn refresh_bounds(level: &mut Level, bounds: Bounds) -> Vec<f64> {
     // estimate, redone at every re-evaluated step, costs a sizeable part of a Laplacian
     // solve (30 products per level). The biharmonic's bound is looser, so it keeps the
     // estimate.
-    let mut ratios = Vec::new();
     level.lambda_max = if level.op.method == Method::Biharmonic {
         let lv = &*level;
-        let few = RESCALE_ITERATIONS;
-        let own: Vec<(f64, f64)> = own
-            .par_iter()
-            .map(|&c| {
-                let op = GroupOp::new(lv, c..c + 1, false);
-                let ratio = match bounds {
-                    Bounds::Rescale(r) => r.get(c).copied(),
-                    Bounds::Calibrate => None,
-                };
-                match ratio {
-                    Some(r) => {
-                        let h = power_iteration(&op, few);
-                        (padded(h.last().map(|e| e * r * RESCALE_MARGIN).filter(|_| h.len() == few)), r)
-                    }
-                    None => {
-                        let h = power_iteration(&op, POWER_ITERATIONS);
-                        let full = h.len() == POWER_ITERATIONS;
-                        let ratio = match h.get(few - 1) {
-                            Some(&e) if full && e > 0.0 => h[POWER_ITERATIONS - 1] / e,
-                            _ => 1.0,
-                        };
-                        (padded(h.last().copied().filter(|_| full)), ratio)
-                    }
-                }
-            })
-            .collect();
-        ratios = at.iter().map(|&i| own[i].1).collect();
-        at.iter().map(|&i| own[i].0).collect()
+        let own: Vec<f64> = own.par_iter().map(|&c| estimate_lambda_max(&GroupOp::new(lv, c..c + 1, false))).collect();
+        at.iter().map(|&i| own[i]).collect()
     } else {
         vec![1.0; level.flags.len()]
     };
     slip::equalise_bounds(level);
-    ratios
 }
 
 /// What a re-reference carries from one reference to the next beyond the positions: each
@@ -288,9 +232,6 @@ pub struct Hierarchy {
     /// Per level with a transfer of kept unknowns below it: the donor offsets its weights were
     /// chosen at (`refit`; empty for other levels).
     offsets: Vec<Vec<f64>>,
-    /// Per level and component: the ratio of the biharmonic's λmax estimate to its first power
-    /// iterations' at the build, which a re-reference rescales (`Bounds`); empty otherwise.
-    ratios: Vec<Vec<f64>>,
     /// Counts the re-references: a failed call restores the hierarchy when it changed.
     generation: u64,
 }
@@ -307,7 +248,6 @@ impl Hierarchy {
         let mut coarsener = coarsener_for(mesh.dim(), params.coarse_levels, params.coarsen)?;
         let galerkin = params.coarse_operator.galerkin(method);
         let mut levels: Vec<Level> = Vec::new();
-        let mut ratios: Vec<Vec<f64>> = Vec::new();
         let mut t = Phases::default();
         let (mut mesh, mut pairs, mut parent_vertex) = (mesh.clone(), pairs, Vec::new());
         // Levels with meshes.
@@ -323,7 +263,7 @@ impl Hierarchy {
             (t.unknowns, t.assemble, t.coarsen) = (t.unknowns + pt.unknowns, t.assemble + pt.assemble, t.coarsen + coarsen_s);
             let mut level = parts.into_level(mesh, pairs, parent_vertex);
             timed(&mut t.unknowns, || slip::attach(&mut level, levels.last(), bcs));
-            let mut level_ratios = timed(&mut t.bounds, || refresh_bounds(&mut level, Bounds::Calibrate));
+            timed(&mut t.bounds, || refresh_bounds(&mut level));
             let l = levels.len();
             match levels.last_mut() {
                 None => check_well_posed(&level.op.k, &level.flags, &level.dofs, level.slip.as_ref().map(|s| &s.frames))?,
@@ -333,13 +273,12 @@ impl Hierarchy {
                         level.op = timed(&mut t.galerkin, || {
                             LevelOperator::galerkin(&fine.op, &down.prolong, &down.prolong.transpose())
                         });
-                        level_ratios = timed(&mut t.bounds, || refresh_bounds(&mut level, Bounds::Calibrate));
+                        timed(&mut t.bounds, || refresh_bounds(&mut level));
                     }
                     fine.down = Some(down);
                 }
             }
             levels.push(level);
-            ratios.push(level_ratios);
             let Some(cm) = cm? else {
                 break;
             };
@@ -351,10 +290,9 @@ impl Hierarchy {
             let Some(c) = timed(&mut t.coarsen, || coarsener.coarsen_unknowns(l, &levels[l])) else {
                 break;
             };
-            let (level, down, level_ratios) = kept_level(&levels[l], c, bcs, &mut t);
+            let (level, down) = kept_level(&levels[l], c, bcs, &mut t);
             levels[l].down = Some(down);
             levels.push(level);
-            ratios.push(level_ratios);
         }
         let offsets = (0..levels.len()).map(|l| transfer_offsets(&levels, l)).collect();
         let mut h = Hierarchy {
@@ -366,7 +304,6 @@ impl Hierarchy {
             coarse: Vec::new(),
             phases: t,
             offsets,
-            ratios,
             generation: 0,
         };
         timed(&mut t.coarse_solve, || h.build_coarse_solve())?;
@@ -540,7 +477,7 @@ impl Hierarchy {
                     k_pattern_changed = !same;
                 }
             }
-            timed(&mut t.bounds, || refresh_bounds(&mut self.levels[l], Bounds::Rescale(&self.ratios[l])));
+            timed(&mut t.bounds, || refresh_bounds(&mut self.levels[l]));
         }
         timed(&mut t.coarse_solve, || self.build_coarse_solve())?;
         self.phases = t;
