@@ -4,9 +4,8 @@
 //! rank's owned rows, solved by conjugate gradients preconditioned by a cycle of the distributed
 //! multigrid (`distributed::mg`: on K for the Laplacian and the spring, on K V⁻¹ K assembled
 //! for the biharmonic; one per component, built on the first solve from a reference and kept,
-//! `distributed::kept`; projected for a group coupled by slip walls: `distributed::blocks`)
-//! or, with one level (and for the biharmonic with periodic links), by the Chebyshev–Jacobi
-//! smoother alone.
+//! `distributed::kept`; projected for a group coupled by slip walls or periodic links:
+//! `distributed::blocks`) or, with one level, by the Chebyshev–Jacobi smoother alone.
 //!
 //! Each rank's operator has the serial operator's rows for the vertices it owns: every cell
 //! around an owned vertex is held (owned or ghost), so its rows of K and its lumped mass are
