@@ -7,7 +7,8 @@
 //! (further arguments: `tets` splits every cube into six tetrahedra, `tri` makes an n × n
 //! square of triangles; `serial` also solves on one process with the serial `Solver` and prints
 //! its iterations; `steps=K` runs K advance steps, 10 unless given; `degree=D` sets the
-//! smoother's degree; `blocks` partitions into hashed blocks instead of slabs).
+//! smoother's degree; `blocks` partitions into hashed blocks instead of slabs; `mg` skips the
+//! one-level solve).
 
 #[path = "../tests/slabs/mod.rs"]
 mod slabs;
@@ -37,17 +38,19 @@ fn main() {
         let t = Instant::now();
         let sol = serial.solve(&Motion::from_displacement(all.clone())).expect("a serial solve");
         println!(
-            "serial, {} vertices ({shape}): iterations {}, {:.3} s",
+            "serial, {} vertices ({shape}): iterations {}, {:.3} s; levels {:?}",
             d.num_vertices(),
             sol.report.cycles,
-            t.elapsed().as_secs_f64()
+            t.elapsed().as_secs_f64(),
+            serial.hierarchy().levels.iter().map(|l| l.n()).collect::<Vec<_>>()
         );
     }
     let p = slabs::part(&d, &owner, rank, true);
     let local: Vec<f64> = p.global.iter().flat_map(|&v| all[v * dim..(v + 1) * dim].to_vec()).collect();
     let dm = DistributedMesh::new(&world, &p.data, &p.gids, &p.ghost).expect("a valid partition");
     let bcs = BoundaryConditions::new();
-    for max_levels in [1, DistSolveParams::default().max_levels] {
+    let one_level: &[usize] = if has("mg") { &[] } else { &[1] };
+    for &max_levels in one_level.iter().chain(&[DistSolveParams::default().max_levels]) {
         let params = DistSolveParams { tol: 1e-8, max_levels, degree, ..Default::default() };
         world.barrier();
         let t = Instant::now();

@@ -4,9 +4,8 @@
 //! rank's owned rows, solved by conjugate gradients preconditioned by a cycle of the distributed
 //! multigrid (`distributed::mg`: on K for the Laplacian and the spring, on K V⁻¹ K assembled
 //! for the biharmonic; one per component, built on the first solve from a reference and kept,
-//! `distributed::kept`; projected for a group coupled by slip walls: `distributed::blocks`)
-//! or, with one level (and for the biharmonic with periodic links), by the Chebyshev–Jacobi
-//! smoother alone.
+//! `distributed::kept`; projected for a group coupled by slip walls or periodic links:
+//! `distributed::blocks`) or, with one level, by the Chebyshev–Jacobi smoother alone.
 //!
 //! Each rank's operator has the serial operator's rows for the vertices it owns: every cell
 //! around an owned vertex is held (owned or ghost), so its rows of K and its lumped mass are
@@ -54,7 +53,9 @@ pub struct DistSolveParams {
     pub tol: f64,
     /// Most iterations per group of components.
     pub max_iterations: usize,
-    /// Degree of the fourth-kind Chebyshev–Jacobi smoother.
+    /// Degree of the fourth-kind Chebyshev–Jacobi smoother on every level; 0 (the default)
+    /// picks per method: 8 for the biharmonic (whose multigrid levels need the stronger
+    /// smoothing, as the serial cycle's levels of kept unknowns do), 4 otherwise.
     pub degree: usize,
     /// Most levels of the multigrid preconditioner; 1 preconditions by the smoother alone.
     pub max_levels: usize,
@@ -62,7 +63,7 @@ pub struct DistSolveParams {
 
 impl Default for DistSolveParams {
     fn default() -> Self {
-        DistSolveParams { tol: 1e-8, max_iterations: 5000, degree: 4, max_levels: 20 }
+        DistSolveParams { tol: 1e-8, max_iterations: 5000, degree: 0, max_levels: 20 }
     }
 }
 
@@ -245,7 +246,7 @@ impl DistributedSolver {
         let rhs = agree(self.halo().comm(), self.right_hand_sides(motion, vals))?;
         let (dim, nv) = (self.mesh.dim(), self.local().num_vertices());
         let halo = self.halo();
-        let sm = Smoother::Fourth { degree: self.params.degree };
+        let sm = Smoother::Fourth { degree: smoother_degree(&self.params, self.level.op.method) };
         let mut total = vec![0.0; nv * dim];
         let (mut iterations, mut worst, mut failure) = (Vec::with_capacity(dim), 0.0f64, None);
         let mut kept = self.multigrids.lock();
@@ -329,13 +330,15 @@ impl DistributedSolver {
         steps::advance(self, None, increment)
     }
 
-    /// The multigrid preconditions this solve: more than one level is allowed, and the method
-    /// is not the biharmonic with periodic links. The assembled K V⁻¹ K (`biharmonic_rows`)
-    /// exchanges S over the halo alone, while the tied operator merges S over each class of
-    /// linked vertices: its coarse levels would precondition another operator, so the tied
-    /// biharmonic is preconditioned by the one-level smoother (`ties` is the same on every rank).
+    /// The multigrid preconditions this solve: more than one level is allowed.
+    ///
+    /// With periodic links every method's hierarchy is built on the rows without ties, and its
+    /// cycle is projected onto the tied vectors (`Blocks`, Π M Π: symmetric and positive there,
+    /// so a preconditioner of the tied system). For the biharmonic those rows are K V⁻¹ K with
+    /// S per vertex (`biharmonic_rows` exchanges S over the halo alone) where the tied operator
+    /// has one S per class: another operator at the linked sides, close enough to precondition.
     fn multigrid_pays(&self) -> bool {
-        self.params.max_levels > 1 && !(self.level.op.method == Method::Biharmonic && self.ties.is_some())
+        self.params.max_levels > 1
     }
 
     /// The owned rows of component `c`'s operator, the multigrid's finest level, and what the
@@ -544,9 +547,18 @@ fn build_level(
     level
 }
 
+/// The smoother's degree of a solve of `method` with `p` (`DistSolveParams::degree`).
+fn smoother_degree(p: &DistSolveParams, method: Method) -> usize {
+    match (p.degree, method) {
+        (0, Method::Biharmonic) => 8,
+        (0, _) => 4,
+        (d, _) => d,
+    }
+}
+
 /// The parameters are usable.
 fn check_params(me: usize, p: &DistSolveParams) -> Result<(), DistError> {
-    if p.tol.is_finite() && p.tol > 0.0 && p.degree >= 1 && p.degree <= 64 && p.max_levels >= 1 {
+    if p.tol.is_finite() && p.tol > 0.0 && p.degree <= 64 && p.max_levels >= 1 {
         Ok(())
     } else {
         Err(DistError::new(me, DistErrorKind::Input, format!("unusable solve parameters {p:?}")))

@@ -2,7 +2,8 @@
 //! distributed solver does with each option, and which it refuses:
 //!
 //! - `method`, `solve.tol`, `solve.max_cycles` (conjugate gradient iterations per component),
-//!   `solve.cheb_degree` (the Chebyshev–Jacobi smoother's degree on every level; None: 4) and
+//!   `solve.cheb_degree` (the Chebyshev–Jacobi smoother's degree on every level; None: 8 for the
+//!   biharmonic, 4 otherwise) and
 //!   `hierarchy.max_levels` give the iteration ([`DistSolveParams`]);
 //! - `max_substeps`, `min_volume_ratio`, `reference` and `progress` drive the steps as they do
 //!   serially (`steps.rs`);
@@ -50,7 +51,7 @@ pub(super) fn serial_options(method: Method, params: &DistSolveParams) -> Option
     let mut o = Options { method, ..Default::default() };
     o.solve.tol = params.tol;
     o.solve.max_cycles = params.max_iterations;
-    o.solve.cheb_degree = Some(params.degree);
+    o.solve.cheb_degree = (params.degree != 0).then_some(params.degree);
     o.hierarchy.max_levels = params.max_levels;
     o
 }
