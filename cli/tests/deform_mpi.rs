@@ -7,7 +7,8 @@
 //! cylinder put back on its circle or on its faces), periodic sides whose links METIS's parts
 //! split between ranks, automatic sub-steps (the same `--report` lines, with the worst rank),
 //! the original-reference mode, a run whose sub-stepping reaches its limit (the same last valid
-//! mesh, status 4), and a `.pvtu` whose pieces give the serial points by global id. A split
+//! mesh, status 4), a last step that inverts cells (the same mesh, status 3), and a `.pvtu`
+//! whose pieces give the serial points by global id. A split
 //! interface, which the distributed solver does not take, fails on every rank with one message.
 //! Skipped, with a message, where `mpirun` is missing. Run by `cargo test --release -p
 //! meshmove-cli --features mpi --test deform_mpi`.
@@ -334,4 +335,37 @@ fn a_pvtu_output_is_one_piece_per_rank_giving_the_serial_points() {
     assert!(seen.iter().all(|&s| s), "every vertex in a piece");
     let d = relative_difference(&points, reference, &original);
     assert!(d < 1e-10, "the pieces differ from serial by {d:e}");
+}
+
+/// A last step whose result inverts cells (the cylinder moved 2.5 D in one step; in two from the
+/// original mesh): written anyway with status 3, the same mesh as serially.
+#[test]
+fn an_inverted_last_step_is_written_as_serially() {
+    if !have_mpirun() {
+        return;
+    }
+    for (name, reference, steps) in [("inverted", "incremental", 1), ("inverted-original", "original", 2)] {
+        let dir = tmp(name);
+        let case = channel_case("biharmonic")
+            .replace("translation = [0.5, 0.0]", "translation = [2.5, 0.0]")
+            .replace("steps = 2", &format!("steps = {steps}"));
+        std::fs::write(dir.join("case.toml"), format!("reference = \"{reference}\"\n{case}")).unwrap();
+        let no: [&str; 0] = [];
+        let serial = deform(0, "channel.msh", &dir, "serial.vtu", &no);
+        assert_eq!(serial.status.code(), Some(3), "{}", String::from_utf8_lossy(&serial.stderr));
+        let inverted =
+            |s: &[u8]| String::from_utf8_lossy(s).lines().find(|l| l.starts_with("inverted cells")).map(String::from);
+        let original = original_points(&dir.join("serial.vtu"));
+        for ranks in [1, 3] {
+            let o = deform(ranks, "channel.msh", &dir, &format!("ranks{ranks}.vtu"), &no);
+            assert_eq!(o.status.code(), Some(3), "{}", String::from_utf8_lossy(&o.stderr));
+            assert_eq!(inverted(&o.stdout), inverted(&serial.stdout));
+            let d = relative_difference(
+                &moved(&dir.join(format!("ranks{ranks}.vtu"))),
+                &moved(&dir.join("serial.vtu")),
+                &original,
+            );
+            assert!(d < 1e-10, "{name} on {ranks} ranks: differs from serial by {d:e}");
+        }
+    }
 }
