@@ -11,13 +11,16 @@
 //! written to `OUT.last-valid.vtu` beside the requested output; 5 when Ctrl-C stopped the run: the
 //! last valid mesh is written there too (a second Ctrl-C exits at once, with 130).
 
+mod carried;
 mod output;
+#[cfg(feature = "mpi")]
+mod pieces;
 #[cfg(feature = "mpi")]
 mod ranks;
 mod series;
 
+use carried::{Carried, WallShape};
 use indicatif::{ProgressBar, ProgressStyle};
-use meshmove::bc::SlipSurface;
 use meshmove::io::{read_msh, read_polymesh, read_vtu, VtuEncoding};
 use meshmove::solver::{ReferenceMode, StepReport};
 use meshmove::{
@@ -45,7 +48,8 @@ pub struct Args {
     png: Option<PathBuf>,
     /// Where to write the deformed mesh: a .vtu file; for a polyMesh, a polyMesh directory
     /// (the input's files with the moved points; the input directory itself to move it in
-    /// place) unless the name ends in .vtu.
+    /// place) unless the name ends in .vtu; under mpirun also a .pvtu index, each rank writing
+    /// its piece OUT_<rank>.vtu beside it.
     #[arg(short, long)]
     output: PathBuf,
     /// Also write the deformed mesh to this .vtu file.
@@ -253,7 +257,7 @@ fn vector(v: &[f64], dim: usize, what: &str, key: &str) -> Result<[f64; 3], Stri
 /// The analytic wall of a `[[patch]]` entry, if it gives a `shape`: its keys checked against the
 /// shape (each required one given, finite, a positive radius, a non-zero axis or normal; no key
 /// of another shape).
-fn slip_shape(p: &PatchCfg, dim: usize, what: &str) -> Result<Option<SlipSurface>, String> {
+fn slip_shape(p: &PatchCfg, dim: usize, what: &str) -> Result<Option<WallShape>, String> {
     let given = [("center", p.center.is_some()), ("radius", p.radius.is_some()), ("axis", p.axis.is_some())]
         .into_iter()
         .chain([("point", p.point.is_some()), ("normal", p.normal.is_some())]);
@@ -290,9 +294,13 @@ fn slip_shape(p: &PatchCfg, dim: usize, what: &str) -> Result<Option<SlipSurface
         r => Err(format!("{what}: `radius` must be a positive number, got {r:?}")),
     };
     Ok(Some(match kind {
-        "sphere" => SlipSurface::sphere(point(&p.center, "center")?, radius()?),
-        "cylinder" => SlipSurface::cylinder(point(&p.center, "center")?, direction(&p.axis, "axis")?, radius()?),
-        _ => SlipSurface::plane(point(&p.point, "point")?, direction(&p.normal, "normal")?),
+        "sphere" => WallShape::Sphere { center: point(&p.center, "center")?, radius: radius()? },
+        "cylinder" => WallShape::Cylinder {
+            center: point(&p.center, "center")?,
+            axis: direction(&p.axis, "axis")?,
+            radius: radius()?,
+        },
+        _ => WallShape::Plane { point: point(&p.point, "point")?, normal: direction(&p.normal, "normal")? },
     }))
 }
 
@@ -375,10 +383,10 @@ fn read_displacement(path: &Path, nv: usize, dim: usize) -> Result<Vec<Option<[f
     Ok(out)
 }
 
-/// What `build` returns: the case, the options, the motion's series, the polyMesh read.
 /// A case read: its set-up, options and step-by-step motions, the polyMesh it came from, and
-/// what it asks that only the serial solver does ([`serial_only`]).
-type Built = (CaseSetup, Options, Series, Option<PolyMeshSource>, Vec<String>);
+/// its conditions' walls, links and interfaces as data (what `deform` under mpirun sends the
+/// ranks beside the kinds).
+type Built = (CaseSetup, Options, Series, Option<PolyMeshSource>, Carried);
 
 fn build(args: &Args) -> Result<Built, String> {
     let text = std::fs::read_to_string(&args.config).map_err(|e| format!("config {}: {e}", args.config.display()))?;
@@ -436,6 +444,7 @@ fn build(args: &Args) -> Result<Built, String> {
         Some(r) => return Err(format!("config: reference `{r}` is not incremental or original")),
     };
     let mut bcs = BoundaryConditions::new();
+    let mut carried = Carried::default();
     let mut listed: Vec<(i32, usize)> = Vec::new();
     for (i, p) in cfg.patch.iter().enumerate() {
         let what = format!("config: [[patch]] {}", i + 1);
@@ -468,14 +477,14 @@ fn build(args: &Args) -> Result<Built, String> {
             if !bcs.is_slip(id) {
                 return Err(format!("{what}: `shape` is for a patch of kind \"slip\""));
             }
-            bcs.set_slip_surface(id, surface);
+            carried.walls.push((id, surface));
         }
     }
     for (i, l) in cfg.link.iter().enumerate() {
         let what = format!("config: [[link]] {}", i + 1);
         let (a, b) = (patches.resolve(&l.a, &what)?, patches.resolve(&l.b, &what)?);
         let offset = vector(&l.offset, dim, &what, "offset")?;
-        bcs.add_link(Link::ByOffset { a, b, offset, tol: l.tol.unwrap_or(1e-9) });
+        carried.links.push(Link::ByOffset { a, b, offset, tol: l.tol.unwrap_or(1e-9) });
     }
     for (i, f) in cfg.interface.iter().enumerate() {
         let what = format!("config: [[interface]] {}", i + 1);
@@ -485,8 +494,9 @@ fn build(args: &Args) -> Result<Built, String> {
             "continuous" | "b" => InterfaceVariant::Continuous,
             v => return Err(format!("{what}: variant `{v}` is not separate (A) or continuous (B)")),
         };
-        bcs.set_interface(id, v);
+        carried.interfaces.push((id, v));
     }
+    carried.apply(&mut bcs);
     let mut motion = Motion::zero(&mesh);
     let mut series = Series::default();
     let mut moved_patch = 0;
@@ -581,33 +591,8 @@ fn build(args: &Args) -> Result<Built, String> {
         }
     }
     bcs.check(&mesh).map_err(|e| format!("config: {e}"))?;
-    let serial = serial_only(&cfg, &opts, &bcs, &patches);
     let name = args.mesh.file_stem().and_then(|s| s.to_str()).unwrap_or("mesh").to_string();
-    Ok((CaseSetup { name, mesh, bcs, motion, steps, moved_patch, upper_region: None }, opts, series, foam, serial))
-}
-
-/// What the case asks that the distributed solver does not do (yet), in the case file's words:
-/// `deform` under mpirun refuses such a case.
-fn serial_only(cfg: &Config, opts: &Options, bcs: &BoundaryConditions, patches: &Patches) -> Vec<String> {
-    let mut out: Vec<String> = patches
-        .ids
-        .iter()
-        .filter(|&&p| bcs.is_slip(p))
-        .map(|&p| format!("SLIP walls (patch {})", patches.name(p)))
-        .collect();
-    if !cfg.link.is_empty() {
-        out.push("periodic links ([[link]])".into());
-    }
-    if !cfg.interface.is_empty() {
-        out.push("interfaces ([[interface]])".into());
-    }
-    if opts.max_substeps > 0 {
-        out.push("sub-steps (steps = \"auto\" or max_substeps)".into());
-    }
-    if opts.reference == ReferenceMode::Original {
-        out.push("reference = \"original\"".into());
-    }
-    out
+    Ok((CaseSetup { name, mesh, bcs, motion, steps, moved_patch, upper_region: None }, opts, series, foam, carried))
 }
 
 /// The number of steps the tables of the case's motions give (each table a row per step), if
@@ -745,10 +730,7 @@ pub fn run(args: Args) -> Result<ExitCode, String> {
     let write = |path: &Path, disp: &[f64]| output::write(path, &setup.mesh, disp, encoding, foam.as_ref());
     let mut step_file_error = None;
     on_ctrl_c(&mut opts);
-    let bar = if setup.steps >= 5 { ProgressBar::new(setup.steps as u64) } else { ProgressBar::hidden() };
-    bar.set_style(
-        ProgressStyle::with_template("{bar:40} step {pos}/{len} {elapsed}").unwrap_or(ProgressStyle::default_bar()),
-    );
+    let bar = step_bar(setup.steps);
     let increment = |i| series.increment(&setup.motion, i, setup.steps);
     let r = run_series_with(&setup, opts.method, &opts, increment, |step, reps, coords| {
         if args.every.is_some_and(|k| step % k.get() == 0 || step == setup.steps) {
@@ -758,14 +740,7 @@ pub fn run(args: Args) -> Result<ExitCode, String> {
                 step_file_error.get_or_insert(e);
             }
         }
-        for rep in reps {
-            let line = rep.line();
-            if bar.is_hidden() {
-                eprintln!("{line}");
-            } else {
-                bar.println(line);
-            }
-        }
+        reps.iter().for_each(|rep| print_line(&bar, rep.line()));
         bar.inc(1);
     })
     .map_err(|e| e.to_string())?;
@@ -774,16 +749,44 @@ pub fn run(args: Args) -> Result<ExitCode, String> {
         return Err(e);
     }
     if let Some(path) = &args.report {
-        let text: String = r.reports.iter().map(|x| json_line(x) + "\n").collect();
-        std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))?;
+        write_report(path, r.reports.iter().map(|x| json_line(x, None)))?;
     }
-    let done = r.reports.iter().filter(|x| x.accepted).map(|x| x.fraction).fold(0.0, f64::max);
-    let substeps = r.reports.iter().filter(|x| x.accepted).count();
+    let (done, substeps) = progress(&r.reports);
     let how = format!(
         "{:?}, {} step(s) in {substeps} sub-step(s), {} cycles, {:.3} s, converged",
         opts.method, r.steps, r.cycles, r.seconds,
     );
     finish(&args, &setup, &r, (&how, done), write)
+}
+
+/// The progress bar of a run of `steps` steps (hidden below 5 steps).
+fn step_bar(steps: usize) -> ProgressBar {
+    let bar = if steps >= 5 { ProgressBar::new(steps as u64) } else { ProgressBar::hidden() };
+    bar.set_style(
+        ProgressStyle::with_template("{bar:40} step {pos}/{len} {elapsed}").unwrap_or(ProgressStyle::default_bar()),
+    );
+    bar
+}
+
+/// Prints a sub-step's report line above the progress bar (to stderr when it is hidden).
+fn print_line(bar: &ProgressBar, line: String) {
+    if bar.is_hidden() {
+        eprintln!("{line}");
+    } else {
+        bar.println(line);
+    }
+}
+
+/// The fraction of the motion the accepted sub-steps of `reports` reached, and how many they are.
+fn progress(reports: &[StepReport]) -> (f64, usize) {
+    let accepted = reports.iter().filter(|x| x.accepted);
+    (accepted.clone().map(|x| x.fraction).fold(0.0, f64::max), accepted.count())
+}
+
+/// Writes the JSON lines of `--report` to `path`.
+fn write_report(path: &Path, lines: impl Iterator<Item = String>) -> Result<(), String> {
+    let text: String = lines.map(|l| l + "\n").collect();
+    std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))
 }
 
 /// Writes a run's result and prints its summary (`how`: how it was solved; `done`: the fraction
@@ -863,11 +866,12 @@ fn finish(
     Ok(ExitCode::SUCCESS)
 }
 
-/// One sub-step as a JSON object (non-finite numbers as null).
-fn json_line(r: &StepReport) -> String {
+/// One sub-step as a JSON object (non-finite numbers as null); under mpirun with the rank whose
+/// owned cells hold the smallest volume ratio (`worst_rank`).
+fn json_line(r: &StepReport, worst_rank: Option<usize>) -> String {
     let num = |x: f64| if x.is_finite() { format!("{x:?}") } else { "null".into() };
     format!(
-        "{{\"step\":{},\"substep\":{},\"fraction\":{},\"cycles\":{},\"rel_residual\":{},\"converged\":{},\"rebuilt\":{},\"inverted\":{},\"min_volume_ratio\":{},\"min_angle_deg\":{},\"seconds\":{},\"solve_seconds\":{},\"quality_seconds\":{},\"reference_seconds\":{},\"accepted\":{},\"max_slip_offwall\":{}}}",
+        "{{\"step\":{},\"substep\":{},\"fraction\":{},\"cycles\":{},\"rel_residual\":{},\"converged\":{},\"rebuilt\":{},\"inverted\":{},\"min_volume_ratio\":{},\"min_angle_deg\":{},\"seconds\":{},\"solve_seconds\":{},\"quality_seconds\":{},\"reference_seconds\":{},\"accepted\":{},\"max_slip_offwall\":{}{}}}",
         r.step,
         r.substep,
         num(r.fraction),
@@ -883,7 +887,8 @@ fn json_line(r: &StepReport) -> String {
         num(r.quality_seconds),
         num(r.reference_seconds),
         r.accepted,
-        num(r.max_slip_offwall)
+        num(r.max_slip_offwall),
+        worst_rank.map(|w| format!(",\"worst_rank\":{w}")).unwrap_or_default()
     )
 }
 

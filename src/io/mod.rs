@@ -28,8 +28,8 @@ mod vtu;
 pub use foam::{format_points, polymesh_dir, read_polymesh, write_points, write_polymesh, FoamFormat, FoamMesh};
 pub use msh::{parse_msh, parse_msh_data, read_msh, read_msh_data, write_msh22, write_msh22_data, MshMesh, MshParts};
 pub use vtu::{
-    parse_vtu, read_vtu, write_deformed, write_deformed_as, write_deformed_data, write_vtu, write_vtu_as, CellField,
-    PointField, VtuData, VtuEncoding,
+    parse_vtu, read_vtu, write_deformed, write_deformed_as, write_deformed_data, write_deformed_with, write_vtu,
+    write_vtu_as, CellField, PointField, VtuData, VtuEncoding,
 };
 
 use crate::geometry::CellType;

@@ -1,9 +1,9 @@
 //! `mpirun -np N meshmove bench --parts ranks --out DIR` (the `mpi` feature): the distributed
 //! solver on the hexahedral box of the 3D part (the 250k-vertex size; `--quick`: the 33k one) and
 //! the graded sphere of the graded part (tetrahedra, 240k vertices; `--quick`: 30k), with the
-//! Laplacian (conjugate gradients preconditioned by the distributed multigrid) and the
-//! biharmonic (preconditioned by the Chebyshev–Jacobi smoother alone; `--ranks-methods` picks),
-//! to `--tol`. Rank 0 makes
+//! Laplacian (conjugate gradients preconditioned by the distributed multigrid's V-cycle) and the
+//! biharmonic (by its W-cycle over K V⁻¹ K assembled across ranks; `--ranks-methods` picks), to
+//! `--tol`. Rank 0 makes
 //! each mesh, splits its cells with METIS and sends each rank its part, as `deform` under mpirun
 //! does. Per run: the seconds to split, to make the distributed mesh and solver, and to solve
 //! (the multigrid's hierarchies included: one per component), the iterations, the owned

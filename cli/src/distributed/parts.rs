@@ -62,20 +62,7 @@ fn cut_one(
     let local = |vs: &[u32]| -> Vec<u32> { vs.iter().map(|&v| local_of[v as usize]).collect() };
     let mut ghost = Vec::new();
     for c in (0..data.num_cells()).filter(|&c| in_part[c]) {
-        let region = data.regions.get(c).copied().unwrap_or(0);
-        if let Some(span) = &spans[c] {
-            // The polyhedron's faces, renumbered: a count, then each face's size and vertices.
-            let faces = &data.polyhedron_faces[span.clone()];
-            out.polyhedron_faces.push(faces[0]);
-            let mut k = 1;
-            while k < faces.len() {
-                let n = faces[k] as usize;
-                out.polyhedron_faces.push(faces[k]);
-                out.polyhedron_faces.extend(local(&faces[k + 1..k + 1 + n]));
-                k += 1 + n;
-            }
-        }
-        out.push_cell(data.cell_types[c], &local(data.cell(c)), region);
+        copy_cell(&mut out, data, c, spans[c].as_ref(), &local);
         ghost.push(owner[c] != rank);
     }
     for (f, cells) in face_cells.iter().enumerate() {
@@ -86,8 +73,32 @@ fn cut_one(
     Part { data: out, gids, ghost }
 }
 
+/// Appends cell `c` of `data` to `out`, its vertices renumbered by `local` (`span`: where its
+/// face list lies in `data.polyhedron_faces`, for a polyhedron).
+pub fn copy_cell(
+    out: &mut MeshData,
+    data: &MeshData,
+    c: usize,
+    span: Option<&std::ops::Range<usize>>,
+    local: &impl Fn(&[u32]) -> Vec<u32>,
+) {
+    if let Some(span) = span {
+        // The polyhedron's faces, renumbered: a count, then each face's size and vertices.
+        let faces = &data.polyhedron_faces[span.clone()];
+        out.polyhedron_faces.push(faces[0]);
+        let mut k = 1;
+        while k < faces.len() {
+            let n = faces[k] as usize;
+            out.polyhedron_faces.push(faces[k]);
+            out.polyhedron_faces.extend(local(&faces[k + 1..k + 1 + n]));
+            k += 1 + n;
+        }
+    }
+    out.push_cell(data.cell_types[c], &local(data.cell(c)), data.regions.get(c).copied().unwrap_or(0));
+}
+
 /// Where each polyhedron's list lies in `data.polyhedron_faces` (None for the other cells).
-fn polyhedron_spans(data: &MeshData) -> Result<Vec<Option<std::ops::Range<usize>>>, String> {
+pub fn polyhedron_spans(data: &MeshData) -> Result<Vec<Option<std::ops::Range<usize>>>, String> {
     let s = &data.polyhedron_faces;
     let mut at = 0;
     let mut spans = Vec::with_capacity(data.num_cells());
@@ -111,8 +122,9 @@ fn polyhedron_spans(data: &MeshData) -> Result<Vec<Option<std::ops::Range<usize>
     Ok(spans)
 }
 
-/// The cells each tagged face is a side of (one for a boundary face, two for an interior one).
-fn face_cells(data: &MeshData) -> Vec<Vec<u32>> {
+/// The cells each tagged face is a side of (one for a boundary face, two for an interior one), in
+/// ascending order.
+pub fn face_cells(data: &MeshData) -> Vec<Vec<u32>> {
     let nv = data.num_vertices();
     let mut start = vec![0u32; nv + 1];
     data.cell_vertices.iter().for_each(|&v| start[v as usize + 1] += 1);

@@ -39,7 +39,9 @@ pub use read::{parse_vtu, read_vtu};
 #[cfg(test)]
 #[cfg(test)]
 pub(crate) use write::signed_measure;
-pub use write::{write_deformed, write_deformed_as, write_deformed_data, write_vtu, write_vtu_as, VtuEncoding};
+pub use write::{
+    write_deformed, write_deformed_as, write_deformed_data, write_deformed_with, write_vtu, write_vtu_as, VtuEncoding,
+};
 
 use super::IoError;
 use crate::mesh::{Mesh, MeshData};

@@ -309,6 +309,18 @@ pub fn write_deformed_as(
     displacement: &[f64],
     encoding: VtuEncoding,
 ) -> Result<(), IoError> {
+    write_deformed_with(path, data, displacement, &[], encoding)
+}
+
+/// [`write_deformed_as`] with more point data after `displacement` (a distributed mesh's piece:
+/// its vertices' global ids).
+pub fn write_deformed_with(
+    path: &Path,
+    data: &MeshData,
+    displacement: &[f64],
+    more_point_data: &[(&str, PointField)],
+    encoding: VtuEncoding,
+) -> Result<(), IoError> {
     check_data(data, "write_deformed")?;
     let (dim, n) = (data.dim, data.num_vertices());
     if displacement.len() != dim * n {
@@ -337,7 +349,7 @@ pub fn write_deformed_as(
     write_vtu_as(
         path,
         &moved,
-        &[("displacement", PointField::Vector(displacement, dim))],
+        &[&[("displacement", PointField::Vector(displacement, dim))], more_point_data].concat(),
         &[
             ("region", CellField::I32(&regions)),
             (if dim == 2 { "area_ratio" } else { "volume_ratio" }, CellField::F64(&ratio)),
