@@ -25,6 +25,7 @@ mod dist_mesh;
 mod error;
 mod ghosts;
 mod halo;
+mod interfaces;
 mod kept;
 mod laplacian;
 mod level_layout;
