@@ -66,7 +66,8 @@ pub enum Link {
         /// Largest distance between `v + offset` and the partner.
         tol: f64,
     },
-    /// Explicit vertex pairs (0-based).
+    /// Explicit vertex pairs (0-based vertex indices; on a distributed mesh, global ids: the same
+    /// pairs on every rank).
     Pairs(Vec<[u32; 2]>),
 }
 

@@ -145,7 +145,7 @@ impl DistributedSolver {
         agree(comm, checked)?;
         agree(comm, bcs::check_same_everywhere(me, mesh.halo(), bcs))?;
         let split = interfaces::split(mesh, bcs)?;
-        let linked = ties::offset_pairs(
+        let linked = ties::link_pairs(
             mesh.halo().shared_comm(),
             mesh.local_mesh(),
             mesh.layout_global_ids(),

@@ -25,7 +25,7 @@ use crate::multigrid::layout::Layout;
 use crate::multigrid::level::Level;
 use crate::sparse::CsrMatrix;
 use crate::Mesh;
-use std::collections::{BTreeMap, HashMap};
+use std::collections::{BTreeMap, HashMap, HashSet};
 use std::sync::Arc;
 
 /// The classes of tied vertices a rank holds, and how to average over them.
@@ -62,10 +62,9 @@ pub(crate) struct Linked {
 
 /// The pairs `links` make on the mesh (`mesh`: the rank's part in layout order, `gids` its
 /// global ids, the first `owned` vertices owned): None without links (collective; the same on
-/// every rank). Errors: a link given by explicit vertex pairs (local indices, which do not
-/// cross ranks), an unusable offset, or a vertex without its partner, named by rank and
-/// global id.
-pub(crate) fn offset_pairs(
+/// every rank). Explicit pairs name global ids. Errors: an unusable offset, a vertex without
+/// its partner (named by rank and global id), a pair naming a global id no rank has.
+pub(crate) fn link_pairs(
     comm: &Arc<Comm>,
     mesh: &Mesh,
     gids: &[u64],
@@ -80,12 +79,10 @@ pub(crate) fn offset_pairs(
     let mut owner_of: HashMap<u64, usize> = HashMap::new();
     for link in links {
         let &Link::ByOffset { a, b, offset, tol } = link else {
-            return Err(DistError::new(
-                me,
-                DistErrorKind::Input,
-                "a link given by vertex pairs names local vertices, which a distributed mesh does not share: \
-                 give the link by patches and offset",
-            ));
+            if let Link::Pairs(p) = link {
+                pairs.extend(pairs_by_ids(comm, gids, owned, p, &mut owner_of)?);
+            }
+            continue;
         };
         check_offset(mesh.dim(), a, b, offset, tol)
             .map_err(|e| DistError::new(me, DistErrorKind::Input, e.to_string()))?;
@@ -291,6 +288,33 @@ fn seams(
     }
     count.retain(|_, m| *m > 1.0);
     count
+}
+
+/// The explicit pairs `p` of global ids, with the owner of each id they name added to
+/// `owner_of` (collective; the same on every rank). Error: an id no rank owns.
+fn pairs_by_ids(
+    comm: &Comm,
+    gids: &[u64],
+    owned: usize,
+    p: &[[u32; 2]],
+    owner_of: &mut HashMap<u64, usize>,
+) -> Result<Vec<[u64; 2]>, DistError> {
+    let named: Vec<[u64; 2]> = p.iter().map(|&[a, b]| [u64::from(a), u64::from(b)]).collect();
+    let wanted: HashSet<u64> = named.iter().flatten().copied().collect();
+    let mine: Vec<u64> = gids[..owned].iter().copied().filter(|g| wanted.contains(g)).collect();
+    for (r, ids) in gather_varcount(comm, &mine).into_iter().enumerate() {
+        ids.into_iter().for_each(|g| {
+            owner_of.insert(g, r);
+        });
+    }
+    match named.iter().flatten().find(|g| !owner_of.contains_key(g)) {
+        Some(g) => Err(DistError::new(
+            0,
+            DistErrorKind::Input,
+            format!("a link pair names global id {g}, which no rank has: on a distributed mesh pairs name global ids"),
+        )),
+        None => Ok(named),
+    }
 }
 
 /// The owned vertices of patch `p` on every rank: their global ids, positions and owner ranks,
