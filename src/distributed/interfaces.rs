@@ -22,7 +22,6 @@ use super::dist_mesh::DistributedMesh;
 use super::error::{DistError, DistErrorKind};
 use super::reduce::gather_varcount;
 use super::ties::Linked;
-use crate::bc::Kind;
 use crate::multigrid::layout::Layout;
 use crate::{BoundaryConditions, CellType, MeshData};
 use std::collections::{BTreeMap, BTreeSet, HashMap};
@@ -50,7 +49,9 @@ pub(crate) fn split(dm: &DistributedMesh, bcs: &BoundaryConditions) -> Result<Op
     let local = dm.local_mesh();
     let gids = dm.layout_global_ids();
     let dim = local.dim();
-    agree(comm, prescribing(me, bcs, &patches, dim))?;
+    let prescribed =
+        bcs.check_split_prescribed(dim).map_err(|e| DistError::new(me, DistErrorKind::Input, e.to_string()));
+    agree(comm, prescribed)?;
     // The split vertices: those of the split patches' interior faces (a face between two
     // cells is interior on the part of every rank owning one of them), with each patch's count.
     let mut mine: Vec<u64> = Vec::new();
@@ -97,21 +98,6 @@ pub(crate) fn split(dm: &DistributedMesh, bcs: &BoundaryConditions) -> Result<Op
     Ok(Some(Split { mesh, origin, copies }))
 }
 
-/// Each split patch prescribes every component (FIXED or CLAMPED), as one process requires.
-fn prescribing(me: usize, bcs: &BoundaryConditions, patches: &[i32], dim: usize) -> Result<(), DistError> {
-    for &p in patches {
-        if let Some(c) = (0..dim).find(|&c| matches!(bcs.kind(p, c), Kind::Free | Kind::Slip)) {
-            let msg = format!(
-                "interface patch {p} is split (variant A) but component {c} is {}: each side must prescribe the \
-                 position",
-                format!("{:?}", bcs.kind(p, c)).to_uppercase()
-            );
-            return Err(DistError::new(me, DistErrorKind::Input, msg));
-        }
-    }
-    Ok(())
-}
-
 /// A region as an unsigned key that sorts as the region does.
 fn region_key(r: i32) -> u64 {
     (i64::from(r) - i64::from(i32::MIN)) as u64
@@ -142,9 +128,9 @@ fn split_part(
     }
     // The copies the part uses, by (position, region).
     let mut used: BTreeMap<(u32, i32), u32> = BTreeMap::new();
-    for c in 0..local.num_cells() {
+    for (c, &r) in regions.iter().enumerate() {
         for &v in local.cell(c).iter().filter(|&&v| is_split[v as usize]) {
-            used.insert((v, regions[c]), 0);
+            used.insert((v, r), 0);
         }
     }
     for (key, at) in used.iter_mut() {
@@ -159,9 +145,9 @@ fn split_part(
     }
     let mut d = MeshData::new(local.dim());
     d.coords = origin.iter().flat_map(|&v| local.point(v as usize).to_vec()).collect();
-    for c in 0..local.num_cells() {
-        let t: Vec<u32> = local.cell(c).iter().map(|&v| at(v, regions[c])).collect();
-        d.push_cell(local.cell_type(c), &t, regions[c]);
+    for (c, &r) in regions.iter().enumerate() {
+        let t: Vec<u32> = local.cell(c).iter().map(|&v| at(v, r)).collect();
+        d.push_cell(local.cell_type(c), &t, r);
     }
     // The polyhedra's faces, each on its cell's copies.
     for c in (0..local.num_cells()).filter(|&c| local.cell_type(c) == CellType::Polyhedron) {
