@@ -505,11 +505,11 @@ fn bad_conditions_fail_on_every_rank(world: &SimpleCommunicator, d: &MeshData) {
         e.kind == DistErrorKind::Input && e.message.contains("link 1 -> 0") && e.message.contains("global id"),
         "{e}"
     );
-    // Explicit pairs name local vertices: refused.
+    // Explicit pairs name global ids: ids no rank has are refused.
     let mut pairs = BoundaryConditions::new();
     pairs.add_link(Link::Pairs(vec![[0, 1]]));
     let e = DistributedSolver::new(&dm, &pairs, Method::Laplacian, DistSolveParams::default()).unwrap_err();
-    assert!(e.kind == DistErrorKind::Input && e.message.contains("vertex pairs"), "{e}");
+    assert!(e.kind == DistErrorKind::Input && e.message.contains("global id 0, which no rank has"), "{e}");
     // No component prescribed anywhere: every patch FREE.
     let mut free = BoundaryConditions::new();
     free.default_kind = [Kind::Free; 3];

@@ -66,7 +66,8 @@ pub enum Link {
         /// Largest distance between `v + offset` and the partner.
         tol: f64,
     },
-    /// Explicit vertex pairs (0-based).
+    /// Explicit vertex pairs (0-based vertex indices; on a distributed mesh, global ids: the same
+    /// pairs on every rank).
     Pairs(Vec<[u32; 2]>),
 }
 
@@ -224,13 +225,18 @@ impl BoundaryConditions {
             if !mesh.patch_faces().any(|e| e.patch == p && e.interior) {
                 return Err(Error::Bc(format!("interface patch {p} has no interior face between two cells")));
             }
-            for c in 0..mesh.dim() {
-                if matches!(self.kind(p, c), Kind::Free | Kind::Slip) {
-                    return Err(Error::Bc(format!(
-                        "interface patch {p} is split (variant A) but component {c} is {}: each side must prescribe the position",
-                        format!("{:?}", self.kind(p, c)).to_uppercase()
-                    )));
-                }
+        }
+        self.check_split_prescribed(mesh.dim())
+    }
+
+    /// Every split interface (variant A) prescribes each of the `dim` components on each side.
+    pub(crate) fn check_split_prescribed(&self, dim: usize) -> Result<()> {
+        for p in self.split_patches() {
+            if let Some(c) = (0..dim).find(|&c| matches!(self.kind(p, c), Kind::Free | Kind::Slip)) {
+                return Err(Error::Bc(format!(
+                    "interface patch {p} is split (variant A) but component {c} is {}: each side must prescribe the position",
+                    format!("{:?}", self.kind(p, c)).to_uppercase()
+                )));
             }
         }
         Ok(())

@@ -13,10 +13,10 @@ use crate::multigrid::level::LevelSlip;
 use crate::{BoundaryConditions, Mesh};
 
 /// The conditions the distributed solver takes: FIXED, CLAMPED, FREE and SLIP (flat or curved,
-/// with or without a closest-point function) per patch and component, and links by offset
-/// (periodic pairs, `distributed::ties`), but not links and SLIP walls together. Split
-/// interfaces are serial only. Checked on the patches of the rank's part (a patch no
-/// rank has acts nowhere).
+/// with or without a closest-point function) per patch and component, links by offset
+/// (periodic pairs, `distributed::ties`) and interfaces of both variants
+/// (`distributed::interfaces` splits variant A's), but not links and SLIP walls together.
+/// Checked on the patches of the rank's part (a patch no rank has acts nowhere).
 pub(crate) fn check_supported(me: usize, bcs: &BoundaryConditions, mesh: &Mesh) -> Result<(), DistError> {
     let refuse = |what: String| Err(DistError::new(me, DistErrorKind::Input, format!("{what} (serial only)")));
     if let Err(e) = bcs.check_slip_kinds(mesh.dim(), &mesh.patch_ids()) {
@@ -24,11 +24,6 @@ pub(crate) fn check_supported(me: usize, bcs: &BoundaryConditions, mesh: &Mesh) 
     }
     if !bcs.links.is_empty() && bcs.any_slip() {
         return refuse("the boundary conditions link patches and have SLIP walls, which the distributed solver does not take together".into());
-    }
-    if !bcs.split_patches().is_empty() {
-        return refuse(
-            "the boundary conditions split an interface per region, which the distributed solver does not take".into(),
-        );
     }
     Ok(())
 }
@@ -48,33 +43,33 @@ pub(crate) fn check_same_everywhere(me: usize, halo: &HaloLayout, bcs: &Boundary
     }
 }
 
+/// The flags of every component on every vertex of `mesh` from the patch faces at it (the
+/// owners' are the complete ones).
+pub(crate) fn vertex_flags(mesh: &Mesh, bcs: &BoundaryConditions) -> Vec<Vec<u8>> {
+    let n = mesh.num_vertices();
+    (0..mesh.dim()).map(|c| component_flags(mesh, &Dofs::identity(n), bcs, c)).collect()
+}
+
 /// The flags of every component on every local vertex (layout order) with the slip frames of
-/// the owned vertices: each owner's flags from the patch faces at its vertices, copied to the
-/// halo, where P is added (only owned rows are equations); the frames then make pinned and axis
-/// unknowns P (collective).
+/// the owned vertices: each owner's flags `base` (`vertex_flags`, or a split mesh's), copied to
+/// the halo, where P is added (only owned rows are equations); the frames then make pinned and
+/// axis unknowns P (collective).
 pub(crate) fn flags_and_frames(
     mesh: &Mesh,
     halo: &HaloLayout,
     bcs: &BoundaryConditions,
+    base: &[Vec<u8>],
     ties: Option<&Ties>,
 ) -> (Vec<Vec<u8>>, Option<LevelSlip>) {
-    let mut flags: Vec<Vec<u8>> = (0..mesh.dim()).map(|c| component_flags_of(mesh, halo, bcs, ties, c)).collect();
+    let mut flags: Vec<Vec<u8>> = base.iter().map(|f| component_flags_of(f.clone(), halo, ties)).collect();
     let slip = super::slip::frames(mesh, halo, bcs, &mut flags);
     (flags, slip)
 }
 
-/// The flags of component `c` on every local vertex (layout order): each owner's flags (a
+/// The flags `f` of one component on every local vertex (layout order): each owner's flags (a
 /// tied vertex's those of any vertex of its class, as one process's merged unknown has),
 /// copied to the halo, where P is added. Collective.
-fn component_flags_of(
-    mesh: &Mesh,
-    halo: &HaloLayout,
-    bcs: &BoundaryConditions,
-    ties: Option<&Ties>,
-    c: usize,
-) -> Vec<u8> {
-    let n = mesh.num_vertices();
-    let mut f = component_flags(mesh, &Dofs::identity(n), bcs, c);
+fn component_flags_of(mut f: Vec<u8>, halo: &HaloLayout, ties: Option<&Ties>) -> Vec<u8> {
     if let Some(t) = ties {
         for bit in [P, Z] {
             let mut any: Vec<f64> = f.iter().map(|&x| f64::from(u8::from(x & bit != 0))).collect();

@@ -140,6 +140,27 @@ impl DistributedMesh {
         })
     }
 
+    /// A mesh made from this one's completed part with some vertices replaced by copies
+    /// (`distributed::interfaces`): `part` (the cells in this part's order, `ghost` the cells
+    /// this rank does not own), its vertices' global ids `gids` and the layout position of this
+    /// mesh each comes from (`origin`). Its host vertices are this mesh's: a copy takes its
+    /// original's host values. Returns the mesh and the layout position of this mesh each of its
+    /// vertices comes from (`u32::MAX` for a vertex it fetched itself). Collective.
+    pub(crate) fn with_vertices_split(
+        &self,
+        part: &MeshData,
+        gids: &[u64],
+        ghost: &[bool],
+        origin: &[u32],
+    ) -> Result<(DistributedMesh, Vec<u32>), DistError> {
+        let mut split = DistributedMesh::build(self.comm.clone(), part, gids, ghost)?;
+        let from: Vec<u32> =
+            split.host_index.iter().map(|&i| origin.get(i as usize).copied().unwrap_or(u32::MAX)).collect();
+        split.host_index = from.iter().map(|&p| self.host_index.get(p as usize).copied().unwrap_or(u32::MAX)).collect();
+        split.host_vertices = self.host_vertices;
+        Ok((split, from))
+    }
+
     /// This rank.
     pub fn rank(&self) -> usize {
         self.comm.rank()
@@ -224,7 +245,8 @@ impl DistributedMesh {
         &self.halo
     }
 
-    /// `values` (`per` per vertex, layout order) on the host's vertices, in the host's order.
+    /// `values` (`per` per vertex, layout order) on the host's vertices, in the host's order (a
+    /// vertex split at an interface has several copies, all prescribed alike: the last counts).
     pub(crate) fn to_host_order<T: Copy + Default>(&self, values: &[T], per: usize) -> Vec<T> {
         let mut out = vec![T::default(); self.host_vertices * per];
         for (i, &h) in self.host_index.iter().enumerate().filter(|(_, &h)| (h as usize) < self.host_vertices) {

@@ -8,7 +8,8 @@
 //! vectors over owned and halo entries with halo exchanges by nonblocking point-to-point
 //! messages and inner products reproducible for a fixed number of ranks; and the mesh mover
 //! ([`DistributedSolver`](crate::distributed::DistributedSolver): the three methods with FIXED,
-//! CLAMPED, FREE and SLIP patches, periodic links and rigid motions, made with the serial
+//! CLAMPED, FREE and SLIP patches, links (by offset or by pairs of global ids), interfaces
+//! of both variants and rigid motions, made with the serial
 //! `Options`; the serial solver's steps: `advance`, `advance_from`, `move_in_steps`,
 //! sub-stepping, both reference modes, per-step reports) with its C ABI
 //! ([`capi`](crate::distributed::capi)), solved by conjugate gradients preconditioned by the
@@ -25,6 +26,7 @@ mod dist_mesh;
 mod error;
 mod ghosts;
 mod halo;
+mod interfaces;
 mod kept;
 mod laplacian;
 mod level_layout;

@@ -21,12 +21,13 @@ use super::blocks::Blocks;
 use super::dist_mesh::DistributedMesh;
 use super::error::{DistError, DistErrorKind};
 use super::halo::HaloLayout;
+use super::interfaces;
 use super::kept::{Hierarchies, Kept};
 use super::level_layout::Distribution;
 use super::mg::{biharmonic_rows, Guide, OwnedRows};
 use super::pcg::{pcg, OneLevel, Preconditioner};
 use super::reduce::{gather, sum_in_rank_order};
-use super::ties::Ties;
+use super::ties::{self, Ties};
 use crate::bc::{Dofs, Kind, SlipWalls, COMPONENT, P};
 use crate::mesh::quality::quality_of_cells;
 use crate::multigrid::group::GroupOp;
@@ -115,6 +116,9 @@ pub struct DistributedSolver {
     walls: Option<SlipWalls>,
     /// The classes of vertices periodic links tie across ranks (None without links).
     ties: Option<Arc<Ties>>,
+    /// The flags of each component on every local vertex from the patch faces (layout order;
+    /// the owners' are complete), before links and slip walls add theirs.
+    base: Vec<Vec<u8>>,
 }
 
 impl std::fmt::Debug for DistributedSolver {
@@ -125,9 +129,11 @@ impl std::fmt::Debug for DistributedSolver {
 
 impl DistributedSolver {
     /// The solver of `method` on `mesh` with the conditions `bcs` (collective; every rank gives
-    /// the same). FIXED, CLAMPED, FREE, SLIP and links by offset (periodic pairs, also across
-    /// ranks) are distributed; split interfaces, links given as vertex pairs and links with SLIP
-    /// walls are refused, as are conditions that prescribe a component nowhere.
+    /// the same). FIXED, CLAMPED, FREE, SLIP, links by offset (periodic pairs, also across
+    /// ranks) and interfaces of both variants are distributed (a split interface's vertices
+    /// become one vertex per region, `distributed::interfaces`; [`mesh`](Self::mesh) is then the
+    /// split mesh); links given as vertex pairs and links with SLIP walls are refused, as are
+    /// conditions that prescribe a component nowhere.
     pub fn new(
         mesh: &DistributedMesh,
         bcs: &BoundaryConditions,
@@ -135,22 +141,39 @@ impl DistributedSolver {
         params: DistSolveParams,
     ) -> Result<DistributedSolver, DistError> {
         let me = mesh.rank();
-        let local = mesh.local_mesh();
-        let checked = check_params(me, &params).and_then(|_| bcs::check_supported(me, bcs, local));
-        agree(mesh.halo().comm(), checked)?;
-        agree(mesh.halo().comm(), bcs::check_same_everywhere(me, mesh.halo(), bcs))?;
-        let ties =
-            Ties::new(mesh.halo().shared_comm(), local, mesh.layout_global_ids(), mesh.halo().owned(), &bcs.links);
+        let comm = mesh.halo().comm();
+        let checked = check_params(me, &params).and_then(|_| bcs::check_supported(me, bcs, mesh.local_mesh()));
+        agree(comm, checked)?;
+        agree(comm, bcs::check_same_everywhere(me, mesh.halo(), bcs))?;
+        let split = interfaces::split(mesh, bcs)?;
+        let linked = ties::link_pairs(
+            mesh.halo().shared_comm(),
+            mesh.local_mesh(),
+            mesh.layout_global_ids(),
+            mesh.halo().owned(),
+            &bcs.links,
+        );
+        let mut linked = agree(comm, linked)?;
+        let mut base = bcs::vertex_flags(mesh.local_mesh(), bcs);
+        if let Some(s) = &split {
+            linked = agree(comm, linked.map(|l| s.linked(me, l)).transpose())?;
+            base = s.flags(mesh, base);
+        }
+        let mesh = split.map_or_else(|| mesh.clone(), |s| s.mesh);
+        let (local, gids, owned) = (mesh.local_mesh(), mesh.layout_global_ids(), mesh.halo().owned());
+        let ties = linked.map(|l| Ties::from_pairs(mesh.halo().shared_comm(), local, gids, owned, l)).transpose();
         let ties = agree(mesh.halo().comm(), ties)?.map(Arc::new);
-        let level = build_level(mesh.halo(), local.clone(), bcs, method, ties.as_ref());
+        let level = build_level(mesh.halo(), local.clone(), bcs, &base, method, ties.as_ref());
         agree(mesh.halo().comm(), bcs::check_prescribed(me, mesh.halo(), &level.flags))?;
         let steps = steps::State::new(method, params);
         let walls = SlipWalls::new(local, bcs);
         let multigrids = Kept::default();
-        Ok(DistributedSolver { mesh: mesh.clone(), bcs: bcs.clone(), params, level, multigrids, steps, walls, ties })
+        Ok(DistributedSolver { mesh, bcs: bcs.clone(), params, level, multigrids, steps, walls, ties, base })
     }
 
-    /// The distributed mesh (its reference positions are the ones it was made with).
+    /// The distributed mesh (its reference positions are the ones it was made with): the one
+    /// the solver was made with, or with split interfaces that mesh with the interfaces'
+    /// vertices split per region (the same host vertices).
     pub fn mesh(&self) -> &DistributedMesh {
         &self.mesh
     }
@@ -507,10 +530,11 @@ fn build_level(
     halo: &Arc<HaloLayout>,
     mesh: Mesh,
     bcs: &BoundaryConditions,
+    base: &[Vec<u8>],
     method: Method,
     ties: Option<&Arc<Ties>>,
 ) -> Level {
-    let (flags, slip) = bcs::flags_and_frames(&mesh, halo, bcs, ties.map(|t| &**t));
+    let (flags, slip) = bcs::flags_and_frames(&mesh, halo, bcs, base, ties.map(|t| &**t));
     let mut op = LevelOperator::new(method, &mesh, &Dofs::identity(mesh.num_vertices()));
     if let (Some(t), Method::Spring) = (ties, method) {
         t.share_seam_springs(&mut op.k);

@@ -25,7 +25,7 @@ use crate::multigrid::layout::Layout;
 use crate::multigrid::level::Level;
 use crate::sparse::CsrMatrix;
 use crate::Mesh;
-use std::collections::{BTreeMap, HashMap};
+use std::collections::{BTreeMap, HashMap, HashSet};
 use std::sync::Arc;
 
 /// The classes of tied vertices a rank holds, and how to average over them.
@@ -53,52 +53,72 @@ pub(crate) struct Weights {
     sums: Vec<f64>,
 }
 
+/// The pairs of global ids the links join, and the owner rank of every linked vertex.
+#[derive(Debug)]
+pub(crate) struct Linked {
+    pub(crate) pairs: Vec<[u64; 2]>,
+    pub(crate) owner_of: HashMap<u64, usize>,
+}
+
+/// The pairs `links` make on the mesh (`mesh`: the rank's part in layout order, `gids` its
+/// global ids, the first `owned` vertices owned): None without links (collective; the same on
+/// every rank). Explicit pairs name global ids. Errors: an unusable offset, a vertex without
+/// its partner (named by rank and global id), a pair naming a global id no rank has.
+pub(crate) fn link_pairs(
+    comm: &Arc<Comm>,
+    mesh: &Mesh,
+    gids: &[u64],
+    owned: usize,
+    links: &[Link],
+) -> Result<Option<Linked>, DistError> {
+    if links.is_empty() {
+        return Ok(None);
+    }
+    let me = comm.rank();
+    let mut pairs: Vec<[u64; 2]> = Vec::new();
+    let mut owner_of: HashMap<u64, usize> = HashMap::new();
+    for link in links {
+        let &Link::ByOffset { a, b, offset, tol } = link else {
+            if let Link::Pairs(p) = link {
+                pairs.extend(pairs_by_ids(comm, gids, owned, p, &mut owner_of)?);
+            }
+            continue;
+        };
+        check_offset(mesh.dim(), a, b, offset, tol)
+            .map_err(|e| DistError::new(me, DistErrorKind::Input, e.to_string()))?;
+        let (ga, xa, ra) = gathered_patch(comm, mesh, gids, owned, a);
+        let (gb, xb, rb) = gathered_patch(comm, mesh, gids, owned, b);
+        // Points of both patches, a's first: index i names point i.
+        let ids: Vec<u64> = ga.iter().chain(&gb).copied().collect();
+        let xs: Vec<[f64; 3]> = xa.iter().chain(&xb).copied().collect();
+        let ranks: Vec<usize> = ra.iter().chain(&rb).copied().collect();
+        let va: Vec<u32> = (0..ga.len() as u32).collect();
+        let vb: Vec<u32> = (ga.len() as u32..ids.len() as u32).collect();
+        let name = |i: u32| format!("global id {}", ids[i as usize]);
+        let matched = match_by_offset(mesh.dim(), [a, b], offset, tol, &va, &vb, |i| xs[i as usize], name);
+        let found = matched
+            .map_err(|(i, msg)| DistError::new(*ranks.get(i as usize).unwrap_or(&0), DistErrorKind::Input, msg))?;
+        pairs.extend(found.iter().map(|&[p, q]| [ids[p as usize], ids[q as usize]]));
+        ids.iter().zip(&ranks).for_each(|(&g, &r)| {
+            owner_of.insert(g, r);
+        });
+    }
+    Ok(Some(Linked { pairs, owner_of }))
+}
+
 impl Ties {
-    /// The classes `links` make on the mesh (`mesh`: the rank's part in layout order, `gids`
-    /// its global ids, the first `owned` vertices owned): None without links (collective).
-    /// Errors: a link given by explicit vertex pairs (local indices, which do not cross ranks),
-    /// an unusable offset, or a vertex without its partner, named by rank and global id.
-    pub(crate) fn new(
+    /// The classes `linked` makes on the mesh (`mesh`: the rank's part in layout order, `gids`
+    /// its global ids, the first `owned` vertices owned). Collective; the error (a halo list
+    /// naming a class its owner does not hold) is one rank's.
+    pub(crate) fn from_pairs(
         comm: &Arc<Comm>,
         mesh: &Mesh,
         gids: &[u64],
         owned: usize,
-        links: &[Link],
-    ) -> Result<Option<Ties>, DistError> {
-        if links.is_empty() {
-            return Ok(None);
-        }
+        linked: Linked,
+    ) -> Result<Ties, DistError> {
         let me = comm.rank();
-        let mut pairs: Vec<[u64; 2]> = Vec::new();
-        let mut owner_of: HashMap<u64, usize> = HashMap::new();
-        for link in links {
-            let &Link::ByOffset { a, b, offset, tol } = link else {
-                return Err(DistError::new(
-                    me,
-                    DistErrorKind::Input,
-                    "a link given by vertex pairs names local vertices, which a distributed mesh does not share: \
-                     give the link by patches and offset",
-                ));
-            };
-            check_offset(mesh.dim(), a, b, offset, tol)
-                .map_err(|e| DistError::new(me, DistErrorKind::Input, e.to_string()))?;
-            let (ga, xa, ra) = gathered_patch(comm, mesh, gids, owned, a);
-            let (gb, xb, rb) = gathered_patch(comm, mesh, gids, owned, b);
-            // Points of both patches, a's first: index i names point i.
-            let ids: Vec<u64> = ga.iter().chain(&gb).copied().collect();
-            let xs: Vec<[f64; 3]> = xa.iter().chain(&xb).copied().collect();
-            let ranks: Vec<usize> = ra.iter().chain(&rb).copied().collect();
-            let va: Vec<u32> = (0..ga.len() as u32).collect();
-            let vb: Vec<u32> = (ga.len() as u32..ids.len() as u32).collect();
-            let name = |i: u32| format!("global id {}", ids[i as usize]);
-            let matched = match_by_offset(mesh.dim(), [a, b], offset, tol, &va, &vb, |i| xs[i as usize], name);
-            let found = matched
-                .map_err(|(i, msg)| DistError::new(*ranks.get(i as usize).unwrap_or(&0), DistErrorKind::Input, msg))?;
-            pairs.extend(found.iter().map(|&[p, q]| [ids[p as usize], ids[q as usize]]));
-            ids.iter().zip(&ranks).for_each(|(&g, &r)| {
-                owner_of.insert(g, r);
-            });
-        }
+        let Linked { pairs, owner_of } = linked;
         let master = classes(&pairs);
         // Per class (by its lowest global id): its owner and its number of vertices.
         let mut size: BTreeMap<u64, usize> = BTreeMap::new();
@@ -121,7 +141,7 @@ impl Ties {
         let copies = held[..layout.owned()].iter().map(|m| size[m] as f64).collect();
         let class_of: Vec<Option<u64>> = gids.iter().map(|g| master.get(g).copied()).collect();
         let seams = seams(comm, mesh, gids, &class_of, &master);
-        Ok(Some(Ties { layout, members, copies, class_of, seams }))
+        Ok(Ties { layout, members, copies, class_of, seams })
     }
 
     /// The lumped masses `mass` of the local vertices (owned ones read) as the weights of
@@ -268,6 +288,33 @@ fn seams(
     }
     count.retain(|_, m| *m > 1.0);
     count
+}
+
+/// The explicit pairs `p` of global ids, with the owner of each id they name added to
+/// `owner_of` (collective; the same on every rank). Error: an id no rank owns.
+fn pairs_by_ids(
+    comm: &Comm,
+    gids: &[u64],
+    owned: usize,
+    p: &[[u32; 2]],
+    owner_of: &mut HashMap<u64, usize>,
+) -> Result<Vec<[u64; 2]>, DistError> {
+    let named: Vec<[u64; 2]> = p.iter().map(|&[a, b]| [u64::from(a), u64::from(b)]).collect();
+    let wanted: HashSet<u64> = named.iter().flatten().copied().collect();
+    let mine: Vec<u64> = gids[..owned].iter().copied().filter(|g| wanted.contains(g)).collect();
+    for (r, ids) in gather_varcount(comm, &mine).into_iter().enumerate() {
+        ids.into_iter().for_each(|g| {
+            owner_of.insert(g, r);
+        });
+    }
+    match named.iter().flatten().find(|g| !owner_of.contains_key(g)) {
+        Some(g) => Err(DistError::new(
+            0,
+            DistErrorKind::Input,
+            format!("a link pair names global id {g}, which no rank has: on a distributed mesh pairs name global ids"),
+        )),
+        None => Ok(named),
+    }
 }
 
 /// The owned vertices of patch `p` on every rank: their global ids, positions and owner ranks,

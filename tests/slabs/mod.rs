@@ -6,6 +6,7 @@ use meshmove::{CellType, Mesh, MeshData};
 use std::collections::HashMap;
 
 /// The boundary motion: smooth, different in every component.
+#[allow(dead_code)] // the cases' test moves its cases' boundaries
 pub fn motion(x: &[f64]) -> [f64; 3] {
     let z = x.get(2).copied().unwrap_or(0.0);
     [0.1 * (2.0 * x[0] + x[1]).sin(), 0.08 * (x[0] - 3.0 * x[1] + z).cos(), 0.05 * (x[0] + x[1] + 2.0 * z).sin()]
@@ -153,8 +154,8 @@ pub fn block_owner(d: &MeshData, size: usize) -> Vec<usize> {
         .collect()
 }
 
-/// Rank `rank`'s part: its owned cells, the cells sharing a vertex with them as ghosts (unless
-/// `with_ghosts` is false), their vertices in reverse global order (any order is allowed),
+/// Rank `rank`'s part: its owned cells (with their regions), the cells sharing a vertex with
+/// them as ghosts (unless `with_ghosts` is false), their vertices in reverse global order (any order is allowed),
 /// global ids offset from the indices; polyhedra with their faces.
 pub struct Part {
     pub data: MeshData,
@@ -164,7 +165,9 @@ pub struct Part {
     pub global: Vec<usize>,
 }
 
-const GID_BASE: u64 = 1000;
+/// The global id of vertex 0 (vertex v's is `GID_BASE + v`).
+#[allow(dead_code)] // the cases' test names pairs by global id
+pub const GID_BASE: u64 = 1000;
 
 pub fn part(d: &MeshData, owner: &[usize], rank: usize, with_ghosts: bool) -> Part {
     let mut touches = vec![false; d.num_vertices()];
@@ -184,17 +187,18 @@ pub fn part(d: &MeshData, owner: &[usize], rank: usize, with_ghosts: bool) -> Pa
         data.push_vertex(d.point(v));
     });
     let polyhedra = polyhedron_faces(d);
+    let region = |c: usize| d.regions.get(c).copied().unwrap_or(0);
     for &c in &cells {
         match polyhedra.get(&c) {
             Some(faces) => {
                 let faces: Vec<Vec<u32>> =
                     faces.iter().map(|f| f.iter().map(|&v| local_of[v as usize]).collect()).collect();
                 let refs: Vec<&[u32]> = faces.iter().map(|f| f.as_slice()).collect();
-                data.push_polyhedron(&refs, 0);
+                data.push_polyhedron(&refs, region(c));
             }
             None => {
                 let t: Vec<u32> = d.cell(c).iter().map(|&v| local_of[v as usize]).collect();
-                data.push_cell(d.cell_types[c], &t, 0);
+                data.push_cell(d.cell_types[c], &t, region(c));
             }
         }
     }

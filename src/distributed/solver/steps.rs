@@ -184,7 +184,7 @@ impl DistributedSolver {
 
     /// The rank's level at the positions `x` (layout order; collective).
     fn level_at(&self, x: Vec<f64>) -> Level {
-        build_level(self.halo(), self.local().with_coords(x), &self.bcs, self.method(), self.ties.as_ref())
+        build_level(self.halo(), self.local().with_coords(x), &self.bcs, &self.base, self.method(), self.ties.as_ref())
     }
 
     /// Moves the slip walls rigidly with the rigid motions of `motion`.

@@ -1,0 +1,252 @@
+//! The paper's cases on distributed meshes (the `mpi` feature): `cargo test -p meshmove-cases
+//! --features mpi --test distributed` starts itself under `mpirun` on 1, 2, 3 and 4 ranks (each
+//! run under a time limit, so a rank left waiting fails the test instead of hanging it). On each
+//! rank count every case below, at its smallest size, is split into slabs across x (so the
+//! interfaces, the periodic links and the slip walls cross the ranks' boundaries) and solved
+//! with the biharmonic and the Laplacian to a relative residual of 1e-12 (1e-14 where that does
+//! not pin the displacement to 1e-10: the wall-layer meshes); the ranks check their vertices
+//! against the serial `Solver` (rank 0 solves it and sends it to all) to 1e-10 of the motion,
+//! and the quality report's inverted count and smallest area ratio (to 1e-10) against
+//! the serial one. The launching process prints the table of iterations (serial cycles against
+//! the distributed conjugate gradients' on 1–4 ranks) and checks that they do not depend on the
+//! rank count by more than one (a fifth for the solves tightened to 1e-14).
+
+#[path = "../../tests/slabs/mod.rs"]
+mod slabs;
+
+use meshmove::distributed::mpi::topology::SimpleCommunicator;
+use meshmove::distributed::mpi::traits::*;
+use meshmove::distributed::{DistSolveParams, DistributedMesh, DistributedSolver};
+use meshmove::{BoundaryConditions, Kind, Link, Mesh, MeshData, Method, Motion, Options, Solver};
+use meshmove_cases::meshes::{FS_BOTTOM, FS_LEFT, FS_RIGHT, FS_TOP};
+use meshmove_cases::setups::{case, CaseSetup, Scale};
+use std::collections::BTreeMap;
+use std::process::ExitCode;
+
+/// The cases: the paper's 2D cases (free surface with periodic sides, the rising and deforming
+/// interfaces split per region (variant A) and continuous (B), the cylinder in a channel, the
+/// boundary-layer cylinder on triangles and hybrid), the free surface in 3D on tetrahedra and
+/// hexahedra, the sphere in a duct with FIXED and with SLIP walls, the cylinder channel with
+/// SLIP walls, and the free surface with its periodic sides linked by explicit vertex pairs
+/// (global ids on the distributed mesh, [`PAIRS`]).
+const CASES: [&str; 13] = [
+    "free_surface_a0.25",
+    "rising_interface_0.5",
+    "deforming_interface_A",
+    "deforming_interface_B",
+    "cylinder_channel",
+    "boundary_layer_cylinder",
+    "boundary_layer_cylinder_hybrid",
+    "cylinder_channel_1.5D_slip",
+    "free_surface_3d_tets_a0.1",
+    "free_surface_3d_hexes_a0.1",
+    "sphere_channel_1.5D_fixed",
+    "sphere_channel_1.5D_slip",
+    "free_surface_a0.1",
+];
+
+const METHODS: [Method; 2] = [Method::Biharmonic, Method::Laplacian];
+
+fn main() -> ExitCode {
+    if std::env::var_os("OMPI_COMM_WORLD_SIZE").is_some() || std::env::var_os("PMI_SIZE").is_some() {
+        return rank_main();
+    }
+    let mut ok = true;
+    // Per (case, method): the serial cycles and each rank count's iterations.
+    let mut table: BTreeMap<(usize, String), (String, Vec<String>)> = BTreeMap::new();
+    for np in 1..=4 {
+        let out = slabs::mpirun(np);
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        print!("{stdout}");
+        for line in stdout.lines().filter_map(|l| l.strip_prefix("matrix: ")) {
+            let f: Vec<&str> = line.split(" | ").collect();
+            let at = CASES.iter().position(|c| *c == f[0]).unwrap_or(usize::MAX);
+            let e = table.entry((at, format!("{} | {}", f[0], f[1]))).or_default();
+            e.0 = f[2].to_string();
+            e.1.push(f[3].to_string());
+        }
+        if !out.status.success() {
+            eprint!("{}", String::from_utf8_lossy(&out.stderr));
+            eprintln!("FAILED on {np} ranks: {}", out.status);
+            ok = false;
+        }
+    }
+    println!("| case | method | serial cycles | 1 rank | 2 ranks | 3 ranks | 4 ranks |");
+    for ((_, name), (serial, runs)) in &table {
+        println!("| {name} | {serial} | {} |", runs.join(" | "));
+        // Solved to 1e-14 (the wall-layer meshes: hundreds of iterations on an ill-conditioned
+        // system), the partition's rounding moves the count by more than one: within a fifth.
+        let slack = |n: i64| if serial.contains("to 1e-14") { n / 5 } else { 1 };
+        let first = numbers(&runs[0]);
+        let apart = |r: &String| numbers(r).iter().zip(&first).any(|(a, b)| (a - b).abs() > slack(*b));
+        if runs.len() != 4 || runs.iter().any(apart) {
+            eprintln!("{name}: the iterations depend on the rank count: {runs:?}");
+            ok = false;
+        }
+    }
+    ok &= table.len() == CASES.len() * METHODS.len();
+    if ok {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    }
+}
+
+/// The integers of a printed list such as "[5, 6]".
+fn numbers(s: &str) -> Vec<i64> {
+    s.split(|c: char| !c.is_ascii_digit()).filter(|t| !t.is_empty()).filter_map(|t| t.parse().ok()).collect()
+}
+
+/// One rank: every case with every method, in the same order on every rank (they are collective).
+fn rank_main() -> ExitCode {
+    let universe = meshmove::distributed::mpi::initialize().expect("MPI initialises once");
+    let world = universe.world();
+    for name in CASES {
+        let mut setup = case(name, Scale::Quick).expect("a case of the cases crate");
+        let mut dist_bcs = setup.bcs.clone();
+        if name == PAIRS {
+            (setup.bcs, dist_bcs) = linked_by_pairs(&setup.mesh);
+        }
+        for method in METHODS {
+            agrees_with_serial(&world, &setup, &dist_bcs, method);
+        }
+    }
+    ExitCode::SUCCESS
+}
+
+/// The case whose sides are linked by explicit vertex pairs rather than by offset.
+const PAIRS: &str = "free_surface_a0.1";
+
+/// The free surface's conditions with its periodic sides linked by explicit pairs: by vertex
+/// index for the serial solver, by global id (`slabs::GID_BASE` + index) for the distributed.
+fn linked_by_pairs(mesh: &Mesh) -> (BoundaryConditions, BoundaryConditions) {
+    let mut bcs = BoundaryConditions::new();
+    bcs.set_kinds(FS_BOTTOM, Kind::Fixed).set_kinds(FS_TOP, Kind::Clamped);
+    for p in [FS_LEFT, FS_RIGHT] {
+        bcs.set_kind(p, 0, Kind::Clamped).unwrap().set_kind(p, 1, Kind::Free).unwrap();
+    }
+    let right = mesh.patch_vertices(FS_RIGHT);
+    let pairs: Vec<[u32; 2]> = mesh
+        .patch_vertices(FS_LEFT)
+        .into_iter()
+        .map(|a| {
+            let y = mesh.point(a as usize)[1];
+            let b = right.iter().find(|&&b| (mesh.point(b as usize)[1] - y).abs() < 1e-9).expect("a partner");
+            [a, *b]
+        })
+        .collect();
+    let by_id = |v: u32| u32::try_from(u64::from(v) + slabs::GID_BASE).expect("small ids");
+    let mut dist = bcs.clone();
+    dist.add_link(Link::Pairs(pairs.iter().map(|&[a, b]| [by_id(a), by_id(b)]).collect()));
+    bcs.add_link(Link::Pairs(pairs));
+    (bcs, dist)
+}
+
+/// The slab across x of the mesh's bounding box that owns each cell of `d` on `size` ranks
+/// (by its centroid).
+fn slabs_across_x(d: &MeshData, size: usize) -> Vec<usize> {
+    let xs = (0..d.num_vertices()).map(|v| d.point(v)[0]);
+    let (lo, hi) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), x| (l.min(x), h.max(x)));
+    (0..d.num_cells())
+        .map(|c| {
+            let t = d.cell(c);
+            let x = t.iter().map(|&v| d.point(v as usize)[0]).sum::<f64>() / t.len() as f64;
+            (((x - lo) / (hi - lo) * size as f64) as usize).min(size - 1)
+        })
+        .collect()
+}
+
+/// The tolerances of the solves: 1e-12, and where the two answers differ by more than 1e-10 of
+/// the motion or of the smallest area ratio at 1e-12 (the wall-layer meshes, whose biharmonic is
+/// so ill-conditioned that a residual of 1e-12 leaves the displacement uncertain beyond 1e-10,
+/// and whose thin cells' ratios magnify the displacement's error), both solved again to 1e-14:
+/// the difference must then have shrunk tenfold with the tolerance (it is the solves', not the
+/// partition's) to within 1e-9 of the motion, and the ratios agree to 1e-8.
+const TOLERANCES: [f64; 2] = [1e-12, 1e-14];
+
+/// The case's whole motion solved in one step by `method` on the slabs of every rank (with the
+/// conditions `dist_bcs`) equals the serial solver's to 1e-10 of the motion (both to 1e-12; see
+/// [`TOLERANCES`] for the ill-conditioned), with the same inverted count and smallest area
+/// ratio; prints the iterations for the table.
+fn agrees_with_serial(world: &SimpleCommunicator, setup: &CaseSetup, dist_bcs: &BoundaryConditions, method: Method) {
+    let (rank, size) = (world.rank() as usize, world.size() as usize);
+    let d = setup.mesh.to_data();
+    let (dim, nv) = (d.dim, d.num_vertices());
+    let p = slabs::part(&d, &slabs_across_x(&d, size), rank, true);
+    let dm = DistributedMesh::new(world, &p.data, &p.gids, &p.ghost).expect("the distributed mesh");
+    let what = format!("{}, {method:?} on {size} ranks", setup.name);
+    let given = &setup.motion.displacement;
+    let local: Vec<f64> = p.global.iter().flat_map(|&v| given[v * dim..(v + 1) * dim].to_vec()).collect();
+    let motion = Motion { displacement: local, rigid: setup.motion.rigid.clone() };
+    let mut first_difference = None;
+    for (k, tol) in TOLERANCES.into_iter().enumerate() {
+        // Rank 0 solves the serial case and sends the displacement, the cycles and the quality.
+        let mut reference = vec![0.0; nv * dim];
+        let mut report = [0.0; 3];
+        if rank == 0 {
+            let mut o = Options { method, threads: 1, ..Default::default() };
+            o.solve.tol = tol;
+            o.solve.max_cycles = 1000;
+            let serial = Solver::new(&setup.mesh, &setup.bcs, o).expect("the serial solver");
+            let s = serial.solve(&setup.motion).unwrap_or_else(|e| panic!("{what}: serial to {tol:e}: {e}"));
+            reference = s.displacement;
+            report = [s.report.cycles as f64, s.quality.inverted as f64, s.quality.min_area_ratio];
+        }
+        let root = world.process_at_rank(0);
+        root.broadcast_into(&mut reference[..]);
+        root.broadcast_into(&mut report[..]);
+        let scale = reference.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        let params = DistSolveParams { tol, ..Default::default() };
+        let solver = DistributedSolver::new(&dm, dist_bcs, method, params).unwrap_or_else(|e| panic!("{what}: {e}"));
+        let sol = solver.solve(&motion).unwrap_or_else(|e| panic!("{what}: {e}"));
+        let mut worst = 0.0f64;
+        for (i, &v) in p.global.iter().enumerate() {
+            for c in 0..dim {
+                worst = worst.max((sol.displacement[i * dim + c] - reference[v * dim + c]).abs());
+            }
+        }
+        let mut all = vec![0.0; size];
+        world.all_gather_into(&worst, &mut all[..]);
+        let worst = all.iter().fold(0.0f64, |m, &x| m.max(x));
+        let q = sol.quality;
+        let ratio_apart = (q.min_area_ratio - report[2]).abs() / report[2].abs().max(1.0);
+        if (worst > 1e-10 * scale || ratio_apart > 1e-10) && k + 1 < TOLERANCES.len() {
+            if rank == 0 {
+                println!(
+                    "{what}: {:.1e} of the motion and {ratio_apart:.1e} of the smallest ratio apart at {tol:e}: both \
+                     solved again",
+                    worst / scale
+                );
+            }
+            first_difference = Some(worst);
+            continue;
+        }
+        // After tightening, the thin cells' ratios move by the displacement's error over their
+        // thickness: compared to 1e-8.
+        let (bound, ratio_bound) = match first_difference {
+            None => (1e-10 * scale, 1e-10),
+            Some(at_first) => ((1e-9 * scale).min(0.1 * at_first.max(1e-10 * scale)), 1e-8),
+        };
+        assert!(worst <= bound, "{what}: differs by {worst:e} (motion {scale:e}) at {tol:e}");
+        assert!(sol.rel_residual <= tol, "{what}: residual {}", sol.rel_residual);
+        assert_eq!(q.inverted as f64, report[1], "{what}: inverted cells");
+        assert!(ratio_apart <= ratio_bound, "{what}: {q:?} against {report:?}");
+        if rank == 0 {
+            println!(
+                "{what}: {nv} vertices, iterations {:?} (serial {} cycles) to {tol:e}, largest difference {:.1e} of \
+                 the motion, {} inverted, min ratio {:.6}",
+                sol.iterations,
+                report[0],
+                worst / scale,
+                q.inverted,
+                q.min_area_ratio
+            );
+            let tightened = match first_difference {
+                Some(d) => format!(" (to {tol:e}: apart {:.1e} at 1e-12, {:.1e} at {tol:e})", d / scale, worst / scale),
+                None => String::new(),
+            };
+            println!("matrix: {} | {method:?} | {}{tightened} | {:?}", setup.name, report[0], sol.iterations);
+        }
+        return;
+    }
+}
