@@ -8,8 +8,8 @@
 //! split between ranks, automatic sub-steps (the same `--report` lines, with the worst rank),
 //! the original-reference mode, a run whose sub-stepping reaches its limit (the same last valid
 //! mesh, status 4), a last step that inverts cells (the same mesh, status 3), and a `.pvtu`
-//! whose pieces give the serial points by global id. A split
-//! interface, which the distributed solver does not take, fails on every rank with one message.
+//! whose pieces give the serial points by global id, a split interface. Links together with
+//! SLIP walls, which the distributed solver does not take, fail on every rank with one message.
 //! Skipped, with a message, where `mpirun` is missing. Run by `cargo test --release -p
 //! meshmove-cli --features mpi --test deform_mpi`.
 
@@ -247,23 +247,37 @@ fn original_reference_equals_serial() {
     agrees_on_1_to_4_ranks("box-original", "box.msh", &case, &[], &[]);
 }
 
-/// An interface clamped on each side (split per region) stays serial: every rank fails with one
-/// message, nothing written.
+/// An interface clamped on each side (split per region, each region's copy of an interface
+/// vertex its own unknown) raised in three steps: the same mesh as serially.
 #[test]
-fn a_split_interface_fails_on_every_rank_with_one_message() {
+fn a_split_interface_equals_serial() {
+    let case = "tolerance = 1e-12\nsteps = 3\n[[patch]]\npatch = \"interface\"\nkind = \"clamped\"\n\
+                [[interface]]\npatch = \"interface\"\nvariant = \"separate\"\n\
+                [[motion]]\npatch = \"interface\"\ntranslation = [0.0, 0.3]\n";
+    agrees_on_1_to_4_ranks("interface", "two_region.msh", case, &[], &[]);
+}
+
+/// Periodic links together with a SLIP wall, which the distributed solver does not take: every
+/// rank fails with the library's one message, nothing written.
+#[test]
+fn links_with_slip_walls_fail_on_every_rank_with_one_message() {
     if !have_mpirun() {
         return;
     }
-    let dir = tmp("interface");
-    let case = "tolerance = 1e-12\nsteps = 3\n[[patch]]\npatch = \"interface\"\nkind = \"clamped\"\n\
-                [[interface]]\npatch = \"interface\"\nvariant = \"separate\"\n\
+    let dir = tmp("links-slip");
+    let case = "tolerance = 1e-12\nsteps = 3\n[[patch]]\npatch = \"bottom\"\nkind = \"slip\"\n\
+                [[patch]]\npatch = \"left\"\nkind = [\"clamped\", \"free\"]\n\
+                [[patch]]\npatch = \"right\"\nkind = [\"clamped\", \"free\"]\n\
+                [[patch]]\npatch = \"interface\"\nkind = \"clamped\"\n\
+                [[link]]\na = \"left\"\nb = \"right\"\noffset = [1.0, 0.0]\n\
                 [[motion]]\npatch = \"interface\"\ntranslation = [0.0, 0.3]\n";
     std::fs::write(dir.join("case.toml"), case).unwrap();
     let o = deform(3, "two_region.msh", &dir, "out.vtu", &[] as &[&str]);
     let stderr = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(1), "{stderr}");
     assert_eq!(stderr.matches("meshmove: error:").count(), 1, "{stderr}");
-    assert!(stderr.contains("split an interface per region") && stderr.contains("serial only"), "{stderr}");
+    assert!(stderr.contains("do not take together") || stderr.contains("does not take together"), "{stderr}");
+    assert!(stderr.contains("serial only"), "{stderr}");
     assert!(!dir.join("out.vtu").exists());
 }
 

@@ -130,10 +130,10 @@ impl std::fmt::Debug for DistributedSolver {
 impl DistributedSolver {
     /// The solver of `method` on `mesh` with the conditions `bcs` (collective; every rank gives
     /// the same). FIXED, CLAMPED, FREE, SLIP, links by offset (periodic pairs, also across
-    /// ranks) and interfaces of both variants are distributed (a split interface's vertices
-    /// become one vertex per region, `distributed::interfaces`; [`mesh`](Self::mesh) is then the
-    /// split mesh); links given as vertex pairs and links with SLIP walls are refused, as are
-    /// conditions that prescribe a component nowhere.
+    /// ranks) or by pairs of global ids, and interfaces of both variants are distributed (a
+    /// split interface's vertices become one vertex per region, `distributed::interfaces`;
+    /// [`mesh`](Self::mesh) is then the split mesh); links together with SLIP walls are
+    /// refused, as are conditions that prescribe a component nowhere.
     pub fn new(
         mesh: &DistributedMesh,
         bcs: &BoundaryConditions,
