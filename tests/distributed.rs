@@ -95,6 +95,7 @@ fn rank_main() -> ExitCode {
     for (name, mesh) in &meshes {
         agrees_with_serial(&world, &format!("{name}, slabs"), mesh, &slab_owner(mesh, size));
         agrees_with_serial(&world, &format!("{name}, hashed blocks"), mesh, &block_owner(mesh, size));
+        agrees_with_serial(&world, &format!("{name}, boundary layers"), mesh, &layer_owner(mesh, size));
     }
     bad_input_fails_on_every_rank(&world, &meshes[0].1);
     bad_input_fails_on_every_rank(&world, &meshes[1].1);
@@ -124,6 +125,7 @@ fn rank_main() -> ExitCode {
         for case in [Case::AllFixed, Case::ClampedBody, Case::FreeSide] {
             solver_agrees_with_serial(&world, name, &unscaled, Method::Biharmonic, case);
         }
+        biharmonic_agglomerated(&world, name, &mesh);
     }
     bad_conditions_fail_on_every_rank(&world, &tagged(&grid2d(14, 12)));
     failing_wall_fails_on_every_rank(&world, &bent(&grid2d(10, 16)));
@@ -191,6 +193,26 @@ fn agrees_with_serial(world: &SimpleCommunicator, name: &str, d: &MeshData, owne
     for (mg, one) in sol.iterations.iter().zip(&one.iterations) {
         assert!(*mg <= 15 && 3 * mg <= 2 * one, "{name}: {mg} iterations with the multigrid, {one} with one level");
     }
+    // The default threshold moves these small meshes' first coarse level onto one rank.
+    assert_eq!(sol.level_ranks[0], size as u64, "{name}: ranks per level {:?}", sol.level_ranks);
+    assert!(sol.level_ranks[1..].iter().all(|&r| r == 1), "{name}: ranks per level {:?}", sol.level_ranks);
+    // Without agglomeration every level is on every rank; with a small threshold the first coarse
+    // level is on two of three or four ranks. Both equal serial, with the same levels and the
+    // iterations of the solve without agglomeration within one.
+    let flat = dm.solve_laplacian(&boundary, &DistSolveParams { agglomerate_below: 0, ..params }).unwrap();
+    assert!(flat.level_ranks.iter().all(|&r| r == size as u64), "{name}: {:?}", flat.level_ranks);
+    let halved = dm.solve_laplacian(&boundary, &DistSolveParams { agglomerate_below: 200, ..params }).unwrap();
+    let expected: Vec<u64> = sol.level_rows.iter().enumerate().map(|(l, _)| halved_ranks(size, l)).collect();
+    assert_eq!(halved.level_ranks, expected, "{name}: ranks per level");
+    for other in [&flat, &halved] {
+        assert_eq!(other.level_rows, sol.level_rows, "{name}: agglomeration changed the levels");
+        let close = other.iterations.iter().zip(&flat.iterations).all(|(a, b)| a.abs_diff(*b) <= 1);
+        assert!(close, "{name}: iterations {:?} against {:?} without agglomeration", other.iterations, flat.iterations);
+        let worst = largest_difference(&p, dim, &other.displacement, &reference.displacement);
+        assert!(worst <= 1e-10 * scale, "{name} on {size} ranks: agglomerated, rank {rank} differs by {worst:e}");
+    }
+    let halved_again = dm.solve_laplacian(&boundary, &DistSolveParams { agglomerate_below: 200, ..params }).unwrap();
+    assert_eq!(bits(&halved.displacement), bits(&halved_again.displacement), "{name}: agglomerated twice");
     if rank == 0 {
         println!(
             "{size} ranks, {name}: {} vertices, iterations {:?} (one level {:?}; serial {} cycles), largest \
@@ -202,7 +224,45 @@ fn agrees_with_serial(world: &SimpleCommunicator, name: &str, d: &MeshData, owne
             worst / scale
         );
         println!("multigrid: {name} | {:?} | {:?}", sol.iterations, sol.level_rows);
+        println!(
+            "{size} ranks, {name}: ranks per level {:?} by default, {:?} below 200 per rank (iterations {:?}, \
+             without agglomeration {:?})",
+            sol.level_ranks, halved.level_ranks, halved.iterations, flat.iterations
+        );
     }
+}
+
+/// The ranks of each level of the test meshes (the first coarse level has 451–582 unknowns, the
+/// next at most 400, gathered) with 200 unknowns per rank: two of three or four ranks hold the
+/// first coarse level; the gathered level stays on its ranks.
+fn halved_ranks(size: usize, level: usize) -> u64 {
+    match (size, level) {
+        (_, 0) | (1 | 2, _) => size as u64,
+        _ => 2,
+    }
+}
+
+/// A partition in which the last rank (on two ranks and more) and the one before it (on three
+/// and more) own only the cells touching the largest and smallest x, so the vertices they own
+/// lie on the boundary: prescribed in the Laplacian's test, they own no unknown on any level.
+/// The other cells go in slabs by x to the other ranks.
+fn layer_owner(d: &MeshData, size: usize) -> Vec<usize> {
+    let xs: Vec<f64> = (0..d.num_vertices()).map(|v| d.point(v)[0]).collect();
+    let (lo, hi) = xs.iter().fold((f64::MAX, f64::MIN), |(a, b), &x| (a.min(x), b.max(x)));
+    let layers = size.saturating_sub(1).min(2);
+    let slabs = slab_owner(d, size - layers);
+    (0..d.num_cells())
+        .map(|c| {
+            let cell = d.cell(c);
+            if layers >= 1 && cell.iter().any(|&v| xs[v as usize] == hi) {
+                size - 1
+            } else if layers == 2 && cell.iter().any(|&v| xs[v as usize] == lo) {
+                size - 2
+            } else {
+                slabs[c]
+            }
+        })
+        .collect()
 }
 
 /// One rank's bad input makes every rank return the error naming that rank.
@@ -459,6 +519,48 @@ fn solver_agrees_with_serial(
             worst / scale,
             q.min_area_ratio,
             sol.worst_rank
+        );
+    }
+}
+
+/// The biharmonic's levels K_c V_c⁻¹ K_c agglomerated onto fewer ranks: below 100 unknowns per
+/// rank the first coarse level moves onto two of three or four ranks (with its guide K_c and
+/// V_c), below the default every coarse level onto one. The result equals the one without
+/// agglomeration to 1e-10 of the motion, with the same levels and iterations within one, and a
+/// second solve of a new solver gives bitwise the same.
+fn biharmonic_agglomerated(world: &SimpleCommunicator, name: &str, d: &MeshData) {
+    let (rank, size) = (world.rank() as usize, world.size() as usize);
+    let dim = d.dim;
+    let p = part(d, &slab_owner(d, size), rank, true);
+    let dm = DistributedMesh::new(world, &p.data, &p.gids, &p.ghost).unwrap();
+    let bcs = Case::ClampedBody.conditions(dim);
+    let local: Vec<f64> = p.global.iter().flat_map(|&v| motion(d.point(v))[..dim].to_vec()).collect();
+    let moved = Motion { displacement: local, rigid: Case::ClampedBody.rigid() };
+    let solve = |below: u64| {
+        let params = DistSolveParams { tol: 1e-12, agglomerate_below: below, ..Default::default() };
+        DistributedSolver::new(&dm, &bcs, Method::Biharmonic, params).unwrap().solve(&moved).unwrap()
+    };
+    let (flat, halved, default) = (solve(0), solve(100), solve(DistSolveParams::default().agglomerate_below));
+    let scale = flat.displacement.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let what = format!("{name}, biharmonic on {size} ranks: levels {:?}", flat.level_rows);
+    assert!(flat.level_rows.len() >= 3 && flat.level_ranks.iter().all(|&r| r == size as u64), "{what}");
+    let first_coarse = if size >= 3 { 2 } else { size as u64 };
+    assert_eq!(halved.level_ranks[..2], [size as u64, first_coarse], "{what}: {:?}", halved.level_ranks);
+    assert!(default.level_ranks[1..].iter().all(|&r| r == 1), "{what}: {:?}", default.level_ranks);
+    for other in [&halved, &default] {
+        assert_eq!(other.level_rows, flat.level_rows, "{what}");
+        let worst = other.displacement.iter().zip(&flat.displacement).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+        assert!(worst <= 1e-10 * scale, "{what}: agglomerated, rank {rank} differs by {worst:e}");
+        let close = other.iterations.iter().zip(&flat.iterations).all(|(a, b)| a.abs_diff(*b) <= 1);
+        assert!(close, "{what}: iterations {:?} against {:?}", other.iterations, flat.iterations);
+    }
+    let bits = |s: &[f64]| s.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert_eq!(bits(&solve(100).displacement), bits(&halved.displacement), "{what}: a second solver differs");
+    if rank == 0 {
+        println!(
+            "{size} ranks, {name}, biharmonic: ranks per level {:?} below 100 per rank, {:?} by default; iterations \
+             {:?}, {:?}, without agglomeration {:?}",
+            halved.level_ranks, default.level_ranks, halved.iterations, default.iterations, flat.iterations
         );
     }
 }
