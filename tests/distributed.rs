@@ -193,26 +193,24 @@ fn agrees_with_serial(world: &SimpleCommunicator, name: &str, d: &MeshData, owne
     for (mg, one) in sol.iterations.iter().zip(&one.iterations) {
         assert!(*mg <= 15 && 3 * mg <= 2 * one, "{name}: {mg} iterations with the multigrid, {one} with one level");
     }
-    // The default threshold moves these small meshes' first coarse level onto one rank.
-    assert_eq!(sol.level_ranks[0], size as u64, "{name}: ranks per level {:?}", sol.level_ranks);
-    assert!(sol.level_ranks[1..].iter().all(|&r| r == 1), "{name}: ranks per level {:?}", sol.level_ranks);
-    // Without agglomeration every level is on every rank; with a small threshold the first coarse
-    // level is on two of three or four ranks. Both equal serial, with the same levels and the
-    // iterations of the solve without agglomeration within one.
+    // The default threshold (200 unknowns per rank) moves the first coarse level onto two of
+    // three or four ranks; 0 keeps every level on every rank, 1 000 moves it onto one. All equal
+    // serial, with the same levels and the iterations of the solve without agglomeration within
+    // one.
+    let expected: Vec<u64> = sol.level_rows.iter().enumerate().map(|(l, _)| halved_ranks(size, l)).collect();
+    assert_eq!(sol.level_ranks, expected, "{name}: ranks per level");
+    assert_eq!(expected, ranks_by_rule(&sol.level_rows, size, 200), "{name}: ranks per level");
     let flat = dm.solve_laplacian(&boundary, &DistSolveParams { agglomerate_below: 0, ..params }).unwrap();
     assert!(flat.level_ranks.iter().all(|&r| r == size as u64), "{name}: {:?}", flat.level_ranks);
-    let halved = dm.solve_laplacian(&boundary, &DistSolveParams { agglomerate_below: 200, ..params }).unwrap();
-    let expected: Vec<u64> = sol.level_rows.iter().enumerate().map(|(l, _)| halved_ranks(size, l)).collect();
-    assert_eq!(halved.level_ranks, expected, "{name}: ranks per level");
-    for other in [&flat, &halved] {
+    let onto_one = dm.solve_laplacian(&boundary, &DistSolveParams { agglomerate_below: 1000, ..params }).unwrap();
+    assert!(onto_one.level_ranks[1..].iter().all(|&r| r == 1), "{name}: {:?}", onto_one.level_ranks);
+    for other in [&sol, &flat, &onto_one] {
         assert_eq!(other.level_rows, sol.level_rows, "{name}: agglomeration changed the levels");
         let close = other.iterations.iter().zip(&flat.iterations).all(|(a, b)| a.abs_diff(*b) <= 1);
         assert!(close, "{name}: iterations {:?} against {:?} without agglomeration", other.iterations, flat.iterations);
         let worst = largest_difference(&p, dim, &other.displacement, &reference.displacement);
         assert!(worst <= 1e-10 * scale, "{name} on {size} ranks: agglomerated, rank {rank} differs by {worst:e}");
     }
-    let halved_again = dm.solve_laplacian(&boundary, &DistSolveParams { agglomerate_below: 200, ..params }).unwrap();
-    assert_eq!(bits(&halved.displacement), bits(&halved_again.displacement), "{name}: agglomerated twice");
     if rank == 0 {
         println!(
             "{size} ranks, {name}: {} vertices, iterations {:?} (one level {:?}; serial {} cycles), largest \
@@ -225,16 +223,16 @@ fn agrees_with_serial(world: &SimpleCommunicator, name: &str, d: &MeshData, owne
         );
         println!("multigrid: {name} | {:?} | {:?}", sol.iterations, sol.level_rows);
         println!(
-            "{size} ranks, {name}: ranks per level {:?} by default, {:?} below 200 per rank (iterations {:?}, \
+            "{size} ranks, {name}: ranks per level {:?} by default, {:?} below 1 000 per rank (iterations {:?}, \
              without agglomeration {:?})",
-            sol.level_ranks, halved.level_ranks, halved.iterations, flat.iterations
+            sol.level_ranks, onto_one.level_ranks, onto_one.iterations, flat.iterations
         );
     }
 }
 
 /// The ranks of each level of the test meshes (the first coarse level has 451–582 unknowns, the
 /// next at most 400, gathered) with 200 unknowns per rank: two of three or four ranks hold the
-/// first coarse level; the gathered level stays on its ranks.
+/// first coarse level; the gathered level is held by the ranks of the level above.
 fn halved_ranks(size: usize, level: usize) -> u64 {
     match (size, level) {
         (_, 0) | (1 | 2, _) => size as u64,
@@ -523,11 +521,11 @@ fn solver_agrees_with_serial(
     }
 }
 
-/// The biharmonic's levels K_c V_c⁻¹ K_c agglomerated onto fewer ranks: below 100 unknowns per
-/// rank the first coarse level moves onto two of three or four ranks (with its guide K_c and
-/// V_c), below the default every coarse level onto one. The result equals the one without
-/// agglomeration to 1e-10 of the motion, with the same levels and iterations within one, and a
-/// second solve of a new solver gives bitwise the same.
+/// The biharmonic's levels K_c V_c⁻¹ K_c agglomerated onto fewer ranks (below 1 000 unknowns
+/// per rank and below the default threshold, with the guide K_c and V_c moved along): the levels
+/// are on the ranks the rule gives, and the result equals the one without agglomeration to
+/// 1e-10 of the motion, with the same levels and iterations within one; a second solver gives
+/// bitwise the same.
 fn biharmonic_agglomerated(world: &SimpleCommunicator, name: &str, d: &MeshData) {
     let (rank, size) = (world.rank() as usize, world.size() as usize);
     let dim = d.dim;
@@ -540,14 +538,14 @@ fn biharmonic_agglomerated(world: &SimpleCommunicator, name: &str, d: &MeshData)
         let params = DistSolveParams { tol: 1e-12, agglomerate_below: below, ..Default::default() };
         DistributedSolver::new(&dm, &bcs, Method::Biharmonic, params).unwrap().solve(&moved).unwrap()
     };
-    let (flat, halved, default) = (solve(0), solve(100), solve(DistSolveParams::default().agglomerate_below));
+    let (flat, onto_one, default) = (solve(0), solve(1000), solve(DistSolveParams::default().agglomerate_below));
     let scale = flat.displacement.iter().fold(0.0f64, |m, x| m.max(x.abs()));
     let what = format!("{name}, biharmonic on {size} ranks: levels {:?}", flat.level_rows);
-    assert!(flat.level_rows.len() >= 3 && flat.level_ranks.iter().all(|&r| r == size as u64), "{what}");
-    let first_coarse = if size >= 3 { 2 } else { size as u64 };
-    assert_eq!(halved.level_ranks[..2], [size as u64, first_coarse], "{what}: {:?}", halved.level_ranks);
-    assert!(default.level_ranks[1..].iter().all(|&r| r == 1), "{what}: {:?}", default.level_ranks);
-    for other in [&halved, &default] {
+    assert!(flat.level_rows.len() >= 2 && flat.level_ranks.iter().all(|&r| r == size as u64), "{what}");
+    assert_eq!(onto_one.level_ranks, ranks_by_rule(&flat.level_rows, size, 1000), "{what}");
+    let below = DistSolveParams::default().agglomerate_below;
+    assert_eq!(default.level_ranks, ranks_by_rule(&flat.level_rows, size, below), "{what}");
+    for other in [&onto_one, &default] {
         assert_eq!(other.level_rows, flat.level_rows, "{what}");
         let worst = other.displacement.iter().zip(&flat.displacement).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
         assert!(worst <= 1e-10 * scale, "{what}: agglomerated, rank {rank} differs by {worst:e}");
@@ -555,14 +553,30 @@ fn biharmonic_agglomerated(world: &SimpleCommunicator, name: &str, d: &MeshData)
         assert!(close, "{what}: iterations {:?} against {:?}", other.iterations, flat.iterations);
     }
     let bits = |s: &[f64]| s.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-    assert_eq!(bits(&solve(100).displacement), bits(&halved.displacement), "{what}: a second solver differs");
+    assert_eq!(bits(&solve(1000).displacement), bits(&onto_one.displacement), "{what}: a second solver differs");
     if rank == 0 {
         println!(
-            "{size} ranks, {name}, biharmonic: ranks per level {:?} below 100 per rank, {:?} by default; iterations \
+            "{size} ranks, {name}, biharmonic: ranks per level {:?} below 1 000 per rank, {:?} by default; iterations \
              {:?}, {:?}, without agglomeration {:?}",
-            halved.level_ranks, default.level_ranks, halved.iterations, default.iterations, flat.iterations
+            onto_one.level_ranks, default.level_ranks, onto_one.iterations, default.iterations, flat.iterations
         );
     }
+}
+
+/// The ranks of each level of `rows` unknowns on `size` ranks agglomerated below `per_rank`
+/// unknowns per rank: the finest on every rank; a coarse level of more than 400 unknowns (one of
+/// fewer is gathered from the ranks of the level above) on ranks onto_one until each holds
+/// `per_rank` or one rank is left.
+fn ranks_by_rule(rows: &[u64], size: usize, per_rank: u64) -> Vec<u64> {
+    let mut ranks = size as u64;
+    let mut out = vec![ranks];
+    for &r in &rows[1..] {
+        while r > 400 && ranks > 1 && r < per_rank * ranks {
+            ranks = (ranks - 1) / 2 + 1;
+        }
+        out.push(ranks);
+    }
+    out
 }
 
 /// Conditions the distributed solver does not take, or a bad motion, on the last rank alone

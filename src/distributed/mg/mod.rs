@@ -48,9 +48,11 @@ use std::sync::Arc;
 const GATHER_ROWS: u64 = 400;
 
 /// A coarse level with fewer unknowns than this per rank is moved onto fewer ranks
-/// (`agglomerate`): below it a rank's smoothing does less work than its messages' latency costs
-/// on a cluster network (the weak-scaling model of docs/PERFORMANCE.md).
-pub(crate) const ROWS_PER_RANK: u64 = 1000;
+/// (`agglomerate`): below a few hundred a rank's smoothing of a level costs less than the
+/// latency of its messages to its neighbours, and a level moved onto fewer ranks adds their
+/// work to each of them, so the threshold sits where the weak-scaling model of
+/// docs/PERFORMANCE.md finds an iteration cheapest.
+pub(crate) const ROWS_PER_RANK: u64 = 200;
 
 /// A coarse level that keeps more than this share of its fine level's unknowns ends the
 /// coarsening: another level would cost nearly as much as the one above it.
@@ -388,16 +390,12 @@ const COARSEST_SWEEPS: usize = 4;
 impl Preconditioner for Multigrid {
     /// One cycle. The caller's vectors share the finest level's owned entries; their halo may
     /// differ (the biharmonic's assembled rows reach two rings of vertices, the solve's one), so
-    /// then the owned entries are copied in and out and z's halo is left zero.
+    /// then the owned entries are copied in and out. z's halo is not the owners' values (zero
+    /// after a gathered solve): the operator exchanges it before reading it.
     fn apply(&mut self, r: &[f64], z: &mut [f64]) {
         let n = self.levels[0].level.n();
         if r.len() == n {
-            self.cycle(0, r, z);
-            // A finest level that is also the gathered coarsest leaves its halo zero.
-            if self.depth == 1 {
-                self.levels[0].halo.refresh(z);
-            }
-            return;
+            return self.cycle(0, r, z);
         }
         let owned = self.levels[0].halo.owned();
         let (mut b, mut x) = std::mem::take(&mut self.entry);
