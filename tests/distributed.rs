@@ -224,8 +224,14 @@ fn agrees_with_serial(world: &SimpleCommunicator, name: &str, d: &MeshData, owne
         println!("multigrid: {name} | {:?} | {:?}", sol.iterations, sol.level_rows);
         println!(
             "{size} ranks, {name}: ranks per level {:?} by default, {:?} below 1 000 per rank (iterations {:?}, \
-             without agglomeration {:?})",
-            sol.level_ranks, onto_one.level_ranks, onto_one.iterations, flat.iterations
+             without agglomeration {:?}); halo values per exchange {:?}, {:?}, without {:?}",
+            sol.level_ranks,
+            onto_one.level_ranks,
+            onto_one.iterations,
+            flat.iterations,
+            sol.level_halo_values,
+            onto_one.level_halo_values,
+            flat.level_halo_values
         );
     }
 }
