@@ -54,7 +54,7 @@ fn main() {
             "  levels (unknowns over all ranks) {:?}, halo values per exchange {:?}, coarsest {}",
             sol.level_rows,
             sol.level_halo_values,
-            if sol.coarsest_gathered { "gathered on every rank" } else { "smoothed" }
+            if sol.coarsest_gathered { "gathered onto one rank" } else { "smoothed" }
         );
     }
 }

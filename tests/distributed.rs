@@ -95,6 +95,7 @@ fn rank_main() -> ExitCode {
     for (name, mesh) in &meshes {
         agrees_with_serial(&world, &format!("{name}, slabs"), mesh, &slab_owner(mesh, size));
         agrees_with_serial(&world, &format!("{name}, hashed blocks"), mesh, &block_owner(mesh, size));
+        agrees_with_serial(&world, &format!("{name}, boundary layers"), mesh, &layer_owner(mesh, size));
     }
     bad_input_fails_on_every_rank(&world, &meshes[0].1);
     bad_input_fails_on_every_rank(&world, &meshes[1].1);
@@ -124,6 +125,7 @@ fn rank_main() -> ExitCode {
         for case in [Case::AllFixed, Case::ClampedBody, Case::FreeSide] {
             solver_agrees_with_serial(&world, name, &unscaled, Method::Biharmonic, case);
         }
+        biharmonic_agglomerated(&world, name, &mesh);
     }
     bad_conditions_fail_on_every_rank(&world, &tagged(&grid2d(14, 12)));
     failing_wall_fails_on_every_rank(&world, &bent(&grid2d(10, 16)));
@@ -191,6 +193,24 @@ fn agrees_with_serial(world: &SimpleCommunicator, name: &str, d: &MeshData, owne
     for (mg, one) in sol.iterations.iter().zip(&one.iterations) {
         assert!(*mg <= 15 && 3 * mg <= 2 * one, "{name}: {mg} iterations with the multigrid, {one} with one level");
     }
+    // The default threshold (200 unknowns per rank) moves the first coarse level onto two of
+    // three or four ranks; 0 keeps every level on every rank, 1 000 moves it onto one. All equal
+    // serial, with the same levels and the iterations of the solve without agglomeration within
+    // one.
+    let expected: Vec<u64> = sol.level_rows.iter().enumerate().map(|(l, _)| halved_ranks(size, l)).collect();
+    assert_eq!(sol.level_ranks, expected, "{name}: ranks per level");
+    assert_eq!(expected, ranks_by_rule(&sol.level_rows, size, 200), "{name}: ranks per level");
+    let flat = dm.solve_laplacian(&boundary, &DistSolveParams { agglomerate_below: 0, ..params }).unwrap();
+    assert!(flat.level_ranks.iter().all(|&r| r == size as u64), "{name}: {:?}", flat.level_ranks);
+    let onto_one = dm.solve_laplacian(&boundary, &DistSolveParams { agglomerate_below: 1000, ..params }).unwrap();
+    assert!(onto_one.level_ranks[1..].iter().all(|&r| r == 1), "{name}: {:?}", onto_one.level_ranks);
+    for other in [&sol, &flat, &onto_one] {
+        assert_eq!(other.level_rows, sol.level_rows, "{name}: agglomeration changed the levels");
+        let close = other.iterations.iter().zip(&flat.iterations).all(|(a, b)| a.abs_diff(*b) <= 1);
+        assert!(close, "{name}: iterations {:?} against {:?} without agglomeration", other.iterations, flat.iterations);
+        let worst = largest_difference(&p, dim, &other.displacement, &reference.displacement);
+        assert!(worst <= 1e-10 * scale, "{name} on {size} ranks: agglomerated, rank {rank} differs by {worst:e}");
+    }
     if rank == 0 {
         println!(
             "{size} ranks, {name}: {} vertices, iterations {:?} (one level {:?}; serial {} cycles), largest \
@@ -202,7 +222,51 @@ fn agrees_with_serial(world: &SimpleCommunicator, name: &str, d: &MeshData, owne
             worst / scale
         );
         println!("multigrid: {name} | {:?} | {:?}", sol.iterations, sol.level_rows);
+        println!(
+            "{size} ranks, {name}: ranks per level {:?} by default, {:?} below 1 000 per rank (iterations {:?}, \
+             without agglomeration {:?}); halo values per exchange {:?}, {:?}, without {:?}",
+            sol.level_ranks,
+            onto_one.level_ranks,
+            onto_one.iterations,
+            flat.iterations,
+            sol.level_halo_values,
+            onto_one.level_halo_values,
+            flat.level_halo_values
+        );
     }
+}
+
+/// The ranks of each level of the test meshes (the first coarse level has 451–582 unknowns, the
+/// next at most 400, gathered) with 200 unknowns per rank: two of three or four ranks hold the
+/// first coarse level; the gathered level is held by the ranks of the level above.
+fn halved_ranks(size: usize, level: usize) -> u64 {
+    match (size, level) {
+        (_, 0) | (1 | 2, _) => size as u64,
+        _ => 2,
+    }
+}
+
+/// A partition in which the last rank (on two ranks and more) and the one before it (on three
+/// and more) own only the cells touching the largest and smallest x, so the vertices they own
+/// lie on the boundary: prescribed in the Laplacian's test, they own no unknown on any level.
+/// The other cells go in slabs by x to the other ranks.
+fn layer_owner(d: &MeshData, size: usize) -> Vec<usize> {
+    let xs: Vec<f64> = (0..d.num_vertices()).map(|v| d.point(v)[0]).collect();
+    let (lo, hi) = xs.iter().fold((f64::MAX, f64::MIN), |(a, b), &x| (a.min(x), b.max(x)));
+    let layers = size.saturating_sub(1).min(2);
+    let slabs = slab_owner(d, size - layers);
+    (0..d.num_cells())
+        .map(|c| {
+            let cell = d.cell(c);
+            if layers >= 1 && cell.iter().any(|&v| xs[v as usize] == hi) {
+                size - 1
+            } else if layers == 2 && cell.iter().any(|&v| xs[v as usize] == lo) {
+                size - 2
+            } else {
+                slabs[c]
+            }
+        })
+        .collect()
 }
 
 /// One rank's bad input makes every rank return the error naming that rank.
@@ -469,6 +533,64 @@ fn solver_agrees_with_serial(
             sol.worst_rank
         );
     }
+}
+
+/// The biharmonic's levels K_c V_c⁻¹ K_c agglomerated onto fewer ranks (below 1 000 unknowns
+/// per rank and below the default threshold, with the guide K_c and V_c moved along): the levels
+/// are on the ranks the rule gives, and the result equals the one without agglomeration to
+/// 1e-10 of the motion, with the same levels and iterations within one; a second solver gives
+/// bitwise the same.
+fn biharmonic_agglomerated(world: &SimpleCommunicator, name: &str, d: &MeshData) {
+    let (rank, size) = (world.rank() as usize, world.size() as usize);
+    let dim = d.dim;
+    let p = part(d, &slab_owner(d, size), rank, true);
+    let dm = DistributedMesh::new(world, &p.data, &p.gids, &p.ghost).unwrap();
+    let bcs = Case::ClampedBody.conditions(dim);
+    let local: Vec<f64> = p.global.iter().flat_map(|&v| motion(d.point(v))[..dim].to_vec()).collect();
+    let moved = Motion { displacement: local, rigid: Case::ClampedBody.rigid() };
+    let solve = |below: u64| {
+        let params = DistSolveParams { tol: 1e-12, agglomerate_below: below, ..Default::default() };
+        DistributedSolver::new(&dm, &bcs, Method::Biharmonic, params).unwrap().solve(&moved).unwrap()
+    };
+    let (flat, onto_one, default) = (solve(0), solve(1000), solve(DistSolveParams::default().agglomerate_below));
+    let scale = flat.displacement.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let what = format!("{name}, biharmonic on {size} ranks: levels {:?}", flat.level_rows);
+    assert!(flat.level_rows.len() >= 2 && flat.level_ranks.iter().all(|&r| r == size as u64), "{what}");
+    assert_eq!(onto_one.level_ranks, ranks_by_rule(&flat.level_rows, size, 1000), "{what}");
+    let below = DistSolveParams::default().agglomerate_below;
+    assert_eq!(default.level_ranks, ranks_by_rule(&flat.level_rows, size, below), "{what}");
+    for other in [&onto_one, &default] {
+        assert_eq!(other.level_rows, flat.level_rows, "{what}");
+        let worst = other.displacement.iter().zip(&flat.displacement).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+        assert!(worst <= 1e-10 * scale, "{what}: agglomerated, rank {rank} differs by {worst:e}");
+        let close = other.iterations.iter().zip(&flat.iterations).all(|(a, b)| a.abs_diff(*b) <= 1);
+        assert!(close, "{what}: iterations {:?} against {:?}", other.iterations, flat.iterations);
+    }
+    let bits = |s: &[f64]| s.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert_eq!(bits(&solve(1000).displacement), bits(&onto_one.displacement), "{what}: a second solver differs");
+    if rank == 0 {
+        println!(
+            "{size} ranks, {name}, biharmonic: ranks per level {:?} below 1 000 per rank, {:?} by default; iterations \
+             {:?}, {:?}, without agglomeration {:?}",
+            onto_one.level_ranks, default.level_ranks, onto_one.iterations, default.iterations, flat.iterations
+        );
+    }
+}
+
+/// The ranks of each level of `rows` unknowns on `size` ranks agglomerated below `per_rank`
+/// unknowns per rank: the finest on every rank; a coarse level of more than 400 unknowns (one of
+/// fewer is gathered from the ranks of the level above) on ranks onto_one until each holds
+/// `per_rank` or one rank is left.
+fn ranks_by_rule(rows: &[u64], size: usize, per_rank: u64) -> Vec<u64> {
+    let mut ranks = size as u64;
+    let mut out = vec![ranks];
+    for &r in &rows[1..] {
+        while r > 400 && ranks > 1 && r < per_rank * ranks {
+            ranks = (ranks - 1) / 2 + 1;
+        }
+        out.push(ranks);
+    }
+    out
 }
 
 /// Conditions the distributed solver does not take, or a bad motion, on the last rank alone

@@ -2,7 +2,7 @@
 //! is made and freed when the last thing holding it is dropped, so the library's messages never
 //! match the host's (as PETSc duplicates the communicator it is given).
 
-use mpi::topology::{Communicator, SimpleCommunicator};
+use mpi::topology::{Color, Communicator, SimpleCommunicator};
 
 /// A duplicate (`MPI_Comm_dup`) of the host's communicator; freed (`MPI_Comm_free`) on drop.
 /// Collective to make and to drop: every rank makes and drops its copy together.
@@ -27,6 +27,17 @@ impl Comm {
         let rank = usize::try_from(comm.rank()).unwrap_or(0);
         let size = usize::try_from(comm.size()).unwrap_or(1);
         Comm { comm, rank, size }
+    }
+
+    /// The first `active` ranks of this communicator as one of their own (`MPI_Comm_split`, each
+    /// keeping its rank; collective over this one), freed when dropped; None on the other ranks.
+    pub(crate) fn split_first(&self, active: usize) -> Option<Comm> {
+        let color = if self.rank < active { Color::with_value(0) } else { Color::undefined() };
+        let key = i32::try_from(self.rank).unwrap_or(i32::MAX);
+        let comm = self.comm.split_by_color_with_key(color, key)?;
+        let rank = usize::try_from(comm.rank()).unwrap_or(0);
+        let size = usize::try_from(comm.size()).unwrap_or(1);
+        Some(Comm { comm, rank, size })
     }
 
     /// This process's rank.

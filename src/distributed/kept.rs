@@ -20,20 +20,22 @@ pub(crate) struct Hierarchies {
     of_component: Vec<usize>,
     /// Unknowns and halo values per level of the first component's.
     pub(crate) sizes: Vec<LevelSize>,
-    /// The first component's coarsest level is gathered on every rank.
+    /// The first component's coarsest level is gathered onto one rank.
     pub(crate) gathers: bool,
 }
 
 impl Hierarchies {
     /// Builds the multigrid of each of the components whose `flags` are given, from the finest
-    /// level `fine(c)` makes, with at most `max_levels` levels smoothed by `smoother`
-    /// (collective; every rank returns the same result).
+    /// level `fine(c)` makes, with at most `max_levels` levels smoothed by `smoother`, coarse
+    /// levels agglomerated below `per_rank` unknowns per rank (collective; every rank returns
+    /// the same result).
     pub(crate) fn build(
         halo: &HaloLayout,
         flags: &[Vec<u8>],
         mut fine: impl FnMut(usize) -> Result<(OwnedRows, Option<Guide>), DistError>,
         max_levels: usize,
         smoother: Smoother,
+        per_rank: u64,
     ) -> Result<Hierarchies, DistError> {
         let (mut multigrids, mut of_component) = (Vec::new(), Vec::with_capacity(flags.len()));
         for c in 0..flags.len() {
@@ -42,7 +44,7 @@ impl Hierarchies {
             let share = c > 0 && max_over_ranks(halo.comm(), f64::from(u8::from(flags[c] != flags[c - 1]))) == 0.0;
             if !share {
                 let (rows, guide) = fine(c)?;
-                multigrids.push(Multigrid::build(rows, guide, max_levels, smoother)?);
+                multigrids.push(Multigrid::build(rows, guide, max_levels, smoother, per_rank)?);
             }
             of_component.push(multigrids.len() - 1);
         }

@@ -14,8 +14,8 @@
 //! sub-stepping, both reference modes, per-step reports) with its C ABI
 //! ([`capi`](crate::distributed::capi)), solved by conjugate gradients preconditioned by the
 //! distributed multigrid (`mg`: algebraic kept-unknowns levels across ranks, the biharmonic's
-//! K_c V_c⁻¹ K_c assembled on them, the coarsest gathered on every rank; kept between solves on
-//! one reference, `kept`). Every call is collective and returns the same status on every rank.
+//! K_c V_c⁻¹ K_c assembled on them, small coarse levels agglomerated onto fewer ranks and the
+//! coarsest gathered onto one; kept between solves on one reference, `kept`). Every call is collective and returns the same status on every rank.
 
 mod agreement;
 mod bcs;

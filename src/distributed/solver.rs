@@ -24,7 +24,7 @@ use super::halo::HaloLayout;
 use super::interfaces;
 use super::kept::{Hierarchies, Kept};
 use super::level_layout::Distribution;
-use super::mg::{biharmonic_rows, Guide, OwnedRows};
+use super::mg::{biharmonic_rows, Guide, OwnedRows, ROWS_PER_RANK};
 use super::pcg::{pcg, OneLevel, Preconditioner};
 use super::reduce::{gather, sum_in_rank_order};
 use super::ties::{self, Ties};
@@ -60,11 +60,16 @@ pub struct DistSolveParams {
     pub degree: usize,
     /// Most levels of the multigrid preconditioner; 1 preconditions by the smoother alone.
     pub max_levels: usize,
+    /// Internal, for the library's tests: a coarse level with fewer unknowns than this per
+    /// rank is agglomerated onto fewer ranks (small values make it happen on small meshes; 0
+    /// never). Leave it at its default.
+    #[doc(hidden)]
+    pub agglomerate_below: u64,
 }
 
 impl Default for DistSolveParams {
     fn default() -> Self {
-        DistSolveParams { tol: 1e-8, max_iterations: 5000, degree: 0, max_levels: 20 }
+        DistSolveParams { tol: 1e-8, max_iterations: 5000, degree: 0, max_levels: 20, agglomerate_below: ROWS_PER_RANK }
     }
 }
 
@@ -92,7 +97,10 @@ pub struct DistSolution {
     pub level_halo_values: Vec<u64>,
     /// Messages all ranks send per halo exchange, on each level.
     pub level_messages: Vec<u64>,
-    /// The coarsest level is gathered and factored on every rank (else it is smoothed).
+    /// Ranks that hold each level: all ranks on the finest, fewer where a coarse level is
+    /// agglomerated onto fewer ranks.
+    pub level_ranks: Vec<u64>,
+    /// The coarsest level is gathered onto one rank and factored there (else it is smoothed).
     pub coarsest_gathered: bool,
 }
 
@@ -256,6 +264,7 @@ impl DistributedSolver {
             level_rows: sizes.iter().map(|s| s.rows).collect(),
             level_halo_values: sizes.iter().map(|s| s.halo_values).collect(),
             level_messages: sizes.iter().map(|s| s.messages).collect(),
+            level_ranks: sizes.iter().map(|s| s.ranks).collect(),
             coarsest_gathered,
         };
         Ok((sol, solved.failure))
@@ -275,7 +284,14 @@ impl DistributedSolver {
         let mut kept = self.multigrids.lock();
         if self.multigrid_pays() && kept.is_none() {
             let fine = |c| self.fine_rows(c);
-            *kept = Some(Hierarchies::build(halo, &self.level.flags, fine, self.params.max_levels, sm)?);
+            *kept = Some(Hierarchies::build(
+                halo,
+                &self.level.flags,
+                fine,
+                self.params.max_levels,
+                sm,
+                self.params.agglomerate_below,
+            )?);
         }
         for comps in self.level.groups() {
             let op = GroupOp::new(&self.level, comps.clone(), false);

@@ -23,7 +23,7 @@ use std::io::Write;
 use std::time::Instant;
 
 const HEADER: &str = "case,method,ranks,vertices,partition_s,setup_s,solve_s,iterations,owned_min,owned_max,\
-level_unknowns,level_halo_values,level_messages,fine_halo_values,fine_messages,coarsest_gathered";
+level_unknowns,level_halo_values,level_messages,fine_halo_values,fine_messages,coarsest_gathered,level_ranks";
 
 /// The graded sphere's vertices: the 3D graded part's second size, and its first for `--quick`.
 const SPHERE: [usize; 2] = [240_000, 30_000];
@@ -117,9 +117,11 @@ fn run_one(
     let (fewest, most) = (-slowest(world, -owned), slowest(world, owned));
     let Some(c) = case else { return Ok(None) };
     let list = |v: &[u64]| v.iter().map(u64::to_string).collect::<Vec<_>>().join(";");
-    let DistSolution { iterations, level_rows, level_halo_values, level_messages, coarsest_gathered, .. } = sol;
+    let DistSolution {
+        iterations, level_rows, level_halo_values, level_messages, level_ranks, coarsest_gathered, ..
+    } = sol;
     Ok(Some(format!(
-        "{},{method:?},{ranks},{},{partition_s:.3},{setup_s:.3},{solve_s:.3},{},{fewest},{most},{},{},{},{},{},{}",
+        "{},{method:?},{ranks},{},{partition_s:.3},{setup_s:.3},{solve_s:.3},{},{fewest},{most},{},{},{},{},{},{},{}",
         c.name,
         c.mesh.num_vertices(),
         iterations.iter().map(usize::to_string).collect::<Vec<_>>().join(";"),
@@ -128,7 +130,8 @@ fn run_one(
         list(&level_messages),
         fine[0],
         fine[1],
-        coarsest_gathered && !level_rows.is_empty()
+        coarsest_gathered && !level_rows.is_empty(),
+        list(&level_ranks)
     )))
 }
 

@@ -8,21 +8,27 @@
 //! strong neighbours with operator-based weights (`interpolate`), and forms the coarse operator
 //! as the Galerkin product Pᵀ A P across ranks (`galerkin`), so no coarse level needs a mesh.
 //! The biharmonic's levels follow K's coarsening instead, each A = K V⁻¹ K assembled across
-//! ranks (`biharmonic`), and its cycle is a W-cycle. Once a level is small it is gathered on every rank and solved there by a dense factor
-//! (`gathered`). The smoother is the serial multigrid's Chebyshev–Jacobi smoother on owned rows,
+//! ranks (`biharmonic`), and its cycle is a W-cycle. A coarse level with few unknowns per rank
+//! is moved onto fewer ranks, which carry it and the levels below on a communicator of their
+//! own (`agglomerate`, with the values moved by `mover`); once a level is small it is gathered
+//! onto one rank and solved there by a dense factor (`gathered`). The smoother is the serial multigrid's Chebyshev–Jacobi smoother on owned rows,
 //! run through the level's `GroupOp` and halo layout.
 
+mod agglomerate;
 mod biharmonic;
 mod galerkin;
 mod gathered;
 mod interpolate;
+mod mover;
 mod select;
 
-use super::error::DistError;
+use super::agreement::agree;
+use super::comm::Comm;
+use super::error::{DistError, DistErrorKind};
 use super::halo::HaloLayout;
 use super::level_layout::Distribution;
 use super::pcg::Preconditioner;
-use super::reduce::sum_in_rank_order;
+use super::reduce::{gather, sum_in_rank_order};
 use crate::bc::{Dofs, P, Z};
 use crate::multigrid::group::{estimate_lambda_max, GroupOp, Scratch};
 use crate::multigrid::layout::Layout;
@@ -31,14 +37,22 @@ use crate::multigrid::restriction::Restriction;
 use crate::multigrid::smoother::{smooth, Coefficients, Smoother, Start};
 use crate::operator::{LevelOperator, Method};
 use crate::sparse::{par_update, CsrMatrix};
+use agglomerate::{halvings, Agglomeration, Landing};
 pub(crate) use biharmonic::{biharmonic_rows, Guide};
 use gathered::Gathered;
 use std::sync::Arc;
 
-/// A level of this many unknowns over all ranks, or fewer, is gathered and solved directly on
-/// every rank: its dense factor is cheap, and below it the smoothed levels would do little
+/// A level of this many unknowns over all ranks, or fewer, is gathered onto one rank and solved
+/// there directly: its dense factor is cheap, and below it the smoothed levels would do little
 /// local work per message.
 const GATHER_ROWS: u64 = 400;
+
+/// A coarse level with fewer unknowns than this per rank is moved onto fewer ranks
+/// (`agglomerate`): below a few hundred a rank's smoothing of a level costs less than the
+/// latency of its messages to its neighbours, and a level moved onto fewer ranks adds their
+/// work to each of them, so the threshold sits where the weak-scaling model of
+/// docs/PERFORMANCE.md finds an iteration cheapest.
+pub(crate) const ROWS_PER_RANK: u64 = 200;
 
 /// A coarse level that keeps more than this share of its fine level's unknowns ends the
 /// coarsening: another level would cost nearly as much as the one above it.
@@ -60,6 +74,9 @@ pub(crate) struct OwnedRows {
 struct DistLevel {
     level: Level,
     halo: Arc<HaloLayout>,
+    /// When the next coarser level is agglomerated onto fewer ranks: the layout the
+    /// prolongation's columns refer to on this level's ranks, and the move onto those ranks.
+    landing: Option<Arc<Landing>>,
 }
 
 /// How the coarsest level is solved.
@@ -81,6 +98,9 @@ struct Work {
     coefficients: Coefficients,
     /// A later visit's right-hand side and correction (a W-cycle's coarse levels).
     again: (Vec<f64>, Vec<f64>),
+    /// The restricted residual and the correction in the next level's landing layout, when
+    /// that level is agglomerated onto fewer ranks.
+    landing: (Vec<f64>, Vec<f64>),
 }
 
 /// The size of one level over all ranks.
@@ -92,13 +112,24 @@ pub(crate) struct LevelSize {
     pub(crate) halo_values: u64,
     /// Messages all ranks send per halo exchange (one per rank and neighbour it sends to).
     pub(crate) messages: u64,
+    /// Ranks that hold the level (fewer than all where it is agglomerated).
+    pub(crate) ranks: u64,
 }
 
 /// The distributed multigrid preconditioner: its levels, its coarsest solve, its smoother and
 /// the scratch of its cycles.
 pub(crate) struct Multigrid {
+    /// The levels this rank holds, finest first: all of them, or those above the level at
+    /// which its rows were agglomerated onto another rank.
     levels: Vec<DistLevel>,
-    coarsest: Coarsest,
+    /// The coarsest level's solve, on the ranks that hold it.
+    coarsest: Option<Coarsest>,
+    /// Levels over all ranks.
+    depth: usize,
+    /// The coarsest level is gathered onto one rank (else it is smoothed).
+    gathered: bool,
+    /// The finest level's communicator, over which the sizes are reported.
+    comm: Arc<Comm>,
     smoother: Smoother,
     /// Coarse visits per level: 1 a V-cycle, 2 a W-cycle.
     visits: usize,
@@ -110,7 +141,8 @@ pub(crate) struct Multigrid {
 
 impl Multigrid {
     /// Builds the hierarchy of the operator `fine` with at most `max_levels` levels (the gathered
-    /// one included), smoothed by `smoother` (collective; every rank returns the same result).
+    /// one included), smoothed by `smoother`, its coarse levels moved onto fewer ranks below
+    /// `per_rank` unknowns per rank (collective; every rank returns the same result).
     ///
     /// With a `guide` (the biharmonic's K and V beside its A = K V⁻¹ K) each coarse level is
     /// made from the guide's (`biharmonic::coarsen`); without, by the Galerkin product of the
@@ -120,77 +152,62 @@ impl Multigrid {
         guide: Option<Guide>,
         max_levels: usize,
         smoother: Smoother,
+        per_rank: u64,
     ) -> Result<Multigrid, DistError> {
-        let mut levels = Vec::new();
+        let comm = fine.halo.shared_comm().clone();
         // The biharmonic's coarse operators K_c V_c⁻¹ K_c are softer than the Galerkin product of
-        // the level above, so one coarse visit corrects too little; the W-cycle's second visit
+        // the level above, so one coarse visit corrects too little: the W-cycle's second visit
         // makes it up, as in the serial cycle.
         let visits = if guide.is_some() { 2 } else { 1 };
-        let (mut current, mut guide) = (fine, guide);
-        loop {
-            let rows = global_rows(&current);
-            let last = rows <= GATHER_ROWS || levels.len() + 1 >= max_levels.max(1);
-            let coarse = match (&guide, last) {
-                (_, true) => None,
-                (None, false) => galerkin::coarsen(&current)?,
-                (Some(g), false) => match biharmonic::coarsen(&current, g)? {
-                    Some((next, prolong, next_guide)) => {
-                        guide = Some(next_guide);
-                        Some((next, prolong))
-                    }
-                    None => None,
-                },
-            };
-            match coarse {
-                Some((next, prolong)) if (global_rows(&next) as f64) < MIN_REDUCTION * rows as f64 => {
-                    levels.push(dist_level(current, Some(prolong)));
-                    current = next;
-                }
-                _ => {
-                    let coarsest = if rows <= GATHER_ROWS {
-                        Coarsest::Gathered(Gathered::new(&current)?)
-                    } else {
-                        Coarsest::Smoothed
-                    };
-                    levels.push(dist_level(current, None));
-                    let work = levels.iter().enumerate().map(|(l, d)| work(&d.level, l == 0)).collect();
-                    let entry = Default::default();
-                    return Ok(Multigrid { levels, coarsest, smoother, visits, work, entry });
-                }
-            }
-        }
+        // A failure on the ranks of an agglomerated level reaches the ranks idle below it here,
+        // where every rank of the finest level meets again.
+        let (levels, coarsest) = agree(&comm, levels_of(fine, guide, max_levels, per_rank))?;
+        // Rank 0 holds every level (it receives the rows of every agglomeration).
+        let gathers = matches!(coarsest, Some(Coarsest::Gathered(_)));
+        let shape = gather(&comm, &[levels.len() as u64, u64::from(gathers)]);
+        let (depth, gathered) = (shape[0] as usize, shape[1] == 1);
+        let work = levels.iter().enumerate().map(|(l, d)| work(d, l == 0)).collect();
+        let entry = Default::default();
+        Ok(Multigrid { levels, coarsest, depth, gathered, comm, smoother, visits, work, entry })
     }
 
-    /// Unknowns and halo values per level, finest first (collective).
+    /// Unknowns, halo values and ranks per level, finest first (collective).
     pub(crate) fn sizes(&self) -> Vec<LevelSize> {
-        self.levels
-            .iter()
-            .map(|d| {
-                let mine = [
-                    unknowns(&d.level.op.k, d.halo.owned()) as f64,
-                    d.halo.sent_per_exchange() as f64,
-                    d.halo.send_lists().len() as f64,
-                ];
-                let all = sum_in_rank_order(d.halo.comm(), &mine);
-                LevelSize { rows: all[0] as u64, halo_values: all[1] as u64, messages: all[2] as u64 }
+        let mut mine = vec![0.0; 4 * self.depth];
+        for (d, m) in self.levels.iter().zip(mine.chunks_exact_mut(4)) {
+            m.copy_from_slice(&[
+                unknowns(&d.level.op.k, d.halo.owned()) as f64,
+                d.halo.sent_per_exchange() as f64,
+                d.halo.send_lists().len() as f64,
+                1.0,
+            ]);
+        }
+        let all = sum_in_rank_order(&self.comm, &mine);
+        all.chunks_exact(4)
+            .map(|a| LevelSize {
+                rows: a[0] as u64,
+                halo_values: a[1] as u64,
+                messages: a[2] as u64,
+                ranks: a[3] as u64,
             })
             .collect()
     }
 
-    /// Whether the coarsest level is gathered on every rank (else it is smoothed).
+    /// Whether the coarsest level is gathered onto one rank (else it is smoothed).
     pub(crate) fn gathers(&self) -> bool {
-        matches!(self.coarsest, Coarsest::Gathered(_))
+        self.gathered
     }
 
-    /// x = B b on level `l` from a zero start: one V- or W-cycle (collective).
+    /// x = B b on level `l` from a zero start: one V- or W-cycle (collective over the level's
+    /// ranks and those idle below it).
     fn cycle(&mut self, l: usize, b: &[f64], x: &mut [f64]) {
         let lev = &self.levels[l];
         let op = GroupOp::new(&lev.level, 0..1, false);
         let sm = self.smoother;
         if lev.level.down.is_none() {
             match &self.coarsest {
-                Coarsest::Gathered(g) => g.solve(b, x),
-                Coarsest::Smoothed => {
+                Some(Coarsest::Gathered(g)) => g.solve(b, x),
+                Some(Coarsest::Smoothed) | None => {
                     let w = &mut self.work[l];
                     let mut start = Start::Zero;
                     for _ in 0..COARSEST_SWEEPS {
@@ -209,42 +226,162 @@ impl Multigrid {
         smooth(&op, sm, b, x, &mut w.scratch, &mut w.coefficients, Start::Guess, false);
     }
 
-    /// x ← x + P x_c on level `l`, x_c from `visits` cycles on the coarser level's system
-    /// A_c x_c = Pᵀ (b − A x), each from the residual the previous left (collective).
+    /// x ← x + P x_c on level `l`, x_c from the coarser level's system A_c x_c = Pᵀ (b − A x)
+    /// (`visit`), moved there and back when it is agglomerated onto fewer ranks; a rank that
+    /// does not hold it only sends its part and receives its correction (collective).
     fn correct(&mut self, l: usize, b: &[f64], x: &mut [f64]) {
         let lev = &self.levels[l];
         let Some(down) = &lev.level.down else {
             return;
         };
         let op = GroupOp::new(&lev.level, 0..1, false);
+        let (prolong, landing) = (down.prolong.clone(), lev.landing.clone());
         let w = &mut self.work[l];
         op.residual(b, x, &mut w.r, &mut w.scratch[0].s);
-        let mut bc = std::mem::take(&mut self.work[l + 1].b);
-        let mut xc = std::mem::take(&mut self.work[l + 1].x);
-        down.restrict.mul_vec(&self.work[l].r, &mut bc);
-        // Pᵀ r: the contributions to coarse halo entries belong to their owners.
-        let (coarse_halo, prolong) = (self.levels[l + 1].halo.clone(), down.prolong.clone());
-        coarse_halo.add_to_owners(&mut bc);
-        bc[coarse_halo.owned()..].iter_mut().for_each(|v| *v = 0.0);
-        self.cycle(l + 1, &bc, &mut xc);
-        // A coarsest level solved exactly leaves nothing for a second visit.
-        let exact = l + 2 == self.levels.len() && matches!(self.coarsest, Coarsest::Gathered(_));
-        for _ in 1..if exact { 1 } else { self.visits } {
-            let (mut rc, mut dx) = std::mem::take(&mut self.work[l + 1].again);
-            let op = GroupOp::new(&self.levels[l + 1].level, 0..1, false);
-            op.residual(&bc, &mut xc, &mut rc, &mut self.work[l + 1].scratch[0].s);
-            self.cycle(l + 1, &rc, &mut dx);
-            xc.iter_mut().zip(&dx).for_each(|(x, d)| *x += d);
-            self.work[l + 1].again = (rc, dx);
-        }
-        coarse_halo.refresh(&mut xc);
+        let held = l + 1 < self.levels.len();
+        let (mut bc, mut xc) = if held {
+            (std::mem::take(&mut self.work[l + 1].b), std::mem::take(&mut self.work[l + 1].x))
+        } else {
+            Default::default()
+        };
+        let coarse = match &landing {
+            Some(landing) => {
+                let (mut lb, mut lx) = std::mem::take(&mut self.work[l].landing);
+                down.restrict.mul_vec(&self.work[l].r, &mut lb);
+                // Pᵀ r: the contributions to coarse halo entries belong to their owners, whose
+                // owned entries then move onto the agglomerated level's ranks.
+                landing.layout.add_to_owners(&mut lb);
+                landing.mover.gather(&lb, &mut bc);
+                if held {
+                    let owned = self.levels[l + 1].halo.owned();
+                    bc[owned..].iter_mut().for_each(|v| *v = 0.0);
+                    self.visit(l + 1, &bc, &mut xc);
+                }
+                landing.mover.scatter(&xc, &mut lx);
+                landing.layout.refresh(&mut lx);
+                self.work[l].landing.0 = lb;
+                lx
+            }
+            None => {
+                down.restrict.mul_vec(&self.work[l].r, &mut bc);
+                let coarse_halo = self.levels[l + 1].halo.clone();
+                coarse_halo.add_to_owners(&mut bc);
+                bc[coarse_halo.owned()..].iter_mut().for_each(|v| *v = 0.0);
+                self.visit(l + 1, &bc, &mut xc);
+                coarse_halo.refresh(&mut xc);
+                std::mem::take(&mut xc)
+            }
+        };
         // x ← x + P x_c on the owned unknowns (P's rows of the halo and prescribed are empty).
-        let lev = &self.levels[l];
-        let flags = &lev.level.flags[0];
-        par_update(x, |i, xv| if flags[i] & P != 0 { xv } else { xv + prolong.row_dot(i, &xc) });
-        self.work[l + 1].b = bc;
-        self.work[l + 1].x = xc;
+        let flags = &self.levels[l].level.flags[0];
+        par_update(x, |i, xv| if flags[i] & P != 0 { xv } else { xv + prolong.row_dot(i, &coarse) });
+        if landing.is_some() {
+            self.work[l].landing.1 = coarse;
+        } else {
+            xc = coarse;
+        }
+        if held {
+            self.work[l + 1].b = bc;
+            self.work[l + 1].x = xc;
+        }
     }
+
+    /// x_c from `visits` cycles on level `l`'s system A x = b, each from the residual the
+    /// previous left (collective over the level's ranks).
+    fn visit(&mut self, l: usize, b: &[f64], x: &mut [f64]) {
+        self.cycle(l, b, x);
+        // A coarsest level solved exactly leaves nothing for a second visit.
+        let exact = l + 1 == self.depth && self.gathered;
+        for _ in 1..if exact { 1 } else { self.visits } {
+            let (mut rc, mut dx) = std::mem::take(&mut self.work[l].again);
+            let op = GroupOp::new(&self.levels[l].level, 0..1, false);
+            op.residual(b, x, &mut rc, &mut self.work[l].scratch[0].s);
+            self.cycle(l, &rc, &mut dx);
+            x.iter_mut().zip(&dx).for_each(|(x, d)| *x += d);
+            self.work[l].again = (rc, dx);
+        }
+    }
+}
+
+/// The levels of `fine` this rank holds and, on the ranks that hold the coarsest level, its
+/// solve (collective over the ranks of each level; see `Multigrid::build`).
+fn levels_of(
+    fine: OwnedRows,
+    guide: Option<Guide>,
+    max_levels: usize,
+    per_rank: u64,
+) -> Result<(Vec<DistLevel>, Option<Coarsest>), DistError> {
+    let mut levels = Vec::new();
+    let (mut current, mut guide) = (fine, guide);
+    loop {
+        let rows = global_rows(&current);
+        let last = rows <= GATHER_ROWS || levels.len() + 1 >= max_levels.max(1);
+        let coarse = match (&guide, last) {
+            (_, true) => None,
+            (None, false) => galerkin::coarsen(&current)?,
+            (Some(g), false) => match biharmonic::coarsen(&current, g)? {
+                Some((next, prolong, next_guide)) => {
+                    guide = Some(next_guide);
+                    Some((next, prolong))
+                }
+                None => None,
+            },
+        };
+        let Some((next, prolong)) = coarse else {
+            return coarsest(current, rows, levels);
+        };
+        let next_rows = global_rows(&next);
+        if next_rows as f64 >= MIN_REDUCTION * rows as f64 {
+            return coarsest(current, rows, levels);
+        }
+        // A level small enough to gather goes onto one rank by its own solve.
+        let ranks = next.halo.comm().size();
+        let shift = if next_rows <= GATHER_ROWS { 0 } else { halvings(next_rows, ranks, per_rank) };
+        if shift == 0 {
+            levels.push(dist_level(current, Some(prolong), None));
+            current = next;
+            continue;
+        }
+        let agglomeration = Agglomeration::new(next.halo.comm(), shift);
+        let landing = agglomeration.landing(&next);
+        // Everything over the level's ranks first (its rows, the guide's rows and masses), then
+        // the receiving ranks' own work, so that a failure among them leaves no rank waiting.
+        let sent = agglomeration.send(&next);
+        let sent_guide = guide.take().map(|g| {
+            let mut mass = vec![0.0; landing.mover.len()];
+            landing.mover.gather(&g.mass[..landing.mover.count()], &mut mass);
+            (agglomeration.send(&g.k), mass)
+        });
+        levels.push(dist_level(current, Some(prolong), Some(Arc::new(landing))));
+        let Some(moved) = agglomeration.assemble(&sent)? else {
+            return Ok((levels, None));
+        };
+        if let Some((sent, mut mass)) = sent_guide {
+            let k = agglomeration.assemble(&sent)?.ok_or_else(|| lost(&moved))?;
+            mass.resize(k.halo.len(), 0.0);
+            k.halo.refresh(&mut mass);
+            guide = Some(Guide { k, mass });
+        }
+        current = moved;
+    }
+}
+
+/// The coarsest level `m` (`rows` unknowns over its ranks) after `levels`, and its solve
+/// (collective over its ranks).
+fn coarsest(
+    m: OwnedRows,
+    rows: u64,
+    mut levels: Vec<DistLevel>,
+) -> Result<(Vec<DistLevel>, Option<Coarsest>), DistError> {
+    let coarsest = if rows <= GATHER_ROWS { Coarsest::Gathered(Gathered::new(&m)?) } else { Coarsest::Smoothed };
+    levels.push(dist_level(m, None, None));
+    Ok((levels, Some(coarsest)))
+}
+
+/// A receiving rank without the guide's rows, which the level's move sent with it: cannot occur.
+fn lost(m: &OwnedRows) -> DistError {
+    let me = m.halo.comm().rank();
+    DistError::new(me, DistErrorKind::Solve, format!("rank {me} lost the agglomerated guide"))
 }
 
 /// Smoothing sweeps of a coarsest level too large to gather.
@@ -253,7 +390,8 @@ const COARSEST_SWEEPS: usize = 4;
 impl Preconditioner for Multigrid {
     /// One cycle. The caller's vectors share the finest level's owned entries; their halo may
     /// differ (the biharmonic's assembled rows reach two rings of vertices, the solve's one), so
-    /// then the owned entries are copied in and out and z's halo is left zero.
+    /// then the owned entries are copied in and out. z's halo is not the owners' values (zero
+    /// after a gathered solve): the operator exchanges it before reading it.
     fn apply(&mut self, r: &[f64], z: &mut [f64]) {
         let n = self.levels[0].level.n();
         if r.len() == n {
@@ -285,7 +423,7 @@ fn unknowns(a: &CsrMatrix, owned: usize) -> usize {
 /// The smoother's level of `m` (its empty rows and its halo prescribed, so neither is smoothed
 /// nor read as an unknown) with the transfer `prolong` to the next coarser level (collective:
 /// the smoother's bound is estimated over every rank's rows).
-fn dist_level(m: OwnedRows, prolong: Option<CsrMatrix>) -> DistLevel {
+fn dist_level(m: OwnedRows, prolong: Option<CsrMatrix>, landing: Option<Arc<Landing>>) -> DistLevel {
     let OwnedRows { a, halo, .. } = m;
     let (n, owned) = (halo.len(), halo.owned());
     let flags: Vec<u8> = (0..n).map(|i| if i >= owned || a.row(i).0.is_empty() { P | Z } else { 0 }).collect();
@@ -311,12 +449,13 @@ fn dist_level(m: OwnedRows, prolong: Option<CsrMatrix>) -> DistLevel {
         layout: Distribution::Halo(halo.clone()),
     };
     level.lambda_max = vec![estimate_lambda_max(&GroupOp::new(&level, 0..1, false))];
-    DistLevel { level, halo }
+    DistLevel { level, halo, landing }
 }
 
-/// The vectors of a visit to `level` (`finest`: its b and x are the caller's).
-fn work(level: &Level, finest: bool) -> Work {
-    let n = level.n();
+/// The vectors of a visit to `d` (`finest`: its b and x are the caller's).
+fn work(d: &DistLevel, finest: bool) -> Work {
+    let n = d.level.n();
+    let nl = d.landing.as_ref().map_or(0, |l| l.layout.len());
     let nbx = if finest { 0 } else { n };
     Work {
         b: vec![0.0; nbx],
@@ -325,5 +464,6 @@ fn work(level: &Level, finest: bool) -> Work {
         scratch: vec![Scratch::new(n, Method::Laplacian)],
         coefficients: Coefficients::default(),
         again: (vec![0.0; nbx], vec![0.0; nbx]),
+        landing: (vec![0.0; nl], vec![0.0; nl]),
     }
 }

@@ -42,6 +42,7 @@ pub(super) fn dist_params(me: usize, opts: &Options) -> Result<DistSolveParams, 
         max_iterations: s.max_cycles,
         degree: s.cheb_degree.unwrap_or(default.degree),
         max_levels: opts.hierarchy.max_levels,
+        ..default
     })
 }
 
