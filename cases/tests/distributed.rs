@@ -25,18 +25,17 @@ use std::process::ExitCode;
 
 /// The cases: the paper's 2D cases (free surface with periodic sides, the rising and deforming
 /// interfaces split per region (variant A) and continuous (B), the cylinder in a channel, the
-/// boundary-layer cylinder on triangles and hybrid), the free surface in 3D on tetrahedra and
+/// boundary-layer cylinder), the free surface in 3D on tetrahedra and
 /// hexahedra, the sphere in a duct with FIXED and with SLIP walls, the cylinder channel with
 /// SLIP walls, and the free surface with its periodic sides linked by explicit vertex pairs
 /// (global ids on the distributed mesh, [`PAIRS`]).
-const CASES: [&str; 13] = [
+const CASES: [&str; 12] = [
     "free_surface_a0.25",
     "rising_interface_0.5",
     "deforming_interface_A",
     "deforming_interface_B",
     "cylinder_channel",
     "boundary_layer_cylinder",
-    "boundary_layer_cylinder_hybrid",
     "cylinder_channel_1.5D_slip",
     "free_surface_3d_tets_a0.1",
     "free_surface_3d_hexes_a0.1",
