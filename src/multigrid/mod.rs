@@ -23,6 +23,7 @@ pub mod restriction;
 pub mod slip;
 pub mod smoother;
 pub mod solve;
+pub mod two_level;
 
 use coarsen::{CoarsenParams, Delaunay2d};
 use coarsener::Coarsener;
