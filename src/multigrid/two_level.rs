@@ -73,11 +73,11 @@ pub fn analyse_pair(
 
     let b = free(0);
     let multilevel =
-        pcg(&op, &b, &mut vec![0.0; g * n], tol, 500, &mut |r, z| level_cycle(h, comps.clone(), cp, level, r, z, Start::Zero, &mut ws))
+        pcg(&op, None, &b, &mut vec![0.0; g * n], tol, 500, &mut |r, z| level_cycle(h, comps.clone(), cp, level, r, z, Start::Zero, &mut ws))
             .0;
-    let two_level = pcg(&op, &b, &mut vec![0.0; g * n], tol, 500, &mut |r, z| tl.apply(r, z, &mut ws)).0;
+    let two_level = pcg(&op, None, &b, &mut vec![0.0; g * n], tol, 500, &mut |r, z| tl.apply(r, z, &mut ws)).0;
     tl.galerkin = true;
-    let two_level_galerkin = pcg(&op, &b, &mut vec![0.0; g * n], tol, 500, &mut |r, z| tl.apply(r, z, &mut ws)).0;
+    let two_level_galerkin = pcg(&op, None, &b, &mut vec![0.0; g * n], tol, 500, &mut |r, z| tl.apply(r, z, &mut ws)).0;
     tl.galerkin = false;
 
     // Power iteration on the two-level error propagation E = I − M⁻¹A from a mode-rich start.
@@ -152,10 +152,15 @@ fn normalise(op: &GroupOp, x: &mut [f64], ax: &mut [f64], s: &mut [f64]) -> f64 
     e
 }
 
-/// Conjugate gradients on `op` from `x` preconditioned by `m` (z = M⁻¹ r); returns the
-/// iterations and the relative residual reached.
+/// The operator of a PCG solve: y = A x.
+type Apply<'f> = &'f mut dyn FnMut(&mut [f64], &mut [f64]);
+
+/// Conjugate gradients from `x` on the operator `a`, or `op`'s own when None, with `op`'s inner
+/// products, preconditioned by `m` (z = M⁻¹ r); returns the iterations and the relative
+/// residual reached.
 fn pcg(
     op: &GroupOp,
+    a: Option<Apply>,
     b: &[f64],
     x: &mut [f64],
     tol: f64,
@@ -163,19 +168,11 @@ fn pcg(
     m: &mut dyn FnMut(&[f64], &mut [f64]) -> f64,
 ) -> (usize, f64) {
     let mut s = vec![0.0; op.n()];
-    pcg_with(op, &mut |x, y| op.apply(x, y, &mut s), b, x, tol, max, m)
-}
-
-/// [`pcg`] on the operator `a` (y = A x) with `op`'s inner products.
-fn pcg_with(
-    op: &GroupOp,
-    a: &mut dyn FnMut(&mut [f64], &mut [f64]),
-    b: &[f64],
-    x: &mut [f64],
-    tol: f64,
-    max: usize,
-    m: &mut dyn FnMut(&[f64], &mut [f64]) -> f64,
-) -> (usize, f64) {
+    let mut own = |x: &mut [f64], y: &mut [f64]| op.apply(x, y, &mut s);
+    let a: Apply = match a {
+        Some(a) => a,
+        None => &mut own,
+    };
     let n = b.len();
     let (mut r, mut z, mut q) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
     a(x, &mut r);
@@ -270,9 +267,9 @@ impl TwoLevel<'_> {
                 coarse.accumulate(y);
                 coarse.project(y);
             };
-            pcg_with(&coarse, &mut ptap, &bc, &mut xc, 1e-11, 300, m);
+            pcg(&coarse, Some(&mut ptap), &bc, &mut xc, 1e-11, 300, m);
         } else {
-            pcg(&coarse, &bc, &mut xc, 1e-11, 300, m);
+            pcg(&coarse, None, &bc, &mut xc, 1e-11, 300, m);
         }
         coarse.exchange(&mut xc);
         for k in 0..g {
