@@ -20,16 +20,7 @@ fn main() {
         Some("spring") => Method::Spring,
         _ => Method::Biharmonic,
     };
-    let num = |x: &str| x.parse::<usize>().expect("a size");
-    let v = match kind {
-        "airfoil" => airfoil_2d(&AirfoilParams::new(num(size))),
-        "spheroid" => spheroid_3d(&SpheroidParams::new(num(size))),
-        _ => {
-            let (p, z) = size.split_once(':').expect("P:S");
-            wing_3d(&WingParams::new(num(p), num(z)))
-        }
-    }
-    .expect("a mesh");
+    let v = by_name(kind, size).expect("a mesh");
     let bcs = boundary_conditions(&v);
     let motion = motion(&v, m);
     let t = Instant::now();

@@ -14,15 +14,7 @@ fn main() {
     };
     for s in sizes {
         let t = Instant::now();
-        let num = |x: &str| x.parse::<usize>().expect("a size");
-        let m = match kind.as_str() {
-            "airfoil" => airfoil_2d(&AirfoilParams::new(num(s))),
-            "spheroid" => spheroid_3d(&SpheroidParams::new(num(s))),
-            _ => {
-                let (p, z) = s.split_once(':').expect("P:S");
-                wing_3d(&WingParams::new(num(p), num(z)))
-            }
-        };
+        let m = by_name(kind, s);
         match m {
             Ok(m) => {
                 let q = mesh_quality(&m);

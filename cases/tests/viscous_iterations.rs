@@ -22,8 +22,19 @@ fn airfoil_biharmonic_takes_a_bounded_number_of_iterations() {
     for m in [BodyMotion::Pitch, BodyMotion::Plunge] {
         let (its, lines) = iterations(&v, m);
         assert!(lines);
-        assert!(its <= 12, "{m:?}: {its}");
+        assert!(its <= 11, "{m:?}: {its}");
     }
+}
+
+/// The wing section (the airfoil extruded between two SLIP end walls, hexahedral layers): its
+/// kept levels stop at three, the coarsest smoothed rather than factored (docs/DESIGN.md §5);
+/// the smallest size's pitch holds the airfoil's count.
+#[test]
+fn wing_biharmonic_takes_a_bounded_number_of_iterations() {
+    let v = wing_3d(&WingParams::new(32, 4)).unwrap();
+    let (its, lines) = iterations(&v, BodyMotion::Pitch);
+    assert!(lines);
+    assert!(its <= 11, "{its}");
 }
 
 #[test]

@@ -84,7 +84,7 @@ pub(crate) fn cycle(
 }
 
 #[allow(clippy::too_many_arguments)]
-fn level_cycle(
+pub(crate) fn level_cycle(
     h: &Hierarchy,
     comps: std::ops::Range<usize>,
     p: &CycleParams,

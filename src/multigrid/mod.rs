@@ -23,6 +23,8 @@ pub mod restriction;
 pub mod slip;
 pub mod smoother;
 pub mod solve;
+#[cfg(feature = "internals")]
+pub mod two_level;
 
 use coarsen::{CoarsenParams, Delaunay2d};
 use coarsener::Coarsener;

@@ -65,6 +65,21 @@ impl Layers {
     }
 }
 
+/// The mesh of kind `kind` at `size`, as the probes and the size table name them: `airfoil`
+/// (points per side), `spheroid` (cells across), `wing` (points per side and span cells, `P:S`).
+pub fn by_name(kind: &str, size: &str) -> Result<ViscousMesh, String> {
+    let num = |x: &str| x.parse::<usize>().map_err(|_| format!("viscous: size {x:?} is not a count"));
+    match kind {
+        "airfoil" => airfoil_2d(&AirfoilParams::new(num(size)?)),
+        "spheroid" => spheroid_3d(&SpheroidParams::new(num(size)?)),
+        "wing" => {
+            let (p, z) = size.split_once(':').ok_or_else(|| format!("viscous: wing size {size:?} is not P:S"))?;
+            wing_3d(&WingParams::new(num(p)?, num(z)?))
+        }
+        _ => Err(format!("viscous: no mesh kind {kind:?} (airfoil, spheroid, wing)")),
+    }
+}
+
 /// A wall-layered mesh, with the wall layer of every cell.
 #[derive(Clone, Debug)]
 pub struct ViscousMesh {
