@@ -248,10 +248,12 @@ fn original_reference_equals_serial() {
 }
 
 /// An interface clamped on each side (split per region, each region's copy of an interface
-/// vertex its own unknown) raised in three steps: the same mesh as serially.
+/// vertex its own unknown) raised in three steps, the sides sliding: the same mesh as serially.
 #[test]
 fn a_split_interface_equals_serial() {
     let case = "tolerance = 1e-12\nsteps = 3\n[[patch]]\npatch = \"interface\"\nkind = \"clamped\"\n\
+                [[patch]]\npatch = \"left\"\nkind = [\"clamped\", \"free\"]\n\
+                [[patch]]\npatch = \"right\"\nkind = [\"clamped\", \"free\"]\n\
                 [[interface]]\npatch = \"interface\"\nvariant = \"separate\"\n\
                 [[motion]]\npatch = \"interface\"\ntranslation = [0.0, 0.3]\n";
     agrees_on_1_to_4_ranks("interface", "two_region.msh", case, &[], &[]);
