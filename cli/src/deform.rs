@@ -49,7 +49,7 @@ pub struct Args {
     /// Where to write the deformed mesh: a .vtu file; for a polyMesh, a polyMesh directory
     /// (the input's files with the moved points; the input directory itself to move it in
     /// place) unless the name ends in .vtu; under mpirun also a .pvtu index, each rank writing
-    /// its piece OUT_<rank>.vtu beside it.
+    /// its piece beside it (OUT_0.vtu, OUT_1.vtu, …).
     #[arg(short, long)]
     output: PathBuf,
     /// Also write the deformed mesh to this .vtu file.

@@ -14,7 +14,7 @@ pub fn is_pvtu(path: &Path) -> bool {
     path.extension().and_then(|e| e.to_str()).is_some_and(|e| e.eq_ignore_ascii_case("pvtu"))
 }
 
-/// Where rank `rank` writes its piece of `output` (OUT.pvtu): OUT_<rank>.vtu beside it.
+/// Where rank `rank` writes its piece of `output` (`OUT.pvtu`): `OUT_<rank>.vtu` beside it.
 pub fn piece_path(output: &Path, rank: usize) -> PathBuf {
     let stem = output.file_stem().and_then(|s| s.to_str()).unwrap_or("out");
     output.with_file_name(format!("{stem}_{rank}.vtu"))
