@@ -114,16 +114,20 @@ pub fn run(args: &Args) -> Result<ExitCode, String> {
     };
     let result =
         wire::broadcast_result(&world, status).and_then(|()| run_ranks(&world, args, lead.and_then(Result::ok)));
-    // Rank 0's status on every rank: 1 for an error (rank 0 prints it), else the run's.
+    // Rank 0's status on every rank: 1 for an error, else the run's. Rank 0 prints its error
+    // before the broadcast: the other ranks exit only after it, so mpirun, which stops the job
+    // when the first rank exits with an error, cannot stop rank 0 before its message is out.
     let mut status = [match &result {
         Ok(code) => *code,
-        Err(_) => 1,
+        Err(e) => {
+            if rank == 0 {
+                eprintln!("meshmove: error: {e}");
+            }
+            1
+        }
     }];
     world.process_at_rank(0).broadcast_into(&mut status[..]);
-    match result {
-        Err(e) if rank == 0 => Err(e),
-        _ => Ok(ExitCode::from(status[0])),
-    }
+    Ok(ExitCode::from(status[0]))
 }
 
 /// How the steps went, on every rank (the reports on rank 0).
