@@ -383,7 +383,7 @@ impl DistributedSolver {
     /// The owned rows of component `c`'s operator, the multigrid's finest level, and what the
     /// biharmonic's coarse levels are made from (collective): K's free rows for the Laplacian
     /// and the spring; the biharmonic's K V⁻¹ K assembled, with K's free rows and V.
-    fn fine_rows(&self, c: usize) -> Result<(OwnedRows, Option<Guide>), DistError> {
+    pub(crate) fn fine_rows(&self, c: usize) -> Result<(OwnedRows, Option<Guide>), DistError> {
         let (op, flags, halo) = (&self.level.op, &self.level.flags[c], self.halo());
         let gids = self.mesh.layout_global_ids();
         let k = OwnedRows { a: free_rows(&op.k, flags, halo), gids: gids.to_vec(), halo: halo.clone() };

@@ -14,6 +14,8 @@
 //! onto one rank and solved there by a dense factor (`gathered`). The smoother is the serial multigrid's Chebyshev–Jacobi smoother on owned rows,
 //! run through the level's `GroupOp` and halo layout.
 
+#[cfg(test)]
+mod against_serial;
 mod agglomerate;
 mod biharmonic;
 mod galerkin;
@@ -73,6 +75,9 @@ pub(crate) struct OwnedRows {
 /// transfer to the next coarser level) and its exchange lists.
 struct DistLevel {
     level: Level,
+    /// The global id of each local entry (`against_serial` maps the levels by it).
+    #[cfg(test)]
+    gids: Vec<u64>,
     halo: Arc<HaloLayout>,
     /// When the next coarser level is agglomerated onto fewer ranks: the layout the
     /// prolongation's columns refer to on this level's ranks, and the move onto those ranks.
@@ -424,7 +429,7 @@ fn unknowns(a: &CsrMatrix, owned: usize) -> usize {
 /// nor read as an unknown) with the transfer `prolong` to the next coarser level (collective:
 /// the smoother's bound is estimated over every rank's rows).
 fn dist_level(m: OwnedRows, prolong: Option<CsrMatrix>, landing: Option<Arc<Landing>>) -> DistLevel {
-    let OwnedRows { a, halo, .. } = m;
+    let OwnedRows { a, halo, gids: _gids } = m;
     let (n, owned) = (halo.len(), halo.owned());
     let flags: Vec<u8> = (0..n).map(|i| if i >= owned || a.row(i).0.is_empty() { P | Z } else { 0 }).collect();
     let op = LevelOperator::from_matrix(Method::Laplacian, a);
@@ -449,7 +454,13 @@ fn dist_level(m: OwnedRows, prolong: Option<CsrMatrix>, landing: Option<Arc<Land
         layout: Distribution::Halo(halo.clone()),
     };
     level.lambda_max = vec![estimate_lambda_max(&GroupOp::new(&level, 0..1, false))];
-    DistLevel { level, halo, landing }
+    DistLevel {
+        level,
+        #[cfg(test)]
+        gids: _gids,
+        halo,
+        landing,
+    }
 }
 
 /// The vectors of a visit to `d` (`finest`: its b and x are the caller's).
