@@ -23,6 +23,11 @@
 //! assert!(sol.displacement[2 * 4 + 1] > 0.0);
 //! ```
 
+// The library's own tests name it as the integration tests do, so they can share their mesh
+// generators (`tests/slabs`).
+#[cfg(all(test, feature = "mpi"))]
+extern crate self as meshmove;
+
 /// A module of the solver's internals: public (and hidden from the documentation) only with
 /// the `internals` feature, which the workspace's paper cases, the command line's bench and the
 /// tests of the multigrid levels use. Not a stable API.

@@ -11,34 +11,11 @@
 use super::*;
 use crate::distributed::{DistSolveParams, DistributedMesh, DistributedSolver};
 use crate::multigrid::cycle::{level_cycle, CycleParams, Workspace};
-use crate::{BoundaryConditions, CellType, Mesh, MeshData, Options, Solver};
+use crate::{BoundaryConditions, Mesh, Options, Solver};
 
-fn jitter(k: usize) -> f64 {
-    ((k as u64).wrapping_mul(2654435761) % 1000) as f64 / 1000.0 - 0.5
-}
-
-fn grid2d(nx: usize, ny: usize) -> MeshData {
-    let mut d = MeshData::new(2);
-    for j in 0..=ny {
-        for i in 0..=nx {
-            let inner = i > 0 && i < nx && j > 0 && j < ny;
-            let s = if inner { 0.3 } else { 0.0 };
-            let k = j * (nx + 1) + i;
-            d.push_vertex(&[
-                (i as f64 + s * jitter(2 * k)) / nx as f64,
-                (j as f64 + s * jitter(2 * k + 1)) / ny as f64,
-            ]);
-        }
-    }
-    let v = |i: usize, j: usize| (j * (nx + 1) + i) as u32;
-    for j in 0..ny {
-        for i in 0..nx {
-            d.push_cell(CellType::Triangle, &[v(i, j), v(i + 1, j), v(i + 1, j + 1)], 0);
-            d.push_cell(CellType::Triangle, &[v(i, j), v(i + 1, j + 1), v(i, j + 1)], 0);
-        }
-    }
-    d
-}
+#[path = "../../../tests/slabs/mod.rs"]
+#[allow(dead_code)]
+mod slabs;
 
 /// max |a − b| over max |b|, over the pairs.
 fn rel(pairs: impl Iterator<Item = (f64, f64)>) -> (f64, f64) {
@@ -55,7 +32,7 @@ fn rel(pairs: impl Iterator<Item = (f64, f64)>) -> (f64, f64) {
 fn one_cycle_against_serial() {
     let n: usize = std::env::var("MM_N").ok().and_then(|v| v.parse().ok()).unwrap_or(40);
     let degree: usize = std::env::var("MM_DEG").ok().and_then(|v| v.parse().ok()).unwrap_or(4);
-    let d = grid2d(n, n);
+    let d = slabs::grid2d(n, n);
     let nv = d.num_vertices();
     // Serial.
     let mut o = Options { method: Method::Biharmonic, threads: 1, ..Default::default() };
@@ -543,12 +520,7 @@ fn one_cycle_against_serial() {
         println!("{:<40} PCG iterations {}", "serial cycle", out.iterations);
     }
     // PCG counts.
-    let motion: Vec<f64> = (0..nv)
-        .flat_map(|v| {
-            let x = d.point(v);
-            [0.1 * (2.0 * x[0] + x[1]).sin(), 0.08 * (x[0] - 3.0 * x[1]).cos()]
-        })
-        .collect();
+    let motion: Vec<f64> = (0..nv).flat_map(|v| slabs::motion(d.point(v))[..2].to_vec()).collect();
     let s = serial.solve(&crate::Motion::from_displacement(motion.clone())).expect("s");
     let local: Vec<f64> = gl.iter().flat_map(|&g| motion[g as usize * 2..g as usize * 2 + 2].to_vec()).collect();
     let dsol = ds.solve(&crate::Motion::from_displacement(local)).expect("d");
