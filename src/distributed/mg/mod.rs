@@ -42,8 +42,8 @@ use crate::operator::{LevelOperator, Method};
 use crate::sparse::{par_update, CsrMatrix};
 use agglomerate::{halvings, Agglomeration, Landing};
 pub(crate) use biharmonic::{biharmonic_rows, Guide};
-pub(crate) use lines::owned_lines;
 use gathered::Gathered;
+pub(crate) use lines::owned_lines;
 use std::sync::Arc;
 
 /// A level of this many unknowns over all ranks, or fewer, is gathered onto one rank and solved
