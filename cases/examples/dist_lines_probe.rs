@@ -23,7 +23,7 @@ fn main() {
         let setup = case(name, Scale::Quick).or_else(|| case3d(name, Scale::Quick)).unwrap_or_else(airfoil);
         let d = setup.mesh.to_data();
         let (dim, nv) = (d.dim, d.num_vertices());
-        let owner = slabs_across_x(&d, size);
+        let owner = slabs::slabs_across_x(&d, size);
         let p = slabs::part(&d, &owner, rank, true);
         let dm = DistributedMesh::new(&world, &p.data, &p.gids, &p.ghost).expect("the distributed mesh");
         let given = &setup.motion.displacement;
@@ -57,12 +57,7 @@ fn main() {
                         continue;
                     }
                 };
-                let mut worst = 0.0f64;
-                for (i, &v) in p.global.iter().enumerate() {
-                    for c in 0..dim {
-                        worst = worst.max((sol.displacement[i * dim + c] - reference[v * dim + c]).abs());
-                    }
-                }
+                let worst = slabs::largest_difference(&p.global, &sol.displacement, &reference, dim);
                 let mut all = vec![0.0; size];
                 world.all_gather_into(&worst, &mut all[..]);
                 let worst = all.iter().fold(0.0f64, |m, &x| m.max(x));
@@ -92,17 +87,4 @@ fn airfoil() -> CaseSetup {
         motion,
         ..case("cylinder_channel", Scale::Quick).expect("a case")
     }
-}
-
-/// The slab across x of the bounding box that owns each cell of `d` on `size` ranks.
-fn slabs_across_x(d: &meshmove::MeshData, size: usize) -> Vec<usize> {
-    let xs = (0..d.num_vertices()).map(|v| d.point(v)[0]);
-    let (lo, hi) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), x| (l.min(x), h.max(x)));
-    (0..d.num_cells())
-        .map(|c| {
-            let t = d.cell(c);
-            let x = t.iter().map(|&v| d.point(v as usize)[0]).sum::<f64>() / t.len() as f64;
-            (((x - lo) / (hi - lo) * size as f64) as usize).min(size - 1)
-        })
-        .collect()
 }

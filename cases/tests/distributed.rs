@@ -17,7 +17,7 @@ mod slabs;
 use meshmove::distributed::mpi::topology::SimpleCommunicator;
 use meshmove::distributed::mpi::traits::*;
 use meshmove::distributed::{DistSolveParams, DistributedMesh, DistributedSolver};
-use meshmove::{BoundaryConditions, Kind, Link, Mesh, MeshData, Method, Motion, Options, Solver};
+use meshmove::{BoundaryConditions, Kind, Link, Mesh, Method, Motion, Options, Solver};
 use meshmove_cases::meshes::{FS_BOTTOM, FS_LEFT, FS_RIGHT, FS_TOP};
 use meshmove_cases::setups::{case, CaseSetup, Scale};
 use meshmove_cases::viscous::{airfoil_2d, boundary_conditions, motion, AirfoilParams, BodyMotion, WALL};
@@ -152,7 +152,7 @@ fn airfoil_laplacian(world: &SimpleCommunicator) {
     };
     let (rank, size) = (world.rank() as usize, world.size() as usize);
     let d = setup.mesh.to_data();
-    let p = slabs::part(&d, &slabs_across_x(&d, size), rank, true);
+    let p = slabs::part(&d, &slabs::slabs_across_x(&d, size), rank, true);
     let dm = DistributedMesh::new(world, &p.data, &p.gids, &p.ghost).expect("the distributed mesh");
     let local: Vec<f64> = p.global.iter().flat_map(|&v| setup.motion.displacement[v * 2..v * 2 + 2].to_vec()).collect();
     let motion = Motion { displacement: local, rigid: setup.motion.rigid.clone() };
@@ -194,20 +194,6 @@ fn linked_by_pairs(mesh: &Mesh) -> (BoundaryConditions, BoundaryConditions) {
     (bcs, dist)
 }
 
-/// The slab across x of the mesh's bounding box that owns each cell of `d` on `size` ranks
-/// (by its centroid).
-fn slabs_across_x(d: &MeshData, size: usize) -> Vec<usize> {
-    let xs = (0..d.num_vertices()).map(|v| d.point(v)[0]);
-    let (lo, hi) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), x| (l.min(x), h.max(x)));
-    (0..d.num_cells())
-        .map(|c| {
-            let t = d.cell(c);
-            let x = t.iter().map(|&v| d.point(v as usize)[0]).sum::<f64>() / t.len() as f64;
-            (((x - lo) / (hi - lo) * size as f64) as usize).min(size - 1)
-        })
-        .collect()
-}
-
 /// The tolerances of the solves: 1e-12, and where the two answers differ by more than 1e-10 of
 /// the motion or of the smallest area ratio at 1e-12 (the wall-layer meshes, whose biharmonic is
 /// so ill-conditioned that a residual of 1e-12 leaves the displacement uncertain beyond 1e-10,
@@ -224,7 +210,7 @@ fn agrees_with_serial(world: &SimpleCommunicator, setup: &CaseSetup, dist_bcs: &
     let (rank, size) = (world.rank() as usize, world.size() as usize);
     let d = setup.mesh.to_data();
     let (dim, nv) = (d.dim, d.num_vertices());
-    let p = slabs::part(&d, &slabs_across_x(&d, size), rank, true);
+    let p = slabs::part(&d, &slabs::slabs_across_x(&d, size), rank, true);
     let dm = DistributedMesh::new(world, &p.data, &p.gids, &p.ghost).expect("the distributed mesh");
     let what = format!("{}, {method:?} on {size} ranks", setup.name);
     let given = &setup.motion.displacement;
@@ -251,12 +237,7 @@ fn agrees_with_serial(world: &SimpleCommunicator, setup: &CaseSetup, dist_bcs: &
         let params = DistSolveParams { tol, ..Default::default() };
         let solver = DistributedSolver::new(&dm, dist_bcs, method, params).unwrap_or_else(|e| panic!("{what}: {e}"));
         let sol = solver.solve(&motion).unwrap_or_else(|e| panic!("{what}: {e}"));
-        let mut worst = 0.0f64;
-        for (i, &v) in p.global.iter().enumerate() {
-            for c in 0..dim {
-                worst = worst.max((sol.displacement[i * dim + c] - reference[v * dim + c]).abs());
-            }
-        }
+        let worst = slabs::largest_difference(&p.global, &sol.displacement, &reference, dim);
         let mut all = vec![0.0; size];
         world.all_gather_into(&worst, &mut all[..]);
         let worst = all.iter().fold(0.0f64, |m, &x| m.max(x));
