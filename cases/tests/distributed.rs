@@ -9,7 +9,7 @@
 //! and the quality report's inverted count and smallest area ratio (to 1e-10) against
 //! the serial one. The launching process prints the table of iterations (serial cycles against
 //! the distributed conjugate gradients' on 1–4 ranks) and checks that they do not depend on the
-//! rank count by more than one (a fifth for the solves tightened to 1e-14).
+//! rank count by more than one (a quarter for the solves tightened to 1e-14).
 
 #[path = "../../tests/slabs/mod.rs"]
 mod slabs;
@@ -17,9 +17,10 @@ mod slabs;
 use meshmove::distributed::mpi::topology::SimpleCommunicator;
 use meshmove::distributed::mpi::traits::*;
 use meshmove::distributed::{DistSolveParams, DistributedMesh, DistributedSolver};
-use meshmove::{BoundaryConditions, Kind, Link, Mesh, MeshData, Method, Motion, Options, Solver};
+use meshmove::{BoundaryConditions, Kind, Link, Mesh, Method, Motion, Options, Solver};
 use meshmove_cases::meshes::{FS_BOTTOM, FS_LEFT, FS_RIGHT, FS_TOP};
 use meshmove_cases::setups::{case, CaseSetup, Scale};
+use meshmove_cases::viscous::{airfoil_2d, boundary_conditions, motion, AirfoilParams, BodyMotion, WALL};
 use std::collections::BTreeMap;
 use std::process::ExitCode;
 
@@ -45,6 +46,14 @@ const CASES: [&str; 12] = [
 ];
 
 const METHODS: [Method; 2] = [Method::Biharmonic, Method::Laplacian];
+
+/// Most distributed iterations of the boundary-layer cylinder's biharmonic (to 1e-14), any rank
+/// count.
+const LAYERED_ITERATIONS: i64 = 160;
+
+/// Most distributed iterations of the wall-layered airfoil's Laplacian to 1e-12, any rank count
+/// (46–47 without lines across its layers).
+const AIRFOIL_ITERATIONS: usize = 30;
 
 fn main() -> ExitCode {
     if std::env::var_os("OMPI_COMM_WORLD_SIZE").is_some() || std::env::var_os("PMI_SIZE").is_some() {
@@ -74,8 +83,9 @@ fn main() -> ExitCode {
     for ((_, name), (serial, runs)) in &table {
         println!("| {name} | {serial} | {} |", runs.join(" | "));
         // Solved to 1e-14 (the wall-layer meshes: hundreds of iterations on an ill-conditioned
-        // system), the partition's rounding moves the count by more than one: within a fifth.
-        let slack = |n: i64| if serial.contains("to 1e-14") { n / 5 } else { 1 };
+        // system), the partition's rounding and the lines it cuts (one segment per rank) move
+        // the count by more than one: within a quarter.
+        let slack = |n: i64| if serial.contains("to 1e-14") { n / 4 } else { 1 };
         let first = numbers(&runs[0]);
         let apart = |r: &String| numbers(r).iter().zip(&first).any(|(a, b)| (a - b).abs() > slack(*b));
         if runs.len() != 4 || runs.iter().any(apart) {
@@ -84,6 +94,16 @@ fn main() -> ExitCode {
         }
     }
     ok &= table.len() == CASES.len() * METHODS.len();
+    // The lines across the boundary-layer cylinder's wall layers (docs/DESIGN.md §5, "Across
+    // ranks") bring its biharmonic to at most 160 iterations on every rank count (167 on one
+    // rank and 164 on two without them).
+    let layered = table.iter().find(|((_, name), _)| name == "boundary_layer_cylinder | Biharmonic");
+    if let Some((_, (_, runs))) =
+        layered.filter(|(_, (_, runs))| runs.iter().any(|r| numbers(r).iter().any(|&n| n > LAYERED_ITERATIONS)))
+    {
+        eprintln!("boundary_layer_cylinder, biharmonic: over {LAYERED_ITERATIONS} iterations: {runs:?}");
+        ok = false;
+    }
     if ok {
         ExitCode::SUCCESS
     } else {
@@ -110,7 +130,40 @@ fn rank_main() -> ExitCode {
             agrees_with_serial(&world, &setup, &dist_bcs, method);
         }
     }
+    airfoil_laplacian(&world);
     ExitCode::SUCCESS
+}
+
+/// The smallest wall-layered airfoil (first height 1e-5 chord, aspect ratios to 10⁴) pitched
+/// about its quarter chord, by the Laplacian to 1e-12 on slabs: at most [`AIRFOIL_ITERATIONS`]
+/// with the lines across its layers (its agreement with the serial solver and the biharmonic,
+/// which breaks down on it across ranks, are in docs/PERFORMANCE.md).
+fn airfoil_laplacian(world: &SimpleCommunicator) {
+    let v = airfoil_2d(&AirfoilParams::new(64)).expect("the airfoil");
+    let (bcs, motion) = (boundary_conditions(&v), motion(&v, BodyMotion::Pitch));
+    let setup = CaseSetup {
+        name: "airfoil".into(),
+        mesh: v.mesh,
+        bcs,
+        motion,
+        steps: 1,
+        moved_patch: WALL,
+        upper_region: None,
+    };
+    let (rank, size) = (world.rank() as usize, world.size() as usize);
+    let d = setup.mesh.to_data();
+    let p = slabs::part(&d, &slabs::slabs_across_x(&d, size), rank, true);
+    let dm = DistributedMesh::new(world, &p.data, &p.gids, &p.ghost).expect("the distributed mesh");
+    let local: Vec<f64> = p.global.iter().flat_map(|&v| setup.motion.displacement[v * 2..v * 2 + 2].to_vec()).collect();
+    let motion = Motion { displacement: local, rigid: setup.motion.rigid.clone() };
+    let params = DistSolveParams { tol: 1e-12, ..Default::default() };
+    let solver = DistributedSolver::new(&dm, &setup.bcs, Method::Laplacian, params).expect("the solver");
+    let sol = solver.solve(&motion).expect("the airfoil's Laplacian");
+    let most = sol.iterations.iter().copied().max().unwrap_or(0);
+    assert!(most <= AIRFOIL_ITERATIONS, "airfoil, Laplacian on {size} ranks: {:?} iterations", sol.iterations);
+    if rank == 0 {
+        println!("airfoil, Laplacian on {size} ranks: iterations {:?} to 1e-12", sol.iterations);
+    }
 }
 
 /// The case whose sides are linked by explicit vertex pairs rather than by offset.
@@ -141,20 +194,6 @@ fn linked_by_pairs(mesh: &Mesh) -> (BoundaryConditions, BoundaryConditions) {
     (bcs, dist)
 }
 
-/// The slab across x of the mesh's bounding box that owns each cell of `d` on `size` ranks
-/// (by its centroid).
-fn slabs_across_x(d: &MeshData, size: usize) -> Vec<usize> {
-    let xs = (0..d.num_vertices()).map(|v| d.point(v)[0]);
-    let (lo, hi) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), x| (l.min(x), h.max(x)));
-    (0..d.num_cells())
-        .map(|c| {
-            let t = d.cell(c);
-            let x = t.iter().map(|&v| d.point(v as usize)[0]).sum::<f64>() / t.len() as f64;
-            (((x - lo) / (hi - lo) * size as f64) as usize).min(size - 1)
-        })
-        .collect()
-}
-
 /// The tolerances of the solves: 1e-12, and where the two answers differ by more than 1e-10 of
 /// the motion or of the smallest area ratio at 1e-12 (the wall-layer meshes, whose biharmonic is
 /// so ill-conditioned that a residual of 1e-12 leaves the displacement uncertain beyond 1e-10,
@@ -171,7 +210,7 @@ fn agrees_with_serial(world: &SimpleCommunicator, setup: &CaseSetup, dist_bcs: &
     let (rank, size) = (world.rank() as usize, world.size() as usize);
     let d = setup.mesh.to_data();
     let (dim, nv) = (d.dim, d.num_vertices());
-    let p = slabs::part(&d, &slabs_across_x(&d, size), rank, true);
+    let p = slabs::part(&d, &slabs::slabs_across_x(&d, size), rank, true);
     let dm = DistributedMesh::new(world, &p.data, &p.gids, &p.ghost).expect("the distributed mesh");
     let what = format!("{}, {method:?} on {size} ranks", setup.name);
     let given = &setup.motion.displacement;
@@ -198,12 +237,7 @@ fn agrees_with_serial(world: &SimpleCommunicator, setup: &CaseSetup, dist_bcs: &
         let params = DistSolveParams { tol, ..Default::default() };
         let solver = DistributedSolver::new(&dm, dist_bcs, method, params).unwrap_or_else(|e| panic!("{what}: {e}"));
         let sol = solver.solve(&motion).unwrap_or_else(|e| panic!("{what}: {e}"));
-        let mut worst = 0.0f64;
-        for (i, &v) in p.global.iter().enumerate() {
-            for c in 0..dim {
-                worst = worst.max((sol.displacement[i * dim + c] - reference[v * dim + c]).abs());
-            }
-        }
+        let worst = slabs::largest_difference(&p.global, &sol.displacement, &reference, dim);
         let mut all = vec![0.0; size];
         world.all_gather_into(&worst, &mut all[..]);
         let worst = all.iter().fold(0.0f64, |m, &x| m.max(x));

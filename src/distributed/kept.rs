@@ -10,6 +10,7 @@ use super::error::DistError;
 use super::halo::HaloLayout;
 use super::mg::{Guide, LevelSize, Multigrid, OwnedRows};
 use super::reduce::max_over_ranks;
+use crate::multigrid::lines::Lines;
 use crate::multigrid::smoother::Smoother;
 use std::sync::{Mutex, MutexGuard, PoisonError};
 
@@ -26,13 +27,14 @@ pub(crate) struct Hierarchies {
 
 impl Hierarchies {
     /// Builds the multigrid of each of the components whose `flags` are given, from the finest
-    /// level `fine(c)` makes, with at most `max_levels` levels smoothed by `smoother`, coarse
+    /// level `fine(c)` makes and its `lines` across wall layers, with at most `max_levels` levels smoothed by `smoother`, coarse
     /// levels agglomerated below `per_rank` unknowns per rank (collective; every rank returns
     /// the same result).
     pub(crate) fn build(
         halo: &HaloLayout,
         flags: &[Vec<u8>],
         mut fine: impl FnMut(usize) -> Result<(OwnedRows, Option<Guide>), DistError>,
+        lines: &Lines,
         max_levels: usize,
         smoother: Smoother,
         per_rank: u64,
@@ -44,7 +46,7 @@ impl Hierarchies {
             let share = c > 0 && max_over_ranks(halo.comm(), f64::from(u8::from(flags[c] != flags[c - 1]))) == 0.0;
             if !share {
                 let (rows, guide) = fine(c)?;
-                multigrids.push(Multigrid::build(rows, guide, max_levels, smoother, per_rank)?);
+                multigrids.push(Multigrid::build(rows, guide, lines.clone(), max_levels, smoother, per_rank)?);
             }
             of_component.push(multigrids.len() - 1);
         }

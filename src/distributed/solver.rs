@@ -24,7 +24,7 @@ use super::halo::HaloLayout;
 use super::interfaces;
 use super::kept::{Hierarchies, Kept};
 use super::level_layout::Distribution;
-use super::mg::{biharmonic_rows, Guide, OwnedRows, ROWS_PER_RANK};
+use super::mg::{biharmonic_rows, owned_lines, Guide, OwnedRows, ROWS_PER_RANK};
 use super::pcg::{pcg, OneLevel, Preconditioner};
 use super::reduce::{gather, sum_in_rank_order};
 use super::ties::{self, Ties};
@@ -33,6 +33,7 @@ use crate::mesh::quality::quality_of_cells;
 use crate::multigrid::group::GroupOp;
 use crate::multigrid::layout::Layout;
 use crate::multigrid::level::Level;
+use crate::multigrid::lines::Lines;
 use crate::multigrid::local_level::local_level;
 use crate::multigrid::slip::equalise_bounds;
 use crate::multigrid::smoother::Smoother;
@@ -288,6 +289,7 @@ impl DistributedSolver {
                 halo,
                 &self.level.flags,
                 fine,
+                &self.lines(),
                 self.params.max_levels,
                 sm,
                 self.params.agglomerate_below,
@@ -392,6 +394,20 @@ impl DistributedSolver {
             return Ok((a, Some(Guide { k, mass: op.mass() })));
         }
         Ok((k, None))
+    }
+
+    /// The lines across wall layers of the rank's owned vertices at the current reference
+    /// (`distributed::mg::owned_lines`), the multigrid's finest level's; the tied vertices
+    /// (periodic links) are on none.
+    fn lines(&self) -> Lines {
+        let mut tied = vec![0u8; self.local().num_vertices()];
+        if let Some(t) = &self.ties {
+            t.members().for_each(|v| tied[v] = 1);
+        }
+        self.halo().refresh(&mut tied);
+        let tied: Vec<bool> = tied.iter().map(|&t| t != 0).collect();
+        let (local, owned) = (self.local(), self.halo().owned());
+        owned_lines(&self.level.op.k, (local.coords(), local.dim()), owned, &self.level.flags, &tied)
     }
 
     fn halo(&self) -> &Arc<HaloLayout> {

@@ -55,18 +55,24 @@ impl LineBlocks {
     /// The line blocks of `lines` for `op` and the components' `flags`; `apart` marks the
     /// unknowns solved pointwise in every component (the slip unknowns of a coupled group).
     pub(crate) fn new(lines: Lines, op: &LevelOperator, flags: &[Vec<u8>], apart: &[bool]) -> LineBlocks {
-        let mut blocks = LineBlocks::unfactored(lines, op.n(), op.method);
+        LineBlocks::banded(lines, op, flags, apart, band_of(op.method))
+    }
+
+    /// As `new`, with the blocks' `band` given: an operator held as a matrix (`one_pass`) whose
+    /// entries are a biharmonic's (a level of the distributed multigrid) couples two neighbours
+    /// along a line whatever its `method` says.
+    pub(crate) fn banded(lines: Lines, op: &LevelOperator, flags: &[Vec<u8>], apart: &[bool], band: usize) -> LineBlocks {
+        let mut blocks = LineBlocks::unfactored(lines, op.n(), band);
         blocks.refactor(op, flags, apart);
         blocks
     }
 
-    /// The lines of a level of `n` unknowns for `method`, to be factored (`refactor`).
-    fn unfactored(lines: Lines, n: usize, method: Method) -> LineBlocks {
+    /// The lines of a level of `n` unknowns with blocks of `band`, to be factored (`refactor`).
+    fn unfactored(lines: Lines, n: usize, band: usize) -> LineBlocks {
         let mut at = vec![u32::MAX; n];
         for (p, &v) in lines.unknowns.iter().enumerate() {
             at[v as usize] = p as u32;
         }
-        let band = if method == Method::Biharmonic { 2 } else { 1 };
         let mut runs = vec![0u32];
         for k in 0..lines.len() {
             if lines.start[k + 1] - lines.start[*runs.last().expect("starts at 0") as usize] >= CHUNK as u32 {
@@ -97,7 +103,7 @@ impl LineBlocks {
                 lines.start.push(lines.unknowns.len() as u32);
             }
         }
-        LineBlocks::unfactored(lines, kept.len(), method)
+        LineBlocks::unfactored(lines, kept.len(), band_of(method))
     }
 
     /// Whether the level has lines.
@@ -275,6 +281,16 @@ impl LineBlocks {
                 inv_d[i] * r
             }
         });
+    }
+}
+
+/// The band of the line blocks of `method`'s operator: the biharmonic's K V⁻¹ K couples two
+/// neighbours along a line, K one.
+pub(crate) fn band_of(method: Method) -> usize {
+    if method == Method::Biharmonic {
+        2
+    } else {
+        1
     }
 }
 

@@ -12,8 +12,8 @@ pub(crate) mod layout;
 pub mod level;
 #[cfg(feature = "mpi")]
 pub(crate) mod local_level;
-mod line_smoother;
-mod lines;
+pub(crate) mod line_smoother;
+pub(crate) mod lines;
 mod lsq;
 pub mod params;
 pub mod phases;

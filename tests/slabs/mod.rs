@@ -250,3 +250,31 @@ pub fn mpirun(np: usize) -> std::process::Output {
         .output()
         .expect("mpirun (openmpi-bin) and timeout on PATH")
 }
+
+/// The slab across x of the mesh's bounding box that owns each cell of `d` on `size` ranks
+/// (by its centroid).
+#[allow(dead_code)] // the library's test and the distributed example choose their own slabs
+pub fn slabs_across_x(d: &MeshData, size: usize) -> Vec<usize> {
+    let xs = (0..d.num_vertices()).map(|v| d.point(v)[0]);
+    let (lo, hi) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), x| (l.min(x), h.max(x)));
+    (0..d.num_cells())
+        .map(|c| {
+            let t = d.cell(c);
+            let x = t.iter().map(|&v| d.point(v as usize)[0]).sum::<f64>() / t.len() as f64;
+            (((x - lo) / (hi - lo) * size as f64) as usize).min(size - 1)
+        })
+        .collect()
+}
+
+/// The largest difference between a rank's displacement `local` (`dim` values per local
+/// vertex) and the whole mesh's `reference`, the local vertices being `global` of it.
+#[allow(dead_code)] // the library's test and the distributed example compare otherwise
+pub fn largest_difference(global: &[usize], local: &[f64], reference: &[f64], dim: usize) -> f64 {
+    let mut worst = 0.0f64;
+    for (i, &v) in global.iter().enumerate() {
+        for c in 0..dim {
+            worst = worst.max((local[i * dim + c] - reference[v * dim + c]).abs());
+        }
+    }
+    worst
+}

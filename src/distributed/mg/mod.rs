@@ -21,6 +21,7 @@ mod biharmonic;
 mod galerkin;
 mod gathered;
 mod interpolate;
+mod lines;
 mod mover;
 mod select;
 
@@ -35,6 +36,8 @@ use crate::bc::{Dofs, P, Z};
 use crate::multigrid::group::{estimate_lambda_max, GroupOp, Scratch};
 use crate::multigrid::layout::Layout;
 use crate::multigrid::level::{Level, Transfer};
+use crate::multigrid::line_smoother::band_of;
+use crate::multigrid::lines::Lines;
 use crate::multigrid::restriction::Restriction;
 use crate::multigrid::smoother::{smooth, Coefficients, Smoother, Start};
 use crate::operator::{LevelOperator, Method};
@@ -42,6 +45,7 @@ use crate::sparse::{par_update, CsrMatrix};
 use agglomerate::{halvings, Agglomeration, Landing};
 pub(crate) use biharmonic::{biharmonic_rows, Guide};
 use gathered::Gathered;
+pub(crate) use lines::owned_lines;
 use std::sync::Arc;
 
 /// A level of this many unknowns over all ranks, or fewer, is gathered onto one rank and solved
@@ -151,10 +155,13 @@ impl Multigrid {
     ///
     /// With a `guide` (the biharmonic's K and V beside its A = K V⁻¹ K) each coarse level is
     /// made from the guide's (`biharmonic::coarsen`); without, by the Galerkin product of the
-    /// level above.
+    /// level above. `lines` are the finest level's lines across wall layers over its owned
+    /// unknowns (`owned_lines`; none on meshes without such layers), smoothed as blocks there
+    /// and on the coarse levels that keep them (`lines`).
     pub(crate) fn build(
         fine: OwnedRows,
         guide: Option<Guide>,
+        lines: Lines,
         max_levels: usize,
         smoother: Smoother,
         per_rank: u64,
@@ -166,7 +173,7 @@ impl Multigrid {
         let visits = if guide.is_some() { 2 } else { 1 };
         // A failure on the ranks of an agglomerated level reaches the ranks idle below it here,
         // where every rank of the finest level meets again.
-        let (levels, coarsest) = agree(&comm, levels_of(fine, guide, max_levels, per_rank))?;
+        let (levels, coarsest) = agree(&comm, levels_of(fine, guide, lines, max_levels, per_rank))?;
         // Rank 0 holds every level (it receives the rows of every agglomeration).
         let gathers = matches!(coarsest, Some(Coarsest::Gathered(_)));
         let shape = gather(&comm, &[levels.len() as u64, u64::from(gathers)]);
@@ -313,11 +320,14 @@ impl Multigrid {
 fn levels_of(
     fine: OwnedRows,
     guide: Option<Guide>,
+    lines: Lines,
     max_levels: usize,
     per_rank: u64,
 ) -> Result<(Vec<DistLevel>, Option<Coarsest>), DistError> {
     let mut levels = Vec::new();
-    let (mut current, mut guide) = (fine, guide);
+    // The biharmonic's rows couple two neighbours along a line.
+    let band = band_of(if guide.is_some() { Method::Biharmonic } else { Method::Laplacian });
+    let (mut current, mut guide, mut lines) = (fine, guide, lines);
     loop {
         let rows = global_rows(&current);
         let last = rows <= GATHER_ROWS || levels.len() + 1 >= max_levels.max(1);
@@ -333,18 +343,19 @@ fn levels_of(
             },
         };
         let Some((next, prolong)) = coarse else {
-            return coarsest(current, rows, levels);
+            return coarsest((current, lines, band), rows, levels);
         };
         let next_rows = global_rows(&next);
         if next_rows as f64 >= MIN_REDUCTION * rows as f64 {
-            return coarsest(current, rows, levels);
+            return coarsest((current, lines, band), rows, levels);
         }
+        let next_lines = lines::kept_lines(&lines, &current.gids, &next);
         // A level small enough to gather goes onto one rank by its own solve.
         let ranks = next.halo.comm().size();
         let shift = if next_rows <= GATHER_ROWS { 0 } else { halvings(next_rows, ranks, per_rank) };
         if shift == 0 {
-            levels.push(dist_level(current, Some(prolong), None));
-            current = next;
+            levels.push(dist_level((current, lines, band), Some(prolong), None));
+            (current, lines) = (next, next_lines);
             continue;
         }
         let agglomeration = Agglomeration::new(next.halo.comm(), shift);
@@ -357,7 +368,8 @@ fn levels_of(
             landing.mover.gather(&g.mass[..landing.mover.count()], &mut mass);
             (agglomeration.send(&g.k), mass)
         });
-        levels.push(dist_level(current, Some(prolong), Some(Arc::new(landing))));
+        let moved_lines = lines::moved_lines(&next_lines, &landing.mover, next.halo.comm().rank());
+        levels.push(dist_level((current, lines, band), Some(prolong), Some(Arc::new(landing))));
         let Some(moved) = agglomeration.assemble(&sent)? else {
             return Ok((levels, None));
         };
@@ -367,19 +379,19 @@ fn levels_of(
             k.halo.refresh(&mut mass);
             guide = Some(Guide { k, mass });
         }
-        current = moved;
+        (current, lines) = (moved, moved_lines);
     }
 }
 
 /// The coarsest level `m` (`rows` unknowns over its ranks) after `levels`, and its solve
 /// (collective over its ranks).
 fn coarsest(
-    m: OwnedRows,
+    (m, lines, band): (OwnedRows, Lines, usize),
     rows: u64,
     mut levels: Vec<DistLevel>,
 ) -> Result<(Vec<DistLevel>, Option<Coarsest>), DistError> {
     let coarsest = if rows <= GATHER_ROWS { Coarsest::Gathered(Gathered::new(&m)?) } else { Coarsest::Smoothed };
-    levels.push(dist_level(m, None, None));
+    levels.push(dist_level((m, lines, band), None, None));
     Ok((levels, Some(coarsest)))
 }
 
@@ -426,9 +438,13 @@ fn unknowns(a: &CsrMatrix, owned: usize) -> usize {
 }
 
 /// The smoother's level of `m` (its empty rows and its halo prescribed, so neither is smoothed
-/// nor read as an unknown) with the transfer `prolong` to the next coarser level (collective:
-/// the smoother's bound is estimated over every rank's rows).
-fn dist_level(m: OwnedRows, prolong: Option<CsrMatrix>, landing: Option<Arc<Landing>>) -> DistLevel {
+/// nor read as an unknown) with its `lines` (blocks of `band`) and the transfer `prolong` to the
+/// next coarser level (collective: the smoother's bound is estimated over every rank's rows).
+fn dist_level(
+    (m, lines, band): (OwnedRows, Lines, usize),
+    prolong: Option<CsrMatrix>,
+    landing: Option<Arc<Landing>>,
+) -> DistLevel {
     let OwnedRows { a, halo, gids: _gids } = m;
     let (n, owned) = (halo.len(), halo.owned());
     let flags: Vec<u8> = (0..n).map(|i| if i >= owned || a.row(i).0.is_empty() { P | Z } else { 0 }).collect();
@@ -453,6 +469,7 @@ fn dist_level(m: OwnedRows, prolong: Option<CsrMatrix>, landing: Option<Arc<Land
         slip: None,
         layout: Distribution::Halo(halo.clone()),
     };
+    lines::attach(&mut level, lines, band);
     level.lambda_max = vec![estimate_lambda_max(&GroupOp::new(&level, 0..1, false))];
     DistLevel {
         level,
