@@ -11,24 +11,35 @@
 use super::error::{DistError, DistErrorKind};
 use super::halo::HaloLayout;
 use super::reduce::{gather_varcount, max_over_ranks};
-use crate::bc::{fine_slip_frames, BoundaryConditions, Dofs, Placements, SlipFrames, SlipWalls};
+use super::ties::Ties;
+use crate::bc::{slip_frames_from_areas, BoundaryConditions, Placements, SlipFrames, SlipWalls, WallAreas};
 use crate::multigrid::level::{Level, LevelSlip};
 use crate::solver::slip::{deformed_patches, moved, off_walls, onto_walls, wall_values};
 use crate::{Mesh, Motion};
 
 /// The slip frames of the owned vertices of `mesh` (layout order) under `bcs`; pinned and axis
-/// unknowns are made P in `flags` (per component, the halo already P). None without SLIP
-/// patches; collective when `bcs` has some (the same on every rank).
+/// unknowns are made P in `flags` (per component, the halo already P; a tied vertex's flags
+/// already its class's). A tied vertex (periodic links, `ties`) takes the frame one process
+/// gives the merged unknown of its class: from the SLIP faces at every member of the class, on
+/// whichever rank, so every member has the same frame. None without SLIP patches; collective
+/// when `bcs` has some (the same on every rank).
 pub(crate) fn frames(
     mesh: &Mesh,
     halo: &HaloLayout,
     bcs: &BoundaryConditions,
     flags: &mut [Vec<u8>],
+    ties: Option<&Ties>,
 ) -> Option<LevelSlip> {
     if !bcs.any_slip() {
         return None;
     }
-    let frames = fine_slip_frames(mesh, &Dofs::identity(mesh.num_vertices()), bcs, flags);
+    let walls = WallAreas::new(mesh, bcs);
+    let joined = ties.map(|t| t.joined_lists(|v| walls.at(v).collect())).unwrap_or_default();
+    let areas = |v: usize, out: &mut Vec<[f64; 3]>| match ties.and_then(|t| t.class_of(v)) {
+        Some(c) => out.extend(joined.get(&c).into_iter().flatten()),
+        None => out.extend(walls.at(v)),
+    };
+    let frames = slip_frames_from_areas(mesh.dim(), mesh.num_vertices(), areas, flags);
     let framed = frames.as_ref().is_some_and(|f| !f.dofs.is_empty());
     let coupled = max_over_ranks(halo.comm(), f64::from(u8::from(framed))) > 0.0;
     let frames = frames.unwrap_or_else(|| SlipFrames::empty(mesh.dim()));
@@ -122,4 +133,22 @@ fn refresh_interleaved(halo: &HaloLayout, v: &mut [f64], dim: usize) {
         halo.refresh(&mut block);
         (0..n).for_each(|i| v[i * dim + c] = block[i]);
     }
+}
+
+/// With SLIP walls and periodic links, the prescribed values `vals` (`dim` per local vertex,
+/// layout order) with every owned tied vertex's taken from its class's first member (the
+/// vertex of its lowest global id): one process reads a merged unknown's first vertex for the
+/// normal parts of its slip walls and the components its axis walls prescribe. None without
+/// either (collective).
+pub(crate) fn class_first_values(level: &Level, ties: Option<&Ties>, vals: &[f64]) -> Option<Vec<f64>> {
+    let (ties, _) = ties.zip(level.slip.as_ref())?;
+    let (dim, n) = (level.dim(), vals.len() / level.dim());
+    let mut out = vals.to_vec();
+    let mut block = vec![0.0; n];
+    for c in 0..dim {
+        (0..n).for_each(|i| block[i] = vals[i * dim + c]);
+        ties.take_firsts(&mut block);
+        (0..n).for_each(|i| out[i * dim + c] = block[i]);
+    }
+    Some(out)
 }
