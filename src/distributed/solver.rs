@@ -450,7 +450,8 @@ impl DistributedSolver {
             let flags = &self.level.flags[c];
             let by_wall = |v: usize| axes.and_then(|f| f.axes_of(v as u32)).is_some_and(|m| m & 1 << c != 0);
             let value = |v: usize| if by_wall(v) { walls_read[v * dim + c] } else { vals[v * dim + c] };
-            let mut dp: Vec<f64> = (0..nv).map(|v| if v < owned && flags[v] & P != 0 { value(v) } else { 0.0 }).collect();
+            let mut dp: Vec<f64> =
+                (0..nv).map(|v| if v < owned && flags[v] & P != 0 { value(v) } else { 0.0 }).collect();
             if let Some(g) = &normal {
                 dp.iter_mut().zip(&g[c * nv..(c + 1) * nv]).for_each(|(d, g)| *d += g);
             }
