@@ -46,10 +46,16 @@ pub(crate) fn frames(
     Some(LevelSlip { frames, bcs: Some(bcs.clone()), coupled })
 }
 
-/// The SLIP patches `motion` deforms on any rank (see `solver::slip::deformed_patches`),
-/// ascending (collective).
-fn deformed_everywhere(walls: &SlipWalls, level: &Level, halo: &HaloLayout, motion: &Motion, vals: &[f64]) -> Vec<i32> {
-    let mine = deformed_patches(walls, level, motion, vals);
+/// The SLIP patches `motion` deforms on any rank (see `solver::slip::deformed_patches`; none
+/// on a rank without walls), ascending (collective).
+fn deformed_everywhere(
+    walls: Option<(&SlipWalls, &Placements)>,
+    level: &Level,
+    halo: &HaloLayout,
+    motion: &Motion,
+    vals: &[f64],
+) -> Vec<i32> {
+    let mine = walls.map(|(w, _)| deformed_patches(w, level, motion, vals)).unwrap_or_default();
     let mut all: Vec<i32> = gather_varcount(halo.comm(), &mine).into_iter().flatten().collect();
     all.sort_unstable();
     all.dedup();
@@ -60,12 +66,13 @@ fn deformed_everywhere(walls: &SlipWalls, level: &Level, halo: &HaloLayout, moti
 /// vertex, halo current) on their walls, as the serial solver does: when a slipped vertex of
 /// any rank is off its walls, `again` solves with their distances to the walls prescribed as
 /// normal parts (its arguments: the prescribed values and the first result); then what remains
-/// is moved onto the walls and the halo refreshed. A closest-point function's failure on any
-/// rank fails every rank, naming the lowest such rank and the global id (`gids`, layout order)
-/// of a vertex it failed at (collective).
+/// is moved onto the walls and the halo refreshed. `walls` are the rank's SLIP walls, None on a
+/// rank whose part has no SLIP face, which takes part in the collectives all the same. A
+/// closest-point function's failure on any rank fails every rank, naming the lowest such rank
+/// and the global id (`gids`, layout order) of a vertex it failed at (collective).
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn onto_walls_everywhere(
-    walls: &SlipWalls,
+    walls: Option<&SlipWalls>,
     level: &Level,
     halo: &HaloLayout,
     gids: &[u64],
@@ -74,52 +81,60 @@ pub(crate) fn onto_walls_everywhere(
     mut displacement: Vec<f64>,
     again: impl FnOnce(&[f64], &[f64]) -> Result<Vec<f64>, DistError>,
 ) -> Result<Vec<f64>, DistError> {
-    walls.take_failure();
-    let at = walls.placed_by(&motion.rigid);
-    let deformed = deformed_everywhere(walls, level, halo, motion, vals);
-    let off = off_walls(walls, &at, level, &deformed, &displacement);
-    let checked = |d: &[f64]| callbacks_succeeded(walls, &at, level, halo, gids, d);
+    let placed = walls.map(|w| {
+        w.take_failure();
+        (w, w.placed_by(&motion.rigid))
+    });
+    let mine = placed.as_ref().map(|(w, at)| (*w, at));
+    let deformed = deformed_everywhere(mine, level, halo, motion, vals);
+    let off = mine.is_some_and(|(w, at)| off_walls(w, at, level, &deformed, &displacement));
+    let checked = |d: &[f64]| callbacks_succeeded(mine, level, halo, gids, d);
     if max_over_ranks(halo.comm(), f64::from(u8::from(off))) > 0.0 {
-        let on_wall = wall_values(walls, &at, level, &deformed, vals, &displacement);
+        let on_wall = match mine {
+            Some((w, at)) => wall_values(w, at, level, &deformed, vals, &displacement),
+            None => vals.to_vec(),
+        };
         checked(&displacement)?;
         displacement = again(&on_wall, &displacement)?;
     }
     let before = displacement.clone();
-    onto_walls(walls, &at, level, &deformed, &mut displacement);
+    if let Some((w, at)) = mine {
+        onto_walls(w, at, level, &deformed, &mut displacement);
+    }
     checked(&before)?;
     refresh_interleaved(halo, &mut displacement, level.dim());
     Ok(displacement)
 }
 
-/// No rank's closest-point function reported a failure since the last check (collective). A
-/// rank whose did names the first slipped vertex (of the result `displacement`) at which it
-/// fails again.
+/// No rank's closest-point function reported a failure since the last check (collective; a
+/// rank without walls has none). A rank whose did names the first slipped vertex (of the
+/// result `displacement`) at which it fails again.
 fn callbacks_succeeded(
-    walls: &SlipWalls,
-    at: &Placements,
+    walls: Option<(&SlipWalls, &Placements)>,
     level: &Level,
     halo: &HaloLayout,
     gids: &[u64],
     displacement: &[f64],
 ) -> Result<(), DistError> {
     let me = halo.comm().rank();
-    let local = if walls.take_failure() {
-        let frames = level.slip.as_ref().map(|s| &s.frames);
-        let failing = frames.into_iter().flat_map(|f| f.constrained()).map(|(d, _)| d as usize).find(|&v| {
-            let x = moved(level, displacement, v);
-            walls.patches_of(v as u32).for_each(|p| {
-                walls.closest(at, p, &x);
+    let local = match walls.filter(|(w, _)| w.take_failure()) {
+        Some((walls, at)) => {
+            let frames = level.slip.as_ref().map(|s| &s.frames);
+            let failing = frames.into_iter().flat_map(|f| f.constrained()).map(|(d, _)| d as usize).find(|&v| {
+                let x = moved(level, displacement, v);
+                walls.patches_of(v as u32).for_each(|p| {
+                    walls.closest(at, p, &x);
+                });
+                walls.take_failure()
             });
-            walls.take_failure()
-        });
-        let whose = failing.map_or(String::new(), |v| format!(" (at global id {})", gids[v]));
-        Err(DistError::new(
-            me,
-            DistErrorKind::Input,
-            format!("a slip wall's closest-point function reported a failure{whose}; nothing was changed"),
-        ))
-    } else {
-        Ok(())
+            let whose = failing.map_or(String::new(), |v| format!(" (at global id {})", gids[v]));
+            Err(DistError::new(
+                me,
+                DistErrorKind::Input,
+                format!("a slip wall's closest-point function reported a failure{whose}; nothing was changed"),
+            ))
+        }
+        None => Ok(()),
     };
     super::agreement::agree(halo.comm(), local)
 }

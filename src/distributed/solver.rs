@@ -232,7 +232,8 @@ impl DistributedSolver {
         let mut solved = self.solve_values(motion, &vals, None)?;
         // The walls are placed only from a converged first solve (its failure is global, so
         // every rank skips them alike); an unconverged result is reported as it is.
-        if let (Some(walls), None) = (&self.walls, &solved.failure) {
+        // Every rank takes part when the conditions have SLIP walls, also one whose part has none.
+        if let (true, None) = (self.bcs.any_slip(), &solved.failure) {
             // Curved slip walls: a second solve from the first result, as the serial solver's.
             let mut second: Option<Solved> = None;
             let again = |on_wall: &[f64], first: &[f64]| {
@@ -243,8 +244,16 @@ impl DistributedSolver {
             };
             let total = std::mem::take(&mut solved.total);
             let gids = self.mesh.layout_global_ids();
-            solved.total =
-                super::slip::onto_walls_everywhere(walls, &self.level, self.halo(), gids, motion, &vals, total, again)?;
+            solved.total = super::slip::onto_walls_everywhere(
+                self.walls.as_ref(),
+                &self.level,
+                self.halo(),
+                gids,
+                motion,
+                &vals,
+                total,
+                again,
+            )?;
             if let Some(s) = second {
                 solved.iterations.iter_mut().zip(&s.iterations).for_each(|(a, b)| *a += b);
                 solved.rel_residual = s.rel_residual;
