@@ -209,8 +209,8 @@ meshmove_status meshmove_dist_mesh_sizes(const struct meshmove_dist_mesh *mesh,
  Creates a distributed solver on `mesh` with the conditions `bcs` (copied; every rank gives
  the same; FIXED, CLAMPED, FREE, SLIP walls, flat or curved with their closest-point
  callbacks, links by offset, whose pairs may sit on different ranks, links by pairs of global
- ids (`meshmove_bcs_link_pairs`, index base 0) and interfaces of both variants are
- distributed; links with SLIP walls are refused) and the serial
+ ids (`meshmove_bcs_link_pairs`, index base 0), also together with SLIP walls, and
+ interfaces of both variants are distributed) and the serial
  solver's `options` (NULL: the defaults; copied), collectively: the method, the tolerance, the
  iteration limit (`max_cycles`: conjugate gradient iterations per group of components, each
  component alone or all together where slip walls couple them), the Chebyshev degree, the

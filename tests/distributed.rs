@@ -13,7 +13,8 @@
 //! conditions or motions on one rank fail on every rank. SLIP walls: a quarter annulus (2D) and
 //! a quarter cylindrical shell (3D) whose inner curved wall, straight side and (3D) ends slide,
 //! put back on the curved wall from its faces or its closest-point function, equal the serial
-//! solver for the three methods.
+//! solver for the three methods; so do periodic sides linked across ranks, alone and with a
+//! wavy SLIP wall between them (the linked corners on the wall).
 //! Then the steps (`move_in_steps`, `advance`, `advance_from`, sub-stepping) in both reference
 //! modes, made with the serial `Options`, equal the serial solver's on a 2D and a 3D mesh; the
 //! options the distributed solver does not take, positions with inverted cells and rank 0's
@@ -132,6 +133,7 @@ fn rank_main() -> ExitCode {
     for (name, d) in [("2D periodic triangles", grid2d(16, 10)), ("3D periodic hexahedra", box3d(5, false))] {
         for method in [Method::Laplacian, Method::Spring, Method::Biharmonic] {
             solver_agrees_with_serial(&world, name, &periodic(&d), method, Case::Periodic);
+            solver_agrees_with_serial(&world, name, &wavy_periodic(&d), method, Case::PeriodicSlip);
         }
     }
     advance_moves_the_reference(&world, &grid2d(14, 12));
@@ -393,6 +395,26 @@ fn periodic(d: &MeshData) -> (MeshData, Vec<f64>) {
     (out, vec![1.0; d.num_vertices()])
 }
 
+/// `periodic(d)` with its side y = 0 tagged `SIDE` and made a wave y = 0.1 sin 2πx (each
+/// vertex raised by 0.1 sin 2πx (1 − y)), so the wall's normals are no coordinate axes and
+/// couple the components, and the linked corners on it have the wall's two sides' faces at
+/// them. Its second component keeps the flat y (zero on the wave): (wavy, y).
+fn wavy_periodic(d: &MeshData) -> (MeshData, Vec<f64>) {
+    let (mut out, _) = periodic(d);
+    let mesh = Mesh::from_data(d).expect("a valid mesh");
+    for f in mesh.patch_faces() {
+        if f.vertices.iter().all(|&v| d.point(v as usize)[1] == 0.0) {
+            out.push_face(f.vertices, SIDE);
+        }
+    }
+    let y: Vec<f64> = (0..d.num_vertices()).map(|v| d.point(v)[1]).collect();
+    for (v, &y) in y.iter().enumerate() {
+        let x = d.point(v)[0];
+        out.coords[v * d.dim + 1] += 0.1 * (2.0 * std::f64::consts::PI * x).sin() * (1.0 - y);
+    }
+    (out, y)
+}
+
 /// A boundary motion periodic in x (period 1).
 fn motion_periodic(x: &[f64]) -> [f64; 3] {
     let (s, c) = (2.0 * std::f64::consts::PI * x[0]).sin_cos();
@@ -417,6 +439,10 @@ enum Case {
     /// On a `periodic` mesh the sides x = 0 and x = 1 FREE and linked by the offset 1 in x;
     /// the rest FIXED, moved by `motion_periodic`.
     Periodic,
+    /// On a `wavy_periodic` mesh the periodic case with the wave y = 0 SLIP, the motion scaled
+    /// by the flat y, so the wave's normal parts are zero and its slipped vertices are put back
+    /// on its faces.
+    PeriodicSlip,
 }
 
 impl Case {
@@ -430,9 +456,12 @@ impl Case {
             Case::FreeSide => {
                 bcs.set_kinds(SIDE, Kind::Free);
             }
-            Case::Periodic => {
+            Case::Periodic | Case::PeriodicSlip => {
                 bcs.set_kinds(LEFT, Kind::Free).set_kinds(RIGHT, Kind::Free);
                 bcs.add_link(Link::ByOffset { a: LEFT, b: RIGHT, offset: [1.0, 0.0, 0.0], tol: 1e-9 });
+                if let Case::PeriodicSlip = self {
+                    bcs.set_kinds(SIDE, Kind::Slip);
+                }
             }
             Case::Slip { surface } => {
                 bcs.set_kinds(BODY, Kind::Slip).set_kinds(SIDE, Kind::Slip);
@@ -470,7 +499,8 @@ fn solver_agrees_with_serial(
 ) {
     let (rank, size) = (world.rank() as usize, world.size() as usize);
     let dim = d.dim;
-    let moved = |x: &[f64]| if let Case::Periodic = case { motion_periodic(x) } else { motion(x) };
+    let periodic_motion = matches!(case, Case::Periodic | Case::PeriodicSlip);
+    let moved = |x: &[f64]| if periodic_motion { motion_periodic(x) } else { motion(x) };
     let all: Vec<f64> = (0..d.num_vertices())
         .flat_map(|v| moved(d.point(v))[..dim].iter().map(|m| m * scaled[v]).collect::<Vec<_>>())
         .collect();
@@ -514,7 +544,7 @@ fn solver_agrees_with_serial(
     // links) stays within 2.5 times the serial cycles, and within 12 iterations where the serial
     // hierarchy is its dense coarsest level alone; slip walls are left out (their blocks drop
     // the components' coupling at the walls, docs/DESIGN.md §5).
-    if method == Method::Biharmonic && !matches!(case, Case::Slip { .. }) {
+    if method == Method::Biharmonic && !matches!(case, Case::Slip { .. } | Case::PeriodicSlip) {
         let bound = (5 * reference.report.cycles / 2 + 2).max(12);
         assert!(sol.iterations.iter().all(|&i| i <= bound), "{what}: iterations {:?} above {bound}", sol.iterations);
     }

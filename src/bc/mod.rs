@@ -15,6 +15,8 @@ pub(crate) use flags::component_flags;
 pub use flags::{P, Z};
 pub use slip::{Constraint, SlipFrames};
 pub(crate) use slip::{fine_slip_frames, inherit_slip_frames};
+#[cfg(feature = "mpi")]
+pub(crate) use slip::{slip_frames_from_areas, WallAreas};
 pub use slip_walls::{Placements, SlipSurface, SlipWalls};
 pub(crate) use links::resolve_links;
 #[cfg(feature = "mpi")]

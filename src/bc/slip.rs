@@ -275,6 +275,33 @@ impl Builder {
     }
 }
 
+/// The area vectors of the SLIP faces at each vertex of a mesh, in face order.
+pub(crate) struct WallAreas<'a> {
+    boundary: BoundaryFeatures<'a>,
+    /// Whether each patch face is on a SLIP patch.
+    slip: Vec<bool>,
+}
+
+impl<'a> WallAreas<'a> {
+    /// The SLIP faces of `mesh` under `bcs`.
+    pub(crate) fn new(mesh: &'a Mesh, bcs: &BoundaryConditions) -> WallAreas<'a> {
+        let boundary = BoundaryFeatures::new(mesh);
+        let slip = (0..boundary.len()).map(|k| bcs.is_slip(boundary.face(k).patch)).collect();
+        WallAreas { boundary, slip }
+    }
+
+    /// Whether some face is on a SLIP patch.
+    pub(crate) fn any(&self) -> bool {
+        self.slip.iter().any(|&s| s)
+    }
+
+    /// The area vectors of the SLIP faces at vertex `v`, in face order.
+    pub(crate) fn at(&self, v: usize) -> impl Iterator<Item = [f64; 3]> + '_ {
+        let faces = self.boundary.faces_at(v).iter().filter(|&&k| self.slip[k as usize]);
+        faces.map(|&k| self.boundary.area(k as usize))
+    }
+}
+
 /// The slip frames of the fine level: for every unknown with a vertex on a SLIP patch, the walls
 /// its vertices' SLIP faces form (`wall_normals`), their normals as constrained directions. Pinned
 /// unknowns are made P in every component of `flags`. None when the conditions have no SLIP wall.
@@ -284,24 +311,34 @@ pub(crate) fn fine_slip_frames(
     bcs: &BoundaryConditions,
     flags: &mut [Vec<u8>],
 ) -> Option<SlipFrames> {
-    let dim = mesh.dim();
-    // Area vectors of the SLIP faces at each vertex, in face order (deterministic).
-    let boundary = BoundaryFeatures::new(mesh);
-    let slip: Vec<bool> = (0..boundary.len()).map(|k| bcs.is_slip(boundary.face(k).patch)).collect();
-    let of = |v: u32| boundary.faces_at(v as usize).iter().filter(|&&k| slip[k as usize]).map(|&k| boundary.area(k as usize));
-    let on_wall: Vec<bool> = (0..mesh.num_vertices()).map(|v| of(v as u32).next().is_some()).collect();
-    if !on_wall.iter().any(|&w| w) {
+    let walls = WallAreas::new(mesh, bcs);
+    if !walls.any() {
         return None;
     }
+    let areas = |d: usize, out: &mut Vec<[f64; 3]>| {
+        dofs.vertices_of(d).iter().for_each(|&v| out.extend(walls.at(v as usize)));
+    };
+    slip_frames_from_areas(mesh.dim(), dofs.n, areas, flags)
+}
+
+/// The slip frames of `n` unknowns of dimension `dim` whose SLIP faces' area vectors `areas(d,
+/// out)` appends (in a fixed order; none off the walls): the walls they form (`wall_normals`),
+/// their normals as constrained directions. Pinned unknowns are made P in every component of
+/// `flags`. None when no unknown is slip or pinned.
+pub(crate) fn slip_frames_from_areas(
+    dim: usize,
+    n: usize,
+    areas: impl Fn(usize, &mut Vec<[f64; 3]>),
+    flags: &mut [Vec<u8>],
+) -> Option<SlipFrames> {
     let mut b = Builder::new(dim);
     let mut normals: Vec<[f64; 3]> = Vec::new();
-    for d in 0..dofs.n {
-        let vs = dofs.vertices_of(d);
-        if !vs.iter().any(|&v| on_wall[v as usize]) {
+    for d in 0..n {
+        normals.clear();
+        areas(d, &mut normals);
+        if normals.is_empty() {
             continue;
         }
-        normals.clear();
-        vs.iter().for_each(|&v| normals.extend(of(v)));
         b.push(d as u32, &wall_normals(&normals, FEATURE_ANGLE_DEG), flags, true);
     }
     b.finish(flags)

@@ -13,19 +13,13 @@ use crate::multigrid::level::LevelSlip;
 use crate::{BoundaryConditions, Mesh};
 
 /// The conditions the distributed solver takes: FIXED, CLAMPED, FREE and SLIP (flat or curved,
-/// with or without a closest-point function) per patch and component, links by offset
-/// (periodic pairs, `distributed::ties`) and interfaces of both variants
-/// (`distributed::interfaces` splits variant A's), but not links and SLIP walls together.
-/// Checked on the patches of the rank's part (a patch no rank has acts nowhere).
+/// with or without a closest-point function) per patch and component, links by offset or by
+/// pairs (periodic pairs, `distributed::ties`), also together with SLIP walls, and interfaces
+/// of both variants (`distributed::interfaces` splits variant A's). Checked on the patches of
+/// the rank's part (a patch no rank has acts nowhere).
 pub(crate) fn check_supported(me: usize, bcs: &BoundaryConditions, mesh: &Mesh) -> Result<(), DistError> {
-    let refuse = |what: String| Err(DistError::new(me, DistErrorKind::Input, format!("{what} (serial only)")));
-    if let Err(e) = bcs.check_slip_kinds(mesh.dim(), &mesh.patch_ids()) {
-        return Err(DistError::new(me, DistErrorKind::Input, e.to_string()));
-    }
-    if !bcs.links.is_empty() && bcs.any_slip() {
-        return refuse("the boundary conditions link patches and have SLIP walls, which the distributed solver does not take together".into());
-    }
-    Ok(())
+    bcs.check_slip_kinds(mesh.dim(), &mesh.patch_ids())
+        .map_err(|e| DistError::new(me, DistErrorKind::Input, e.to_string()))
 }
 
 /// Every rank was given the same conditions (kinds, links, interfaces, which patches have slip
@@ -62,7 +56,7 @@ pub(crate) fn flags_and_frames(
     ties: Option<&Ties>,
 ) -> (Vec<Vec<u8>>, Option<LevelSlip>) {
     let mut flags: Vec<Vec<u8>> = base.iter().map(|f| component_flags_of(f.clone(), halo, ties)).collect();
-    let slip = super::slip::frames(mesh, halo, bcs, &mut flags);
+    let slip = super::slip::frames(mesh, halo, bcs, &mut flags, ties);
     (flags, slip)
 }
 

@@ -139,10 +139,10 @@ impl std::fmt::Debug for DistributedSolver {
 impl DistributedSolver {
     /// The solver of `method` on `mesh` with the conditions `bcs` (collective; every rank gives
     /// the same). FIXED, CLAMPED, FREE, SLIP, links by offset (periodic pairs, also across
-    /// ranks) or by pairs of global ids, and interfaces of both variants are distributed (a
-    /// split interface's vertices become one vertex per region, `distributed::interfaces`;
-    /// [`mesh`](Self::mesh) is then the split mesh); links together with SLIP walls are
-    /// refused, as are conditions that prescribe a component nowhere.
+    /// ranks) or by pairs of global ids, also together with SLIP walls, and interfaces of both
+    /// variants are distributed (a split interface's vertices become one vertex per region,
+    /// `distributed::interfaces`; [`mesh`](Self::mesh) is then the split mesh); conditions that
+    /// prescribe a component nowhere are refused.
     pub fn new(
         mesh: &DistributedMesh,
         bcs: &BoundaryConditions,
@@ -233,7 +233,8 @@ impl DistributedSolver {
         let mut solved = self.solve_values(motion, &vals, None)?;
         // The walls are placed only from a converged first solve (its failure is global, so
         // every rank skips them alike); an unconverged result is reported as it is.
-        if let (Some(walls), None) = (&self.walls, &solved.failure) {
+        // Every rank takes part when the conditions have SLIP walls, also one whose part has none.
+        if let (true, None) = (self.bcs.any_slip(), &solved.failure) {
             // Curved slip walls: a second solve from the first result, as the serial solver's.
             let mut second: Option<Solved> = None;
             let again = |on_wall: &[f64], first: &[f64]| {
@@ -244,8 +245,16 @@ impl DistributedSolver {
             };
             let total = std::mem::take(&mut solved.total);
             let gids = self.mesh.layout_global_ids();
-            solved.total =
-                super::slip::onto_walls_everywhere(walls, &self.level, self.halo(), gids, motion, &vals, total, again)?;
+            solved.total = super::slip::onto_walls_everywhere(
+                self.walls.as_ref(),
+                &self.level,
+                self.halo(),
+                gids,
+                motion,
+                &vals,
+                total,
+                again,
+            )?;
             if let Some(s) = second {
                 solved.iterations.iter_mut().zip(&s.iterations).for_each(|(a, b)| *a += b);
                 solved.rel_residual = s.rel_residual;
@@ -456,12 +465,18 @@ impl DistributedSolver {
         let (me, gids) = (self.mesh.rank(), self.mesh.layout_global_ids());
         let mut out = Vec::with_capacity(dim);
         let mut error = None;
+        // What the slip walls prescribe a tied vertex is read at its class's first member.
+        let firsts = super::slip::class_first_values(&self.level, self.ties.as_deref(), vals);
+        let walls_read = firsts.as_deref().unwrap_or(vals);
         // Slip walls prescribe the normal parts at the owned slip unknowns (free in the flags).
-        let normal = normal_parts(&self.level, vals);
+        let normal = normal_parts(&self.level, walls_read);
+        let axes = self.level.slip.as_ref().map(|s| &s.frames);
         for c in 0..dim {
             let flags = &self.level.flags[c];
+            let by_wall = |v: usize| axes.and_then(|f| f.axes_of(v as u32)).is_some_and(|m| m & 1 << c != 0);
+            let value = |v: usize| if by_wall(v) { walls_read[v * dim + c] } else { vals[v * dim + c] };
             let mut dp: Vec<f64> =
-                (0..nv).map(|v| if v < owned && flags[v] & P != 0 { vals[v * dim + c] } else { 0.0 }).collect();
+                (0..nv).map(|v| if v < owned && flags[v] & P != 0 { value(v) } else { 0.0 }).collect();
             if let Some(g) = &normal {
                 dp.iter_mut().zip(&g[c * nv..(c + 1) * nv]).for_each(|(d, g)| *d += g);
             }

@@ -36,6 +36,8 @@ pub(crate) struct Ties {
     layout: HaloLayout,
     /// Each owned tied vertex (a local index) and its entry in the tie vector, ascending.
     members: Vec<(u32, u32)>,
+    /// The global id of each of `members`.
+    member_gids: Vec<u64>,
     /// Copies of each owned class.
     copies: Vec<f64>,
     /// The class (its lowest global id) of every local vertex that is tied.
@@ -138,10 +140,11 @@ impl Ties {
         let entry: HashMap<u64, u32> = held.iter().zip(0..).map(|(&m, i)| (m, i)).collect();
         let members: Vec<(u32, u32)> =
             (0..owned).filter_map(|v| master.get(&gids[v]).map(|m| (v as u32, entry[m]))).collect();
+        let member_gids = members.iter().map(|&(v, _)| gids[v as usize]).collect();
         let copies = held[..layout.owned()].iter().map(|m| size[m] as f64).collect();
         let class_of: Vec<Option<u64>> = gids.iter().map(|g| master.get(g).copied()).collect();
         let seams = seams(comm, mesh, gids, &class_of, &master);
-        Ok(Ties { layout, members, copies, class_of, seams })
+        Ok(Ties { layout, members, member_gids, copies, class_of, seams })
     }
 
     /// The lumped masses `mass` of the local vertices (owned ones read) as the weights of
@@ -212,6 +215,61 @@ impl Ties {
                 range.filter(|&p| k.cols[p] as usize == i).for_each(|p| k.vals[p] = -off);
             }
         }
+    }
+
+    /// Every owned tied vertex of `block` takes the value of its class's first member, the
+    /// vertex of the class's lowest global id, which one process reads for its merged unknown
+    /// (collective). The class's owner owns that vertex.
+    pub(crate) fn take_firsts(&self, block: &mut [f64]) {
+        let mut t = vec![0.0; self.layout.len()];
+        for (&(v, e), &g) in self.members.iter().zip(&self.member_gids) {
+            if self.class_of[v as usize] == Some(g) {
+                t[e as usize] = block[v as usize];
+            }
+        }
+        self.layout.refresh(&mut t);
+        for &(v, e) in &self.members {
+            block[v as usize] = t[e as usize];
+        }
+    }
+
+    /// Per class that has a vertex on this rank (owned or not), the lists `list(v)` of its
+    /// members joined in the order of their global ids, as one process joins its merged
+    /// unknown's vertices' lists (collective: every rank's owned members' nonempty lists are
+    /// gathered; the classes are few, on the linked patches).
+    pub(crate) fn joined_lists(&self, list: impl Fn(usize) -> Vec<[f64; 3]>) -> HashMap<u64, Vec<[f64; 3]>> {
+        // Per member with a nonempty list: its class, its global id and its list's length.
+        let (mut heads, mut values): (Vec<u64>, Vec<f64>) = (Vec::new(), Vec::new());
+        for (&(v, _), &g) in self.members.iter().zip(&self.member_gids) {
+            let l = list(v as usize);
+            if let (Some(c), false) = (self.class_of[v as usize], l.is_empty()) {
+                heads.extend([c, g, l.len() as u64]);
+                values.extend(l.iter().flatten());
+            }
+        }
+        let comm = self.layout.comm();
+        let (heads, values) = (gather_varcount(comm, &heads), gather_varcount(comm, &values));
+        let wanted: HashSet<u64> = self.class_of.iter().flatten().copied().collect();
+        let mut by_member: BTreeMap<(u64, u64), Vec<[f64; 3]>> = BTreeMap::new();
+        for (h, x) in heads.iter().zip(&values) {
+            let mut points = x.chunks_exact(3).map(|p| [p[0], p[1], p[2]]);
+            for head in h.chunks_exact(3) {
+                let l: Vec<[f64; 3]> = points.by_ref().take(head[2] as usize).collect();
+                if wanted.contains(&head[0]) {
+                    by_member.insert((head[0], head[1]), l);
+                }
+            }
+        }
+        let mut out: HashMap<u64, Vec<[f64; 3]>> = HashMap::new();
+        for ((c, _), l) in by_member {
+            out.entry(c).or_default().extend(l);
+        }
+        out
+    }
+
+    /// The class (its lowest global id) of local vertex `v`, if it is tied.
+    pub(crate) fn class_of(&self, v: usize) -> Option<u64> {
+        self.class_of[v]
     }
 
     /// The owned tied vertices (local indices), ascending.
