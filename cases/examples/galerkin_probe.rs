@@ -25,7 +25,12 @@ fn main() {
     let bcs = boundary_conditions(&v);
     let motion = motion(&v, m);
     let t = Instant::now();
-    let mut solver = Solver::new(&v.mesh, &bcs, Options { method, solve: meshmove::SolveParams { tol, ..Default::default() }, ..Default::default() }).expect("a solver");
+    let mut solver = Solver::new(
+        &v.mesh,
+        &bcs,
+        Options { method, solve: meshmove::SolveParams { tol, ..Default::default() }, ..Default::default() },
+    )
+    .expect("a solver");
     println!(
         "{kind} {size} {method:?} {}: {} vertices, setup {:.2} s",
         m.name(),

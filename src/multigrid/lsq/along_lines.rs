@@ -126,7 +126,9 @@ fn norm(r: [f64; 3]) -> f64 {
 
 #[cfg(test)]
 mod tests {
-    use super::lagrange;
+    use super::*;
+    use crate::bc::Dofs;
+    use crate::mesh::{fixtures, Mesh};
 
     #[test]
     fn cubic_weights_on_a_uniform_line() {
@@ -135,5 +137,55 @@ mod tests {
         for (a, b) in w.iter().zip(want) {
             assert!((a - b).abs() < 1e-15, "{w:?}");
         }
+    }
+
+    /// A column of quads 10 wide whose rows grow by 1.2 from the wall y = 0: its left side
+    /// (inside the corners) is a line, every other vertex of it kept with the corners. The
+    /// dropped ones interpolate along it from the kept ones around them (the corners through
+    /// the line's ends), reproducing cubics in y between two kept unknowns on either side and
+    /// quadratics next to the ends.
+    #[test]
+    fn rows_along_a_graded_line_reproduce_cubics() {
+        let ny = 10;
+        let mut d = fixtures::quads(1, ny, [0.0, 10.0, 0.0, 1.0]);
+        let mut y = vec![0.0];
+        for k in 0..ny {
+            y.push(y[k] + 1.2f64.powi(k as i32));
+        }
+        for (v, p) in d.coords.chunks_mut(2).enumerate() {
+            p[1] = y[v / 2];
+        }
+        let mesh = Mesh::from_data(&d).unwrap();
+        let n = mesh.num_vertices();
+        let f = Features::build(&mesh, &Dofs::identity(n), &[], vec![Some(0); n], 50.0);
+        // Vertex (i, j) is 2 j + i; each couples to the vertices of its quads.
+        let mut g = CsrMatrix { nrows: n, ncols: n, row_ptr: vec![0], cols: Vec::new(), vals: Vec::new() };
+        for v in 0..n {
+            let j = v / 2;
+            for u in 2 * j.saturating_sub(1)..(2 * (j + 2)).min(n) {
+                g.cols.push(u as u32);
+                g.vals.push(1.0);
+            }
+            g.row_ptr.push(g.cols.len() as u32);
+        }
+        let left: Vec<u32> = (1..ny).map(|j| 2 * j as u32).collect();
+        let lines = Lines { start: vec![0, left.len() as u32], unknowns: left };
+        let mut coarse_of = vec![u32::MAX; n];
+        for (c, j) in (0..=ny).step_by(2).enumerate() {
+            coarse_of[2 * j] = c as u32;
+        }
+        let rows = rows(&lines, &g, &f, &d.coords, &coarse_of);
+        for j in (1..ny).step_by(2) {
+            let row = rows[2 * j].as_ref().unwrap_or_else(|| panic!("row {j}"));
+            let inner = j > 1 && j < ny - 1;
+            assert_eq!(row.len(), if inner { 4 } else { 3 }, "row {j}");
+            let power = if inner { 3 } else { 2 };
+            for p in 0..=power {
+                let at: f64 = row.iter().map(|&(c, w)| w * y[2 * c as usize].powi(p)).sum();
+                assert!((at - y[j].powi(p)).abs() <= 1e-10 * y[ny].powi(p), "row {j}, y^{p}: {at} vs {}", y[j].powi(p));
+            }
+        }
+        // Off the line, and the kept ones, the least-squares fit decides.
+        assert!((0..n).filter(|&v| v % 2 == 1 || coarse_of[v] != u32::MAX).all(|v| rows[v].is_none()));
     }
 }
