@@ -38,9 +38,9 @@ pub(crate) struct LeastSquares {
     layered: bool,
     /// Whether the unknowns on lines interpolate along them (`along_lines`): the biharmonic's
     /// hierarchies in 2D with lines. The biharmonic is fourth order, and linear interpolation
-    /// leaves kinks whose energy is that of the smooth error itself; the second-order operators
-    /// converge as fast with the least-squares rows (the Laplacian on the airfoil took one
-    /// iteration more along lines), and in 3D the spheroid's largest size took one more
+    /// leaves kinks whose energy is that of the smooth error itself. The second-order operators
+    /// need no more than linear rows (the Laplacian lost iterations along the lines), and in
+    /// 3D the spheroid's larger size and the wing lost iterations with them
     /// (docs/perf-history.md, "Interpolation along the lines").
     along_lines: bool,
 }
