@@ -60,7 +60,7 @@ pub(super) fn rows(
             if coarse_of[v] != u32::MAX {
                 continue;
             }
-            // The kept unknowns before and after i on the line, nearest first.
+            // The first kept unknown after i on the line.
             let after = kept.partition_point(|&j| j < i);
             if after == 0 || after == kept.len() {
                 continue;
@@ -74,7 +74,9 @@ pub(super) fn rows(
             let offsets: Vec<[f64; 3]> = nodes.iter().map(|&j| rel(v, ext[j])).collect();
             let h = offsets.iter().map(|&r| norm(r)).fold(0.0, f64::max);
             let miss = (0..3).map(|c| offsets.iter().zip(&w).map(|(r, w)| w * r[c]).sum::<f64>().abs()).fold(0.0, f64::max);
-            if miss > LINEAR_TOL * h || w.iter().map(|w| w.abs()).sum::<f64>() > MAX_ABS_SUM {
+            // Written so that weights that are not finite (coincident points) fail too.
+            let bounded = w.iter().map(|w| w.abs()).sum::<f64>() <= MAX_ABS_SUM;
+            if !(miss <= LINEAR_TOL * h && bounded) {
                 continue;
             }
             let mut row: Vec<(u32, f64)> = nodes.iter().zip(w).map(|(&j, w)| (coarse_of[ext[j]], w)).collect();
