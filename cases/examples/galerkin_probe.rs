@@ -1,5 +1,5 @@
 //! The biharmonic's iterations on the wall-layered meshes, with the hierarchy's levels:
-//! `cargo run --release -p meshmove-cases --example galerkin_probe -- airfoil 64 [pitch|plunge] [STEPS] [METHOD]`
+//! `cargo run --release -p meshmove-cases --example galerkin_probe -- airfoil 64 [pitch|plunge] [STEPS] [METHOD] [TOL]`
 //! (kinds and sizes as in `viscous_sizes`).
 
 use meshmove::{Method, Options, Solver};
@@ -20,11 +20,17 @@ fn main() {
         Some("spring") => Method::Spring,
         _ => Method::Biharmonic,
     };
+    let tol: f64 = args.get(5).map_or(1e-8, |s| s.parse().expect("a tolerance"));
     let v = by_name(kind, size).expect("a mesh");
     let bcs = boundary_conditions(&v);
     let motion = motion(&v, m);
     let t = Instant::now();
-    let mut solver = Solver::new(&v.mesh, &bcs, Options { method, ..Default::default() }).expect("a solver");
+    let mut solver = Solver::new(
+        &v.mesh,
+        &bcs,
+        Options { method, solve: meshmove::SolveParams { tol, ..Default::default() }, ..Default::default() },
+    )
+    .expect("a solver");
     println!(
         "{kind} {size} {method:?} {}: {} vertices, setup {:.2} s",
         m.name(),
@@ -39,12 +45,13 @@ fn main() {
             Ok(sol) => {
                 its.push(sol.report.cycles);
                 println!(
-                    "step {}: {} iterations, residual {:.2e}, converged {}, inverted {}, solve {:.2} s, step {:.2} s",
+                    "step {}: {} iterations, residual {:.2e}, converged {}, inverted {}, min volume {:.4}, solve {:.2} s, step {:.2} s",
                     i + 1,
                     sol.report.cycles,
                     sol.report.rel_residual,
                     sol.report.converged,
                     sol.quality.inverted,
+                    sol.quality.min_area_ratio,
                     sol.report.seconds,
                     t.elapsed().as_secs_f64()
                 );

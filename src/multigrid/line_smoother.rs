@@ -111,6 +111,11 @@ impl LineBlocks {
         self.lines.is_empty()
     }
 
+    /// The level's lines.
+    pub(crate) fn lines(&self) -> &Lines {
+        &self.lines
+    }
+
     /// Whether the lines were looked for.
     pub(crate) fn searched(&self) -> bool {
         self.searched

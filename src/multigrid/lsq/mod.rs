@@ -11,6 +11,7 @@
 //! does not converge mesh-independently. Coarse unknowns are fine unknowns, so a moved fine
 //! mesh moves them too: the interpolation is chosen again at the new positions.
 
+mod along_lines;
 mod features;
 mod weights;
 
@@ -21,6 +22,7 @@ use super::coarsener::{CoarseMesh, CoarseUnknowns, Coarsener};
 use super::level::{Level, Transfer};
 use super::restriction::Restriction;
 use crate::mesh::Mesh;
+use crate::operator::Method;
 use crate::sparse::CsrMatrix;
 use crate::Result;
 use std::sync::Arc;
@@ -34,19 +36,26 @@ pub(crate) struct LeastSquares {
     /// Whether the level the features were built on has lines across wall layers: its kept
     /// levels interpolate from the fewest donors that fit (`weights::Donors::Fewest`).
     layered: bool,
+    /// Whether the unknowns on lines interpolate along them (`along_lines`): the biharmonic's
+    /// hierarchies in 2D with lines. The biharmonic is fourth order, and linear interpolation
+    /// leaves kinks whose energy is that of the smooth error itself. The second-order operators
+    /// need no more than linear rows (the Laplacian lost iterations along the lines), and in
+    /// 3D the spheroid's larger size and the wing lost iterations with them
+    /// (docs/perf-history.md, "Interpolation along the lines").
+    along_lines: bool,
 }
 
 impl LeastSquares {
     pub(crate) fn new(params: CoarsenParams) -> Self {
-        LeastSquares { params, features: Vec::new(), layered: false }
+        LeastSquares { params, features: Vec::new(), layered: false, along_lines: false }
     }
 
     /// How the rows of P choose their donors on this hierarchy.
     fn donors(&self) -> weights::Donors {
-        if self.layered {
-            weights::Donors::Fewest
-        } else {
-            weights::Donors::Strong
+        match (self.layered, self.along_lines) {
+            (true, true) => weights::Donors::AlongLines,
+            (true, false) => weights::Donors::Fewest,
+            _ => weights::Donors::Strong,
         }
     }
 }
@@ -69,6 +78,7 @@ impl Coarsener for LeastSquares {
             let regions = fine.dof_regions();
             self.features.push(Features::build(mesh, &fine.dofs, &fine.pairs, regions, self.params.corner_angle_deg));
             self.layered = !fine.lines.is_empty();
+            self.along_lines = self.layered && fine.op.method == Method::Biharmonic && fine.dim() == 2;
         }
         self.features.truncate(l + 1);
         let points = fine.unknown_points();
@@ -199,3 +209,4 @@ pub(super) fn strong<'a>(
 fn norm2(r: [f64; 3]) -> f64 {
     r[0] * r[0] + r[1] * r[1] + r[2] * r[2]
 }
+

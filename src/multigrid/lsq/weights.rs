@@ -34,6 +34,9 @@ pub(super) enum Donors {
     /// The nearest strongly coupled kept neighbours, as few as fit the feature's linear fields
     /// with bounded weights. Rows of a few donors keep the Galerkin levels sparse.
     Fewest,
+    /// `Fewest`, but an unknown on a line of the fine level interpolates along its line
+    /// (`along_lines`) where that line has kept unknowns on both sides of it.
+    AlongLines,
 }
 
 /// P: fine unknowns × the coarse unknowns `kept` (fine numbering, ascending), donors and weights
@@ -55,6 +58,11 @@ pub(super) fn prolongation(
         coarse_of[d as usize] = c as u32;
     }
     let ctx = Context { k: &fine.op.k, f, points: &points, dim, coarse_of: &coarse_of, donors };
+    let along = if donors == Donors::AlongLines {
+        super::along_lines::rows(fine.lines.lines(), &fine.op.k, f, &points, &coarse_of)
+    } else {
+        Vec::new()
+    };
     let chunks: Vec<(Vec<u32>, Vec<u32>, Vec<f64>)> = (0..n.div_ceil(CHUNK))
         .into_par_iter()
         .map(|c| {
@@ -68,6 +76,8 @@ pub(super) fn prolongation(
                     row.extend(c.iter().copied().zip(w.iter().copied()));
                 } else if cv != u32::MAX {
                     row.push((cv, 1.0));
+                } else if let Some(r) = along.get(v).and_then(|r| r.as_ref()) {
+                    row.extend_from_slice(r);
                 } else {
                     ctx.row(v, ctx.choose(v), &mut row);
                 }
@@ -123,7 +133,7 @@ impl Context<'_> {
         };
         let row = self.k.row(v).0;
         let mut cands = by_distance(super::strong(self.k, self.f, v, |u| self.rel(v, u)).filter(|&u| is_donor(u)).collect());
-        if self.donors == Donors::Fewest {
+        if self.donors != Donors::Strong {
             // Only the nearest few: a far donor widens the Galerkin levels' stencils more than
             // its weight improves the interpolation.
             cands.truncate(FEWEST_MAX);
@@ -132,7 +142,7 @@ impl Context<'_> {
         let near = cands.len();
         let start = match self.donors {
             Donors::Strong => near,
-            Donors::Fewest => (fdim + 1).min(near),
+            Donors::Fewest | Donors::AlongLines => (fdim + 1).min(near),
         };
         if let Some(found) = self.first_bounded(v, &cands, start.max(1)) {
             return found;
@@ -147,7 +157,7 @@ impl Context<'_> {
         far.dedup();
         cands.extend(by_distance(far));
         let second = (near + 1).max(fdim + 1).min(cands.len());
-        if self.donors == Donors::Fewest {
+        if self.donors != Donors::Strong {
             cands.truncate(FEWEST_MAX);
             return self.first_bounded(v, &cands, second).unwrap_or_else(|| self.least_spread(v, &cands, fdim + 1));
         }
