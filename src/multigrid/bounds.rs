@@ -84,7 +84,8 @@ pub(crate) fn biharmonic_estimates(level: &Level, own: &[usize], previous: Optio
 
 #[cfg(test)]
 mod tests {
-    use super::MARGIN;
+    use super::*;
+    use crate::multigrid::group::estimate_lambda_max;
     use crate::bc::Kind;
     use crate::mesh::fixtures::rect;
     use crate::multigrid::hierarchy::{Hierarchy, HierarchyParams};
@@ -115,7 +116,7 @@ mod tests {
         let mut h = Hierarchy::build(&mesh, Vec::new(), &bcs, Method::Biharmonic, &params).unwrap();
         assert!(h.levels.len() >= 3, "{} levels", h.levels.len());
         let built = lambdas(&h);
-        assert!(built[0][0] != built[0][1], "the components have their own flags and estimates");
+        assert_ne!(h.levels[0].flags[0], h.levels[0].flags[1], "the components have their own flags");
 
         let (c, s) = (0.03f64.cos(), 0.03f64.sin());
         let turned: Vec<f64> =
@@ -135,9 +136,34 @@ mod tests {
         for (m, f) in moved[0].iter().zip(&fresh[0]) {
             assert!(m.to_bits() == f.to_bits() || (*m >= *f && *m <= f * MARGIN * MARGIN), "squashed: {m} against a new level's {f}");
         }
-        assert!((fresh[0][0] - built[0][0]).abs() > 0.05 * built[0][0], "squashing changes the estimate");
 
         assert!(h.restore(turned, carried).unwrap());
         assert_eq!(bits(&lambdas(&h)), bits(&rescaled), "a restore estimates as before");
+    }
+
+    /// A calibration whose shape the iteration keeps gives the 8th estimate times its ratio and
+    /// the margin; one whose shape it leaves gives the full estimate, bitwise.
+    #[test]
+    fn the_shape_chooses_the_rescaled_or_the_full_estimate() {
+        let mesh = rect(16, 16, [0.0, 1.0, 0.0, 1.0]);
+        let mut bcs = BoundaryConditions::new();
+        bcs.set_kinds(1, Kind::Fixed).set_kinds(3, Kind::Clamped);
+        let h = Hierarchy::build(&mesh, Vec::new(), &bcs, Method::Biharmonic, &HierarchyParams::default()).unwrap();
+        let level = &h.levels[0];
+        let (_, cal) = biharmonic_estimates(level, &[0], None);
+        let k = cal.0[0];
+        assert!(k.shape > 0.0 && k.ratio > 0.0, "calibrated: shape {} ratio {}", k.shape, k.ratio);
+        let op = GroupOp::new(level, 0..1, false);
+        let mut power = PowerIteration::new(&op);
+        power.run(&op, FEW);
+        let e8 = power.after(FEW).unwrap();
+        let kept = Calibration(vec![Component { shape: k.shape, ratio: 0.25 }]);
+        let (e, _) = biharmonic_estimates(level, &[0], Some(&kept));
+        assert_eq!(e[0].to_bits(), padded(Some(e8 * 0.25 * MARGIN)).to_bits());
+        assert!(e[0] < 0.5, "{}", e[0]);
+        let left = Calibration(vec![Component { shape: k.shape * (1.0 + 2.0 * SHAPE_TOLERANCE), ratio: 0.25 }]);
+        let (e, cal) = biharmonic_estimates(level, &[0], Some(&left));
+        assert_eq!(e[0].to_bits(), estimate_lambda_max(&op).to_bits());
+        assert_eq!(cal.0[0].ratio.to_bits(), k.ratio.to_bits(), "calibrated again");
     }
 }
