@@ -226,38 +226,78 @@ impl Scratch {
     }
 }
 
+/// The power iterations of a λmax estimate from the fixed start: the count the Chebyshev
+/// smoother's interval is tuned to.
+pub(crate) const POWER_ITERATIONS: usize = 15;
+
 /// Largest eigenvalue of D⁻¹ Π A on the group's free subspace by power iteration from a fixed
 /// start (deterministic), padded by 10% and capped at 1, the l1 bound's guarantee (D the point
 /// or line l1 preconditioner, `GroupOp::precondition`).
 pub(crate) fn estimate_lambda_max(op: &GroupOp) -> f64 {
-    let (n, g) = (op.n(), op.len());
-    // A fixed, mode-rich start vector: a cheap hash of the index.
-    let mut x: Vec<f64> = (0..g * n)
-        .map(|k| {
-            let (b, i) = (k / n, k % n);
-            if op.flags(b)[i] & P != 0 {
-                0.0
-            } else {
-                ((k as u64).wrapping_mul(2654435761) % 1000) as f64 / 1000.0 - 0.5
-            }
-        })
-        .collect();
-    op.project(&mut x);
-    let (mut y, mut s, mut sol) = (vec![0.0; g * n], vec![0.0; n], Vec::new());
-    let mut lambda = 0.0;
-    for _ in 0..15 {
-        let nx = op.norm(&x);
-        if nx == 0.0 {
-            return 1.0;
-        }
-        x.iter_mut().for_each(|v| *v /= nx);
-        op.apply_blocks(&mut x, &mut y, &mut s);
-        for k in 0..g {
-            op.precondition(k, block_mut(&mut y, n, k), &mut sol);
-        }
-        op.project(&mut y);
-        lambda = op.norm(&y);
-        std::mem::swap(&mut x, &mut y);
+    let mut power = PowerIteration::new(op);
+    power.run(op, POWER_ITERATIONS);
+    padded(power.after(POWER_ITERATIONS))
+}
+
+/// The padded, capped estimate of an unpadded `lambda`; None (the power iteration met a
+/// vanishing iterate) gives the l1 bound 1.
+pub(crate) fn padded(lambda: Option<f64>) -> f64 {
+    lambda.map_or(1.0, |l| (1.1 * l).clamp(0.05, 1.0))
+}
+
+/// The power iteration of D⁻¹ Π A from the fixed start, run in stages (`run`): a run to k
+/// iterations continues the one before it, so its estimates are those of one run to k.
+pub(crate) struct PowerIteration {
+    x: Vec<f64>,
+    y: Vec<f64>,
+    s: Vec<f64>,
+    sol: Vec<f64>,
+    /// ‖B x‖ of each iteration's unit x, B = D⁻¹ Π A (unpadded).
+    estimates: Vec<f64>,
+    /// An iterate vanished: no further estimate.
+    vanished: bool,
+}
+
+impl PowerIteration {
+    /// The fixed, mode-rich start of `op`'s group: a cheap hash of the index, projected.
+    pub(crate) fn new(op: &GroupOp) -> Self {
+        let (n, g) = (op.n(), op.len());
+        let mut x: Vec<f64> = (0..g * n)
+            .map(|k| {
+                let (b, i) = (k / n, k % n);
+                if op.flags(b)[i] & P != 0 {
+                    0.0
+                } else {
+                    ((k as u64).wrapping_mul(2654435761) % 1000) as f64 / 1000.0 - 0.5
+                }
+            })
+            .collect();
+        op.project(&mut x);
+        PowerIteration { x, y: vec![0.0; g * n], s: vec![0.0; n], sol: Vec::new(), estimates: Vec::new(), vanished: false }
     }
-    (1.1 * lambda).clamp(0.05, 1.0)
+
+    /// Continues to `iterations` iterations in all (fewer when an iterate vanishes).
+    pub(crate) fn run(&mut self, op: &GroupOp, iterations: usize) {
+        let (n, g) = (op.n(), op.len());
+        while self.estimates.len() < iterations && !self.vanished {
+            let nx = op.norm(&self.x);
+            if nx == 0.0 {
+                self.vanished = true;
+                break;
+            }
+            self.x.iter_mut().for_each(|v| *v /= nx);
+            op.apply_blocks(&mut self.x, &mut self.y, &mut self.s);
+            for k in 0..g {
+                op.precondition(k, block_mut(&mut self.y, n, k), &mut self.sol);
+            }
+            op.project(&mut self.y);
+            self.estimates.push(op.norm(&self.y));
+            std::mem::swap(&mut self.x, &mut self.y);
+        }
+    }
+
+    /// The unpadded estimate after `k` ≥ 1 iterations; None when the iteration stopped before.
+    pub(crate) fn after(&self, k: usize) -> Option<f64> {
+        k.checked_sub(1).and_then(|i| self.estimates.get(i)).copied()
+    }
 }

@@ -9,7 +9,8 @@
 use super::coarse_solve::CoarseSolve;
 use super::coarsen::CoarsenParams;
 use super::coarsener::{CoarseUnknowns, Coarsener};
-use super::group::{estimate_lambda_max, GroupOp};
+use super::bounds::{biharmonic_estimates, Calibration};
+use super::group::GroupOp;
 use super::refit::{donor_offsets, rows_to_redo, updated_offsets};
 use super::layout::Distribution;
 use super::line_smoother::LineBlocks;
@@ -73,7 +74,7 @@ impl LevelParts {
 
 /// The level kept from `fine`'s unknowns `c.kept`: their flags, slip frames and positions,
 /// no mesh, the Galerkin operator.
-fn kept_level(fine: &Level, c: CoarseUnknowns, bcs: &BoundaryConditions, t: &mut Phases) -> (Level, Transfer) {
+fn kept_level(fine: &Level, c: CoarseUnknowns, bcs: &BoundaryConditions, t: &mut Phases) -> (Level, Transfer, Calibration) {
     let CoarseUnknowns { kept, transfer } = c;
     let fine_points = fine.unknown_points();
     let dim = fine.dim();
@@ -98,8 +99,8 @@ fn kept_level(fine: &Level, c: CoarseUnknowns, bcs: &BoundaryConditions, t: &mut
     };
     level.lines = fine.lines.kept(&level.parent_vertex, fine.op.method);
     timed(&mut t.unknowns, || slip::attach(&mut level, Some(fine), bcs));
-    timed(&mut t.bounds, || refresh_bounds(&mut level));
-    (level, transfer)
+    let calibration = timed(&mut t.bounds, || refresh_bounds(&mut level, None));
+    (level, transfer, calibration)
 }
 
 /// The operator of a level of kept unknowns below `fine` with the interpolation `prolong`:
@@ -123,8 +124,10 @@ fn coarse_operator(fine: &Level, prolong: &CsrMatrix) -> LevelOperator {
     }
 }
 
-/// The level's Jacobi diagonals and λmax estimates, after its flags and slip frames.
-fn refresh_bounds(level: &mut Level) {
+/// The level's Jacobi diagonals and λmax estimates, after its flags and slip frames; the
+/// biharmonic's from `previous`, the calibration of the level's last estimates (None on a new
+/// level; `multigrid::bounds`). Returns the calibration to keep (empty for the other methods).
+fn refresh_bounds(level: &mut Level, previous: Option<&Calibration>) -> Calibration {
     // Every component has the same K and V: components with the same flags (walls fixed in
     // every direction) have the same diagonal, line factors and λmax, computed once for the
     // first of them. The others are independent: side by side, so small levels use several
@@ -142,14 +145,16 @@ fn refresh_bounds(level: &mut Level) {
     // estimate, redone at every re-evaluated step, costs a sizeable part of a Laplacian
     // solve (30 products per level). The biharmonic's bound is looser, so it keeps the
     // estimate.
+    let mut calibration = Calibration::default();
     level.lambda_max = if level.op.method == Method::Biharmonic {
-        let lv = &*level;
-        let own: Vec<f64> = own.par_iter().map(|&c| estimate_lambda_max(&GroupOp::new(lv, c..c + 1, false))).collect();
-        at.iter().map(|&i| own[i]).collect()
+        let estimates;
+        (estimates, calibration) = biharmonic_estimates(level, &own, previous);
+        at.iter().map(|&i| estimates[i]).collect()
     } else {
         vec![1.0; level.flags.len()]
     };
     slip::equalise_bounds(level);
+    calibration
 }
 
 /// What a re-reference carries from one reference to the next beyond the positions: each
@@ -158,6 +163,8 @@ fn refresh_bounds(level: &mut Level) {
 pub(crate) struct Carried {
     prolong: Vec<Option<Arc<CsrMatrix>>>,
     offsets: Vec<Vec<f64>>,
+    /// The calibrations the bounds were estimated from (`Hierarchy::calibrated_from`).
+    calibrated_from: Vec<Calibration>,
 }
 
 /// The donor offsets of level l's transfer when the coarse level below it has kept unknowns
@@ -232,6 +239,10 @@ pub struct Hierarchy {
     /// Per level with a transfer of kept unknowns below it: the donor offsets its weights were
     /// chosen at (`refit`; empty for other levels).
     offsets: Vec<Vec<f64>>,
+    /// Per level: the calibration of its last λmax estimates (`multigrid::bounds`), and the one
+    /// those estimates were made from (what a restore estimates from again).
+    calibration: Vec<Calibration>,
+    calibrated_from: Vec<Calibration>,
     /// Counts the re-references: a failed call restores the hierarchy when it changed.
     generation: u64,
 }
@@ -248,6 +259,7 @@ impl Hierarchy {
         let mut coarsener = coarsener_for(mesh.dim(), params.coarse_levels, params.coarsen)?;
         let galerkin = params.coarse_operator.galerkin(method);
         let mut levels: Vec<Level> = Vec::new();
+        let mut calibration: Vec<Calibration> = Vec::new();
         let mut t = Phases::default();
         let (mut mesh, mut pairs, mut parent_vertex) = (mesh.clone(), pairs, Vec::new());
         // Levels with meshes.
@@ -263,7 +275,7 @@ impl Hierarchy {
             (t.unknowns, t.assemble, t.coarsen) = (t.unknowns + pt.unknowns, t.assemble + pt.assemble, t.coarsen + coarsen_s);
             let mut level = parts.into_level(mesh, pairs, parent_vertex);
             timed(&mut t.unknowns, || slip::attach(&mut level, levels.last(), bcs));
-            timed(&mut t.bounds, || refresh_bounds(&mut level));
+            let mut cal = timed(&mut t.bounds, || refresh_bounds(&mut level, None));
             let l = levels.len();
             match levels.last_mut() {
                 None => check_well_posed(&level.op.k, &level.flags, &level.dofs, level.slip.as_ref().map(|s| &s.frames))?,
@@ -273,12 +285,13 @@ impl Hierarchy {
                         level.op = timed(&mut t.galerkin, || {
                             LevelOperator::galerkin(&fine.op, &down.prolong, &down.prolong.transpose())
                         });
-                        timed(&mut t.bounds, || refresh_bounds(&mut level));
+                        cal = timed(&mut t.bounds, || refresh_bounds(&mut level, None));
                     }
                     fine.down = Some(down);
                 }
             }
             levels.push(level);
+            calibration.push(cal);
             let Some(cm) = cm? else {
                 break;
             };
@@ -290,9 +303,10 @@ impl Hierarchy {
             let Some(c) = timed(&mut t.coarsen, || coarsener.coarsen_unknowns(l, &levels[l])) else {
                 break;
             };
-            let (level, down) = kept_level(&levels[l], c, bcs, &mut t);
+            let (level, down, cal) = kept_level(&levels[l], c, bcs, &mut t);
             levels[l].down = Some(down);
             levels.push(level);
+            calibration.push(cal);
         }
         let offsets = (0..levels.len()).map(|l| transfer_offsets(&levels, l)).collect();
         let mut h = Hierarchy {
@@ -304,6 +318,8 @@ impl Hierarchy {
             coarse: Vec::new(),
             phases: t,
             offsets,
+            calibrated_from: vec![Calibration::default(); calibration.len()],
+            calibration,
             generation: 0,
         };
         timed(&mut t.coarse_solve, || h.build_coarse_solve())?;
@@ -367,6 +383,7 @@ impl Hierarchy {
         Carried {
             prolong: self.levels.iter().map(|l| l.down.as_ref().map(|d| Arc::clone(&d.prolong))).collect(),
             offsets: self.offsets.clone(),
+            calibrated_from: self.calibrated_from.clone(),
         }
     }
 
@@ -423,6 +440,13 @@ impl Hierarchy {
         t.unknowns = start.elapsed().as_secs_f64();
         // Whether the finer level's K has a new pattern (a Galerkin K after a new P's pattern).
         let mut k_pattern_changed = false;
+        // The bounds are estimated from the calibrations of the last estimates, or on a restore
+        // from those the restored state's estimates were made from, so they come out bitwise.
+        let from = match &replay {
+            Some(r) => r.calibrated_from.clone(),
+            None => std::mem::take(&mut self.calibration),
+        };
+        self.calibration = Vec::with_capacity(self.levels.len());
         self.generation += 1;
         for (l, (m, points)) in moved.into_iter().enumerate() {
             let level = &mut self.levels[l];
@@ -477,8 +501,10 @@ impl Hierarchy {
                     k_pattern_changed = !same;
                 }
             }
-            timed(&mut t.bounds, || refresh_bounds(&mut self.levels[l]));
+            let cal = timed(&mut t.bounds, || refresh_bounds(&mut self.levels[l], from.get(l)));
+            self.calibration.push(cal);
         }
+        self.calibrated_from = from;
         timed(&mut t.coarse_solve, || self.build_coarse_solve())?;
         self.phases = t;
         self.fresh = false;

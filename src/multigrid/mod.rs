@@ -2,6 +2,7 @@
 //! `Coarsener`, linear transfers, rediscretised or Galerkin operators, Jacobi/Chebyshev
 //! smoothing, W-cycles, and the solve to tolerance.
 
+mod bounds;
 pub mod coarse_solve;
 pub mod coarsen;
 pub mod coarsener;

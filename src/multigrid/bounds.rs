@@ -1,0 +1,169 @@
+//! The biharmonic levels' λmax estimates, cheaper on a moved mesh whose level kept the shape of
+//! its spectrum's top.
+//!
+//! The Chebyshev smoother is tuned to the estimate after `POWER_ITERATIONS` power iterations
+//! from a fixed start, which lies below λmax(D⁻¹A) by an amount that depends on the level's
+//! spectrum. A full estimate also records, per component, how the iteration converged: the ratio
+//! of its estimates after `SHAPE.1` and `SHAPE.0` iterations (the shape) and the ratio of the full
+//! estimate to the one after `FEW` iterations. On a moved mesh the iteration runs `SHAPE.1`
+//! iterations; when the shape is within `SHAPE_TOLERANCE` of the calibration's, the spectrum's top
+//! kept its form, and the estimate after `FEW` iterations times the calibration's ratio (and
+//! `MARGIN`) stands for the full one. Otherwise (cells squashed into a local top mode that a spread
+//! start needs more iterations to find) the iteration continues to the full estimate, bitwise the
+//! one a new level gets, and calibrates the component again.
+
+use super::group::{padded, GroupOp, PowerIteration, POWER_ITERATIONS};
+use super::level::Level;
+use rayon::prelude::*;
+
+/// The power iterations of a rescaled estimate.
+const FEW: usize = 8;
+
+/// The iterations whose estimates' ratio is the convergence's shape.
+const SHAPE: (usize, usize) = (3, 5);
+
+/// The largest relative change of the shape under which a component keeps its calibration.
+const SHAPE_TOLERANCE: f64 = 0.005;
+
+/// The rescaled estimate's margin over the ratio. The smoother loses far more to an estimate
+/// below the full one than to one above it (docs/PERFORMANCE.md, "bounds rescaled").
+const MARGIN: f64 = 1.05;
+
+/// What a component's last full estimate leaves for the cheaper ones after it.
+#[derive(Clone, Copy, Default)]
+struct Component {
+    /// The estimate after `SHAPE.1` iterations over the one after `SHAPE.0` (unpadded).
+    shape: f64,
+    /// The full estimate over the one after `FEW` iterations (unpadded).
+    ratio: f64,
+}
+
+/// What a level's last full estimates leave for the cheaper ones after them, per component
+/// (empty, or a component's zeros: none, its next estimate is full).
+#[derive(Clone, Default)]
+pub(crate) struct Calibration(Vec<Component>);
+
+/// The λmax estimates of a biharmonic level's components `own` (each component's smoother
+/// separately, no slip coupling), with `previous` the calibration of its last estimates (None
+/// on a new level). Returns the estimates in `own`'s order and the calibration to keep.
+/// Components smoothed along lines always get the full estimate, as the smoother there is the
+/// most sensitive to its interval (docs/perf-history.md, "bounds by Lanczos").
+pub(crate) fn biharmonic_estimates(level: &Level, own: &[usize], previous: Option<&Calibration>) -> (Vec<f64>, Calibration) {
+    let estimates: Vec<(f64, Component)> = own
+        .par_iter()
+        .map(|&c| {
+            let op = GroupOp::new(level, c..c + 1, false);
+            let mut power = PowerIteration::new(&op);
+            power.run(&op, SHAPE.1);
+            let shape = match (power.after(SHAPE.0), power.after(SHAPE.1)) {
+                (Some(a), Some(b)) if a > 0.0 => b / a,
+                _ => 0.0,
+            };
+            let kept = previous
+                .and_then(|p| p.0.get(c).copied())
+                .filter(|k| k.ratio > 0.0 && (shape - k.shape).abs() <= SHAPE_TOLERANCE * k.shape && op.lines(0).is_none());
+            power.run(&op, FEW);
+            if let (Some(k), Some(e)) = (kept, power.after(FEW)) {
+                return (padded(Some(e * k.ratio * MARGIN)), k);
+            }
+            power.run(&op, POWER_ITERATIONS);
+            let full = power.after(POWER_ITERATIONS);
+            let ratio = match (full, power.after(FEW)) {
+                (Some(f), Some(e)) if e > 0.0 && shape > 0.0 => f / e,
+                _ => 0.0,
+            };
+            (padded(full), Component { shape, ratio })
+        })
+        .collect();
+    let mut cal = vec![Component::default(); level.flags.len()];
+    for (&c, &(_, k)) in own.iter().zip(&estimates) {
+        cal[c] = k;
+    }
+    (estimates.into_iter().map(|(e, _)| e).collect(), Calibration(cal))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::multigrid::group::estimate_lambda_max;
+    use crate::bc::Kind;
+    use crate::mesh::fixtures::rect;
+    use crate::multigrid::hierarchy::{Hierarchy, HierarchyParams};
+    use crate::{BoundaryConditions, Method};
+
+    /// Every level's λmax estimates, component by component.
+    fn lambdas(h: &Hierarchy) -> Vec<Vec<f64>> {
+        h.levels.iter().map(|l| l.lambda_max.clone()).collect()
+    }
+
+    fn bits(v: &[Vec<f64>]) -> Vec<Vec<u64>> {
+        v.iter().map(|l| l.iter().map(|x| x.to_bits()).collect()).collect()
+    }
+
+    /// A turned and shifted level keeps its calibration and is estimated from a few iterations
+    /// (the margin over the full estimate, which the motion leaves alone); a squashed finest
+    /// level is estimated in full (bitwise a new hierarchy's) or not below a new hierarchy's; a
+    /// restore estimates bitwise as before the failed move.
+    #[test]
+    fn rescaled_only_where_the_shapes_stayed() {
+        let mesh = rect(24, 24, [0.0, 1.0, 0.0, 1.0]);
+        let mut bcs = BoundaryConditions::new();
+        bcs.set_kinds(1, Kind::Fixed).set_kinds(3, Kind::Clamped);
+        for p in [2, 4] {
+            bcs.set_kind(p, 0, Kind::Clamped).unwrap().set_kind(p, 1, Kind::Free).unwrap();
+        }
+        let params = HierarchyParams::default();
+        let mut h = Hierarchy::build(&mesh, Vec::new(), &bcs, Method::Biharmonic, &params).unwrap();
+        assert!(h.levels.len() >= 3, "{} levels", h.levels.len());
+        let built = lambdas(&h);
+        assert_ne!(h.levels[0].flags[0], h.levels[0].flags[1], "the components have their own flags");
+
+        let (c, s) = (0.03f64.cos(), 0.03f64.sin());
+        let turned: Vec<f64> =
+            mesh.coords().chunks(2).flat_map(|p| [c * p[0] - s * p[1] + 0.25, s * p[0] + c * p[1] - 0.5]).collect();
+        assert!(h.move_to(turned.clone()).unwrap());
+        let rescaled = lambdas(&h);
+        for (b, r) in built.iter().flatten().zip(rescaled.iter().flatten()) {
+            let want = (b * MARGIN).min(1.0);
+            assert!((r - want).abs() <= 1e-6 * want, "rescaled {r}, built {b}");
+        }
+
+        let squashed: Vec<f64> = turned.chunks(2).flat_map(|p| [p[0], p[1] * (0.3 + 0.7 * p[1].abs())]).collect();
+        let carried = h.carried();
+        assert!(h.move_to(squashed.clone()).unwrap());
+        let moved = lambdas(&h);
+        let fresh = lambdas(&Hierarchy::build(&mesh.with_coords(squashed), Vec::new(), &bcs, Method::Biharmonic, &params).unwrap());
+        for (m, f) in moved[0].iter().zip(&fresh[0]) {
+            assert!(m.to_bits() == f.to_bits() || (*m >= *f && *m <= f * MARGIN * MARGIN), "squashed: {m} against a new level's {f}");
+        }
+
+        assert!(h.restore(turned, carried).unwrap());
+        assert_eq!(bits(&lambdas(&h)), bits(&rescaled), "a restore estimates as before");
+    }
+
+    /// A calibration whose shape the iteration keeps gives the 8th estimate times its ratio and
+    /// the margin; one whose shape it leaves gives the full estimate, bitwise.
+    #[test]
+    fn the_shape_chooses_the_rescaled_or_the_full_estimate() {
+        let mesh = rect(16, 16, [0.0, 1.0, 0.0, 1.0]);
+        let mut bcs = BoundaryConditions::new();
+        bcs.set_kinds(1, Kind::Fixed).set_kinds(3, Kind::Clamped);
+        let h = Hierarchy::build(&mesh, Vec::new(), &bcs, Method::Biharmonic, &HierarchyParams::default()).unwrap();
+        let level = &h.levels[0];
+        let (_, cal) = biharmonic_estimates(level, &[0], None);
+        let k = cal.0[0];
+        assert!(k.shape > 0.0 && k.ratio > 0.0, "calibrated: shape {} ratio {}", k.shape, k.ratio);
+        let op = GroupOp::new(level, 0..1, false);
+        let mut power = PowerIteration::new(&op);
+        power.run(&op, FEW);
+        let e8 = power.after(FEW).unwrap();
+        let kept = Calibration(vec![Component { shape: k.shape, ratio: 0.25 }]);
+        let (e, _) = biharmonic_estimates(level, &[0], Some(&kept));
+        assert_eq!(e[0].to_bits(), padded(Some(e8 * 0.25 * MARGIN)).to_bits());
+        assert!(e[0] < 0.5, "{}", e[0]);
+        let left = Calibration(vec![Component { shape: k.shape * (1.0 + 2.0 * SHAPE_TOLERANCE), ratio: 0.25 }]);
+        let (e, cal) = biharmonic_estimates(level, &[0], Some(&left));
+        assert_eq!(e[0].to_bits(), estimate_lambda_max(&op).to_bits());
+        assert_eq!(cal.0[0].ratio.to_bits(), k.ratio.to_bits(), "calibrated again");
+    }
+}
