@@ -86,23 +86,13 @@ impl LineBlocks {
     }
 
     /// The lines of a level of kept unknowns `kept` (unknowns of this level, ascending) with
-    /// `method`: each line's kept unknowns in order, where at least two are kept; factored when
-    /// the level's bounds are made (`refresh`). A coarse level of kept unknowns has no mesh to
-    /// look for lines in, and its Galerkin operator couples unknowns several spacings apart,
-    /// which would look anisotropic on an isotropic mesh; its lines are its finer level's.
+    /// `method` (`Lines::restricted`), factored when the level's bounds are made (`refresh`).
     pub(crate) fn kept(&self, kept: &[u32], method: Method) -> LineBlocks {
         let mut coarse_of = vec![u32::MAX; self.at.len()];
         for (c, &d) in kept.iter().enumerate() {
             coarse_of[d as usize] = c as u32;
         }
-        let mut lines = Lines { start: vec![0], unknowns: Vec::new() };
-        for k in 0..self.lines.len() {
-            let on: Vec<u32> = self.lines.line(k).iter().map(|&v| coarse_of[v as usize]).filter(|&c| c != u32::MAX).collect();
-            if on.len() >= 2 {
-                lines.unknowns.extend(on);
-                lines.start.push(lines.unknowns.len() as u32);
-            }
-        }
+        let lines = self.lines.restricted(|v| Some(coarse_of[v as usize]).filter(|&c| c != u32::MAX));
         LineBlocks::unfactored(lines, kept.len(), band_of(method))
     }
 

@@ -45,6 +45,24 @@ impl Lines {
         &self.unknowns[self.start[k] as usize..self.start[k + 1] as usize]
     }
 
+    /// The lines of a coarser level: each line's unknowns that `coarse_of` maps to the coarser
+    /// level's unknowns, in order, where at least two are. A coarse level of kept unknowns has no
+    /// mesh to look for lines in, and its Galerkin operator couples unknowns several spacings
+    /// apart, which would look anisotropic on an isotropic mesh; its lines are its finer level's.
+    pub(crate) fn restricted(&self, coarse_of: impl Fn(u32) -> Option<u32>) -> Lines {
+        let mut out = Lines { start: vec![0], unknowns: Vec::new() };
+        for k in 0..self.len() {
+            let before = out.unknowns.len();
+            out.unknowns.extend(self.line(k).iter().filter_map(|&v| coarse_of(v)));
+            if out.unknowns.len() - before >= 2 {
+                out.start.push(out.unknowns.len() as u32);
+            } else {
+                out.unknowns.truncate(before);
+            }
+        }
+        out
+    }
+
     /// The lines of the graph whose neighbours of unknown i are `neighbours(i)` (i itself may
     /// be among them) at `points` (`dim` values per unknown); unknowns with `skip` set are on
     /// no line (prescribed in every component), and those with `unmeasured` set are on none and

@@ -49,17 +49,7 @@ pub(super) fn kept_lines(lines: &Lines, gids: &[u64], coarse: &OwnedRows) -> Lin
     }
     let owned = &coarse.gids[..coarse.halo.owned()];
     let index: HashMap<u64, u32> = owned.iter().zip(0u32..).map(|(&g, i)| (g, i)).collect();
-    let mut out = Lines { start: vec![0], unknowns: Vec::new() };
-    for k in 0..lines.len() {
-        let before = out.unknowns.len();
-        out.unknowns.extend(lines.line(k).iter().filter_map(|&v| index.get(&gids[v as usize]).copied()));
-        if out.unknowns.len() - before >= 2 {
-            out.start.push(out.unknowns.len() as u32);
-        } else {
-            out.unknowns.truncate(before);
-        }
-    }
-    out
+    lines.restricted(|v| index.get(&gids[v as usize]).copied())
 }
 
 /// The lines of a level moved onto fewer ranks by `mover` (collective over its senders and

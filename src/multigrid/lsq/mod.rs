@@ -209,4 +209,3 @@ pub(super) fn strong<'a>(
 fn norm2(r: [f64; 3]) -> f64 {
     r[0] * r[0] + r[1] * r[1] + r[2] * r[2]
 }
-
