@@ -1,38 +1,79 @@
-//! The preconditioner of a group of components from their scalar multigrids: each block of the
-//! residual through its component's V-cycle, then the group's slip projection Π.
+//! The preconditioner of a group of components coupled by slip walls or periodic links, from
+//! their scalar multigrids.
 //!
 //! The distributed multigrid coarsens one scalar operator (a component's free rows), and its
-//! coarse levels carry no slip frames. A group coupled by slip walls is therefore
-//! preconditioned by M = Π diag(M₀, M₁, …) Π, Mc the V-cycle of component c with its slip
-//! unknowns free: symmetric, and positive on the subspace Π leaves (xᵀMx = (Πx)ᵀ diag(Mc) (Πx)),
-//! so it preconditions conjugate gradients on Π A Π. It drops the coupling of the components
-//! at the walls, which the serial hierarchy keeps on every level, and takes more iterations.
+//! coarse levels carry neither slip frames nor ties. A coupled group is therefore
+//! preconditioned by a cycle whose finest level is the group's own: the group's smoother (the
+//! Chebyshev–Jacobi steps on Π A Π, the projection Π of the slip frames and the ties in every
+//! step, the Jacobi diagonal equalised at slip and tied vertices) before and after a coarse
+//! correction Π P_c (each component's coarse levels) P_cᵀ Π of the residual. The smoother is
+//! the same polynomial both times and the coarse correction is symmetric, so the cycle is a
+//! symmetric positive preconditioner on the subspace Π leaves. The coarse levels still see the
+//! components apart, with their slip unknowns free and their tied vertices apart, which the
+//! serial hierarchy does not.
+//!
+//! Where every component's finest level would be gathered at once, the group's coupled solve
+//! takes the cycle's place (`mg::CoupledSolve`): (Π A Π)⁻¹ on the subspace, as the serial
+//! dense coarsest solve has it.
 
 use super::kept::Hierarchies;
+use super::level_layout::Distribution;
 use super::pcg::Preconditioner;
-use crate::multigrid::group::{block, block_mut, GroupOp};
+use crate::multigrid::group::{block, block_mut, GroupOp, Scratch};
+use crate::multigrid::smoother::{smooth, Coefficients, Smoother, Start};
 
-/// The block preconditioner of one group.
+/// The preconditioner of one group.
 pub(crate) struct Blocks<'a, 'b> {
     op: &'b GroupOp<'a>,
     /// The kept multigrid of each component (the group's components' are used).
     multigrids: &'b mut Hierarchies,
+    /// The group's index among the level's groups (its coupled solve's, if it has one).
+    group: usize,
+    sm: Smoother,
+    work: Vec<Scratch>,
+    coefficients: Coefficients,
+    /// The residual after the first smoothing, the coarse correction, and the operator's scratch.
+    r: Vec<f64>,
+    e: Vec<f64>,
+    s: Vec<f64>,
 }
 
 impl<'a, 'b> Blocks<'a, 'b> {
-    /// The preconditioner of the group `op`, the block of component c through
-    /// `multigrids.of(c)`.
-    pub(crate) fn new(op: &'b GroupOp<'a>, multigrids: &'b mut Hierarchies) -> Self {
-        Blocks { op, multigrids }
+    /// The preconditioner of the group `op`, number `group` of the level's groups, smoothed by
+    /// `sm`: its coupled solve if `multigrids` has one, else the cycle over the components'
+    /// multigrids (`multigrids.of(c)`).
+    pub(crate) fn new(op: &'b GroupOp<'a>, multigrids: &'b mut Hierarchies, group: usize, sm: Smoother) -> Self {
+        let (n, len) = (op.n(), op.len());
+        let work = (0..len).map(|_| Scratch::new(n, op.level().op.method)).collect();
+        let (r, e, s) = (vec![0.0; n * len], vec![0.0; n * len], vec![0.0; n]);
+        Blocks { op, multigrids, group, sm, work, coefficients: Coefficients::default(), r, e, s }
     }
 }
 
 impl Preconditioner for Blocks<'_, '_> {
     fn apply(&mut self, r: &[f64], z: &mut [f64]) {
         let n = self.op.n();
-        for (k, c) in self.op.components().enumerate() {
-            self.multigrids.of(c).apply(block(r, n, k), block_mut(z, n, k));
+        if let Some(coupled) = self.multigrids.coupled.get(self.group).and_then(Option::as_ref) {
+            coupled.solve(r, z, n);
+            self.op.project(z);
+            return;
         }
-        self.op.project(z);
+        let tied = matches!(self.op.level().layout, Distribution::Tied(..));
+        if self.op.frames().is_none() && !tied {
+            // Nothing couples the group's components or ties its rows: each component's own cycle.
+            for (k, c) in self.op.components().enumerate() {
+                self.multigrids.of(c).apply(block(r, n, k), block_mut(z, n, k));
+            }
+            return;
+        }
+        let op = self.op;
+        smooth(op, self.sm, r, z, &mut self.work, &mut self.coefficients, Start::Zero, false);
+        op.residual(r, z, &mut self.r, &mut self.s);
+        for (k, c) in op.components().enumerate() {
+            self.multigrids.of(c).coarse_correction(block(&self.r, n, k), block_mut(&mut self.e, n, k));
+        }
+        op.project(&mut self.e);
+        z.iter_mut().zip(&self.e).for_each(|(z, e)| *z += e);
+        smooth(op, self.sm, r, z, &mut self.work, &mut self.coefficients, Start::Guess, false);
     }
 }

@@ -8,7 +8,7 @@
 
 use super::error::DistError;
 use super::halo::HaloLayout;
-use super::mg::{Guide, LevelSize, Multigrid, OwnedRows};
+use super::mg::{CoupledSolve, Guide, LevelSize, Multigrid, OwnedRows};
 use super::reduce::max_over_ranks;
 use crate::multigrid::lines::Lines;
 use crate::multigrid::smoother::Smoother;
@@ -23,6 +23,10 @@ pub(crate) struct Hierarchies {
     pub(crate) sizes: Vec<LevelSize>,
     /// The first component's coarsest level is gathered onto one rank.
     pub(crate) gathers: bool,
+    /// Per group of components coupled by slip walls or periodic links and small enough to be
+    /// gathered: its coupled solve on one rank (`mg::CoupledSolve`), which preconditions it in
+    /// place of the components' multigrids; filled by the solver after the build.
+    pub(crate) coupled: Vec<Option<CoupledSolve>>,
 }
 
 impl Hierarchies {
@@ -51,7 +55,7 @@ impl Hierarchies {
             of_component.push(multigrids.len() - 1);
         }
         let (sizes, gathers) = multigrids.first().map(|m| (m.sizes(), m.gathers())).unwrap_or_default();
-        Ok(Hierarchies { multigrids, of_component, sizes, gathers })
+        Ok(Hierarchies { multigrids, of_component, sizes, gathers, coupled: Vec::new() })
     }
 
     /// Component `c`'s multigrid.

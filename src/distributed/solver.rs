@@ -24,7 +24,7 @@ use super::halo::HaloLayout;
 use super::interfaces;
 use super::kept::{Hierarchies, Kept};
 use super::level_layout::Distribution;
-use super::mg::{biharmonic_rows, owned_lines, Guide, OwnedRows, ROWS_PER_RANK};
+use super::mg::{biharmonic_rows, owned_lines, CoupledSolve, Guide, OwnedRows, ROWS_PER_RANK};
 use super::pcg::{pcg, OneLevel, Preconditioner};
 use super::reduce::{gather, sum_in_rank_order};
 use super::ties::{self, Ties};
@@ -304,14 +304,18 @@ impl DistributedSolver {
                 self.params.agglomerate_below,
             )?);
         }
-        for comps in self.level.groups() {
+        if let Some(h) = kept.as_mut().filter(|h| h.coupled.is_empty()) {
+            h.coupled =
+                self.level.groups().into_iter().map(|comps| self.coupled_solve(comps)).collect::<Result<_, _>>()?;
+        }
+        for (group, comps) in self.level.groups().into_iter().enumerate() {
             let op = GroupOp::new(&self.level, comps.clone(), false);
             let (b, dp, mut x) = self.group_system(&op, &rhs, guess);
             let mut one_level;
             let mut blocks;
             let pre: &mut dyn Preconditioner = match kept.as_mut() {
                 Some(h) => {
-                    blocks = Blocks::new(&op, h);
+                    blocks = Blocks::new(&op, h, group, sm);
                     &mut blocks
                 }
                 None => {
@@ -389,6 +393,17 @@ impl DistributedSolver {
     /// has one S per class: another operator at the linked sides, close enough to precondition.
     fn multigrid_pays(&self) -> bool {
         self.params.max_levels > 1
+    }
+
+    /// The coupled solve gathered on one rank of the group `comps` (`mg::CoupledSolve`): for a
+    /// group whose slip walls or periodic links couple what its components' multigrids solve
+    /// apart, when it is small enough to gather (collective; None otherwise).
+    fn coupled_solve(&self, comps: std::ops::Range<usize>) -> Result<Option<CoupledSolve>, DistError> {
+        let op = GroupOp::new(&self.level, comps, false);
+        if op.frames().is_none() && self.ties.is_none() {
+            return Ok(None);
+        }
+        CoupledSolve::new(&op, self.mesh.layout_global_ids(), self.halo(), self.ties.as_deref())
     }
 
     /// The owned rows of component `c`'s operator, the multigrid's finest level, and what the

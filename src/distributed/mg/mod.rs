@@ -18,6 +18,7 @@
 mod against_serial;
 mod agglomerate;
 mod biharmonic;
+mod coupled;
 mod galerkin;
 mod gathered;
 mod interpolate;
@@ -44,6 +45,7 @@ use crate::operator::{LevelOperator, Method};
 use crate::sparse::{par_update, CsrMatrix};
 use agglomerate::{halvings, Agglomeration, Landing};
 pub(crate) use biharmonic::{biharmonic_rows, Guide};
+pub(crate) use coupled::CoupledSolve;
 use gathered::Gathered;
 pub(crate) use lines::owned_lines;
 use std::sync::Arc;
@@ -243,13 +245,41 @@ impl Multigrid {
     /// does not hold it only sends its part and receives its correction (collective).
     fn correct(&mut self, l: usize, b: &[f64], x: &mut [f64]) {
         let lev = &self.levels[l];
+        if lev.level.down.is_none() {
+            return;
+        }
+        let op = GroupOp::new(&lev.level, 0..1, false);
+        let w = &mut self.work[l];
+        op.residual(b, x, &mut w.r, &mut w.scratch[0].s);
+        self.correct_residual(l, x);
+    }
+
+    /// x = P x_c with x_c one visit of the next coarser level to Pᵀ r: the cycle's coarse
+    /// correction of a residual `r` formed by the caller on the finest level (its owned entries
+    /// read; x's halo left zero); x = 0 for a hierarchy of one level (collective).
+    pub(crate) fn coarse_correction(&mut self, r: &[f64], x: &mut [f64]) {
+        let (owned, n) = (self.levels[0].halo.owned(), self.levels[0].level.n());
+        let w = &mut self.work[0];
+        w.r[..owned].copy_from_slice(&r[..owned]);
+        w.r[owned..].iter_mut().for_each(|v| *v = 0.0);
+        let mut x0 = std::mem::take(&mut self.entry.1);
+        x0.clear();
+        x0.resize(n, 0.0);
+        if self.levels[0].level.down.is_some() {
+            self.correct_residual(0, &mut x0);
+        }
+        x[..owned].copy_from_slice(&x0[..owned]);
+        x[owned..].iter_mut().for_each(|v| *v = 0.0);
+        self.entry.1 = x0;
+    }
+
+    /// x ← x + P x_c on level `l` from its residual in `work[l].r` (see `correct`).
+    fn correct_residual(&mut self, l: usize, x: &mut [f64]) {
+        let lev = &self.levels[l];
         let Some(down) = &lev.level.down else {
             return;
         };
-        let op = GroupOp::new(&lev.level, 0..1, false);
         let (prolong, landing) = (down.prolong.clone(), lev.landing.clone());
-        let w = &mut self.work[l];
-        op.residual(b, x, &mut w.r, &mut w.scratch[0].s);
         let held = l + 1 < self.levels.len();
         let (mut bc, mut xc) = if held {
             (std::mem::take(&mut self.work[l + 1].b), std::mem::take(&mut self.work[l + 1].x))
