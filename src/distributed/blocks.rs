@@ -43,7 +43,9 @@ impl<'a, 'b> Blocks<'a, 'b> {
     /// `sm`: its coupled solve if `multigrids` has one, else the cycle over the components'
     /// multigrids (`multigrids.of(c)`).
     pub(crate) fn new(op: &'b GroupOp<'a>, multigrids: &'b mut Hierarchies, group: usize, sm: Smoother) -> Self {
-        let (n, len) = (op.n(), op.len());
+        // The cycle's vectors, for a group whose components are coupled (else left empty).
+        let tied = matches!(op.level().layout, Distribution::Tied(..));
+        let (n, len) = if op.frames().is_some() || tied { (op.n(), op.len()) } else { (0, 0) };
         let work = (0..len).map(|_| Scratch::new(n, op.level().op.method)).collect();
         let (r, e, s) = (vec![0.0; n * len], vec![0.0; n * len], vec![0.0; n]);
         Blocks { op, multigrids, group, sm, work, coefficients: Coefficients::default(), r, e, s }
@@ -58,8 +60,7 @@ impl Preconditioner for Blocks<'_, '_> {
             self.op.project(z);
             return;
         }
-        let tied = matches!(self.op.level().layout, Distribution::Tied(..));
-        if self.op.frames().is_none() && !tied {
+        if self.work.is_empty() {
             // Nothing couples the group's components or ties its rows: each component's own cycle.
             for (k, c) in self.op.components().enumerate() {
                 self.multigrids.of(c).apply(block(r, n, k), block_mut(z, n, k));
