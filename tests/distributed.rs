@@ -120,7 +120,7 @@ fn rank_main() -> ExitCode {
     // A quarter annulus large enough for the multigrid to coarsen: the coupled group's cycle
     // (its own smoother on the finest level, the components' coarse levels below) stays within
     // 2.5 times the serial cycles for the Laplacian and 5 times (and 10) for the biharmonic,
-    // where the components' cycles projected took more than 3 and 11 times.
+    // bounds the components' cycles projected exceed (docs/PERFORMANCE.md).
     for method in [Method::Laplacian, Method::Biharmonic] {
         let annulus = bent(&grid2d(30, 48));
         solver_agrees_with_serial(&world, "2D quarter annulus 31×49", &annulus, method, Case::Slip { surface: false });
