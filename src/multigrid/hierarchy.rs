@@ -499,17 +499,12 @@ impl Hierarchy {
         for (l, (m, points)) in moved.into_iter().enumerate() {
             if l == 1 {
                 kept = match coarse {
-                    Coarse::Decide => {
-                        let d = self.anchor.drift(&self.levels[0].inv_d[0]);
-                        if std::env::var_os("MESHMOVE_LAG_LOG").is_some() {
-                            eprintln!("lag: drift {d:.4e}");
-                        }
-                        self.anchor.keeps(&self.levels[0].inv_d[0])
-                    }
+                    Coarse::Decide => self.anchor.keeps(&self.levels[0].inv_d[0]),
                     Coarse::Refresh => false,
                     Coarse::Keep => true,
                 };
                 if kept {
+                    self.refill_first_coarse(&from, &mut t)?;
                     break;
                 }
             }
@@ -579,6 +574,27 @@ impl Hierarchy {
         self.phases = t;
         self.fresh = false;
         Ok(true)
+    }
+
+    /// With the coarse levels kept: the first coarse level's Galerkin product refilled from the
+    /// re-evaluated fine operator through the kept interpolation, and its bounds estimated again
+    /// (from `from`'s calibration), so the fine level's first correction sees the moved mesh; the
+    /// levels below it stay. A rediscretised coarse mesh does not depend on the fine operator:
+    /// it stays too.
+    fn refill_first_coarse(&mut self, from: &[Calibration], t: &mut Phases) -> Result<()> {
+        if !(self.galerkin || self.levels[1].mesh.is_none()) {
+            return Ok(());
+        }
+        let (upper, rest) = self.levels.split_at_mut(1);
+        let (fine, coarse) = (&upper[0], &mut rest[0]);
+        let p = &*fine.down.as_ref().expect("not the coarsest level").prolong;
+        timed(&mut t.galerkin, || coarse.op.update_galerkin(&fine.op, p, &p.transpose()));
+        self.calibration[1] = timed(&mut t.bounds, || refresh_bounds(coarse, from.get(1)));
+        self.calibrated_from[1] = from[1].clone();
+        if self.levels.len() == 2 {
+            timed(&mut t.coarse_solve, || self.build_coarse_solve())?;
+        }
+        Ok(())
     }
 
     /// A table of the levels (PyAMG style): unknowns, cells, nonzeros of K and of the assembled
