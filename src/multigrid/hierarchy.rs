@@ -425,7 +425,7 @@ impl Hierarchy {
     /// `move_to`, or with `replay` the weights of an earlier state at these positions instead
     /// of choosing them. A state whose coarse levels were kept from an earlier full refresh is
     /// made again as it was made: every level at that refresh's positions, then the fine level
-    /// alone at its own.
+    /// and the first coarse level's product at its own.
     fn move_with(&mut self, fine_coords: Vec<f64>, replay: Option<Carried>) -> Result<bool> {
         let Some(r) = replay else {
             return self.move_levels(fine_coords, None, Coarse::Decide);
