@@ -34,3 +34,26 @@ fn one_and_two_threads_agree_bitwise() {
         }
     }
 }
+
+/// Ten steps by `Solver::advance`, some of whose re-references keep the coarse levels of an
+/// earlier one: bitwise the same positions with one and two threads, and the same choices.
+#[test]
+fn ten_advanced_steps_agree_bitwise_on_one_and_two_threads() {
+    let case = free_surface_case("threads", 1.0 / 96.0, 0.1, 1);
+    let (mesh, bcs, motion) = (&case.mesh, &case.bcs, &case.motion);
+    for method in [Method::Biharmonic, Method::Laplacian] {
+        let run = |threads| {
+            let mut s = Solver::new(mesh, bcs, Options { method, threads, ..Default::default() }).unwrap();
+            let mut kept = Vec::new();
+            for i in 0..10 {
+                s.advance(&motion.increment(i, 10)).unwrap();
+                kept.push(s.phases().coarse_kept);
+            }
+            (s.mesh().coords().to_vec(), kept)
+        };
+        let (a, b) = (run(1), run(2));
+        assert!(a.0.iter().zip(&b.0).all(|(p, q)| p.to_bits() == q.to_bits()), "{method:?}");
+        assert_eq!(a.1, b.1, "{method:?}");
+        assert!(a.1.iter().any(|&k| k), "{method:?}: some re-reference keeps the coarse levels: {:?}", a.1);
+    }
+}

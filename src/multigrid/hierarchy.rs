@@ -10,6 +10,7 @@ use super::coarse_solve::CoarseSolve;
 use super::coarsen::CoarsenParams;
 use super::coarsener::{CoarseUnknowns, Coarsener};
 use super::bounds::{biharmonic_estimates, Calibration};
+use super::lag::Anchor;
 use super::group::GroupOp;
 use super::refit::{donor_offsets, rows_to_redo, updated_offsets};
 use super::layout::Distribution;
@@ -165,6 +166,20 @@ pub(crate) struct Carried {
     offsets: Vec<Vec<f64>>,
     /// The calibrations the bounds were estimated from (`Hierarchy::calibrated_from`).
     calibrated_from: Vec<Calibration>,
+    /// The last full refresh, and whether the coarse levels are still its (`multigrid::lag`).
+    anchor: Anchor,
+    coarse_kept: bool,
+}
+
+/// What a re-reference does with the coarse levels.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Coarse {
+    /// Keeps them while the fine level's change since the anchor allows (`multigrid::lag`).
+    Decide,
+    /// Refreshes them at the new positions.
+    Refresh,
+    /// Keeps them.
+    Keep,
 }
 
 /// The donor offsets of level l's transfer when the coarse level below it has kept unknowns
@@ -243,6 +258,10 @@ pub struct Hierarchy {
     /// those estimates were made from (what a restore estimates from again).
     calibration: Vec<Calibration>,
     calibrated_from: Vec<Calibration>,
+    /// The last full refresh the coarse levels come from, and whether the last re-reference
+    /// kept them (`multigrid::lag`).
+    anchor: Anchor,
+    coarse_kept: bool,
     /// Counts the re-references: a failed call restores the hierarchy when it changed.
     generation: u64,
 }
@@ -309,6 +328,7 @@ impl Hierarchy {
             calibration.push(cal);
         }
         let offsets = (0..levels.len()).map(|l| transfer_offsets(&levels, l)).collect();
+        let anchor = Anchor::new(levels[0].mesh().coords(), &levels[0].inv_d[0]);
         let mut h = Hierarchy {
             levels,
             method,
@@ -320,6 +340,8 @@ impl Hierarchy {
             offsets,
             calibrated_from: vec![Calibration::default(); calibration.len()],
             calibration,
+            anchor,
+            coarse_kept: false,
             generation: 0,
         };
         timed(&mut t.coarse_solve, || h.build_coarse_solve())?;
@@ -384,6 +406,8 @@ impl Hierarchy {
             prolong: self.levels.iter().map(|l| l.down.as_ref().map(|d| Arc::clone(&d.prolong))).collect(),
             offsets: self.offsets.clone(),
             calibrated_from: self.calibrated_from.clone(),
+            anchor: self.anchor.clone(),
+            coarse_kept: self.coarse_kept,
         }
     }
 
@@ -399,8 +423,32 @@ impl Hierarchy {
     }
 
     /// `move_to`, or with `replay` the weights of an earlier state at these positions instead
-    /// of choosing them.
+    /// of choosing them. A state whose coarse levels were kept from an earlier full refresh is
+    /// made again as it was made: every level at that refresh's positions, then the fine level
+    /// and the first coarse level's product at its own.
     fn move_with(&mut self, fine_coords: Vec<f64>, replay: Option<Carried>) -> Result<bool> {
+        let Some(r) = replay else {
+            return self.move_levels(fine_coords, None, Coarse::Decide);
+        };
+        if !r.coarse_kept {
+            return self.move_levels(fine_coords, Some(r), Coarse::Refresh);
+        }
+        let fine_only = Carried {
+            prolong: Vec::new(),
+            offsets: Vec::new(),
+            calibrated_from: r.calibrated_from.clone(),
+            anchor: r.anchor.clone(),
+            coarse_kept: true,
+        };
+        if !self.move_levels(r.anchor.coords.to_vec(), Some(r), Coarse::Refresh)? {
+            return Ok(false);
+        }
+        self.move_levels(fine_coords, Some(fine_only), Coarse::Keep)
+    }
+
+    /// Moves the fine level to `fine_coords`, and the coarse levels as `coarse` says (see
+    /// `move_with` for `replay`).
+    fn move_levels(&mut self, fine_coords: Vec<f64>, replay: Option<Carried>, coarse: Coarse) -> Result<bool> {
         let mut t = Phases::default();
         let start = std::time::Instant::now();
         let dim = self.fine().dim();
@@ -444,11 +492,22 @@ impl Hierarchy {
         // from those the restored state's estimates were made from, so they come out bitwise.
         let from = match &replay {
             Some(r) => r.calibrated_from.clone(),
-            None => std::mem::take(&mut self.calibration),
+            None => self.calibration.clone(),
         };
-        self.calibration = Vec::with_capacity(self.levels.len());
         self.generation += 1;
+        let mut kept = false;
         for (l, (m, points)) in moved.into_iter().enumerate() {
+            if l == 1 {
+                kept = match coarse {
+                    Coarse::Decide => self.anchor.keeps(&self.levels[0].inv_d[0]),
+                    Coarse::Refresh => false,
+                    Coarse::Keep => true,
+                };
+                if kept {
+                    self.refill_first_coarse(&from, &mut t)?;
+                    break;
+                }
+            }
             let level = &mut self.levels[l];
             match m {
                 Some(m) => level.mesh = Some(m),
@@ -502,13 +561,40 @@ impl Hierarchy {
                 }
             }
             let cal = timed(&mut t.bounds, || refresh_bounds(&mut self.levels[l], from.get(l)));
-            self.calibration.push(cal);
+            self.calibration[l] = cal;
+            self.calibrated_from[l] = from[l].clone();
         }
-        self.calibrated_from = from;
-        timed(&mut t.coarse_solve, || self.build_coarse_solve())?;
+        if !kept {
+            timed(&mut t.coarse_solve, || self.build_coarse_solve())?;
+            let fine = &self.levels[0];
+            self.anchor = Anchor::new(fine.mesh().coords(), &fine.inv_d[0]);
+        }
+        self.coarse_kept = kept;
+        t.coarse_kept = kept;
         self.phases = t;
         self.fresh = false;
         Ok(true)
+    }
+
+    /// With the coarse levels kept: the first coarse level's Galerkin product refilled from the
+    /// re-evaluated fine operator through the kept interpolation, and its bounds estimated again
+    /// (from `from`'s calibration), so the fine level's first correction sees the moved mesh; the
+    /// levels below it stay. A rediscretised coarse mesh does not depend on the fine operator:
+    /// it stays too.
+    fn refill_first_coarse(&mut self, from: &[Calibration], t: &mut Phases) -> Result<()> {
+        if !(self.galerkin || self.levels[1].mesh.is_none()) {
+            return Ok(());
+        }
+        let (upper, rest) = self.levels.split_at_mut(1);
+        let (fine, coarse) = (&upper[0], &mut rest[0]);
+        let p = &*fine.down.as_ref().expect("not the coarsest level").prolong;
+        timed(&mut t.galerkin, || coarse.op.update_galerkin(&fine.op, p, &p.transpose()));
+        self.calibration[1] = timed(&mut t.bounds, || refresh_bounds(coarse, from.get(1)));
+        self.calibrated_from[1] = from[1].clone();
+        if self.levels.len() == 2 {
+            timed(&mut t.coarse_solve, || self.build_coarse_solve())?;
+        }
+        Ok(())
     }
 
     /// A table of the levels (PyAMG style): unknowns, cells, nonzeros of K and of the assembled

@@ -9,6 +9,7 @@ pub mod coarsener;
 pub mod cycle;
 pub mod group;
 pub mod hierarchy;
+mod lag;
 pub(crate) mod layout;
 pub mod level;
 #[cfg(feature = "mpi")]

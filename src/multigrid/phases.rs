@@ -22,6 +22,9 @@ pub struct Phases {
     pub bounds: f64,
     /// The coarsest level's dense factorisation.
     pub coarse_solve: f64,
+    /// A re-reference kept the coarse levels of an earlier one (`multigrid::lag`): only the
+    /// fine level was evaluated again.
+    pub coarse_kept: bool,
 }
 
 impl Phases {
