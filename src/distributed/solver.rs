@@ -300,8 +300,10 @@ impl DistributedSolver {
             let lines = self.lines();
             let layered = max_over_ranks(halo.comm(), f64::from(u8::from(!lines.is_empty()))) > 0.0;
             let (fine_degree, coarse_degree) = smoother_degrees(&self.params, method, layered);
-            let smoothers =
-                Smoothers { fine: Smoother::Fourth { degree: fine_degree }, coarse: Smoother::Fourth { degree: coarse_degree } };
+            let smoothers = Smoothers {
+                fine: Smoother::Fourth { degree: fine_degree },
+                coarse: Smoother::Fourth { degree: coarse_degree },
+            };
             *kept = Some(Hierarchies::build(
                 halo,
                 &self.level.flags,
