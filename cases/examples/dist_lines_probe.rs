@@ -1,8 +1,10 @@
 //! The wall-layer meshes on distributed slabs (docs/PERFORMANCE.md, "the paper's cases on 1–4
 //! ranks"): run under `mpirun -np N`, it solves the boundary-layer cylinder (2D, its hybrid
-//! variant, the 3D extrusion) with the biharmonic and the Laplacian to 1e-12 and 1e-14 on slabs
+//! variant, the 3D extrusion) and the wall-layered airfoil with the biharmonic and the Laplacian to 1e-12 and 1e-14 on slabs
 //! across x and prints, per solve, the distributed iterations beside the serial cycles and the
-//! largest difference from the serial displacement relative to the motion.
+//! largest difference from the serial displacement relative to the motion. Arguments: the mesh
+//! names to run (all without one), `tol=T` (repeatable; 1e-12 and 1e-14 without one) and
+//! `method=biharmonic` or `method=laplacian` (both without one).
 #[path = "../../tests/slabs/mod.rs"]
 mod slabs;
 
@@ -17,7 +19,15 @@ fn main() {
     let universe = meshmove::distributed::mpi::initialize().expect("MPI initialises once");
     let world = universe.world();
     let (rank, size) = (world.rank() as usize, world.size() as usize);
-    let names: Vec<String> = std::env::args().skip(1).collect();
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let names: Vec<String> = args.iter().filter(|a| !a.contains('=')).cloned().collect();
+    let tols: Vec<f64> = args.iter().filter_map(|a| a.strip_prefix("tol=")?.parse().ok()).collect();
+    let tols = if tols.is_empty() { vec![1e-12, 1e-14] } else { tols };
+    let methods: Vec<Method> = match args.iter().find_map(|a| a.strip_prefix("method=")) {
+        Some("biharmonic") => vec![Method::Biharmonic],
+        Some("laplacian") => vec![Method::Laplacian],
+        _ => vec![Method::Biharmonic, Method::Laplacian],
+    };
     let all = ["boundary_layer_cylinder", "boundary_layer_cylinder_hybrid", "boundary_layer_cylinder_3d", "airfoil"];
     for name in all.iter().filter(|n| names.is_empty() || names.iter().any(|m| m == *n)) {
         let setup = case(name, Scale::Quick).or_else(|| case3d(name, Scale::Quick)).unwrap_or_else(airfoil);
@@ -29,8 +39,8 @@ fn main() {
         let given = &setup.motion.displacement;
         let local: Vec<f64> = p.global.iter().flat_map(|&v| given[v * dim..(v + 1) * dim].to_vec()).collect();
         let motion = Motion { displacement: local, rigid: setup.motion.rigid.clone() };
-        for method in [Method::Biharmonic, Method::Laplacian] {
-            for tol in [1e-12, 1e-14] {
+        for &method in &methods {
+            for &tol in &tols {
                 let mut reference = vec![0.0; nv * dim];
                 let mut cycles = [0.0];
                 if rank == 0 {

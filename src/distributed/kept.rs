@@ -8,10 +8,9 @@
 
 use super::error::DistError;
 use super::halo::HaloLayout;
-use super::mg::{CoupledSolve, Guide, LevelSize, Multigrid, OwnedRows};
+use super::mg::{CoupledSolve, Guide, LevelSize, Multigrid, OwnedRows, Smoothers};
 use super::reduce::max_over_ranks;
 use crate::multigrid::lines::Lines;
-use crate::multigrid::smoother::Smoother;
 use std::sync::{Mutex, MutexGuard, PoisonError};
 
 /// The hierarchies of one reference: components whose flags agree on every rank share one.
@@ -31,7 +30,7 @@ pub(crate) struct Hierarchies {
 
 impl Hierarchies {
     /// Builds the multigrid of each of the components whose `flags` are given, from the finest
-    /// level `fine(c)` makes and its `lines` across wall layers, with at most `max_levels` levels smoothed by `smoother`, coarse
+    /// level `fine(c)` makes and its `lines` across wall layers, with at most `max_levels` levels smoothed by `smoothers`, coarse
     /// levels agglomerated below `per_rank` unknowns per rank (collective; every rank returns
     /// the same result).
     pub(crate) fn build(
@@ -40,7 +39,7 @@ impl Hierarchies {
         mut fine: impl FnMut(usize) -> Result<(OwnedRows, Option<Guide>), DistError>,
         lines: &Lines,
         max_levels: usize,
-        smoother: Smoother,
+        smoothers: Smoothers,
         per_rank: u64,
     ) -> Result<Hierarchies, DistError> {
         let (mut multigrids, mut of_component) = (Vec::new(), Vec::with_capacity(flags.len()));
@@ -50,7 +49,7 @@ impl Hierarchies {
             let share = c > 0 && max_over_ranks(halo.comm(), f64::from(u8::from(flags[c] != flags[c - 1]))) == 0.0;
             if !share {
                 let (rows, guide) = fine(c)?;
-                multigrids.push(Multigrid::build(rows, guide, lines.clone(), max_levels, smoother, per_rank)?);
+                multigrids.push(Multigrid::build(rows, guide, lines.clone(), max_levels, smoothers, per_rank)?);
             }
             of_component.push(multigrids.len() - 1);
         }

@@ -24,9 +24,9 @@ use super::halo::HaloLayout;
 use super::interfaces;
 use super::kept::{Hierarchies, Kept};
 use super::level_layout::Distribution;
-use super::mg::{biharmonic_rows, owned_lines, CoupledSolve, Guide, OwnedRows, ROWS_PER_RANK};
+use super::mg::{biharmonic_rows, owned_lines, CoupledSolve, Guide, OwnedRows, Smoothers, ROWS_PER_RANK};
 use super::pcg::{pcg, OneLevel, Preconditioner};
-use super::reduce::{gather, sum_in_rank_order};
+use super::reduce::{gather, max_over_ranks, sum_in_rank_order};
 use super::ties::{self, Ties};
 use crate::bc::{Dofs, Kind, SlipWalls, COMPONENT, P};
 use crate::mesh::quality::quality_of_cells;
@@ -35,6 +35,7 @@ use crate::multigrid::layout::Layout;
 use crate::multigrid::level::Level;
 use crate::multigrid::lines::Lines;
 use crate::multigrid::local_level::local_level;
+use crate::multigrid::policy::method_degrees;
 use crate::multigrid::slip::equalise_bounds;
 use crate::multigrid::smoother::Smoother;
 use crate::operator::{LevelOperator, Method};
@@ -56,8 +57,9 @@ pub struct DistSolveParams {
     /// Most iterations per group of components.
     pub max_iterations: usize,
     /// Degree of the fourth-kind Chebyshev–Jacobi smoother on every level; 0 (the default)
-    /// picks per method: 8 for the biharmonic (whose multigrid levels need the stronger
-    /// smoothing, as the serial cycle's levels of kept unknowns do), 4 otherwise.
+    /// picks per method: for the biharmonic the serial cycle's degrees on levels of kept
+    /// unknowns (8 on every level; under wall layers, where some rank finds lines across them,
+    /// 10 on the finest level and 16 on the coarse ones), 4 otherwise.
     pub degree: usize,
     /// Most levels of the multigrid preconditioner; 1 preconditions by the smoother alone.
     pub max_levels: usize,
@@ -288,19 +290,27 @@ impl DistributedSolver {
         let rhs = agree(self.halo().comm(), self.right_hand_sides(motion, vals))?;
         let (dim, nv) = (self.mesh.dim(), self.local().num_vertices());
         let halo = self.halo();
-        let sm = Smoother::Fourth { degree: smoother_degree(&self.params, self.level.op.method) };
+        let method = self.level.op.method;
+        let sm = Smoother::Fourth { degree: smoother_degrees(&self.params, method, false).0 };
         let mut total = vec![0.0; nv * dim];
         let (mut iterations, mut worst, mut failure) = (Vec::with_capacity(dim), 0.0f64, None);
         let mut kept = self.multigrids.lock();
         if self.multigrid_pays() && kept.is_none() {
             let fine = |c| self.fine_rows(c);
+            let lines = self.lines();
+            let layered = max_over_ranks(halo.comm(), f64::from(u8::from(!lines.is_empty()))) > 0.0;
+            let (fine_degree, coarse_degree) = smoother_degrees(&self.params, method, layered);
+            let smoothers = Smoothers {
+                fine: Smoother::Fourth { degree: fine_degree },
+                coarse: Smoother::Fourth { degree: coarse_degree },
+            };
             *kept = Some(Hierarchies::build(
                 halo,
                 &self.level.flags,
                 fine,
-                &self.lines(),
+                &lines,
                 self.params.max_levels,
-                sm,
+                smoothers,
                 self.params.agglomerate_below,
             )?);
         }
@@ -633,12 +643,16 @@ fn build_level(
     level
 }
 
-/// The smoother's degree of a solve of `method` with `p` (`DistSolveParams::degree`).
-fn smoother_degree(p: &DistSolveParams, method: Method) -> usize {
+/// The smoother's degrees (finest level, coarse levels) of a solve of `method` with `p`
+/// (`DistSolveParams::degree`), `layered` when some rank finds lines across wall layers: the
+/// caller's degree on every level; else the biharmonic's of the serial levels of kept unknowns
+/// (`policy::method_degrees`), whose rule the distributed levels share, and 4 on every level for
+/// the Laplacian and the spring.
+fn smoother_degrees(p: &DistSolveParams, method: Method, layered: bool) -> (usize, usize) {
     match (p.degree, method) {
-        (0, Method::Biharmonic) => 8,
-        (0, _) => 4,
-        (d, _) => d,
+        (0, Method::Biharmonic) => method_degrees(method, true, layered),
+        (0, _) => (4, 4),
+        (d, _) => (d, d),
     }
 }
 

@@ -23,7 +23,7 @@ use super::slip;
 use super::{coarsener_for, CoarseLevels};
 use crate::bc::{check_well_posed, component_flags, BoundaryConditions, Dofs, Z};
 use crate::mesh::quality::is_inverted;
-use crate::operator::{LevelOperator, Method};
+use crate::operator::{assembled_below, LevelOperator, Method};
 use crate::{Mesh, Result};
 use crate::sparse::{same_pattern, CsrMatrix};
 use rayon::prelude::*;
@@ -114,7 +114,7 @@ fn kept_level(fine: &Level, c: CoarseUnknowns, bcs: &BoundaryConditions, t: &mut
 /// (docs/DESIGN.md §5, "Wall layers").
 fn coarse_operator(fine: &Level, prolong: &CsrMatrix) -> LevelOperator {
     let restrict = prolong.transpose();
-    let layered = fine.op.is_assembled() || (fine.mesh.is_none() && !fine.lines.is_empty());
+    let layered = assembled_below(fine.mesh.is_none(), !fine.lines.is_empty(), fine.op.is_assembled());
     let z = |f: &Vec<u8>| f.iter().map(|&v| v & Z == 0).collect::<Vec<bool>>();
     let s_free = fine.flags.first().map(z).filter(|s| fine.flags.iter().all(|f| z(f) == *s));
     match s_free {

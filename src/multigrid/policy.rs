@@ -101,6 +101,18 @@ impl CycleParams {
     }
 }
 
+/// The Chebyshev degrees (finest level, coarse levels) of `method` on a hierarchy with levels of
+/// kept unknowns (`kept`) and lines across wall layers (`lines`) when the caller sets none: the
+/// rule of `degrees` below, which the distributed biharmonic's levels of kept unknowns share.
+pub(crate) fn method_degrees(method: Method, kept: bool, lines: bool) -> (usize, usize) {
+    match (method, kept) {
+        (Method::Biharmonic, false) => (6, 4),
+        (Method::Biharmonic, true) if lines => (10, 16),
+        (Method::Biharmonic, true) => (8, 8),
+        _ => (3, 2),
+    }
+}
+
 /// The default mode's Chebyshev degrees (finest level, coarse levels) on `h`: the caller's when
 /// set (`cheb_degree`, `cheb_coarse_degree`), else per method:
 ///
@@ -116,12 +128,7 @@ impl CycleParams {
 ///   (docs/perf-history.md);
 /// - the Laplacian and the spring: 3 and 2.
 pub(crate) fn degrees(h: &Hierarchy, p: &SolveParams) -> (usize, usize) {
-    let (fine, coarse) = match (h.method, h.has_kept_levels()) {
-        (Method::Biharmonic, false) => (6, 4),
-        (Method::Biharmonic, true) if h.has_lines() => (10, 16),
-        (Method::Biharmonic, true) => (8, 8),
-        _ => (3, 2),
-    };
+    let (fine, coarse) = method_degrees(h.method, h.has_kept_levels(), h.has_lines());
     let (fine, coarse) = match p.cheb_degree {
         Some(d) => (d, p.cheb_coarse_degree.unwrap_or(d)),
         None => (fine, p.cheb_coarse_degree.unwrap_or(coarse)),

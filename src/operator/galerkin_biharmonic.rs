@@ -13,6 +13,14 @@
 use super::LevelOperator;
 use crate::sparse::{matmul, triple_product, triple_product_values, CsrMatrix};
 
+/// Whether the biharmonic's next coarser level takes the assembled Galerkin product A_c = Pᵀ A P
+/// of a level that is `kept` (unknowns kept from a finer level, no mesh), has `lines` across wall
+/// layers, or is `assembled` itself (docs/DESIGN.md §5, "Wall layers"): below the first kept
+/// level of a layered hierarchy. The serial hierarchy and the distributed one decide by it.
+pub(crate) fn assembled_below(kept: bool, lines: bool, assembled: bool) -> bool {
+    assembled || (kept && lines)
+}
+
 /// A coarse level's assembled biharmonic and what remaking it at a new reference needs.
 #[derive(Clone)]
 pub(crate) struct Assembled {

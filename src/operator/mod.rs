@@ -7,6 +7,7 @@ mod galerkin_biharmonic;
 mod level;
 mod stiffness;
 
+pub(crate) use galerkin_biharmonic::assembled_below;
 pub use level::LevelOperator;
 pub(crate) use stiffness::close_diagonal;
 pub(crate) use stiffness::{lumped_mass, spring_stiffness, stiffness_and_mass, stiffness_pattern};

@@ -55,7 +55,8 @@ fn one_cycle_against_serial() {
     let ds = DistributedSolver::new(&dm, &BoundaryConditions::new(), Method::Biharmonic, params).expect("dist");
     let (rows, guide) = ds.fine_rows(0).expect("rows");
     let sm = Smoother::Fourth { degree };
-    let mut mg = Multigrid::build(rows, guide, Lines::default(), 2, sm, ROWS_PER_RANK).expect("mg");
+    let mut mg = Multigrid::build(rows, guide, Lines::default(), 2, Smoothers { fine: sm, coarse: sm }, ROWS_PER_RANK)
+        .expect("mg");
     let df = &mg.levels[0];
     let dgid = df.halo.owned();
     let ndf = df.level.n();

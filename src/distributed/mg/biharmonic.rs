@@ -159,13 +159,20 @@ pub(crate) struct Guide {
 /// The next coarser level of the biharmonic, as the serial kept levels are made: kept unknowns
 /// and interpolation P from K's strong couplings, K_c = Pᵀ K P and V_c = P₊ᵀ V (the positive
 /// weights, so V_c stays positive), and A_c = K_c V_c⁻¹ K_c assembled across ranks with the
-/// columns of P's owned rows in its layout. Returns A_c, P (`fine`'s local entries × A_c's) and
-/// the coarse guide; None when no rank keeps an unknown (collective).
+/// columns of P's owned rows in its layout, or with `galerkin` the Galerkin product
+/// A_c = Pᵀ A P of `fine`'s own rows (below the first coarse level under wall layers, where
+/// K_c V_c⁻¹ K_c drifts softer than the fine operator: docs/DESIGN.md §5, "Wall layers"). Returns
+/// A_c, P (`fine`'s local entries × A_c's) and the coarse guide; None when no rank keeps an
+/// unknown (collective).
 ///
 /// K's free rows leave the prescribed vertices out of the coarse levels, so A_c holds S at zero
 /// there: the serial operator's for FIXED walls (P and Z), a stiffer one next to CLAMPED walls
 /// (where S is free) — a preconditioner's approximation; the finest level is exact.
-pub(super) fn coarsen(fine: &OwnedRows, guide: &Guide) -> Result<Option<(OwnedRows, CsrMatrix, Guide)>, DistError> {
+pub(super) fn coarsen(
+    fine: &OwnedRows,
+    guide: &Guide,
+    galerkin: bool,
+) -> Result<Option<(OwnedRows, CsrMatrix, Guide)>, DistError> {
     let me = guide.k.halo.comm().rank();
     let rows = interpolation(&guide.k);
     let Some((k, to_coarse)) = product(&guide.k, &rows)? else {
@@ -178,6 +185,11 @@ pub(super) fn coarsen(fine: &OwnedRows, guide: &Guide) -> Result<Option<(OwnedRo
     }
     k.halo.add_to_owners(&mut mass);
     k.halo.refresh(&mut mass);
+    if galerkin {
+        // The rows of P are `fine`'s owned unknowns' too (A and K share their owned entries in
+        // one order), so the product fetches P's halo rows over A's wider halo.
+        return Ok(product(fine, &rows)?.map(|(a, prolong)| (a, prolong, Guide { k, mass })));
+    }
     let inv_v: Vec<f64> = mass.iter().map(|&v| 1.0 / v).collect();
     let mut extra: Vec<(usize, u64)> = rows.iter().flatten().filter(|e| e.1 != me).map(|e| (e.1, e.0)).collect();
     extra.sort_unstable();

@@ -8,7 +8,8 @@
 //! strong neighbours with operator-based weights (`interpolate`), and forms the coarse operator
 //! as the Galerkin product Pᵀ A P across ranks (`galerkin`), so no coarse level needs a mesh.
 //! The biharmonic's levels follow K's coarsening instead, each A = K V⁻¹ K assembled across
-//! ranks (`biharmonic`), and its cycle is a W-cycle. A coarse level with few unknowns per rank
+//! ranks (`biharmonic`; below the first coarse level of a hierarchy with lines across wall layers
+//! the Galerkin product of the level above, as serially), and its cycle is a W-cycle. A coarse level with few unknowns per rank
 //! is moved onto fewer ranks, which carry it and the levels below on a communicator of their
 //! own (`agglomerate`, with the values moved by `mover`); once a level is small it is gathered
 //! onto one rank and solved there by a dense factor (`gathered`). The smoother is the serial multigrid's Chebyshev–Jacobi smoother on owned rows,
@@ -32,7 +33,7 @@ use super::error::{DistError, DistErrorKind};
 use super::halo::HaloLayout;
 use super::level_layout::Distribution;
 use super::pcg::Preconditioner;
-use super::reduce::{gather, sum_in_rank_order};
+use super::reduce::{gather, max_over_ranks, sum_in_rank_order};
 use crate::bc::{Dofs, P, Z};
 use crate::multigrid::group::{estimate_lambda_max, GroupOp, Scratch};
 use crate::multigrid::layout::Layout;
@@ -41,7 +42,7 @@ use crate::multigrid::line_smoother::band_of;
 use crate::multigrid::lines::Lines;
 use crate::multigrid::restriction::Restriction;
 use crate::multigrid::smoother::{smooth, Coefficients, Smoother, Start};
-use crate::operator::{LevelOperator, Method};
+use crate::operator::{assembled_below, LevelOperator, Method};
 use crate::sparse::{par_update, CsrMatrix};
 use agglomerate::{halvings, Agglomeration, Landing};
 pub(crate) use biharmonic::{biharmonic_rows, Guide};
@@ -75,6 +76,24 @@ pub(crate) struct OwnedRows {
     /// The global id of each local entry (unique over all ranks).
     pub(crate) gids: Vec<u64>,
     pub(crate) halo: Arc<HaloLayout>,
+}
+
+/// The smoothers of the finest level and of every coarser one.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Smoothers {
+    pub(crate) fine: Smoother,
+    pub(crate) coarse: Smoother,
+}
+
+impl Smoothers {
+    /// The smoother of level `l`.
+    fn at(&self, l: usize) -> Smoother {
+        if l == 0 {
+            self.fine
+        } else {
+            self.coarse
+        }
+    }
 }
 
 /// One level of the distributed hierarchy: the smoother's view of it (`Level`, with the
@@ -141,7 +160,7 @@ pub(crate) struct Multigrid {
     gathered: bool,
     /// The finest level's communicator, over which the sizes are reported.
     comm: Arc<Comm>,
-    smoother: Smoother,
+    smoothers: Smoothers,
     /// Coarse visits per level: 1 a V-cycle, 2 a W-cycle.
     visits: usize,
     work: Vec<Work>,
@@ -152,12 +171,13 @@ pub(crate) struct Multigrid {
 
 impl Multigrid {
     /// Builds the hierarchy of the operator `fine` with at most `max_levels` levels (the gathered
-    /// one included), smoothed by `smoother`, its coarse levels moved onto fewer ranks below
+    /// one included), smoothed by `smoothers`, its coarse levels moved onto fewer ranks below
     /// `per_rank` unknowns per rank (collective; every rank returns the same result).
     ///
     /// With a `guide` (the biharmonic's K and V beside its A = K V⁻¹ K) each coarse level is
     /// made from the guide's (`biharmonic::coarsen`); without, by the Galerkin product of the
-    /// level above. `lines` are the finest level's lines across wall layers over its owned
+    /// level above (and the biharmonic's below the first coarse level of a hierarchy with lines,
+    /// `assembled_below`). `lines` are the finest level's lines across wall layers over its owned
     /// unknowns (`owned_lines`; none on meshes without such layers), smoothed as blocks there
     /// and on the coarse levels that keep them (`lines`).
     pub(crate) fn build(
@@ -165,7 +185,7 @@ impl Multigrid {
         guide: Option<Guide>,
         lines: Lines,
         max_levels: usize,
-        smoother: Smoother,
+        smoothers: Smoothers,
         per_rank: u64,
     ) -> Result<Multigrid, DistError> {
         let comm = fine.halo.shared_comm().clone();
@@ -182,7 +202,7 @@ impl Multigrid {
         let (depth, gathered) = (shape[0] as usize, shape[1] == 1);
         let work = levels.iter().enumerate().map(|(l, d)| work(d, l == 0)).collect();
         let entry = Default::default();
-        Ok(Multigrid { levels, coarsest, depth, gathered, comm, smoother, visits, work, entry })
+        Ok(Multigrid { levels, coarsest, depth, gathered, comm, smoothers, visits, work, entry })
     }
 
     /// Unknowns, halo values and ranks per level, finest first (collective).
@@ -217,7 +237,7 @@ impl Multigrid {
     fn cycle(&mut self, l: usize, b: &[f64], x: &mut [f64]) {
         let lev = &self.levels[l];
         let op = GroupOp::new(&lev.level, 0..1, false);
-        let sm = self.smoother;
+        let sm = self.smoothers.at(l);
         if lev.level.down.is_none() {
             match &self.coarsest {
                 Some(Coarsest::Gathered(g)) => g.solve(b, x),
@@ -358,19 +378,29 @@ fn levels_of(
     // The biharmonic's rows couple two neighbours along a line.
     let band = band_of(if guide.is_some() { Method::Biharmonic } else { Method::Laplacian });
     let (mut current, mut guide, mut lines) = (fine, guide, lines);
+    // The current level's operator is the assembled Galerkin product of the level above.
+    let mut assembled = false;
     loop {
         let rows = global_rows(&current);
         let last = rows <= GATHER_ROWS || levels.len() + 1 >= max_levels.max(1);
         let coarse = match (&guide, last) {
             (_, true) => None,
             (None, false) => galerkin::coarsen(&current)?,
-            (Some(g), false) => match biharmonic::coarsen(&current, g)? {
-                Some((next, prolong, next_guide)) => {
-                    guide = Some(next_guide);
-                    Some((next, prolong))
+            (Some(g), false) => {
+                // The serial rule on the level's lines over all its ranks (collective over them;
+                // asked only where it decides).
+                let kept = !levels.is_empty();
+                let layered = kept && !assembled && any_lines(&current, &lines);
+                let below = assembled_below(kept, layered, assembled);
+                match biharmonic::coarsen(&current, g, below)? {
+                    Some((next, prolong, next_guide)) => {
+                        guide = Some(next_guide);
+                        assembled = below;
+                        Some((next, prolong))
+                    }
+                    None => None,
                 }
-                None => None,
-            },
+            }
         };
         let Some((next, prolong)) = coarse else {
             return coarsest((current, lines, band), rows, levels);
@@ -455,6 +485,11 @@ impl Preconditioner for Multigrid {
         z[owned..].iter_mut().for_each(|v| *v = 0.0);
         self.entry = (b, x);
     }
+}
+
+/// Whether some rank of `m` has `lines` on it (collective).
+fn any_lines(m: &OwnedRows, lines: &Lines) -> bool {
+    max_over_ranks(m.halo.comm(), f64::from(u8::from(!lines.is_empty()))) > 0.0
 }
 
 /// Unknowns of `m` over all ranks: owned rows that are not empty (collective).
