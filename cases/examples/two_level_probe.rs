@@ -218,10 +218,10 @@ impl Rings {
                 s(a).total_cmp(&s(b))
             })
             .unwrap_or(0);
-        let col: Vec<String> = (0..=nl).map(|k| format!("{:.3}", e[k][jmax])).collect();
+        let col: Vec<String> = (0..=nl).map(|k| format!("{:.2e}", e[k][jmax])).collect();
         println!("  y across the rings at j = {jmax}: {}", col.join(" "));
         for k in [1, nl / 2, nl] {
-            let row: Vec<String> = (0..ns).step_by((ns / 32).max(1)).map(|j| format!("{:.3}", e[k][j])).collect();
+            let row: Vec<String> = (0..ns).step_by((ns / 32).max(1)).map(|j| format!("{:.2e}", e[k][j])).collect();
             println!("  y along ring {k} (every {}th): {}", (ns / 32).max(1), row.join(" "));
         }
     }
