@@ -109,18 +109,16 @@ impl CycleParams {
 ///   smoothing pays), and with slip walls the coarse levels at the finest level's degree (the
 ///   natural tangential condition makes the rediscretised coarse operators' boundary rows a
 ///   poorer match) unless the caller chose the coarse degree;
-///   and 10 and 24 below thin wall layers (levels with lines, `multigrid::lines`): the coarse
-///   levels' Galerkin operators, many layers thick, need the stronger smoothing, and with the
-///   assembled Galerkin biharmonic below the first kept level (`multigrid::hierarchy`) the
-///   finest level's degree 10 is what brings the layered meshes to a fixed count of iterations;
-///   the coarse levels' degree is what keeps that count as the mesh grows: the larger meshes'
-///   hierarchies are deeper, the W-cycle visits the deep levels more often, and the error the
-///   levels below the finest pair leave grows with them (docs/perf-history.md);
+///   and 16 on every level below thin wall layers (levels with lines, `multigrid::lines`): the
+///   coarse levels' Galerkin operators, many layers thick, need the stronger smoothing, and the
+///   finest level's smoothing is what keeps the count as the mesh grows and on re-referenced
+///   meshes, whose interpolation rows are fitted again (docs/perf-history.md: a higher coarse
+///   degree alone lowers a single step's count but raises the re-referenced steps');
 /// - the Laplacian and the spring: 3 and 2.
 pub(crate) fn degrees(h: &Hierarchy, p: &SolveParams) -> (usize, usize) {
     let (fine, coarse) = match (h.method, h.has_kept_levels()) {
         (Method::Biharmonic, false) => (6, 4),
-        (Method::Biharmonic, true) if h.has_lines() => (10, 24),
+        (Method::Biharmonic, true) if h.has_lines() => (16, 16),
         (Method::Biharmonic, true) => (8, 8),
         _ => (3, 2),
     };
