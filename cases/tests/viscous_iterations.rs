@@ -34,13 +34,13 @@ fn wing_biharmonic_takes_a_bounded_number_of_iterations() {
     let v = wing_3d(&WingParams::new(32, 4)).unwrap();
     let (its, lines) = iterations(&v, BodyMotion::Pitch);
     assert!(lines);
-    assert!(its <= 9, "{its}");
+    assert!(its <= 11, "{its}");
 }
 
 #[test]
 fn spheroid_biharmonic_takes_a_bounded_number_of_iterations() {
     let v = spheroid_3d(&SpheroidParams::new(4)).unwrap();
-    for (m, cap) in [(BodyMotion::Pitch, 6), (BodyMotion::Plunge, 6)] {
+    for (m, cap) in [(BodyMotion::Pitch, 7), (BodyMotion::Plunge, 6)] {
         let (its, lines) = iterations(&v, m);
         assert!(lines);
         assert!(its <= cap, "{m:?}: {its}");

@@ -109,16 +109,18 @@ impl CycleParams {
 ///   smoothing pays), and with slip walls the coarse levels at the finest level's degree (the
 ///   natural tangential condition makes the rediscretised coarse operators' boundary rows a
 ///   poorer match) unless the caller chose the coarse degree;
-///   and 16 on every level below thin wall layers (levels with lines, `multigrid::lines`): the
-///   coarse levels' Galerkin operators, many layers thick, need the stronger smoothing, and the
-///   finest level's smoothing is what keeps the count as the mesh grows and on re-referenced
-///   meshes, whose interpolation rows are fitted again (docs/perf-history.md: a higher coarse
-///   degree alone lowers a single step's count but raises the re-referenced steps');
+///   and below thin wall layers (levels with lines, `multigrid::lines`) 10 and 16 in 3D, 16 on
+///   every level in 2D: the coarse levels' Galerkin operators, many layers thick, need the
+///   stronger smoothing, and in 2D the finest level's smoothing is what keeps the count as the
+///   mesh grows and on re-referenced meshes, whose interpolation rows are fitted again; in 3D
+///   degree 16 lowers the counts too but the wing's 1e-8 solution then inverts cells at its
+///   trailing edge (docs/perf-history.md);
 /// - the Laplacian and the spring: 3 and 2.
 pub(crate) fn degrees(h: &Hierarchy, p: &SolveParams) -> (usize, usize) {
     let (fine, coarse) = match (h.method, h.has_kept_levels()) {
         (Method::Biharmonic, false) => (6, 4),
-        (Method::Biharmonic, true) if h.has_lines() => (16, 16),
+        (Method::Biharmonic, true) if h.has_lines() && h.fine().dim() == 2 => (16, 16),
+        (Method::Biharmonic, true) if h.has_lines() => (10, 16),
         (Method::Biharmonic, true) => (8, 8),
         _ => (3, 2),
     };
