@@ -1,6 +1,6 @@
 //! The biharmonic's iterations on the wall-layered meshes, with the hierarchy's levels:
-//! `cargo run --release -p meshmove-cases --example galerkin_probe -- airfoil 64 [pitch|plunge] [STEPS] [METHOD] [TOL]`
-//! (kinds and sizes as in `viscous_sizes`).
+//! `cargo run --release -p meshmove-cases --example galerkin_probe -- airfoil 64 [pitch|plunge] [STEPS] [METHOD] [TOL] [DEGREE] [COARSE_DEGREE]`
+//! (kinds and sizes as in `viscous_sizes`; the Chebyshev degrees the solver's own unless given).
 
 use meshmove::{Method, Options, Solver};
 use meshmove_cases::viscous::*;
@@ -21,6 +21,8 @@ fn main() {
         _ => Method::Biharmonic,
     };
     let tol: f64 = args.get(5).map_or(1e-8, |s| s.parse().expect("a tolerance"));
+    let degree = |i: usize| args.get(i).map(|s| s.parse::<usize>().expect("a degree"));
+    let (cheb_degree, cheb_coarse_degree) = (degree(6), degree(7));
     let v = by_name(kind, size).expect("a mesh");
     let bcs = boundary_conditions(&v);
     let motion = motion(&v, m);
@@ -28,7 +30,11 @@ fn main() {
     let mut solver = Solver::new(
         &v.mesh,
         &bcs,
-        Options { method, solve: meshmove::SolveParams { tol, ..Default::default() }, ..Default::default() },
+        Options {
+            method,
+            solve: meshmove::SolveParams { tol, cheb_degree, cheb_coarse_degree, ..Default::default() },
+            ..Default::default()
+        },
     )
     .expect("a solver");
     println!(

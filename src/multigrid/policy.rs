@@ -101,12 +101,14 @@ impl CycleParams {
     }
 }
 
-/// The Chebyshev degrees (finest level, coarse levels) of `method` on a hierarchy with levels of
-/// kept unknowns (`kept`) and lines across wall layers (`lines`) when the caller sets none: the
-/// rule of `degrees` below, which the distributed biharmonic's levels of kept unknowns share.
-pub(crate) fn method_degrees(method: Method, kept: bool, lines: bool) -> (usize, usize) {
+/// The Chebyshev degrees (finest level, coarse levels) of `method` in `dim` dimensions on a
+/// hierarchy with levels of kept unknowns (`kept`) and lines across wall layers (`lines`) when
+/// the caller sets none: the rule of `degrees` below, which the distributed biharmonic's levels
+/// of kept unknowns share.
+pub(crate) fn method_degrees(method: Method, dim: usize, kept: bool, lines: bool) -> (usize, usize) {
     match (method, kept) {
         (Method::Biharmonic, false) => (6, 4),
+        (Method::Biharmonic, true) if lines && dim == 2 => (16, 16),
         (Method::Biharmonic, true) if lines => (10, 16),
         (Method::Biharmonic, true) => (8, 8),
         _ => (3, 2),
@@ -121,14 +123,15 @@ pub(crate) fn method_degrees(method: Method, kept: bool, lines: bool) -> (usize,
 ///   smoothing pays), and with slip walls the coarse levels at the finest level's degree (the
 ///   natural tangential condition makes the rediscretised coarse operators' boundary rows a
 ///   poorer match) unless the caller chose the coarse degree;
-///   and 10 and 16 below thin wall layers (levels with lines, `multigrid::lines`): the coarse
-///   levels' Galerkin operators, many layers thick, need the stronger smoothing, and with the
-///   assembled Galerkin biharmonic below the first kept level (`multigrid::hierarchy`) the
-///   finest level's degree 10 is what brings the layered meshes to a fixed count of iterations
-///   (docs/perf-history.md);
+///   and below thin wall layers (levels with lines, `multigrid::lines`) 10 and 16 in 3D, 16 on
+///   every level in 2D: the coarse levels' Galerkin operators, many layers thick, need the
+///   stronger smoothing, and in 2D the finest level's smoothing is what keeps the count as the
+///   mesh grows and on re-referenced meshes, whose interpolation rows are fitted again; in 3D
+///   degree 16 lowers the counts too but the wing's 1e-8 solution then inverts cells at its
+///   trailing edge (docs/perf-history.md);
 /// - the Laplacian and the spring: 3 and 2.
 pub(crate) fn degrees(h: &Hierarchy, p: &SolveParams) -> (usize, usize) {
-    let (fine, coarse) = method_degrees(h.method, h.has_kept_levels(), h.has_lines());
+    let (fine, coarse) = method_degrees(h.method, h.fine().dim(), h.has_kept_levels(), h.has_lines());
     let (fine, coarse) = match p.cheb_degree {
         Some(d) => (d, p.cheb_coarse_degree.unwrap_or(d)),
         None => (fine, p.cheb_coarse_degree.unwrap_or(coarse)),

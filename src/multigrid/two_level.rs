@@ -44,6 +44,15 @@ pub struct PairAnalysis {
     /// ‖A e‖²_{D⁻¹} / ‖e‖²_A over the level's λmax of D⁻¹A: where the slow mode sits in the
     /// smoother's spectrum (near 0: smooth for the smoother, the interpolation's to take).
     pub smoother_position: f64,
+    /// Per unknown of level l, the slow mode's energy there, Σ over the group's components of
+    /// eᵢ (A e)ᵢ: where its energy lies (the entries sum to 1).
+    pub density: Vec<f64>,
+    /// The same for the slow mode after one application of the smoother (they sum to
+    /// `smoother_reduction`²).
+    pub smoothed_density: Vec<f64>,
+    /// The same after the exact coarse correction with level l + 1's own operator (they sum to
+    /// `coarse_reduction`²): where the energy the coarse level misses lies.
+    pub corrected_density: Vec<f64>,
 }
 
 /// The two-level analysis of the pair (`level`, `level` + 1) for the group `comps` (one of
@@ -97,8 +106,10 @@ pub fn analyse_pair(
     let mut se = e.clone();
     smooth(&op, cp.smoother_at(level), &zero, &mut se, &mut tl.scratch, &mut tl.cache, Start::Guess, false);
     let smoother_reduction = energy(&op, &mut se, &mut ae, &mut s);
+    let smoothed_density = density(&op, &se, &ae);
     // ‖A e‖²_{D⁻¹}: the smoother's preconditioner on A e.
     op.apply(&mut e, &mut ae, &mut s);
+    let mode_density = density(&op, &e, &ae);
     let mut s2 = vec![0.0; g * n];
     let mut dae = ae.clone();
     for k in 0..g {
@@ -112,6 +123,7 @@ pub fn analyse_pair(
     tl.coarse_correction(&ae, &mut z, &mut ws);
     axpy(-1.0, &z, &mut ce);
     let coarse_reduction = energy(&op, &mut ce, &mut s2, &mut s);
+    let corrected_density = density(&op, &ce, &s2);
     tl.galerkin = true;
     let mut ce = e.clone();
     z.iter_mut().for_each(|v| *v = 0.0);
@@ -129,7 +141,16 @@ pub fn analyse_pair(
         coarse_reduction,
         coarse_reduction_galerkin,
         smoother_position,
+        density: mode_density,
+        smoothed_density,
+        corrected_density,
     })
+}
+
+/// Per unknown, Σ over the blocks of xᵢ (A x)ᵢ, given `ax` = A x.
+fn density(op: &GroupOp, x: &[f64], ax: &[f64]) -> Vec<f64> {
+    let (n, g) = (op.n(), op.len());
+    (0..n).map(|i| (0..g).map(|k| x[k * n + i] * ax[k * n + i]).sum()).collect()
 }
 
 /// A fixed pseudo-random value in [−0.5, 0.5) for index `i`.
