@@ -16,6 +16,7 @@ mod features;
 mod weights;
 
 pub(crate) use features::Features;
+pub(crate) use weights::{bounded, choose_donors, fit_offsets};
 
 use super::coarsen::CoarsenParams;
 use super::coarsener::{CoarseMesh, CoarseUnknowns, Coarsener};
