@@ -7,8 +7,9 @@
 //! priorities from the global ids (`select`), interpolates the other unknowns from their kept
 //! strong neighbours with operator-based weights (`interpolate`), and forms the coarse operator
 //! as the Galerkin product Pᵀ A P across ranks (`galerkin`), so no coarse level needs a mesh.
-//! The biharmonic's levels follow K's coarsening instead, each A = K V⁻¹ K assembled across
-//! ranks (`biharmonic`), and its cycle is a W-cycle. A coarse level with few unknowns per rank
+//! The biharmonic's levels follow K's coarsening instead, interpolated by the serial levels'
+//! donor rule and least-squares fit over two rings of K (`donors`), each A = K V⁻¹ K assembled
+//! across ranks (`biharmonic`), and its cycle is a W-cycle. A coarse level with few unknowns per rank
 //! is moved onto fewer ranks, which carry it and the levels below on a communicator of their
 //! own (`agglomerate`, with the values moved by `mover`); once a level is small it is gathered
 //! onto one rank and solved there by a dense factor (`gathered`). The smoother is the serial multigrid's Chebyshev–Jacobi smoother on owned rows,
