@@ -5,7 +5,8 @@
 //! its part of the distributed Laplacian solve (PCG with the distributed multigrid) against the
 //! serial solver, and checks that bad input on one rank makes every rank return the error naming
 //! that rank. The launching process then compares the runs: the multigrid's iterations and
-//! level sizes do not depend on the rank count or the partition. Then each method (Laplacian,
+//! level sizes (and the biharmonic's prolongations, by a digest of their rows in global ids) do
+//! not depend on the rank count or the partition. Then each method (Laplacian,
 //! spring, biharmonic) with each set of conditions (every patch FIXED; a CLAMPED body moving
 //! rigidly and the rest FIXED; a FREE side) on a 2D and a 3D mesh equals the serial solver, with
 //! the same quality report (the biharmonic also on meshes large enough for its multigrid to
@@ -550,21 +551,37 @@ fn solver_agrees_with_serial(
     ] {
         assert!((a - b).abs() <= 1e-8 * b.abs().max(1.0), "{what}: quality {q:?} against serial {r:?}");
     }
-    // The biharmonic's multigrid across ranks stays within 2.5 times the serial cycles, and
-    // within 12 iterations where the serial hierarchy is its dense coarsest level alone. A group
-    // coupled by slip walls or periodic links on a mesh this small is solved whole on one rank
-    // with its coupling (`CoupledSolve`, docs/DESIGN.md §5 "Slip walls across ranks"): at most
-    // one iteration more than the serial cycles (one per solve; the curved walls' two added).
+    // The biharmonic's multigrid across ranks stays within two iterations of the serial cycles
+    // (its levels interpolate by the serial donor rule), within half as many again next to a
+    // CLAMPED body (the coarse levels hold S at zero at prescribed vertices, a stiffer coarse
+    // operator where S is free), and within 12 iterations where the serial hierarchy is its dense
+    // coarsest level alone. A group coupled by slip walls or periodic links on a mesh this small
+    // is solved whole on one rank with its coupling (`CoupledSolve`, docs/DESIGN.md §5 "Slip
+    // walls across ranks"): at most one iteration more than the serial cycles (one per solve; the
+    // curved walls' two added).
     let coupled = matches!(case, Case::Slip { .. } | Case::Periodic | Case::PeriodicSlip);
+    let serial = reference.report.cycles;
     let bound = match (coupled, method) {
-        (true, _) if d.num_vertices() <= 400 => Some(reference.report.cycles + 1),
-        (true, Method::Laplacian) => Some(5 * reference.report.cycles / 2),
-        (true, _) => Some(5 * reference.report.cycles + 10),
-        (false, Method::Biharmonic) => Some((5 * reference.report.cycles / 2 + 2).max(12)),
+        (true, _) if d.num_vertices() <= 400 => Some(serial + 1),
+        (true, Method::Laplacian) => Some(5 * serial / 2),
+        (true, _) => Some(5 * serial + 10),
+        (false, Method::Biharmonic) => {
+            let slack = if matches!(case, Case::ClampedBody) { serial / 2 } else { 2 };
+            Some((serial + slack).max(12))
+        }
         (false, _) => None,
     };
     if let Some(bound) = bound {
         assert!(sol.iterations.iter().all(|&i| i <= bound), "{what}: iterations {:?} above {bound}", sol.iterations);
+    }
+    // The biharmonic's levels and their prolongations (digests of P's rows in global ids) are
+    // the same on every rank count: the launching process compares these lines.
+    let slip = matches!(case, Case::Slip { .. } | Case::PeriodicSlip);
+    if method == Method::Biharmonic && !slip && sol.level_rows.len() >= 2 && rank == 0 {
+        println!(
+            "multigrid: {name}, biharmonic, {case:?} | {:?} | {:?} {:?}",
+            sol.iterations, sol.level_rows, sol.level_transfers
+        );
     }
     // Every rank has the same report.
     let mut reports = vec![0.0; 2 * size];

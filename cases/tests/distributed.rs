@@ -48,8 +48,13 @@ const CASES: [&str; 12] = [
 const METHODS: [Method; 2] = [Method::Biharmonic, Method::Laplacian];
 
 /// Most distributed iterations of the boundary-layer cylinder's biharmonic (to 1e-14), any rank
-/// count.
-const LAYERED_ITERATIONS: i64 = 115;
+/// count (73–76 with the serial donor rule on the distributed levels, 126–160 without).
+const LAYERED_ITERATIONS: i64 = 90;
+
+/// The cases whose distributed biharmonic takes at most two iterations more than the serial
+/// cycles (its levels interpolate by the serial donor rule): those without periodic links, split
+/// interfaces or slip walls, whose projected preconditioners take more (docs/PERFORMANCE.md).
+const NEAR_SERIAL: [&str; 2] = ["cylinder_channel | Biharmonic", "sphere_channel_1.5D_fixed | Biharmonic"];
 
 /// Most distributed iterations of the wall-layered airfoil's Laplacian to 1e-12, any rank count
 /// (46–47 without lines across its layers).
@@ -99,9 +104,17 @@ fn main() -> ExitCode {
         }
     }
     ok &= table.len() == CASES.len() * METHODS.len();
-    // The lines across the boundary-layer cylinder's wall layers and the serial smoothing
-    // degrees under them (docs/DESIGN.md §5, "Across ranks") bring its biharmonic to at most 115
-    // iterations on every rank count (126–160 with the lines at degree 8, 164–167 without them).
+    for ((_, name), (serial, runs)) in table.iter().filter(|((_, name), _)| NEAR_SERIAL.contains(&name.as_str())) {
+        let bound = numbers(serial).first().copied().unwrap_or(0) + 2;
+        if runs.iter().any(|r| numbers(r).iter().any(|&n| n > bound)) {
+            eprintln!("{name}: more than {bound} iterations (serial {serial}): {runs:?}");
+            ok = false;
+        }
+    }
+    // The lines across the boundary-layer cylinder's wall layers (docs/DESIGN.md §5, "Across
+    // ranks") the serial smoothing degrees under them and the serial donor rule
+    // bring its biharmonic to at most 90 iterations on every
+    // rank count (126–160 with the operator's rows, 167 on one rank without the lines).
     let layered = table.iter().find(|((_, name), _)| name == "boundary_layer_cylinder | Biharmonic");
     if let Some((_, (_, runs))) =
         layered.filter(|(_, (_, runs))| runs.iter().any(|r| numbers(r).iter().any(|&n| n > LAYERED_ITERATIONS)))

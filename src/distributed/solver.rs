@@ -24,7 +24,7 @@ use super::halo::HaloLayout;
 use super::interfaces;
 use super::kept::{Hierarchies, Kept};
 use super::level_layout::Distribution;
-use super::mg::{biharmonic_rows, owned_lines, CoupledSolve, Guide, OwnedRows, Smoothers, ROWS_PER_RANK};
+use super::mg::{biharmonic_rows, owned_lines, CoupledSolve, Guide, OwnedRows, Positions, Smoothers, ROWS_PER_RANK};
 use super::pcg::{pcg, OneLevel, Preconditioner};
 use super::reduce::{gather, max_over_ranks, sum_in_rank_order};
 use super::ties::{self, Ties};
@@ -106,6 +106,10 @@ pub struct DistSolution {
     pub level_ranks: Vec<u64>,
     /// The coarsest level is gathered onto one rank and factored there (else it is smoothed).
     pub coarsest_gathered: bool,
+    /// Internal, for the library's tests: a digest of each level's prolongation over all ranks
+    /// (its rows in global ids, weights to 2⁻³⁰), equal on every partition when P is.
+    #[doc(hidden)]
+    pub level_transfers: Vec<u64>,
 }
 
 /// A mesh mover for one distributed mesh, one method and one set of boundary conditions: each
@@ -279,6 +283,7 @@ impl DistributedSolver {
             level_messages: sizes.iter().map(|s| s.messages).collect(),
             level_ranks: sizes.iter().map(|s| s.ranks).collect(),
             coarsest_gathered,
+            level_transfers: sizes.iter().map(|s| s.transfer).collect(),
         };
         Ok((sol, solved.failure))
     }
@@ -426,7 +431,9 @@ impl DistributedSolver {
         let k = OwnedRows { a: free_rows(&op.k, flags, halo), gids: gids.to_vec(), halo: halo.clone() };
         if op.method == Method::Biharmonic {
             let a = biharmonic_rows(&op.k, &op.inv_v, flags, gids, halo, &[])?;
-            return Ok((a, Some(Guide { k, mass: op.mass() })));
+            let local = self.local();
+            let at = Positions::from_interleaved(local.coords(), local.dim(), local.num_vertices());
+            return Ok((a, Some(Guide { k, mass: op.mass(), at })));
         }
         Ok((k, None))
     }

@@ -16,7 +16,7 @@ pub mod level;
 pub(crate) mod local_level;
 pub(crate) mod line_smoother;
 pub(crate) mod lines;
-mod lsq;
+pub(crate) mod lsq;
 pub mod params;
 pub mod phases;
 mod refit;

@@ -11,7 +11,8 @@
 //! vertices: its columns get a halo of their own (owned entries as the mesh's, the others
 //! grouped by owner and ordered by global id), with exchange lists made as the mesh's are.
 
-use super::galerkin::{halo_rows, interpolation, product, GlobalRow};
+use super::donors::{interpolation, Positions};
+use super::galerkin::{halo_rows, product, GlobalRow};
 use super::OwnedRows;
 use crate::bc::{P, Z};
 use crate::distributed::agreement::agree;
@@ -150,14 +151,16 @@ fn too_large(me: usize, owned: usize) -> DistError {
 }
 
 /// What the biharmonic's coarse levels are made from: the free rows of K on a level (its owned
-/// rows over its local columns) and the lumped mass V of every local entry (the owners' values).
+/// rows over its local columns), the lumped mass V of every local entry (the owners' values) and
+/// the entries' positions, which the interpolation's least-squares rows are fitted to.
 pub(crate) struct Guide {
     pub(crate) k: OwnedRows,
     pub(crate) mass: Vec<f64>,
+    pub(crate) at: Positions,
 }
 
 /// The next coarser level of the biharmonic, as the serial kept levels are made: kept unknowns
-/// and interpolation P from K's strong couplings, K_c = Pᵀ K P and V_c = P₊ᵀ V (the positive
+/// from K's strong couplings and the interpolation P by the serial donor rule (`donors`), K_c = Pᵀ K P and V_c = P₊ᵀ V (the positive
 /// weights, so V_c stays positive), and A_c = K_c V_c⁻¹ K_c assembled across ranks with the
 /// columns of P's owned rows in its layout, or with `galerkin` the Galerkin product
 /// A_c = Pᵀ A P of `fine`'s own rows (below the first coarse level under wall layers, where
@@ -174,7 +177,7 @@ pub(super) fn coarsen(
     galerkin: bool,
 ) -> Result<Option<(OwnedRows, CsrMatrix, Guide)>, DistError> {
     let me = guide.k.halo.comm().rank();
-    let rows = interpolation(&guide.k);
+    let rows = interpolation(&guide.k, &guide.at)?;
     let Some((k, to_coarse)) = product(&guide.k, &rows)? else {
         return Ok(None);
     };
@@ -191,6 +194,7 @@ pub(super) fn coarsen(
         return Ok(product(fine, &rows)?.map(|(a, prolong)| (a, prolong, Guide { k, mass })));
     }
     let inv_v: Vec<f64> = mass.iter().map(|&v| 1.0 / v).collect();
+    let at = coarse_positions(&guide.k, &guide.at, &k)?;
     let mut extra: Vec<(usize, u64)> = rows.iter().flatten().filter(|e| e.1 != me).map(|e| (e.1, e.0)).collect();
     extra.sort_unstable();
     extra.dedup();
@@ -204,5 +208,33 @@ pub(super) fn coarsen(
         .flat_map(|(i, row)| row.iter().filter_map(move |&(g, _, w)| Some((i, *index.get(&g)?, w))))
         .collect();
     let prolong = CsrMatrix::from_triplets(fine.halo.len(), a.halo.len(), prolong);
-    Ok(Some((a, prolong, Guide { k, mass })))
+    Ok(Some((a, prolong, Guide { k, mass, at })))
+}
+
+/// The positions of the coarse level `coarse`'s local entries: each its fine unknown's (the one
+/// of the same global id, owned by the same rank), the halo's from their owners (collective).
+fn coarse_positions(fine: &OwnedRows, at: &Positions, coarse: &OwnedRows) -> Result<Positions, DistError> {
+    let me = fine.halo.comm().rank();
+    let index: HashMap<u64, usize> = fine.gids[..fine.halo.owned()].iter().zip(0..).map(|(&g, i)| (g, i)).collect();
+    let mut coords = vec![[0.0; 3]; coarse.halo.len()];
+    // A coarse unknown owned here is a fine unknown owned here; one that is not cannot occur,
+    // and is reported after the exchange, which every rank reaches.
+    let mut missing = None;
+    for (c, &g) in coords.iter_mut().zip(&coarse.gids[..coarse.halo.owned()]) {
+        match index.get(&g) {
+            Some(&i) => *c = at.coords[i],
+            None => {
+                missing.get_or_insert(g);
+            }
+        }
+    }
+    let mut coarse_at = Positions { coords, dim: at.dim };
+    coarse_at.refresh(&coarse.halo);
+    let checked = match missing {
+        Some(g) => {
+            Err(DistError::new(me, DistErrorKind::Solve, format!("rank {me} has no position for global id {g}")))
+        }
+        None => Ok(coarse_at),
+    };
+    agree(coarse.halo.comm(), checked)
 }

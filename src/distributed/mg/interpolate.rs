@@ -8,10 +8,9 @@
 //! prescribed unknown (a positive row sum) interpolates less. Each row needs only the rank's own
 //! row and the roles of its columns, so a rank computes the rows of its owned unknowns alone.
 //!
-//! The serial kept-unknowns coarsener fits least-squares weights to positions instead; across
-//! ranks the operator's row is at hand where the neighbours' positions would have to be fetched,
-//! and the Galerkin coarse operators here are assembled matrices, not rediscretised, so the
-//! operator-based weights are the ones that match them.
+//! These are the rows of the Laplacian's and the spring's levels, whose Galerkin coarse operators
+//! they match; the biharmonic's levels fit least-squares weights to positions by the serial
+//! donor rule (`donors`) and keep these rows where no bounded fit exists.
 
 use super::select::{DROPPED, KEPT};
 use super::OwnedRows;

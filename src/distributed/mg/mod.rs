@@ -7,9 +7,11 @@
 //! priorities from the global ids (`select`), interpolates the other unknowns from their kept
 //! strong neighbours with operator-based weights (`interpolate`), and forms the coarse operator
 //! as the Galerkin product Pᵀ A P across ranks (`galerkin`), so no coarse level needs a mesh.
-//! The biharmonic's levels follow K's coarsening instead, each A = K V⁻¹ K assembled across
-//! ranks (`biharmonic`; below the first coarse level of a hierarchy with lines across wall layers
-//! the Galerkin product of the level above, as serially), and its cycle is a W-cycle. A coarse level with few unknowns per rank
+//! The biharmonic's levels follow K's coarsening instead, interpolated by the serial levels'
+//! donor rule and least-squares fit over two rings of K (`donors`), each A = K V⁻¹ K assembled
+//! across ranks (`biharmonic`; below the first coarse level of a hierarchy with lines across
+//! wall layers the Galerkin product of the level above, as serially), and its cycle is a
+//! W-cycle. A coarse level with few unknowns per rank
 //! is moved onto fewer ranks, which carry it and the levels below on a communicator of their
 //! own (`agglomerate`, with the values moved by `mover`); once a level is small it is gathered
 //! onto one rank and solved there by a dense factor (`gathered`). The smoother is the serial multigrid's Chebyshev–Jacobi smoother on owned rows,
@@ -20,6 +22,7 @@ mod against_serial;
 mod agglomerate;
 mod biharmonic;
 mod coupled;
+mod donors;
 mod galerkin;
 mod gathered;
 mod interpolate;
@@ -47,6 +50,7 @@ use crate::sparse::{par_update, CsrMatrix};
 use agglomerate::{halvings, Agglomeration, Landing};
 pub(crate) use biharmonic::{biharmonic_rows, Guide};
 pub(crate) use coupled::CoupledSolve;
+pub(crate) use donors::Positions;
 use gathered::Gathered;
 pub(crate) use lines::owned_lines;
 use std::sync::Arc;
@@ -104,6 +108,9 @@ struct DistLevel {
     #[cfg(test)]
     gids: Vec<u64>,
     halo: Arc<HaloLayout>,
+    /// The digest of this rank's owned rows of the prolongation to the next coarser level
+    /// (`transfer_digest`; 0 on the coarsest).
+    digest: u64,
     /// When the next coarser level is agglomerated onto fewer ranks: the layout the
     /// prolongation's columns refer to on this level's ranks, and the move onto those ranks.
     landing: Option<Arc<Landing>>,
@@ -144,6 +151,9 @@ pub(crate) struct LevelSize {
     pub(crate) messages: u64,
     /// Ranks that hold the level (fewer than all where it is agglomerated).
     pub(crate) ranks: u64,
+    /// A digest of the prolongation from the next coarser level over all ranks
+    /// (`transfer_digest`): the same on every partition and rank count when P is.
+    pub(crate) transfer: u64,
 }
 
 /// The distributed multigrid preconditioner: its levels, its coarsest solve, its smoother and
@@ -174,7 +184,7 @@ impl Multigrid {
     /// one included), smoothed by `smoothers`, its coarse levels moved onto fewer ranks below
     /// `per_rank` unknowns per rank (collective; every rank returns the same result).
     ///
-    /// With a `guide` (the biharmonic's K and V beside its A = K V⁻¹ K) each coarse level is
+    /// With a `guide` (the biharmonic's K, V and positions beside its A = K V⁻¹ K) each coarse level is
     /// made from the guide's (`biharmonic::coarsen`); without, by the Galerkin product of the
     /// level above (and the biharmonic's below the first coarse level of a hierarchy with lines,
     /// `assembled_below`). `lines` are the finest level's lines across wall layers over its owned
@@ -217,12 +227,20 @@ impl Multigrid {
             ]);
         }
         let all = sum_in_rank_order(&self.comm, &mine);
+        let mut digests = vec![0u64; self.depth];
+        digests.iter_mut().zip(&self.levels).for_each(|(d, l)| *d = l.digest);
+        let mut transfer = vec![0u64; self.depth];
+        for rank in gather(&self.comm, &digests).chunks_exact(self.depth.max(1)) {
+            transfer.iter_mut().zip(rank).for_each(|(t, &d)| *t = t.wrapping_add(d));
+        }
         all.chunks_exact(4)
-            .map(|a| LevelSize {
+            .zip(transfer)
+            .map(|(a, transfer)| LevelSize {
                 rows: a[0] as u64,
                 halo_values: a[1] as u64,
                 messages: a[2] as u64,
                 ranks: a[3] as u64,
+                transfer,
             })
             .collect()
     }
@@ -413,8 +431,9 @@ fn levels_of(
         // A level small enough to gather goes onto one rank by its own solve.
         let ranks = next.halo.comm().size();
         let shift = if next_rows <= GATHER_ROWS { 0 } else { halvings(next_rows, ranks, per_rank) };
+        let digest = transfer_digest(&prolong, &current, &next.gids);
         if shift == 0 {
-            levels.push(dist_level((current, lines, band), Some(prolong), None));
+            levels.push(dist_level((current, lines, band), Some((prolong, digest)), None));
             (current, lines) = (next, next_lines);
             continue;
         }
@@ -426,18 +445,20 @@ fn levels_of(
         let sent_guide = guide.take().map(|g| {
             let mut mass = vec![0.0; landing.mover.len()];
             landing.mover.gather(&g.mass[..landing.mover.count()], &mut mass);
-            (agglomeration.send(&g.k), mass)
+            (agglomeration.send(&g.k), mass, g.at.moved(&landing.mover))
         });
         let moved_lines = lines::moved_lines(&next_lines, &landing.mover, next.halo.comm().rank());
-        levels.push(dist_level((current, lines, band), Some(prolong), Some(Arc::new(landing))));
+        levels.push(dist_level((current, lines, band), Some((prolong, digest)), Some(Arc::new(landing))));
         let Some(moved) = agglomeration.assemble(&sent)? else {
             return Ok((levels, None));
         };
-        if let Some((sent, mut mass)) = sent_guide {
+        if let Some((sent, mut mass, mut at)) = sent_guide {
             let k = agglomeration.assemble(&sent)?.ok_or_else(|| lost(&moved))?;
             mass.resize(k.halo.len(), 0.0);
             k.halo.refresh(&mut mass);
-            guide = Some(Guide { k, mass });
+            at.coords.resize(k.halo.len(), [0.0; 3]);
+            at.refresh(&k.halo);
+            guide = Some(Guide { k, mass, at });
         }
         (current, lines) = (moved, moved_lines);
     }
@@ -502,12 +523,30 @@ fn unknowns(a: &CsrMatrix, owned: usize) -> usize {
     (0..owned).filter(|&i| !a.row(i).0.is_empty()).count()
 }
 
+/// A digest of the owned rows of `p` (`fine`'s local entries × the local entries of the coarse
+/// level whose global ids are `coarse`): each entry's fine and coarse global ids and its weight
+/// to 2⁻³⁰ hashed, the hashes added, so that it depends on P's rows in global terms and not on
+/// which rank holds them.
+fn transfer_digest(p: &CsrMatrix, fine: &OwnedRows, coarse: &[u64]) -> u64 {
+    let mut digest = 0u64;
+    for i in 0..fine.halo.owned() {
+        let (cols, w) = p.row(i);
+        for (&c, &w) in cols.iter().zip(w) {
+            let q = (w * f64::from(1u32 << 30)).round() as i64 as u64;
+            let g = coarse.get(c as usize).copied().unwrap_or(u64::MAX);
+            digest = digest.wrapping_add(select::mix(select::mix(fine.gids[i]) ^ g).wrapping_add(q));
+        }
+    }
+    digest
+}
+
 /// The smoother's level of `m` (its empty rows and its halo prescribed, so neither is smoothed
 /// nor read as an unknown) with its `lines` (blocks of `band`) and the transfer `prolong` to the
-/// next coarser level (collective: the smoother's bound is estimated over every rank's rows).
+/// next coarser level with its digest (collective: the smoother's bound is estimated over every
+/// rank's rows).
 fn dist_level(
     (m, lines, band): (OwnedRows, Lines, usize),
-    prolong: Option<CsrMatrix>,
+    prolong: Option<(CsrMatrix, u64)>,
     landing: Option<Arc<Landing>>,
 ) -> DistLevel {
     let OwnedRows { a, halo, gids: _gids } = m;
@@ -515,7 +554,8 @@ fn dist_level(
     let flags: Vec<u8> = (0..n).map(|i| if i >= owned || a.row(i).0.is_empty() { P | Z } else { 0 }).collect();
     let op = LevelOperator::from_matrix(Method::Laplacian, a);
     let inv_d = vec![op.inv_l1_diag(&flags)];
-    let down = prolong.map(|p| {
+    let digest = prolong.as_ref().map_or(0, |p| p.1);
+    let down = prolong.map(|(p, _)| {
         let prolong = Arc::new(p);
         Transfer { restrict: Restriction::new(prolong.clone()), prolong }
     });
@@ -541,6 +581,7 @@ fn dist_level(
         #[cfg(test)]
         gids: _gids,
         halo,
+        digest,
         landing,
     }
 }

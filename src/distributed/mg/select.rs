@@ -82,7 +82,7 @@ pub(super) fn select(m: &OwnedRows, strong: &[Vec<u32>]) -> Vec<u8> {
 
 /// A well-mixed 64-bit hash of a global id (SplitMix64's finaliser): neighbouring ids get
 /// unrelated priorities, so the kept set is spread evenly instead of following the numbering.
-fn mix(id: u64) -> u64 {
+pub(super) fn mix(id: u64) -> u64 {
     let mut z = id.wrapping_add(0x9e37_79b9_7f4a_7c15);
     z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
     z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);

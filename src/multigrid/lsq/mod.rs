@@ -16,6 +16,9 @@ mod features;
 mod weights;
 
 pub(crate) use features::Features;
+// The distributed levels share the serial donor rule and fit.
+#[cfg(feature = "mpi")]
+pub(crate) use weights::{bounded, choose_donors, fit_offsets};
 
 use super::coarsen::CoarsenParams;
 use super::coarsener::{CoarseMesh, CoarseUnknowns, Coarsener};

@@ -122,7 +122,7 @@ impl Context<'_> {
     /// The donors of fine unknown `v` (fine numbering), ascending, and their fitted weights (None:
     /// no fit exists): its strongly coupled kept neighbours (`strong`) nearest first, then (only
     /// when those do not determine a bounded fit) its other kept neighbours and kept neighbours
-    /// of neighbours, nearest first, one at a time.
+    /// of neighbours, nearest first, one at a time (`choose_donors`).
     fn choose(&self, v: usize) -> (Vec<u32>, Option<Vec<f64>>) {
         let is_donor = |u: u32| self.coarse_of[u as usize] != u32::MAX && self.f.donor_ok(v, u as usize);
         // Nearest first (ties by index), each distance computed once.
@@ -132,76 +132,20 @@ impl Context<'_> {
             keyed.into_iter().map(|(_, u)| u).collect()
         };
         let row = self.k.row(v).0;
-        let mut cands = by_distance(super::strong(self.k, self.f, v, |u| self.rel(v, u)).filter(|&u| is_donor(u)).collect());
-        if self.donors != Donors::Strong {
-            // Only the nearest few: a far donor widens the Galerkin levels' stencils more than
-            // its weight improves the interpolation.
-            cands.truncate(FEWEST_MAX);
-        }
-        let fdim = self.f.feature_dim(v);
-        let near = cands.len();
-        let start = match self.donors {
-            Donors::Strong => near,
-            Donors::Fewest | Donors::AlongLines => (fdim + 1).min(near),
+        let near = by_distance(super::strong(self.k, self.f, v, |u| self.rel(v, u)).filter(|&u| is_donor(u)).collect());
+        let far = |near: &[u32]| {
+            let mut far: Vec<u32> = row
+                .iter()
+                .copied()
+                .chain(row.iter().flat_map(|&w| self.k.row(w as usize).0.iter().copied()))
+                .filter(|&u| u as usize != v && is_donor(u) && !near.contains(&u))
+                .collect();
+            far.sort_unstable();
+            far.dedup();
+            by_distance(far)
         };
-        if let Some(found) = self.first_bounded(v, &cands, start.max(1)) {
-            return found;
-        }
-        let mut far: Vec<u32> = row
-            .iter()
-            .copied()
-            .chain(row.iter().flat_map(|&w| self.k.row(w as usize).0.iter().copied()))
-            .filter(|&u| u as usize != v && is_donor(u) && !cands[..near].contains(&u))
-            .collect();
-        far.sort_unstable();
-        far.dedup();
-        cands.extend(by_distance(far));
-        let second = (near + 1).max(fdim + 1).min(cands.len());
-        if self.donors != Donors::Strong {
-            cands.truncate(FEWEST_MAX);
-            return self.first_bounded(v, &cands, second).unwrap_or_else(|| self.least_spread(v, &cands, fdim + 1));
-        }
-        self.first_bounded(v, &cands, second).unwrap_or_else(|| {
-            cands.sort_unstable();
-            let w = self.fit(v, &cands);
-            (cands, w)
-        })
-    }
-
-    /// Of the prefixes of `cands` at least `start` long, the one whose fit has the smallest
-    /// Σ|w|: its donors ascending and their weights; without any fit, `cands` with none (the
-    /// nearest of them then interpolates alone).
-    fn least_spread(&self, v: usize, cands: &[u32], start: usize) -> (Vec<u32>, Option<Vec<f64>>) {
-        let mut best: Option<(f64, Vec<u32>, Vec<f64>)> = None;
-        for m in start.max(1)..=cands.len() {
-            let mut set = cands[..m].to_vec();
-            set.sort_unstable();
-            if let Some(w) = self.fit(v, &set) {
-                let spread: f64 = w.iter().map(|w| w.abs()).sum();
-                if best.as_ref().is_none_or(|b| spread < b.0) {
-                    best = Some((spread, set, w));
-                }
-            }
-        }
-        match best {
-            Some((_, set, w)) => (set, Some(w)),
-            None => (cands.to_vec(), None),
-        }
-    }
-
-    /// The shortest prefix of `cands`, at least `start` long, whose fit exists with Σ|w| bounded:
-    /// its donors ascending and their weights.
-    fn first_bounded(&self, v: usize, cands: &[u32], start: usize) -> Option<(Vec<u32>, Option<Vec<f64>>)> {
-        for m in start.max(1)..=cands.len() {
-            let mut set = cands[..m].to_vec();
-            set.sort_unstable();
-            if let Some(w) = self.fit(v, &set) {
-                if w.iter().map(|w| w.abs()).sum::<f64>() <= MAX_ABS_SUM {
-                    return Some((set, Some(w)));
-                }
-            }
-        }
-        None
+        let fewest = self.donors != Donors::Strong;
+        choose_donors(near, far, self.f.feature_dim(v), fewest, |set| self.fit(v, set))
     }
 
     /// Row `v` of P from `donors` (fine numbering, ascending) and their `weights`, or the
@@ -223,52 +167,148 @@ impl Context<'_> {
     /// The weights of `donors` for `v`, or None when they do not determine a linear field
     /// along `v`'s feature.
     fn fit(&self, v: usize, donors: &[u32]) -> Option<Vec<f64>> {
-        let m = donors.len();
-        let fdim = self.f.feature_dim(v);
         let rel: Vec<[f64; 3]> = donors.iter().map(|&u| self.rel(v, u as usize)).collect();
-        if fdim == 0 || m == 0 {
-            return None;
-        }
-        let h2 = rel.iter().map(|&r| norm2(r)).fold(0.0, f64::max);
-        if h2 == 0.0 {
-            return None;
-        }
-        let h = h2.sqrt();
-        // The feature's axes from the donors' spread; the fit uses those across which the
-        // donors spread (all of them, unless the donors lie in a plane or on a line through
-        // `v`, as across a thin layer), and is then checked exact along all of them.
-        let (axes, spread) = principal_axes(&rel);
-        let k = (0..fdim).filter(|&i| spread[i] > SPREAD * spread[0]).count();
-        let q = k + 1;
-        // a[r][j]: row r of A (1, then the offsets along the axes over h).
-        let along = |r: &[f64; 3], ax: &[f64; 3]| (r[0] * ax[0] + r[1] * ax[1] + r[2] * ax[2]) / h;
-        let a: Vec<[f64; 4]> = rel
-            .iter()
-            .map(|r| {
-                let mut c = [1.0, 0.0, 0.0, 0.0];
-                for (i, ax) in axes.iter().enumerate().take(k) {
-                    c[i + 1] = along(r, ax);
-                }
-                c
-            })
-            .collect();
-        let omega: Vec<f64> = rel.iter().map(|&r| h2 / norm2(r).max(1e-300 * h2)).collect();
-        let mut mat = [[0.0; 4]; 4];
-        for (c, &w) in a.iter().zip(&omega) {
-            for i in 0..q {
-                for j in 0..q {
-                    mat[i][j] += w * c[i] * c[j];
-                }
+        fit_offsets(&rel, self.f.feature_dim(v))
+    }
+}
+
+/// The donors of an unknown and their weights: its candidates `near` (its strongly coupled kept
+/// neighbours), nearest first, then, only when no bounded fit exists among them, `far(near)`
+/// (its other kept unknowns within two rings of K's graph), nearest first, one at a time; ties
+/// in distance broken by `T`'s order, and each donor set fitted in ascending order (`fit`: its
+/// weights, or None). `fdim` is the dimension of the unknown's feature. With `fewest` a row
+/// starts from as few donors as the feature needs and holds `FEWEST_MAX` at most, the one of
+/// smallest Σ|w| when none is bounded; without, it starts from all of `near` and, when no
+/// prefix is bounded, takes every candidate's fit (None when there is none). The serial levels
+/// pass their unknowns' indices; the distributed levels the global ids, so that a row does not
+/// depend on how the unknowns are numbered on a rank.
+pub(crate) fn choose_donors<T: Copy + Ord>(
+    mut cands: Vec<T>,
+    far: impl FnOnce(&[T]) -> Vec<T>,
+    fdim: usize,
+    fewest: bool,
+    fit: impl Fn(&[T]) -> Option<Vec<f64>>,
+) -> (Vec<T>, Option<Vec<f64>>) {
+    if fewest {
+        // Only the nearest few: a far donor widens the Galerkin levels' stencils more than
+        // its weight improves the interpolation.
+        cands.truncate(FEWEST_MAX);
+    }
+    let near = cands.len();
+    let start = if fewest { (fdim + 1).min(near) } else { near };
+    if let Some(found) = first_bounded(&cands, start.max(1), &fit) {
+        return found;
+    }
+    let more = far(&cands[..near]);
+    cands.extend(more);
+    let second = (near + 1).max(fdim + 1).min(cands.len());
+    if fewest {
+        cands.truncate(FEWEST_MAX);
+        return first_bounded(&cands, second, &fit).unwrap_or_else(|| least_spread(&cands, fdim + 1, &fit));
+    }
+    first_bounded(&cands, second, &fit).unwrap_or_else(|| {
+        cands.sort_unstable();
+        let w = fit(&cands);
+        (cands, w)
+    })
+}
+
+/// Of the prefixes of `cands` at least `start` long, the one whose fit has the smallest Σ|w|:
+/// its donors ascending and their weights; without any fit, `cands` with none (the nearest of
+/// them then interpolates alone).
+fn least_spread<T: Copy + Ord>(
+    cands: &[T],
+    start: usize,
+    fit: impl Fn(&[T]) -> Option<Vec<f64>>,
+) -> (Vec<T>, Option<Vec<f64>>) {
+    let mut best: Option<(f64, Vec<T>, Vec<f64>)> = None;
+    for m in start.max(1)..=cands.len() {
+        let mut set = cands[..m].to_vec();
+        set.sort_unstable();
+        if let Some(w) = fit(&set) {
+            let spread: f64 = w.iter().map(|w| w.abs()).sum();
+            if best.as_ref().is_none_or(|b| spread < b.0) {
+                best = Some((spread, set, w));
             }
         }
-        let lambda = solve_spd(mat, q)?;
-        let w: Vec<f64> = a.iter().zip(&omega).map(|(c, &w)| w * (0..q).map(|r| c[r] * lambda[r]).sum::<f64>()).collect();
-        // Constants and linear fields along every axis of the feature hold to rounding, or the
-        // donors were too nearly degenerate (or `v` lies off their plane or line).
-        let sum_ok = (w.iter().sum::<f64>() - 1.0).abs() <= 1e-10;
-        let linear_ok = axes.iter().take(fdim).all(|ax| rel.iter().zip(&w).map(|(r, w)| w * along(r, ax)).sum::<f64>().abs() <= 1e-10);
-        (sum_ok && linear_ok).then_some(w)
     }
+    match best {
+        Some((_, set, w)) => (set, Some(w)),
+        None => (cands.to_vec(), None),
+    }
+}
+
+/// The shortest prefix of `cands`, at least `start` long, whose fit exists with Σ|w| bounded:
+/// its donors ascending and their weights.
+fn first_bounded<T: Copy + Ord>(
+    cands: &[T],
+    start: usize,
+    fit: impl Fn(&[T]) -> Option<Vec<f64>>,
+) -> Option<(Vec<T>, Option<Vec<f64>>)> {
+    for m in start.max(1)..=cands.len() {
+        let mut set = cands[..m].to_vec();
+        set.sort_unstable();
+        if let Some(w) = fit(&set) {
+            if bounded(&w) {
+                return Some((set, Some(w)));
+            }
+        }
+    }
+    None
+}
+
+/// Whether weights are bounded (Σ|w| ≤ `MAX_ABS_SUM`): no extrapolation far outside the donors.
+pub(crate) fn bounded(w: &[f64]) -> bool {
+    w.iter().map(|w| w.abs()).sum::<f64>() <= MAX_ABS_SUM
+}
+
+/// The weights of donors at offsets `rel` from an unknown whose feature has dimension `fdim`
+/// (the smallest Σ w²/ω that reproduces constants and linear fields along the feature), or
+/// None when they do not determine a linear field along it.
+pub(crate) fn fit_offsets(rel: &[[f64; 3]], fdim: usize) -> Option<Vec<f64>> {
+    let m = rel.len();
+    if fdim == 0 || m == 0 {
+        return None;
+    }
+    let h2 = rel.iter().map(|&r| norm2(r)).fold(0.0, f64::max);
+    if h2 == 0.0 {
+        return None;
+    }
+    let h = h2.sqrt();
+    // The feature's axes from the donors' spread; the fit uses those across which the
+    // donors spread (all of them, unless the donors lie in a plane or on a line through
+    // `v`, as across a thin layer), and is then checked exact along all of them.
+    let (axes, spread) = principal_axes(rel);
+    let k = (0..fdim).filter(|&i| spread[i] > SPREAD * spread[0]).count();
+    let q = k + 1;
+    // a[r][j]: row r of A (1, then the offsets along the axes over h).
+    let along = |r: &[f64; 3], ax: &[f64; 3]| (r[0] * ax[0] + r[1] * ax[1] + r[2] * ax[2]) / h;
+    let a: Vec<[f64; 4]> = rel
+        .iter()
+        .map(|r| {
+            let mut c = [1.0, 0.0, 0.0, 0.0];
+            for (i, ax) in axes.iter().enumerate().take(k) {
+                c[i + 1] = along(r, ax);
+            }
+            c
+        })
+        .collect();
+    let omega: Vec<f64> = rel.iter().map(|&r| h2 / norm2(r).max(1e-300 * h2)).collect();
+    let mut mat = [[0.0; 4]; 4];
+    for (c, &w) in a.iter().zip(&omega) {
+        for i in 0..q {
+            for j in 0..q {
+                mat[i][j] += w * c[i] * c[j];
+            }
+        }
+    }
+    let lambda = solve_spd(mat, q)?;
+    let w: Vec<f64> = a.iter().zip(&omega).map(|(c, &w)| w * (0..q).map(|r| c[r] * lambda[r]).sum::<f64>()).collect();
+    // Constants and linear fields along every axis of the feature hold to rounding, or the
+    // donors were too nearly degenerate (or `v` lies off their plane or line).
+    let sum_ok = (w.iter().sum::<f64>() - 1.0).abs() <= 1e-10;
+    let linear_ok = axes.iter().take(fdim).all(|ax| rel.iter().zip(&w).map(|(r, w)| w * along(r, ax)).sum::<f64>().abs() <= 1e-10);
+    (sum_ok && linear_ok).then_some(w)
 }
 
 /// Smallest spread (eigenvalue of the donors' offset moments) across an axis, relative to the
