@@ -188,13 +188,13 @@ pub(super) fn coarsen(
     }
     k.halo.add_to_owners(&mut mass);
     k.halo.refresh(&mut mass);
+    let at = coarse_positions(&guide.k, &guide.at, &k)?;
     if galerkin {
         // The rows of P are `fine`'s owned unknowns' too (A and K share their owned entries in
         // one order), so the product fetches P's halo rows over A's wider halo.
-        return Ok(product(fine, &rows)?.map(|(a, prolong)| (a, prolong, Guide { k, mass })));
+        return Ok(product(fine, &rows)?.map(|(a, prolong)| (a, prolong, Guide { k, mass, at })));
     }
     let inv_v: Vec<f64> = mass.iter().map(|&v| 1.0 / v).collect();
-    let at = coarse_positions(&guide.k, &guide.at, &k)?;
     let mut extra: Vec<(usize, u64)> = rows.iter().flatten().filter(|e| e.1 != me).map(|e| (e.1, e.0)).collect();
     extra.sort_unstable();
     extra.dedup();
