@@ -3,12 +3,14 @@
 //! `mpirun -np 4 --oversubscribe target/release/examples/distributed_laplacian 24`
 //! (further arguments: `tets` splits every cube into six tetrahedra, `tri` makes an n × n square
 //! of triangles instead; `blocks` partitions into hashed blocks instead of slabs; `one-level`
-//! preconditions by the smoother alone instead of the multigrid).
+//! preconditions by the smoother alone instead of the multigrid; `serial` also solves the whole
+//! mesh on rank 0 with the serial `Solver` and prints its cycles).
 
 #[path = "../tests/slabs/mod.rs"]
 mod slabs;
 
 use meshmove::distributed::{DistSolveParams, DistributedMesh};
+use meshmove::{BoundaryConditions, Mesh, Method, Motion, Options, Solver};
 use mpi::traits::*;
 use std::time::Instant;
 
@@ -37,6 +39,15 @@ fn main() {
     let mine = [dm.num_owned_vertices() as u64, dm.num_local_vertices() as u64, dm.halo_values_sent() as u64];
     let mut all = vec![0u64; 3 * size];
     world.all_gather_into(&mine[..], &mut all[..]);
+    if rank == 0 && has("serial") {
+        let all: Vec<f64> = (0..d.num_vertices()).flat_map(|v| slabs::motion(d.point(v))[..d.dim].to_vec()).collect();
+        let mut o = Options { method: Method::Laplacian, threads: 1, ..Default::default() };
+        o.solve.tol = params.tol;
+        let mesh = Mesh::from_data(&d).expect("a valid mesh");
+        let serial = Solver::new(&mesh, &BoundaryConditions::new(), o).expect("a serial solver");
+        let s = serial.solve(&Motion::from_displacement(all)).expect("a converged serial solve");
+        println!("serial: {} cycles to {:e}", s.report.cycles, params.tol);
+    }
     if rank == 0 {
         let col = |k: usize| all.chunks_exact(3).map(move |r| r[k]);
         println!(

@@ -120,8 +120,9 @@ fn rank_main() -> ExitCode {
     }
     // A quarter annulus large enough for the multigrid to coarsen: the coupled group's cycle
     // (its own smoother on the finest level, the components' coarse levels below) stays within
-    // 2.5 times the serial cycles for the Laplacian and 5 times (and 10) for the biharmonic,
-    // bounds the components' cycles projected exceed (docs/PERFORMANCE.md).
+    // 1.5 times the serial cycles for the Laplacian (its levels interpolating by the serial donor
+    // rule) and 5 times (and 10) for the biharmonic, bounds the components' cycles projected
+    // exceed (docs/PERFORMANCE.md).
     for method in [Method::Laplacian, Method::Biharmonic] {
         let annulus = bent(&grid2d(30, 48));
         solver_agrees_with_serial(&world, "2D quarter annulus 31×49", &annulus, method, Case::Slip { surface: false });
@@ -163,7 +164,8 @@ fn rank_main() -> ExitCode {
 
 /// The distributed Laplacian solve on the partition `owner` equals the serial one to 1e-10 of
 /// the motion (both to a relative residual of 1e-12), is bitwise the same on a second run and a
-/// second mesh with the same levels, and takes far fewer iterations than with one level.
+/// second mesh with the same levels, and takes no more iterations than the serial cycles (its
+/// levels interpolate by the serial donor rule) and far fewer than with one level.
 fn agrees_with_serial(world: &SimpleCommunicator, name: &str, d: &MeshData, owner: &[usize]) {
     let (rank, size) = (world.rank() as usize, world.size() as usize);
     let dim = d.dim;
@@ -203,8 +205,10 @@ fn agrees_with_serial(world: &SimpleCommunicator, name: &str, d: &MeshData, owne
     assert_eq!(sol.level_rows, third.level_rows, "{name}: a second mesh's levels differ");
     assert!(sol.level_rows.len() >= 2 && sol.coarsest_gathered, "{name}: levels {:?}", sol.level_rows);
     let one = dm.solve_laplacian(&boundary, &DistSolveParams { max_levels: 1, ..params }).unwrap();
+    let cycles = reference.report.cycles;
     for (mg, one) in sol.iterations.iter().zip(&one.iterations) {
-        assert!(*mg <= 15 && 3 * mg <= 2 * one, "{name}: {mg} iterations with the multigrid, {one} with one level");
+        let what = format!("{name}: {mg} iterations with the multigrid, {one} with one level, {cycles} serial cycles");
+        assert!(*mg <= cycles && 3 * mg <= 2 * one, "{what}");
     }
     // The default threshold (200 unknowns per rank) moves the first coarse level onto two of
     // three or four ranks; 0 keeps every level on every rank, 1 000 moves it onto one. All equal
@@ -234,7 +238,7 @@ fn agrees_with_serial(world: &SimpleCommunicator, name: &str, d: &MeshData, owne
             reference.report.cycles,
             worst / scale
         );
-        println!("multigrid: {name} | {:?} | {:?}", sol.iterations, sol.level_rows);
+        println!("multigrid: {name} | {:?} | {:?} {:?}", sol.iterations, sol.level_rows, sol.level_transfers);
         println!(
             "{size} ranks, {name}: ranks per level {:?} by default, {:?} below 1 000 per rank (iterations {:?}, \
              without agglomeration {:?}); halo values per exchange {:?}, {:?}, without {:?}",
@@ -563,7 +567,7 @@ fn solver_agrees_with_serial(
     let serial = reference.report.cycles;
     let bound = match (coupled, method) {
         (true, _) if d.num_vertices() <= 400 => Some(serial + 1),
-        (true, Method::Laplacian) => Some(5 * serial / 2),
+        (true, Method::Laplacian) => Some(3 * serial / 2),
         (true, _) => Some(5 * serial + 10),
         (false, Method::Biharmonic) => {
             let slack = if matches!(case, Case::ClampedBody) { serial / 2 } else { 2 };
@@ -574,12 +578,12 @@ fn solver_agrees_with_serial(
     if let Some(bound) = bound {
         assert!(sol.iterations.iter().all(|&i| i <= bound), "{what}: iterations {:?} above {bound}", sol.iterations);
     }
-    // The biharmonic's levels and their prolongations (digests of P's rows in global ids) are
-    // the same on every rank count: the launching process compares these lines.
+    // Every method's levels and their prolongations (digests of P's rows in global ids) are the
+    // same on every rank count: the launching process compares these lines.
     let slip = matches!(case, Case::Slip { .. } | Case::PeriodicSlip);
-    if method == Method::Biharmonic && !slip && sol.level_rows.len() >= 2 && rank == 0 {
+    if !slip && sol.level_rows.len() >= 2 && rank == 0 {
         println!(
-            "multigrid: {name}, biharmonic, {case:?} | {:?} | {:?} {:?}",
+            "multigrid: {name}, {method:?}, {case:?} | {:?} | {:?} {:?}",
             sol.iterations, sol.level_rows, sol.level_transfers
         );
     }

@@ -9,7 +9,8 @@
 //! and the quality report's inverted count and smallest area ratio (to 1e-10) against
 //! the serial one. The launching process prints the table of iterations (serial cycles against
 //! the distributed conjugate gradients' on 1–4 ranks) and checks that they do not depend on the
-//! rank count by more than one (a quarter for the solves tightened to 1e-14).
+//! rank count by more than one (a quarter for the solves tightened to 1e-14), and that the cases
+//! of [`NEAR_SERIAL`] stay within their bound of the serial cycles.
 
 #[path = "../../tests/slabs/mod.rs"]
 mod slabs;
@@ -52,14 +53,25 @@ const METHODS: [Method; 2] = [Method::Biharmonic, Method::Laplacian];
 /// has the counts before and after).
 const LAYERED_ITERATIONS: i64 = 60;
 
-/// The cases whose distributed biharmonic takes at most two iterations more than the serial
-/// cycles (its levels interpolate by the serial donor rule): those without periodic links, split
-/// interfaces or slip walls, whose projected preconditioners take more (docs/PERFORMANCE.md).
-const NEAR_SERIAL: [&str; 2] = ["cylinder_channel | Biharmonic", "sphere_channel_1.5D_fixed | Biharmonic"];
+/// The cases whose distributed iterations stay near the serial cycles (their levels interpolate
+/// by the serial donor rule), with the iterations they may take beyond them: the biharmonic two
+/// where no periodic links, split interfaces or slip walls make its preconditioner a projected
+/// one (docs/PERFORMANCE.md); the Laplacian one on every case whose hierarchy coarsens, slip
+/// walls and wall layers included.
+const NEAR_SERIAL: [(&str, i64); 7] = [
+    ("cylinder_channel | Biharmonic", 2),
+    ("sphere_channel_1.5D_fixed | Biharmonic", 2),
+    ("cylinder_channel | Laplacian", 1),
+    ("boundary_layer_cylinder | Laplacian", 1),
+    ("cylinder_channel_1.5D_slip | Laplacian", 1),
+    ("sphere_channel_1.5D_fixed | Laplacian", 1),
+    ("sphere_channel_1.5D_slip | Laplacian", 1),
+];
 
 /// Most distributed iterations of the wall-layered airfoil's Laplacian to 1e-12, any rank count
-/// (46–47 without lines across its layers).
-const AIRFOIL_ITERATIONS: usize = 30;
+/// (46–47 without lines across its layers, 28 with them and the operator's direct interpolation,
+/// 26 with the serial donor rule).
+const AIRFOIL_ITERATIONS: usize = 27;
 
 /// Most distributed iterations of the wall-layered airfoil's biharmonic to 1e-8, any rank count
 /// (without the assembled Galerkin A below the first coarse level its conjugate gradients break
@@ -105,8 +117,11 @@ fn main() -> ExitCode {
         }
     }
     ok &= table.len() == CASES.len() * METHODS.len();
-    for ((_, name), (serial, runs)) in table.iter().filter(|((_, name), _)| NEAR_SERIAL.contains(&name.as_str())) {
-        let bound = numbers(serial).first().copied().unwrap_or(0) + 2;
+    for ((_, name), (serial, runs)) in &table {
+        let Some(&(_, slack)) = NEAR_SERIAL.iter().find(|(near, _)| near == name) else {
+            continue;
+        };
+        let bound = numbers(serial).first().copied().unwrap_or(0) + slack;
         if runs.iter().any(|r| numbers(r).iter().any(|&n| n > bound)) {
             eprintln!("{name}: more than {bound} iterations (serial {serial}): {runs:?}");
             ok = false;

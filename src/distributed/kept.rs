@@ -8,7 +8,7 @@
 
 use super::error::DistError;
 use super::halo::HaloLayout;
-use super::mg::{CoupledSolve, Guide, LevelSize, Multigrid, OwnedRows, Smoothers};
+use super::mg::{Coarsening, CoupledSolve, LevelSize, Multigrid, OwnedRows, Smoothers};
 use super::reduce::max_over_ranks;
 use crate::multigrid::lines::Lines;
 use std::sync::{Mutex, MutexGuard, PoisonError};
@@ -36,7 +36,7 @@ impl Hierarchies {
     pub(crate) fn build(
         halo: &HaloLayout,
         flags: &[Vec<u8>],
-        mut fine: impl FnMut(usize) -> Result<(OwnedRows, Option<Guide>), DistError>,
+        mut fine: impl FnMut(usize) -> Result<(OwnedRows, Coarsening), DistError>,
         lines: &Lines,
         max_levels: usize,
         smoothers: Smoothers,
@@ -48,8 +48,8 @@ impl Hierarchies {
             // hierarchy; the decision is global, as the build is collective.
             let share = c > 0 && max_over_ranks(halo.comm(), f64::from(u8::from(flags[c] != flags[c - 1]))) == 0.0;
             if !share {
-                let (rows, guide) = fine(c)?;
-                multigrids.push(Multigrid::build(rows, guide, lines.clone(), max_levels, smoothers, per_rank)?);
+                let (rows, coarsening) = fine(c)?;
+                multigrids.push(Multigrid::build(rows, coarsening, lines.clone(), max_levels, smoothers, per_rank)?);
             }
             of_component.push(multigrids.len() - 1);
         }

@@ -24,7 +24,9 @@ use super::halo::HaloLayout;
 use super::interfaces;
 use super::kept::{Hierarchies, Kept};
 use super::level_layout::Distribution;
-use super::mg::{biharmonic_rows, owned_lines, CoupledSolve, Guide, OwnedRows, Positions, Smoothers, ROWS_PER_RANK};
+use super::mg::{
+    biharmonic_rows, owned_lines, Coarsening, CoupledSolve, Guide, OwnedRows, Positions, Smoothers, ROWS_PER_RANK,
+};
 use super::pcg::{pcg, OneLevel, Preconditioner};
 use super::reduce::{gather, max_over_ranks, sum_in_rank_order};
 use super::ties::{self, Ties};
@@ -422,20 +424,21 @@ impl DistributedSolver {
         CoupledSolve::new(&op, self.mesh.layout_global_ids(), self.halo(), self.ties.as_deref())
     }
 
-    /// The owned rows of component `c`'s operator, the multigrid's finest level, and what the
-    /// biharmonic's coarse levels are made from (collective): K's free rows for the Laplacian
-    /// and the spring; the biharmonic's K V⁻¹ K assembled, with K's free rows and V.
-    pub(crate) fn fine_rows(&self, c: usize) -> Result<(OwnedRows, Option<Guide>), DistError> {
+    /// The owned rows of component `c`'s operator, the multigrid's finest level, and what its
+    /// coarse levels are made from (collective): K's free rows for the Laplacian and the spring,
+    /// coarsened by Galerkin products at the local vertices' positions; the biharmonic's
+    /// K V⁻¹ K assembled, with its guide (K's free rows, V and the positions).
+    pub(crate) fn fine_rows(&self, c: usize) -> Result<(OwnedRows, Coarsening), DistError> {
         let (op, flags, halo) = (&self.level.op, &self.level.flags[c], self.halo());
         let gids = self.mesh.layout_global_ids();
         let k = OwnedRows { a: free_rows(&op.k, flags, halo), gids: gids.to_vec(), halo: halo.clone() };
+        let local = self.local();
+        let at = Positions::from_interleaved(local.coords(), local.dim(), local.num_vertices());
         if op.method == Method::Biharmonic {
             let a = biharmonic_rows(&op.k, &op.inv_v, flags, gids, halo, &[])?;
-            let local = self.local();
-            let at = Positions::from_interleaved(local.coords(), local.dim(), local.num_vertices());
-            return Ok((a, Some(Guide { k, mass: op.mass(), at })));
+            return Ok((a, Coarsening::Guide(Guide { k, mass: op.mass(), at })));
         }
-        Ok((k, None))
+        Ok((k, Coarsening::Galerkin(at)))
     }
 
     /// The lines across wall layers of the rank's owned vertices at the current reference
@@ -655,7 +658,8 @@ fn build_level(
 /// dimensions with `p` (`DistSolveParams::degree`), `layered` when some rank finds lines across wall layers: the
 /// caller's degree on every level; else the biharmonic's of the serial levels of kept unknowns
 /// (`policy::method_degrees`), whose rule the distributed levels share, and 4 on every level for
-/// the Laplacian and the spring.
+/// the Laplacian and the spring: their V-cycle at degree 4 takes no more iterations than the
+/// serial degrees 3 and 2 in a W-cycle on the same levels (docs/perf-history.md), at less work.
 fn smoother_degrees(p: &DistSolveParams, method: Method, dim: usize, layered: bool) -> (usize, usize) {
     match (p.degree, method) {
         (0, Method::Biharmonic) => method_degrees(method, dim, true, layered),

@@ -213,7 +213,7 @@ pub(super) fn coarsen(
 
 /// The positions of the coarse level `coarse`'s local entries: each its fine unknown's (the one
 /// of the same global id, owned by the same rank), the halo's from their owners (collective).
-fn coarse_positions(fine: &OwnedRows, at: &Positions, coarse: &OwnedRows) -> Result<Positions, DistError> {
+pub(super) fn coarse_positions(fine: &OwnedRows, at: &Positions, coarse: &OwnedRows) -> Result<Positions, DistError> {
     let me = fine.halo.comm().rank();
     let index: HashMap<u64, usize> = fine.gids[..fine.halo.owned()].iter().zip(0..).map(|(&g, i)| (g, i)).collect();
     let mut coords = vec![[0.0; 3]; coarse.halo.len()];

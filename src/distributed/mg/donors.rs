@@ -71,9 +71,9 @@ impl Positions {
     }
 }
 
-/// The P rows of `m`'s owned unknowns in global terms (`galerkin::interpolation`'s), the
-/// dropped ones by the serial donor rule from the positions `at` of `m`'s local entries
-/// (collective).
+/// The P rows of `m`'s owned unknowns in global terms (coarse global id, its owner, weight): a
+/// kept unknown (`select`) its own value, the dropped ones by the serial donor rule from the
+/// positions `at` of `m`'s local entries (collective).
 pub(super) fn interpolation(m: &OwnedRows, at: &Positions) -> Result<Vec<GlobalRow>, DistError> {
     let (owned, me) = (m.halo.owned(), m.halo.comm().rank());
     let owners = m.halo.owner_ranks();

@@ -1,5 +1,5 @@
-//! One coarsening step across ranks: the kept unknowns (`select`), the interpolation rows of the
-//! owned unknowns (`interpolate`), and the coarse operator Pᵀ A P with its own halo.
+//! The coarse operator of one coarsening step across ranks: Pᵀ A P with its own halo, from the
+//! interpolation rows of the owned unknowns in global terms (`donors`).
 //!
 //! A coarse unknown keeps the global id and the owner of the fine unknown it is. A rank's owned
 //! rows of A reach into its fine halo, so it fetches the P rows of its halo entries from their
@@ -9,8 +9,6 @@
 //! or an owned row of P names that another rank owns, grouped by owner and ordered by global id,
 //! as the fine layouts are.
 
-use super::interpolate::weights;
-use super::select::{select, strong};
 use super::OwnedRows;
 use crate::distributed::agreement::agree;
 use crate::distributed::dist_mesh::halo_lists;
@@ -25,27 +23,10 @@ use std::sync::Arc;
 /// A P row in global terms: (coarse global id, its owner rank, weight) per entry.
 pub(super) type GlobalRow = Vec<(u64, usize, f64)>;
 
-/// The next coarser level of `m` and the prolongation to it (fine local entries × coarse local
-/// entries; the fine halo's rows empty), or None when no rank keeps an unknown (collective).
-pub(super) fn coarsen(m: &OwnedRows) -> Result<Option<(OwnedRows, CsrMatrix)>, DistError> {
-    product(m, &interpolation(m))
-}
-
-/// The P rows of `m`'s owned unknowns in global terms: the kept unknowns (`select`) and the
-/// weights of the others (`interpolate`), from `m`'s strong couplings (collective).
-pub(super) fn interpolation(m: &OwnedRows) -> Vec<GlobalRow> {
-    let owners = m.halo.owner_ranks();
-    let strong = strong(m);
-    let state = select(m, &strong);
-    weights(m, &strong, &state)
-        .iter()
-        .map(|r| r.iter().map(|&(j, w)| (m.gids[j as usize], owners[j as usize], w)).collect())
-        .collect()
-}
-
 /// The Galerkin product Pᵀ m P with P's owned rows `owned_rows` (global terms; the rows of
 /// `m`'s owned entries, which may come from another operator over the same unknowns) and the
-/// prolongation to it, or None when no rank keeps an unknown (collective).
+/// prolongation to it (fine local entries × coarse local entries; the fine halo's rows empty),
+/// or None when no rank keeps an unknown (collective).
 pub(super) fn product(m: &OwnedRows, owned_rows: &[GlobalRow]) -> Result<Option<(OwnedRows, CsrMatrix)>, DistError> {
     let comm = m.halo.shared_comm().clone();
     let (me, size) = (comm.rank(), comm.size());

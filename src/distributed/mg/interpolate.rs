@@ -8,9 +8,8 @@
 //! prescribed unknown (a positive row sum) interpolates less. Each row needs only the rank's own
 //! row and the roles of its columns, so a rank computes the rows of its owned unknowns alone.
 //!
-//! These are the rows of the Laplacian's and the spring's levels, whose Galerkin coarse operators
-//! they match; the biharmonic's levels fit least-squares weights to positions by the serial
-//! donor rule (`donors`) and keep these rows where no bounded fit exists.
+//! Every level fits least-squares weights to positions by the serial donor rule (`donors`) and
+//! keeps these rows where no bounded fit exists.
 
 use super::select::{DROPPED, KEPT};
 use super::OwnedRows;

@@ -4,11 +4,13 @@
 //!
 //! Each level is a rank's owned rows over its local columns (owned, then a halo) with its own
 //! exchange lists. Coarsening keeps an independent set of the strong-coupling graph chosen by
-//! priorities from the global ids (`select`), interpolates the other unknowns from their kept
-//! strong neighbours with operator-based weights (`interpolate`), and forms the coarse operator
-//! as the Galerkin product Pᵀ A P across ranks (`galerkin`), so no coarse level needs a mesh.
-//! The biharmonic's levels follow K's coarsening instead, interpolated by the serial levels'
-//! donor rule and least-squares fit over two rings of K (`donors`), each A = K V⁻¹ K assembled
+//! priorities from the global ids (`select`), interpolates the other unknowns by the serial kept
+//! levels' donor rule and least-squares fit over two rings of the operator at the unknowns'
+//! positions (`donors`; the operator's own weights, `interpolate`, where no bounded fit exists),
+//! and forms the coarse operator as the Galerkin product Pᵀ A P across ranks (`galerkin`), so no
+//! coarse level needs a mesh: the Laplacian's and the spring's levels, as serially.
+//! The biharmonic's levels follow K's coarsening instead, interpolated by the same rule on K's
+//! graph (`donors`), each A = K V⁻¹ K assembled
 //! across ranks (`biharmonic`; below the first coarse level of a hierarchy with lines across
 //! wall layers the Galerkin product of the level above, as serially), and its cycle is a
 //! W-cycle. A coarse level with few unknowns per rank
@@ -80,6 +82,16 @@ pub(crate) struct OwnedRows {
     /// The global id of each local entry (unique over all ranks).
     pub(crate) gids: Vec<u64>,
     pub(crate) halo: Arc<HaloLayout>,
+}
+
+/// What a hierarchy's coarse levels are made from besides the finest level's rows.
+pub(crate) enum Coarsening {
+    /// The Galerkin product of the level above, interpolated by the serial donor rule at the
+    /// positions of the level's local entries (`donors`): the Laplacian's and the spring's
+    /// levels, as their serial kept levels are made.
+    Galerkin(Positions),
+    /// The biharmonic's guide (`biharmonic::coarsen`).
+    Guide(Guide),
 }
 
 /// The smoothers of the finest level and of every coarser one.
@@ -184,15 +196,16 @@ impl Multigrid {
     /// one included), smoothed by `smoothers`, its coarse levels moved onto fewer ranks below
     /// `per_rank` unknowns per rank (collective; every rank returns the same result).
     ///
-    /// With a `guide` (the biharmonic's K, V and positions beside its A = K V⁻¹ K) each coarse level is
-    /// made from the guide's (`biharmonic::coarsen`); without, by the Galerkin product of the
-    /// level above (and the biharmonic's below the first coarse level of a hierarchy with lines,
-    /// `assembled_below`). `lines` are the finest level's lines across wall layers over its owned
-    /// unknowns (`owned_lines`; none on meshes without such layers), smoothed as blocks there
-    /// and on the coarse levels that keep them (`lines`).
+    /// With `Coarsening::Guide` (the biharmonic's K, V and positions beside its A = K V⁻¹ K) each
+    /// coarse level is made from the guide's (`biharmonic::coarsen`; below the first coarse level
+    /// of a hierarchy with lines the Galerkin product of the level above, `assembled_below`);
+    /// with `Coarsening::Galerkin`, by the Galerkin product of the level above. `lines` are the
+    /// finest level's lines across wall layers over its owned unknowns (`owned_lines`; none on
+    /// meshes without such layers), smoothed as blocks there and on the coarse levels that keep
+    /// them (`lines`).
     pub(crate) fn build(
         fine: OwnedRows,
-        guide: Option<Guide>,
+        coarsening: Coarsening,
         lines: Lines,
         max_levels: usize,
         smoothers: Smoothers,
@@ -201,11 +214,12 @@ impl Multigrid {
         let comm = fine.halo.shared_comm().clone();
         // The biharmonic's coarse operators K_c V_c⁻¹ K_c are softer than the Galerkin product of
         // the level above, so one coarse visit corrects too little: the W-cycle's second visit
-        // makes it up, as in the serial cycle.
-        let visits = if guide.is_some() { 2 } else { 1 };
+        // makes it up, as in the serial cycle. The Galerkin levels need no second visit: with the
+        // donor rule their V-cycle takes as few iterations as a W-cycle (docs/perf-history.md).
+        let visits = if matches!(coarsening, Coarsening::Guide(_)) { 2 } else { 1 };
         // A failure on the ranks of an agglomerated level reaches the ranks idle below it here,
         // where every rank of the finest level meets again.
-        let (levels, coarsest) = agree(&comm, levels_of(fine, guide, lines, max_levels, per_rank))?;
+        let (levels, coarsest) = agree(&comm, levels_of(fine, coarsening, lines, max_levels, per_rank))?;
         // Rank 0 holds every level (it receives the rows of every agglomeration).
         let gathers = matches!(coarsest, Some(Coarsest::Gathered(_)));
         let shape = gather(&comm, &[levels.len() as u64, u64::from(gathers)]);
@@ -387,15 +401,20 @@ impl Multigrid {
 /// solve (collective over the ranks of each level; see `Multigrid::build`).
 fn levels_of(
     fine: OwnedRows,
-    guide: Option<Guide>,
+    coarsening: Coarsening,
     lines: Lines,
     max_levels: usize,
     per_rank: u64,
 ) -> Result<(Vec<DistLevel>, Option<Coarsest>), DistError> {
     let mut levels = Vec::new();
+    // The biharmonic's guide, or the positions of the current level's local entries.
+    let (mut guide, mut at) = match coarsening {
+        Coarsening::Guide(g) => (Some(g), None),
+        Coarsening::Galerkin(at) => (None, Some(at)),
+    };
     // The biharmonic's rows couple two neighbours along a line.
     let band = band_of(if guide.is_some() { Method::Biharmonic } else { Method::Laplacian });
-    let (mut current, mut guide, mut lines) = (fine, guide, lines);
+    let (mut current, mut lines) = (fine, lines);
     // The current level's operator is the assembled Galerkin product of the level above.
     let mut assembled = false;
     loop {
@@ -403,7 +422,7 @@ fn levels_of(
         let last = rows <= GATHER_ROWS || levels.len() + 1 >= max_levels.max(1);
         let coarse = match (&guide, last) {
             (_, true) => None,
-            (None, false) => galerkin::coarsen(&current)?,
+            (None, false) => galerkin_level(&current, &mut at)?,
             (Some(g), false) => {
                 // The serial rule on the level's lines over all its ranks (collective over them;
                 // asked only where it decides).
@@ -447,6 +466,7 @@ fn levels_of(
             landing.mover.gather(&g.mass[..landing.mover.count()], &mut mass);
             (agglomeration.send(&g.k), mass, g.at.moved(&landing.mover))
         });
+        let moved_at = at.take().map(|a| a.moved(&landing.mover));
         let moved_lines = lines::moved_lines(&next_lines, &landing.mover, next.halo.comm().rank());
         levels.push(dist_level((current, lines, band), Some((prolong, digest)), Some(Arc::new(landing))));
         let Some(moved) = agglomeration.assemble(&sent)? else {
@@ -460,8 +480,29 @@ fn levels_of(
             at.refresh(&k.halo);
             guide = Some(Guide { k, mass, at });
         }
+        if let Some(mut a) = moved_at {
+            a.coords.resize(moved.halo.len(), [0.0; 3]);
+            a.refresh(&moved.halo);
+            at = Some(a);
+        }
         (current, lines) = (moved, moved_lines);
     }
+}
+
+/// The next coarser level of `m` and the prolongation to it, as the serial kept levels of the
+/// Laplacian and the spring are made: P's rows by the serial donor rule at the positions `at` of
+/// `m`'s local entries (`donors`), the coarse operator the Galerkin product Pᵀ m P; `at` becomes
+/// the coarse level's positions. None when no rank keeps an unknown (collective).
+fn galerkin_level(m: &OwnedRows, at: &mut Option<Positions>) -> Result<Option<(OwnedRows, CsrMatrix)>, DistError> {
+    let Some(here) = at.as_ref() else {
+        return Ok(None);
+    };
+    let rows = donors::interpolation(m, here)?;
+    let Some((next, prolong)) = galerkin::product(m, &rows)? else {
+        return Ok(None);
+    };
+    *at = Some(biharmonic::coarse_positions(m, here, &next)?);
+    Ok(Some((next, prolong)))
 }
 
 /// The coarsest level `m` (`rows` unknowns over its ranks) after `levels`, and its solve
