@@ -1,15 +1,16 @@
-//! Times the distributed mesh and the distributed Laplacian solve on an n³ hexahedral box split
-//! into slabs by x (the `mpi` feature). Run under MPI, e.g.
+//! Times the distributed mesh and the distributed Laplacian (or spring) solve on an n³
+//! hexahedral box split into slabs by x (the `mpi` feature). Run under MPI, e.g.
 //! `mpirun -np 4 --oversubscribe target/release/examples/distributed_laplacian 24`
 //! (further arguments: `tets` splits every cube into six tetrahedra, `tri` makes an n × n square
 //! of triangles instead; `blocks` partitions into hashed blocks instead of slabs; `one-level`
-//! preconditions by the smoother alone instead of the multigrid; `serial` also solves the whole
-//! mesh on rank 0 with the serial `Solver` and prints its cycles).
+//! preconditions by the smoother alone instead of the multigrid; `spring` solves by the spring
+//! analogy instead; `serial` also solves the whole mesh on rank 0 with the serial `Solver` and
+//! prints its cycles).
 
 #[path = "../tests/slabs/mod.rs"]
 mod slabs;
 
-use meshmove::distributed::{DistSolveParams, DistributedMesh};
+use meshmove::distributed::{DistSolveParams, DistributedMesh, DistributedSolver};
 use meshmove::{BoundaryConditions, Mesh, Method, Motion, Options, Solver};
 use mpi::traits::*;
 use std::time::Instant;
@@ -31,8 +32,10 @@ fn main() {
     let t_mesh = t0.elapsed().as_secs_f64();
     let max_levels = if has("one-level") { 1 } else { DistSolveParams::default().max_levels };
     let params = DistSolveParams { tol: 1e-8, max_levels, ..Default::default() };
+    let method = if has("spring") { Method::Spring } else { Method::Laplacian };
     let t1 = Instant::now();
-    let sol = dm.solve_laplacian(&boundary, &params).expect("a converged solve");
+    let solver = DistributedSolver::new(&dm, &BoundaryConditions::new(), method, params).expect("a solver");
+    let sol = solver.solve(&Motion::from_displacement(boundary)).expect("a converged solve");
     world.barrier();
     let t_solve = t1.elapsed().as_secs_f64();
 
@@ -41,12 +44,12 @@ fn main() {
     world.all_gather_into(&mine[..], &mut all[..]);
     if rank == 0 && has("serial") {
         let all: Vec<f64> = (0..d.num_vertices()).flat_map(|v| slabs::motion(d.point(v))[..d.dim].to_vec()).collect();
-        let mut o = Options { method: Method::Laplacian, threads: 1, ..Default::default() };
+        let mut o = Options { method, threads: 1, ..Default::default() };
         o.solve.tol = params.tol;
         let mesh = Mesh::from_data(&d).expect("a valid mesh");
         let serial = Solver::new(&mesh, &BoundaryConditions::new(), o).expect("a serial solver");
         let s = serial.solve(&Motion::from_displacement(all)).expect("a converged serial solve");
-        println!("serial: {} cycles to {:e}", s.report.cycles, params.tol);
+        println!("serial {method:?}: {} cycles to {:e}", s.report.cycles, params.tol);
     }
     if rank == 0 {
         let col = |k: usize| all.chunks_exact(3).map(move |r| r[k]);
