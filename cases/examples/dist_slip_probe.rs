@@ -14,6 +14,11 @@ use meshmove::distributed::{DistSolveParams, DistributedMesh, DistributedSolver}
 use meshmove::{BoundaryConditions, Kind, Mesh, MeshData, Method, Motion, Options, Solver};
 use meshmove_cases::setups::{case, Scale};
 
+/// The SLIP cylinder channel with its ends (x = const) FIXED instead, its sides still SLIP.
+const ENDS_FIXED: &str = "cylinder_channel_ends_fixed";
+/// The SLIP cylinder channel with its sides (y = const) FIXED instead, its ends still SLIP.
+const SIDES_FIXED: &str = "cylinder_channel_sides_fixed";
+
 /// The annulus's inner curved wall and its straight side (`slabs::BODY`, `slabs::SIDE`).
 const ANNULUS: &str = "quarter_annulus_31x49";
 
@@ -28,13 +33,15 @@ fn main() {
         Some("laplacian") => vec![Method::Laplacian],
         _ => vec![Method::Biharmonic, Method::Laplacian],
     };
-    let all = ["cylinder_channel_1.5D_slip", "sphere_channel_1.5D_slip", ANNULUS];
+    let all = ["cylinder_channel_1.5D_slip", "sphere_channel_1.5D_slip", ANNULUS, ENDS_FIXED, SIDES_FIXED];
     for name in all.iter().filter(|n| names.is_empty() || names.iter().any(|m| m == *n)) {
-        let (mesh, bcs, motion) = if *name == ANNULUS {
-            annulus()
-        } else {
-            let s = case(name, Scale::Quick).expect("a case");
-            (s.mesh, s.bcs, s.motion)
+        let (mesh, bcs, motion) = match *name {
+            ANNULUS => annulus(),
+            ENDS_FIXED | SIDES_FIXED => split_channel(*name == ENDS_FIXED),
+            _ => {
+                let s = case(name, Scale::Quick).expect("a case");
+                (s.mesh, s.bcs, s.motion)
+            }
         };
         let d = mesh.to_data();
         let (dim, nv) = (d.dim, d.num_vertices());
@@ -118,4 +125,28 @@ fn annulus() -> (Mesh, BoundaryConditions, Motion) {
     let mut bcs = BoundaryConditions::new();
     bcs.set_kinds(slabs::BODY, Kind::Slip).set_kinds(slabs::SIDE, Kind::Slip);
     (Mesh::from_data(&out).expect("the annulus"), bcs, Motion { displacement, rigid: Vec::new() })
+}
+
+/// The slip-walled cylinder channel with the walls at its ends (`ends`) or along its sides made
+/// FIXED, the others left SLIP: which of the x component's walls (free along the sides, its
+/// normal prescribed without Z at the ends) the distributed levels treat unlike the serial ones.
+fn split_channel(ends: bool) -> (Mesh, BoundaryConditions, Motion) {
+    const FIXED_WALLS: i32 = 99;
+    let s = case("cylinder_channel_1.5D_slip", Scale::Quick).expect("a case");
+    let mut d = s.mesh.to_data();
+    let xs = (0..d.num_vertices()).map(|v| d.point(v)[0]);
+    let (lo, hi) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), x| (l.min(x), h.max(x)));
+    for f in 0..d.num_faces() {
+        let x: Vec<f64> = d.face(f).iter().map(|&v| d.point(v as usize)[0]).collect();
+        let at_end = x.iter().all(|&x| x == lo) || x.iter().all(|&x| x == hi);
+        let wall = s.bcs.is_slip(d.face_patch[f]);
+        if wall && at_end == ends {
+            d.face_patch[f] = FIXED_WALLS;
+        }
+    }
+    let mut bcs = s.bcs.clone();
+    bcs.set_kinds(FIXED_WALLS, Kind::Fixed);
+    let mesh = Mesh::from_data(&d).expect("the channel");
+    let motion = Motion { displacement: s.motion.displacement.clone(), rigid: s.motion.rigid.clone() };
+    (mesh, bcs, motion)
 }
