@@ -6,12 +6,14 @@
 //! the serial cycles, the largest difference from the serial displacement relative to the motion
 //! and the level sizes. Arguments: the case names to run (all without one) and
 //! `method=biharmonic` or `method=laplacian` (both without one).
+#[path = "common/against_serial.rs"]
+mod against_serial;
 #[path = "../../tests/slabs/mod.rs"]
 mod slabs;
 
+use against_serial::{compare, methods};
 use meshmove::distributed::mpi::traits::*;
-use meshmove::distributed::{DistSolveParams, DistributedMesh, DistributedSolver};
-use meshmove::{BoundaryConditions, Kind, Mesh, MeshData, Method, Motion, Options, Solver};
+use meshmove::{BoundaryConditions, Kind, Mesh, MeshData, Motion};
 use meshmove_cases::setups::{case, Scale};
 
 /// The SLIP cylinder channel with its ends (x = const) FIXED instead, its sides still SLIP.
@@ -25,14 +27,9 @@ const ANNULUS: &str = "quarter_annulus_31x49";
 fn main() {
     let universe = meshmove::distributed::mpi::initialize().expect("MPI initialises once");
     let world = universe.world();
-    let (rank, size) = (world.rank() as usize, world.size() as usize);
+    let size = world.size() as usize;
     let args: Vec<String> = std::env::args().skip(1).collect();
     let names: Vec<String> = args.iter().filter(|a| !a.contains('=')).cloned().collect();
-    let methods: Vec<Method> = match args.iter().find_map(|a| a.strip_prefix("method=")) {
-        Some("biharmonic") => vec![Method::Biharmonic],
-        Some("laplacian") => vec![Method::Laplacian],
-        _ => vec![Method::Biharmonic, Method::Laplacian],
-    };
     let all = ["cylinder_channel_1.5D_slip", "sphere_channel_1.5D_slip", ANNULUS, ENDS_FIXED, SIDES_FIXED];
     for name in all.iter().filter(|n| names.is_empty() || names.iter().any(|m| m == *n)) {
         let (mesh, bcs, motion) = match *name {
@@ -43,57 +40,10 @@ fn main() {
                 (s.mesh, s.bcs, s.motion)
             }
         };
-        let d = mesh.to_data();
-        let (dim, nv) = (d.dim, d.num_vertices());
         // The annulus on the slabs of `tests/distributed.rs`, the cases on those of theirs.
+        let d = mesh.to_data();
         let owner = if *name == ANNULUS { slabs::slab_owner(&d, size) } else { slabs::slabs_across_x(&d, size) };
-        let p = slabs::part(&d, &owner, rank, true);
-        let dm = DistributedMesh::new(&world, &p.data, &p.gids, &p.ghost).expect("the distributed mesh");
-        let given = &motion.displacement;
-        let local: Vec<f64> = p.global.iter().flat_map(|&v| given[v * dim..(v + 1) * dim].to_vec()).collect();
-        let local = Motion { displacement: local, rigid: motion.rigid.clone() };
-        for &method in &methods {
-            let tol = 1e-12;
-            let mut reference = vec![0.0; nv * dim];
-            let mut cycles = [0.0];
-            if rank == 0 {
-                let mut o = Options { method, threads: 1, ..Default::default() };
-                o.solve.tol = tol;
-                o.solve.max_cycles = 1000;
-                let s = Solver::new(&mesh, &bcs, o).expect("serial").solve(&motion).expect("solve");
-                reference = s.displacement;
-                cycles = [s.report.cycles as f64];
-            }
-            let root = world.process_at_rank(0);
-            root.broadcast_into(&mut reference[..]);
-            root.broadcast_into(&mut cycles[..]);
-            let scale = reference.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-            let params = DistSolveParams { tol, max_iterations: 2000, ..Default::default() };
-            let solver = DistributedSolver::new(&dm, &bcs, method, params).expect("solver");
-            let sol = match solver.solve(&local) {
-                Ok(sol) => sol,
-                Err(e) => {
-                    if rank == 0 {
-                        println!("{name} ({nv} vertices) {method:?} on {size} ranks: {e}");
-                    }
-                    continue;
-                }
-            };
-            let worst = slabs::largest_difference(&p.global, &sol.displacement, &reference, dim);
-            let mut all = vec![0.0; size];
-            world.all_gather_into(&worst, &mut all[..]);
-            let worst = all.iter().fold(0.0f64, |m, &x| m.max(x));
-            if rank == 0 {
-                println!(
-                    "{name} ({nv} vertices) {method:?} on {size} ranks: iterations {:?} (serial {}), apart {:.1e} of \
-                     the motion, levels {:?}",
-                    sol.iterations,
-                    cycles[0],
-                    worst / scale,
-                    sol.level_rows
-                );
-            }
-        }
+        compare(&world, name, (&mesh, &bcs, &motion), &owner, &methods(&args), &[1e-12]);
     }
 }
 
