@@ -1,0 +1,104 @@
+//! Distributed solves against the serial solver, for the distributed probes (included by
+//! path): rank 0 solves the whole mesh serially and sends the displacement and its cycles to
+//! every rank, each rank solves its part, and rank 0 prints the iterations, the largest
+//! difference relative to the motion and the level sizes.
+
+use meshmove::distributed::mpi::topology::SimpleCommunicator;
+use meshmove::distributed::mpi::traits::*;
+use meshmove::distributed::{DistSolveParams, DistributedMesh, DistributedSolver};
+use meshmove::{BoundaryConditions, Mesh, Method, Motion, Options, Solver};
+
+/// What one comparison solves: the whole mesh with its conditions and motion, and the rank's
+/// part of it (`part`: the whole mesh's vertex of each local vertex).
+struct Compared<'a> {
+    name: &'a str,
+    mesh: &'a Mesh,
+    bcs: &'a BoundaryConditions,
+    motion: &'a Motion,
+    dm: &'a DistributedMesh,
+    part: &'a [usize],
+    local: &'a Motion,
+}
+
+/// The methods `args` name (`method=biharmonic` or `method=laplacian`; both without one).
+pub fn methods(args: &[String]) -> Vec<Method> {
+    match args.iter().find_map(|a| a.strip_prefix("method=")) {
+        Some("biharmonic") => vec![Method::Biharmonic],
+        Some("laplacian") => vec![Method::Laplacian],
+        _ => vec![Method::Biharmonic, Method::Laplacian],
+    }
+}
+
+/// Solves `name` (`mesh` under `bcs` moved by `motion`) on the ranks' parts of it, each cell on
+/// the rank `owner` gives it, by every one of `methods` to every one of `tols`, each against the
+/// serial solver (`against_serial`; collective).
+pub fn compare(
+    world: &SimpleCommunicator,
+    name: &str,
+    (mesh, bcs, motion): (&Mesh, &BoundaryConditions, &Motion),
+    owner: &[usize],
+    methods: &[Method],
+    tols: &[f64],
+) {
+    let d = mesh.to_data();
+    let dim = d.dim;
+    let p = super::slabs::part(&d, owner, world.rank() as usize, true);
+    let dm = DistributedMesh::new(world, &p.data, &p.gids, &p.ghost).expect("the distributed mesh");
+    let given = &motion.displacement;
+    let local: Vec<f64> = p.global.iter().flat_map(|&v| given[v * dim..(v + 1) * dim].to_vec()).collect();
+    let local = Motion { displacement: local, rigid: motion.rigid.clone() };
+    let c = Compared { name, mesh, bcs, motion, dm: &dm, part: &p.global, local: &local };
+    for &method in methods {
+        for &tol in tols {
+            against_serial(world, &c, method, tol);
+        }
+    }
+}
+
+/// Solves `c` by `method` to `tol` serially (rank 0) and on the ranks, and prints on rank 0 the
+/// distributed iterations beside the serial cycles, the largest difference from the serial
+/// displacement relative to the motion and the level sizes, or the distributed solve's error
+/// (collective).
+fn against_serial(world: &SimpleCommunicator, c: &Compared, method: Method, tol: f64) {
+    let (rank, size) = (world.rank() as usize, world.size() as usize);
+    let (dim, nv) = (c.mesh.dim(), c.mesh.num_vertices());
+    let mut reference = vec![0.0; nv * dim];
+    let mut cycles = [0.0];
+    if rank == 0 {
+        let mut o = Options { method, threads: 1, ..Default::default() };
+        o.solve.tol = tol;
+        o.solve.max_cycles = 1000;
+        let s = Solver::new(c.mesh, c.bcs, o).expect("serial").solve(c.motion).expect("solve");
+        reference = s.displacement;
+        cycles = [s.report.cycles as f64];
+    }
+    let root = world.process_at_rank(0);
+    root.broadcast_into(&mut reference[..]);
+    root.broadcast_into(&mut cycles[..]);
+    let scale = reference.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let params = DistSolveParams { tol, max_iterations: 2000, ..Default::default() };
+    let solver = DistributedSolver::new(c.dm, c.bcs, method, params).expect("solver");
+    let what = format!("{} ({nv} vertices) {method:?} to {tol:e} on {size} ranks", c.name);
+    let sol = match solver.solve(c.local) {
+        Ok(sol) => sol,
+        Err(e) => {
+            if rank == 0 {
+                println!("{what}: {e}");
+            }
+            return;
+        }
+    };
+    let worst = super::slabs::largest_difference(c.part, &sol.displacement, &reference, dim);
+    let mut all = vec![0.0; size];
+    world.all_gather_into(&worst, &mut all[..]);
+    let worst = all.iter().fold(0.0f64, |m, &x| m.max(x));
+    if rank == 0 {
+        println!(
+            "{what}: iterations {:?} (serial {}), apart {:.1e} of the motion, levels {:?}",
+            sol.iterations,
+            cycles[0],
+            worst / scale,
+            sol.level_rows
+        );
+    }
+}
