@@ -8,6 +8,7 @@
 
 use super::fused::{FusePlan, Iterate};
 use super::galerkin_biharmonic::Assembled;
+use super::scatter::Scatter;
 use super::{close_diagonal, lumped_mass, spring_stiffness, stiffness_and_mass, stiffness_pattern, Method};
 use crate::bc::{Dofs, P, Z};
 use crate::sparse::{par_fill, par_update, par_update2, triple_product, triple_product_values, CsrMatrix};
@@ -25,6 +26,9 @@ pub struct LevelOperator {
     pub k: CsrMatrix,
     /// 1/V: only the inverse is kept (the operator multiplies by it; `mass` gives V back).
     pub inv_v: Vec<f64>,
+    /// Where the cells' element matrices add into `k` (`scatter.rs`), for `reassemble`; empty
+    /// on an operator not assembled from a mesh's cells.
+    pub(super) scatter: Scatter,
     /// The biharmonic's two passes fused on a large level (`fused.rs`); None keeps them apart.
     pub(super) fuse: Option<FusePlan>,
     /// The biharmonic's A of a coarse level assembled as the Galerkin product of the finer
@@ -40,7 +44,12 @@ impl LevelOperator {
     pub fn new(method: Method, mesh: &Mesh, dofs: &Dofs) -> Self {
         let k = stiffness_pattern(mesh, dofs);
         let fuse = fuse_plan(method, &k);
-        let mut op = LevelOperator { method, k, inv_v: Vec::new(), fuse, assembled: None, source_halo: None };
+        // The spring's weights are set edge by edge (`spring_stiffness`), not added by the map.
+        let scatter = match method {
+            Method::Spring => Scatter::default(),
+            _ => Scatter::new(&k, mesh, dofs),
+        };
+        let mut op = LevelOperator { method, k, inv_v: Vec::new(), scatter, fuse, assembled: None, source_halo: None };
         op.reassemble(mesh, dofs);
         op
     }
@@ -53,7 +62,7 @@ impl LevelOperator {
                 spring_stiffness(&mut self.k, mesh, dofs);
                 lumped_mass(mesh, dofs)
             }
-            _ => stiffness_and_mass(&mut self.k, mesh, dofs),
+            _ => stiffness_and_mass(&mut self.k, &self.scatter, mesh, dofs),
         };
         self.inv_v = mass.iter().map(|&v| 1.0 / v).collect();
     }
@@ -72,7 +81,7 @@ impl LevelOperator {
         close_diagonal(&mut k);
         let inv_v = galerkin_inv_mass(fine, restrict);
         let fuse = fuse_plan(fine.method, &k);
-        LevelOperator { method: fine.method, k, inv_v, fuse, assembled: None, source_halo: None }
+        LevelOperator { method: fine.method, k, inv_v, scatter: Scatter::default(), fuse, assembled: None, source_halo: None }
     }
 
     /// A second-order operator given as its matrix K (applied in one pass, unit mass): a
@@ -81,7 +90,7 @@ impl LevelOperator {
     pub(crate) fn from_matrix(method: Method, k: CsrMatrix) -> Self {
         debug_assert!(method != Method::Biharmonic, "a matrix is applied in one pass");
         let inv_v = vec![1.0; k.nrows];
-        LevelOperator { method, k, inv_v, fuse: None, assembled: None, source_halo: None }
+        LevelOperator { method, k, inv_v, scatter: Scatter::default(), fuse: None, assembled: None, source_halo: None }
     }
 
     /// `galerkin`'s values refilled in place when K's pattern and P's are those this operator

@@ -5,6 +5,7 @@ mod fused;
 mod general;
 mod galerkin_biharmonic;
 mod level;
+mod scatter;
 mod stiffness;
 
 pub(crate) use galerkin_biharmonic::assembled_below;

@@ -1,10 +1,12 @@
 //! Assembly of K (the stiffness ∫∇φ_i·∇φ_j, or spring weights) and the lumped mass V on the
 //! unknowns, from the element kernels of `geometry`.
 //!
-//! The pattern is built once per level; re-evaluating on a moved mesh only refills its values.
+//! The pattern is built once per level; re-evaluating on a moved mesh only refills its values, at
+//! the positions the scatter map (`scatter.rs`) computed with the pattern.
 //! Every entry sums its cells' contributions in cell order (serially on one or two threads, row
 //! by row beyond), so sums never depend on thread count.
 
+use super::scatter::Scatter;
 use crate::bc::Dofs;
 use crate::geometry::{dist2, CellPoints};
 use crate::sparse::CsrMatrix;
@@ -88,8 +90,9 @@ const MAX_COUPLINGS: usize = 28;
 /// `stiffness` and `lumped_mass` in one pass, bitwise both: each chunk of cells has its element
 /// matrices evaluated in parallel (a cell's stiffness and mass share its quadrature points), then
 /// added into K and V in cell order, as `stiffness` and `lumped_mass` add them: serially on one
-/// or two threads, row by row in parallel on more (`add_by_rows`), with the same sums either way.
-pub(crate) fn stiffness_and_mass(k: &mut CsrMatrix, mesh: &Mesh, dofs: &Dofs) -> Vec<f64> {
+/// or two threads, at the positions `scatter` holds (`Scatter::new(k, mesh, dofs)`), row by row
+/// in parallel on more (`add_by_rows`), with the same sums either way.
+pub(crate) fn stiffness_and_mass(k: &mut CsrMatrix, scatter: &Scatter, mesh: &Mesh, dofs: &Dofs) -> Vec<f64> {
     use rayon::prelude::*;
     use crate::geometry::MAX_CORNERS;
     k.vals.iter_mut().for_each(|v| *v = 0.0);
@@ -98,6 +101,8 @@ pub(crate) fn stiffness_and_mass(k: &mut CsrMatrix, mesh: &Mesh, dofs: &Dofs) ->
     // work than the serial loop's, which pays back only beyond two threads (profiled).
     let by_rows = (rayon::current_num_threads() > 2).then(|| RowCells::new(mesh, dofs));
     let mut elems = Vec::new();
+    // The next coupling's index in `scatter`: the cells are added in order.
+    let mut at = 0;
     for start in (0..mesh.num_cells()).step_by(ASSEMBLY_CHUNK) {
         let cells = start..(start + ASSEMBLY_CHUNK).min(mesh.num_cells());
         cells
@@ -123,20 +128,22 @@ pub(crate) fn stiffness_and_mass(k: &mut CsrMatrix, mesh: &Mesh, dofs: &Dofs) ->
                 continue;
             }
             let d = dofs.cell_dofs(mesh, c);
-            for (m, &[i, j]) in mesh.cell_type(c).couplings().iter().enumerate() {
+            let couplings = mesh.cell_type(c).couplings();
+            for (m, &[i, j]) in couplings.iter().enumerate() {
                 let (di, dj) = (d[i as usize] as usize, d[j as usize] as usize);
                 if di != dj {
-                    let a = k.find(di, dj).expect("coupling in pattern");
+                    let (a, b) = scatter.positions(k, at + m, di, dj);
                     k.vals[a] += kl[m];
-                    let b = k.find(dj, di).expect("coupling in pattern");
                     k.vals[b] += kl[m];
                 }
             }
+            at += couplings.len();
             for (q, &i) in d.iter().enumerate() {
                 v[i as usize] += ml[q];
             }
         }
     }
+    debug_assert!(by_rows.is_some() || at == scatter.len(), "the map holds every coupling");
     close_diagonal(k);
     v
 }
@@ -313,6 +320,46 @@ mod tests {
         Mesh::from_data(&d).unwrap()
     }
 
+    /// A box of n³ cubes, each split into six tetrahedra around its diagonal, the vertices
+    /// shifted off the grid so no two cells are alike.
+    fn tets(n: usize) -> Mesh {
+        let mut d = MeshData::new(3);
+        let m = n + 1;
+        let mut x = Vec::new();
+        for k in 0..m {
+            for j in 0..m {
+                for i in 0..m {
+                    let w = (i * 7 + j * 3 + k * 5) as f64 % 11.0 / 110.0;
+                    x.push([i as f64 + w, j as f64 - w, k as f64 + 0.5 * w]);
+                    d.push_vertex(x.last().unwrap());
+                }
+            }
+        }
+        // Six times the signed volume of the tetrahedron.
+        let volume = |t: &[u32; 4]| {
+            let e = |a: usize| -> [f64; 3] { std::array::from_fn(|r| x[t[a] as usize][r] - x[t[0] as usize][r]) };
+            let (a, b, c) = (e(1), e(2), e(3));
+            a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0])
+        };
+        let at = |i: usize, j: usize, k: usize| (i + m * (j + m * k)) as u32;
+        for k in 0..n {
+            for j in 0..n {
+                for i in 0..n {
+                    let c = [at(i, j, k), at(i + 1, j, k), at(i + 1, j + 1, k), at(i, j + 1, k)];
+                    let t = [at(i, j, k + 1), at(i + 1, j, k + 1), at(i + 1, j + 1, k + 1), at(i, j + 1, k + 1)];
+                    for q in [[c[1], c[2], t[2]], [c[2], c[3], t[2]], [c[3], t[3], t[2]], [t[3], t[0], t[2]], [t[1], c[1], t[2]], [t[0], t[1], t[2]]] {
+                        let mut tet = [c[0], q[0], q[1], q[2]];
+                        if volume(&tet) < 0.0 {
+                            tet.swap(1, 2);
+                        }
+                        d.push_cell(CellType::Tetra, &tet, 1);
+                    }
+                }
+            }
+        }
+        Mesh::from_data(&d).unwrap()
+    }
+
     /// Over several chunks of cells, the row-by-row adding of several threads is bitwise the
     /// serial loop of one thread.
     #[test]
@@ -322,8 +369,9 @@ mod tests {
         let dofs = Dofs::build(&mesh, &[], &[]);
         let run = |threads: usize| {
             let mut k = stiffness_pattern(&mesh, &dofs);
+            let scatter = Scatter::new(&k, &mesh, &dofs);
             let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
-            let v = pool.install(|| stiffness_and_mass(&mut k, &mesh, &dofs));
+            let v = pool.install(|| stiffness_and_mass(&mut k, &scatter, &mesh, &dofs));
             (k.vals, v)
         };
         let ((k1, v1), (k3, v3)) = (run(1), run(3));
@@ -333,19 +381,56 @@ mod tests {
     }
 
     /// The one-pass parallel assembly is bitwise the separate stiffness and lumped mass, from
-    /// several threads, on every 3D cell type.
+    /// one thread (the scatter map) and from several (row by row), on every 3D cell type.
     #[test]
     fn stiffness_and_mass_is_both_bitwise() {
         let mesh = solids();
         let dofs = Dofs::build(&mesh, &[], &[]);
         let mut k0 = stiffness_pattern(&mesh, &dofs);
-        let mut k1 = k0.clone();
+        let scatter = Scatter::new(&k0, &mesh, &dofs);
+        let (mut k1, mut k3) = (k0.clone(), k0.clone());
         stiffness(&mut k0, &mesh, &dofs);
         let v0 = lumped_mass(&mesh, &dofs);
-        let pool = rayon::ThreadPoolBuilder::new().num_threads(3).build().unwrap();
-        let v1 = pool.install(|| stiffness_and_mass(&mut k1, &mesh, &dofs));
+        let on = |threads: usize| rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        let v1 = on(1).install(|| stiffness_and_mass(&mut k1, &scatter, &mesh, &dofs));
+        let v3 = on(3).install(|| stiffness_and_mass(&mut k3, &scatter, &mesh, &dofs));
         let same = |a: &[f64], b: &[f64]| a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits());
         assert!(same(&k0.vals, &k1.vals) && same(&v0, &v1));
+        assert!(same(&k0.vals, &k3.vals) && same(&v0, &v3));
         assert!(k0.vals.iter().filter(|v| **v != 0.0).count() > 40 && v0.iter().all(|v| *v > 0.0));
+    }
+
+    /// Adding by the scatter map's positions is bitwise adding by the rows' search, on mixed
+    /// cells in 2D (triangles and quadrilaterals, two vertices linked into one unknown so a cell
+    /// holds a coupling of an unknown with itself) and 3D; the map holds every coupling.
+    #[test]
+    fn the_scatter_map_adds_as_the_search_does() {
+        let mut quads = MeshData::new(2);
+        for p in [[0., 0.], [1., 0.], [2., 0.1], [0., 1.], [1.1, 1.], [2., 1.], [1., 2.]] {
+            quads.push_vertex(&p);
+        }
+        quads.push_cell(CellType::Quad, &[0, 1, 4, 3], 1);
+        quads.push_cell(CellType::Triangle, &[1, 2, 5], 1);
+        quads.push_cell(CellType::Triangle, &[1, 5, 4], 1);
+        quads.push_cell(CellType::Triangle, &[3, 4, 6], 1);
+        let flat = Mesh::from_data(&quads).unwrap();
+        let cases = [(solids(), Vec::new()), (flat, vec![[2, 5]]), (tets(3), Vec::new())];
+        for (mesh, pairs) in cases {
+            let dofs = Dofs::build(&mesh, &pairs, &[]);
+            let k = stiffness_pattern(&mesh, &dofs);
+            let scatter = Scatter::new(&k, &mesh, &dofs);
+            let couplings: usize = (0..mesh.num_cells()).map(|c| mesh.cell_type(c).couplings().len()).sum();
+            assert_eq!(scatter.len(), couplings);
+            let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
+            let add = |s: &Scatter| {
+                let mut k = k.clone();
+                let v = one.install(|| stiffness_and_mass(&mut k, s, &mesh, &dofs));
+                (k.vals, v)
+            };
+            let (mapped, searched) = (add(&scatter), add(&Scatter::searching(couplings)));
+            let bits = |(k, v): &(Vec<f64>, Vec<f64>)| k.iter().chain(v).map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&mapped), bits(&searched));
+            assert!(mapped.0.iter().filter(|v| **v != 0.0).count() >= 2 * mesh.num_cells());
+        }
     }
 }
