@@ -563,9 +563,9 @@ impl Solver {
     }
 
     /// The solution and the seconds of its quality checks. A converged result with inverted
-    /// cells is polished (`polish`): solved on from itself to a tighter tolerance, and kept
-    /// when it still meets the caller's criterion; only a result still tangled after that is
-    /// returned tangled.
+    /// cells is polished (`polish`): solved on from itself to tighter tolerances, a decade at a
+    /// time while it stays tangled, each stage kept when it still meets the caller's criterion;
+    /// only a result still tangled after that is returned tangled.
     fn solve_inner(&self, motion: &Motion, guess: Option<&[f64]>) -> Result<(Solution, f64)> {
         let lev = self.h().fine();
         let vals = motion.vertex_values(lev.mesh());
@@ -574,8 +574,9 @@ impl Solver {
         let t = Instant::now();
         let mut quality = checked_quality(lev.mesh(), &displacement)?;
         let mut quality_s = t.elapsed().as_secs_f64();
-        let polish = polish::params(p, &report).filter(|_| quality.inverted > 0);
-        if let Some(tight) = polish {
+        let mut polish = polish::Polish::after(p, &report);
+        while quality.inverted > 0 {
+            let Some(tight) = polish.as_mut().and_then(|s| s.next(&report)) else { break };
             match self.solve_placed(motion, &vals, Some(&displacement), &tight) {
                 Ok((d, r)) if p.met(r.max_correction, r.rel_residual, Self::scale(&vals)) => {
                     let t = Instant::now();
@@ -585,9 +586,9 @@ impl Solver {
                     report = polish::chain(report, r);
                 }
                 Err(e @ Error::Cancelled(_)) => return Err(e),
-                // A polish that breaks down or leaves the caller's tolerance adds nothing to
-                // the converged result, which stands as it was.
-                _ => {}
+                // A stage that breaks down or leaves the caller's tolerance adds nothing to the
+                // converged result, which stands as it is.
+                _ => break,
             }
         }
         Ok((Solution { displacement, report, quality }, quality_s))
