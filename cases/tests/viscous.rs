@@ -171,7 +171,6 @@ fn a_true_tangle_survives_the_polish() {
     assert!(sol.report.polish_cycles > 0);
     assert!(sol.quality.inverted > 0);
     let stepped = s.advance(&m).unwrap();
-    assert_eq!(stepped.quality.inverted, sol.quality.inverted);
-    assert_eq!(stepped.displacement, sol.displacement);
-    assert_eq!(s.current_coords(), v.mesh.coords());
+    assert!(stepped.quality.inverted > 0);
+    assert!(s.current_coords() == v.mesh.coords(), "a tangled step became the mesh");
 }
