@@ -563,9 +563,9 @@ impl Solver {
     }
 
     /// The solution and the seconds of its quality checks. A converged result with inverted
-    /// cells under wall layers is polished (`polish`): solved on from itself to tighter tolerances, a decade at a
-    /// time while it stays tangled, each stage kept when it still meets the caller's criterion;
-    /// only a result still tangled after that is returned tangled.
+    /// cells under wall layers is polished (`polish`): solved on from itself to tighter
+    /// tolerances, a decade at a time while it stays tangled, each stage kept when it still
+    /// meets the caller's criterion; only a result still tangled after that is returned tangled.
     fn solve_inner(&self, motion: &Motion, guess: Option<&[f64]>) -> Result<(Solution, f64)> {
         let lev = self.h().fine();
         let vals = motion.vertex_values(lev.mesh());
