@@ -28,6 +28,7 @@ use std::time::Instant;
 
 mod deferred;
 pub(crate) mod memory;
+mod polish;
 mod progress;
 pub(crate) mod slip;
 pub(crate) mod steps;
@@ -561,11 +562,51 @@ impl Solver {
         }
     }
 
-    /// The solution and the seconds of its quality check.
+    /// The solution and the seconds of its quality checks. A converged result with inverted
+    /// cells under wall layers is polished (`polish`): solved on from itself to tighter
+    /// tolerances, a decade at a time while it stays tangled, each stage kept when it still
+    /// meets the caller's criterion; only a result still tangled after that is returned tangled.
     fn solve_inner(&self, motion: &Motion, guess: Option<&[f64]>) -> Result<(Solution, f64)> {
         let lev = self.h().fine();
         let vals = motion.vertex_values(lev.mesh());
-        let (mut displacement, mut report) = self.solve_groups(motion, &vals, guess)?;
+        let p = &self.opts.solve;
+        let (mut displacement, mut report) = self.solve_placed(motion, &vals, guess, p)?;
+        let t = Instant::now();
+        let mut quality = checked_quality(lev.mesh(), &displacement)?;
+        let mut quality_s = t.elapsed().as_secs_f64();
+        // Only under wall layers (a hierarchy with lines) can the tolerance's error exceed a
+        // cell; elsewhere a tangle is the method's and is returned as the solve left it.
+        let mut polish = polish::Polish::after(p, &report).filter(|_| self.h().has_lines());
+        while quality.inverted > 0 {
+            let Some(tight) = polish.as_mut().and_then(|s| s.next(&report)) else { break };
+            match self.solve_placed(motion, &vals, Some(&displacement), &tight) {
+                Ok((d, r)) if p.met(r.max_correction, r.rel_residual, Self::scale(&vals)) => {
+                    let t = Instant::now();
+                    quality = checked_quality(lev.mesh(), &d)?;
+                    quality_s += t.elapsed().as_secs_f64();
+                    displacement = d;
+                    report = polish::chain(report, r);
+                }
+                Err(e @ Error::Cancelled(_)) => return Err(e),
+                // A stage that breaks down or leaves the caller's tolerance adds nothing to the
+                // converged result, which stands as it is.
+                _ => break,
+            }
+        }
+        Ok((Solution { displacement, report, quality }, quality_s))
+    }
+
+    /// Solves every group with `p` and, with curved slip walls, follows the walls (a second
+    /// solve from the first result) and puts the slipped vertices back on them.
+    fn solve_placed(
+        &self,
+        motion: &Motion,
+        vals: &[f64],
+        guess: Option<&[f64]>,
+        p: &SolveParams,
+    ) -> Result<(Vec<f64>, Report)> {
+        let lev = self.h().fine();
+        let (mut displacement, mut report) = self.solve_groups(motion, vals, guess, p)?;
         if let Some(walls) = &self.walls {
             // Curved slip walls: the solve slides vertices in the walls' tangent planes. Their
             // second-order distances from the walls are prescribed as normal displacements in a
@@ -576,9 +617,9 @@ impl Solver {
             // alone (its shape is not known).
             walls.take_failure();
             let at = walls.placed_by(&motion.rigid);
-            let deformed = slip::deformed_patches(walls, lev, motion, &vals);
-            if let Some(on_wall) = slip::on_wall_values(walls, &at, lev, &deformed, &vals, &displacement) {
-                let (d, r) = self.solve_groups(motion, &on_wall, Some(&displacement))?;
+            let deformed = slip::deformed_patches(walls, lev, motion, vals);
+            if let Some(on_wall) = slip::on_wall_values(walls, &at, lev, &deformed, vals, &displacement) {
+                let (d, r) = self.solve_groups(motion, &on_wall, Some(&displacement), p)?;
                 displacement = d;
                 report = Report::chain(report, r);
             }
@@ -591,26 +632,18 @@ impl Solver {
                 ));
             }
         }
-        let t = Instant::now();
-        let quality = moved_quality(lev.mesh(), &displacement);
-        if !(quality.min_area_ratio.is_finite() && quality.max_area_ratio.is_finite())
-            || measures_overflow(lev.mesh(), &displacement)
-        {
-            // Finite displacements so large that the moved cells' measures overflow (a prescribed
-            // motion or a slip surface's point far beyond the mesh): no mesh can hold the result.
-            return Err(Error::InvalidArgument(format!(
-                "the moved mesh's cell areas (volumes) overflow double precision (largest displacement {:e}, on a \
-                 mesh about {:e} across): displacements must be of the order of the mesh",
-                Self::scale(&displacement),
-                extent(lev.mesh().coords(), lev.dim())
-            )));
-        }
-        Ok((Solution { displacement, report, quality }, t.elapsed().as_secs_f64()))
+        Ok((displacement, report))
     }
 
     /// Solves every group of components for the prescribed values `vals` (`dim` per vertex),
     /// from `guess`: the displacement of every vertex and the combined report.
-    fn solve_groups(&self, motion: &Motion, vals: &[f64], guess: Option<&[f64]>) -> Result<(Vec<f64>, Report)> {
+    fn solve_groups(
+        &self,
+        motion: &Motion,
+        vals: &[f64],
+        guess: Option<&[f64]>,
+        p: &SolveParams,
+    ) -> Result<(Vec<f64>, Report)> {
         let lev = self.h().fine();
         let scale = Self::scale(vals);
         // Displacements far from 1 are solved scaled by a power of two (exact), see `units`.
@@ -628,7 +661,7 @@ impl Solver {
                 units::scale(&mut b, f);
                 units::scale(&mut x, f);
             }
-            let mut rep = solve_until(self.h(), comps.clone(), &self.opts.solve, &b, &mut x, scale * f, &stop);
+            let mut rep = solve_until(self.h(), comps.clone(), p, &b, &mut x, scale * f, &stop);
             drop(b);
             if self.cancel.take() {
                 return Err(Error::Cancelled(format!(
@@ -916,6 +949,25 @@ fn extent(x: &[f64], dim: usize) -> f64 {
             axis.clone().fold(f64::NEG_INFINITY, |a, &v| a.max(v)) - axis.fold(f64::INFINITY, |a, &v| a.min(v))
         })
         .fold(0.0, f64::max)
+}
+
+/// Quality of `mesh` moved by `displacement` against `mesh`; displacements so large that the
+/// moved cells' measures overflow are an error.
+fn checked_quality(mesh: &Mesh, displacement: &[f64]) -> Result<Quality> {
+    let quality = moved_quality(mesh, displacement);
+    if !(quality.min_area_ratio.is_finite() && quality.max_area_ratio.is_finite())
+        || measures_overflow(mesh, displacement)
+    {
+        // Finite displacements so large that the moved cells' measures overflow (a prescribed
+        // motion or a slip surface's point far beyond the mesh): no mesh can hold the result.
+        return Err(Error::InvalidArgument(format!(
+            "the moved mesh's cell areas (volumes) overflow double precision (largest displacement {:e}, on a mesh \
+             about {:e} across): displacements must be of the order of the mesh",
+            Solver::scale(displacement),
+            extent(mesh.coords(), mesh.dim())
+        )));
+    }
+    Ok(quality)
 }
 
 /// Quality of `mesh` moved by `displacement` against `mesh`.

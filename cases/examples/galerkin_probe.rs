@@ -45,6 +45,30 @@ fn main() {
     );
     print!("{}", solver.describe());
     let mut its = Vec::new();
+    if steps == 1 {
+        // One step by `solve`, whose report tells the polish's cycles apart.
+        let t = Instant::now();
+        match solver.solve(&motion) {
+            Ok(sol) => {
+                let moved: Vec<f64> = v.mesh.coords().iter().zip(&sol.displacement).map(|(x, d)| x + d).collect();
+                println!(
+                    "step 1: {} iterations (polish {}), residual {:.2e}, converged {}, inverted {}, min volume {:.4}, first layer {:?}, first 10 layers {:?}, solve {:.2} s, step {:.2} s",
+                    sol.report.cycles,
+                    sol.report.polish_cycles,
+                    sol.report.rel_residual,
+                    sol.report.converged,
+                    sol.quality.inverted,
+                    sol.quality.min_area_ratio,
+                    layer_volume_ratios(&v, &moved, 1),
+                    layer_volume_ratios(&v, &moved, 10),
+                    sol.report.seconds,
+                    t.elapsed().as_secs_f64()
+                );
+            }
+            Err(e) => println!("step 1: {e}"),
+        }
+        return;
+    }
     for i in 0..steps {
         let t = Instant::now();
         match solver.advance(&motion.increment(i, steps)) {

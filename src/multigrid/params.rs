@@ -47,6 +47,17 @@ pub struct SolveParams {
     pub cheb_lower_ratio: Option<f64>,
 }
 
+impl SolveParams {
+    /// True when a cycle's largest correction `max_corr` and relative residual `rel` meet the
+    /// criterion (`scale`: the largest prescribed displacement).
+    pub(crate) fn met(&self, max_corr: f64, rel: f64, scale: f64) -> bool {
+        match self.criterion {
+            Criterion::RelativeResidual => rel <= self.tol,
+            Criterion::MaxCorrection => max_corr <= self.tol * scale,
+        }
+    }
+}
+
 impl Default for SolveParams {
     fn default() -> Self {
         SolveParams {

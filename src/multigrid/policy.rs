@@ -101,15 +101,14 @@ impl CycleParams {
     }
 }
 
-/// The Chebyshev degrees (finest level, coarse levels) of `method` in `dim` dimensions on a
+/// The Chebyshev degrees (finest level, coarse levels) of `method` (the same in 2D and 3D) on a
 /// hierarchy with levels of kept unknowns (`kept`) and lines across wall layers (`lines`) when
 /// the caller sets none: the rule of `degrees` below, which the distributed biharmonic's levels
 /// of kept unknowns share.
-pub(crate) fn method_degrees(method: Method, dim: usize, kept: bool, lines: bool) -> (usize, usize) {
+pub(crate) fn method_degrees(method: Method, _dim: usize, kept: bool, lines: bool) -> (usize, usize) {
     match (method, kept) {
         (Method::Biharmonic, false) => (6, 4),
-        (Method::Biharmonic, true) if lines && dim == 2 => (16, 16),
-        (Method::Biharmonic, true) if lines => (10, 16),
+        (Method::Biharmonic, true) if lines => (16, 16),
         (Method::Biharmonic, true) => (8, 8),
         _ => (3, 2),
     }
@@ -123,12 +122,12 @@ pub(crate) fn method_degrees(method: Method, dim: usize, kept: bool, lines: bool
 ///   smoothing pays), and with slip walls the coarse levels at the finest level's degree (the
 ///   natural tangential condition makes the rediscretised coarse operators' boundary rows a
 ///   poorer match) unless the caller chose the coarse degree;
-///   and below thin wall layers (levels with lines, `multigrid::lines`) 10 and 16 in 3D, 16 on
-///   every level in 2D: the coarse levels' Galerkin operators, many layers thick, need the
-///   stronger smoothing, and in 2D the finest level's smoothing is what keeps the count as the
-///   mesh grows and on re-referenced meshes, whose interpolation rows are fitted again; in 3D
-///   degree 16 lowers the counts too but the wing's 1e-8 solution then inverts cells at its
-///   trailing edge (docs/perf-history.md);
+///   and below thin wall layers (levels with lines, `multigrid::lines`) 16 on every level, in
+///   2D and 3D: the coarse levels' Galerkin operators, many layers thick, need the stronger
+///   smoothing, and the finest level's smoothing is what keeps the count as the mesh grows and
+///   on re-referenced meshes, whose interpolation rows are fitted again (a 1e-8 result that
+///   this leaves tangled in the thinnest cells is polished by the solver, `solver::polish`;
+///   docs/perf-history.md);
 /// - the Laplacian and the spring: 3 and 2.
 pub(crate) fn degrees(h: &Hierarchy, p: &SolveParams) -> (usize, usize) {
     let (fine, coarse) = method_degrees(h.method, h.fine().dim(), h.has_kept_levels(), h.has_lines());

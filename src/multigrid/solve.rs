@@ -36,6 +36,11 @@ pub struct Report {
     /// (the solve slides vertices along the wall's tangent planes, which a curved wall leaves by
     /// a second-order distance).
     pub max_slip_correction: f64,
+    /// Of `cycles`, those of the polish: a converged result with inverted cells is solved on
+    /// from itself to a tighter tolerance before it is reported tangled (docs/DESIGN.md §5,
+    /// "Wall layers"); 0 when no polish ran, and in the summary of a call's steps (whose
+    /// `cycles` include every polish).
+    pub polish_cycles: usize,
 }
 
 impl Report {
@@ -58,6 +63,7 @@ impl Report {
                 .collect(),
             max_slip_offwall: a.max_slip_offwall.max(b.max_slip_offwall),
             max_slip_correction: a.max_slip_correction.max(b.max_slip_correction),
+            polish_cycles: a.polish_cycles.max(b.polish_cycles),
         }
     }
 }
@@ -68,19 +74,13 @@ impl Report {
     pub(crate) fn chain(a: Report, b: Report) -> Report {
         Report {
             cycles: a.cycles + b.cycles,
+            polish_cycles: a.polish_cycles + b.polish_cycles,
             converged: a.converged && b.converged,
             breakdown: a.breakdown.or(b.breakdown),
             seconds: a.seconds + b.seconds,
             history: a.history.into_iter().chain(b.history).collect(),
             ..b
         }
-    }
-}
-
-fn done(p: &SolveParams, max_corr: f64, rel: f64, scale: f64) -> bool {
-    match p.criterion {
-        Criterion::RelativeResidual => rel <= p.tol,
-        Criterion::MaxCorrection => max_corr <= p.tol * scale,
     }
 }
 
@@ -188,7 +188,7 @@ impl Run<'_> {
         rep.history.push((max_corr, rel));
         rep.cycles = k;
         rep.max_correction = max_corr;
-        rep.converged = done(self.p, max_corr, rel, self.scale);
+        rep.converged = self.p.met(max_corr, rel, self.scale);
         rep.converged || !rel.is_finite() || rel > DIVERGED || (self.stop)()
     }
 

@@ -442,5 +442,6 @@ fn summary(steps: &[StepReport], t0: Instant) -> Report {
         history: Vec::new(),
         max_slip_offwall: acc.clone().map(|r| r.max_slip_offwall).fold(0.0, f64::max),
         max_slip_correction: 0.0,
+        polish_cycles: 0,
     }
 }
