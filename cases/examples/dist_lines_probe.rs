@@ -74,11 +74,12 @@ fn main() {
                 if rank == 0 {
                     println!(
                         "{name} ({nv} vertices) {method:?} to {tol:e} on {size} ranks: iterations {:?} (serial {}), \
-                         apart {:.1e} of the motion, levels {:?}",
+                         apart {:.1e} of the motion, levels {:?}, transfers {:?}",
                         sol.iterations,
                         cycles[0],
                         worst / scale,
-                        sol.level_rows
+                        sol.level_rows,
+                        sol.level_transfers
                     );
                 }
             }
