@@ -46,7 +46,14 @@ struct Entry {
 
 impl Entry {
     fn words(&self) -> [u64; ENTRY] {
-        [self.gid, self.owner as u64, u64::from(self.kept), self.at[0].to_bits(), self.at[1].to_bits(), self.at[2].to_bits()]
+        [
+            self.gid,
+            self.owner as u64,
+            u64::from(self.kept),
+            self.at[0].to_bits(),
+            self.at[1].to_bits(),
+            self.at[2].to_bits(),
+        ]
     }
 
     fn read(w: &[u64]) -> Entry {
@@ -67,7 +74,12 @@ struct Segment {
 /// where the least-squares fit decides (collective over `m`'s ranks). `lines` are the level's
 /// segments over its owned unknowns, `at` the positions of its local entries and `kept(i)` whether
 /// local entry i is a kept unknown.
-pub(super) fn rows(m: &OwnedRows, at: &[[f64; 3]], lines: &Lines, kept: impl Fn(usize) -> bool) -> Vec<Option<GlobalRow>> {
+pub(super) fn rows(
+    m: &OwnedRows,
+    at: &[[f64; 3]],
+    lines: &Lines,
+    kept: impl Fn(usize) -> bool,
+) -> Vec<Option<GlobalRow>> {
     let (comm, owned, n) = (m.halo.comm(), m.halo.owned(), m.halo.len());
     let (me, size) = (comm.rank(), comm.size());
     let owners = m.halo.owner_ranks();
@@ -98,7 +110,8 @@ pub(super) fn rows(m: &OwnedRows, at: &[[f64; 3]], lines: &Lines, kept: impl Fn(
 
     // Labels: the least global id over the segments linked across cuts.
     let mut label = vec![NONE; n];
-    let mut seg_label: Vec<u64> = segments.iter().map(|(s, _)| s.entries.iter().map(|e| e.gid).min().unwrap_or(NONE)).collect();
+    let mut seg_label: Vec<u64> =
+        segments.iter().map(|(s, _)| s.entries.iter().map(|e| e.gid).min().unwrap_or(NONE)).collect();
     let local_of: HashMap<u64, usize> = m.gids.iter().zip(0..).map(|(&g, i)| (g, i)).collect();
     for _ in 0..MAX_ROUNDS {
         for (l, &lab) in seg_label.iter().enumerate() {
@@ -162,11 +175,17 @@ pub(super) fn rows(m: &OwnedRows, at: &[[f64; 3]], lines: &Lines, kept: impl Fn(
                 [q[0] - p[0], q[1] - p[1], q[2] - p[2]]
             };
             let coarse = |u: usize| line[u].kept.then_some((line[u].gid, line[u].owner));
-            rows_on_line(&ext, &rel, coarse, |_, _| true, |v, row| {
-                let to = &mut back[line[v].owner];
-                to.extend([line[v].gid, row.len() as u64]);
-                row.iter().for_each(|&((g, o), w)| to.extend([g, o as u64, w.to_bits()]));
-            });
+            rows_on_line(
+                &ext,
+                &rel,
+                coarse,
+                |_, _| true,
+                |v, row| {
+                    let to = &mut back[line[v].owner];
+                    to.extend([line[v].gid, row.len() as u64]);
+                    row.iter().for_each(|&((g, o), w)| to.extend([g, o as u64, w.to_bits()]));
+                },
+            );
         }
     }
     let received = all_to_all(comm, &back);
@@ -270,4 +289,48 @@ fn chain(mut segs: Vec<Segment>) -> Vec<Vec<Entry>> {
         lines.push(ext);
     }
     lines
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn at(gid: u64, kept: bool) -> Entry {
+        Entry { gid, owner: (gid % 3) as usize, kept, at: [0.0, gid as f64, 0.0] }
+    }
+
+    fn gids(line: &[Entry]) -> Vec<u64> {
+        line.iter().map(|e| e.gid).collect()
+    }
+
+    /// A line 10..=15 above a wall vertex 1, cut into three segments on three ranks: the lower
+    /// one in order, the middle one a single unknown, the upper one reversed. They chain into the
+    /// whole line from its lower global id, extended by the kept wall vertex; a segment whose
+    /// neighbour beyond does not look back stays apart.
+    #[test]
+    fn segments_chain_into_the_whole_line() {
+        let seg = |ids: &[u64], beyond: [Option<Entry>; 2]| Segment {
+            entries: ids.iter().map(|&g| at(g, g % 2 == 0)).collect(),
+            beyond,
+        };
+        let lower = seg(&[10, 11], [Some(at(1, true)), Some(at(12, true))]);
+        let middle = seg(&[12], [None, None]);
+        let upper = seg(&[15, 14, 13], [None, Some(at(12, true))]);
+        let lines = chain(vec![upper.clone(), middle, lower.clone()]);
+        assert_eq!(lines.len(), 1);
+        assert_eq!(gids(&lines[0]), [1, 10, 11, 12, 13, 14, 15]);
+
+        // Two segments linked both ways, the end beyond the upper one not kept.
+        let lower = seg(&[10, 11, 12], [Some(at(1, true)), Some(at(13, false))]);
+        let upper = seg(&[15, 14, 13], [Some(at(16, false)), Some(at(12, true))]);
+        let lines = chain(vec![upper.clone(), lower.clone()]);
+        assert_eq!(gids(&lines[0]), [1, 10, 11, 12, 13, 14, 15]);
+
+        // The upper segment looks beyond itself elsewhere: no link.
+        let upper = seg(&[15, 14, 13], [None, Some(at(20, true))]);
+        let lines = chain(vec![upper, lower]);
+        assert_eq!(lines.len(), 2);
+        assert_eq!(gids(&lines[0]), [1, 10, 11, 12]);
+        assert_eq!(gids(&lines[1]), [20, 13, 14, 15]);
+    }
 }
