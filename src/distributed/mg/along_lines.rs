@@ -222,8 +222,9 @@ fn chain(mut segs: Vec<Segment>) -> Vec<Vec<Entry>> {
     let mut link: Vec<[Option<(usize, usize)>; 2]> = vec![[None; 2]; segs.len()];
     let mut into_single: Vec<Vec<(usize, usize)>> = vec![Vec::new(); segs.len()];
     for (i, s) in segs.iter().enumerate().filter(|(_, s)| s.entries.len() > 1) {
-        for k in 0..2 {
-            let Some(&j) = s.beyond[k].and_then(|b| at_end.get(&b.gid)).filter(|&&j| j != i) else {
+        for (k, beyond) in s.beyond.iter().enumerate() {
+            let Some((b, &j)) = beyond.and_then(|b| Some((b.gid, at_end.get(&b.gid)?))).filter(|&(_, &j)| j != i)
+            else {
                 continue;
             };
             let t = &segs[j];
@@ -231,7 +232,7 @@ fn chain(mut segs: Vec<Segment>) -> Vec<Vec<Entry>> {
                 into_single[j].push((i, k));
                 continue;
             }
-            let kj = usize::from(end_gid(t, 0) != s.beyond[k].map_or(NONE, |b| b.gid));
+            let kj = usize::from(end_gid(t, 0) != b);
             if t.beyond[kj].is_some_and(|b| b.gid == end_gid(s, k)) {
                 link[i][k] = Some((j, kj));
             }
