@@ -94,11 +94,12 @@ fn against_serial(world: &SimpleCommunicator, c: &Compared, method: Method, tol:
     let worst = all.iter().fold(0.0f64, |m, &x| m.max(x));
     if rank == 0 {
         println!(
-            "{what}: iterations {:?} (serial {}), apart {:.1e} of the motion, levels {:?}",
+            "{what}: iterations {:?} (serial {}), apart {:.1e} of the motion, levels {:?}, transfers {:?}",
             sol.iterations,
             cycles[0],
             worst / scale,
-            sol.level_rows
+            sol.level_rows,
+            sol.level_transfers
         );
     }
 }

@@ -20,6 +20,7 @@ use crate::distributed::dist_mesh::halo_lists;
 use crate::distributed::error::{DistError, DistErrorKind};
 use crate::distributed::halo::HaloLayout;
 use crate::multigrid::layout::Layout;
+use crate::multigrid::lines::Lines;
 use crate::sparse::CsrMatrix;
 use std::collections::HashMap;
 use std::sync::Arc;
@@ -163,10 +164,13 @@ pub(crate) struct Guide {
 /// from K's strong couplings and the interpolation P by the serial donor rule (`donors`), K_c = Pᵀ K P and V_c = P₊ᵀ V (the positive
 /// weights, so V_c stays positive), and A_c = K_c V_c⁻¹ K_c assembled across ranks with the
 /// columns of P's owned rows in its layout, or with `galerkin` the Galerkin product
-/// A_c = Pᵀ A P of `fine`'s own rows (below the first coarse level under wall layers, where
-/// K_c V_c⁻¹ K_c drifts softer than the fine operator: docs/DESIGN.md §5, "Wall layers"). Returns
+/// A_c = Pᵀ A P of `fine`'s own rows (under wall layers, where K_c V_c⁻¹ K_c drifts softer than
+/// the fine operator and holds S at zero next to a CLAMPED wall: docs/DESIGN.md §5, "Wall layers
+/// across ranks"). Returns
 /// A_c, P (`fine`'s local entries × A_c's) and the coarse guide; None when no rank keeps an
-/// unknown (collective).
+/// unknown (collective). With `lines` (the level's lines across wall layers, given on every rank
+/// or on none: the 2D hierarchies with lines) a dropped unknown on a line interpolates along it,
+/// cubic in the distance along the line, where the line gives its row (`along_lines`).
 ///
 /// K's free rows leave the prescribed vertices out of the coarse levels, so A_c holds S at zero
 /// there: the serial operator's for FIXED walls (P and Z), a stiffer one next to CLAMPED walls
@@ -175,9 +179,10 @@ pub(super) fn coarsen(
     fine: &OwnedRows,
     guide: &Guide,
     galerkin: bool,
+    lines: Option<&Lines>,
 ) -> Result<Option<(OwnedRows, CsrMatrix, Guide)>, DistError> {
     let me = guide.k.halo.comm().rank();
-    let rows = interpolation(&guide.k, &guide.at)?;
+    let rows = interpolation(&guide.k, &guide.at, lines)?;
     let Some((k, to_coarse)) = product(&guide.k, &rows)? else {
         return Ok(None);
     };

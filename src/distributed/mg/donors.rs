@@ -12,6 +12,7 @@
 //! ascending global id, so a row depends on the operator and the positions alone: the same on
 //! every partition and rank count.
 
+use super::along_lines;
 use super::galerkin::{halo_rows, GlobalRow};
 use super::interpolate::weights;
 use super::mover::Mover;
@@ -22,6 +23,7 @@ use crate::distributed::dist_mesh::halo_lists;
 use crate::distributed::error::DistError;
 use crate::distributed::halo::HaloLayout;
 use crate::multigrid::layout::Layout;
+use crate::multigrid::lines::Lines;
 use crate::multigrid::lsq::{bounded, choose_donors, fit_offsets};
 use std::collections::HashMap;
 
@@ -73,8 +75,9 @@ impl Positions {
 
 /// The P rows of `m`'s owned unknowns in global terms (coarse global id, its owner, weight): a
 /// kept unknown (`select`) its own value, the dropped ones by the serial donor rule from the
-/// positions `at` of `m`'s local entries (collective).
-pub(super) fn interpolation(m: &OwnedRows, at: &Positions) -> Result<Vec<GlobalRow>, DistError> {
+/// positions `at` of `m`'s local entries, or with `lines` (the level's, given on every rank or
+/// on none) along them where they can (`along_lines`) (collective).
+pub(super) fn interpolation(m: &OwnedRows, at: &Positions, lines: Option<&Lines>) -> Result<Vec<GlobalRow>, DistError> {
     let (owned, me) = (m.halo.owned(), m.halo.comm().rank());
     let owners = m.halo.owner_ranks();
     let strong = strong(m);
@@ -113,12 +116,16 @@ pub(super) fn interpolation(m: &OwnedRows, at: &Positions) -> Result<Vec<GlobalR
     let index: HashMap<u64, usize> = gids.iter().zip(0..).map(|(&g, i)| (g, i)).collect();
     let is_kept = |g: u64| index.get(&g).is_some_and(|&k| kept[k] == 1);
     let point = |g: u64| index.get(&g).map(|&k| coords.coords[k]);
+    let along = lines.map(|l| along_lines::rows(m, &at.coords, l, |v| is_kept(m.gids[v]))).unwrap_or_default();
 
     let rows = (0..owned)
         .map(|i| {
             let row = || direct[i].iter().map(|&(j, w)| (m.gids[j as usize], owners[j as usize], w)).collect();
             if state[i] != DROPPED {
                 return row();
+            }
+            if let Some(Some(r)) = along.get(i) {
+                return r.clone();
             }
             let (gi, xi) = (m.gids[i], at.coords[i]);
             let offset = |g: u64| point(g).map(|p| [p[0] - xi[0], p[1] - xi[1], p[2] - xi[2]]);

@@ -44,12 +44,34 @@ pub(crate) fn owned_lines(
 /// whose lines are `lines`: each line's unknowns that `coarse` owns, in order, where at least two
 /// are kept.
 pub(super) fn kept_lines(lines: &Lines, gids: &[u64], coarse: &OwnedRows) -> Lines {
+    kept(lines, gids, coarse, 2)
+}
+
+/// The segments of `coarse` for the rows along the lines (`along_lines`): as `kept_lines`, but
+/// a line's one kept unknown on this rank stays a line of one, so that a line the partition cuts
+/// joins across ranks as it does on one rank.
+pub(super) fn kept_segments(lines: &Lines, gids: &[u64], coarse: &OwnedRows) -> Lines {
+    kept(lines, gids, coarse, 1)
+}
+
+/// Each line's unknowns that `coarse` owns, in order, where at least `least` are kept.
+fn kept(lines: &Lines, gids: &[u64], coarse: &OwnedRows, least: usize) -> Lines {
     if lines.is_empty() {
         return Lines::default();
     }
     let owned = &coarse.gids[..coarse.halo.owned()];
     let index: HashMap<u64, u32> = owned.iter().zip(0u32..).map(|(&g, i)| (g, i)).collect();
-    lines.restricted(|v| index.get(&gids[v as usize]).copied())
+    let mut out = Lines { start: vec![0], unknowns: Vec::new() };
+    for k in 0..lines.len() {
+        let before = out.unknowns.len();
+        out.unknowns.extend(lines.line(k).iter().filter_map(|&v| index.get(&gids[v as usize]).copied()));
+        if out.unknowns.len() - before >= least {
+            out.start.push(out.unknowns.len() as u32);
+        } else {
+            out.unknowns.truncate(before);
+        }
+    }
+    out
 }
 
 /// The lines of a level moved onto fewer ranks by `mover` (collective over its senders and

@@ -10,10 +10,9 @@
 //! and forms the coarse operator as the Galerkin product Pᵀ A P across ranks (`galerkin`), so no
 //! coarse level needs a mesh: the Laplacian's and the spring's levels, as serially.
 //! The biharmonic's levels follow K's coarsening instead, interpolated by the same rule on K's
-//! graph (`donors`), each A = K V⁻¹ K assembled
-//! across ranks (`biharmonic`; below the first coarse level of a hierarchy with lines across
-//! wall layers the Galerkin product of the level above, as serially), and its cycle is a
-//! W-cycle. A coarse level with few unknowns per rank
+//! graph (`donors`), each A = K V⁻¹ K assembled across ranks (`biharmonic`; under wall layers
+//! from the first coarse level on the Galerkin product of the level above, and in 2D rows along
+//! the lines, `along_lines`), and its cycle is a W-cycle. A coarse level with few unknowns per rank
 //! is moved onto fewer ranks, which carry it and the levels below on a communicator of their
 //! own (`agglomerate`, with the values moved by `mover`); once a level is small it is gathered
 //! onto one rank and solved there by a dense factor (`gathered`). The smoother is the serial multigrid's Chebyshev–Jacobi smoother on owned rows,
@@ -22,6 +21,7 @@
 #[cfg(test)]
 mod against_serial;
 mod agglomerate;
+mod along_lines;
 mod biharmonic;
 mod coupled;
 mod donors;
@@ -197,9 +197,9 @@ impl Multigrid {
     /// `per_rank` unknowns per rank (collective; every rank returns the same result).
     ///
     /// With `Coarsening::Guide` (the biharmonic's K, V and positions beside its A = K V⁻¹ K) each
-    /// coarse level is made from the guide's (`biharmonic::coarsen`; below the first coarse level
-    /// of a hierarchy with lines the Galerkin product of the level above, `assembled_below`);
-    /// with `Coarsening::Galerkin`, by the Galerkin product of the level above. `lines` are the
+    /// coarse level is made from the guide's (`biharmonic::coarsen`; under lines from the first
+    /// coarse level on the Galerkin product of the level above, `assembled_below`); with
+    /// `Coarsening::Galerkin`, by the Galerkin product of the level above. `lines` are the
     /// finest level's lines across wall layers over its owned unknowns (`owned_lines`; none on
     /// meshes without such layers), smoothed as blocks there and on the coarse levels that keep
     /// them (`lines`).
@@ -414,9 +414,16 @@ fn levels_of(
     };
     // The biharmonic's rows couple two neighbours along a line.
     let band = band_of(if guide.is_some() { Method::Biharmonic } else { Method::Laplacian });
+    // The segments the rows along the lines join across ranks: the lines, each line's single
+    // kept unknown on a rank kept too (`lines::kept_segments`).
+    let mut segments = lines.clone();
     let (mut current, mut lines) = (fine, lines);
     // The current level's operator is the assembled Galerkin product of the level above.
     let mut assembled = false;
+    // The biharmonic's hierarchies with lines on their finest level (asked on every rank): in 2D
+    // they interpolate along the lines on every level, as serially (`multigrid::lsq`).
+    let layered = guide.is_some() && any_lines(&current, &lines);
+    let along = layered && guide.as_ref().is_some_and(|g| g.at.dim == 2);
     loop {
         let rows = global_rows(&current);
         let last = rows <= GATHER_ROWS || levels.len() + 1 >= max_levels.max(1);
@@ -426,10 +433,14 @@ fn levels_of(
             (Some(g), false) => {
                 // The serial rule on the level's lines over all its ranks (collective over them;
                 // asked only where it decides).
-                let kept = !levels.is_empty();
-                let layered = kept && !assembled && any_lines(&current, &lines);
-                let below = assembled_below(kept, layered, assembled);
-                match biharmonic::coarsen(&current, g, below)? {
+                // Under wall layers the first coarse level is assembled too, where the serial
+                // hierarchy keeps K_c V_c⁻¹ K_c: the distributed levels leave the prescribed
+                // vertices out, so their K_c V_c⁻¹ K_c holds S at zero next to a CLAMPED wall,
+                // where the layers are (docs/DESIGN.md §5, "Wall layers across ranks").
+                let kept = layered || !levels.is_empty();
+                let lined = kept && !assembled && any_lines(&current, &lines);
+                let below = assembled_below(kept, lined, assembled);
+                match biharmonic::coarsen(&current, g, below, along.then_some(&segments))? {
                     Some((next, prolong, next_guide)) => {
                         guide = Some(next_guide);
                         assembled = below;
@@ -447,13 +458,14 @@ fn levels_of(
             return coarsest((current, lines, band), rows, levels);
         }
         let next_lines = lines::kept_lines(&lines, &current.gids, &next);
+        let next_segments = lines::kept_segments(&segments, &current.gids, &next);
         // A level small enough to gather goes onto one rank by its own solve.
         let ranks = next.halo.comm().size();
         let shift = if next_rows <= GATHER_ROWS { 0 } else { halvings(next_rows, ranks, per_rank) };
         let digest = transfer_digest(&prolong, &current, &next.gids);
         if shift == 0 {
             levels.push(dist_level((current, lines, band), Some((prolong, digest)), None));
-            (current, lines) = (next, next_lines);
+            (current, lines, segments) = (next, next_lines, next_segments);
             continue;
         }
         let agglomeration = Agglomeration::new(next.halo.comm(), shift);
@@ -468,6 +480,7 @@ fn levels_of(
         });
         let moved_at = at.take().map(|a| a.moved(&landing.mover));
         let moved_lines = lines::moved_lines(&next_lines, &landing.mover, next.halo.comm().rank());
+        let moved_segments = lines::moved_lines(&next_segments, &landing.mover, next.halo.comm().rank());
         levels.push(dist_level((current, lines, band), Some((prolong, digest)), Some(Arc::new(landing))));
         let Some(moved) = agglomeration.assemble(&sent)? else {
             return Ok((levels, None));
@@ -485,7 +498,7 @@ fn levels_of(
             a.refresh(&moved.halo);
             at = Some(a);
         }
-        (current, lines) = (moved, moved_lines);
+        (current, lines, segments) = (moved, moved_lines, moved_segments);
     }
 }
 
@@ -497,7 +510,7 @@ fn galerkin_level(m: &OwnedRows, at: &mut Option<Positions>) -> Result<Option<(O
     let Some(here) = at.as_ref() else {
         return Ok(None);
     };
-    let rows = donors::interpolation(m, here)?;
+    let rows = donors::interpolation(m, here, None)?;
     let Some((next, prolong)) = galerkin::product(m, &rows)? else {
         return Ok(None);
     };

@@ -42,77 +42,96 @@ pub(super) fn rows(
     let dim = f.dim();
     let at = |d: usize| &points[d * dim..(d + 1) * dim];
     let rel = |v: usize, u: usize| f.relative(v, u, at(v), at(u));
+    let kept = |u: usize| coarse_of[u] != u32::MAX;
+    let coarse = |u: usize| kept(u).then_some(coarse_of[u]);
     let mut out: Vec<Option<Vec<(u32, f64)>>> = vec![None; coarse_of.len()];
     let mut ext = Vec::new();
     for l in 0..lines.len() {
         let line = lines.line(l);
+        let last = line.len() - 1;
         ext.clear();
-        ext.extend(end_neighbour(k, line, 0, 1, &rel, coarse_of));
+        ext.extend(end_neighbour(k.row(line[0] as usize).0, line, 0, 1, &rel, kept, |u| u as u64));
         ext.extend(line.iter().map(|&v| v as usize));
-        ext.extend(end_neighbour(k, line, line.len() - 1, line.len().wrapping_sub(2), &rel, coarse_of));
-        // Distance along the extended line.
-        let mut s = vec![0.0; ext.len()];
-        for i in 1..ext.len() {
-            s[i] = s[i - 1] + norm(rel(ext[i - 1], ext[i]));
-        }
-        let kept: Vec<usize> = (0..ext.len()).filter(|&i| coarse_of[ext[i]] != u32::MAX).collect();
-        for (i, &v) in ext.iter().enumerate() {
-            if coarse_of[v] != u32::MAX {
-                continue;
-            }
-            // The first kept unknown after i on the line.
-            let after = kept.partition_point(|&j| j < i);
-            if after == 0 || after == kept.len() {
-                continue;
-            }
-            // Two on either side where the line has them (cubic), else one (quadratic, linear).
-            let nodes = &kept[after.saturating_sub(2)..(after + 2).min(kept.len())];
-            if !nodes.iter().all(|&j| f.donor_ok(v, ext[j])) {
-                continue;
-            }
-            let w = lagrange(&nodes.iter().map(|&j| s[j]).collect::<Vec<_>>(), s[i]);
-            let offsets: Vec<[f64; 3]> = nodes.iter().map(|&j| rel(v, ext[j])).collect();
-            let h = offsets.iter().map(|&r| norm(r)).fold(0.0, f64::max);
-            let miss = (0..3).map(|c| offsets.iter().zip(&w).map(|(r, w)| w * r[c]).sum::<f64>().abs()).fold(0.0, f64::max);
-            // Written so that weights that are not finite (coincident points) fail too.
-            let bounded = w.iter().map(|w| w.abs()).sum::<f64>() <= MAX_ABS_SUM;
-            if !(miss <= LINEAR_TOL * h && bounded) {
-                continue;
-            }
-            let mut row: Vec<(u32, f64)> = nodes.iter().zip(w).map(|(&j, w)| (coarse_of[ext[j]], w)).collect();
-            row.sort_by_key(|&(c, _)| c);
-            out[v] = Some(row);
-        }
+        ext.extend(end_neighbour(k.row(line[last] as usize).0, line, last, last.wrapping_sub(1), &rel, kept, |u| u as u64));
+        rows_on_line(&ext, &rel, coarse, |v, u| f.donor_ok(v, u), |v, row| out[v] = Some(row));
     }
     out
 }
 
-/// The nearest neighbour of the line's unknown at `end` in K's graph on the far side from its
-/// line neighbour at `inner` (`inner` out of range: a line of one), when that neighbour is kept
-/// and not on this line.
-fn end_neighbour(
-    k: &CsrMatrix,
+/// The rows along one line `ext` (its unknowns in order, extended at its ends as `rows` says):
+/// each dropped unknown's kept unknowns around it on the line (`coarse(u)`: u's coarse column
+/// when kept) with their Lagrange weights in the distance along the line, given to `put`
+/// sorted by column; an unknown whose row the line cannot give (module documentation) gets
+/// none. `rel(v, u)` is u's offset from v, `donor_ok(v, u)` whether u may interpolate v. The
+/// serial levels pass their unknowns' indices, the distributed levels (`distributed::mg`) the
+/// entries of a line joined across ranks with global ids as columns.
+pub(crate) fn rows_on_line<C: Copy + Ord>(
+    ext: &[usize],
+    rel: &impl Fn(usize, usize) -> [f64; 3],
+    coarse: impl Fn(usize) -> Option<C>,
+    donor_ok: impl Fn(usize, usize) -> bool,
+    mut put: impl FnMut(usize, Vec<(C, f64)>),
+) {
+    // Distance along the extended line.
+    let mut s = vec![0.0; ext.len()];
+    for i in 1..ext.len() {
+        s[i] = s[i - 1] + norm(rel(ext[i - 1], ext[i]));
+    }
+    let kept: Vec<usize> = (0..ext.len()).filter(|&i| coarse(ext[i]).is_some()).collect();
+    for (i, &v) in ext.iter().enumerate() {
+        if coarse(v).is_some() {
+            continue;
+        }
+        // The first kept unknown after i on the line.
+        let after = kept.partition_point(|&j| j < i);
+        if after == 0 || after == kept.len() {
+            continue;
+        }
+        // Two on either side where the line has them (cubic), else one (quadratic, linear).
+        let nodes = &kept[after.saturating_sub(2)..(after + 2).min(kept.len())];
+        if !nodes.iter().all(|&j| donor_ok(v, ext[j])) {
+            continue;
+        }
+        let w = lagrange(&nodes.iter().map(|&j| s[j]).collect::<Vec<_>>(), s[i]);
+        let offsets: Vec<[f64; 3]> = nodes.iter().map(|&j| rel(v, ext[j])).collect();
+        let h = offsets.iter().map(|&r| norm(r)).fold(0.0, f64::max);
+        let miss = (0..3).map(|c| offsets.iter().zip(&w).map(|(r, w)| w * r[c]).sum::<f64>().abs()).fold(0.0, f64::max);
+        // Written so that weights that are not finite (coincident points) fail too.
+        let bounded = w.iter().map(|w| w.abs()).sum::<f64>() <= MAX_ABS_SUM;
+        if !(miss <= LINEAR_TOL * h && bounded) {
+            continue;
+        }
+        let mut row: Vec<(C, f64)> = nodes.iter().zip(w).filter_map(|(&j, w)| Some((coarse(ext[j])?, w))).collect();
+        row.sort_by_key(|&(c, _)| c);
+        put(v, row);
+    }
+}
+
+/// The nearest neighbour of the line's unknown at `end` among its neighbours `row` in K's graph
+/// on the far side from its line neighbour at `inner` (`inner` out of range: a line of one),
+/// when that neighbour is `kept` and not on this line; ties in distance go to the lower `key`.
+pub(crate) fn end_neighbour(
+    row: &[u32],
     line: &[u32],
     end: usize,
     inner: usize,
     rel: &impl Fn(usize, usize) -> [f64; 3],
-    coarse_of: &[u32],
+    kept: impl Fn(usize) -> bool,
+    key: impl Fn(usize) -> u64,
 ) -> Option<usize> {
     let e = line[end] as usize;
     let toward = rel(e, *line.get(inner)? as usize);
-    let (d, u) = k
-        .row(e)
-        .0
+    let (d, _, u) = row
         .iter()
         .map(|&u| u as usize)
         .filter(|&u| u != e && !line.contains(&(u as u32)))
-        .map(|u| (norm(rel(e, u)), u))
+        .map(|u| (norm(rel(e, u)), key(u), u))
         .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)))?;
     let r = rel(e, u);
     let opposite = r[0] * toward[0] + r[1] * toward[1] + r[2] * toward[2] < 0.0;
     // The neighbour continues the line: on the far side, and about as near as the line's own
     // neighbour (the layers grow by a fixed ratio).
-    (opposite && d <= 2.0 * norm(toward) && coarse_of[u] != u32::MAX).then_some(u)
+    (opposite && d <= 2.0 * norm(toward) && kept(u)).then_some(u)
 }
 
 /// The Lagrange weights at `x` of the nodes `s` (distinct, ascending).

@@ -18,6 +18,8 @@ mod weights;
 pub(crate) use features::Features;
 // The distributed levels share the serial donor rule and fit.
 #[cfg(feature = "mpi")]
+pub(crate) use along_lines::{end_neighbour, rows_on_line};
+#[cfg(feature = "mpi")]
 pub(crate) use weights::{bounded, choose_donors, fit_offsets};
 
 use super::coarsen::CoarsenParams;
