@@ -25,10 +25,11 @@ use super::interfaces;
 use super::kept::{Hierarchies, Kept};
 use super::level_layout::Distribution;
 use super::mg::{
-    biharmonic_rows, owned_lines, Coarsening, CoupledSolve, Guide, OwnedRows, Positions, Smoothers, ROWS_PER_RANK,
+    any_lines, biharmonic_rows, owned_lines, Coarsening, CoupledSolve, Guide, OwnedRows, Positions, Smoothers,
+    ROWS_PER_RANK,
 };
 use super::pcg::{pcg, OneLevel, Preconditioner};
-use super::reduce::{gather, max_over_ranks, sum_in_rank_order};
+use super::reduce::{gather, sum_in_rank_order};
 use super::ties::{self, Ties};
 use crate::bc::{Dofs, Kind, SlipWalls, COMPONENT, P};
 use crate::mesh::quality::quality_of_cells;
@@ -61,8 +62,7 @@ pub struct DistSolveParams {
     /// Degree of the fourth-kind Chebyshev–Jacobi smoother on every level; 0 (the default)
     /// picks per method: for the biharmonic the serial cycle's degrees on levels of kept
     /// unknowns (8 on every level; under wall layers, where some rank finds lines across them,
-    /// 10 on the finest level and 16 on the coarse ones in 3D, 16 on every level in 2D), 4
-    /// otherwise.
+    /// 16 on every level), 4 otherwise.
     pub degree: usize,
     /// Most levels of the multigrid preconditioner; 1 preconditions by the smoother alone.
     pub max_levels: usize,
@@ -299,15 +299,15 @@ impl DistributedSolver {
         let (dim, nv) = (self.mesh.dim(), self.local().num_vertices());
         let halo = self.halo();
         let method = self.level.op.method;
-        let sm = Smoother::Fourth { degree: smoother_degrees(&self.params, method, dim, false).0 };
+        let sm = Smoother::Fourth { degree: smoother_degrees(&self.params, method, false).0 };
         let mut total = vec![0.0; nv * dim];
         let (mut iterations, mut worst, mut failure) = (Vec::with_capacity(dim), 0.0f64, None);
         let mut kept = self.multigrids.lock();
         if self.multigrid_pays() && kept.is_none() {
             let fine = |c| self.fine_rows(c);
             let lines = self.lines();
-            let layered = max_over_ranks(halo.comm(), f64::from(u8::from(!lines.is_empty()))) > 0.0;
-            let (fine_degree, coarse_degree) = smoother_degrees(&self.params, method, dim, layered);
+            let layered = any_lines(halo.comm(), &lines);
+            let (fine_degree, coarse_degree) = smoother_degrees(&self.params, method, layered);
             let smoothers = Smoothers {
                 fine: Smoother::Fourth { degree: fine_degree },
                 coarse: Smoother::Fourth { degree: coarse_degree },
@@ -654,15 +654,15 @@ fn build_level(
     level
 }
 
-/// The smoother's degrees (finest level, coarse levels) of a solve of `method` in `dim`
-/// dimensions with `p` (`DistSolveParams::degree`), `layered` when some rank finds lines across wall layers: the
+/// The smoother's degrees (finest level, coarse levels) of a solve of `method` with `p`
+/// (`DistSolveParams::degree`), `layered` when some rank finds lines across wall layers: the
 /// caller's degree on every level; else the biharmonic's of the serial levels of kept unknowns
 /// (`policy::method_degrees`), whose rule the distributed levels share, and 4 on every level for
 /// the Laplacian and the spring: their V-cycle at degree 4 takes no more iterations than the
 /// serial degrees 3 and 2 in a W-cycle on the same levels (docs/perf-history.md), at less work.
-fn smoother_degrees(p: &DistSolveParams, method: Method, dim: usize, layered: bool) -> (usize, usize) {
+fn smoother_degrees(p: &DistSolveParams, method: Method, layered: bool) -> (usize, usize) {
     match (p.degree, method) {
-        (0, Method::Biharmonic) => method_degrees(method, dim, true, layered),
+        (0, Method::Biharmonic) => method_degrees(method, true, layered),
         (0, _) => (4, 4),
         (d, _) => (d, d),
     }

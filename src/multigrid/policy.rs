@@ -105,7 +105,7 @@ impl CycleParams {
 /// hierarchy with levels of kept unknowns (`kept`) and lines across wall layers (`lines`) when
 /// the caller sets none: the rule of `degrees` below, which the distributed biharmonic's levels
 /// of kept unknowns share.
-pub(crate) fn method_degrees(method: Method, _dim: usize, kept: bool, lines: bool) -> (usize, usize) {
+pub(crate) fn method_degrees(method: Method, kept: bool, lines: bool) -> (usize, usize) {
     match (method, kept) {
         (Method::Biharmonic, false) => (6, 4),
         (Method::Biharmonic, true) if lines => (16, 16),
@@ -130,7 +130,7 @@ pub(crate) fn method_degrees(method: Method, _dim: usize, kept: bool, lines: boo
 ///   docs/perf-history.md);
 /// - the Laplacian and the spring: 3 and 2.
 pub(crate) fn degrees(h: &Hierarchy, p: &SolveParams) -> (usize, usize) {
-    let (fine, coarse) = method_degrees(h.method, h.fine().dim(), h.has_kept_levels(), h.has_lines());
+    let (fine, coarse) = method_degrees(h.method, h.has_kept_levels(), h.has_lines());
     let (fine, coarse) = match p.cheb_degree {
         Some(d) => (d, p.cheb_coarse_degree.unwrap_or(d)),
         None => (fine, p.cheb_coarse_degree.unwrap_or(coarse)),

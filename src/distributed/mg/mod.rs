@@ -422,7 +422,7 @@ fn levels_of(
     let mut assembled = false;
     // The biharmonic's hierarchies with lines on their finest level (asked on every rank): in 2D
     // they interpolate along the lines on every level, as serially (`multigrid::lsq`).
-    let layered = guide.is_some() && any_lines(&current, &lines);
+    let layered = guide.is_some() && any_lines(current.halo.comm(), &lines);
     let along = layered && guide.as_ref().is_some_and(|g| g.at.dim == 2);
     loop {
         let rows = global_rows(&current);
@@ -438,7 +438,7 @@ fn levels_of(
                 // vertices out, so their K_c V_c⁻¹ K_c holds S at zero next to a CLAMPED wall,
                 // where the layers are (docs/DESIGN.md §5, "Wall layers across ranks").
                 let kept = layered || !levels.is_empty();
-                let lined = kept && !assembled && any_lines(&current, &lines);
+                let lined = kept && !assembled && any_lines(current.halo.comm(), &lines);
                 let below = assembled_below(kept, lined, assembled);
                 match biharmonic::coarsen(&current, g, below, along.then_some(&segments))? {
                     Some((next, prolong, next_guide)) => {
@@ -562,9 +562,9 @@ impl Preconditioner for Multigrid {
     }
 }
 
-/// Whether some rank of `m` has `lines` on it (collective).
-fn any_lines(m: &OwnedRows, lines: &Lines) -> bool {
-    max_over_ranks(m.halo.comm(), f64::from(u8::from(!lines.is_empty()))) > 0.0
+/// Whether some rank of `comm` has `lines` on it (collective).
+pub(crate) fn any_lines(comm: &Comm, lines: &Lines) -> bool {
+    max_over_ranks(comm, f64::from(u8::from(!lines.is_empty()))) > 0.0
 }
 
 /// Unknowns of `m` over all ranks: owned rows that are not empty (collective).

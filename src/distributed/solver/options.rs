@@ -3,8 +3,8 @@
 //!
 //! - `method`, `solve.tol`, `solve.max_cycles` (conjugate gradient iterations per component),
 //!   `solve.cheb_degree` (the Chebyshev–Jacobi smoother's degree on every level; None: the
-//!   biharmonic's of the serial levels of kept unknowns, 8, or under wall layers 10 on the finest
-//!   level and 16 below in 3D, 16 on every level in 2D; 4 otherwise) and
+//!   biharmonic's of the serial levels of kept unknowns, 8, or under wall layers 16 on every
+//!   level; 4 otherwise) and
 //!   `hierarchy.max_levels` give the iteration ([`DistSolveParams`]);
 //! - `max_substeps`, `min_volume_ratio`, `reference` and `progress` drive the steps as they do
 //!   serially (`steps.rs`);
