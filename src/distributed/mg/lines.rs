@@ -40,36 +40,35 @@ pub(crate) fn owned_lines(
     Lines::find(k.nrows, |i| k.row(i).0, points, dim, |i| i >= owned || prescribed(i), tied)
 }
 
-/// The lines of `coarse`, the level kept from one whose entries have the global ids `gids` and
-/// whose lines are `lines`: each line's unknowns that `coarse` owns, in order, where at least two
-/// are kept.
-pub(super) fn kept_lines(lines: &Lines, gids: &[u64], coarse: &OwnedRows) -> Lines {
-    kept(lines, gids, coarse, 2)
-}
-
-/// The segments of `coarse` for the rows along the lines (`along_lines`): as `kept_lines`, but
-/// a line's one kept unknown on this rank stays a line of one, so that a line the partition cuts
-/// joins across ranks as it does on one rank.
-pub(super) fn kept_segments(lines: &Lines, gids: &[u64], coarse: &OwnedRows) -> Lines {
-    kept(lines, gids, coarse, 1)
-}
-
-/// Each line's unknowns that `coarse` owns, in order, where at least `least` are kept.
-fn kept(lines: &Lines, gids: &[u64], coarse: &OwnedRows, least: usize) -> Lines {
-    if lines.is_empty() {
+/// The segments of `coarse`, the level kept from one whose entries have the global ids `gids` and
+/// whose segments are `segments`: each segment's unknowns that `coarse` owns, in order, where at
+/// least one is kept. A line's one kept unknown on this rank stays a segment of one, so that a
+/// line the partition cuts joins across ranks for the rows along the lines (`along_lines`) as it
+/// does on one rank; the smoother's lines are the segments of two or more (`smoothed`).
+pub(super) fn kept_segments(segments: &Lines, gids: &[u64], coarse: &OwnedRows) -> Lines {
+    if segments.is_empty() {
         return Lines::default();
     }
     let owned = &coarse.gids[..coarse.halo.owned()];
     let index: HashMap<u64, u32> = owned.iter().zip(0u32..).map(|(&g, i)| (g, i)).collect();
     let mut out = Lines { start: vec![0], unknowns: Vec::new() };
-    for k in 0..lines.len() {
+    for k in 0..segments.len() {
         let before = out.unknowns.len();
-        out.unknowns.extend(lines.line(k).iter().filter_map(|&v| index.get(&gids[v as usize]).copied()));
-        if out.unknowns.len() - before >= least {
+        out.unknowns.extend(segments.line(k).iter().filter_map(|&v| index.get(&gids[v as usize]).copied()));
+        if out.unknowns.len() > before {
             out.start.push(out.unknowns.len() as u32);
-        } else {
-            out.unknowns.truncate(before);
         }
+    }
+    out
+}
+
+/// The lines the smoother solves along: the segments of two or more unknowns, in order (a line
+/// keeps on a coarse level the unknowns it keeps, at least two, as the serial levels do).
+pub(super) fn smoothed(segments: &Lines) -> Lines {
+    let mut out = Lines { start: vec![0], unknowns: Vec::new() };
+    for k in (0..segments.len()).filter(|&k| segments.line(k).len() >= 2) {
+        out.unknowns.extend_from_slice(segments.line(k));
+        out.start.push(out.unknowns.len() as u32);
     }
     out
 }

@@ -414,8 +414,8 @@ fn levels_of(
     };
     // The biharmonic's rows couple two neighbours along a line.
     let band = band_of(if guide.is_some() { Method::Biharmonic } else { Method::Laplacian });
-    // The segments the rows along the lines join across ranks: the lines, each line's single
-    // kept unknown on a rank kept too (`lines::kept_segments`).
+    // The segments the rows along the lines join across ranks (`lines::kept_segments`), of which
+    // the smoother's lines are those of two or more unknowns (`lines::smoothed`).
     let mut segments = lines.clone();
     let (mut current, mut lines) = (fine, lines);
     // The current level's operator is the assembled Galerkin product of the level above.
@@ -457,8 +457,8 @@ fn levels_of(
         if next_rows as f64 >= MIN_REDUCTION * rows as f64 {
             return coarsest((current, lines, band), rows, levels);
         }
-        let next_lines = lines::kept_lines(&lines, &current.gids, &next);
         let next_segments = lines::kept_segments(&segments, &current.gids, &next);
+        let next_lines = lines::smoothed(&next_segments);
         // A level small enough to gather goes onto one rank by its own solve.
         let ranks = next.halo.comm().size();
         let shift = if next_rows <= GATHER_ROWS { 0 } else { halvings(next_rows, ranks, per_rank) };
@@ -479,8 +479,8 @@ fn levels_of(
             (agglomeration.send(&g.k), mass, g.at.moved(&landing.mover))
         });
         let moved_at = at.take().map(|a| a.moved(&landing.mover));
-        let moved_lines = lines::moved_lines(&next_lines, &landing.mover, next.halo.comm().rank());
         let moved_segments = lines::moved_lines(&next_segments, &landing.mover, next.halo.comm().rank());
+        let moved_lines = lines::smoothed(&moved_segments);
         levels.push(dist_level((current, lines, band), Some((prolong, digest)), Some(Arc::new(landing))));
         let Some(moved) = agglomeration.assemble(&sent)? else {
             return Ok((levels, None));
