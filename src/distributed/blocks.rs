@@ -45,7 +45,8 @@ impl<'a, 'b> Blocks<'a, 'b> {
     pub(crate) fn new(op: &'b GroupOp<'a>, multigrids: &'b mut Hierarchies, group: usize, sm: Smoother) -> Self {
         // The cycle's vectors, for a group whose components are coupled (else left empty).
         let tied = matches!(op.level().layout, Distribution::Tied(..));
-        let (n, len) = if op.frames().is_some() || tied { (op.n(), op.len()) } else { (0, 0) };
+        let own = (op.frames().is_some() || tied) && !multigrids.whole;
+        let (n, len) = if own { (op.n(), op.len()) } else { (0, 0) };
         let work = (0..len).map(|_| Scratch::new(n, op.level().op.method)).collect();
         let (r, e, s) = (vec![0.0; n * len], vec![0.0; n * len], vec![0.0; n]);
         Blocks { op, multigrids, group, sm, work, coefficients: Coefficients::default(), r, e, s }
@@ -58,6 +59,12 @@ impl Preconditioner for Blocks<'_, '_> {
         if let Some(coupled) = self.multigrids.coupled.get(self.group).and_then(Option::as_ref) {
             coupled.solve(r, z, n);
             self.op.project(z);
+            return;
+        }
+        if self.multigrids.whole {
+            // The multigrid of every component, its cycle over the group's.
+            let comps = self.op.components();
+            self.multigrids.of(comps.start).apply_group(comps, r, z);
             return;
         }
         if self.work.is_empty() {

@@ -26,6 +26,9 @@ pub(crate) struct Hierarchies {
     /// gathered: its coupled solve on one rank (`mg::CoupledSolve`), which preconditions it in
     /// place of the components' multigrids; filled by the solver after the build.
     pub(crate) coupled: Vec<Option<CoupledSolve>>,
+    /// One multigrid carries every component (`Multigrid::build_group`, slip walls): each group
+    /// of components is preconditioned by its cycle over that group.
+    pub(crate) whole: bool,
 }
 
 impl Hierarchies {
@@ -54,7 +57,16 @@ impl Hierarchies {
             of_component.push(multigrids.len() - 1);
         }
         let (sizes, gathers) = multigrids.first().map(|m| (m.sizes(), m.gathers())).unwrap_or_default();
-        Ok(Hierarchies { multigrids, of_component, sizes, gathers, coupled: Vec::new() })
+        Ok(Hierarchies { multigrids, of_component, sizes, gathers, coupled: Vec::new(), whole: false })
+    }
+
+    /// The hierarchies of a mesh of `dim` components with slip walls: the one `multigrid` over
+    /// every component (`Multigrid::build_group`), whose cycle each group of them runs on its
+    /// own components (collective).
+    pub(crate) fn whole(multigrid: Multigrid, dim: usize) -> Hierarchies {
+        let (sizes, gathers) = (multigrid.sizes(), multigrid.gathers());
+        let of_component = vec![0; dim];
+        Hierarchies { multigrids: vec![multigrid], of_component, sizes, gathers, coupled: Vec::new(), whole: true }
     }
 
     /// Component `c`'s multigrid.

@@ -25,17 +25,18 @@ use super::interfaces;
 use super::kept::{Hierarchies, Kept};
 use super::level_layout::Distribution;
 use super::mg::{
-    any_lines, biharmonic_rows, owned_lines, Coarsening, CoupledSolve, Guide, OwnedRows, Positions, Smoothers,
+    any_lines, biharmonic_rows, owned_lines, Coarsening, Components, CoupledSolve, Guide, Multigrid, OwnedRows,
+    Positions, Smoothers,
     ROWS_PER_RANK,
 };
 use super::pcg::{pcg, OneLevel, Preconditioner};
 use super::reduce::{gather, sum_in_rank_order};
 use super::ties::{self, Ties};
-use crate::bc::{Dofs, Kind, SlipWalls, COMPONENT, P};
+use crate::bc::{Dofs, Kind, SlipWalls, COMPONENT, P, Z};
 use crate::mesh::quality::quality_of_cells;
 use crate::multigrid::group::GroupOp;
 use crate::multigrid::layout::Layout;
-use crate::multigrid::level::Level;
+use crate::multigrid::level::{Level, LevelSlip};
 use crate::multigrid::lines::Lines;
 use crate::multigrid::local_level::local_level;
 use crate::multigrid::policy::method_degrees;
@@ -312,15 +313,19 @@ impl DistributedSolver {
                 fine: Smoother::Fourth { degree: fine_degree },
                 coarse: Smoother::Fourth { degree: coarse_degree },
             };
-            *kept = Some(Hierarchies::build(
-                halo,
-                &self.level.flags,
-                fine,
-                &lines,
-                self.params.max_levels,
-                smoothers,
-                self.params.agglomerate_below,
-            )?);
+            let max_levels = self.params.max_levels;
+            *kept = Some(match self.slip_hierarchy(lines.clone(), smoothers)? {
+                Some(whole) => whole,
+                None => Hierarchies::build(
+                    halo,
+                    &self.level.flags,
+                    fine,
+                    &lines,
+                    max_levels,
+                    smoothers,
+                    self.params.agglomerate_below,
+                )?,
+            });
         }
         if let Some(h) = kept.as_mut().filter(|h| h.coupled.is_empty()) {
             h.coupled =
@@ -429,7 +434,33 @@ impl DistributedSolver {
     /// coarsened by Galerkin products at the local vertices' positions; the biharmonic's
     /// K V⁻¹ K assembled, with its guide (K's free rows, V and the positions).
     pub(crate) fn fine_rows(&self, c: usize) -> Result<(OwnedRows, Coarsening), DistError> {
-        let (op, flags, halo) = (&self.level.op, &self.level.flags[c], self.halo());
+        self.rows_of(&self.level.flags[c])
+    }
+
+    /// With slip walls (and no periodic links): the one multigrid of every component
+    /// (`Multigrid::build_group`), whose finest level has the rows free in any component, each
+    /// component's flags and the slip frames; None otherwise (collective).
+    fn slip_hierarchy(&self, lines: Lines, smoothers: Smoothers) -> Result<Option<Hierarchies>, DistError> {
+        let Some(slip) = self.level.slip.as_ref().filter(|_| self.ties.is_none()) else {
+            return Ok(None);
+        };
+        if std::env::var_os("MESHMOVE_SLIP_APART").is_some() {
+            return Ok(None);
+        }
+        let flags = &self.level.flags;
+        let any_free: Vec<u8> = (0..flags[0].len()).map(|v| flags.iter().fold(P | Z, |a, f| a & f[v])).collect();
+        let (rows, coarsening) = self.rows_of(&any_free)?;
+        let (n, owned) = (rows.halo.len(), rows.halo.owned());
+        let flags = flags.iter().map(|f| (0..n).map(|i| if i < owned { f[i] } else { P | Z }).collect()).collect();
+        let frames = LevelSlip { frames: slip.frames.clone(), bcs: None, coupled: slip.coupled };
+        let components = Components { flags, slip: Some(frames) };
+        let mg = Multigrid::build_group(rows, coarsening, components, lines, self.params.max_levels, smoothers)?;
+        Ok(Some(Hierarchies::whole(mg, self.mesh.dim())))
+    }
+
+    /// The owned rows of the operator over the unknowns `flags` leaves free (see `fine_rows`).
+    fn rows_of(&self, flags: &[u8]) -> Result<(OwnedRows, Coarsening), DistError> {
+        let (op, halo) = (&self.level.op, self.halo());
         let gids = self.mesh.layout_global_ids();
         let k = OwnedRows { a: free_rows(&op.k, flags, halo), gids: gids.to_vec(), halo: halo.clone() };
         let local = self.local();

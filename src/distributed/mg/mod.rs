@@ -39,13 +39,14 @@ use super::halo::HaloLayout;
 use super::level_layout::Distribution;
 use super::pcg::Preconditioner;
 use super::reduce::{gather, max_over_ranks, sum_in_rank_order};
-use crate::bc::{Dofs, P, Z};
-use crate::multigrid::group::{estimate_lambda_max, GroupOp, Scratch};
+use crate::bc::{inherit_slip_frames, Dofs, SlipFrames, P, Z};
+use crate::multigrid::group::{block, block_mut, estimate_lambda_max, GroupOp, Scratch};
 use crate::multigrid::layout::Layout;
-use crate::multigrid::level::{Level, Transfer};
+use crate::multigrid::level::{Level, LevelSlip, Transfer};
 use crate::multigrid::line_smoother::band_of;
 use crate::multigrid::lines::Lines;
 use crate::multigrid::restriction::Restriction;
+use crate::multigrid::slip::equalise_bounds;
 use crate::multigrid::smoother::{smooth, Coefficients, Smoother, Start};
 use crate::operator::{assembled_below, LevelOperator, Method};
 use crate::sparse::{par_update, CsrMatrix};
@@ -55,6 +56,8 @@ pub(crate) use coupled::CoupledSolve;
 pub(crate) use donors::Positions;
 use gathered::Gathered;
 pub(crate) use lines::owned_lines;
+use std::collections::HashMap;
+use std::ops::Range;
 use std::sync::Arc;
 
 /// A level of this many unknowns over all ranks, or fewer, is gathered onto one rank and solved
@@ -116,8 +119,7 @@ impl Smoothers {
 /// transfer to the next coarser level) and its exchange lists.
 struct DistLevel {
     level: Level,
-    /// The global id of each local entry (`against_serial` maps the levels by it).
-    #[cfg(test)]
+    /// The global id of each local entry.
     gids: Vec<u64>,
     halo: Arc<HaloLayout>,
     /// The digest of this rank's owned rows of the prolongation to the next coarser level
@@ -135,6 +137,20 @@ enum Coarsest {
     /// Too large to gather (coarsening stopped early): a fixed number of smoothing sweeps, a
     /// fixed symmetric operator, so still a valid preconditioner.
     Smoothed,
+    /// A hierarchy of several components: per group of them (its components), the group's
+    /// system gathered on one rank with its slip frames and factored (`CoupledSolve`).
+    Groups(Vec<(Range<usize>, CoupledSolve)>),
+}
+
+/// The components a hierarchy of several carries down its levels (`Multigrid::build_group`):
+/// each component's flags over a level's local entries and the level's slip frames. A coarse
+/// unknown is a fine unknown (its global id), so it takes that unknown's flags and frame, as
+/// the serial kept levels inherit them (`bc::inherit_slip_frames`).
+pub(crate) struct Components {
+    /// Per component, the flags of each local entry (the halo P).
+    pub(crate) flags: Vec<Vec<u8>>,
+    /// The slip frames of the owned entries, on every rank when the walls couple the components.
+    pub(crate) slip: Option<LevelSlip>,
 }
 
 /// Vectors of one level's visit; the finest level's right-hand side and iterate are the
@@ -185,6 +201,9 @@ pub(crate) struct Multigrid {
     smoothers: Smoothers,
     /// Coarse visits per level: 1 a V-cycle, 2 a W-cycle.
     visits: usize,
+    /// The components of the group the cycle runs on (`0..1` for a scalar hierarchy; a group of
+    /// a hierarchy of several, `apply_group`).
+    comps: Range<usize>,
     work: Vec<Work>,
     /// The finest level's right-hand side and iterate when the caller's vectors have another
     /// halo (`Preconditioner::apply`).
@@ -211,6 +230,35 @@ impl Multigrid {
         smoothers: Smoothers,
         per_rank: u64,
     ) -> Result<Multigrid, DistError> {
+        Self::build_with(fine, coarsening, None, lines, max_levels, smoothers, per_rank)
+    }
+
+    /// As `build`, over every component at once: the operator `fine` has the rows free in any
+    /// component, and `components` gives each component's flags and the slip frames on the
+    /// finest level, which every coarse level inherits from the level above. Each group of
+    /// components is then smoothed on every level as one system with its slip projection Π
+    /// (`GroupOp`), and its coarsest level gathered and factored coupled (`CoupledSolve`).
+    /// The levels are not agglomerated (their flags and frames stay with their owners).
+    pub(crate) fn build_group(
+        fine: OwnedRows,
+        coarsening: Coarsening,
+        components: Components,
+        lines: Lines,
+        max_levels: usize,
+        smoothers: Smoothers,
+    ) -> Result<Multigrid, DistError> {
+        Self::build_with(fine, coarsening, Some(components), lines, max_levels, smoothers, 0)
+    }
+
+    fn build_with(
+        fine: OwnedRows,
+        coarsening: Coarsening,
+        components: Option<Components>,
+        lines: Lines,
+        max_levels: usize,
+        smoothers: Smoothers,
+        per_rank: u64,
+    ) -> Result<Multigrid, DistError> {
         let comm = fine.halo.shared_comm().clone();
         // The biharmonic's coarse operators K_c V_c⁻¹ K_c are softer than the Galerkin product of
         // the level above, so one coarse visit corrects too little: the W-cycle's second visit
@@ -219,14 +267,16 @@ impl Multigrid {
         let visits = if matches!(coarsening, Coarsening::Guide(_)) { 2 } else { 1 };
         // A failure on the ranks of an agglomerated level reaches the ranks idle below it here,
         // where every rank of the finest level meets again.
-        let (levels, coarsest) = agree(&comm, levels_of(fine, coarsening, lines, max_levels, per_rank))?;
+        let built = levels_of(fine, coarsening, components, lines, max_levels, per_rank);
+        let (levels, coarsest) = agree(&comm, built)?;
         // Rank 0 holds every level (it receives the rows of every agglomeration).
-        let gathers = matches!(coarsest, Some(Coarsest::Gathered(_)));
+        let gathers = matches!(coarsest, Some(Coarsest::Gathered(_) | Coarsest::Groups(_)));
         let shape = gather(&comm, &[levels.len() as u64, u64::from(gathers)]);
         let (depth, gathered) = (shape[0] as usize, shape[1] == 1);
         let work = levels.iter().enumerate().map(|(l, d)| work(d, l == 0)).collect();
         let entry = Default::default();
-        Ok(Multigrid { levels, coarsest, depth, gathered, comm, smoothers, visits, work, entry })
+        let comps = 0..1;
+        Ok(Multigrid { levels, coarsest, depth, gathered, comm, smoothers, visits, comps, work, entry })
     }
 
     /// Unknowns, halo values and ranks per level, finest first (collective).
@@ -264,22 +314,34 @@ impl Multigrid {
         self.gathered
     }
 
-    /// x = B b on level `l` from a zero start: one V- or W-cycle (collective over the level's
-    /// ranks and those idle below it).
+    /// x = B b on level `l` from a zero start: one V- or W-cycle of the group `comps` (its
+    /// blocks of the level's unknowns; collective over the level's ranks and those idle below
+    /// it).
     fn cycle(&mut self, l: usize, b: &[f64], x: &mut [f64]) {
         let lev = &self.levels[l];
-        let op = GroupOp::new(&lev.level, 0..1, false);
+        let op = GroupOp::new(&lev.level, self.comps.clone(), false);
         let sm = self.smoothers.at(l);
         if lev.level.down.is_none() {
-            match &self.coarsest {
-                Some(Coarsest::Gathered(g)) => g.solve(b, x),
-                Some(Coarsest::Smoothed) | None => {
-                    let w = &mut self.work[l];
-                    let mut start = Start::Zero;
-                    for _ in 0..COARSEST_SWEEPS {
-                        smooth(&op, sm, b, x, &mut w.scratch, &mut w.coefficients, start, false);
-                        start = Start::Guess;
+            let exact = match &self.coarsest {
+                Some(Coarsest::Gathered(g)) => {
+                    g.solve(b, x);
+                    true
+                }
+                Some(Coarsest::Groups(groups)) => match groups.iter().find(|g| g.0 == self.comps) {
+                    Some((_, g)) => {
+                        g.solve(b, x, op.n());
+                        true
                     }
+                    None => false,
+                },
+                Some(Coarsest::Smoothed) | None => false,
+            };
+            if !exact {
+                let w = &mut self.work[l];
+                let mut start = Start::Zero;
+                for _ in 0..COARSEST_SWEEPS {
+                    smooth(&op, sm, b, x, &mut w.scratch, &mut w.coefficients, start, false);
+                    start = Start::Guess;
                 }
             }
             return;
@@ -287,7 +349,7 @@ impl Multigrid {
         let w = &mut self.work[l];
         smooth(&op, sm, b, x, &mut w.scratch, &mut w.coefficients, Start::Zero, false);
         self.correct(l, b, x);
-        let op = GroupOp::new(&self.levels[l].level, 0..1, false);
+        let op = GroupOp::new(&self.levels[l].level, self.comps.clone(), false);
         let w = &mut self.work[l];
         smooth(&op, sm, b, x, &mut w.scratch, &mut w.coefficients, Start::Guess, false);
     }
@@ -300,39 +362,77 @@ impl Multigrid {
         if lev.level.down.is_none() {
             return;
         }
-        let op = GroupOp::new(&lev.level, 0..1, false);
+        let op = GroupOp::new(&lev.level, self.comps.clone(), false);
         let w = &mut self.work[l];
-        op.residual(b, x, &mut w.r, &mut w.scratch[0].s);
+        op.residual(b, x, &mut w.r[..b.len()], &mut w.scratch[0].s);
         self.correct_residual(l, x);
     }
 
     /// x = P x_c with x_c one visit of the next coarser level to Pᵀ r: the cycle's coarse
-    /// correction of a residual `r` formed by the caller on the finest level (its owned entries
-    /// read; x's halo left zero); x = 0 for a hierarchy of one level (collective).
+    /// correction of a residual `r` formed by the caller on the finest level (one block per
+    /// component of the group, each of the caller's length; its owned entries read; x's halo
+    /// left zero); x = 0 for a hierarchy of one level (collective).
     pub(crate) fn coarse_correction(&mut self, r: &[f64], x: &mut [f64]) {
-        let (owned, n) = (self.levels[0].halo.owned(), self.levels[0].level.n());
+        let (owned, n, len) = (self.levels[0].halo.owned(), self.levels[0].level.n(), self.comps.len());
+        let nr = r.len() / len;
         let w = &mut self.work[0];
-        w.r[..owned].copy_from_slice(&r[..owned]);
-        w.r[owned..].iter_mut().for_each(|v| *v = 0.0);
+        for k in 0..len {
+            let to = block_mut(&mut w.r, n, k);
+            to[..owned].copy_from_slice(&block(r, nr, k)[..owned]);
+            to[owned..].iter_mut().for_each(|v| *v = 0.0);
+        }
         let mut x0 = std::mem::take(&mut self.entry.1);
         x0.clear();
-        x0.resize(n, 0.0);
+        x0.resize(n * len, 0.0);
         if self.levels[0].level.down.is_some() {
             self.correct_residual(0, &mut x0);
         }
-        x[..owned].copy_from_slice(&x0[..owned]);
-        x[owned..].iter_mut().for_each(|v| *v = 0.0);
+        for k in 0..len {
+            let to = block_mut(x, nr, k);
+            to[..owned].copy_from_slice(&block(&x0, n, k)[..owned]);
+            to[owned..].iter_mut().for_each(|v| *v = 0.0);
+        }
         self.entry.1 = x0;
     }
 
-    /// x ← x + P x_c on level `l` from its residual in `work[l].r` (see `correct`).
+    /// One cycle of the group `comps` of a hierarchy of several components (`build_group`) as
+    /// the preconditioner of that group's system: `r` and `z` one block per component, each of
+    /// the caller's length (see `Preconditioner::apply`); z in the range of the group's Π.
+    pub(crate) fn apply_group(&mut self, comps: Range<usize>, r: &[f64], z: &mut [f64]) {
+        self.comps = comps;
+        let (n, len) = (self.levels[0].level.n(), self.comps.len());
+        let nr = r.len() / len;
+        if nr == n {
+            return self.cycle(0, r, z);
+        }
+        let owned = self.levels[0].halo.owned();
+        let (mut b, mut x) = std::mem::take(&mut self.entry);
+        b.clear();
+        b.resize(n * len, 0.0);
+        x.resize(n * len, 0.0);
+        for k in 0..len {
+            block_mut(&mut b, n, k)[..owned].copy_from_slice(&block(r, nr, k)[..owned]);
+        }
+        self.cycle(0, &b, &mut x);
+        for k in 0..len {
+            let to = block_mut(z, nr, k);
+            to[..owned].copy_from_slice(&block(&x, n, k)[..owned]);
+            to[owned..].iter_mut().for_each(|v| *v = 0.0);
+        }
+        self.entry = (b, x);
+    }
+
+    /// x ← x + Π P x_c on level `l` from its residual in `work[l].r` (see `correct`), block by
+    /// block of the group.
     fn correct_residual(&mut self, l: usize, x: &mut [f64]) {
         let lev = &self.levels[l];
         let Some(down) = &lev.level.down else {
             return;
         };
+        let (n, len) = (lev.level.n(), self.comps.len());
         let (prolong, landing) = (down.prolong.clone(), lev.landing.clone());
         let held = l + 1 < self.levels.len();
+        let nc = if held { self.levels[l + 1].level.n() } else { 0 };
         let (mut bc, mut xc) = if held {
             (std::mem::take(&mut self.work[l + 1].b), std::mem::take(&mut self.work[l + 1].x))
         } else {
@@ -341,34 +441,50 @@ impl Multigrid {
         let coarse = match &landing {
             Some(landing) => {
                 let (mut lb, mut lx) = std::mem::take(&mut self.work[l].landing);
-                down.restrict.mul_vec(&self.work[l].r, &mut lb);
-                // Pᵀ r: the contributions to coarse halo entries belong to their owners, whose
-                // owned entries then move onto the agglomerated level's ranks.
-                landing.layout.add_to_owners(&mut lb);
-                landing.mover.gather(&lb, &mut bc);
-                if held {
-                    let owned = self.levels[l + 1].halo.owned();
-                    bc[owned..].iter_mut().for_each(|v| *v = 0.0);
-                    self.visit(l + 1, &bc, &mut xc);
+                let nl = landing.layout.len();
+                for k in 0..len {
+                    let lbk = block_mut(&mut lb, nl, k);
+                    down.restrict.mul_vec(block(&self.work[l].r, n, k), lbk);
+                    // Pᵀ r: the contributions to coarse halo entries belong to their owners,
+                    // whose owned entries then move onto the agglomerated level's ranks.
+                    landing.layout.add_to_owners(lbk);
+                    let moved = if held { block_mut(&mut bc, nc, k) } else { &mut [] };
+                    landing.mover.gather(lbk, moved);
                 }
-                landing.mover.scatter(&xc, &mut lx);
-                landing.layout.refresh(&mut lx);
+                if held {
+                    self.prescribe(l + 1, &mut bc[..nc * len]);
+                    self.visit(l + 1, &bc[..nc * len], &mut xc[..nc * len]);
+                }
+                for k in 0..len {
+                    let lxk = block_mut(&mut lx, nl, k);
+                    landing.mover.scatter(if held { block(&xc, nc, k) } else { &[] }, lxk);
+                    landing.layout.refresh(lxk);
+                }
                 self.work[l].landing.0 = lb;
-                lx
+                (lx, nl)
             }
             None => {
-                down.restrict.mul_vec(&self.work[l].r, &mut bc);
                 let coarse_halo = self.levels[l + 1].halo.clone();
-                coarse_halo.add_to_owners(&mut bc);
-                bc[coarse_halo.owned()..].iter_mut().for_each(|v| *v = 0.0);
-                self.visit(l + 1, &bc, &mut xc);
-                coarse_halo.refresh(&mut xc);
-                std::mem::take(&mut xc)
+                for k in 0..len {
+                    let bck = block_mut(&mut bc, nc, k);
+                    down.restrict.mul_vec(block(&self.work[l].r, n, k), bck);
+                    coarse_halo.add_to_owners(bck);
+                }
+                self.prescribe(l + 1, &mut bc[..nc * len]);
+                self.visit(l + 1, &bc[..nc * len], &mut xc[..nc * len]);
+                (0..len).for_each(|k| coarse_halo.refresh(block_mut(&mut xc, nc, k)));
+                (std::mem::take(&mut xc), nc)
             }
         };
-        // x ← x + P x_c on the owned unknowns (P's rows of the halo and prescribed are empty).
-        let flags = &self.levels[l].level.flags[0];
-        par_update(x, |i, xv| if flags[i] & P != 0 { xv } else { xv + prolong.row_dot(i, &coarse) });
+        let (coarse, m) = coarse;
+        // x ← x + P x_c on the owned unknowns (P's rows of the halo and prescribed are empty),
+        // then Π x: x is in Π's range, so this adds Π P x_c.
+        let lev = &self.levels[l].level;
+        for (k, c) in self.comps.clone().enumerate() {
+            let (flags, xc) = (&lev.flags[c], block(&coarse, m, k));
+            par_update(block_mut(x, n, k), |i, xv| if flags[i] & P != 0 { xv } else { xv + prolong.row_dot(i, xc) });
+        }
+        GroupOp::new(lev, self.comps.clone(), false).project(&mut x[..n * len]);
         if landing.is_some() {
             self.work[l].landing.1 = coarse;
         } else {
@@ -380,17 +496,30 @@ impl Multigrid {
         }
     }
 
+    /// Zeroes the prescribed entries of the group's blocks of `b` on level `l` (its halo, and in
+    /// a hierarchy of several components each component's prescribed unknowns), so that the
+    /// restriction is the transpose of the prolongation, which leaves them.
+    fn prescribe(&self, l: usize, b: &mut [f64]) {
+        let lev = &self.levels[l].level;
+        let n = lev.n();
+        for (k, c) in self.comps.clone().enumerate() {
+            let flags = &lev.flags[c];
+            block_mut(b, n, k).iter_mut().zip(flags).filter(|(_, f)| *f & P != 0).for_each(|(v, _)| *v = 0.0);
+        }
+    }
+
     /// x_c from `visits` cycles on level `l`'s system A x = b, each from the residual the
     /// previous left (collective over the level's ranks).
     fn visit(&mut self, l: usize, b: &[f64], x: &mut [f64]) {
         self.cycle(l, b, x);
         // A coarsest level solved exactly leaves nothing for a second visit.
         let exact = l + 1 == self.depth && self.gathered;
+        let m = b.len();
         for _ in 1..if exact { 1 } else { self.visits } {
             let (mut rc, mut dx) = std::mem::take(&mut self.work[l].again);
-            let op = GroupOp::new(&self.levels[l].level, 0..1, false);
-            op.residual(b, x, &mut rc, &mut self.work[l].scratch[0].s);
-            self.cycle(l, &rc, &mut dx);
+            let op = GroupOp::new(&self.levels[l].level, self.comps.clone(), false);
+            op.residual(b, x, &mut rc[..m], &mut self.work[l].scratch[0].s);
+            self.cycle(l, &rc[..m], &mut dx[..m]);
             x.iter_mut().zip(&dx).for_each(|(x, d)| *x += d);
             self.work[l].again = (rc, dx);
         }
@@ -402,11 +531,14 @@ impl Multigrid {
 fn levels_of(
     fine: OwnedRows,
     coarsening: Coarsening,
+    components: Option<Components>,
     lines: Lines,
     max_levels: usize,
     per_rank: u64,
 ) -> Result<(Vec<DistLevel>, Option<Coarsest>), DistError> {
     let mut levels = Vec::new();
+    // The current level's components, for a hierarchy of several.
+    let mut comp = components;
     // The biharmonic's guide, or the positions of the current level's local entries.
     let (mut guide, mut at) = match coarsening {
         Coarsening::Guide(g) => (Some(g), None),
@@ -451,20 +583,24 @@ fn levels_of(
             }
         };
         let Some((next, prolong)) = coarse else {
-            return coarsest((current, lines, band), rows, levels);
+            return coarsest((current, lines, band), comp, rows, levels);
         };
         let next_rows = global_rows(&next);
         if next_rows as f64 >= MIN_REDUCTION * rows as f64 {
-            return coarsest((current, lines, band), rows, levels);
+            return coarsest((current, lines, band), comp, rows, levels);
         }
         let next_segments = lines::kept_segments(&segments, &current.gids, &next);
         let next_lines = lines::smoothed(&next_segments);
         // A level small enough to gather goes onto one rank by its own solve.
         let ranks = next.halo.comm().size();
-        let shift = if next_rows <= GATHER_ROWS { 0 } else { halvings(next_rows, ranks, per_rank) };
+        // A hierarchy of several components keeps its levels on their ranks (`build_group`).
+        let stay = next_rows <= GATHER_ROWS || comp.is_some();
+        let shift = if stay { 0 } else { halvings(next_rows, ranks, per_rank) };
         let digest = transfer_digest(&prolong, &current, &next.gids);
         if shift == 0 {
-            levels.push(dist_level((current, lines, band), Some((prolong, digest)), None));
+            let next_comp = comp.as_ref().map(|c| inherited(&current, &next, c));
+            levels.push(dist_level((current, lines, band), comp, Some((prolong, digest)), None));
+            comp = next_comp;
             (current, lines, segments) = (next, next_lines, next_segments);
             continue;
         }
@@ -481,7 +617,7 @@ fn levels_of(
         let moved_at = at.take().map(|a| a.moved(&landing.mover));
         let moved_segments = lines::moved_lines(&next_segments, &landing.mover, next.halo.comm().rank());
         let moved_lines = lines::smoothed(&moved_segments);
-        levels.push(dist_level((current, lines, band), Some((prolong, digest)), Some(Arc::new(landing))));
+        levels.push(dist_level((current, lines, band), None, Some((prolong, digest)), Some(Arc::new(landing))));
         let Some(moved) = agglomeration.assemble(&sent)? else {
             return Ok((levels, None));
         };
@@ -518,16 +654,68 @@ fn galerkin_level(m: &OwnedRows, at: &mut Option<Positions>) -> Result<Option<(O
     Ok(Some((next, prolong)))
 }
 
-/// The coarsest level `m` (`rows` unknowns over its ranks) after `levels`, and its solve
-/// (collective over its ranks).
+/// The coarsest level `m` (`rows` unknowns over its ranks, its components `comp` for a
+/// hierarchy of several) after `levels`, and its solve (collective over its ranks).
 fn coarsest(
     (m, lines, band): (OwnedRows, Lines, usize),
+    comp: Option<Components>,
     rows: u64,
     mut levels: Vec<DistLevel>,
 ) -> Result<(Vec<DistLevel>, Option<Coarsest>), DistError> {
-    let coarsest = if rows <= GATHER_ROWS { Coarsest::Gathered(Gathered::new(&m)?) } else { Coarsest::Smoothed };
-    levels.push(dist_level((m, lines, band), None, None));
-    Ok((levels, Some(coarsest)))
+    if rows > GATHER_ROWS {
+        levels.push(dist_level((m, lines, band), comp, None, None));
+        return Ok((levels, Some(Coarsest::Smoothed)));
+    }
+    if comp.is_none() {
+        let coarsest = Coarsest::Gathered(Gathered::new(&m)?);
+        levels.push(dist_level((m, lines, band), None, None, None));
+        return Ok((levels, Some(coarsest)));
+    }
+    let d = dist_level((m, lines, band), comp, None, None);
+    // The groups the solver forms: every component as one where the walls couple them, else
+    // each component alone.
+    let dim = d.level.dim();
+    let groups: Vec<Range<usize>> = if d.level.coupled_frames(&(0..dim)).is_some() {
+        vec![0..dim]
+    } else {
+        (0..dim).map(|c| c..c + 1).collect()
+    };
+    let mut solves = Vec::with_capacity(groups.len());
+    for g in groups {
+        let op = GroupOp::new(&d.level, g.clone(), false);
+        match CoupledSolve::new(&op, &d.gids, &d.halo, None)? {
+            Some(s) => solves.push((g, s)),
+            None => {
+                levels.push(d);
+                return Ok((levels, Some(Coarsest::Smoothed)));
+            }
+        }
+    }
+    levels.push(d);
+    Ok((levels, Some(Coarsest::Groups(solves))))
+}
+
+/// The components of the coarse level `coarse` of `fine` (whose components are `comp`): each
+/// owned coarse unknown is the fine owned unknown of its global id and takes its flags and slip
+/// frame (`bc::inherit_slip_frames`); the halo and the empty rows are P and Z.
+fn inherited(fine: &OwnedRows, coarse: &OwnedRows, comp: &Components) -> Components {
+    let at: HashMap<u64, u32> = fine.gids[..fine.halo.owned()].iter().enumerate().map(|(i, &g)| (g, i as u32)).collect();
+    let owned = coarse.halo.owned();
+    let map: Vec<u32> = (0..coarse.halo.len())
+        .map(|i| {
+            let unknown = i < owned && !coarse.a.row(i).0.is_empty();
+            let fine = unknown.then(|| at.get(&coarse.gids[i]).copied()).flatten();
+            fine.unwrap_or(u32::MAX)
+        })
+        .collect();
+    let mut flags: Vec<Vec<u8>> =
+        comp.flags.iter().map(|f| map.iter().map(|&j| f.get(j as usize).copied().unwrap_or(P | Z)).collect()).collect();
+    let slip = comp.slip.as_ref().map(|s| {
+        let frames = inherit_slip_frames(&s.frames, &map, &mut flags);
+        let frames = frames.unwrap_or_else(|| SlipFrames::empty(s.frames.dim));
+        LevelSlip { frames, bcs: None, coupled: s.coupled }
+    });
+    Components { flags, slip }
 }
 
 /// A receiving rank without the guide's rows, which the level's move sent with it: cannot occur.
@@ -545,20 +733,8 @@ impl Preconditioner for Multigrid {
     /// then the owned entries are copied in and out. z's halo is not the owners' values (zero
     /// after a gathered solve): the operator exchanges it before reading it.
     fn apply(&mut self, r: &[f64], z: &mut [f64]) {
-        let n = self.levels[0].level.n();
-        if r.len() == n {
-            return self.cycle(0, r, z);
-        }
-        let owned = self.levels[0].halo.owned();
-        let (mut b, mut x) = std::mem::take(&mut self.entry);
-        b.clear();
-        b.extend_from_slice(&r[..owned]);
-        b.resize(n, 0.0);
-        x.resize(n, 0.0);
-        self.cycle(0, &b, &mut x);
-        z[..owned].copy_from_slice(&x[..owned]);
-        z[owned..].iter_mut().for_each(|v| *v = 0.0);
-        self.entry = (b, x);
+        let comps = self.comps.clone();
+        self.apply_group(comps, r, z);
     }
 }
 
@@ -595,19 +771,24 @@ fn transfer_digest(p: &CsrMatrix, fine: &OwnedRows, coarse: &[u64]) -> u64 {
 }
 
 /// The smoother's level of `m` (its empty rows and its halo prescribed, so neither is smoothed
-/// nor read as an unknown) with its `lines` (blocks of `band`) and the transfer `prolong` to the
-/// next coarser level with its digest (collective: the smoother's bound is estimated over every
-/// rank's rows).
+/// nor read as an unknown; a hierarchy of several components: their flags and slip frames
+/// `comp`) with its `lines` (blocks of `band`) and the transfer `prolong` to the next coarser
+/// level with its digest (collective: the smoother's bound is estimated over every rank's rows).
 fn dist_level(
     (m, lines, band): (OwnedRows, Lines, usize),
+    comp: Option<Components>,
     prolong: Option<(CsrMatrix, u64)>,
     landing: Option<Arc<Landing>>,
 ) -> DistLevel {
-    let OwnedRows { a, halo, gids: _gids } = m;
+    let OwnedRows { a, halo, gids } = m;
     let (n, owned) = (halo.len(), halo.owned());
-    let flags: Vec<u8> = (0..n).map(|i| if i >= owned || a.row(i).0.is_empty() { P | Z } else { 0 }).collect();
+    let (flags, slip) = match comp {
+        Some(c) => (c.flags, c.slip),
+        None => (vec![(0..n).map(|i| if i >= owned || a.row(i).0.is_empty() { P | Z } else { 0 }).collect()], None),
+    };
     let op = LevelOperator::from_matrix(Method::Laplacian, a);
-    let inv_d = vec![op.inv_l1_diag(&flags)];
+    let inv_d = flags.iter().map(|f| op.inv_l1_diag(f)).collect();
+    let lambda_max = vec![1.0; flags.len()];
     let digest = prolong.as_ref().map_or(0, |p| p.1);
     let down = prolong.map(|(p, _)| {
         let prolong = Arc::new(p);
@@ -619,21 +800,26 @@ fn dist_level(
         pairs: Vec::new(),
         dofs: Dofs::identity(n),
         op,
-        flags: vec![flags],
+        flags,
         inv_d,
-        lambda_max: vec![1.0],
+        lambda_max,
         lines: Default::default(),
         parent_vertex: Vec::new(),
         down,
-        slip: None,
+        slip,
         layout: Distribution::Halo(halo.clone()),
     };
     lines::attach(&mut level, lines, band);
-    level.lambda_max = vec![estimate_lambda_max(&GroupOp::new(&level, 0..1, false))];
+    equalise_bounds(&mut level);
+    let dim = level.dim();
+    level.lambda_max = match level.coupled_frames(&(0..dim)) {
+        // One polynomial for the coupled group, tuned to its projected operator.
+        Some(_) => vec![estimate_lambda_max(&GroupOp::new(&level, 0..dim, false)); dim],
+        None => (0..dim).map(|c| estimate_lambda_max(&GroupOp::new(&level, c..c + 1, false))).collect(),
+    };
     DistLevel {
         level,
-        #[cfg(test)]
-        gids: _gids,
+        gids,
         halo,
         digest,
         landing,
@@ -644,12 +830,15 @@ fn dist_level(
 fn work(d: &DistLevel, finest: bool) -> Work {
     let n = d.level.n();
     let nl = d.landing.as_ref().map_or(0, |l| l.layout.len());
+    // One block per component of a hierarchy of several.
+    let (len, n1) = (d.level.dim(), n);
+    let (n, nl) = (n * len, nl * len);
     let nbx = if finest { 0 } else { n };
     Work {
         b: vec![0.0; nbx],
         x: vec![0.0; nbx],
         r: vec![0.0; n],
-        scratch: vec![Scratch::new(n, Method::Laplacian)],
+        scratch: (0..len).map(|_| Scratch::new(n1, Method::Laplacian)).collect(),
         coefficients: Coefficients::default(),
         again: (vec![0.0; nbx], vec![0.0; nbx]),
         landing: (vec![0.0; nl], vec![0.0; nl]),
