@@ -16,8 +16,8 @@
 //! put back on the curved wall from its faces or its closest-point function, equal the serial
 //! solver for the three methods; so do periodic sides linked across ranks, alone and with a
 //! wavy SLIP wall between them (the linked corners on the wall); these coupled groups take at
-//! most one iteration more than the serial cycles, and on a larger annulus whose multigrid
-//! coarsens within a bound the components' projected cycles exceeded.
+//! most one iteration more than the serial cycles, and so does a larger annulus whose multigrid
+//! coarsens (a bound the components' projected cycles exceeded).
 //! Then the steps (`move_in_steps`, `advance`, `advance_from`, sub-stepping) in both reference
 //! modes, made with the serial `Options`, equal the serial solver's on a 2D and a 3D mesh; the
 //! options the distributed solver does not take, positions with inverted cells and rank 0's
@@ -119,9 +119,8 @@ fn rank_main() -> ExitCode {
         }
     }
     // A quarter annulus large enough for the multigrid to coarsen: the coupled group's cycle
-    // (its own smoother on the finest level, the components' coarse levels below) stays within
-    // 1.5 times the serial cycles for the Laplacian and 3 times for the biharmonic (both levels
-    // interpolating by the serial donor rule), bounds the components' cycles projected exceed
+    // (one hierarchy of both components, the slip frames on every level) stays within one
+    // iteration of the serial cycles, a bound the components' cycles projected exceeded
     // (docs/PERFORMANCE.md).
     for method in [Method::Laplacian, Method::Biharmonic] {
         let annulus = bent(&grid2d(30, 48));
@@ -567,6 +566,9 @@ fn solver_agrees_with_serial(
     let serial = reference.report.cycles;
     let bound = match (coupled, method) {
         (true, _) if d.num_vertices() <= 400 => Some(serial + 1),
+        // A larger slip-walled group: one hierarchy of every component whose levels carry the
+        // slip frames, as the serial levels do (docs/DESIGN.md §5 "Slip walls across ranks").
+        (true, _) if matches!(case, Case::Slip { .. }) => Some(serial + 1),
         (true, Method::Laplacian) => Some(3 * serial / 2),
         (true, _) => Some(3 * serial),
         (false, Method::Biharmonic) => {

@@ -1,8 +1,11 @@
-//! The preconditioner of a group of components coupled by slip walls or periodic links, from
-//! their scalar multigrids.
+//! The preconditioner of a group of components.
 //!
-//! The distributed multigrid coarsens one scalar operator (a component's free rows), and its
-//! coarse levels carry neither slip frames nor ties. A coupled group is therefore
+//! With slip walls (and no periodic links) one multigrid carries every component
+//! (`mg::Multigrid::build_group`: the slip frames and each component's flags on every level),
+//! and a group is preconditioned by its cycle over the group's components.
+//!
+//! Otherwise the distributed multigrid coarsens one scalar operator per component (its free
+//! rows), whose coarse levels carry no ties. A group tied by periodic links is therefore
 //! preconditioned by a cycle whose finest level is the group's own: the group's smoother (the
 //! Chebyshev–Jacobi steps on Π A Π, the projection Π of the slip frames and the ties in every
 //! step, the Jacobi diagonal equalised at slip and tied vertices) before and after a coarse

@@ -26,8 +26,7 @@ use super::kept::{Hierarchies, Kept};
 use super::level_layout::Distribution;
 use super::mg::{
     any_lines, biharmonic_rows, owned_lines, Coarsening, Components, CoupledSolve, Guide, Multigrid, OwnedRows,
-    Positions, Smoothers,
-    ROWS_PER_RANK,
+    Positions, Smoothers, ROWS_PER_RANK,
 };
 use super::pcg::{pcg, OneLevel, Preconditioner};
 use super::reduce::{gather, sum_in_rank_order};
@@ -444,9 +443,6 @@ impl DistributedSolver {
         let Some(slip) = self.level.slip.as_ref().filter(|_| self.ties.is_none()) else {
             return Ok(None);
         };
-        if std::env::var_os("MESHMOVE_SLIP_APART").is_some() {
-            return Ok(None);
-        }
         let flags = &self.level.flags;
         let any_free: Vec<u8> = (0..flags[0].len()).map(|v| flags.iter().fold(P | Z, |a, f| a & f[v])).collect();
         let (rows, coarsening) = self.rows_of(&any_free)?;

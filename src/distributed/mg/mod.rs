@@ -15,8 +15,12 @@
 //! the lines, `along_lines`), and its cycle is a W-cycle. A coarse level with few unknowns per rank
 //! is moved onto fewer ranks, which carry it and the levels below on a communicator of their
 //! own (`agglomerate`, with the values moved by `mover`); once a level is small it is gathered
-//! onto one rank and solved there by a dense factor (`gathered`). The smoother is the serial multigrid's Chebyshev–Jacobi smoother on owned rows,
-//! run through the level's `GroupOp` and halo layout.
+//! onto one rank and solved there by a dense factor (`gathered`). With slip walls one hierarchy
+//! carries every component (`Multigrid::build_group`): each level keeps each component's flags
+//! and the slip frames its unknowns inherit, each group of components is smoothed with its
+//! projection on every level and its coarsest level is factored coupled (`coupled`). The
+//! smoother is the serial multigrid's Chebyshev–Jacobi smoother on owned rows, run through the
+//! level's `GroupOp` and halo layout.
 
 #[cfg(test)]
 mod against_serial;
@@ -675,11 +679,8 @@ fn coarsest(
     // The groups the solver forms: every component as one where the walls couple them, else
     // each component alone.
     let dim = d.level.dim();
-    let groups: Vec<Range<usize>> = if d.level.coupled_frames(&(0..dim)).is_some() {
-        vec![0..dim]
-    } else {
-        (0..dim).map(|c| c..c + 1).collect()
-    };
+    let groups: Vec<Range<usize>> =
+        if d.level.coupled_frames(&(0..dim)).is_some() { vec![0..dim] } else { (0..dim).map(|c| c..c + 1).collect() };
     let mut solves = Vec::with_capacity(groups.len());
     for g in groups {
         let op = GroupOp::new(&d.level, g.clone(), false);
@@ -699,7 +700,8 @@ fn coarsest(
 /// owned coarse unknown is the fine owned unknown of its global id and takes its flags and slip
 /// frame (`bc::inherit_slip_frames`); the halo and the empty rows are P and Z.
 fn inherited(fine: &OwnedRows, coarse: &OwnedRows, comp: &Components) -> Components {
-    let at: HashMap<u64, u32> = fine.gids[..fine.halo.owned()].iter().enumerate().map(|(i, &g)| (g, i as u32)).collect();
+    let at: HashMap<u64, u32> =
+        fine.gids[..fine.halo.owned()].iter().enumerate().map(|(i, &g)| (g, i as u32)).collect();
     let owned = coarse.halo.owned();
     let map: Vec<u32> = (0..coarse.halo.len())
         .map(|i| {
@@ -817,13 +819,7 @@ fn dist_level(
         Some(_) => vec![estimate_lambda_max(&GroupOp::new(&level, 0..dim, false)); dim],
         None => (0..dim).map(|c| estimate_lambda_max(&GroupOp::new(&level, c..c + 1, false))).collect(),
     };
-    DistLevel {
-        level,
-        gids,
-        halo,
-        digest,
-        landing,
-    }
+    DistLevel { level, gids, halo, digest, landing }
 }
 
 /// The vectors of a visit to `d` (`finest`: its b and x are the caller's).
