@@ -679,8 +679,11 @@ fn coarsest(
     // The groups the solver forms: every component as one where the walls couple them, else
     // each component alone.
     let dim = d.level.dim();
-    let groups: Vec<Range<usize>> =
-        if d.level.coupled_frames(&(0..dim)).is_some() { vec![0..dim] } else { (0..dim).map(|c| c..c + 1).collect() };
+    let groups: Vec<Range<usize>> = if d.level.coupled_frames(&(0..dim)).is_some() {
+        std::iter::once(0..dim).collect()
+    } else {
+        (0..dim).map(|c| c..c + 1).collect()
+    };
     let mut solves = Vec::with_capacity(groups.len());
     for g in groups {
         let op = GroupOp::new(&d.level, g.clone(), false);
