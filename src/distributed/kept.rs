@@ -26,6 +26,9 @@ pub(crate) struct Hierarchies {
     /// gathered: its coupled solve on one rank (`mg::CoupledSolve`), which preconditions it in
     /// place of the components' multigrids; filled by the solver after the build.
     pub(crate) coupled: Vec<Option<CoupledSolve>>,
+    /// Some rank found lines across wall layers; set by the solver after the build (it decides
+    /// the smoothing degrees and whether a tangled result is polished).
+    pub(crate) layered: bool,
 }
 
 impl Hierarchies {
@@ -54,7 +57,7 @@ impl Hierarchies {
             of_component.push(multigrids.len() - 1);
         }
         let (sizes, gathers) = multigrids.first().map(|m| (m.sizes(), m.gathers())).unwrap_or_default();
-        Ok(Hierarchies { multigrids, of_component, sizes, gathers, coupled: Vec::new() })
+        Ok(Hierarchies { multigrids, of_component, sizes, gathers, coupled: Vec::new(), layered: false })
     }
 
     /// Component `c`'s multigrid.
