@@ -186,7 +186,8 @@ fn rank_main() -> ExitCode {
 }
 
 /// The smallest wall-layered airfoil (first height 1e-5 chord, aspect ratios to 10⁴) pitched
-/// about its quarter chord, by `method` to `tol` on slabs: at most `most` iterations, with the
+/// about its quarter chord, by `method` to `tol` on slabs: at most `most` iterations before any
+/// polish of a tangled result (the Laplacian folds the layers), with the
 /// lines across its layers (the Laplacian) and the assembled Galerkin A below the first coarse
 /// level (the biharmonic). Its agreement with the serial solver is in docs/PERFORMANCE.md.
 fn airfoil(world: &SimpleCommunicator, method: Method, tol: f64, most: usize) {
@@ -210,10 +211,15 @@ fn airfoil(world: &SimpleCommunicator, method: Method, tol: f64, most: usize) {
     let params = DistSolveParams { tol, ..Default::default() };
     let solver = DistributedSolver::new(&dm, &setup.bcs, method, params).expect("the solver");
     let sol = solver.solve(&motion).unwrap_or_else(|e| panic!("the airfoil's {method:?}: {e}"));
-    let taken = sol.iterations.iter().copied().max().unwrap_or(0);
+    // The Laplacian's pitch folds the layers: its tangled result is polished (in vain, as
+    // serially), and the bound is on the first solve.
+    let taken = sol.iterations.iter().copied().max().unwrap_or(0) - sol.polish_iterations;
     assert!(taken <= most, "airfoil, {method:?} on {size} ranks: {:?} iterations", sol.iterations);
     if rank == 0 {
-        println!("airfoil, {method:?} on {size} ranks: iterations {:?} to {tol:e}", sol.iterations);
+        println!(
+            "airfoil, {method:?} on {size} ranks: iterations {:?} ({} of polish) to {tol:e}",
+            sol.iterations, sol.polish_iterations
+        );
         if method == Method::Biharmonic {
             println!("levels: airfoil, {method:?} | {:?} {:?}", sol.level_rows, sol.level_transfers);
         }
