@@ -33,37 +33,19 @@ fn main() {
     let methods = methods(&args);
     let all =
         ["boundary_layer_cylinder", "boundary_layer_cylinder_hybrid", "boundary_layer_cylinder_3d", "airfoil", "wing"];
-    for name in names.iter().filter(|n| n.starts_with("airfoil:")) {
-        let f: Vec<&str> = name.split(':').collect();
-        let setup = airfoil(f.get(1).and_then(|n| n.parse().ok()).unwrap_or(64), f.get(2).unwrap_or(&"pitch"));
-        let owner = slabs::slabs_across_x(&setup.mesh.to_data(), size);
-        compare(
-            &world,
-            name,
-            (&setup.mesh, &setup.bcs, &setup.motion),
-            &owner,
-            &methods,
-            &tols,
-            most_iterations(&args),
-        );
-    }
-    for name in all.iter().filter(|n| names.is_empty() || names.iter().any(|m| m == *n)) {
-        let setup = match *name {
-            "wing" => wing(),
+    let asked = names.iter().filter(|n| n.starts_with("airfoil:")).map(String::as_str);
+    let listed = all.into_iter().filter(|n| names.is_empty() || names.iter().any(|m| m == n));
+    for name in asked.chain(listed) {
+        let setup = match name.split(':').collect::<Vec<_>>()[..] {
+            ["wing"] => wing(),
+            ["airfoil", n, how] => airfoil(n.parse().unwrap_or(64), how),
             _ => {
                 case(name, Scale::Quick).or_else(|| case3d(name, Scale::Quick)).unwrap_or_else(|| airfoil(64, "pitch"))
             }
         };
         let owner = slabs::slabs_across_x(&setup.mesh.to_data(), size);
-        compare(
-            &world,
-            name,
-            (&setup.mesh, &setup.bcs, &setup.motion),
-            &owner,
-            &methods,
-            &tols,
-            most_iterations(&args),
-        );
+        let given = (&setup.mesh, &setup.bcs, &setup.motion);
+        compare(&world, name, given, &owner, &methods, &tols, most_iterations(&args));
     }
 }
 
