@@ -28,7 +28,7 @@ use std::time::Instant;
 
 mod deferred;
 pub(crate) mod memory;
-mod polish;
+pub(crate) mod polish;
 mod progress;
 pub(crate) mod slip;
 pub(crate) mod steps;

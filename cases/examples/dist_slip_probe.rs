@@ -11,7 +11,7 @@ mod against_serial;
 #[path = "../../tests/slabs/mod.rs"]
 mod slabs;
 
-use against_serial::{compare, methods};
+use against_serial::{compare, methods, most_iterations};
 use meshmove::distributed::mpi::traits::*;
 use meshmove::{BoundaryConditions, Kind, Mesh, MeshData, Motion};
 use meshmove_cases::setups::{case, Scale};
@@ -43,7 +43,7 @@ fn main() {
         // The annulus on the slabs of `tests/distributed.rs`, the cases on those of theirs.
         let d = mesh.to_data();
         let owner = if *name == ANNULUS { slabs::slab_owner(&d, size) } else { slabs::slabs_across_x(&d, size) };
-        compare(&world, name, (&mesh, &bcs, &motion), &owner, &methods(&args), &[1e-12]);
+        compare(&world, name, (&mesh, &bcs, &motion), &owner, &methods(&args), &[1e-12], most_iterations(&args));
     }
 }
 

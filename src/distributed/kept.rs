@@ -29,6 +29,9 @@ pub(crate) struct Hierarchies {
     /// One multigrid carries every component (`Multigrid::build_group`, slip walls): each group
     /// of components is preconditioned by its cycle over that group.
     pub(crate) whole: bool,
+    /// Some rank found lines across wall layers; set by the solver after the build (it decides
+    /// the smoothing degrees and whether a tangled result is polished).
+    pub(crate) layered: bool,
 }
 
 impl Hierarchies {
@@ -57,7 +60,7 @@ impl Hierarchies {
             of_component.push(multigrids.len() - 1);
         }
         let (sizes, gathers) = multigrids.first().map(|m| (m.sizes(), m.gathers())).unwrap_or_default();
-        Ok(Hierarchies { multigrids, of_component, sizes, gathers, coupled: Vec::new(), whole: false })
+        Ok(Hierarchies { multigrids, of_component, sizes, gathers, coupled: Vec::new(), whole: false, layered: false })
     }
 
     /// The hierarchies of a mesh of `dim` components with slip walls: the one `multigrid` over
@@ -66,7 +69,7 @@ impl Hierarchies {
     pub(crate) fn whole(multigrid: Multigrid, dim: usize) -> Hierarchies {
         let (sizes, gathers) = (multigrid.sizes(), multigrid.gathers());
         let of_component = vec![0; dim];
-        Hierarchies { multigrids: vec![multigrid], of_component, sizes, gathers, coupled: Vec::new(), whole: true }
+        Hierarchies { multigrids: vec![multigrid], of_component, sizes, gathers, coupled: Vec::new(), whole: true, layered: false }
     }
 
     /// Component `c`'s multigrid.

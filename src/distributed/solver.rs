@@ -41,7 +41,9 @@ use crate::multigrid::local_level::local_level;
 use crate::multigrid::policy::method_degrees;
 use crate::multigrid::slip::equalise_bounds;
 use crate::multigrid::smoother::Smoother;
+use crate::multigrid::solve::Report;
 use crate::operator::{LevelOperator, Method};
+use crate::solver::polish::{self, Polish};
 use crate::solver::slip::normal_parts;
 use crate::sparse::CsrMatrix;
 use crate::{BoundaryConditions, Mesh, Motion, Quality};
@@ -49,6 +51,8 @@ use std::sync::Arc;
 
 mod options;
 mod steps;
+
+use options::serial_options;
 
 pub use steps::DistStepReport;
 
@@ -87,8 +91,13 @@ pub struct DistSolution {
     pub displacement: Vec<f64>,
     /// Conjugate gradient iterations of each group of components: one per component, or one for
     /// all where slip walls not normal to an axis couple them (with curved walls, the two
-    /// solves' iterations added).
+    /// solves' iterations added; with a polish, its stages' added).
     pub iterations: Vec<usize>,
+    /// Of the iterations, those of the polish of a tangled result (the serial
+    /// `Report::polish_cycles`: per stage the most of any group, summed); 0 when no polish ran.
+    /// A converged result whose moved mesh inverts cells under wall layers is solved on from
+    /// itself a decade tighter at a time before it is reported tangled (docs/DESIGN.md §5).
+    pub polish_iterations: usize,
     /// The largest final relative residual over the components.
     pub rel_residual: f64,
     /// The moved mesh against the mesh the displacement starts from, over every rank's owned
@@ -236,47 +245,45 @@ impl DistributedSolver {
     }
 
     /// [`DistributedSolver::solve`] also when a group of components stops above its tolerance:
-    /// the solution and, then, what went wrong (the same on every rank).
+    /// the solution and, then, what went wrong (the same on every rank). A converged result
+    /// with inverted cells under wall layers is polished as the serial solver's
+    /// (`solver::polish`): solved on from itself to tighter tolerances, a decade at a time while
+    /// it stays tangled, each stage kept when it still meets the caller's tolerance. The
+    /// inverted count, the residuals and the lines are global, so every rank takes the same
+    /// decisions.
     fn solve_report(&self, motion: &Motion) -> Result<(DistSolution, Option<String>), DistError> {
         let vals = agree(self.halo().comm(), self.layout_values(motion))?;
-        let mut solved = self.solve_values(motion, &vals, None)?;
-        // The walls are placed only from a converged first solve (its failure is global, so
-        // every rank skips them alike); an unconverged result is reported as it is.
-        // Every rank takes part when the conditions have SLIP walls, also one whose part has none.
-        if let (true, None) = (self.bcs.any_slip(), &solved.failure) {
-            // Curved slip walls: a second solve from the first result, as the serial solver's.
-            let mut second: Option<Solved> = None;
-            let again = |on_wall: &[f64], first: &[f64]| {
-                let s = self.solve_values(motion, on_wall, Some(first))?;
-                let total = s.total.clone();
-                second = Some(s);
-                Ok(total)
-            };
-            let total = std::mem::take(&mut solved.total);
-            let gids = self.mesh.layout_global_ids();
-            solved.total = super::slip::onto_walls_everywhere(
-                self.walls.as_ref(),
-                &self.level,
-                self.halo(),
-                gids,
-                motion,
-                &vals,
-                total,
-                again,
-            )?;
-            if let Some(s) = second {
-                solved.iterations.iter_mut().zip(&s.iterations).for_each(|(a, b)| *a += b);
-                solved.rel_residual = s.rel_residual;
-                solved.failure = s.failure;
+        let (tol, max_iterations) = (self.params.tol, self.params.max_iterations);
+        let mut solved = self.solve_placed(motion, &vals, None, Budget { tol, max_iterations })?;
+        let (mut quality, mut worst_rank) = self.quality(&solved.total);
+        let mut report = solved.report();
+        // Only under wall layers can the tolerance's error exceed a cell (as serially).
+        let p = serial_options(self.method(), &self.params).solve;
+        let mut polish = match quality.inverted > 0 {
+            true => Polish::after(&p, &report).filter(|_| self.layered()),
+            false => None,
+        };
+        while quality.inverted > 0 {
+            let Some(tight) = polish.as_mut().and_then(|s| s.next(&report)) else { break };
+            let budget = Budget { tol: tight.tol, max_iterations: tight.max_cycles };
+            match self.solve_placed(motion, &vals, Some(&solved.total), budget) {
+                Ok(stage) if stage.rel_residual <= tol => {
+                    (quality, worst_rank) = self.quality(&stage.total);
+                    report = polish::chain(report, stage.report());
+                    solved = solved.then(stage);
+                }
+                // A stage that breaks down or leaves the caller's tolerance adds nothing to the
+                // converged result, which stands as it is.
+                _ => break,
             }
         }
         let dim = self.mesh.dim();
-        let (quality, worst_rank) = self.quality(&solved.total);
         let kept = self.multigrids.lock();
         let (sizes, coarsest_gathered) = kept.as_ref().map(|h| (h.sizes.clone(), h.gathers)).unwrap_or_default();
         let sol = DistSolution {
             displacement: self.mesh.to_host_order(&solved.total, dim),
             iterations: solved.iterations,
+            polish_iterations: report.polish_cycles,
             rel_residual: solved.rel_residual,
             quality,
             worst_rank,
@@ -290,10 +297,66 @@ impl DistributedSolver {
         Ok((sol, solved.failure))
     }
 
+    /// Solves every group of components for the prescribed values `vals` within `budget`, from
+    /// `guess` (layout order) or zero, and with SLIP walls places the slipped vertices on them
+    /// (collective). The walls are placed only from a converged solve (its failure is global,
+    /// so every rank skips them alike); an unconverged result is returned as it is. Every rank
+    /// takes part when the conditions have SLIP walls, also one whose part has none.
+    fn solve_placed(
+        &self,
+        motion: &Motion,
+        vals: &[f64],
+        guess: Option<&[f64]>,
+        budget: Budget,
+    ) -> Result<Solved, DistError> {
+        let mut solved = self.solve_values(motion, vals, guess, budget)?;
+        if let (true, None) = (self.bcs.any_slip(), &solved.failure) {
+            // Curved slip walls: a second solve from the first result, as the serial solver's.
+            let mut second: Option<Solved> = None;
+            let again = |on_wall: &[f64], first: &[f64]| {
+                let s = self.solve_values(motion, on_wall, Some(first), budget)?;
+                let total = s.total.clone();
+                second = Some(s);
+                Ok(total)
+            };
+            let total = std::mem::take(&mut solved.total);
+            let gids = self.mesh.layout_global_ids();
+            solved.total = super::slip::onto_walls_everywhere(
+                self.walls.as_ref(),
+                &self.level,
+                self.halo(),
+                gids,
+                motion,
+                vals,
+                total,
+                again,
+            )?;
+            if let Some(s) = second {
+                solved.iterations.iter_mut().zip(&s.iterations).for_each(|(a, b)| *a += b);
+                solved.rel_residual = s.rel_residual;
+                solved.failure = s.failure;
+            }
+        }
+        Ok(solved)
+    }
+
+    /// Whether some rank finds lines across wall layers: the kept multigrid's, else found now
+    /// (collective).
+    fn layered(&self) -> bool {
+        let kept = self.multigrids.lock().as_ref().map(|h| h.layered);
+        kept.unwrap_or_else(|| any_lines(self.halo().comm(), &self.lines()))
+    }
+
     /// Solves every group of components for the prescribed values `vals` (layout order, `dim`
-    /// per vertex), from `guess` (the same layout) or zero: the displacement of every local
-    /// vertex (layout order) and how the solves went (collective).
-    fn solve_values(&self, motion: &Motion, vals: &[f64], guess: Option<&[f64]>) -> Result<Solved, DistError> {
+    /// per vertex) within `budget`, from `guess` (the same layout) or zero: the displacement of
+    /// every local vertex (layout order) and how the solves went (collective).
+    fn solve_values(
+        &self,
+        motion: &Motion,
+        vals: &[f64],
+        guess: Option<&[f64]>,
+        budget: Budget,
+    ) -> Result<Solved, DistError> {
         let me = self.mesh.rank();
         let rhs = agree(self.halo().comm(), self.right_hand_sides(motion, vals))?;
         let (dim, nv) = (self.mesh.dim(), self.local().num_vertices());
@@ -313,7 +376,7 @@ impl DistributedSolver {
                 coarse: Smoother::Fourth { degree: coarse_degree },
             };
             let max_levels = self.params.max_levels;
-            *kept = Some(match self.slip_hierarchy(lines.clone(), smoothers)? {
+            let mut built = match self.slip_hierarchy(lines.clone(), smoothers)? {
                 Some(whole) => whole,
                 None => Hierarchies::build(
                     halo,
@@ -324,7 +387,9 @@ impl DistributedSolver {
                     smoothers,
                     self.params.agglomerate_below,
                 )?,
-            });
+            };
+            built.layered = layered;
+            *kept = Some(built);
         }
         if let Some(h) = kept.as_mut().filter(|h| h.coupled.is_empty()) {
             h.coupled =
@@ -345,14 +410,14 @@ impl DistributedSolver {
                     &mut one_level
                 }
             };
-            let out = pcg(&op, halo, pre, &b, &mut x, self.params.tol, self.params.max_iterations);
+            let out = pcg(&op, halo, pre, &b, &mut x, budget.tol, budget.max_iterations);
             let name: String = comps.clone().map(|c| COMPONENT[c]).collect();
             if !out.converged && failure.is_none() {
                 let why = match out.breakdown {
                     Some(k) => format!("conjugate gradients broke down at iteration {k}"),
                     None => format!("relative residual {:e} after {} iterations", out.rel_residual, out.iterations),
                 };
-                failure = Some(format!("component {name} did not reach {:e}: {why}", self.params.tol));
+                failure = Some(format!("component {name} did not reach {:e}: {why}", budget.tol));
             }
             iterations.push(out.iterations);
             worst = worst.max(out.rel_residual);
@@ -621,6 +686,13 @@ impl DistributedSolver {
 /// A component's right-hand side and its prescribed values (the owners' on the halo).
 type System = (Vec<f64>, Vec<f64>);
 
+/// What one solve may take: the relative residual to reach and the most iterations per group.
+#[derive(Clone, Copy)]
+struct Budget {
+    tol: f64,
+    max_iterations: usize,
+}
+
 /// The displacements of one pass of solves and how they went.
 struct Solved {
     /// `dim` values per local vertex, layout order, halo current.
@@ -631,6 +703,22 @@ struct Solved {
     rel_residual: f64,
     /// What went wrong when a group stopped above its tolerance (the same on every rank).
     failure: Option<String>,
+}
+
+impl Solved {
+    /// The serial report of these solves, as the polish reads it: the most iterations of a
+    /// group, the largest residual, converged when no group stopped above its tolerance.
+    fn report(&self) -> Report {
+        let cycles = self.iterations.iter().copied().max().unwrap_or(0);
+        Report { cycles, rel_residual: self.rel_residual, converged: self.failure.is_none(), ..Default::default() }
+    }
+
+    /// These solves followed by a stage of their polish, `stage`, which met the caller's
+    /// tolerance: its displacement and residual, the iterations added, converged.
+    fn then(self, stage: Solved) -> Solved {
+        let iterations = self.iterations.iter().zip(&stage.iterations).map(|(a, b)| a + b).collect();
+        Solved { total: stage.total, iterations, rel_residual: stage.rel_residual, failure: None }
+    }
 }
 
 /// The rank's level of `method` on `mesh` (layout order) with the flags of `bcs` (collective).

@@ -21,7 +21,7 @@ const STAGES: usize = 3;
 const FLOOR: f64 = 1e-13;
 
 /// The stages of one polish after a converged first solve.
-pub(super) struct Polish {
+pub(crate) struct Polish {
     /// The caller's parameters.
     p: SolveParams,
     /// The first solve's cycles: the polish runs at most as many in all.
@@ -35,7 +35,7 @@ pub(super) struct Polish {
 impl Polish {
     /// The polish of a first solve with `p` that reported `first`, or None when it did not
     /// converge (a result above its tolerance is not polished but reported as it is).
-    pub(super) fn after(p: &SolveParams, first: &Report) -> Option<Polish> {
+    pub(crate) fn after(p: &SolveParams, first: &Report) -> Option<Polish> {
         first.converged.then_some(Polish { p: *p, first: first.cycles, stage: 0, tol: p.tol })
     }
 
@@ -43,7 +43,7 @@ impl Polish {
     /// stages run), or None when no stage can gain: all were run, the next would ask for less
     /// than the floor (by more than rounding), or no cycles are left (at most the first
     /// solve's count in all, and `p.max_cycles` with it).
-    pub(super) fn next(&mut self, so_far: &Report) -> Option<SolveParams> {
+    pub(crate) fn next(&mut self, so_far: &Report) -> Option<SolveParams> {
         let tol = self.tol * TIGHTER;
         let left = self.p.max_cycles.saturating_sub(so_far.cycles);
         let max_cycles = left.min(self.first.saturating_sub(so_far.polish_cycles));
@@ -59,7 +59,7 @@ impl Polish {
 /// The report of the solve so far and one more stage of its polish: cycles, history and seconds
 /// added, the stage's residual and correction, converged (the caller checked the stage against
 /// its criterion), and the stage's cycles counted among the polish's.
-pub(super) fn chain(so_far: Report, stage: Report) -> Report {
+pub(crate) fn chain(so_far: Report, stage: Report) -> Report {
     let polish_cycles = so_far.polish_cycles + stage.cycles;
     Report { converged: true, polish_cycles, ..Report::chain(so_far, stage) }
 }

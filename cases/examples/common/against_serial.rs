@@ -29,9 +29,15 @@ pub fn methods(args: &[String]) -> Vec<Method> {
     }
 }
 
+/// The most distributed iterations `args` allow (`max=N`; 2000 without one). A count no larger
+/// than the first solve's leaves no iterations for the polish of a tangled result.
+pub fn most_iterations(args: &[String]) -> usize {
+    args.iter().find_map(|a| a.strip_prefix("max=")?.parse().ok()).unwrap_or(2000)
+}
+
 /// Solves `name` (`mesh` under `bcs` moved by `motion`) on the ranks' parts of it, each cell on
-/// the rank `owner` gives it, by every one of `methods` to every one of `tols`, each against the
-/// serial solver (`against_serial`; collective).
+/// the rank `owner` gives it, by every one of `methods` to every one of `tols` in at most `most`
+/// iterations, each against the serial solver (`against_serial`; collective).
 pub fn compare(
     world: &SimpleCommunicator,
     name: &str,
@@ -39,6 +45,7 @@ pub fn compare(
     owner: &[usize],
     methods: &[Method],
     tols: &[f64],
+    most: usize,
 ) {
     let d = mesh.to_data();
     let dim = d.dim;
@@ -50,7 +57,7 @@ pub fn compare(
     let c = Compared { name, mesh, bcs, motion, dm: &dm, part: &p.global, local: &local };
     for &method in methods {
         for &tol in tols {
-            against_serial(world, &c, method, tol);
+            against_serial(world, &c, method, (tol, most));
         }
     }
 }
@@ -59,24 +66,26 @@ pub fn compare(
 /// distributed iterations beside the serial cycles, the largest difference from the serial
 /// displacement relative to the motion and the level sizes, or the distributed solve's error
 /// (collective).
-fn against_serial(world: &SimpleCommunicator, c: &Compared, method: Method, tol: f64) {
+fn against_serial(world: &SimpleCommunicator, c: &Compared, method: Method, (tol, most): (f64, usize)) {
     let (rank, size) = (world.rank() as usize, world.size() as usize);
     let (dim, nv) = (c.mesh.dim(), c.mesh.num_vertices());
     let mut reference = vec![0.0; nv * dim];
-    let mut cycles = [0.0];
+    // The serial cycles, of them the polish's, the inverted cells and the smallest ratio.
+    let mut cycles = [0.0; 4];
     if rank == 0 {
         let mut o = Options { method, threads: 1, ..Default::default() };
         o.solve.tol = tol;
         o.solve.max_cycles = 1000;
         let s = Solver::new(c.mesh, c.bcs, o).expect("serial").solve(c.motion).expect("solve");
         reference = s.displacement;
-        cycles = [s.report.cycles as f64];
+        let q = &s.quality;
+        cycles = [s.report.cycles as f64, s.report.polish_cycles as f64, q.inverted as f64, q.min_area_ratio];
     }
     let root = world.process_at_rank(0);
     root.broadcast_into(&mut reference[..]);
     root.broadcast_into(&mut cycles[..]);
     let scale = reference.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-    let params = DistSolveParams { tol, max_iterations: 2000, ..Default::default() };
+    let params = DistSolveParams { tol, max_iterations: most, ..Default::default() };
     let solver = DistributedSolver::new(c.dm, c.bcs, method, params).expect("solver");
     let what = format!("{} ({nv} vertices) {method:?} to {tol:e} on {size} ranks", c.name);
     let sol = match solver.solve(c.local) {
@@ -93,10 +102,18 @@ fn against_serial(world: &SimpleCommunicator, c: &Compared, method: Method, tol:
     world.all_gather_into(&worst, &mut all[..]);
     let worst = all.iter().fold(0.0f64, |m, &x| m.max(x));
     if rank == 0 {
+        let q = &sol.quality;
         println!(
-            "{what}: iterations {:?} (serial {}), apart {:.1e} of the motion, levels {:?}, transfers {:?}",
+            "{what}: iterations {:?} ({} of polish), {} inverted, min ratio {:.4} (serial {} cycles, {} of polish, {} inverted, min \
+             ratio {:.4}), apart {:.1e} of the motion, levels {:?}, transfers {:?}",
             sol.iterations,
+            sol.polish_iterations,
+            q.inverted,
+            q.min_area_ratio,
             cycles[0],
+            cycles[1],
+            cycles[2],
+            cycles[3],
             worst / scale,
             sol.level_rows,
             sol.level_transfers

@@ -404,10 +404,12 @@ fn inverted(step: &Step, sol: &DistSolution) -> DistError {
     )
 }
 
-/// `sol` after `acc`: its iterations added to those of the sub-steps before.
+/// `sol` after `acc`: its iterations, and those of its polish, added to those of the sub-steps
+/// before.
 fn accumulate(acc: Option<DistSolution>, mut sol: DistSolution) -> DistSolution {
     if let Some(a) = acc {
         sol.iterations.iter_mut().zip(&a.iterations).for_each(|(n, m)| *n += m);
+        sol.polish_iterations += a.polish_iterations;
     }
     sol
 }
