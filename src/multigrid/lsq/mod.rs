@@ -88,10 +88,10 @@ impl Coarsener for LeastSquares {
             self.along_lines = self.layered && fine.op.method == Method::Biharmonic && fine.dim() == 2;
         }
         // Below the finest level of a hierarchy that interpolates along the lines, the first
-        // level the coarsest solve can factor is the coarsest: the levels below it have lost
-        // their lines (their kept unknowns on a line collapse onto the wall, which their
-        // Galerkin graph reaches within the strong reach), and there smoothing leaves what the
-        // coarse corrections miss (docs/DESIGN.md §5, "Wall layers").
+        // level the coarsest solve can factor is the coarsest: deeper levels lose their lines
+        // (a line's kept unknowns are dropped for the wall, which their Galerkin graph reaches
+        // within the strong reach), and smoothed pointwise across what is left of the layers
+        // they cost iterations that grow with the depth (docs/DESIGN.md §5, "Wall layers").
         if self.along_lines && l > 0 && free_directions(fine) <= DENSE_MAX {
             return None;
         }
