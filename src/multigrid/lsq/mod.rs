@@ -22,12 +22,10 @@ pub(crate) use along_lines::{end_neighbour, rows_on_line};
 #[cfg(feature = "mpi")]
 pub(crate) use weights::{bounded, choose_donors, fit_offsets};
 
-use super::coarse_solve::DENSE_MAX;
 use super::coarsen::CoarsenParams;
 use super::coarsener::{CoarseMesh, CoarseUnknowns, Coarsener};
 use super::level::{Level, Transfer};
 use super::restriction::Restriction;
-use crate::bc::P;
 use crate::mesh::Mesh;
 use crate::operator::Method;
 use crate::sparse::CsrMatrix;
@@ -87,14 +85,6 @@ impl Coarsener for LeastSquares {
             self.layered = !fine.lines.is_empty();
             self.along_lines = self.layered && fine.op.method == Method::Biharmonic && fine.dim() == 2;
         }
-        // Below the finest level of a hierarchy that interpolates along the lines, the first
-        // level the coarsest solve can factor is the coarsest: deeper levels lose their lines
-        // (a line's kept unknowns are dropped for the wall, which their Galerkin graph reaches
-        // within the strong reach), and smoothed pointwise across what is left of the layers
-        // they cost iterations that grow with the depth (docs/DESIGN.md §5, "Wall layers").
-        if self.along_lines && l > 0 && free_directions(fine) <= DENSE_MAX {
-            return None;
-        }
         self.features.truncate(l + 1);
         let points = fine.unknown_points();
         let mut kept = select(&fine.op.k, &self.features[l], &points);
@@ -131,17 +121,6 @@ impl Coarsener for LeastSquares {
         let keep = Some((&*t.prolong, redo));
         t.prolong = Arc::new(weights::prolongation(fine, &self.features[l], &coarse.parent_vertex, self.donors(), keep));
         t.restrict = Restriction::new(Arc::clone(&t.prolong));
-    }
-}
-
-/// The most free directions a group of `level` has for the coarsest solve: the unknowns free in
-/// a component, summed over the components when slip walls couple them into one group.
-fn free_directions(level: &Level) -> usize {
-    let free = level.flags.iter().map(|f| f.iter().filter(|&&b| b & P == 0).count());
-    if level.slip.as_ref().is_some_and(|s| s.coupled) {
-        free.sum()
-    } else {
-        free.max().unwrap_or(0)
     }
 }
 
