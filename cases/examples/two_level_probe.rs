@@ -53,21 +53,7 @@ fn main() {
             finest_unknowns(h, l).expect("kept unknowns").iter().map(|&u| dof_vertex[u as usize]).collect();
         let n = vertex.len();
         let mag: Vec<f64> = (0..n).map(|i| (0..comps.len()).map(|k| a.mode[k * n + i].powi(2)).sum()).collect();
-        println!(
-            "pair ({l}, {}): {} -> {} unknowns; PCG iterations multilevel {} two-level {} (Galerkin coarse {}); two-level factor {:.3}; on its slow mode: smoother {:.3}, exact coarse correction {:.3} (Galerkin {:.3}), position in D^-1 A {:.2e}; {:.1} s",
-            l + 1,
-            h.levels[l].n(),
-            h.levels[l + 1].n(),
-            a.multilevel,
-            a.two_level,
-            a.two_level_galerkin,
-            a.rate,
-            a.smoother_reduction,
-            a.coarse_reduction,
-            a.coarse_reduction_galerkin,
-            a.smoother_position,
-            t.elapsed().as_secs_f64()
-        );
+        println!("{}; {:.1} s", a.summary(h), t.elapsed().as_secs_f64());
         for (what, values) in [
             ("|e|^2", &mag),
             ("energy", &a.density),

@@ -598,10 +598,12 @@ impl Hierarchy {
     }
 
     /// A table of the levels (PyAMG style): unknowns, cells, nonzeros of K and of the assembled
-    /// biharmonic where a level has one, nonzeros per row, and the complexities (operator
-    /// complexity over what each level applies: K, or the assembled A).
+    /// biharmonic where a level has one, nonzeros per row, P's entries per row, the lines
+    /// across wall layers and the unknowns on them, and the complexities (operator complexity
+    /// over what each level applies: K, or the assembled A).
     pub fn describe(&self) -> String {
-        let mut s = String::from("level  unknowns     cells       nnz(K)       nnz(A)  per row  P per row\n");
+        let mut s =
+            String::from("level  unknowns     cells       nnz(K)       nnz(A)  per row  P per row  lines (unknowns on them)\n");
         let (mut nsum, mut zsum) = (0usize, 0usize);
         let applied = |lev: &Level| lev.op.assembled_nnz().unwrap_or(lev.op.k.nnz());
         for (l, lev) in self.levels.iter().enumerate() {
@@ -609,7 +611,14 @@ impl Hierarchy {
             let a = lev.op.assembled_nnz().map_or("-".to_string(), |z| z.to_string());
             let per_row = applied(lev) as f64 / lev.n().max(1) as f64;
             let p = lev.down.as_ref().map_or(0.0, |d| d.prolong.nnz() as f64 / d.prolong.nrows.max(1) as f64);
-            s += &format!("{l:>5} {:>9} {cells:>9} {:>12} {a:>12} {per_row:>8.1} {p:>10.2}\n", lev.n(), lev.op.k.nnz());
+            let lines = lev.lines.lines();
+            s += &format!(
+                "{l:>5} {:>9} {cells:>9} {:>12} {a:>12} {per_row:>8.1} {p:>10.2} {:>6} ({})\n",
+                lev.n(),
+                lev.op.k.nnz(),
+                lines.len(),
+                lines.unknowns.len()
+            );
             nsum += lev.n();
             zsum += applied(lev);
         }

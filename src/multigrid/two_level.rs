@@ -55,6 +55,28 @@ pub struct PairAnalysis {
     pub corrected_density: Vec<f64>,
 }
 
+impl PairAnalysis {
+    /// One line for the probes: the pair's unknowns on `h`, the PCG counts, the two-level
+    /// factor and, on its slow mode, the smoother's and the coarse corrections' reductions.
+    pub fn summary(&self, h: &Hierarchy) -> String {
+        let l = self.level;
+        format!(
+            "pair ({l}, {}): {} -> {} unknowns; PCG iterations multilevel {} two-level {} (Galerkin coarse {}); two-level factor {:.3}; on its slow mode: smoother {:.3}, exact coarse correction {:.3} (Galerkin {:.3}), position in D^-1 A {:.2e}",
+            l + 1,
+            h.levels[l].n(),
+            h.levels.get(l + 1).map_or(0, |c| c.n()),
+            self.multilevel,
+            self.two_level,
+            self.two_level_galerkin,
+            self.rate,
+            self.smoother_reduction,
+            self.coarse_reduction,
+            self.coarse_reduction_galerkin,
+            self.smoother_position
+        )
+    }
+}
+
 /// The two-level analysis of the pair (`level`, `level` + 1) for the group `comps` (one of
 /// `Hierarchy::groups`) with the cycle `cp`; None when the level is the coarsest. `tol` is
 /// PCG's relative tolerance, and `power` the power iterations for the slow mode.
