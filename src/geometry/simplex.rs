@@ -33,11 +33,17 @@ pub(super) fn tet_gradients(p: &[[f64; 3]]) -> ([[f64; 3]; 4], f64) {
     ([g0, g1, g2, g3], det / 6.0)
 }
 
-/// K_ij = V ∇λ_i·∇λ_j for the six edges of a tetrahedron, in `CellType::Tetra.edges()` order.
+/// K_ij = V ∇λ_i·∇λ_j for the six edges of a tetrahedron, in `CellType::Tetra.edges()` order:
+/// with ∇λ_i = c_i / det (c_1, c_2, c_3 the cross products of the other edges, c_0 minus their
+/// sum) and V = det / 6, K_ij = c_i·c_j / (6 det), one division per cell.
 pub(super) fn tet_stiffness(p: &[[f64; 3]], k: &mut [f64]) {
-    let (g, v) = tet_gradients(p);
+    let (e1, e2, e3) = (sub(&p[1], &p[0]), sub(&p[2], &p[0]), sub(&p[3], &p[0]));
+    let (c23, c31, c12) = (cross(&e2, &e3), cross(&e3, &e1), cross(&e1, &e2));
+    let w = 1.0 / (6.0 * dot3(&e1, &c23));
+    let c0 = [0, 1, 2].map(|i| -(c23[i] + c31[i] + c12[i]));
+    let c = [c0, c23, c31, c12];
     for (m, &[i, j]) in super::CellType::Tetra.couplings().iter().enumerate() {
-        k[m] = v * dot3(&g[i as usize], &g[j as usize]);
+        k[m] = dot3(&c[i as usize], &c[j as usize]) * w;
     }
 }
 

@@ -82,79 +82,96 @@ const HEX_REF: [[f64; 3]; 8] = [
     [-1.0, 1.0, 1.0],
 ];
 
-/// At a point ξ of the reference cube: the shape function values, their physical gradients and
-/// det J.
-fn hex_point(p: &[[f64; 3]], xi: [f64; 3]) -> ([f64; 8], [[f64; 3]; 8], f64) {
-    let mut n = [0.0; 8];
-    let mut g = [[0.0; 3]; 8];
-    for (k, r) in HEX_REF.iter().enumerate() {
-        let f = [1.0 + r[0] * xi[0], 1.0 + r[1] * xi[1], 1.0 + r[2] * xi[2]];
-        n[k] = 0.125 * f[0] * f[1] * f[2];
-        g[k] = [0.125 * r[0] * f[1] * f[2], 0.125 * r[1] * f[0] * f[2], 0.125 * r[2] * f[0] * f[1]];
-    }
+/// The trilinear shape functions at the 2×2×2 Gauss points: per point, each corner's value
+/// and reference gradient, worked out once (they do not depend on the cell).
+struct HexGauss {
+    value: [[f64; 8]; 8],
+    gradient: [[[f64; 3]; 8]; 8],
+}
+
+/// The shape functions at the Gauss points (`HexGauss`).
+fn hex_gauss() -> &'static HexGauss {
+    static TABLE: std::sync::OnceLock<HexGauss> = std::sync::OnceLock::new();
+    TABLE.get_or_init(|| {
+        let g = 1.0 / 3f64.sqrt();
+        let mut t = HexGauss { value: [[0.0; 8]; 8], gradient: [[[0.0; 3]; 8]; 8] };
+        for q in 0..8 {
+            let xi = [if q & 1 == 0 { -g } else { g }, if q & 2 == 0 { -g } else { g }, if q & 4 == 0 { -g } else { g }];
+            for (k, r) in HEX_REF.iter().enumerate() {
+                let f = [1.0 + r[0] * xi[0], 1.0 + r[1] * xi[1], 1.0 + r[2] * xi[2]];
+                t.value[q][k] = 0.125 * f[0] * f[1] * f[2];
+                t.gradient[q][k] = [0.125 * r[0] * f[1] * f[2], 0.125 * r[1] * f[0] * f[2], 0.125 * r[2] * f[0] * f[1]];
+            }
+        }
+        t
+    })
+}
+
+/// At Gauss point `q` of the cell `p` with reference gradients `g`: the cofactor columns
+/// c_b (det·J⁻ᵀ = [c0 c1 c2]) and det J.
+#[inline(always)]
+fn hex_cofactors(p: &[[f64; 3]], g: &[[f64; 3]; 8]) -> ([[f64; 3]; 3], f64) {
     let mut j = [[0.0; 3]; 3];
-    for k in 0..8 {
+    for (pk, gk) in p[..8].iter().zip(g) {
         for a in 0..3 {
             for b in 0..3 {
-                j[a][b] += p[k][a] * g[k][b];
+                j[a][b] += pk[a] * gk[b];
             }
         }
     }
-    // J⁻ᵀ by cofactors: (J⁻ᵀ)_ab = cof(J)_ab / det.
     let col = |b: usize| [j[0][b], j[1][b], j[2][b]];
     let (c0, c1, c2) = (cross(&col(1), &col(2)), cross(&col(2), &col(0)), cross(&col(0), &col(1)));
     let det = dot3(&col(0), &c0);
-    // ∇φ = J⁻ᵀ ∇_ref φ = (c0 g_0 + c1 g_1 + c2 g_2) / det, the c's being the rows of det·J⁻¹ as
-    // columns of det·J⁻ᵀ.
-    let grad = g.map(|r| [0, 1, 2].map(|a| (c0[a] * r[0] + c1[a] * r[1] + c2[a] * r[2]) / det));
-    (n, grad, det)
-}
-
-/// The 2×2×2 Gauss points on [−1, 1]³ (weights 1).
-fn gauss2x2x2() -> impl Iterator<Item = [f64; 3]> {
-    let g = 1.0 / 3f64.sqrt();
-    (0..8).map(move |k| {
-        [if k & 1 == 0 { -g } else { g }, if k & 2 == 0 { -g } else { g }, if k & 4 == 0 { -g } else { g }]
-    })
+    ([c0, c1, c2], det)
 }
 
 /// K_ij = ∫∇φ_i·∇φ_j of the trilinear hexahedron for its 28 corner pairs, 2×2×2 Gauss.
 pub(super) fn hex_stiffness(p: &[[f64; 3]], k: &mut [f64]) {
-    let pairs = CellType::Hexahedron.couplings();
-    k[..pairs.len()].iter_mut().for_each(|k| *k = 0.0);
-    for xi in gauss2x2x2() {
-        let (_, g, det) = hex_point(p, xi);
-        for (m, &[i, j]) in pairs.iter().enumerate() {
-            k[m] += dot3(&g[i as usize], &g[j as usize]) * det;
-        }
-    }
+    hex_stiffness_and_mass(p, k, &mut [0.0; 8]);
 }
 
 /// `hex_stiffness` and `hex_lumped_mass` from one evaluation of each Gauss point (bitwise both).
+/// With ∇φ = J⁻ᵀ ∇_ref φ = C ∇_ref φ / det (C the cofactors), each point adds
+/// (C∇_ref φ_i)·(C∇_ref φ_j) / det to K_ij (weights 1) and φ_i det to the mass.
 pub(super) fn hex_stiffness_and_mass(p: &[[f64; 3]], k: &mut [f64], m: &mut [f64]) {
-    let pairs = CellType::Hexahedron.couplings();
-    k[..pairs.len()].iter_mut().for_each(|k| *k = 0.0);
-    m[..8].iter_mut().for_each(|m| *m = 0.0);
-    for xi in gauss2x2x2() {
-        let (n, g, det) = hex_point(p, xi);
-        for (q, &[i, j]) in pairs.iter().enumerate() {
-            k[q] += dot3(&g[i as usize], &g[j as usize]) * det;
+    let t = hex_gauss();
+    let mut kk = [0.0; 28];
+    let mut mm = [0.0; 8];
+    for q in 0..8 {
+        let g = &t.gradient[q];
+        let ([c0, c1, c2], det) = hex_cofactors(p, g);
+        let w = 1.0 / det;
+        let mut s = [[0.0; 3]; 8];
+        for (sk, r) in s.iter_mut().zip(g) {
+            *sk = [0, 1, 2].map(|a| c0[a] * r[0] + c1[a] * r[1] + c2[a] * r[2]);
         }
-        for c in 0..8 {
-            m[c] += n[c] * det;
+        // The pairs in `CellType::Hexahedron.couplings()` order: (0,1), (0,2), …, (6,7).
+        let mut at = 0;
+        for i in 0..8 {
+            for j in i + 1..8 {
+                kk[at] += dot3(&s[i], &s[j]) * w;
+                at += 1;
+            }
+        }
+        for (mc, n) in mm.iter_mut().zip(&t.value[q]) {
+            *mc += n * det;
         }
     }
+    k[..28].copy_from_slice(&kk);
+    m[..8].copy_from_slice(&mm);
 }
 
 /// ∫φ_i at each corner of the trilinear hexahedron, 2×2×2 Gauss.
 pub(super) fn hex_lumped_mass(p: &[[f64; 3]], m: &mut [f64]) {
-    m[..8].iter_mut().for_each(|m| *m = 0.0);
-    for xi in gauss2x2x2() {
-        let (n, _, det) = hex_point(p, xi);
-        for k in 0..8 {
-            m[k] += n[k] * det;
+    let t = hex_gauss();
+    let mut mm = [0.0; 8];
+    for q in 0..8 {
+        let (_, det) = hex_cofactors(p, &t.gradient[q]);
+        for (mc, n) in mm.iter_mut().zip(&t.value[q]) {
+            *mc += n * det;
         }
     }
+    m[..8].copy_from_slice(&mm);
 }
 
 /// The corners adjacent to each corner, in the order that makes the corner's edge frame

@@ -1,20 +1,34 @@
-//! The biharmonic levels' λmax estimates, cheaper on a moved mesh whose level kept the shape of
-//! its spectrum's top.
+//! The biharmonic levels' λmax estimates, cheaper on a moved mesh whose level changed little.
 //!
 //! The Chebyshev smoother is tuned to the estimate after `POWER_ITERATIONS` power iterations
 //! from a fixed start, which lies below λmax(D⁻¹A) by an amount that depends on the level's
-//! spectrum. A full estimate also records, per component, how the iteration converged: the ratio
-//! of its estimates after `SHAPE.1` and `SHAPE.0` iterations (the shape) and the ratio of the full
-//! estimate to the one after `FEW` iterations. On a moved mesh the iteration runs `SHAPE.1`
-//! iterations; when the shape is within `SHAPE_TOLERANCE` of the calibration's, the spectrum's top
-//! kept its form, and the estimate after `FEW` iterations times the calibration's ratio (and
-//! `MARGIN`) stands for the full one. Otherwise (cells squashed into a local top mode that a spread
-//! start needs more iterations to find) the iteration continues to the full estimate, bitwise the
-//! one a new level gets, and calibrates the component again.
+//! spectrum. A full estimate also keeps, per component, how the iteration converged (the ratio
+//! of its estimates after `SHAPE.1` and `SHAPE.0` iterations, the shape, and the ratio of the
+//! full estimate to the one after `FEW`); every estimate from the fixed start (full or rescaled,
+//! below) keeps the unit iterate its last iteration started from and the Jacobi diagonal it was
+//! made with.
+//!
+//! On a moved mesh whose diagonal differs from the kept one by at most `DRIFT` (relatively) at
+//! every free unknown, the cells changed little everywhere: one iteration from the kept iterate
+//! on the moved operator stands for the estimate it was kept from (times its rescaling and
+//! `MARGIN`), as that iterate is the fixed start's after that estimate's count and the norm of
+//! its product follows the operator's change as the estimate does. Past that drift, or without
+//! a kept iterate, the iteration runs `SHAPE.1` iterations from the
+//! fixed start; when the shape is within `SHAPE_TOLERANCE` of the calibration's, the spectrum's
+//! top kept its form, and the estimate after `FEW` iterations times the calibration's ratio (and
+//! `MARGIN`) stands for the full one. Otherwise (cells squashed into a local top mode that a
+//! spread start needs more iterations to find) the iteration continues to the full estimate,
+//! bitwise the one a new level gets, and calibrates the component again.
 
 use super::group::{padded, GroupOp, PowerIteration, POWER_ITERATIONS};
 use super::level::Level;
 use rayon::prelude::*;
+use std::sync::Arc;
+
+/// The largest relative change of a free unknown's Jacobi diagonal since the last full estimate
+/// under which a component's estimate is one iteration from the kept iterate
+/// (docs/PERFORMANCE.md, "bounds from the kept iterate").
+const DRIFT: f64 = 0.12;
 
 /// The power iterations of a rescaled estimate.
 const FEW: usize = 8;
@@ -25,23 +39,46 @@ const SHAPE: (usize, usize) = (3, 5);
 /// The largest relative change of the shape under which a component keeps its calibration.
 const SHAPE_TOLERANCE: f64 = 0.005;
 
-/// The rescaled estimate's margin over the ratio. The smoother loses far more to an estimate
-/// below the full one than to one above it (docs/PERFORMANCE.md, "bounds rescaled").
+/// The cheaper estimates' margin. The smoother loses far more to an estimate below the full one
+/// than to one above it (docs/PERFORMANCE.md, "bounds rescaled").
 const MARGIN: f64 = 1.05;
 
 /// What a component's last full estimate leaves for the cheaper ones after it.
-#[derive(Clone, Copy, Default)]
+#[derive(Clone, Default)]
 struct Component {
+    /// The unit iterate the last estimate from the fixed start (full or rescaled) started its
+    /// last iteration from (empty: none kept).
+    start: Arc<[f64]>,
+    /// The inverse Jacobi diagonal that estimate was made with.
+    inv_d: Arc<[f64]>,
+    /// That estimate over its last product's norm (1 for a full estimate, the rescaling ratio
+    /// for a rescaled one).
+    scale: f64,
     /// The estimate after `SHAPE.1` iterations over the one after `SHAPE.0` (unpadded).
     shape: f64,
-    /// The full estimate over the one after `FEW` iterations (unpadded).
+    /// The full estimate over the one after `FEW` iterations (unpadded; zero: none, the next
+    /// estimate past the drift is full).
     ratio: f64,
 }
 
 /// What a level's last full estimates leave for the cheaper ones after them, per component
-/// (empty, or a component's zeros: none, its next estimate is full).
+/// (empty, or a component's empty start: its next estimate is full).
 #[derive(Clone, Default)]
 pub(crate) struct Calibration(Vec<Component>);
+
+/// The largest relative change of the Jacobi diagonal from `before` to `now` (inverse
+/// diagonals, as the levels keep them) over the unknowns free at either; infinite where the
+/// free unknowns differ.
+fn largest_drift(before: &[f64], now: &[f64]) -> f64 {
+    if before.len() != now.len() {
+        return f64::INFINITY;
+    }
+    before.iter().zip(now).fold(0.0, |m: f64, (&b, &n)| match (b > 0.0, n > 0.0) {
+        (true, true) => m.max((b / n - 1.0).abs()),
+        (false, false) => m,
+        _ => f64::INFINITY,
+    })
+}
 
 /// The λmax estimates of a biharmonic level's components `own` (each component's smoother
 /// separately, no slip coupling), with `previous` the calibration of its last estimates (None
@@ -53,18 +90,28 @@ pub(crate) fn biharmonic_estimates(level: &Level, own: &[usize], previous: Optio
         .par_iter()
         .map(|&c| {
             let op = GroupOp::new(level, c..c + 1, false);
+            let lines = op.lines(0).is_some();
+            let previous = previous.and_then(|p| p.0.get(c)).filter(|_| !lines);
+            let warm = previous
+                .filter(|k| k.start.len() == level.n() && largest_drift(&k.inv_d, &level.inv_d[c]) <= DRIFT);
+            if let Some(k) = warm {
+                let mut power = PowerIteration::from_start(&op, k.start.to_vec());
+                power.run(&op, 1);
+                if let Some(e) = power.after(1).map(|e| e * k.scale) {
+                    return (padded(Some(e * MARGIN)), k.clone());
+                }
+            }
             let mut power = PowerIteration::new(&op);
             power.run(&op, SHAPE.1);
             let shape = match (power.after(SHAPE.0), power.after(SHAPE.1)) {
                 (Some(a), Some(b)) if a > 0.0 => b / a,
                 _ => 0.0,
             };
-            let kept = previous
-                .and_then(|p| p.0.get(c).copied())
-                .filter(|k| k.ratio > 0.0 && (shape - k.shape).abs() <= SHAPE_TOLERANCE * k.shape && op.lines(0).is_none());
+            let kept = previous.filter(|k| k.ratio > 0.0 && (shape - k.shape).abs() <= SHAPE_TOLERANCE * k.shape);
             power.run(&op, FEW);
-            if let (Some(k), Some(e)) = (kept, power.after(FEW)) {
-                return (padded(Some(e * k.ratio * MARGIN)), k);
+            if let (Some(k), Some(e), Some(x)) = (kept, power.after(FEW), power.last_start()) {
+                let warm = Component { start: x.into(), inv_d: level.inv_d[c].as_slice().into(), scale: k.ratio, ..k.clone() };
+                return (padded(Some(e * k.ratio * MARGIN)), warm);
             }
             power.run(&op, POWER_ITERATIONS);
             let full = power.after(POWER_ITERATIONS);
@@ -72,12 +119,16 @@ pub(crate) fn biharmonic_estimates(level: &Level, own: &[usize], previous: Optio
                 (Some(f), Some(e)) if e > 0.0 && shape > 0.0 => f / e,
                 _ => 0.0,
             };
-            (padded(full), Component { shape, ratio })
+            let (start, inv_d) = match power.last_start() {
+                Some(x) if full.is_some() && !lines => (x.into(), level.inv_d[c].as_slice().into()),
+                _ => Default::default(),
+            };
+            (padded(full), Component { start, inv_d, scale: 1.0, shape, ratio })
         })
         .collect();
     let mut cal = vec![Component::default(); level.flags.len()];
-    for (&c, &(_, k)) in own.iter().zip(&estimates) {
-        cal[c] = k;
+    for (&c, (_, k)) in own.iter().zip(&estimates) {
+        cal[c] = k.clone();
     }
     (estimates.into_iter().map(|(e, _)| e).collect(), Calibration(cal))
 }
@@ -85,9 +136,9 @@ pub(crate) fn biharmonic_estimates(level: &Level, own: &[usize], previous: Optio
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::multigrid::group::estimate_lambda_max;
     use crate::bc::Kind;
     use crate::mesh::fixtures::rect;
+    use crate::multigrid::group::estimate_lambda_max;
     use crate::multigrid::hierarchy::{Hierarchy, HierarchyParams};
     use crate::{BoundaryConditions, Method};
 
@@ -100,12 +151,12 @@ mod tests {
         v.iter().map(|l| l.iter().map(|x| x.to_bits()).collect()).collect()
     }
 
-    /// A turned and shifted level keeps its calibration and is estimated from a few iterations
-    /// (the margin over the full estimate, which the motion leaves alone); a squashed finest
-    /// level is estimated in full (bitwise a new hierarchy's) or not below a new hierarchy's; a
-    /// restore estimates bitwise as before the failed move.
+    /// A turned and shifted level keeps its diagonal and is estimated from one iteration of its
+    /// kept iterate (the margin over the full estimate, which the motion leaves alone); a
+    /// squashed finest level is estimated from the fixed start, not below a new hierarchy's; a restore
+    /// estimates bitwise as before the failed move.
     #[test]
-    fn rescaled_only_where_the_shapes_stayed() {
+    fn warm_only_where_the_diagonal_stayed() {
         let mesh = rect(24, 24, [0.0, 1.0, 0.0, 1.0]);
         let mut bcs = BoundaryConditions::new();
         bcs.set_kinds(1, Kind::Fixed).set_kinds(3, Kind::Clamped);
@@ -122,13 +173,13 @@ mod tests {
         let turned: Vec<f64> =
             mesh.coords().chunks(2).flat_map(|p| [c * p[0] - s * p[1] + 0.25, s * p[0] + c * p[1] - 0.5]).collect();
         assert!(h.move_to(turned.clone()).unwrap());
-        let rescaled = lambdas(&h);
+        let warm = lambdas(&h);
         // A rigid motion keeps the coarse levels below the first (`multigrid::lag`).
         assert!(h.phases().coarse_kept);
-        for (l, (bl, rl)) in built.iter().zip(&rescaled).enumerate() {
-            for (b, r) in bl.iter().zip(rl) {
+        for (l, (bl, wl)) in built.iter().zip(&warm).enumerate() {
+            for (b, w) in bl.iter().zip(wl) {
                 let want = if l < 2 { (b * MARGIN).min(1.0) } else { *b };
-                assert!((r - want).abs() <= 1e-6 * want, "level {l}: rescaled {r}, built {b}");
+                assert!((w - want).abs() <= 1e-6 * want, "level {l}: warm {w}, built {b}");
             }
         }
 
@@ -142,11 +193,48 @@ mod tests {
         }
 
         assert!(h.restore(turned, carried).unwrap());
-        assert_eq!(bits(&lambdas(&h)), bits(&rescaled), "a restore estimates as before");
+        assert_eq!(bits(&lambdas(&h)), bits(&warm), "a restore estimates as before");
     }
 
-    /// A calibration whose shape the iteration keeps gives the 8th estimate times its ratio and
-    /// the margin; one whose shape it leaves gives the full estimate, bitwise.
+    /// A calibration whose diagonal the level kept gives one iteration from its iterate times
+    /// its scale and the margin (on the same level, the full estimate's last product again); one whose
+    /// diagonal moved past `DRIFT` somewhere, without a rescaling ratio, gives the full estimate,
+    /// bitwise, and calibrates again.
+    #[test]
+    fn the_diagonal_chooses_the_warm_or_the_full_estimate() {
+        let mesh = rect(16, 16, [0.0, 1.0, 0.0, 1.0]);
+        let mut bcs = BoundaryConditions::new();
+        bcs.set_kinds(1, Kind::Fixed).set_kinds(3, Kind::Clamped);
+        let h = Hierarchy::build(&mesh, Vec::new(), &bcs, Method::Biharmonic, &HierarchyParams::default()).unwrap();
+        let level = &h.levels[0];
+        let op = GroupOp::new(level, 0..1, false);
+        let mut power = PowerIteration::new(&op);
+        power.run(&op, POWER_ITERATIONS);
+        let full = power.after(POWER_ITERATIONS).unwrap();
+        let (e, cal) = biharmonic_estimates(level, &[0], None);
+        assert_eq!(e[0].to_bits(), padded(Some(full)).to_bits());
+        let k = &cal.0[0];
+        assert_eq!(k.start.len(), level.n());
+        // A rescaled estimate's iterate (scale 0.5), so the padded estimate stays below the cap.
+        let half = Calibration(vec![Component { scale: 0.5, ..k.clone() }]);
+        let (e, _) = biharmonic_estimates(level, &[0], Some(&half));
+        let want = padded(Some(full * 0.5 * MARGIN));
+        assert!((e[0] - want).abs() <= 1e-12 && want < 0.9, "{} against {want}", e[0]);
+        // One unknown's diagonal 6% away: the full estimate.
+        let mut inv_d = k.inv_d.to_vec();
+        let i = inv_d.iter().position(|&d| d > 0.0).unwrap();
+        inv_d[i] *= 1.0 / (1.0 + 1.2 * DRIFT);
+        let moved = Calibration(vec![Component { inv_d: inv_d.into(), ratio: 0.0, ..k.clone() }]);
+        let (e, cal) = biharmonic_estimates(level, &[0], Some(&moved));
+        assert_eq!(e[0].to_bits(), estimate_lambda_max(&op).to_bits());
+        assert_eq!(&*cal.0[0].inv_d, level.inv_d[0].as_slice(), "calibrated again");
+        assert!((largest_drift(&[1.0, 0.0, 0.5], &[1.0 / 1.1, 0.0, 0.5]) - 0.1).abs() < 1e-12);
+        assert_eq!(largest_drift(&[1.0, 0.0], &[1.0, 0.5]), f64::INFINITY);
+    }
+
+    /// Without a kept iterate, a calibration whose shape the iteration keeps gives the 8th
+    /// estimate times its ratio and the margin; one whose shape it leaves gives the full
+    /// estimate, bitwise.
     #[test]
     fn the_shape_chooses_the_rescaled_or_the_full_estimate() {
         let mesh = rect(16, 16, [0.0, 1.0, 0.0, 1.0]);
@@ -155,17 +243,17 @@ mod tests {
         let h = Hierarchy::build(&mesh, Vec::new(), &bcs, Method::Biharmonic, &HierarchyParams::default()).unwrap();
         let level = &h.levels[0];
         let (_, cal) = biharmonic_estimates(level, &[0], None);
-        let k = cal.0[0];
+        let k = &cal.0[0];
         assert!(k.shape > 0.0 && k.ratio > 0.0, "calibrated: shape {} ratio {}", k.shape, k.ratio);
         let op = GroupOp::new(level, 0..1, false);
         let mut power = PowerIteration::new(&op);
         power.run(&op, FEW);
         let e8 = power.after(FEW).unwrap();
-        let kept = Calibration(vec![Component { shape: k.shape, ratio: 0.25 }]);
+        let kept = Calibration(vec![Component { shape: k.shape, ratio: 0.25, ..Default::default() }]);
         let (e, _) = biharmonic_estimates(level, &[0], Some(&kept));
         assert_eq!(e[0].to_bits(), padded(Some(e8 * 0.25 * MARGIN)).to_bits());
         assert!(e[0] < 0.5, "{}", e[0]);
-        let left = Calibration(vec![Component { shape: k.shape * (1.0 + 2.0 * SHAPE_TOLERANCE), ratio: 0.25 }]);
+        let left = Calibration(vec![Component { shape: k.shape * (1.0 + 2.0 * SHAPE_TOLERANCE), ratio: 0.25, ..Default::default() }]);
         let (e, cal) = biharmonic_estimates(level, &[0], Some(&left));
         assert_eq!(e[0].to_bits(), estimate_lambda_max(&op).to_bits());
         assert_eq!(cal.0[0].ratio.to_bits(), k.ratio.to_bits(), "calibrated again");

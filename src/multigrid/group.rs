@@ -276,6 +276,20 @@ impl PowerIteration {
         PowerIteration { x, y: vec![0.0; g * n], s: vec![0.0; n], sol: Vec::new(), estimates: Vec::new(), vanished: false }
     }
 
+    /// The power iteration of `op` from the start `x` (a kept iterate of the group's length),
+    /// projected onto the group's free subspace.
+    pub(crate) fn from_start(op: &GroupOp, mut x: Vec<f64>) -> Self {
+        op.project(&mut x);
+        let (n, g) = (op.n(), op.len());
+        PowerIteration { x, y: vec![0.0; g * n], s: vec![0.0; n], sol: Vec::new(), estimates: Vec::new(), vanished: false }
+    }
+
+    /// The unit iterate the last iteration started from (its product's norm is the last
+    /// estimate); None before the first iteration or after an iterate vanished.
+    pub(crate) fn last_start(&self) -> Option<&[f64]> {
+        (!self.estimates.is_empty() && !self.vanished).then_some(self.y.as_slice())
+    }
+
     /// Continues to `iterations` iterations in all (fewer when an iterate vanishes).
     pub(crate) fn run(&mut self, op: &GroupOp, iterations: usize) {
         let (n, g) = (op.n(), op.len());

@@ -26,7 +26,6 @@ use crate::mesh::quality::is_inverted;
 use crate::operator::{assembled_below, LevelOperator, Method};
 use crate::{Mesh, Result};
 use crate::sparse::{same_pattern, CsrMatrix};
-use rayon::prelude::*;
 use std::ops::Range;
 use std::sync::Arc;
 
@@ -138,7 +137,8 @@ fn refresh_bounds(level: &mut Level, previous: Option<&Calibration>) -> Calibrat
     let own: Vec<usize> = (0..nc).filter(|&c| alike[c] == c).collect();
     // Component c's values among those of `own`.
     let at: Vec<usize> = alike.iter().map(|e| own.iter().position(|o| o == e).unwrap_or(0)).collect();
-    let inv_d: Vec<Vec<f64>> = own.par_iter().map(|&c| level.op.inv_l1_diag(&level.flags[c])).collect();
+    let own_flags: Vec<&[u8]> = own.iter().map(|&c| level.flags[c].as_slice()).collect();
+    let inv_d = level.op.inv_l1_diags(&own_flags);
     level.inv_d = at.iter().map(|&i| inv_d[i].clone()).collect();
     level.refresh_lines();
     // The l1 bound guarantees λmax(D⁻¹A) ≤ 1. For the second-order operators it is nearly

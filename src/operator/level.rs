@@ -245,32 +245,45 @@ impl LevelOperator {
     /// biharmonic D_i = Σ_{k without Z} |K_ik| (Σ_j |K_kj|) / V_k  (bounds Σ_j |A_ij|, paper Eq. 8),
     /// Laplacian and spring D_i = Σ_j |K_ij|, an assembled Galerkin biharmonic D_i = Σ_j |A_ij|.
     pub fn inv_l1_diag(&self, flags: &[u8]) -> Vec<f64> {
+        self.inv_l1_diags(&[flags]).pop().unwrap_or_default()
+    }
+
+    /// `inv_l1_diag` of each of the components `flags`, bitwise: the rows' absolute sums, which
+    /// do not depend on the flags, formed once for all of them, the components side by side.
+    pub fn inv_l1_diags(&self, flags: &[&[u8]]) -> Vec<Vec<f64>> {
+        use rayon::prelude::*;
         let k = self.one_pass().unwrap_or(&self.k);
         let mut rowabs = vec![0.0; self.n()];
         par_fill(&mut rowabs, |i| k.row(i).1.iter().map(|a| a.abs()).sum());
-        let mut inv = vec![0.0; self.n()];
-        par_fill(&mut inv, |i| {
-            if flags[i] & P != 0 {
-                return 0.0;
-            }
-            let d = match self.one_pass() {
-                None => {
-                    let (c, v) = k.row(i);
-                    c.iter()
-                        .zip(v)
-                        .filter(|(&j, _)| flags[j as usize] & Z == 0)
-                        .map(|(&j, &a)| a.abs() * rowabs[j as usize] * self.inv_v[j as usize])
-                        .sum()
-                }
-                _ => rowabs[i],
-            };
-            if d > 0.0 {
-                1.0 / d
-            } else {
-                0.0
-            }
-        });
-        inv
+        let rowabs = &rowabs;
+        flags
+            .par_iter()
+            .map(|flags| {
+                let mut inv = vec![0.0; self.n()];
+                par_fill(&mut inv, |i| {
+                    if flags[i] & P != 0 {
+                        return 0.0;
+                    }
+                    let d = match self.one_pass() {
+                        None => {
+                            let (c, v) = k.row(i);
+                            c.iter()
+                                .zip(v)
+                                .filter(|(&j, _)| flags[j as usize] & Z == 0)
+                                .map(|(&j, &a)| a.abs() * rowabs[j as usize] * self.inv_v[j as usize])
+                                .sum()
+                        }
+                        _ => rowabs[i],
+                    };
+                    if d > 0.0 {
+                        1.0 / d
+                    } else {
+                        0.0
+                    }
+                });
+                inv
+            })
+            .collect()
     }
 }
 
