@@ -69,7 +69,15 @@ impl Hierarchies {
     pub(crate) fn whole(multigrid: Multigrid, dim: usize) -> Hierarchies {
         let (sizes, gathers) = (multigrid.sizes(), multigrid.gathers());
         let of_component = vec![0; dim];
-        Hierarchies { multigrids: vec![multigrid], of_component, sizes, gathers, coupled: Vec::new(), whole: true, layered: false }
+        Hierarchies {
+            multigrids: vec![multigrid],
+            of_component,
+            sizes,
+            gathers,
+            coupled: Vec::new(),
+            whole: true,
+            layered: false,
+        }
     }
 
     /// Component `c`'s multigrid.
