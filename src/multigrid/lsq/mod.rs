@@ -13,6 +13,7 @@
 
 mod along_lines;
 mod features;
+mod on_lines;
 mod weights;
 
 pub(crate) use features::Features;
@@ -27,6 +28,7 @@ use super::coarsener::{CoarseMesh, CoarseUnknowns, Coarsener};
 use super::level::{Level, Transfer};
 use super::restriction::Restriction;
 use crate::mesh::Mesh;
+use on_lines::OnLines;
 use crate::operator::Method;
 use crate::sparse::CsrMatrix;
 use crate::Result;
@@ -87,7 +89,10 @@ impl Coarsener for LeastSquares {
         }
         self.features.truncate(l + 1);
         let points = fine.unknown_points();
-        let mut kept = select(&fine.op.k, &self.features[l], &points);
+        // Hierarchies that interpolate along the lines keep them: their unknowns are dropped
+        // along their own line (`on_lines`).
+        let on_lines = self.along_lines.then(|| OnLines::new(fine.lines.lines(), &fine.op.k, &self.features[l], &points));
+        let mut kept = select(&fine.op.k, &self.features[l], &points, on_lines.as_ref());
         // A layer one cell thick that the general rule cannot coarsen enough (a layer thinner
         // than its cells are wide: few unknowns have a strong neighbour that may interpolate
         // them) is coarsened within its planes (`Features::in_plane`); every other level keeps
@@ -95,7 +100,7 @@ impl Coarsener for LeastSquares {
         let too_few_dropped = |kept: &[u32]| (n as f64) < self.params.min_ratio * kept.len() as f64;
         if too_few_dropped(&kept) && self.features[l].one_layer() {
             self.features[l].set_in_plane();
-            kept = select(&fine.op.k, &self.features[l], &points);
+            kept = select(&fine.op.k, &self.features[l], &points, None);
         }
         let features = &self.features[l];
         let nc = kept.len();
@@ -141,18 +146,27 @@ fn transfer(fine: &Level, f: &Features, kept: &[u32], donors: weights::Donors) -
 /// its partner across the layer
 /// (`partner`), so the two planes, coarsened apart, keep the same unknowns where their graphs
 /// agree (an extruded 2D mesh): the coarse levels stay slabs of the 2D section's coarse levels.
-fn select(k: &CsrMatrix, f: &Features, points: &[f64]) -> Vec<u32> {
+/// With `lines` (`OnLines`) a line's unknowns are visited together from the wall outward, and
+/// dropped only for the unknowns `OnLines::may_drop_for` names.
+fn select(k: &CsrMatrix, f: &Features, points: &[f64], lines: Option<&OnLines>) -> Vec<u32> {
     let n = k.nrows;
     let dim = f.dim();
     let at = |d: usize| &points[d * dim..(d + 1) * dim];
     let pair = |d: usize| if f.in_plane() { partner(k, f, d, |u| f.relative(d, u, at(d), at(u))).min(d) } else { d };
     let mut order: Vec<u32> = (0..n as u32).collect();
-    order.sort_by_cached_key(|&d| (f.feature_dim(d as usize), pair(d as usize), d));
+    order.sort_by_cached_key(|&d| {
+        let d = d as usize;
+        match lines.and_then(|o| o.key(d)) {
+            Some((base, place)) => (f.feature_dim(d), base as usize, place as usize),
+            None => (f.feature_dim(d), pair(d), d),
+        }
+    });
+    let may_drop_for = |v: usize, u: usize| lines.is_none_or(|o| o.may_drop_for(v, u));
     let mut kept = vec![false; n];
     for &v in &order {
         let v = v as usize;
         let rel = |u: usize| f.relative(v, u, at(v), at(u));
-        if !strong(k, f, v, rel).any(|u| kept[u as usize] && f.donor_ok(v, u as usize)) {
+        if !strong(k, f, v, rel).any(|u| kept[u as usize] && f.donor_ok(v, u as usize) && may_drop_for(v, u as usize)) {
             kept[v] = true;
         }
     }
