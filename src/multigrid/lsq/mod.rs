@@ -43,8 +43,8 @@ pub(crate) struct LeastSquares {
     /// Whether the level the features were built on has lines across wall layers: its kept
     /// levels interpolate from the fewest donors that fit (`weights::Donors::Fewest`).
     layered: bool,
-    /// Whether the unknowns on lines interpolate along them (`along_lines`): the biharmonic's
-    /// hierarchies in 2D with lines. The biharmonic is fourth order, and linear interpolation
+    /// Whether the unknowns on lines interpolate along them (`along_lines`), and are kept or
+    /// dropped along them (`on_lines`): the biharmonic's hierarchies in 2D with lines. The biharmonic is fourth order, and linear interpolation
     /// leaves kinks whose energy is that of the smooth error itself. The second-order operators
     /// need no more than linear rows (the Laplacian lost iterations along the lines), and in
     /// 3D the spheroid's larger size and the wing lost iterations with them
