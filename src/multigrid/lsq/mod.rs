@@ -28,10 +28,10 @@ use super::coarsener::{CoarseMesh, CoarseUnknowns, Coarsener};
 use super::level::{Level, Transfer};
 use super::restriction::Restriction;
 use crate::mesh::Mesh;
-use on_lines::OnLines;
 use crate::operator::Method;
 use crate::sparse::CsrMatrix;
 use crate::Result;
+use on_lines::OnLines;
 use std::sync::Arc;
 
 /// The coarsener whose coarse levels are subsets of the fine unknowns.
@@ -44,11 +44,11 @@ pub(crate) struct LeastSquares {
     /// levels interpolate from the fewest donors that fit (`weights::Donors::Fewest`).
     layered: bool,
     /// Whether the unknowns on lines interpolate along them (`along_lines`), and are kept or
-    /// dropped along them (`on_lines`): the biharmonic's hierarchies in 2D with lines. The biharmonic is fourth order, and linear interpolation
-    /// leaves kinks whose energy is that of the smooth error itself. The second-order operators
-    /// need no more than linear rows (the Laplacian lost iterations along the lines), and in
-    /// 3D the spheroid's larger size and the wing lost iterations with them
-    /// (docs/perf-history.md, "Interpolation along the lines").
+    /// dropped along them (`on_lines`): the biharmonic's hierarchies in 2D with lines. The
+    /// biharmonic is fourth order, and linear interpolation leaves kinks whose energy is that of
+    /// the smooth error itself. The second-order operators need no more than linear rows (the
+    /// Laplacian lost iterations along the lines), and in 3D the spheroid's larger size and the
+    /// wing lost iterations with them (docs/perf-history.md, "Interpolation along the lines").
     along_lines: bool,
 }
 
