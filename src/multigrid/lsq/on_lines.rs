@@ -10,7 +10,9 @@
 //! every line (the wall below the first layer, the cells beyond the last): the layers are
 //! semi-coarsened along their lines, and the lines shorten level by level from their ends
 //! (Mavriplis's agglomeration along implicit lines). The lines are visited from the wall
-//! outward, so the first layer's unknown goes for the wall's and every other one stays.
+//! outward, so the first layer's unknown goes for the wall's and each kept unknown drops the
+//! next ones out along its line that it couples strongly (one on the finest level, one or two on
+//! a Galerkin level, whose graph reaches further).
 
 use super::along_lines::end_neighbour;
 use super::Features;
