@@ -122,6 +122,38 @@ fn substepping_keeps_large_rotations_valid_or_fails_cleanly() {
     }
 }
 
+/// `advance` reports its result's quality against the positions the call started from, whether
+/// one attempt made the step (its own check reused), the step was split, or the result is tangled
+/// and not adopted: the same values as measuring that pair of meshes afresh.
+#[test]
+fn advance_reports_the_quality_against_its_start() {
+    let mesh = ellipse_in_box(0.5, 0.1);
+    let mut cases = 0;
+    let (inc, orig) = (ReferenceMode::Incremental, ReferenceMode::Original);
+    let cases_run = [
+        (Method::Biharmonic, 20.0, 1, inc),
+        (Method::Biharmonic, 20.0, 1, orig),
+        (Method::Biharmonic, 20.0, 64, inc),
+        (Method::Biharmonic, 120.0, 64, inc),
+        (Method::Laplacian, 90.0, 1, inc),
+    ];
+    for (method, deg, max_substeps, reference) in cases_run {
+        let opts = Options { method, max_substeps, reference, ..Default::default() };
+        let mut s = Solver::new(&mesh, &ellipse_bcs(), opts).unwrap();
+        // A first step, so the second starts from a moved reference.
+        s.advance(&Motion::zero(&mesh).with_rigid(EL_ELLIPSE, rotation(5.0))).unwrap();
+        let before = s.current_coords().to_vec();
+        let sol = s.advance(&Motion::zero(&mesh).with_rigid(EL_ELLIPSE, rotation(deg))).unwrap();
+        // The result: the new mesh, or the tangled one the call returned and did not adopt.
+        let fresh = meshmove::mesh::quality(&mesh.with_coords(before), s.last_valid_coords());
+        assert_eq!(sol.quality, fresh, "{method:?} {deg}° with {max_substeps} sub-steps, {reference:?}");
+        let attempts = s.step_reports().len();
+        cases += usize::from(attempts > 1 || sol.quality.inverted > 0);
+        eprintln!("{method:?} {deg}°: {attempts} attempt(s), {} inverted", sol.quality.inverted);
+    }
+    assert!(cases >= 2, "a split step and a tangled result are among the cases");
+}
+
 #[test]
 fn a_motion_on_a_free_patch_is_refused() {
     let mesh = ellipse_in_box(0.5, 0.1);

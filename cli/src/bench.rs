@@ -70,6 +70,25 @@ pub enum RanksMethod {
     Biharmonic,
 }
 
+/// A method of the `steps` part.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StepsMethod {
+    /// The biharmonic (the paper's method).
+    Biharmonic,
+    /// The Laplacian.
+    Laplacian,
+}
+
+impl StepsMethod {
+    /// The library's method.
+    pub fn method(self) -> Method {
+        match self {
+            StepsMethod::Biharmonic => Method::Biharmonic,
+            StepsMethod::Laplacian => Method::Laplacian,
+        }
+    }
+}
+
 /// The cells of a 3D box.
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum BoxKind {
@@ -115,6 +134,13 @@ pub struct Args {
     /// of each dimension by default).
     #[arg(long, default_value_t = 300_000)]
     pub steps_max_vertices: usize,
+    /// The methods of the `steps` part, comma separated: biharmonic, laplacian.
+    #[arg(long, value_delimiter = ',', default_value = "biharmonic")]
+    pub steps_methods: Vec<StepsMethod>,
+    /// The `steps` part also on the graded sphere, at the graded part's 3D sizes up to
+    /// --steps-max-vertices (and --max-vertices-3d).
+    #[arg(long)]
+    pub steps_graded: bool,
     /// Time cap of the Jacobi spring mover per size, as a multiple of our spring-mg solve of the
     /// same system: when it is capped, its ratio to ours is at least this (a measured lower
     /// bound, not an extrapolation).
@@ -666,7 +692,7 @@ pub fn run(a: &Args) -> Result<(), String> {
             run_case(a, &case, Levels::Meshes, last, &mut rows, &mut failed)?;
         }
         if stepping && nv <= a.steps_max_vertices && steps_done[0] < 2 {
-            steps::run(a, &case, &last[0], &mut rows).map_or_else(|e| failed.push(e), |s| stepped.push(s));
+            steps::run_methods(a, &case, &last[0], &mut rows, &mut stepped, &mut failed);
             steps_done[0] += 1;
         }
         // The next size is needed by the 2D parts, or by the steps while they have sizes to go.
@@ -699,9 +725,16 @@ pub fn run(a: &Args) -> Result<(), String> {
                 run_case(a, &case, Levels::Default, &pools, &mut rows, &mut failed)?;
             }
             if steps_here {
-                steps::run(a, &case, &last[0], &mut rows).map_or_else(|e| failed.push(e), |s| stepped.push(s));
+                steps::run_methods(a, &case, &last[0], &mut rows, &mut stepped, &mut failed);
                 steps_done[1] += 1;
             }
+        }
+    }
+    if stepping && a.steps_graded {
+        for n in cases::graded_sphere_sizes(a.max_vertices_3d.min(a.steps_max_vertices)) {
+            let case = cases::graded_sphere(n);
+            eprintln!("{} {} vertices", case.name, case.mesh.num_vertices());
+            steps::run_methods(a, &case, &last[0], &mut rows, &mut stepped, &mut failed);
         }
     }
     if has(Part::Graded) {

@@ -124,7 +124,18 @@ fn bench_writes_csv_with_every_solver() {
 #[test]
 fn bench_3d_and_steps_rows() {
     let out = std::env::temp_dir().join(format!("meshmove-bench-3d-{}", std::process::id()));
-    let args = ["--parts", "3d,steps", "--max-vertices", "20000", "--cells-3d", "11", "--max-vertices-3d", "2000"];
+    let args = [
+        "--parts",
+        "3d,steps",
+        "--max-vertices",
+        "20000",
+        "--cells-3d",
+        "11",
+        "--max-vertices-3d",
+        "2000",
+        "--steps-methods",
+        "biharmonic,laplacian",
+    ];
     let run = bench(&out, &[&args[..], &["--threads", "1,2"]].concat());
     let stdout = String::from_utf8_lossy(&run.stdout);
     let rows = rows(&std::fs::read_to_string(out.join("bench.csv")).expect("bench.csv written"));
@@ -152,20 +163,25 @@ fn bench_3d_and_steps_rows() {
         let it: usize = find(case, "biharmonic-mg")[0][7].parse().unwrap();
         assert!(it <= 12, "{case}: {it} iterations");
     }
-    // Steps: the 2D free surface (16.8k) and both boxes, three rows each, at the largest
-    // thread count, converged.
+    // Steps: the 2D free surface (16.8k) and both boxes, three rows each per method, at the
+    // largest thread count, converged.
     for case in ["free-surface-2d", "box-hex-3d", "box-tet-3d"] {
-        for solver in ["biharmonic-step1", "biharmonic-step-median", "biharmonic-step-worst"] {
-            let r = find(case, solver);
-            assert_eq!(r.len(), 1, "{case} {solver}: {r:?}");
-            assert!(r[0][3] == "2" && num(r[0], 11) <= 1e-8 && num(r[0], 7) >= 1.0, "{r:?}");
+        for method in ["biharmonic", "laplacian"] {
+            for pick in ["step1", "step-median", "step-worst"] {
+                let r = find(case, &format!("{method}-{pick}"));
+                assert_eq!(r.len(), 1, "{case} {method}-{pick}: {r:?}");
+                assert!(r[0][3] == "2" && num(r[0], 11) <= 1e-8 && num(r[0], 7) >= 1.0, "{r:?}");
+            }
+            let line = stdout
+                .lines()
+                .find(|l| l.starts_with(case) && l.contains(&format!(" {method} ")) && l.contains(" / "))
+                .expect("steps line");
+            // Ten iteration counts at the end of the line.
+            let its: Vec<&str> = line.split("  ").last().unwrap().split_whitespace().collect();
+            assert_eq!(its.len(), 10, "{line}");
         }
-        let line = stdout.lines().find(|l| l.starts_with(case) && l.contains(" / ")).expect("steps line");
-        // Ten iteration counts at the end of the line.
-        let its: Vec<&str> = line.split("  ").last().unwrap().split_whitespace().collect();
-        assert_eq!(its.len(), 10, "{line}");
     }
-    assert!(stdout.contains("time stepping: biharmonic, the motion in 10 steps"), "{stdout}");
+    assert!(stdout.contains("time stepping: the motion in 10 steps"), "{stdout}");
     assert!(stdout.contains("  median re-reference (s): unknowns "), "{stdout}");
     let _ = std::fs::remove_dir_all(&out);
 }

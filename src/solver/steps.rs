@@ -108,10 +108,11 @@ pub(super) fn advance(s: &mut Solver, from: Option<&[f64]>, increment: &Motion) 
                 s.rebase_seconds = t.elapsed().as_secs_f64();
             }
             let before = s.current_coords().to_vec();
-            do_step(s, &Step { number: 1, count: 1, increment, from: 0.0, to: 1.0, last: true }, undo)?;
+            let whole = do_step(s, &Step { number: 1, count: 1, increment, from: 0.0, to: 1.0, last: true }, undo)?;
             let after = &s.last_valid;
             let displacement: Vec<f64> = after.iter().zip(&before).map(|(a, b)| a - b).collect();
-            let quality = crate::mesh::quality::quality(&s.mesh().with_coords(before), after);
+            // A step made by one attempt has already measured the result against `before`.
+            let quality = whole.unwrap_or_else(|| crate::mesh::quality::quality(&s.mesh().with_coords(before), after));
             // Every output finite, or the call fails (and the transaction restores the solver).
             let q = [quality.min_area_ratio, quality.max_area_ratio, quality.min_angle_deg];
             if after.iter().chain(&displacement).any(|p| !p.is_finite()) || q.iter().any(|v| !v.is_finite()) {
@@ -234,10 +235,13 @@ fn record(s: &mut Solver, step: &Step, mut rep: StepReport) -> Result<()> {
     )))
 }
 
-fn do_step(s: &mut Solver, step: &Step, undo: &mut Undo) -> Result<()> {
+/// Makes one step. Returns the quality of its result against the mesh it started from when one
+/// attempt made the whole step from there (incremental reference: the attempt's own quality
+/// check is that measure, on the same two meshes), else None.
+fn do_step(s: &mut Solver, step: &Step, undo: &mut Undo) -> Result<Option<Quality>> {
     if s.opts.reference == ReferenceMode::Original {
         let reference_s = s.settle(undo)?;
-        return original_step(s, step, reference_s);
+        return original_step(s, step, reference_s).map(|()| None);
     }
     let split = s.opts.max_substeps > 1;
     let mut halving = Halving::new(s.opts.max_substeps);
@@ -267,6 +271,9 @@ fn do_step(s: &mut Solver, step: &Step, undo: &mut Undo) -> Result<()> {
             rep.accepted = true;
             s.last_valid = moved;
             record(s, step, rep)?;
+            if substep == 1 && end >= 1.0 {
+                return Ok(Some(sol.quality));
+            }
             halving.done = end;
             continue;
         }
@@ -281,7 +288,7 @@ fn do_step(s: &mut Solver, step: &Step, undo: &mut Undo) -> Result<()> {
             record(s, step, rep)?;
             if end >= 1.0 && step.last {
                 s.last_valid = crate::solver::moved(s.mesh().coords(), &sol.displacement);
-                return Ok(());
+                return Ok((substep == 1).then_some(sol.quality));
             }
             return Err(Error::Tangled(format!(
                 "step {}: the result has {} inverted cell(s) (min volume (2D: area) ratio {:.3e}); the next step cannot \
@@ -307,7 +314,7 @@ fn do_step(s: &mut Solver, step: &Step, undo: &mut Undo) -> Result<()> {
             step.from + (step.to - step.from) * halving.done
         )));
     }
-    Ok(())
+    Ok(None)
 }
 
 /// How a step is split into sub-steps (also the distributed solver's): the part of it done, the

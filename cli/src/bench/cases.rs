@@ -105,16 +105,23 @@ pub fn free_surface_box(n: usize, cells: BoxCells) -> Case {
 /// own `case` names. Each is a maker, so one mesh at a time is in memory.
 pub fn graded_cases(max_vertices_2d: usize, max_vertices_3d: usize) -> Vec<Box<dyn FnOnce() -> Case>> {
     let mut out: Vec<Box<dyn FnOnce() -> Case>> = Vec::new();
-    let sizes = |max: usize, factor: usize| {
-        std::iter::successors(Some(30_000), move |n| Some(n * factor)).take_while(move |&n| n <= max)
-    };
-    for n in sizes(max_vertices_2d, 4) {
+    for n in graded_sizes(max_vertices_2d, 4) {
         out.push(Box::new(move || graded(ogrid::cylinder_with_vertices(n, CellKind::Simplex), "graded-cylinder-2d")));
     }
-    for n in sizes(max_vertices_3d, 8) {
+    for n in graded_sphere_sizes(max_vertices_3d) {
         out.push(Box::new(move || graded_sphere(n)));
     }
     out
+}
+
+/// The graded meshes' target vertex counts: about 30 thousand, times `factor` while at most `max`.
+fn graded_sizes(max: usize, factor: usize) -> impl Iterator<Item = usize> {
+    std::iter::successors(Some(30_000), move |n| Some(n * factor)).take_while(move |&n| n <= max)
+}
+
+/// The graded sphere's target vertex counts up to `max`.
+pub fn graded_sphere_sizes(max: usize) -> impl Iterator<Item = usize> {
+    graded_sizes(max, 8)
 }
 
 /// The 3D graded case (tetrahedra) at about `vertices` vertices.

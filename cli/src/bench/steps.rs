@@ -1,4 +1,5 @@
-//! The time-stepping rows: what a host pays per time step. One biharmonic solver is built, then
+//! The time-stepping rows: what a host pays per time step. One solver is built (the biharmonic,
+//! or each of `--steps-methods`), then
 //! the case's motion is applied in [`STEPS`] equal increments by `Solver::advance`, the call a
 //! host makes every time step on the mesh of the previous step (each call re-evaluates K and V
 //! on the moved mesh, keeping the coarse topology, then solves for the increment). The rows are
@@ -34,6 +35,7 @@ pub struct Step {
 /// One time-stepping run.
 pub struct Stepped {
     pub case: &'static str,
+    pub method: Method,
     pub vertices: usize,
     pub threads: usize,
     /// `Solver::new`, once.
@@ -48,24 +50,40 @@ pub struct Stepped {
 }
 
 impl Stepped {
-    /// Indices of step 1, the median step and the worst step by wall time.
+    /// Indices of step 1, the median step and the worst step by wall time, with their rows' names.
     fn picks(&self) -> [(usize, &'static str); 3] {
         let mut order: Vec<usize> = (0..self.steps.len()).collect();
         order.sort_by(|&i, &j| self.steps[i].total_s.total_cmp(&self.steps[j].total_s));
-        [
-            (0, "biharmonic-step1"),
-            (order[order.len() / 2], "biharmonic-step-median"),
-            (*order.last().expect("steps"), "biharmonic-step-worst"),
-        ]
+        let names = match self.method {
+            Method::Laplacian => ["laplacian-step1", "laplacian-step-median", "laplacian-step-worst"],
+            Method::Spring => ["spring-step1", "spring-step-median", "spring-step-worst"],
+            Method::Biharmonic => ["biharmonic-step1", "biharmonic-step-median", "biharmonic-step-worst"],
+        };
+        [(0, names[0]), (order[order.len() / 2], names[1]), (*order.last().expect("steps"), names[2])]
     }
 }
 
-/// Builds the solver at the pool's thread count, advances it [`STEPS`] times, and pushes the
-/// three rows: `setup_s` the part of the call outside the solve (re-referencing, quality),
-/// `solve_s` the solve, `iterations` its CG iterations; the step's cost is their sum.
+/// `run` with each of `--steps-methods`, the runs kept in `stepped` and the failures in `failed`.
+pub fn run_methods(
+    a: &super::Args,
+    case: &Case,
+    pool: &(usize, rayon::ThreadPool),
+    rows: &mut Vec<Row>,
+    stepped: &mut Vec<Stepped>,
+    failed: &mut Vec<String>,
+) {
+    for m in &a.steps_methods {
+        run(a, case, m.method(), pool, rows).map_or_else(|e| failed.push(e), |s| stepped.push(s));
+    }
+}
+
+/// Builds the solver of `method` at the pool's thread count, advances it [`STEPS`] times, and
+/// pushes the three rows: `setup_s` the part of the call outside the solve (re-referencing,
+/// quality), `solve_s` the solve, `iterations` its CG iterations; the step's cost is their sum.
 pub fn run(
     a: &super::Args,
     case: &Case,
+    method: Method,
     (threads, pool): &(usize, rayon::ThreadPool),
     rows: &mut Vec<Row>,
 ) -> Result<Stepped, String> {
@@ -75,13 +93,13 @@ pub fn run(
     pool.install(|| {
         let t = Instant::now();
         let opts = Options {
-            method: Method::Biharmonic,
+            method,
             solve: SolveParams { tol: a.tol, ..Default::default() },
             threads: *threads,
             ..Default::default()
         };
         let mut solver = Solver::new(&case.mesh, &case.bcs, opts)
-            .map_err(|e| format!("{} steps at {nv} vertices: {e}", case.name))?;
+            .map_err(|e| format!("{} {method:?} steps at {nv} vertices: {e}", case.name))?;
         let setup_s = t.elapsed().as_secs_f64();
         let setup_phases = solver.phases();
         let op_s = op_seconds(solver.hierarchy().fine(), case.comp);
@@ -107,6 +125,7 @@ pub fn run(
         let q = meshmove::mesh::quality(&case.mesh.with_coords(original), solver.current_coords());
         let stepped = Stepped {
             case: case.name,
+            method,
             vertices: nv,
             threads: *threads,
             setup_s,
@@ -133,9 +152,10 @@ pub fn table(runs: &[Stepped]) -> String {
     }
     let _ = writeln!(
         s,
-        "\ntime stepping: biharmonic, the motion in {STEPS} steps by Solver::advance (re-referenced each step)\n\
-         {:<16} {:>8} {:>3} {:>8} {:>22} {:>22} {:>22} {:>11} {:>10} {:>6} {:>9}  iterations per step",
+        "\ntime stepping: the motion in {STEPS} steps by Solver::advance (re-referenced each step)\n\
+         {:<16} {:<10} {:>8} {:>3} {:>8} {:>22} {:>22} {:>22} {:>11} {:>10} {:>6} {:>9}  iterations per step",
         "case",
+        "method",
         "vertices",
         "thr",
         "setup_s",
@@ -163,8 +183,9 @@ pub fn table(runs: &[Stepped]) -> String {
             .collect();
         let _ = writeln!(
             s,
-            "{:<16} {:>8} {:>3} {:>8.3} {:>22} {:>22} {:>22} {:>11.2} {:>10.2} {:>6.0} {:>9.4}  {}",
+            "{:<16} {:<10} {:>8} {:>3} {:>8.3} {:>22} {:>22} {:>22} {:>11.2} {:>10.2} {:>6.0} {:>9.4}  {}",
             r.case,
+            format!("{:?}", r.method).to_lowercase(),
             r.vertices,
             r.threads,
             r.setup_s,

@@ -134,14 +134,17 @@ impl Context<'_> {
         let row = self.k.row(v).0;
         let near = by_distance(super::strong(self.k, self.f, v, |u| self.rel(v, u)).filter(|&u| is_donor(u)).collect());
         let far = |near: &[u32]| {
+            // The kept unknowns within two rings, each once before the costlier checks: on
+            // dense Galerkin levels a row's two rings reach most unknowns many times over.
             let mut far: Vec<u32> = row
                 .iter()
                 .copied()
                 .chain(row.iter().flat_map(|&w| self.k.row(w as usize).0.iter().copied()))
-                .filter(|&u| u as usize != v && is_donor(u) && !near.contains(&u))
+                .filter(|&u| self.coarse_of[u as usize] != u32::MAX)
                 .collect();
             far.sort_unstable();
             far.dedup();
+            far.retain(|&u| u as usize != v && is_donor(u) && !near.contains(&u));
             by_distance(far)
         };
         let fewest = self.donors != Donors::Strong;
