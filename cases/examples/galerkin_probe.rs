@@ -1,6 +1,7 @@
 //! The biharmonic's iterations on the wall-layered meshes, with the hierarchy's levels:
-//! `cargo run --release -p meshmove-cases --example galerkin_probe -- airfoil 64 [pitch|plunge] [STEPS] [METHOD] [TOL] [DEGREE] [COARSE_DEGREE]`
-//! (kinds and sizes as in `viscous_sizes`; the Chebyshev degrees the solver's own unless given).
+//! `cargo run --release -p meshmove-cases --example galerkin_probe -- airfoil 64 [pitch|plunge] [STEPS] [METHOD] [TOL] [DEGREE] [COARSE_DEGREE] [MAX_LEVELS]`
+//! (kinds and sizes as in `viscous_sizes`; the Chebyshev degrees the solver's own unless given;
+//! MAX_LEVELS cuts the hierarchy, its last level then factored when small enough).
 
 use meshmove::{Method, Options, Solver};
 use meshmove_cases::viscous::*;
@@ -23,6 +24,10 @@ fn main() {
     let tol: f64 = args.get(5).map_or(1e-8, |s| s.parse().expect("a tolerance"));
     let degree = |i: usize| args.get(i).map(|s| s.parse::<usize>().expect("a degree"));
     let (cheb_degree, cheb_coarse_degree) = (degree(6), degree(7));
+    let mut hierarchy = meshmove::HierarchyParams::default();
+    if let Some(m) = degree(8) {
+        hierarchy.max_levels = m;
+    }
     let v = by_name(kind, size).expect("a mesh");
     let bcs = boundary_conditions(&v);
     let motion = motion(&v, m);
@@ -33,6 +38,7 @@ fn main() {
         Options {
             method,
             solve: meshmove::SolveParams { tol, cheb_degree, cheb_coarse_degree, ..Default::default() },
+            hierarchy,
             ..Default::default()
         },
     )
