@@ -8,8 +8,8 @@
 
 use super::fused::{FusePlan, Iterate};
 use super::galerkin_biharmonic::Assembled;
-use super::scatter::Scatter;
-use super::{close_diagonal, lumped_mass, spring_stiffness, stiffness_and_mass, stiffness_pattern, Method};
+use super::scatter::{pattern_and_scatter, Scatter};
+use super::{close_diagonal, lumped_mass, spring_stiffness, stiffness_and_mass, Method};
 use crate::bc::{Dofs, P, Z};
 use crate::sparse::{par_fill, par_update, par_update2, triple_product, triple_product_values, CsrMatrix};
 use crate::Mesh;
@@ -42,13 +42,9 @@ pub struct LevelOperator {
 
 impl LevelOperator {
     pub fn new(method: Method, mesh: &Mesh, dofs: &Dofs) -> Self {
-        let k = stiffness_pattern(mesh, dofs);
-        let fuse = fuse_plan(method, &k);
         // The spring's weights are set edge by edge (`spring_stiffness`), not added by the map.
-        let scatter = match method {
-            Method::Spring => Scatter::default(),
-            _ => Scatter::new(&k, mesh, dofs),
-        };
+        let (k, scatter) = pattern_and_scatter(mesh, dofs, method != Method::Spring);
+        let fuse = fuse_plan(method, &k);
         let mut op = LevelOperator { method, k, inv_v: Vec::new(), scatter, fuse, assembled: None, source_halo: None };
         op.reassemble(mesh, dofs);
         op

@@ -11,7 +11,7 @@ mod stiffness;
 pub(crate) use galerkin_biharmonic::assembled_below;
 pub use level::LevelOperator;
 pub(crate) use stiffness::close_diagonal;
-pub(crate) use stiffness::{lumped_mass, spring_stiffness, stiffness_and_mass, stiffness_pattern};
+pub(crate) use stiffness::{lumped_mass, spring_stiffness, stiffness_and_mass};
 
 /// Which equation moves the mesh.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]

@@ -9,7 +9,7 @@
 //! are added by `general.rs` with the search and take no room here.
 
 use crate::bc::Dofs;
-use crate::sparse::CsrMatrix;
+use crate::sparse::{offset, CsrMatrix};
 use crate::Mesh;
 
 /// A position the map leaves to the row's binary search.
@@ -23,7 +23,8 @@ pub(crate) struct Scatter {
 }
 
 impl Scatter {
-    /// The map of `mesh`'s cells into `k`, whose pattern is `stiffness_pattern(mesh, dofs)`.
+    /// The map of `mesh`'s cells into `k`, whose pattern is `stiffness_pattern(mesh, dofs)`, by
+    /// a search of K's rows (`pattern_and_scatter` gives it without one where its slots fit).
     pub(crate) fn new(k: &CsrMatrix, mesh: &Mesh, dofs: &Dofs) -> Scatter {
         let in_row = |i: u32, j: u32| -> u8 {
             let (i, j) = (i as usize, j as usize);
@@ -66,8 +67,98 @@ impl Scatter {
         (slot(self.within_row[2 * at], i, j), slot(self.within_row[2 * at + 1], j, i))
     }
 
+    /// The bytes the map holds for coupling `at` (its positions within the two rows), for tests.
+    #[cfg(test)]
+    pub(crate) fn slots(&self, at: usize) -> [u8; 2] {
+        [self.within_row[2 * at], self.within_row[2 * at + 1]]
+    }
+
     /// The couplings the map holds.
     pub(crate) fn len(&self) -> usize {
         self.within_row.len() / 2
     }
+}
+
+/// An entry of K that fills no slot of the map (the diagonal, a general cell's coupling, a
+/// coupling of an unknown with itself).
+const NO_SLOT: u32 = u32::MAX;
+
+/// K's pattern on the unknowns (with the diagonal, values zero: the couplings of every cell)
+/// and, with `map`, the scatter map into it, from one pass over the cells' couplings: each entry
+/// carries the slot of the map it fills (`2 × coupling + direction`), so its position within its
+/// row is known where the row is sorted and its duplicates merged, and no row is searched. The
+/// pattern is that of sorting the couplings' pairs row by row, the map that of searching the rows
+/// for them (`Scatter::new`), bitwise. Past 2^31 couplings the slots do not fit: the map comes
+/// from the search.
+pub(crate) fn pattern_and_scatter(mesh: &Mesh, dofs: &Dofs, map: bool) -> (CsrMatrix, Scatter) {
+    let n = dofs.n;
+    let couplings: usize = (0..mesh.num_cells()).filter(|&c| !mesh.cell_type(c).is_general()).map(|c| mesh.cell_type(c).couplings().len()).sum();
+    let slots = map && u32::try_from(2 * couplings).is_ok_and(|s| s < NO_SLOT);
+    let mut general = Vec::new();
+    // Calls `f(row, column, slot)` for every entry of the pattern, duplicates included.
+    let mut each = |f: &mut dyn FnMut(u32, u32, u32)| {
+        (0..n as u32).for_each(|i| f(i, i, NO_SLOT));
+        let mut at = 0u32;
+        for c in 0..mesh.num_cells() {
+            let ty = mesh.cell_type(c);
+            if ty.is_general() {
+                general.clear();
+                super::general::pattern(mesh, dofs, c, &mut general);
+                general.iter().for_each(|&(a, b)| f(a, b, NO_SLOT));
+                continue;
+            }
+            let d = dofs.cell_dofs(mesh, c);
+            for &[i, j] in ty.couplings() {
+                let (a, b) = (d[i as usize], d[j as usize]);
+                let (ab, ba) = if slots && a != b { (2 * at, 2 * at + 1) } else { (NO_SLOT, NO_SLOT) };
+                f(a, b, ab);
+                f(b, a, ba);
+                at = at.wrapping_add(1);
+            }
+        }
+    };
+    // The entries bucketed by row, each its column and slot in one key (column first, so a
+    // row's sort orders them by column).
+    let mut start = vec![0usize; n + 1];
+    each(&mut |i, _, _| start[i as usize + 1] += 1);
+    for i in 0..n {
+        start[i + 1] += start[i];
+    }
+    offset(start[n]);
+    let mut keys = vec![0u64; start[n]];
+    let mut next = start.clone();
+    each(&mut |i, j, slot| {
+        keys[next[i as usize]] = (u64::from(j) << 32) | u64::from(slot);
+        next[i as usize] += 1;
+    });
+    drop(next);
+    let mut within_row = vec![SEARCH; if slots { 2 * couplings } else { 0 }];
+    let mut row_ptr = vec![0u32; n + 1];
+    let mut cols: Vec<u32> = Vec::new();
+    for i in 0..n {
+        let row = &mut keys[start[i]..start[i + 1]];
+        row.sort_unstable();
+        let first = cols.len();
+        let mut last = None;
+        for &key in row.iter() {
+            let (j, slot) = ((key >> 32) as u32, key as u32);
+            if last != Some(j) {
+                last = Some(j);
+                cols.push(j);
+            }
+            if slot != NO_SLOT {
+                within_row[slot as usize] = u8::try_from(cols.len() - 1 - first).unwrap_or(SEARCH);
+            }
+        }
+        row_ptr[i + 1] = offset(cols.len());
+    }
+    drop(keys);
+    cols.shrink_to_fit();
+    let vals = vec![0.0; cols.len()];
+    let k = CsrMatrix { nrows: n, ncols: n, row_ptr, cols, vals };
+    let scatter = match (map, slots) {
+        (true, false) => Scatter::new(&k, mesh, dofs),
+        _ => Scatter { within_row },
+    };
+    (k, scatter)
 }

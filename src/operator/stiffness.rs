@@ -19,21 +19,9 @@ fn cell_points(mesh: &Mesh, c: usize) -> CellPoints {
 }
 
 /// Sparsity of K on the unknowns (with the diagonal), values zero: the couplings of every cell.
+#[cfg(test)]
 pub(crate) fn stiffness_pattern(mesh: &Mesh, dofs: &Dofs) -> CsrMatrix {
-    let mut pairs: Vec<(u32, u32)> = (0..dofs.n as u32).map(|i| (i, i)).collect();
-    for c in 0..mesh.num_cells() {
-        if mesh.cell_type(c).is_general() {
-            super::general::pattern(mesh, dofs, c, &mut pairs);
-            continue;
-        }
-        let d = dofs.cell_dofs(mesh, c);
-        for &[i, j] in mesh.cell_type(c).couplings() {
-            let (a, b) = (d[i as usize], d[j as usize]);
-            pairs.push((a, b));
-            pairs.push((b, a));
-        }
-    }
-    CsrMatrix::from_pattern(dofs.n, dofs.n, pairs)
+    super::scatter::pattern_and_scatter(mesh, dofs, false).0
 }
 
 /// Sets K_ii = −Σ_{j≠i} K_ij, so constants are exactly in the null space of every row.
@@ -398,6 +386,50 @@ mod tests {
         assert!(same(&k0.vals, &k1.vals) && same(&v0, &v1));
         assert!(same(&k0.vals, &k3.vals) && same(&v0, &v3));
         assert!(k0.vals.iter().filter(|v| **v != 0.0).count() > 40 && v0.iter().all(|v| *v > 0.0));
+    }
+
+    /// K's pattern and the scatter map from one pass are the pattern of the sorted pairs and
+    /// the map of the rows' search, on mixed cells (a polyhedron among them), linked vertices
+    /// (a coupling of an unknown with itself) and a tetrahedral box; without the map, the same
+    /// pattern.
+    #[test]
+    fn one_pass_gives_the_sorted_pattern_and_the_searched_map() {
+        let mut flat = MeshData::new(2);
+        for p in [[0., 0.], [1., 0.], [2., 0.1], [0., 1.], [1.1, 1.], [2., 1.], [1., 2.]] {
+            flat.push_vertex(&p);
+        }
+        flat.push_cell(CellType::Quad, &[0, 1, 4, 3], 1);
+        flat.push_cell(CellType::Triangle, &[1, 2, 5], 1);
+        flat.push_cell(CellType::Polygon, &[1, 5, 4], 1);
+        flat.push_cell(CellType::Triangle, &[3, 4, 6], 1);
+        let flat = Mesh::from_data(&flat).unwrap();
+        let cases = [(solids(), Vec::new()), (flat, vec![[2, 5]]), (tets(4), Vec::new())];
+        for (mesh, links) in cases {
+            let dofs = Dofs::build(&mesh, &links, &[]);
+            // The pairs of every coupling both ways and the diagonal, sorted row by row.
+            let mut pairs: Vec<(u32, u32)> = (0..dofs.n as u32).map(|i| (i, i)).collect();
+            for c in 0..mesh.num_cells() {
+                if mesh.cell_type(c).is_general() {
+                    super::super::general::pattern(&mesh, &dofs, c, &mut pairs);
+                    continue;
+                }
+                let d = dofs.cell_dofs(&mesh, c);
+                for &[i, j] in mesh.cell_type(c).couplings() {
+                    pairs.extend([(d[i as usize], d[j as usize]), (d[j as usize], d[i as usize])]);
+                }
+            }
+            let sorted = CsrMatrix::from_pattern(dofs.n, dofs.n, pairs);
+            let (k, scatter) = super::super::scatter::pattern_and_scatter(&mesh, &dofs, true);
+            assert_eq!((&k.row_ptr, &k.cols), (&sorted.row_ptr, &sorted.cols));
+            assert_eq!(k.vals.len(), k.cols.len());
+            let searched = Scatter::new(&sorted, &mesh, &dofs);
+            assert_eq!(scatter.len(), searched.len());
+            for at in 0..scatter.len() {
+                assert_eq!(scatter.slots(at), searched.slots(at), "coupling {at}");
+            }
+            let (bare, none) = super::super::scatter::pattern_and_scatter(&mesh, &dofs, false);
+            assert_eq!((&bare.row_ptr, &bare.cols, none.len()), (&k.row_ptr, &k.cols, 0));
+        }
     }
 
     /// Adding by the scatter map's positions is bitwise adding by the rows' search, on mixed
