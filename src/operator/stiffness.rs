@@ -308,6 +308,20 @@ mod tests {
         Mesh::from_data(&d).unwrap()
     }
 
+    /// Four cells in 2D: a quadrilateral, two triangles and a third cell of type `third` (a
+    /// triangle or a polygon).
+    fn flat(third: CellType) -> Mesh {
+        let mut d = MeshData::new(2);
+        for p in [[0., 0.], [1., 0.], [2., 0.1], [0., 1.], [1.1, 1.], [2., 1.], [1., 2.]] {
+            d.push_vertex(&p);
+        }
+        d.push_cell(CellType::Quad, &[0, 1, 4, 3], 1);
+        d.push_cell(CellType::Triangle, &[1, 2, 5], 1);
+        d.push_cell(third, &[1, 5, 4], 1);
+        d.push_cell(CellType::Triangle, &[3, 4, 6], 1);
+        Mesh::from_data(&d).unwrap()
+    }
+
     /// A box of n³ cubes, each split into six tetrahedra around its diagonal, the vertices
     /// shifted off the grid so no two cells are alike.
     fn tets(n: usize) -> Mesh {
@@ -389,21 +403,12 @@ mod tests {
     }
 
     /// K's pattern and the scatter map from one pass are the pattern of the sorted pairs and
-    /// the map of the rows' search, on mixed cells (a polyhedron among them), linked vertices
+    /// the map of the rows' search, on mixed cells (a polygon among them), linked vertices
     /// (a coupling of an unknown with itself) and a tetrahedral box; without the map, the same
     /// pattern.
     #[test]
     fn one_pass_gives_the_sorted_pattern_and_the_searched_map() {
-        let mut flat = MeshData::new(2);
-        for p in [[0., 0.], [1., 0.], [2., 0.1], [0., 1.], [1.1, 1.], [2., 1.], [1., 2.]] {
-            flat.push_vertex(&p);
-        }
-        flat.push_cell(CellType::Quad, &[0, 1, 4, 3], 1);
-        flat.push_cell(CellType::Triangle, &[1, 2, 5], 1);
-        flat.push_cell(CellType::Polygon, &[1, 5, 4], 1);
-        flat.push_cell(CellType::Triangle, &[3, 4, 6], 1);
-        let flat = Mesh::from_data(&flat).unwrap();
-        let cases = [(solids(), Vec::new()), (flat, vec![[2, 5]]), (tets(4), Vec::new())];
+        let cases = [(solids(), Vec::new()), (flat(CellType::Polygon), vec![[2, 5]]), (tets(4), Vec::new())];
         for (mesh, links) in cases {
             let dofs = Dofs::build(&mesh, &links, &[]);
             // The pairs of every coupling both ways and the diagonal, sorted row by row.
@@ -437,16 +442,7 @@ mod tests {
     /// holds a coupling of an unknown with itself) and 3D; the map holds every coupling.
     #[test]
     fn the_scatter_map_adds_as_the_search_does() {
-        let mut quads = MeshData::new(2);
-        for p in [[0., 0.], [1., 0.], [2., 0.1], [0., 1.], [1.1, 1.], [2., 1.], [1., 2.]] {
-            quads.push_vertex(&p);
-        }
-        quads.push_cell(CellType::Quad, &[0, 1, 4, 3], 1);
-        quads.push_cell(CellType::Triangle, &[1, 2, 5], 1);
-        quads.push_cell(CellType::Triangle, &[1, 5, 4], 1);
-        quads.push_cell(CellType::Triangle, &[3, 4, 6], 1);
-        let flat = Mesh::from_data(&quads).unwrap();
-        let cases = [(solids(), Vec::new()), (flat, vec![[2, 5]]), (tets(3), Vec::new())];
+        let cases = [(solids(), Vec::new()), (flat(CellType::Triangle), vec![[2, 5]]), (tets(3), Vec::new())];
         for (mesh, pairs) in cases {
             let dofs = Dofs::build(&mesh, &pairs, &[]);
             let k = stiffness_pattern(&mesh, &dofs);
