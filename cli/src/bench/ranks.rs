@@ -133,7 +133,14 @@ fn run_one(
     let Some(c) = case else { return Ok(None) };
     let list = |v: &[u64]| v.iter().map(u64::to_string).collect::<Vec<_>>().join(";");
     let DistSolution {
-        iterations, level_rows, level_halo_values, level_messages, level_ranks, coarsest_gathered, level_transfers, ..
+        iterations,
+        level_rows,
+        level_halo_values,
+        level_messages,
+        level_ranks,
+        coarsest_gathered,
+        level_transfers,
+        ..
     } = sol;
     let transfers = level_transfers.iter().fold(0u64, |d, &t| d.rotate_left(7) ^ t);
     let serial = serial.map_or(",,".to_string(), |(setup, solve, cycles)| format!("{setup:.3},{solve:.3},{cycles}"));
