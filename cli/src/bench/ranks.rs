@@ -8,7 +8,10 @@
 //! does. Per run: the seconds to split, to make the distributed mesh and solver, and to solve
 //! (the multigrid's hierarchies included: one per component), the iterations, the owned
 //! vertices per rank, and per level the unknowns, the halo values and the messages of one
-//! exchange over all ranks. Rank 0 appends the rows to `DIR/ranks.csv` and prints them.
+//! exchange over all ranks. Then the solve again on the kept hierarchies (the iterations alone),
+//! on one rank the serial `Solver` on the whole mesh (its setup and its solve, one thread), and
+//! digests of the prolongations and of the displacement (bitwise the same on a rank count when
+//! the results are). Rank 0 appends the rows to `DIR/ranks.csv` and prints them.
 
 use super::cases::{self, Case};
 use super::{Args, RanksMethod};
@@ -17,13 +20,16 @@ use meshmove::distributed::mpi::collective::SystemOperation;
 use meshmove::distributed::mpi::topology::SimpleCommunicator;
 use meshmove::distributed::mpi::traits::*;
 use meshmove::distributed::{DistSolution, DistSolveParams, DistributedMesh, DistributedSolver};
-use meshmove::Method;
+use meshmove::{Method, Options, Solver};
 use meshmove_cases::boxes::BoxCells;
+use std::collections::hash_map::DefaultHasher;
+use std::hash::{Hash, Hasher};
 use std::io::Write;
 use std::time::Instant;
 
 const HEADER: &str = "case,method,ranks,vertices,partition_s,setup_s,solve_s,iterations,owned_min,owned_max,\
-level_unknowns,level_halo_values,level_messages,fine_halo_values,fine_messages,coarsest_gathered,level_ranks";
+level_unknowns,level_halo_values,level_messages,fine_halo_values,fine_messages,coarsest_gathered,level_ranks,\
+resolve_s,serial_setup_s,serial_solve_s,serial_cycles,transfer_digest,displacement_digest";
 
 /// The graded sphere's vertices: the 3D graded part's second size, and its first for `--quick`.
 const SPHERE: [usize; 2] = [240_000, 30_000];
@@ -112,16 +118,34 @@ fn run_one(
     let t = Instant::now();
     let sol = solver.solve(&motion).map_err(|e| e.to_string())?;
     let solve_s = slowest(world, t.elapsed().as_secs_f64());
+    world.barrier();
+    let t = Instant::now();
+    solver.solve(&motion).map_err(|e| e.to_string())?;
+    let resolve_s = slowest(world, t.elapsed().as_secs_f64());
+    let serial = match (case, ranks) {
+        (Some(c), 1) => Some(serial(c, method, tol)?),
+        _ => None,
+    };
+    let displacement = displacement_digest(world, &dm, &sol.displacement);
     let owned = dm.num_owned_vertices() as f64;
     let fine = sum(world, &[dm.halo_values_sent() as f64, dm.neighbour_ranks().len() as f64]);
     let (fewest, most) = (-slowest(world, -owned), slowest(world, owned));
     let Some(c) = case else { return Ok(None) };
     let list = |v: &[u64]| v.iter().map(u64::to_string).collect::<Vec<_>>().join(";");
     let DistSolution {
-        iterations, level_rows, level_halo_values, level_messages, level_ranks, coarsest_gathered, ..
+        iterations,
+        level_rows,
+        level_halo_values,
+        level_messages,
+        level_ranks,
+        coarsest_gathered,
+        level_transfers,
+        ..
     } = sol;
+    let transfers = level_transfers.iter().fold(0u64, |d, &t| d.rotate_left(7) ^ t);
+    let serial = serial.map_or(",,".to_string(), |(setup, solve, cycles)| format!("{setup:.3},{solve:.3},{cycles}"));
     Ok(Some(format!(
-        "{},{method:?},{ranks},{},{partition_s:.3},{setup_s:.3},{solve_s:.3},{},{fewest},{most},{},{},{},{},{},{},{}",
+        "{},{method:?},{ranks},{},{partition_s:.3},{setup_s:.3},{solve_s:.3},{},{fewest},{most},{},{},{},{},{},{},{},{resolve_s:.3},{serial},{transfers:016x},{displacement:016x}",
         c.name,
         c.mesh.num_vertices(),
         iterations.iter().map(usize::to_string).collect::<Vec<_>>().join(";"),
@@ -133,6 +157,36 @@ fn run_one(
         coarsest_gathered && !level_rows.is_empty(),
         list(&level_ranks)
     )))
+}
+
+/// The serial `Solver` of `method` on the whole mesh of `c` to `tol` on one thread: the seconds
+/// of its setup and of its solve, and its cycles.
+fn serial(c: &Case, method: Method, tol: f64) -> Result<(f64, f64, usize), String> {
+    let mut o = Options { method, threads: 1, ..Default::default() };
+    o.solve.tol = tol;
+    let t = Instant::now();
+    let solver = Solver::new(&c.mesh, &c.bcs, o).map_err(|e| e.to_string())?;
+    let setup_s = t.elapsed().as_secs_f64();
+    let t = Instant::now();
+    let sol = solver.solve(&c.motion).map_err(|e| e.to_string())?;
+    Ok((setup_s, t.elapsed().as_secs_f64(), sol.report.cycles))
+}
+
+/// A digest of the displacement over all ranks: each owned vertex's global id and values hashed,
+/// the hashes added, so that it does not depend on which rank holds a vertex (collective).
+fn displacement_digest(world: &SimpleCommunicator, dm: &DistributedMesh, displacement: &[f64]) -> u64 {
+    let (me, dim) = (dm.rank(), dm.dim());
+    let owners = dm.owner_ranks();
+    let mut mine = 0u64;
+    for (v, gid) in dm.global_ids().into_iter().enumerate().filter(|&(v, _)| owners[v] == me) {
+        let mut h = DefaultHasher::new();
+        gid.hash(&mut h);
+        displacement[v * dim..(v + 1) * dim].iter().for_each(|x| x.to_bits().hash(&mut h));
+        mine = mine.wrapping_add(h.finish());
+    }
+    let mut all = vec![0u64; dm.num_ranks()];
+    world.all_gather_into(&mine, &mut all[..]);
+    all.iter().fold(0, |d, &x| d.wrapping_add(x))
 }
 
 /// The largest `x` over the ranks (collective).

@@ -90,11 +90,15 @@ pub(super) fn interpolation(m: &OwnedRows, at: &Positions, lines: Option<&Lines>
         .collect();
     graph.extend(halo_rows(&m.halo, &graph));
 
-    // The second ring's unknowns beyond the halo, with exchange lists of their own.
+    // The second ring's unknowns beyond the halo, with exchange lists of their own: those the
+    // graph rows of a dropped unknown's neighbours name that are not local.
     let local: HashMap<u64, u32> = m.gids.iter().zip(0u32..).map(|(&g, i)| (g, i)).collect();
     let dropped = || (0..owned).filter(|&i| state[i] == DROPPED);
-    let mut beyond: Vec<(usize, u64)> = dropped()
-        .flat_map(|i| m.a.row(i).0.iter().flat_map(|&j| &graph[j as usize]))
+    let mut reached = vec![false; m.halo.len()];
+    dropped().flat_map(|i| m.a.row(i).0).for_each(|&j| reached[j as usize] = true);
+    let mut beyond: Vec<(usize, u64)> = (0..m.halo.len())
+        .filter(|&j| reached[j])
+        .flat_map(|j| &graph[j])
         .filter(|e| !local.contains_key(&e.0))
         .map(|e| (e.1, e.0))
         .collect();
@@ -113,11 +117,24 @@ pub(super) fn interpolation(m: &OwnedRows, at: &Positions, lines: Option<&Lines>
     coords.coords[..owned].copy_from_slice(&at.coords[..owned]);
     rings.refresh(&mut kept);
     coords.refresh(&rings);
-    let index: HashMap<u64, usize> = gids.iter().zip(0..).map(|(&g, i)| (g, i)).collect();
-    let is_kept = |g: u64| index.get(&g).is_some_and(|&k| kept[k] == 1);
-    let point = |g: u64| index.get(&g).map(|&k| coords.coords[k]);
-    let along = lines.map(|l| along_lines::rows(m, &at.coords, l, |v| is_kept(m.gids[v]))).unwrap_or_default();
+    // The candidates are (global id, entry of the rings' layout): ordered by global id alone, as
+    // the ids are unique, and read from the layout without a lookup by id.
+    let index: HashMap<u64, u32> = gids.iter().zip(0u32..).map(|(&g, i)| (g, i)).collect();
+    let entry = |g: u64| index.get(&g).map(|&k| (g, k));
+    let of_local: Vec<Option<(u64, u32)>> = m.gids.iter().map(|&g| entry(g)).collect();
+    let graph: Vec<Vec<(u64, u32)>> = (0..m.halo.len())
+        .map(|j| match reached[j] {
+            true => graph[j].iter().filter_map(|e| entry(e.0)).collect(),
+            false => Vec::new(),
+        })
+        .collect();
+    let is_kept = |k: u32| kept.get(k as usize) == Some(&1);
+    let along = lines
+        .map(|l| along_lines::rows(m, &at.coords, l, |v| of_local[v].is_some_and(|c| is_kept(c.1))))
+        .unwrap_or_default();
 
+    // The row that last met each entry of the rings' layout as a far candidate.
+    let mut seen = vec![usize::MAX; gids.len()];
     let rows = (0..owned)
         .map(|i| {
             let row = || direct[i].iter().map(|&(j, w)| (m.gids[j as usize], owners[j as usize], w)).collect();
@@ -128,37 +145,43 @@ pub(super) fn interpolation(m: &OwnedRows, at: &Positions, lines: Option<&Lines>
                 return r.clone();
             }
             let (gi, xi) = (m.gids[i], at.coords[i]);
-            let offset = |g: u64| point(g).map(|p| [p[0] - xi[0], p[1] - xi[1], p[2] - xi[2]]);
+            let offset = |(_, k): (u64, u32)| {
+                let p = coords.coords[k as usize];
+                [p[0] - xi[0], p[1] - xi[1], p[2] - xi[2]]
+            };
             // Nearest first, ties by global id.
-            let by_distance = |list: Vec<u64>| -> Vec<u64> {
-                let mut keyed: Vec<(f64, u64)> =
-                    list.into_iter().filter_map(|g| Some((offset(g).map(norm2)?, g))).collect();
+            let by_distance = |list: Vec<(u64, u32)>| -> Vec<(u64, u32)> {
+                let mut keyed: Vec<(f64, (u64, u32))> = list.into_iter().map(|c| (norm2(offset(c)), c)).collect();
                 keyed.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-                keyed.into_iter().map(|(_, g)| g).collect()
+                keyed.into_iter().map(|(_, c)| c).collect()
             };
             let near = by_distance(
-                strong[i].iter().filter(|&&j| state[j as usize] == KEPT).map(|&j| m.gids[j as usize]).collect(),
-            );
-            let far = |near: &[u64]| {
-                let cols = m.a.row(i).0;
-                let mut far: Vec<u64> = cols
+                strong[i]
                     .iter()
-                    .map(|&j| m.gids[j as usize])
-                    .chain(cols.iter().flat_map(|&j| graph[j as usize].iter().map(|e| e.0)))
-                    .filter(|&g| g != gi && is_kept(g) && !near.contains(&g))
-                    .collect();
-                far.sort_unstable();
-                far.dedup();
+                    .filter(|&&j| state[j as usize] == KEPT)
+                    .filter_map(|&j| of_local[j as usize])
+                    .collect(),
+            );
+            // Each candidate once (marked with the row), in any order: `by_distance` orders them.
+            let far = |near: &[(u64, u32)]| {
+                let cols = m.a.row(i).0;
+                let mut far: Vec<(u64, u32)> = Vec::new();
+                let reach = cols.iter().filter_map(|&j| of_local[j as usize]);
+                for c in reach.chain(cols.iter().flat_map(|&j| graph[j as usize].iter().copied())) {
+                    let first = std::mem::replace(&mut seen[c.1 as usize], i) != i;
+                    if first && c.0 != gi && is_kept(c.1) && !near.contains(&c) {
+                        far.push(c);
+                    }
+                }
                 by_distance(far)
             };
-            let fit = |set: &[u64]| {
-                let rel: Option<Vec<[f64; 3]>> = set.iter().map(|&g| offset(g)).collect();
-                fit_offsets(&rel?, at.dim)
+            let fit = |set: &[(u64, u32)]| {
+                let rel: Vec<[f64; 3]> = set.iter().map(|&c| offset(c)).collect();
+                fit_offsets(&rel, at.dim)
             };
             match choose_donors(near, far, at.dim, false, fit) {
-                // Every donor is a candidate, so in the layout.
                 (donors, Some(w)) if bounded(&w) => {
-                    donors.iter().zip(w).filter_map(|(&g, w)| Some((g, ring_owners[*index.get(&g)?], w))).collect()
+                    donors.iter().zip(w).map(|(&(g, k), w)| (g, ring_owners[k as usize], w)).collect()
                 }
                 _ => row(),
             }
