@@ -1126,8 +1126,8 @@ meshmove_status meshmove_options_set_max_cycles(struct meshmove_options *options
 /*
  Chebyshev smoother degree of the default mode on the finest level, and on the coarse levels
  unless `meshmove_options_set_cheb_coarse_degree` says otherwise; 0 (default) picks per method
- (biharmonic 6 on the finest level and 4 below, the others 3 and 2), otherwise
- 1 ≤ `degree` ≤ `MESHMOVE_MAX_CHEB_DEGREE`.
+ (biharmonic 6 on the finest level and 4 below, the others 3 and 2 in 2D, 4 and 3 in 3D),
+ otherwise 1 ≤ `degree` ≤ `MESHMOVE_MAX_CHEB_DEGREE`.
 
  # Safety
  `options` must be a handle from meshmove (checked).

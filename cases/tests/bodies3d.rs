@@ -12,6 +12,7 @@ use meshmove_cases::ogrid::{
     cylinder_with_vertices, measure, ogrid, plan, sphere_with_vertices, CellKind, OgridParams, OG_BODY, OG_WALL,
 };
 use meshmove_cases::report::run_case;
+use meshmove_cases::setups::Scale;
 use std::f64::consts::PI;
 
 /// Small sphere-channel parameters: wall 0.1, far 0.3 (the quick scale).
@@ -183,6 +184,20 @@ fn biharmonic_moves_the_sphere_rigidly_without_inverting() {
     // Measured: min volume ratio 0.674, min dihedral 10.3° (14.6° before the move).
     assert!(r.min_area_ratio > 0.6, "{}", r.min_area_ratio);
     assert!(r.min_angle_deg > 9.0, "{}", r.min_angle_deg);
+}
+
+/// The second-order methods' iterations on the demo's quick 3D body cases, at their 3D degrees
+/// 4 / 3 (`policy::degrees`; at the 2D degrees 3 / 2 they take 10 and 8).
+#[test]
+fn second_order_methods_iterate_at_their_3d_degrees() {
+    for (name, method, most) in
+        [("sphere_channel_0.5", Method::Laplacian, 9), ("pitching_spheroid_1step", Method::Spring, 6)]
+    {
+        let setup = meshmove_cases::bodies3d::case(name, Scale::Quick).expect("a body case");
+        let r = run_case(&setup, method, &Options::default()).unwrap();
+        eprintln!("{name} {method:?}: {} iterations", r.cycles);
+        assert!(r.cycles <= most, "{name} {method:?}: {} iterations", r.cycles);
+    }
 }
 
 #[test]

@@ -101,8 +101,8 @@ impl CycleParams {
     }
 }
 
-/// The Chebyshev degrees (finest level, coarse levels) of `method` (the same in 2D and 3D) on a
-/// hierarchy with levels of kept unknowns (`kept`) and lines across wall layers (`lines`) when
+/// The Chebyshev degrees (finest level, coarse levels) of `method` (the biharmonic's the same in
+/// 2D and 3D; the second-order methods' in 2D, `degrees` raises them in 3D) on a hierarchy with levels of kept unknowns (`kept`) and lines across wall layers (`lines`) when
 /// the caller sets none: the rule of `degrees` below, which the distributed biharmonic's levels
 /// of kept unknowns share.
 pub(crate) fn method_degrees(method: Method, kept: bool, lines: bool) -> (usize, usize) {
@@ -128,9 +128,15 @@ pub(crate) fn method_degrees(method: Method, kept: bool, lines: bool) -> (usize,
 ///   on re-referenced meshes, whose interpolation rows are fitted again (a 1e-8 result that
 ///   this leaves tangled in the thinnest cells is polished by the solver, `solver::polish`;
 ///   docs/perf-history.md);
-/// - the Laplacian and the spring: 3 and 2.
+/// - the Laplacian and the spring: 3 and 2 in 2D, 4 and 3 in 3D, where a 3D vertex has more
+///   neighbours and the higher degrees take an iteration or two fewer on the boxes and the graded
+///   sphere for about the same solve time (docs/PERFORMANCE.md, "The graded sphere's iterations
+///   with size").
 pub(crate) fn degrees(h: &Hierarchy, p: &SolveParams) -> (usize, usize) {
-    let (fine, coarse) = method_degrees(h.method, h.has_kept_levels(), h.has_lines());
+    let (fine, coarse) = match method_degrees(h.method, h.has_kept_levels(), h.has_lines()) {
+        (fine, coarse) if h.method == Method::Biharmonic || h.fine().dim() < 3 => (fine, coarse),
+        (fine, coarse) => (fine + 1, coarse + 1),
+    };
     let (fine, coarse) = match p.cheb_degree {
         Some(d) => (d, p.cheb_coarse_degree.unwrap_or(d)),
         None => (fine, p.cheb_coarse_degree.unwrap_or(coarse)),
