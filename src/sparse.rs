@@ -5,7 +5,7 @@
 
 mod product;
 
-pub use product::{matmul, same_pattern, triple_product, triple_product_values};
+pub use product::{matmul, same_pattern, triple_product, triple_product_values, weighted_gram};
 use rayon::prelude::*;
 
 /// Rows below this count are processed serially: rayon's overhead dominates on small levels.

@@ -11,7 +11,7 @@
 //! kept levels below wall layers only (`multigrid::hierarchy`), where the drift shows.
 
 use super::LevelOperator;
-use crate::sparse::{matmul, triple_product, triple_product_values, CsrMatrix};
+use crate::sparse::{matmul, triple_product, triple_product_values, weighted_gram, CsrMatrix};
 
 /// Whether the biharmonic's next coarser level takes the assembled Galerkin product A_c = Pᵀ A P
 /// of a level that is `kept` (unknowns kept from a finer level, no mesh), has `lines` across wall
@@ -39,8 +39,16 @@ impl Assembled {
         if let Some(f) = &fine.assembled {
             return Assembled { a: triple_product(restrict, &f.a, prolong), s_free: Vec::new() };
         }
-        let (g, w) = kp_and_weights(fine, &s_free, prolong);
-        Assembled { a: triple_product(&g.transpose(), &w, &g), s_free }
+        let g = matmul(&fine.k, prolong);
+        Assembled::from_kp(fine, s_free, &g)
+    }
+
+    /// `product` on a finer level without an assembled A, from its K P = `g`: Gᵀ W G with
+    /// W = V⁻¹ where S is free, 0 elsewhere (`weighted_gram`, bitwise the triple product with W
+    /// as a diagonal matrix, which `refill` computes).
+    fn from_kp(fine: &LevelOperator, s_free: Vec<bool>, g: &CsrMatrix) -> Assembled {
+        let w: Vec<f64> = (0..fine.n()).map(|i| if s_free[i] { fine.inv_v[i] } else { 0.0 }).collect();
+        Assembled { a: weighted_gram(&g.transpose(), &w, g), s_free }
     }
 
     /// `product`'s values again into the stored pattern, when P's pattern and the finer level's
@@ -76,8 +84,20 @@ impl LevelOperator {
     /// instead of K_c V_c⁻¹ K_c. `s_free` as in `Assembled::product`: per unknown of the finer
     /// level, S free there (the same for every component; the caller checks).
     pub fn galerkin_assembled(fine: &LevelOperator, s_free: Vec<bool>, prolong: &CsrMatrix, restrict: &CsrMatrix) -> Self {
-        let mut op = LevelOperator::galerkin(fine, prolong, restrict);
-        op.assembled = Some(Assembled::product(fine, s_free, prolong, restrict));
+        let mut op = match fine.assembled {
+            Some(_) => {
+                let mut op = LevelOperator::galerkin(fine, prolong, restrict);
+                op.assembled = Some(Assembled::product(fine, s_free, prolong, restrict));
+                op
+            }
+            None => {
+                // K P serves both products: K_c = R (K P), bitwise `galerkin`'s R K P.
+                let g = matmul(&fine.k, prolong);
+                let mut op = LevelOperator::galerkin_of(fine, matmul(restrict, &g), restrict);
+                op.assembled = Some(Assembled::from_kp(fine, s_free, &g));
+                op
+            }
+        };
         // The fused sweep is the two-pass operator's; the assembled one is applied in one pass.
         op.fuse = None;
         op

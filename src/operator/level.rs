@@ -73,7 +73,11 @@ impl LevelOperator {
     /// own energy on coarse functions, whatever the cell sizes; P reproduces constants and
     /// linear fields, so K_c keeps both in its null space where K does.
     pub fn galerkin(fine: &LevelOperator, prolong: &CsrMatrix, restrict: &CsrMatrix) -> Self {
-        let mut k = triple_product(restrict, &fine.k, prolong);
+        LevelOperator::galerkin_of(fine, triple_product(restrict, &fine.k, prolong), restrict)
+    }
+
+    /// `galerkin` from its product R K P, formed by the caller.
+    pub(crate) fn galerkin_of(fine: &LevelOperator, mut k: CsrMatrix, restrict: &CsrMatrix) -> Self {
         close_diagonal(&mut k);
         let inv_v = galerkin_inv_mass(fine, restrict);
         let fuse = fuse_plan(fine.method, &k);

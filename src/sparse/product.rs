@@ -34,23 +34,17 @@ impl RowSum {
         }
     }
 
-    /// Adds the columns of a row, for counting only (values are left unset).
-    fn add_pattern(&mut self, cols: &[u32]) {
-        for &j in cols {
-            if self.slot[j as usize] == usize::MAX {
-                self.slot[j as usize] = self.cols.len();
+    /// Adds x times the row (cols, vals) scaled by w, each product x (w y).
+    fn add_scaled(&mut self, x: f64, w: f64, (cols, vals): (&[u32], &[f64])) {
+        for (&j, &y) in cols.iter().zip(vals) {
+            let s = &mut self.slot[j as usize];
+            if *s == usize::MAX {
+                *s = self.cols.len();
                 self.cols.push(j);
+                self.vals.push(0.0);
             }
+            self.vals[*s] += x * (w * y);
         }
-    }
-
-    /// The number of distinct columns added, and starts a new row.
-    fn take_count(&mut self) -> usize {
-        let n = self.cols.len();
-        self.cols.iter().for_each(|&j| self.slot[j as usize] = usize::MAX);
-        self.cols.clear();
-        self.vals.clear();
-        n
     }
 
     /// Writes the sum, columns ascending, and starts a new one.
@@ -78,59 +72,51 @@ impl RowSum {
     }
 }
 
-/// A matrix whose rows are computed independently (`count(state, i)` entries, written by
-/// `row(state, i, cols, vals)`), so it is deterministic and parallel. Counting first lets the rows
-/// be written in place: no per-row vectors held at once (they took twice the result's memory).
+/// A matrix whose rows are computed independently (written by `row(state, i, cols, vals)`), so it
+/// is deterministic and parallel. Each block of rows is formed once into arrays of its own, which
+/// are moved into the result one after the other, each freed once moved: about the result's
+/// memory at once, no per-row vectors (they took twice the result's memory) and no counting pass
+/// that would form every row twice.
 fn by_rows<S>(
     nrows: usize,
     ncols: usize,
     init: impl Fn() -> S + Sync + Send,
-    count: impl Fn(&mut S, usize) -> usize + Sync + Send,
     row: impl Fn(&mut S, usize, &mut Vec<u32>, &mut Vec<f64>) + Sync + Send,
 ) -> CsrMatrix {
-    // Row lengths, then their running sums.
-    let mut row_ptr = vec![0u32; nrows + 1];
-    row_ptr[1..].par_iter_mut().enumerate().with_min_len(256).for_each_init(&init, |s, (i, len)| {
-        *len = offset(count(s, i));
-    });
-    let mut nnz = 0;
-    for p in &mut row_ptr[1..] {
-        nnz += *p as usize;
-        *p = offset(nnz);
-    }
-    let (mut cols, mut vals) = (vec![0u32; nnz], vec![0.0; nnz]);
-    // Blocks of rows with their disjoint parts of cols and vals.
-    let mut blocks = Vec::with_capacity(nrows.div_ceil(PRODUCT_BLOCK));
-    let (mut c_rest, mut v_rest) = (&mut cols[..], &mut vals[..]);
-    for start in (0..nrows).step_by(PRODUCT_BLOCK) {
-        let end = (start + PRODUCT_BLOCK).min(nrows);
-        let len = (row_ptr[end] - row_ptr[start]) as usize;
-        let (c, c_next) = std::mem::take(&mut c_rest).split_at_mut(len);
-        let (v, v_next) = std::mem::take(&mut v_rest).split_at_mut(len);
-        (c_rest, v_rest) = (c_next, v_next);
-        blocks.push((start..end, c, v));
-    }
     let init = || (init(), Vec::new(), Vec::new());
-    blocks.into_par_iter().for_each_init(init, |(s, c, v), (rows, out_c, out_v)| {
-        let mut at = 0;
-        for i in rows {
-            row(s, i, c, v);
-            out_c[at..at + c.len()].copy_from_slice(c);
-            out_v[at..at + v.len()].copy_from_slice(v);
-            at += c.len();
+    let blocks: Vec<(Vec<u32>, Vec<u32>, Vec<f64>)> = (0..nrows.div_ceil(PRODUCT_BLOCK))
+        .into_par_iter()
+        .map_init(init, |(s, c, v), b| {
+            let rows = b * PRODUCT_BLOCK..((b + 1) * PRODUCT_BLOCK).min(nrows);
+            let (mut lens, mut out_c, mut out_v) = (Vec::with_capacity(rows.len()), Vec::new(), Vec::new());
+            for i in rows {
+                row(s, i, c, v);
+                lens.push(offset(c.len()));
+                out_c.extend_from_slice(c);
+                out_v.extend_from_slice(v);
+            }
+            (lens, out_c, out_v)
+        })
+        .collect();
+    let nnz = blocks.iter().map(|b| b.1.len()).sum();
+    let mut row_ptr = Vec::with_capacity(nrows + 1);
+    row_ptr.push(0u32);
+    let (mut cols, mut vals) = (Vec::with_capacity(nnz), Vec::with_capacity(nnz));
+    for (lens, c, v) in blocks {
+        for len in lens {
+            row_ptr.push(row_ptr.last().expect("starts at 0") + len);
         }
-    });
+        cols.extend_from_slice(&c);
+        vals.extend_from_slice(&v);
+    }
+    debug_assert_eq!(offset(nnz), *row_ptr.last().expect("n + 1 entries"));
     CsrMatrix { nrows, ncols, row_ptr, cols, vals }
 }
 
 /// C = A B, row by row (each row of C from one row of A). Column indices come out sorted.
 pub fn matmul(a: &CsrMatrix, b: &CsrMatrix) -> CsrMatrix {
     assert_eq!(a.ncols, b.nrows, "matmul: A has {} columns, B has {} rows", a.ncols, b.nrows);
-    let count = |sum: &mut RowSum, i: usize| {
-        a.row(i).0.iter().for_each(|&k| sum.add_pattern(b.row(k as usize).0));
-        sum.take_count()
-    };
-    by_rows(a.nrows, b.ncols, || RowSum::new(b.ncols), count, |sum, i, c, v| sum.product_row(a, b, i, c, v))
+    by_rows(a.nrows, b.ncols, || RowSum::new(b.ncols), |sum, i, c, v| sum.product_row(a, b, i, c, v))
 }
 
 /// R K P, bitwise `matmul(r, &matmul(k, p))` but without holding K P (the largest matrix of a
@@ -140,15 +126,7 @@ pub fn triple_product(r: &CsrMatrix, k: &CsrMatrix, p: &CsrMatrix) -> CsrMatrix 
     assert_eq!(r.ncols, k.nrows, "triple_product: R has {} columns, K has {} rows", r.ncols, k.nrows);
     assert_eq!(k.ncols, p.nrows, "triple_product: K has {} columns, P has {} rows", k.ncols, p.nrows);
     let init = || (KpRows::new(k.nrows, p.ncols), RowSum::new(p.ncols));
-    let count = |(kp, outer): &mut (KpRows, RowSum), j: usize| {
-        for &i in r.row(j).0 {
-            let e = kp.form(k, p, i as usize);
-            outer.add_pattern(&kp.cols[e]);
-        }
-        kp.bound();
-        outer.take_count()
-    };
-    by_rows(r.nrows, p.ncols, init, count, |(kp, outer), j, c, v| {
+    by_rows(r.nrows, p.ncols, init, |(kp, outer), j, c, v| {
         let (rc, rv) = r.row(j);
         for (&i, &x) in rc.iter().zip(rv) {
             let e = kp.form(k, p, i as usize);
@@ -156,6 +134,22 @@ pub fn triple_product(r: &CsrMatrix, k: &CsrMatrix, p: &CsrMatrix) -> CsrMatrix 
         }
         kp.bound();
         outer.finish(c, v);
+    })
+}
+
+/// Gᵀ W G for W = diag(`w`), given G and its transpose `gt`: bitwise `triple_product(gt, W, g)`
+/// with W stored as a diagonal matrix, without forming the rows of W G. Each entry is the sum
+/// over G's rows i, ascending, of g_ij (w_i g_im), as `triple_product` sums it: there a row of
+/// W G holds 0 + w_i g_im, which differs from w_i g_im only in the sign of a zero, and a zero
+/// added to a sum that starts at +0 leaves it as it is.
+pub fn weighted_gram(gt: &CsrMatrix, w: &[f64], g: &CsrMatrix) -> CsrMatrix {
+    assert!(gt.ncols == g.nrows && w.len() == g.nrows, "weighted_gram: Gᵀ, W and G do not fit");
+    by_rows(gt.nrows, g.ncols, || RowSum::new(g.ncols), |sum, j, c, v| {
+        let (gc, gv) = gt.row(j);
+        for (&i, &x) in gc.iter().zip(gv) {
+            sum.add_scaled(x, w[i as usize], g.row(i as usize));
+        }
+        sum.finish(c, v);
     })
 }
 
@@ -304,6 +298,22 @@ mod tests {
         let want = matmul(&r, &matmul(&k, &p));
         assert_eq!(triple_product(&r, &k, &p), want);
         assert!(want.nnz() > 4);
+    }
+
+    /// Gᵀ W G without the rows of W G is the triple product with W diagonal, bitwise, with
+    /// zero and negative weights and entries among them.
+    #[test]
+    fn weighted_gram_is_the_triple_product_bitwise() {
+        let t = (0..40u32)
+            .flat_map(|i| (0..4).map(move |k| (i, (i * 3 + k * 7) % 25, if k == 2 { 0.0 } else { 1.0 / (i + k + 1) as f64 - 0.2 })))
+            .collect();
+        let g = CsrMatrix::from_triplets(40, 25, t);
+        let w: Vec<f64> = (0..40).map(|i| if i % 5 == 0 { 0.0 } else { (i as f64 - 13.0) / 7.0 }).collect();
+        let d = CsrMatrix::from_triplets(40, 40, (0..40u32).map(|i| (i, i, w[i as usize])).collect());
+        let want = triple_product(&g.transpose(), &d, &g);
+        let got = weighted_gram(&g.transpose(), &w, &g);
+        assert!(same_pattern(&got, &want) && want.nnz() > 100);
+        assert!(want.vals.iter().zip(&got.vals).all(|(a, b)| a.to_bits() == b.to_bits()));
     }
 
     /// The numeric phase into a stored pattern gives the whole product's values bitwise, from

@@ -57,7 +57,8 @@ pub(super) fn prolongation(
     for (c, &d) in kept.iter().enumerate() {
         coarse_of[d as usize] = c as u32;
     }
-    let ctx = Context { k: &fine.op.k, f, points: &points, dim, coarse_of: &coarse_of, donors };
+    let kept_nbrs = KeptNeighbours::new(&fine.op.k, &coarse_of);
+    let ctx = Context { k: &fine.op.k, f, points: &points, dim, coarse_of: &coarse_of, kept_nbrs: &kept_nbrs, donors };
     let along = if donors == Donors::AlongLines {
         super::along_lines::rows(fine.lines.lines(), &fine.op.k, f, &points, &coarse_of)
     } else {
@@ -65,7 +66,7 @@ pub(super) fn prolongation(
     };
     let chunks: Vec<(Vec<u32>, Vec<u32>, Vec<f64>)> = (0..n.div_ceil(CHUNK))
         .into_par_iter()
-        .map(|c| {
+        .map_init(|| Rings::new(n), |rings, c| {
             let (mut lens, mut cols, mut vals) = (Vec::new(), Vec::new(), Vec::new());
             let mut row = Vec::new();
             let rows = c * CHUNK..((c + 1) * CHUNK).min(n);
@@ -79,7 +80,7 @@ pub(super) fn prolongation(
                 } else if let Some(r) = along.get(v).and_then(|r| r.as_ref()) {
                     row.extend_from_slice(r);
                 } else {
-                    ctx.row(v, ctx.choose(v), &mut row);
+                    ctx.row(v, ctx.choose(v, rings), &mut row);
                 }
                 lens.push(row.len() as u32);
                 for &(c, w) in &row {
@@ -110,7 +111,32 @@ struct Context<'a> {
     points: &'a [f64],
     dim: usize,
     coarse_of: &'a [u32],
+    kept_nbrs: &'a KeptNeighbours,
     donors: Donors,
+}
+
+/// Per fine unknown, its kept neighbours in K's graph (itself among them when it is kept): the
+/// second ring of a row's far donors walks these instead of whole rows of K.
+struct KeptNeighbours {
+    ptr: Vec<usize>,
+    cols: Vec<u32>,
+}
+
+impl KeptNeighbours {
+    fn new(k: &CsrMatrix, coarse_of: &[u32]) -> Self {
+        let mut ptr = Vec::with_capacity(k.nrows + 1);
+        ptr.push(0);
+        let mut cols = Vec::new();
+        for i in 0..k.nrows {
+            cols.extend(k.row(i).0.iter().copied().filter(|&u| coarse_of[u as usize] != u32::MAX));
+            ptr.push(cols.len());
+        }
+        KeptNeighbours { ptr, cols }
+    }
+
+    fn of(&self, w: usize) -> &[u32] {
+        &self.cols[self.ptr[w]..self.ptr[w + 1]]
+    }
 }
 
 impl Context<'_> {
@@ -123,31 +149,24 @@ impl Context<'_> {
     /// no fit exists): its strongly coupled kept neighbours (`strong`) nearest first, then (only
     /// when those do not determine a bounded fit) its other kept neighbours and kept neighbours
     /// of neighbours, nearest first, one at a time (`choose_donors`).
-    fn choose(&self, v: usize) -> (Vec<u32>, Option<Vec<f64>>) {
+    fn choose(&self, v: usize, rings: &mut Rings) -> (Vec<u32>, Option<Vec<f64>>) {
         let is_donor = |u: u32| self.coarse_of[u as usize] != u32::MAX && self.f.donor_ok(v, u as usize);
-        // Nearest first (ties by index), each distance computed once.
-        let by_distance = |list: Vec<u32>| -> Vec<u32> {
-            let mut keyed: Vec<(f64, u32)> = list.into_iter().map(|u| (norm2(self.rel(v, u as usize)), u)).collect();
-            keyed.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-            keyed.into_iter().map(|(_, u)| u).collect()
-        };
+        let key = |u: u32| (norm2(self.rel(v, u as usize)), u);
         let row = self.k.row(v).0;
-        let near = by_distance(super::strong(self.k, self.f, v, |u| self.rel(v, u)).filter(|&u| is_donor(u)).collect());
-        let far = |near: &[u32]| {
-            // The kept unknowns within two rings, each once before the costlier checks: on
-            // dense Galerkin levels a row's two rings reach most unknowns many times over.
-            let mut far: Vec<u32> = row
-                .iter()
-                .copied()
-                .chain(row.iter().flat_map(|&w| self.k.row(w as usize).0.iter().copied()))
-                .filter(|&u| self.coarse_of[u as usize] != u32::MAX)
-                .collect();
-            far.sort_unstable();
-            far.dedup();
-            far.retain(|&u| u as usize != v && is_donor(u) && !near.contains(&u));
-            by_distance(far)
-        };
+        let mut near: Vec<(f64, u32)> =
+            super::strong(self.k, self.f, v, |u| self.rel(v, u)).filter(|&u| is_donor(u)).map(key).collect();
+        let near = nearest(&mut near, usize::MAX);
         let fewest = self.donors != Donors::Strong;
+        let far = |near: &[u32]| {
+            // The kept unknowns within two rings, each once (`Rings`) before the costlier
+            // checks: on dense Galerkin levels a row's two rings reach most unknowns many times
+            // over. A row of the fewest donors takes only as many of them as it can hold.
+            let ring2 = row.iter().flat_map(|&w| self.kept_nbrs.of(w as usize).iter().copied());
+            let kept = rings.once(v, self.kept_nbrs.of(v).iter().copied().chain(ring2));
+            let mut far: Vec<(f64, u32)> =
+                kept.iter().copied().filter(|&u| u as usize != v && is_donor(u) && !near.contains(&u)).map(key).collect();
+            nearest(&mut far, if fewest { FEWEST_MAX.saturating_sub(near.len()) } else { usize::MAX })
+        };
         choose_donors(near, far, self.f.feature_dim(v), fewest, |set| self.fit(v, set))
     }
 
@@ -172,6 +191,51 @@ impl Context<'_> {
     fn fit(&self, v: usize, donors: &[u32]) -> Option<Vec<f64>> {
         let rel: Vec<[f64; 3]> = donors.iter().map(|&u| self.rel(v, u as usize)).collect();
         fit_offsets(&rel, self.f.feature_dim(v))
+    }
+}
+
+/// The `most` first of `keyed` (squared distance, unknown) by distance, ties by index: the
+/// unknowns, nearest first. Distinct unknowns make the order total, so selecting the `most`
+/// nearest before sorting them gives the prefix of the whole list sorted.
+fn nearest(keyed: &mut [(f64, u32)], most: usize) -> Vec<u32> {
+    let by = |a: &(f64, u32), b: &(f64, u32)| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1));
+    let keyed = if most < keyed.len() {
+        if most == 0 {
+            return Vec::new();
+        }
+        keyed.select_nth_unstable_by(most - 1, by);
+        &mut keyed[..most]
+    } else {
+        keyed
+    };
+    keyed.sort_unstable_by(by);
+    keyed.iter().map(|&(_, u)| u).collect()
+}
+
+/// Marks of the unknowns a row's two rings have reached: each unknown is taken once per row
+/// without sorting the rings (a row's stamp is its unknown + 1, so no mark is ever cleared).
+struct Rings {
+    stamp: Vec<u32>,
+    found: Vec<u32>,
+}
+
+impl Rings {
+    fn new(n: usize) -> Self {
+        Rings { stamp: vec![0; n], found: Vec::new() }
+    }
+
+    /// The distinct unknowns of `reached` for row `v`, in order of first appearance.
+    fn once(&mut self, v: usize, reached: impl Iterator<Item = u32>) -> &[u32] {
+        let mark = v as u32 + 1;
+        self.found.clear();
+        for u in reached {
+            let s = &mut self.stamp[u as usize];
+            if *s != mark {
+                *s = mark;
+                self.found.push(u);
+            }
+        }
+        &self.found
     }
 }
 
