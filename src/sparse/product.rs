@@ -102,14 +102,17 @@ fn by_rows<S>(
     let mut row_ptr = Vec::with_capacity(nrows + 1);
     row_ptr.push(0u32);
     let (mut cols, mut vals) = (Vec::with_capacity(nnz), Vec::with_capacity(nnz));
+    // The running sum in usize, each checked into a row pointer (`offset`).
+    let mut at = 0usize;
     for (lens, c, v) in blocks {
         for len in lens {
-            row_ptr.push(row_ptr.last().expect("starts at 0") + len);
+            at += len as usize;
+            row_ptr.push(offset(at));
         }
         cols.extend_from_slice(&c);
         vals.extend_from_slice(&v);
     }
-    debug_assert_eq!(offset(nnz), *row_ptr.last().expect("n + 1 entries"));
+    debug_assert_eq!(at, nnz);
     CsrMatrix { nrows, ncols, row_ptr, cols, vals }
 }
 
