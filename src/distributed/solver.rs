@@ -362,7 +362,7 @@ impl DistributedSolver {
         let (dim, nv) = (self.mesh.dim(), self.local().num_vertices());
         let halo = self.halo();
         let method = self.level.op.method;
-        let sm = Smoother::Fourth { degree: smoother_degrees(&self.params, method, false).0 };
+        let sm = Smoother::Fourth { degree: smoother_degrees(&self.params, method, dim, false).0 };
         let mut total = vec![0.0; nv * dim];
         let (mut iterations, mut worst, mut failure) = (Vec::with_capacity(dim), 0.0f64, None);
         let mut kept = self.multigrids.lock();
@@ -370,7 +370,7 @@ impl DistributedSolver {
             let fine = |c| self.fine_rows(c);
             let lines = self.lines();
             let layered = any_lines(halo.comm(), &lines);
-            let (fine_degree, coarse_degree) = smoother_degrees(&self.params, method, layered);
+            let (fine_degree, coarse_degree) = smoother_degrees(&self.params, method, dim, layered);
             let smoothers = Smoothers {
                 fine: Smoother::Fourth { degree: fine_degree },
                 coarse: Smoother::Fourth { degree: coarse_degree },
@@ -769,15 +769,15 @@ fn build_level(
     level
 }
 
-/// The smoother's degrees (finest level, coarse levels) of a solve of `method` with `p`
+/// The smoother's degrees (finest level, coarse levels) of a solve of `method` in `dim` dimensions with `p`
 /// (`DistSolveParams::degree`), `layered` when some rank finds lines across wall layers: the
 /// caller's degree on every level; else the biharmonic's of the serial levels of kept unknowns
 /// (`policy::method_degrees`), whose rule the distributed levels share, and 4 on every level for
 /// the Laplacian and the spring: their V-cycle at degree 4 takes no more iterations than the
 /// serial degrees 3 and 2 in a W-cycle on the same levels (docs/perf-history.md), at less work.
-fn smoother_degrees(p: &DistSolveParams, method: Method, layered: bool) -> (usize, usize) {
+fn smoother_degrees(p: &DistSolveParams, method: Method, dim: usize, layered: bool) -> (usize, usize) {
     match (p.degree, method) {
-        (0, Method::Biharmonic) => method_degrees(method, true, layered),
+        (0, Method::Biharmonic) => method_degrees(method, dim, true, layered),
         (0, _) => (4, 4),
         (d, _) => (d, d),
     }

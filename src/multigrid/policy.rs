@@ -101,15 +101,16 @@ impl CycleParams {
     }
 }
 
-/// The Chebyshev degrees (finest level, coarse levels) of `method` (the biharmonic's the same in
-/// 2D and 3D; the second-order methods' in 2D, `degrees` raises them in 3D) on a hierarchy with levels of kept unknowns (`kept`) and lines across wall layers (`lines`) when
+/// The Chebyshev degrees (finest level, coarse levels) of `method` in `dim` dimensions on a
+/// hierarchy with levels of kept unknowns (`kept`) and lines across wall layers (`lines`) when
 /// the caller sets none: the rule of `degrees` below, which the distributed biharmonic's levels
 /// of kept unknowns share.
-pub(crate) fn method_degrees(method: Method, kept: bool, lines: bool) -> (usize, usize) {
+pub(crate) fn method_degrees(method: Method, dim: usize, kept: bool, lines: bool) -> (usize, usize) {
     match (method, kept) {
         (Method::Biharmonic, false) => (6, 4),
         (Method::Biharmonic, true) if lines => (16, 16),
         (Method::Biharmonic, true) => (8, 8),
+        _ if dim >= 3 => (4, 3),
         _ => (3, 2),
     }
 }
@@ -133,10 +134,7 @@ pub(crate) fn method_degrees(method: Method, kept: bool, lines: bool) -> (usize,
 ///   sphere for about the same solve time (docs/PERFORMANCE.md, "The graded sphere's iterations
 ///   with size").
 pub(crate) fn degrees(h: &Hierarchy, p: &SolveParams) -> (usize, usize) {
-    let (fine, coarse) = match method_degrees(h.method, h.has_kept_levels(), h.has_lines()) {
-        (fine, coarse) if h.method == Method::Biharmonic || h.fine().dim() < 3 => (fine, coarse),
-        (fine, coarse) => (fine + 1, coarse + 1),
-    };
+    let (fine, coarse) = method_degrees(h.method, h.fine().dim(), h.has_kept_levels(), h.has_lines());
     let (fine, coarse) = match p.cheb_degree {
         Some(d) => (d, p.cheb_coarse_degree.unwrap_or(d)),
         None => (fine, p.cheb_coarse_degree.unwrap_or(coarse)),
