@@ -33,27 +33,17 @@ pub(crate) struct Assembled {
 }
 
 impl Assembled {
-    /// Pᵀ A P for the finer level `fine`: from its own assembled A when it has one, else from
-    /// K_{:,F} V_F⁻¹ K_{F,:} with F the unknowns where `s_free` is set.
-    pub(crate) fn product(fine: &LevelOperator, s_free: Vec<bool>, prolong: &CsrMatrix, restrict: &CsrMatrix) -> Assembled {
-        if let Some(f) = &fine.assembled {
-            return Assembled { a: triple_product(restrict, &f.a, prolong), s_free: Vec::new() };
-        }
-        let g = matmul(&fine.k, prolong);
-        Assembled::from_kp(fine, s_free, &g)
-    }
-
-    /// `product` on a finer level without an assembled A, from its K P = `g`: Gᵀ W G with
-    /// W = V⁻¹ where S is free, 0 elsewhere (`weighted_gram`, bitwise the triple product with W
-    /// as a diagonal matrix, which `refill` computes).
+    /// Pᵀ A P for a finer level `fine` without an assembled A, from its K P = `g`:
+    /// K_{:,F} V_F⁻¹ K_{F,:} with F the unknowns where `s_free` is set, as Gᵀ W G with W = V⁻¹
+    /// where S is free, 0 elsewhere (`weighted_gram`, bitwise the triple product with W as a
+    /// diagonal matrix, which `refill` computes).
     fn from_kp(fine: &LevelOperator, s_free: Vec<bool>, g: &CsrMatrix) -> Assembled {
-        let w: Vec<f64> = (0..fine.n()).map(|i| if s_free[i] { fine.inv_v[i] } else { 0.0 }).collect();
-        Assembled { a: weighted_gram(&g.transpose(), &w, g), s_free }
+        Assembled { a: weighted_gram(&g.transpose(), &free_weights(fine, &s_free), g), s_free }
     }
 
-    /// `product`'s values again into the stored pattern, when P's pattern and the finer level's
-    /// are those it was made with (a moved mesh changes values only): bitwise `product`, without
-    /// its symbolic phase.
+    /// The product's values again into the stored pattern, when P's pattern and the finer level's
+    /// are those it was made with (a moved mesh changes values only): bitwise the product of
+    /// `LevelOperator::galerkin_assembled`, without its symbolic phase.
     pub(crate) fn refill(&mut self, fine: &LevelOperator, prolong: &CsrMatrix, restrict: &CsrMatrix) {
         match &fine.assembled {
             Some(f) => triple_product_values(restrict, &f.a, prolong, &mut self.a),
@@ -74,30 +64,34 @@ fn kp_and_weights(fine: &LevelOperator, s_free: &[bool], prolong: &CsrMatrix) ->
         ncols: n,
         row_ptr: (0..=n as u32).collect(),
         cols: (0..n as u32).collect(),
-        vals: (0..n).map(|i| if s_free[i] { fine.inv_v[i] } else { 0.0 }).collect(),
+        vals: free_weights(fine, s_free),
     };
     (g, w)
 }
 
+/// W's diagonal: V⁻¹ where S is free, 0 elsewhere.
+fn free_weights(fine: &LevelOperator, s_free: &[bool]) -> Vec<f64> {
+    (0..fine.n()).map(|i| if s_free[i] { fine.inv_v[i] } else { 0.0 }).collect()
+}
+
 impl LevelOperator {
     /// `galerkin`'s K_c and V_c, with the biharmonic's A_c = Pᵀ A P assembled and applied
-    /// instead of K_c V_c⁻¹ K_c. `s_free` as in `Assembled::product`: per unknown of the finer
+    /// instead of K_c V_c⁻¹ K_c. `s_free`: per unknown of the finer
     /// level, S free there (the same for every component; the caller checks).
     pub fn galerkin_assembled(fine: &LevelOperator, s_free: Vec<bool>, prolong: &CsrMatrix, restrict: &CsrMatrix) -> Self {
-        let mut op = match fine.assembled {
-            Some(_) => {
-                let mut op = LevelOperator::galerkin(fine, prolong, restrict);
-                op.assembled = Some(Assembled::product(fine, s_free, prolong, restrict));
-                op
+        let (mut op, assembled) = match &fine.assembled {
+            Some(f) => {
+                let a = triple_product(restrict, &f.a, prolong);
+                (LevelOperator::galerkin(fine, prolong, restrict), Assembled { a, s_free: Vec::new() })
             }
             None => {
                 // K P serves both products: K_c = R (K P), bitwise `galerkin`'s R K P.
                 let g = matmul(&fine.k, prolong);
-                let mut op = LevelOperator::galerkin_of(fine, matmul(restrict, &g), restrict);
-                op.assembled = Some(Assembled::from_kp(fine, s_free, &g));
-                op
+                let op = LevelOperator::galerkin_of(fine, matmul(restrict, &g), restrict);
+                (op, Assembled::from_kp(fine, s_free, &g))
             }
         };
+        op.assembled = Some(assembled);
         // The fused sweep is the two-pass operator's; the assembled one is applied in one pass.
         op.fuse = None;
         op
