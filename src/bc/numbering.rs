@@ -10,6 +10,7 @@
 //! caller sees keep the caller's vertex numbers.
 
 use crate::mesh::{Csr, VertexCells};
+use crate::sparse::offset;
 
 /// New-to-old order of `n` unknowns connected by the edges of `cells`. Deterministic: ties break
 /// by index.
@@ -70,19 +71,25 @@ pub(crate) fn reverse_cuthill_mckee(n: usize, cells: &Csr) -> Vec<u32> {
 }
 
 /// The graph of the cells' edges as CSR without the diagonal: each unknown's neighbours are the
-/// other corners of its cells (`VertexCells`, linear in the mesh), sorted and deduplicated.
+/// other corners of its cells (`VertexCells`, linear in the mesh), each once, in order of first
+/// appearance (a mark per unknown, no sort). The order within a row does not matter to the
+/// numbering: its level sets do not depend on it, and both of its choices among neighbours
+/// (the start vertex, the order of a vertex's new neighbours) are by (degree, index).
 fn adjacency(n: usize, cells: &Csr) -> (Vec<u32>, Vec<u32>) {
     let around = VertexCells::build(n, cells);
     let mut ptr = vec![0u32; n + 1];
     let mut adj = Vec::with_capacity(cells.items().len());
-    let mut row: Vec<u32> = Vec::new();
+    // mark[w] == v + 1: w is already in v's row (0 marks nothing, so no pass resets it).
+    let mut mark = vec![0usize; n];
     for v in 0..n {
-        row.clear();
-        row.extend(around.of(v).iter().flat_map(|&c| cells.get(c as usize)).copied().filter(|&w| w as usize != v));
-        row.sort_unstable();
-        row.dedup();
-        adj.extend_from_slice(&row);
-        ptr[v + 1] = adj.len() as u32;
+        mark[v] = v + 1;
+        for &w in around.of(v).iter().flat_map(|&c| cells.get(c as usize)) {
+            if mark[w as usize] != v + 1 {
+                mark[w as usize] = v + 1;
+                adj.push(w);
+            }
+        }
+        ptr[v + 1] = offset(adj.len());
     }
     (ptr, adj)
 }

@@ -117,8 +117,7 @@ pub(crate) fn pattern_and_scatter(mesh: &Mesh, dofs: &Dofs, map: bool) -> (CsrMa
             }
         }
     };
-    // The entries bucketed by row, each its column and slot in one key (column first, so a
-    // row's sort orders them by column).
+    // The entries bucketed by row, each its column and slot in one key.
     let mut start = vec![0usize; n + 1];
     each(&mut |i, _, _| start[i as usize + 1] += 1);
     for i in 0..n {
@@ -135,19 +134,29 @@ pub(crate) fn pattern_and_scatter(mesh: &Mesh, dofs: &Dofs, map: bool) -> (CsrMa
     let mut within_row = vec![SEARCH; if slots { 2 * couplings } else { 0 }];
     let mut row_ptr = vec![0u32; n + 1];
     let mut cols: Vec<u32> = Vec::new();
+    // Per column: the row that last met it (`u32::MAX` none yet), then its position in that
+    // row. A row's distinct columns are collected by the mark and sorted (a row of a hexahedral
+    // mesh has 27 of its 57 entries), then each entry's slot takes its column's position.
+    let mut seen = vec![u32::MAX; n];
+    let mut pos = vec![0u32; n];
     for i in 0..n {
-        let row = &mut keys[start[i]..start[i + 1]];
-        row.sort_unstable();
+        let row = &keys[start[i]..start[i + 1]];
         let first = cols.len();
-        let mut last = None;
-        for &key in row.iter() {
-            let (j, slot) = ((key >> 32) as u32, key as u32);
-            if last != Some(j) {
-                last = Some(j);
+        for &key in row {
+            let j = (key >> 32) as u32;
+            if seen[j as usize] != i as u32 {
+                seen[j as usize] = i as u32;
                 cols.push(j);
             }
+        }
+        cols[first..].sort_unstable();
+        for (p, &j) in cols[first..].iter().enumerate() {
+            pos[j as usize] = offset(p);
+        }
+        for &key in row {
+            let (j, slot) = ((key >> 32) as u32, key as u32);
             if slot != NO_SLOT {
-                within_row[slot as usize] = u8::try_from(cols.len() - 1 - first).unwrap_or(SEARCH);
+                within_row[slot as usize] = u8::try_from(pos[j as usize]).unwrap_or(SEARCH);
             }
         }
         row_ptr[i + 1] = offset(cols.len());

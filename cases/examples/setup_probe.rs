@@ -1,0 +1,63 @@
+//! Where a 3D box's setup (`Solver::new`) spends its time, and a hash of its first solve's
+//! displacement (bitwise checks of a setup change):
+//! `cargo run --release -p meshmove-cases --example setup_probe -- [hex|tet] [N] [biharmonic|laplacian] [REPEATS]`
+//! (the bench's free-surface box of N³ cells, default 31: 32 768 vertices; one thread).
+
+use meshmove::{BoundaryConditions, Kind, Method, Motion, Options, Solver};
+use meshmove_cases::boxes::{structured_box, BoxCells, BOX_BOTTOM, BOX_SIDES, BOX_TOP};
+use std::hash::{Hash, Hasher};
+use std::time::Instant;
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let cells = if args.first().map(|s| s.as_str()) == Some("tet") { BoxCells::Tets } else { BoxCells::Hexes };
+    let n: usize = args.get(1).map_or(31, |s| s.parse().expect("cells per side"));
+    let method =
+        if args.get(2).map(|s| s.as_str()) == Some("laplacian") { Method::Laplacian } else { Method::Biharmonic };
+    let repeats: usize = args.get(3).map_or(3, |s| s.parse().expect("repeats"));
+    let mesh = structured_box(n, cells);
+    // The bench's box: bottom fixed, top clamped and moved in z, each side fixed along its normal.
+    let mut bcs = BoundaryConditions::new();
+    bcs.set_kinds(BOX_BOTTOM, Kind::Fixed).set_kinds(BOX_TOP, Kind::Clamped);
+    for (p, normal) in BOX_SIDES {
+        for c in 0..3 {
+            bcs.set_kind(p, c, if c == normal { Kind::Fixed } else { Kind::Free }).expect("3 components");
+        }
+    }
+    let mut motion = Motion::zero(&mesh);
+    for v in mesh.patch_vertices(BOX_TOP) {
+        let p = mesh.point(v as usize);
+        motion.displacement[3 * v as usize + 2] =
+            0.1 * (std::f64::consts::TAU * p[0]).cos() * (std::f64::consts::TAU * p[1]).cos();
+    }
+    let opts = Options { method, threads: 1, ..Default::default() };
+    let mut setups = Vec::new();
+    let mut solver = None;
+    for _ in 0..repeats {
+        let t = Instant::now();
+        let s = Solver::new(&mesh, &bcs, opts.clone()).expect("a solver");
+        setups.push(t.elapsed().as_secs_f64());
+        let named: Vec<String> = s.phases().named().iter().map(|(k, v)| format!("{k} {v:.3}")).collect();
+        println!("setup {:.3} s: {}", setups.last().unwrap(), named.join(", "));
+        solver = Some(s);
+    }
+    let solver = solver.expect("one repeat");
+    let t = Instant::now();
+    let sol = solver.solve(&motion).expect("a solve");
+    let solve_s = t.elapsed().as_secs_f64();
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    sol.displacement.iter().for_each(|d| d.to_bits().hash(&mut h));
+    setups.sort_by(f64::total_cmp);
+    println!(
+        "{:?} {} vertices, {} levels: setup median {:.3} s, solve {:.3} s ({} iterations, residual {:.3e}), setup / solve {:.2}, hash {:016x}",
+        method,
+        mesh.num_vertices(),
+        solver.num_levels(),
+        setups[setups.len() / 2],
+        solve_s,
+        sol.report.cycles,
+        sol.report.rel_residual,
+        setups[setups.len() / 2] / solve_s,
+        h.finish()
+    );
+}
