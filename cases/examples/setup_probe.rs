@@ -1,12 +1,26 @@
 //! Where a 3D box's setup (`Solver::new`) spends its time, and a hash of its first solve's
 //! displacement (bitwise checks of a setup change):
 //! `cargo run --release -p meshmove-cases --example setup_probe -- [hex|tet] [N] [biharmonic|laplacian] [REPEATS]`
-//! (the bench's free-surface box of N³ cells, default 31: 32 768 vertices; one thread).
+//! (the bench's free-surface box of N³ cells, default 31: 32 768 vertices; one thread). Prints
+//! each setup's wall seconds and the process's CPU seconds (Linux: its threads' run time in
+//! /proc, which a loaded machine stretches less than the wall time).
 
 use meshmove::{BoundaryConditions, Kind, Method, Motion, Options, Solver};
 use meshmove_cases::boxes::{structured_box, BoxCells, BOX_BOTTOM, BOX_SIDES, BOX_TOP};
 use std::hash::{Hash, Hasher};
 use std::time::Instant;
+
+/// The CPU seconds the process's threads have run (0 where /proc does not tell).
+fn cpu_seconds() -> f64 {
+    let ns: u64 = std::fs::read_dir("/proc/self/task")
+        .into_iter()
+        .flatten()
+        .flatten()
+        .filter_map(|t| std::fs::read_to_string(t.path().join("schedstat")).ok())
+        .filter_map(|s| s.split_whitespace().next().and_then(|v| v.parse::<u64>().ok()))
+        .sum();
+    ns as f64 * 1e-9
+}
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -32,32 +46,40 @@ fn main() {
     }
     let opts = Options { method, threads: 1, ..Default::default() };
     let mut setups = Vec::new();
+    let mut cpu = Vec::new();
     let mut solver = None;
     for _ in 0..repeats {
-        let t = Instant::now();
+        let (t, c) = (Instant::now(), cpu_seconds());
         let s = Solver::new(&mesh, &bcs, opts.clone()).expect("a solver");
         setups.push(t.elapsed().as_secs_f64());
+        cpu.push(cpu_seconds() - c);
         let named: Vec<String> = s.phases().named().iter().map(|(k, v)| format!("{k} {v:.3}")).collect();
-        println!("setup {:.3} s: {}", setups.last().unwrap(), named.join(", "));
+        println!("setup {:.3} s (CPU {:.3} s): {}", setups.last().unwrap(), cpu.last().unwrap(), named.join(", "));
         solver = Some(s);
     }
     let solver = solver.expect("one repeat");
-    let t = Instant::now();
+    let (t, c) = (Instant::now(), cpu_seconds());
     let sol = solver.solve(&motion).expect("a solve");
     let solve_s = t.elapsed().as_secs_f64();
+    let solve_cpu = cpu_seconds() - c;
     let mut h = std::collections::hash_map::DefaultHasher::new();
     sol.displacement.iter().for_each(|d| d.to_bits().hash(&mut h));
     setups.sort_by(f64::total_cmp);
+    cpu.sort_by(f64::total_cmp);
+    let (setup, setup_cpu) = (setups[setups.len() / 2], cpu[cpu.len() / 2]);
     println!(
-        "{:?} {} vertices, {} levels: setup median {:.3} s, solve {:.3} s ({} iterations, residual {:.3e}), setup / solve {:.2}, hash {:016x}",
+        "{:?} {} vertices, {} levels: setup median {:.3} s (CPU {:.3} s), solve {:.3} s (CPU {:.3} s; {} iterations, residual {:.3e}), setup / solve {:.2} (CPU {:.2}), hash {:016x}",
         method,
         mesh.num_vertices(),
         solver.num_levels(),
-        setups[setups.len() / 2],
+        setup,
+        setup_cpu,
         solve_s,
+        solve_cpu,
         sol.report.cycles,
         sol.report.rel_residual,
-        setups[setups.len() / 2] / solve_s,
+        setup / solve_s,
+        setup_cpu / solve_cpu,
         h.finish()
     );
 }
