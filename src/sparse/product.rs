@@ -123,28 +123,19 @@ pub fn matmul(a: &CsrMatrix, b: &CsrMatrix) -> CsrMatrix {
 }
 
 /// R K P, bitwise `matmul(r, &matmul(k, p))` but without holding K P (the largest matrix of a
-/// Galerkin hierarchy): its rows are formed where R uses them and kept while a later row of R
-/// in the block uses them (`KpRows`), so each is formed once a block.
+/// Galerkin hierarchy): its rows are formed where R uses them and kept a while (`KpRows`), so a
+/// row used by several neighbouring rows of R is mostly formed once.
 pub fn triple_product(r: &CsrMatrix, k: &CsrMatrix, p: &CsrMatrix) -> CsrMatrix {
-    triple_product_kept(r, k, p, KP_KEPT)
-}
-
-/// `triple_product` whose tasks sweep the rows of K P they hold past `kept` entries.
-fn triple_product_kept(r: &CsrMatrix, k: &CsrMatrix, p: &CsrMatrix, kept: usize) -> CsrMatrix {
     assert_eq!(r.ncols, k.nrows, "triple_product: R has {} columns, K has {} rows", r.ncols, k.nrows);
     assert_eq!(k.ncols, p.nrows, "triple_product: K has {} columns, P has {} rows", k.ncols, p.nrows);
-    let init = || (KpRows::new(k.nrows, p.ncols, kept), RowSum::new(p.ncols));
+    let init = || (KpRows::new(k.nrows, p.ncols), RowSum::new(p.ncols));
     by_rows(r.nrows, p.ncols, init, |(kp, outer), j, c, v| {
-        // `by_rows` forms a block's rows in order from its first.
-        if j % PRODUCT_BLOCK == 0 {
-            kp.start_block(r, j..(j + PRODUCT_BLOCK).min(r.nrows));
-        }
         let (rc, rv) = r.row(j);
         for (&i, &x) in rc.iter().zip(rv) {
             let e = kp.form(k, p, i as usize);
             outer.add(x, (&kp.cols[e.clone()], &kp.vals[e]));
         }
-        kp.bound(j);
+        kp.bound();
         outer.finish(c, v);
     })
 }
@@ -165,18 +156,11 @@ pub fn weighted_gram(gt: &CsrMatrix, w: &[f64], g: &CsrMatrix) -> CsrMatrix {
     })
 }
 
-/// Rows of K P formed for a block of rows of R K P, each once however many of them use it (a
-/// fine row is used by every coarse unknown it interpolates from): `at[i]` is the position of
-/// K P's row i in `ptr` (`NOT_FORMED` for rows not formed). When they hold many entries, the
-/// rows no later row of the block uses are forgotten and the others kept (`bound`).
+/// Rows of K P formed for neighbouring rows of R K P, each once however many of them use it (a
+/// fine row is used by every coarse unknown it interpolates from) until they are forgotten:
+/// `at[i]` is the position of K P's row i in `ptr` (`NOT_FORMED` for rows not formed).
 struct KpRows {
     at: Vec<u32>,
-    /// Per row of K: the last row of the block of R K P that uses it (`NOT_FORMED`: none).
-    last: Vec<u32>,
-    /// The entries held past which the rows no longer used are forgotten.
-    limit: usize,
-    /// The least `limit`.
-    kept: usize,
     formed: Vec<u32>,
     ptr: Vec<usize>,
     cols: Vec<u32>,
@@ -193,12 +177,9 @@ const NOT_FORMED: u32 = u32::MAX;
 const KP_KEPT: usize = 1 << 18;
 
 impl KpRows {
-    fn new(k_rows: usize, p_cols: usize, kept: usize) -> Self {
+    fn new(k_rows: usize, p_cols: usize) -> Self {
         KpRows {
             at: vec![NOT_FORMED; k_rows],
-            last: vec![NOT_FORMED; k_rows],
-            limit: kept,
-            kept,
             formed: Vec::new(),
             ptr: vec![0],
             cols: Vec::new(),
@@ -236,51 +217,21 @@ impl KpRows {
         self.ptr[f]..self.ptr[f + 1]
     }
 
-    /// Starts the block of R K P's `rows` (R's rows): each row of K P the block uses is marked
-    /// with its last use, and of the rows formed before only those it uses are kept.
-    fn start_block(&mut self, r: &CsrMatrix, rows: std::ops::Range<usize>) {
-        self.formed.iter().for_each(|&i| self.last[i as usize] = NOT_FORMED);
-        let first = rows.start;
-        for j in rows {
-            r.row(j).0.iter().for_each(|&i| self.last[i as usize] = offset(j));
-        }
-        self.keep_used_from(first);
-    }
-
-    /// After the block's row `j` of R K P: when the rows formed hold more than `limit` entries,
-    /// forgets those no later row of the block uses (the rows are formed the same whenever
-    /// they are, so when they are forgotten changes no value), and lets the rows kept grow to
-    /// twice their entries before the next sweep.
-    fn bound(&mut self, j: usize) {
-        if self.cols.len() > self.limit {
-            self.keep_used_from(j + 1);
-            self.limit = self.kept.max(2 * self.cols.len());
+    /// Forgets the rows formed when they hold more than `KP_KEPT` entries (the rows are formed
+    /// the same whenever they are, so when they are forgotten changes no value).
+    fn bound(&mut self) {
+        if self.cols.len() > KP_KEPT {
+            self.clear();
         }
     }
 
-    /// Keeps the rows formed that a row of the block from `j` on uses, moved to the front in
-    /// the order they were formed; forgets the others.
-    fn keep_used_from(&mut self, j: usize) {
-        let mut kept = 0;
-        for f in 0..self.formed.len() {
-            let i = self.formed[f] as usize;
-            let (a, b) = (self.ptr[f], self.ptr[f + 1]);
-            if self.last[i] != NOT_FORMED && self.last[i] as usize >= j {
-                let to = self.ptr[kept];
-                self.cols.copy_within(a..b, to);
-                self.vals.copy_within(a..b, to);
-                self.formed[kept] = offset(i);
-                self.at[i] = offset(kept);
-                self.ptr[kept + 1] = to + (b - a);
-                kept += 1;
-            } else {
-                self.at[i] = NOT_FORMED;
-            }
-        }
-        self.formed.truncate(kept);
-        self.ptr.truncate(kept + 1);
-        self.cols.truncate(self.ptr[kept]);
-        self.vals.truncate(self.ptr[kept]);
+    /// Forgets the rows formed.
+    fn clear(&mut self) {
+        self.formed.iter().for_each(|&i| self.at[i as usize] = NOT_FORMED);
+        self.formed.clear();
+        self.ptr.truncate(1);
+        self.cols.clear();
+        self.vals.clear();
     }
 }
 
@@ -302,9 +253,8 @@ pub fn triple_product_values(r: &CsrMatrix, k: &CsrMatrix, p: &CsrMatrix, c: &mu
         rest = next;
         blocks.push((start..end, v));
     }
-    let init = || KpRows::new(k.nrows, p.ncols, KP_KEPT);
+    let init = || KpRows::new(k.nrows, p.ncols);
     blocks.into_par_iter().for_each_init(init, |kp, (rows, out)| {
-        kp.start_block(r, rows.clone());
         let base = row_ptr[rows.start] as usize;
         for j in rows {
             let (a, b) = (row_ptr[j] as usize, row_ptr[j + 1] as usize);
@@ -322,8 +272,9 @@ pub fn triple_product_values(r: &CsrMatrix, k: &CsrMatrix, p: &CsrMatrix, c: &mu
                     row[kp.pos[m as usize] as usize] += x * y;
                 }
             }
-            kp.bound(j);
+            kp.bound();
         }
+        kp.clear();
     });
 }
 
@@ -350,28 +301,6 @@ mod tests {
         let want = matmul(&r, &matmul(&k, &p));
         assert_eq!(triple_product(&r, &k, &p), want);
         assert!(want.nnz() > 4);
-    }
-
-    /// The rows of K P swept many times within a block (a few hundred entries kept) and
-    /// blocks on several threads: the product is still the two products, bitwise.
-    #[test]
-    fn triple_product_with_few_rows_kept_is_two_products_bitwise() {
-        let m = |nrows: usize, ncols: usize, seed: u32| {
-            let t = (0..nrows as u32)
-                .flat_map(|i| {
-                    (0..4).map(move |k| (i, (i * 7 + k * 5 + seed) % ncols as u32, 1.0 / (i + k + seed) as f64 - 0.1))
-                })
-                .collect();
-            CsrMatrix::from_triplets(nrows, ncols, t)
-        };
-        let (r, k, p) = (m(3000, 5000, 1), m(5000, 5000, 2), m(5000, 3000, 3));
-        let want = matmul(&r, &matmul(&k, &p));
-        let pool = rayon::ThreadPoolBuilder::new().num_threads(3).build().unwrap();
-        for kept in [0, 300, KP_KEPT] {
-            let got = pool.install(|| triple_product_kept(&r, &k, &p, kept));
-            assert!(same_pattern(&got, &want) && want.nnz() > 3000);
-            assert!(want.vals.iter().zip(&got.vals).all(|(a, b)| a.to_bits() == b.to_bits()));
-        }
     }
 
     /// Gᵀ W G without the rows of W G is the triple product with W diagonal, bitwise, with
