@@ -87,6 +87,17 @@ impl CellPoints {
         }
     }
 
+    /// [`CellPoints::min_corner_jacobian`] given the cell's signed measure `m`: a simplex's one
+    /// Jacobian is its measure times 2 (triangle) or 6 (tetrahedron), the same value without a
+    /// second evaluation.
+    pub(crate) fn min_corner_jacobian_with_measure(&self, m: f64) -> f64 {
+        match self.ty {
+            CellType::Triangle => 2.0 * m,
+            CellType::Tetra => 6.0 * m,
+            _ => self.min_corner_jacobian(),
+        }
+    }
+
     /// True when the cell is inverted: a corner Jacobian ≤ 0, or a signed measure ≤ 0 (a wedge or
     /// hexahedron can fold between its corners, through a twisted face, with every corner
     /// positive), or NaN.
@@ -179,6 +190,13 @@ impl CellGeometry {
     pub(crate) fn min_corner_jacobian(&self) -> f64 {
         match self {
             CellGeometry::Fixed(g) => g.min_corner_jacobian(),
+            CellGeometry::General(g) => g.min_corner_jacobian(),
+        }
+    }
+    /// [`CellGeometry::min_corner_jacobian`] given the cell's signed measure `m`.
+    pub(crate) fn min_corner_jacobian_with_measure(&self, m: f64) -> f64 {
+        match self {
+            CellGeometry::Fixed(g) => g.min_corner_jacobian_with_measure(m),
             CellGeometry::General(g) => g.min_corner_jacobian(),
         }
     }

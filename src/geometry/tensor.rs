@@ -227,8 +227,15 @@ pub(super) fn volume_by_faces(ty: CellType, p: &[[f64; 3]]) -> f64 {
 /// its two faces, each represented by the direction from the edge into the face (towards the
 /// face's corner next to the edge), orthogonal to the edge. A sliver tetrahedron, whose edge
 /// angles can all be fine, has a dihedral angle near 0 (or 180°).
+///
+/// The angle at an edge is atan2(|u × v|, u · v); the smallest is the one of largest cosine
+/// (u · v) / √(|u × v|² + (u · v)²), so the edges are compared by that and only the chosen
+/// one's atan2 is evaluated. An edge whose directions vanish (a degenerate cell) has the angle
+/// atan2(0, ±0), 0 or 180°, and is compared as such.
 pub(super) fn min_dihedral_deg(ty: CellType, p: &[[f64; 3]]) -> f64 {
-    let mut min = 180.0f64;
+    // The chosen edge's (|u × v|², u · v) and its cosine; NaN angles are passed over, as
+    // `f64::min` passes them over.
+    let mut best: Option<(f64, f64, f64)> = None;
     for (&[a, b], off) in ty.edges().iter().zip(edge_face_corners(ty)) {
         let (pa, pb) = (&p[a as usize], &p[b as usize]);
         let e = sub(pb, pa);
@@ -240,9 +247,17 @@ pub(super) fn min_dihedral_deg(ty: CellType, p: &[[f64; 3]]) -> f64 {
         });
         let (u, v) = (&dirs[0], &dirs[1]);
         let s = cross(u, v);
-        min = min.min(dot3(&s, &s).sqrt().atan2(dot3(u, v)).to_degrees());
+        let (ss, cos) = (dot3(&s, &s), dot3(u, v));
+        if ss.is_nan() || cos.is_nan() {
+            continue;
+        }
+        let r = (ss + cos * cos).sqrt();
+        let c = if r > 0.0 { cos / r } else if cos.is_sign_negative() { -1.0 } else { 1.0 };
+        if best.is_none_or(|(_, _, bc)| c > bc) {
+            best = Some((ss, cos, c));
+        }
     }
-    min
+    best.map_or(180.0, |(ss, cos, _)| ss.sqrt().atan2(cos).to_degrees().min(180.0))
 }
 
 /// Per edge of `ty` (in `edges` order), the corners of its two faces after it: the faces'
@@ -341,6 +356,31 @@ mod tests {
         assert!((min_dihedral_deg(CellType::Tetra, &t) - want).abs() < 1e-12);
         let sliver = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.01], [0.0, 1.0, 0.0]];
         assert!(min_dihedral_deg(CellType::Tetra, &sliver) < 2.0);
+        // Every edge's atan2, the smallest taken: the same value on distorted cells.
+        let by_atan2 = |ty: CellType, p: &[[f64; 3]]| {
+            ty.edges().iter().zip(edge_face_corners(ty)).fold(180.0f64, |min, (&[a, b], off)| {
+                let (pa, pb) = (&p[a as usize], &p[b as usize]);
+                let e = sub(pb, pa);
+                let [u, v] = off.map(|o| {
+                    let w = sub(&p[o as usize], pa);
+                    let t = dot3(&w, &e) / dot3(&e, &e);
+                    [w[0] - t * e[0], w[1] - t * e[1], w[2] - t * e[2]]
+                });
+                let s = cross(&u, &v);
+                min.min(dot3(&s, &s).sqrt().atan2(dot3(&u, &v)).to_degrees())
+            })
+        };
+        let mut seed = 12345u64;
+        let mut jitter = || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        for _ in 0..200 {
+            let hex = h.map(|c| c.map(|x| x + 0.4 * jitter()));
+            assert_eq!(min_dihedral_deg(CellType::Hexahedron, &hex), by_atan2(CellType::Hexahedron, &hex));
+            let tet: [[f64; 3]; 4] = std::array::from_fn(|k| t[k].map(|x| x + 0.4 * jitter()));
+            assert_eq!(min_dihedral_deg(CellType::Tetra, &tet), by_atan2(CellType::Tetra, &tet));
+        }
         assert!(min_corner_angle_deg(CellType::Tetra, &sliver) > 40.0);
         // The unit cube's trilinear element: mass 1/8 per corner, rows of K summing to zero,
         // edge couplings 0, face diagonals −1/12, body diagonals −1/12 (the classic values).

@@ -69,12 +69,12 @@ pub(crate) fn quality_of_cells(mesh: &Mesh, deformed: &[f64], cells: impl Iterat
         let (p0, p1) = (points(mesh, mesh.coords(), c), points(mesh, deformed, c));
         let (a0, a1) = (p0.signed_measure(), p1.signed_measure());
         let r = a1 / a0;
-        let j1 = p1.min_corner_jacobian();
+        let j1 = p1.min_corner_jacobian_with_measure(a1);
         // NaN counts as inverted, as in `CellPoints::is_inverted`.
         let positive = |x: f64| x.partial_cmp(&0.0) == Some(std::cmp::Ordering::Greater);
         q.inverted += usize::from(!positive(j1) || !positive(a1));
         q.non_positive_measure += usize::from(!positive(a1));
-        q.min_corner_jacobian_ratio = q.min_corner_jacobian_ratio.min(j1 / p0.min_corner_jacobian());
+        q.min_corner_jacobian_ratio = q.min_corner_jacobian_ratio.min(j1 / p0.min_corner_jacobian_with_measure(a0));
         q.min_area_ratio = q.min_area_ratio.min(r);
         q.max_area_ratio = q.max_area_ratio.max(r);
         q.min_angle_deg = q.min_angle_deg.min(p1.min_angle_deg());
