@@ -570,9 +570,7 @@ fn levels_of(
                 // The serial rule on the level's lines over all its ranks (collective over them;
                 // asked only where it decides).
                 // Under wall layers the first coarse level is assembled too, where the serial
-                // hierarchy keeps K_c V_c⁻¹ K_c: the distributed levels leave the prescribed
-                // vertices out, so their K_c V_c⁻¹ K_c holds S at zero next to a CLAMPED wall,
-                // where the layers are (docs/DESIGN.md §5, "Wall layers across ranks").
+                // hierarchy keeps K_c V_c⁻¹ K_c (docs/DESIGN.md §5, "Wall layers across ranks").
                 let kept = layered || !levels.is_empty();
                 let lined = kept && !assembled && any_lines(current.halo.comm(), &lines);
                 let below = assembled_below(kept, lined, assembled);
@@ -616,7 +614,10 @@ fn levels_of(
         let sent_guide = guide.take().map(|g| {
             let mut mass = vec![0.0; landing.mover.len()];
             landing.mover.gather(&g.mass[..landing.mover.count()], &mut mass);
-            (agglomeration.send(&g.k), mass, g.at.moved(&landing.mover))
+            let mine: Vec<f64> = g.flags[..landing.mover.count()].iter().map(|&f| f64::from(f)).collect();
+            let mut flags = vec![0.0; landing.mover.len()];
+            landing.mover.gather(&mine, &mut flags);
+            (agglomeration.send(&g.k), (mass, flags), g.at.moved(&landing.mover))
         });
         let moved_at = at.take().map(|a| a.moved(&landing.mover));
         let moved_segments = lines::moved_lines(&next_segments, &landing.mover, next.halo.comm().rank());
@@ -625,13 +626,17 @@ fn levels_of(
         let Some(moved) = agglomeration.assemble(&sent)? else {
             return Ok((levels, None));
         };
-        if let Some((sent, mut mass, mut at)) = sent_guide {
+        if let Some((sent, (mut mass, moved_flags), mut at)) = sent_guide {
             let k = agglomeration.assemble(&sent)?.ok_or_else(|| lost(&moved))?;
             mass.resize(k.halo.len(), 0.0);
             k.halo.refresh(&mut mass);
+            // The flags are 0–3, exact in f64.
+            let mut flags: Vec<u8> = moved_flags.iter().map(|&f| f as u8).collect();
+            flags.resize(k.halo.len(), 0);
+            k.halo.refresh(&mut flags);
             at.coords.resize(k.halo.len(), [0.0; 3]);
             at.refresh(&k.halo);
-            guide = Some(Guide { k, mass, at });
+            guide = Some(Guide { k, flags, mass, at });
         }
         if let Some(mut a) = moved_at {
             a.coords.resize(moved.halo.len(), [0.0; 3]);
