@@ -198,8 +198,9 @@ pub(super) fn coarsen(
     if galerkin {
         // The rows of P are `fine`'s owned unknowns' too (A and K share their owned entries in
         // one order), so the product fetches P's halo rows over A's wider halo.
-        return Ok(product(fine, &rows)?
-            .map(|(a, prolong)| (a, unknowns_only(prolong, fine), Guide { k, flags, mass, at })));
+        return Ok(
+            product(fine, &rows)?.map(|(a, prolong)| (a, unknowns_only(prolong, fine), Guide { k, flags, mass, at }))
+        );
     }
     let inv_v: Vec<f64> = mass.iter().map(|&v| 1.0 / v).collect();
     let mut extra: Vec<(usize, u64)> = rows.iter().flatten().filter(|e| e.1 != me).map(|e| (e.1, e.0)).collect();
@@ -229,6 +230,7 @@ fn unknowns_only(mut p: CsrMatrix, fine: &OwnedRows) -> CsrMatrix {
             cols.extend_from_slice(c);
             vals.extend_from_slice(v);
         }
+        // At most p's entries, whose count fits its u32 row pointers.
         row_ptr.push(cols.len() as u32);
     }
     (p.cols, p.vals, p.row_ptr) = (cols, vals, row_ptr);

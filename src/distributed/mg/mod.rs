@@ -11,7 +11,7 @@
 //! coarse level needs a mesh: the Laplacian's and the spring's levels, as serially.
 //! The biharmonic's levels follow K's coarsening instead, interpolated by the same rule on K's
 //! graph (`donors`), each A = K V⁻¹ K assembled across ranks (`biharmonic`; under wall layers
-//! from the first coarse level on the Galerkin product of the level above, and in 2D rows along
+//! the Galerkin product of the level above, in 2D from the first coarse level on with rows along
 //! the lines, `along_lines`), and its cycle is a W-cycle. A coarse level with few unknowns per rank
 //! is moved onto fewer ranks, which carry it and the levels below on a communicator of their
 //! own (`agglomerate`, with the values moved by `mover`); once a level is small it is gathered
@@ -220,8 +220,8 @@ impl Multigrid {
     /// `per_rank` unknowns per rank (collective; every rank returns the same result).
     ///
     /// With `Coarsening::Guide` (the biharmonic's K, V and positions beside its A = K V⁻¹ K) each
-    /// coarse level is made from the guide's (`biharmonic::coarsen`; under lines from the first
-    /// coarse level on the Galerkin product of the level above, `assembled_below`); with
+    /// coarse level is made from the guide's (`biharmonic::coarsen`; under lines the Galerkin
+    /// product of the level above, `assembled_below`, in 2D from the first coarse level on); with
     /// `Coarsening::Galerkin`, by the Galerkin product of the level above. `lines` are the
     /// finest level's lines across wall layers over its owned unknowns (`owned_lines`; none on
     /// meshes without such layers), smoothed as blocks there and on the coarse levels that keep
@@ -569,9 +569,10 @@ fn levels_of(
             (Some(g), false) => {
                 // The serial rule on the level's lines over all its ranks (collective over them;
                 // asked only where it decides).
-                // Under wall layers the first coarse level is assembled too, where the serial
-                // hierarchy keeps K_c V_c⁻¹ K_c (docs/DESIGN.md §5, "Wall layers across ranks").
-                let kept = layered || !levels.is_empty();
+                // Under wall layers in 2D, whose levels interpolate along the lines, the first
+                // coarse level is assembled too, where the serial hierarchy keeps K_c V_c⁻¹ K_c
+                // (docs/DESIGN.md §5, "Wall layers across ranks").
+                let kept = along || !levels.is_empty();
                 let lined = kept && !assembled && any_lines(current.halo.comm(), &lines);
                 let below = assembled_below(kept, lined, assembled);
                 match biharmonic::coarsen(&current, g, below, along.then_some(&segments))? {
