@@ -76,6 +76,14 @@ const GATHER_ROWS: u64 = 400;
 /// docs/PERFORMANCE.md finds an iteration cheapest.
 pub(crate) const ROWS_PER_RANK: u64 = 200;
 
+/// The biharmonic's coarse levels made as K_c V_c⁻¹ K_c at most, the first ones; each level
+/// below them is the Galerkin product Pᵀ A P of the level above. The guide interpolates the
+/// wall's dropped CLAMPED vertices from free donors too, so its K_c holds coarse functions that
+/// move the wall, which the cycle's corrections never do: K_c V_c⁻¹ K_c then underestimates A
+/// next to a CLAMPED wall, more on each level made from K_c, and a deep level's correction
+/// overshoots there (docs/DESIGN.md §5, "The biharmonic's levels").
+const PRODUCT_LEVELS: usize = 2;
+
 /// A coarse level that keeps more than this share of its fine level's unknowns ends the
 /// coarsening: another level would cost nearly as much as the one above it.
 const MIN_REDUCTION: f64 = 0.85;
@@ -574,7 +582,7 @@ fn levels_of(
                 // (docs/DESIGN.md §5, "Wall layers across ranks").
                 let kept = along || !levels.is_empty();
                 let lined = kept && !assembled && any_lines(current.halo.comm(), &lines);
-                let below = assembled_below(kept, lined, assembled);
+                let below = assembled_below(kept, lined, assembled) || levels.len() >= PRODUCT_LEVELS;
                 match biharmonic::coarsen(&current, g, below, along.then_some(&segments))? {
                     Some((next, prolong, next_guide)) => {
                         guide = Some(next_guide);
