@@ -10,15 +10,15 @@
 //! and forms the coarse operator as the Galerkin product Pᵀ A P across ranks (`galerkin`), so no
 //! coarse level needs a mesh: the Laplacian's and the spring's levels, as serially.
 //! The biharmonic's levels follow K's coarsening instead, interpolated by the same rule on K's
-//! graph (`donors`), each A = K V⁻¹ K assembled across ranks (`biharmonic`; under wall layers
-//! the Galerkin product of the level above, in 2D from the first coarse level on with rows along
-//! the lines, `along_lines`), and its cycle is a W-cycle. A coarse level with few unknowns per rank
-//! is moved onto fewer ranks, which carry it and the levels below on a communicator of their
-//! own (`agglomerate`, with the values moved by `mover`); once a level is small it is gathered
-//! onto one rank and solved there by a dense factor (`gathered`). With slip walls one hierarchy
-//! carries every component (`Multigrid::build_group`): each level keeps each component's flags
-//! and the slip frames its unknowns inherit, each group of components is smoothed with its
-//! projection on every level and its coarsest level is factored coupled (`coupled`). The
+//! graph (`donors`), each A = K V⁻¹ K assembled across ranks (`biharmonic`; below the second coarse
+//! level, and under wall layers, the Galerkin product of the level above, in 2D from the first
+//! coarse level on with rows along the lines, `along_lines`), and its cycle is a W-cycle. A coarse
+//! level with few unknowns per rank is moved onto fewer ranks, which carry it and the levels below
+//! on a communicator of their own (`agglomerate`, with the values moved by `mover`); once a level
+//! is small it is gathered onto one rank and solved there by a dense factor (`gathered`). With slip
+//! walls one hierarchy carries every component (`Multigrid::build_group`): each level keeps each
+//! component's flags and the slip frames its unknowns inherit, each group of components is smoothed
+//! with its projection on every level and its coarsest level is factored coupled (`coupled`). The
 //! smoother is the serial multigrid's Chebyshev–Jacobi smoother on owned rows, run through the
 //! level's `GroupOp` and halo layout.
 
@@ -76,13 +76,13 @@ const GATHER_ROWS: u64 = 400;
 /// docs/PERFORMANCE.md finds an iteration cheapest.
 pub(crate) const ROWS_PER_RANK: u64 = 200;
 
-/// The biharmonic's coarse levels made as K_c V_c⁻¹ K_c at most, the first ones; each level
-/// below them is the Galerkin product Pᵀ A P of the level above. The guide interpolates the
-/// wall's dropped CLAMPED vertices from free donors too, so its K_c holds coarse functions that
-/// move the wall, which the cycle's corrections never do: K_c V_c⁻¹ K_c then underestimates A
-/// next to a CLAMPED wall, more on each level made from K_c, and a deep level's correction
-/// overshoots there (docs/DESIGN.md §5, "The biharmonic's levels").
-const PRODUCT_LEVELS: usize = 2;
+/// How many of the biharmonic's coarse levels, the first ones, are made as K_c V_c⁻¹ K_c at most;
+/// each level below them is the Galerkin product Pᵀ A P of the level above. The guide interpolates
+/// the wall's dropped CLAMPED vertices from free donors too, so its K_c holds coarse functions that
+/// move the wall, which the cycle's corrections never do: K_c V_c⁻¹ K_c then underestimates A next
+/// to a CLAMPED wall, more on each level made from K_c, and a deep level's correction overshoots
+/// there (docs/DESIGN.md §5, "The biharmonic's levels").
+const KVK_LEVELS: usize = 2;
 
 /// A coarse level that keeps more than this share of its fine level's unknowns ends the
 /// coarsening: another level would cost nearly as much as the one above it.
@@ -228,12 +228,12 @@ impl Multigrid {
     /// `per_rank` unknowns per rank (collective; every rank returns the same result).
     ///
     /// With `Coarsening::Guide` (the biharmonic's K, V and positions beside its A = K V⁻¹ K) each
-    /// coarse level is made from the guide's (`biharmonic::coarsen`; under lines the Galerkin
-    /// product of the level above, `assembled_below`, in 2D from the first coarse level on); with
-    /// `Coarsening::Galerkin`, by the Galerkin product of the level above. `lines` are the
-    /// finest level's lines across wall layers over its owned unknowns (`owned_lines`; none on
-    /// meshes without such layers), smoothed as blocks there and on the coarse levels that keep
-    /// them (`lines`).
+    /// coarse level is made from the guide's (`biharmonic::coarsen`; below `KVK_LEVELS`, and under
+    /// lines, the Galerkin product of the level above, `assembled_below`, in 2D from the first
+    /// coarse level on); with `Coarsening::Galerkin`, by the Galerkin product of the level above.
+    /// `lines` are the finest level's lines across wall layers over its owned unknowns
+    /// (`owned_lines`; none on meshes without such layers), smoothed as blocks there and on the
+    /// coarse levels that keep them (`lines`).
     pub(crate) fn build(
         fine: OwnedRows,
         coarsening: Coarsening,
@@ -582,7 +582,8 @@ fn levels_of(
                 // (docs/DESIGN.md §5, "Wall layers across ranks").
                 let kept = along || !levels.is_empty();
                 let lined = kept && !assembled && any_lines(current.halo.comm(), &lines);
-                let below = assembled_below(kept, lined, assembled) || levels.len() >= PRODUCT_LEVELS;
+                // Below the first `KVK_LEVELS` coarse levels, the product on every mesh.
+                let below = assembled_below(kept, lined, assembled) || levels.len() >= KVK_LEVELS;
                 match biharmonic::coarsen(&current, g, below, along.then_some(&segments))? {
                     Some((next, prolong, next_guide)) => {
                         guide = Some(next_guide);
