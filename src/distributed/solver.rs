@@ -496,7 +496,8 @@ impl DistributedSolver {
     /// The owned rows of component `c`'s operator, the multigrid's finest level, and what its
     /// coarse levels are made from (collective): K's free rows for the Laplacian and the spring,
     /// coarsened by Galerkin products at the local vertices' positions; the biharmonic's
-    /// K V⁻¹ K assembled, with its guide (K's free rows, V and the positions).
+    /// K V⁻¹ K assembled, with its guide (K's rows of the vertices with S: the free ones and
+    /// the prescribed ones without Z; the flags, V and the positions).
     pub(crate) fn fine_rows(&self, c: usize) -> Result<(OwnedRows, Coarsening), DistError> {
         self.rows_of(&self.level.flags[c])
     }
@@ -523,13 +524,18 @@ impl DistributedSolver {
     fn rows_of(&self, flags: &[u8]) -> Result<(OwnedRows, Coarsening), DistError> {
         let (op, halo) = (&self.level.op, self.halo());
         let gids = self.mesh.layout_global_ids();
-        let k = OwnedRows { a: free_rows(&op.k, flags, halo), gids: gids.to_vec(), halo: halo.clone() };
         let local = self.local();
         let at = Positions::from_interleaved(local.coords(), local.dim(), local.num_vertices());
         if op.method == Method::Biharmonic {
             let a = biharmonic_rows(&op.k, &op.inv_v, flags, gids, halo, &[])?;
-            return Ok((a, Coarsening::Guide(Guide { k, mass: op.mass(), at })));
+            // The guide carries every vertex with S, CLAMPED ones too (docs/DESIGN.md §5).
+            let with_s: Vec<u8> = flags.iter().map(|&f| if f & Z != 0 { P } else { 0 }).collect();
+            let k = OwnedRows { a: free_rows(&op.k, &with_s, halo), gids: gids.to_vec(), halo: halo.clone() };
+            let mut flags = flags.to_vec();
+            halo.refresh(&mut flags);
+            return Ok((a, Coarsening::Guide(Guide { k, flags, mass: op.mass(), at })));
         }
+        let k = OwnedRows { a: free_rows(&op.k, flags, halo), gids: gids.to_vec(), halo: halo.clone() };
         Ok((k, Coarsening::Galerkin(at)))
     }
 

@@ -151,30 +151,31 @@ fn too_large(me: usize, owned: usize) -> DistError {
     DistError::new(me, DistErrorKind::Solve, msg)
 }
 
-/// What the biharmonic's coarse levels are made from: the free rows of K on a level (its owned
-/// rows over its local columns), the lumped mass V of every local entry (the owners' values) and
-/// the entries' positions, which the interpolation's least-squares rows are fitted to.
+/// What the biharmonic's coarse levels are made from: the rows of K on a level (its owned rows
+/// over its local columns) of every unknown that carries S, the free ones and the prescribed
+/// ones without Z, as the serial kept levels keep them; each local entry's flags P and Z, its
+/// lumped mass V (the owners' values) and its position, which the interpolation's least-squares
+/// rows are fitted to.
 pub(crate) struct Guide {
     pub(crate) k: OwnedRows,
+    pub(crate) flags: Vec<u8>,
     pub(crate) mass: Vec<f64>,
     pub(crate) at: Positions,
 }
 
 /// The next coarser level of the biharmonic, as the serial kept levels are made: kept unknowns
-/// from K's strong couplings and the interpolation P by the serial donor rule (`donors`), K_c = Pᵀ K P and V_c = P₊ᵀ V (the positive
-/// weights, so V_c stays positive), and A_c = K_c V_c⁻¹ K_c assembled across ranks with the
-/// columns of P's owned rows in its layout, or with `galerkin` the Galerkin product
-/// A_c = Pᵀ A P of `fine`'s own rows (under wall layers, where K_c V_c⁻¹ K_c drifts softer than
-/// the fine operator and holds S at zero next to a CLAMPED wall: docs/DESIGN.md §5, "Wall layers
-/// across ranks"). Returns
-/// A_c, P (`fine`'s local entries × A_c's) and the coarse guide; None when no rank keeps an
-/// unknown (collective). With `lines` (the level's lines across wall layers, given on every rank
-/// or on none: the 2D hierarchies with lines) a dropped unknown on a line interpolates along it,
-/// cubic in the distance along the line, where the line gives its row (`along_lines`).
-///
-/// K's free rows leave the prescribed vertices out of the coarse levels, so A_c holds S at zero
-/// there: the serial operator's for FIXED walls (P and Z), a stiffer one next to CLAMPED walls
-/// (where S is free) — a preconditioner's approximation; the finest level is exact.
+/// from K's strong couplings and the interpolation P by the serial donor rule (`donors`), both
+/// over the guide's unknowns (those that carry S, prescribed or not), K_c = Pᵀ K P and
+/// V_c = P₊ᵀ V (the positive weights, so V_c stays positive), and A_c = K_c V_c⁻¹ K_c assembled
+/// across ranks over the coarse unknowns without P, S summed over those without Z (a kept
+/// CLAMPED vertex carries it, as serially), with the columns of P's owned rows in its layout,
+/// or with `galerkin` the Galerkin product A_c = Pᵀ A P of `fine`'s own rows (under wall
+/// layers: docs/DESIGN.md §5, "Wall layers across ranks"). Returns A_c, P (`fine`'s local
+/// entries × A_c's; the rows of `fine`'s prescribed entries empty) and the coarse guide; None
+/// when no rank keeps an unknown (collective). With `lines` (the level's lines across wall
+/// layers, given on every rank or on none: the 2D hierarchies with lines) a dropped unknown on
+/// a line interpolates along it, cubic in the distance along the line, where the line gives its
+/// row (`along_lines`).
 pub(super) fn coarsen(
     fine: &OwnedRows,
     guide: &Guide,
@@ -193,18 +194,19 @@ pub(super) fn coarsen(
     }
     k.halo.add_to_owners(&mut mass);
     k.halo.refresh(&mut mass);
-    let at = coarse_positions(&guide.k, &guide.at, &k)?;
+    let (at, flags) = coarse_entries(&guide.k, (&guide.at, Some(&guide.flags)), &k)?;
     if galerkin {
         // The rows of P are `fine`'s owned unknowns' too (A and K share their owned entries in
         // one order), so the product fetches P's halo rows over A's wider halo.
-        return Ok(product(fine, &rows)?.map(|(a, prolong)| (a, prolong, Guide { k, mass, at })));
+        return Ok(
+            product(fine, &rows)?.map(|(a, prolong)| (a, unknowns_only(prolong, fine), Guide { k, flags, mass, at }))
+        );
     }
     let inv_v: Vec<f64> = mass.iter().map(|&v| 1.0 / v).collect();
     let mut extra: Vec<(usize, u64)> = rows.iter().flatten().filter(|e| e.1 != me).map(|e| (e.1, e.0)).collect();
     extra.sort_unstable();
     extra.dedup();
-    let free = vec![0u8; k.halo.len()];
-    let a = biharmonic_rows(&k.a, &inv_v, &free, &k.gids, &k.halo, &extra)?;
+    let a = biharmonic_rows(&k.a, &inv_v, &flags, &k.gids, &k.halo, &extra)?;
     let index: HashMap<u64, u32> = a.gids.iter().zip(0u32..).map(|(&g, i)| (g, i)).collect();
     // Every column of P is in A_c's layout (`extra`), so the lookups find them all.
     let index = &index;
@@ -213,21 +215,58 @@ pub(super) fn coarsen(
         .flat_map(|(i, row)| row.iter().filter_map(move |&(g, _, w)| Some((i, *index.get(&g)?, w))))
         .collect();
     let prolong = CsrMatrix::from_triplets(fine.halo.len(), a.halo.len(), prolong);
-    Ok(Some((a, prolong, Guide { k, mass, at })))
+    Ok(Some((a, unknowns_only(prolong, fine), Guide { k, flags, mass, at })))
+}
+
+/// `p` without the rows of `fine`'s prescribed entries (its empty rows): the guide interpolates
+/// them for K_c, but the cycle neither corrects them nor restricts from them.
+fn unknowns_only(mut p: CsrMatrix, fine: &OwnedRows) -> CsrMatrix {
+    let owned = fine.halo.owned();
+    let keep = |i: usize| i < owned && !fine.a.row(i).0.is_empty();
+    let (mut cols, mut vals, mut row_ptr) = (Vec::new(), Vec::new(), vec![0u32]);
+    for i in 0..p.nrows {
+        if keep(i) {
+            let (c, v) = p.row(i);
+            cols.extend_from_slice(c);
+            vals.extend_from_slice(v);
+        }
+        // At most p's entries, whose count fits its u32 row pointers.
+        row_ptr.push(cols.len() as u32);
+    }
+    (p.cols, p.vals, p.row_ptr) = (cols, vals, row_ptr);
+    p
 }
 
 /// The positions of the coarse level `coarse`'s local entries: each its fine unknown's (the one
 /// of the same global id, owned by the same rank), the halo's from their owners (collective).
 pub(super) fn coarse_positions(fine: &OwnedRows, at: &Positions, coarse: &OwnedRows) -> Result<Positions, DistError> {
+    Ok(coarse_entries(fine, (at, None), coarse)?.0)
+}
+
+/// The positions and the flags of the coarse level `coarse`'s local entries, each its fine
+/// unknown's (see `coarse_positions`; `flags` over `fine`'s local entries, if given)
+/// (collective).
+fn coarse_entries(
+    fine: &OwnedRows,
+    (at, flags): (&Positions, Option<&[u8]>),
+    coarse: &OwnedRows,
+) -> Result<(Positions, Vec<u8>), DistError> {
     let me = fine.halo.comm().rank();
     let index: HashMap<u64, usize> = fine.gids[..fine.halo.owned()].iter().zip(0..).map(|(&g, i)| (g, i)).collect();
-    let mut coords = vec![[0.0; 3]; coarse.halo.len()];
+    let n = coarse.halo.len();
+    let mut coords = vec![[0.0; 3]; n];
+    let mut coarse_flags = vec![0u8; if flags.is_some() { n } else { 0 }];
     // A coarse unknown owned here is a fine unknown owned here; one that is not cannot occur,
     // and is reported after the exchange, which every rank reaches.
     let mut missing = None;
-    for (c, &g) in coords.iter_mut().zip(&coarse.gids[..coarse.halo.owned()]) {
+    for (c, &g) in coarse.gids[..coarse.halo.owned()].iter().enumerate() {
         match index.get(&g) {
-            Some(&i) => *c = at.coords[i],
+            Some(&i) => {
+                coords[c] = at.coords[i];
+                if let Some(f) = flags {
+                    coarse_flags[c] = f[i];
+                }
+            }
             None => {
                 missing.get_or_insert(g);
             }
@@ -235,11 +274,14 @@ pub(super) fn coarse_positions(fine: &OwnedRows, at: &Positions, coarse: &OwnedR
     }
     let mut coarse_at = Positions { coords, dim: at.dim };
     coarse_at.refresh(&coarse.halo);
+    if flags.is_some() {
+        coarse.halo.refresh(&mut coarse_flags);
+    }
     let checked = match missing {
         Some(g) => {
             Err(DistError::new(me, DistErrorKind::Solve, format!("rank {me} has no position for global id {g}")))
         }
-        None => Ok(coarse_at),
+        None => Ok((coarse_at, coarse_flags)),
     };
     agree(coarse.halo.comm(), checked)
 }

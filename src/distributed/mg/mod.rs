@@ -10,15 +10,15 @@
 //! and forms the coarse operator as the Galerkin product Pᵀ A P across ranks (`galerkin`), so no
 //! coarse level needs a mesh: the Laplacian's and the spring's levels, as serially.
 //! The biharmonic's levels follow K's coarsening instead, interpolated by the same rule on K's
-//! graph (`donors`), each A = K V⁻¹ K assembled across ranks (`biharmonic`; under wall layers
-//! from the first coarse level on the Galerkin product of the level above, and in 2D rows along
-//! the lines, `along_lines`), and its cycle is a W-cycle. A coarse level with few unknowns per rank
-//! is moved onto fewer ranks, which carry it and the levels below on a communicator of their
-//! own (`agglomerate`, with the values moved by `mover`); once a level is small it is gathered
-//! onto one rank and solved there by a dense factor (`gathered`). With slip walls one hierarchy
-//! carries every component (`Multigrid::build_group`): each level keeps each component's flags
-//! and the slip frames its unknowns inherit, each group of components is smoothed with its
-//! projection on every level and its coarsest level is factored coupled (`coupled`). The
+//! graph (`donors`), each A = K V⁻¹ K assembled across ranks (`biharmonic`; below the second coarse
+//! level, and under wall layers, the Galerkin product of the level above, in 2D from the first
+//! coarse level on with rows along the lines, `along_lines`), and its cycle is a W-cycle. A coarse
+//! level with few unknowns per rank is moved onto fewer ranks, which carry it and the levels below
+//! on a communicator of their own (`agglomerate`, with the values moved by `mover`); once a level
+//! is small it is gathered onto one rank and solved there by a dense factor (`gathered`). With slip
+//! walls one hierarchy carries every component (`Multigrid::build_group`): each level keeps each
+//! component's flags and the slip frames its unknowns inherit, each group of components is smoothed
+//! with its projection on every level and its coarsest level is factored coupled (`coupled`). The
 //! smoother is the serial multigrid's Chebyshev–Jacobi smoother on owned rows, run through the
 //! level's `GroupOp` and halo layout.
 
@@ -75,6 +75,14 @@ const GATHER_ROWS: u64 = 400;
 /// work to each of them, so the threshold sits where the weak-scaling model of
 /// docs/PERFORMANCE.md finds an iteration cheapest.
 pub(crate) const ROWS_PER_RANK: u64 = 200;
+
+/// How many of the biharmonic's coarse levels, the first ones, are made as K_c V_c⁻¹ K_c at most;
+/// each level below them is the Galerkin product Pᵀ A P of the level above. The guide interpolates
+/// the wall's dropped CLAMPED vertices from free donors too, so its K_c holds coarse functions that
+/// move the wall, which the cycle's corrections never do: K_c V_c⁻¹ K_c then underestimates A next
+/// to a CLAMPED wall, more on each level made from K_c, and a deep level's correction overshoots
+/// there (docs/DESIGN.md §5, "The biharmonic's levels").
+const KVK_LEVELS: usize = 2;
 
 /// A coarse level that keeps more than this share of its fine level's unknowns ends the
 /// coarsening: another level would cost nearly as much as the one above it.
@@ -220,12 +228,12 @@ impl Multigrid {
     /// `per_rank` unknowns per rank (collective; every rank returns the same result).
     ///
     /// With `Coarsening::Guide` (the biharmonic's K, V and positions beside its A = K V⁻¹ K) each
-    /// coarse level is made from the guide's (`biharmonic::coarsen`; under lines from the first
-    /// coarse level on the Galerkin product of the level above, `assembled_below`); with
-    /// `Coarsening::Galerkin`, by the Galerkin product of the level above. `lines` are the
-    /// finest level's lines across wall layers over its owned unknowns (`owned_lines`; none on
-    /// meshes without such layers), smoothed as blocks there and on the coarse levels that keep
-    /// them (`lines`).
+    /// coarse level is made from the guide's (`biharmonic::coarsen`; below `KVK_LEVELS`, and under
+    /// lines, the Galerkin product of the level above, `assembled_below`, in 2D from the first
+    /// coarse level on); with `Coarsening::Galerkin`, by the Galerkin product of the level above.
+    /// `lines` are the finest level's lines across wall layers over its owned unknowns
+    /// (`owned_lines`; none on meshes without such layers), smoothed as blocks there and on the
+    /// coarse levels that keep them (`lines`).
     pub(crate) fn build(
         fine: OwnedRows,
         coarsening: Coarsening,
@@ -569,13 +577,13 @@ fn levels_of(
             (Some(g), false) => {
                 // The serial rule on the level's lines over all its ranks (collective over them;
                 // asked only where it decides).
-                // Under wall layers the first coarse level is assembled too, where the serial
-                // hierarchy keeps K_c V_c⁻¹ K_c: the distributed levels leave the prescribed
-                // vertices out, so their K_c V_c⁻¹ K_c holds S at zero next to a CLAMPED wall,
-                // where the layers are (docs/DESIGN.md §5, "Wall layers across ranks").
-                let kept = layered || !levels.is_empty();
+                // Under wall layers in 2D, whose levels interpolate along the lines, the first
+                // coarse level is assembled too, where the serial hierarchy keeps K_c V_c⁻¹ K_c
+                // (docs/DESIGN.md §5, "Wall layers across ranks").
+                let kept = along || !levels.is_empty();
                 let lined = kept && !assembled && any_lines(current.halo.comm(), &lines);
-                let below = assembled_below(kept, lined, assembled);
+                // Below the first `KVK_LEVELS` coarse levels, the product on every mesh.
+                let below = assembled_below(kept, lined, assembled) || levels.len() >= KVK_LEVELS;
                 match biharmonic::coarsen(&current, g, below, along.then_some(&segments))? {
                     Some((next, prolong, next_guide)) => {
                         guide = Some(next_guide);
@@ -616,7 +624,10 @@ fn levels_of(
         let sent_guide = guide.take().map(|g| {
             let mut mass = vec![0.0; landing.mover.len()];
             landing.mover.gather(&g.mass[..landing.mover.count()], &mut mass);
-            (agglomeration.send(&g.k), mass, g.at.moved(&landing.mover))
+            let mine: Vec<f64> = g.flags[..landing.mover.count()].iter().map(|&f| f64::from(f)).collect();
+            let mut flags = vec![0.0; landing.mover.len()];
+            landing.mover.gather(&mine, &mut flags);
+            (agglomeration.send(&g.k), (mass, flags), g.at.moved(&landing.mover))
         });
         let moved_at = at.take().map(|a| a.moved(&landing.mover));
         let moved_segments = lines::moved_lines(&next_segments, &landing.mover, next.halo.comm().rank());
@@ -625,13 +636,17 @@ fn levels_of(
         let Some(moved) = agglomeration.assemble(&sent)? else {
             return Ok((levels, None));
         };
-        if let Some((sent, mut mass, mut at)) = sent_guide {
+        if let Some((sent, (mut mass, moved_flags), mut at)) = sent_guide {
             let k = agglomeration.assemble(&sent)?.ok_or_else(|| lost(&moved))?;
             mass.resize(k.halo.len(), 0.0);
             k.halo.refresh(&mut mass);
+            // The flags are 0–3, exact in f64.
+            let mut flags: Vec<u8> = moved_flags.iter().map(|&f| f as u8).collect();
+            flags.resize(k.halo.len(), 0);
+            k.halo.refresh(&mut flags);
             at.coords.resize(k.halo.len(), [0.0; 3]);
             at.refresh(&k.halo);
-            guide = Some(Guide { k, mass, at });
+            guide = Some(Guide { k, flags, mass, at });
         }
         if let Some(mut a) = moved_at {
             a.coords.resize(moved.halo.len(), [0.0; 3]);
