@@ -1,5 +1,5 @@
 //! Where each unknown lies on the lines across wall layers (`multigrid::lines`), for the
-//! selection of kept unknowns (`lsq::select`) on hierarchies that interpolate along the lines.
+//! selection of kept unknowns (`lsq::select`) on the biharmonic's hierarchies with lines.
 //!
 //! The general rule drops an unknown when any strong neighbour that may interpolate it is kept.
 //! On a geometrically graded layer the wall lies within the strong reach of every unknown of a
@@ -13,6 +13,12 @@
 //! outward, so the first layer's unknown goes for the wall's and each kept unknown drops the
 //! next ones out along its line that it couples strongly (one on the finest level, one or two on
 //! a Galerkin level, whose graph reaches further).
+//!
+//! The rule is the same in 3D. There the general rule also drops a line's unknowns for the
+//! kept unknowns of the lines beside it (a wing's layers, whose cells are long along the span
+//! and shorter along the chord, couple their lines more strongly along the chord than the
+//! reach counts for the span): coarsened along their lines only, the layers keep every line on
+//! every level, as in 2D.
 
 use super::along_lines::end_neighbour;
 use super::Features;
