@@ -30,9 +30,9 @@ fn airfoil_biharmonic_takes_a_bounded_number_of_iterations() {
 }
 
 /// The wing section (the airfoil extruded between two SLIP end walls, hexahedral layers): its
-/// kept levels keep its lines, coarsened along them only, and stop at four, the coarsest
-/// smoothed rather than factored (docs/DESIGN.md §5); the smallest size's pitch holds a fixed
-/// count, the polish of its trailing edge included when its 1e-8 result inverts cells there.
+/// kept levels keep its lines where their unknowns couple along them, and coarsen on to a
+/// factored coarsest level (docs/DESIGN.md §5); the smallest size's pitch holds a fixed count,
+/// the polish of its trailing edge included when its 1e-8 result inverts cells there.
 #[test]
 fn wing_biharmonic_takes_a_bounded_number_of_iterations() {
     let v = wing_3d(&WingParams::new(32, 4)).unwrap();

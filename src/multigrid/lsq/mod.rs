@@ -166,12 +166,18 @@ fn select(k: &CsrMatrix, f: &Features, points: &[f64], lines: Option<&OnLines>) 
             None => (f.feature_dim(d), pair(d), d),
         }
     });
-    let may_drop_for = |v: usize, u: usize| lines.is_none_or(|o| o.may_drop_for(v, u));
     let mut kept = vec![false; n];
+    let mut near: Vec<u32> = Vec::new();
     for &v in &order {
         let v = v as usize;
         let rel = |u: usize| f.relative(v, u, at(v), at(u));
-        if !strong(k, f, v, rel).any(|u| kept[u as usize] && f.donor_ok(v, u as usize) && may_drop_for(v, u as usize)) {
+        near.clear();
+        near.extend(strong(k, f, v, rel));
+        // An unknown on a line keeps to it (`OnLines::may_drop_for`), in 3D only while it is
+        // coupled strongly along it (`OnLines::keeps_to_line`).
+        let along = lines.filter(|o| o.keeps_to_line(v, &near));
+        let may_drop_for = |u: usize| along.is_none_or(|o| o.may_drop_for(v, u));
+        if !near.iter().any(|&u| kept[u as usize] && f.donor_ok(v, u as usize) && may_drop_for(u as usize)) {
             kept[v] = true;
         }
     }

@@ -37,6 +37,9 @@ pub(super) struct OnLines {
     key: Vec<(u32, u32)>,
     /// Whether the unknown ends its line.
     end: Vec<bool>,
+    /// Whether a line's unknowns coupled strongly only off their line take the general rule
+    /// (3D, `keeps_to_line`).
+    across: bool,
 }
 
 impl OnLines {
@@ -47,7 +50,7 @@ impl OnLines {
         let at = |d: usize| &points[d * dim..(d + 1) * dim];
         let rel = |v: usize, u: usize| f.relative(v, u, at(v), at(u));
         let on_boundary = |u: usize| f.feature_dim(u) < dim;
-        let mut out = OnLines { line_of: vec![NONE; n], key: vec![(0, 0); n], end: vec![false; n] };
+        let mut out = OnLines { line_of: vec![NONE; n], key: vec![(0, 0); n], end: vec![false; n], across: dim == 3 };
         for l in 0..lines.len() {
             let line = lines.line(l);
             let last = line.len() - 1;
@@ -72,6 +75,14 @@ impl OnLines {
     /// The visiting key of unknown `d` when it is on a line (`key`).
     pub(super) fn key(&self, d: usize) -> Option<(u32, u32)> {
         (self.line_of[d] != NONE).then_some(self.key[d])
+    }
+
+    /// Whether unknown `v`, whose strong neighbours are `near`, keeps to its line
+    /// (`may_drop_for`): in 2D every unknown on a line; in 3D one with a strong neighbour on its
+    /// own line, and the others take the general rule.
+    pub(super) fn keeps_to_line(&self, v: usize, near: &[u32]) -> bool {
+        let lv = self.line_of[v];
+        lv != NONE && (!self.across || near.iter().any(|&u| self.line_of[u as usize] == lv))
     }
 
     /// Whether unknown `v` may be dropped for the kept unknown `u` (a strong neighbour that may
