@@ -67,6 +67,7 @@ impl Preconditioner for Blocks<'_, '_> {
         if self.multigrids.whole {
             // The multigrid of every component, its cycle over the group's.
             let comps = self.op.components();
+            // Every group has the one multigrid (`Hierarchies::whole`); without it, the identity.
             match self.multigrids.of(comps.start) {
                 Some(m) => m.apply_group(comps, r, z),
                 None => z.copy_from_slice(r),
@@ -75,6 +76,8 @@ impl Preconditioner for Blocks<'_, '_> {
         }
         if self.work.is_empty() {
             // Nothing couples the group's components or ties its rows: each component's own cycle.
+            // A component iterated on has its multigrid (`Hierarchies::build` makes it for every
+            // component with a nonzero right-hand side); without one, the identity.
             for (k, c) in self.op.components().enumerate() {
                 match self.multigrids.of(c) {
                     Some(m) => m.apply(block(r, n, k), block_mut(z, n, k)),
