@@ -70,6 +70,15 @@ pub enum RanksMethod {
     Biharmonic,
 }
 
+/// A mesh of the `ranks` part.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RanksMesh {
+    /// The hexahedral box (`--cells-3d` cells per side with `--quick`, twice as many without).
+    Box,
+    /// The graded sphere.
+    Sphere,
+}
+
 /// A method of the `steps` part.
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum StepsMethod {
@@ -188,6 +197,9 @@ pub struct Args {
     /// The methods of the `ranks` part, comma separated: laplacian, biharmonic.
     #[arg(long, value_delimiter = ',', default_value = "laplacian,biharmonic")]
     pub ranks_methods: Vec<RanksMethod>,
+    /// The meshes of the `ranks` part, comma separated: box, sphere.
+    #[arg(long, value_delimiter = ',', default_value = "box,sphere")]
+    pub ranks_meshes: Vec<RanksMesh>,
     /// Instead of running: write the 3D peer case (the hexahedral box of this many cells per
     /// side as box.msh, its motion as top.csv, the case as case.toml) to --out, for
     /// scripts/peer-openfoam.sh.

@@ -38,7 +38,7 @@ enum Command {
     /// Exit 0 when the coordinates of two .vtu files agree within a tolerance.
     Compare(compare::Args),
     /// Cost per solve of every method against a direct solve and plain Jacobi, 16k to 4M vertices.
-    Bench(bench::Args),
+    Bench(Box<bench::Args>),
 }
 
 fn main() -> ExitCode {

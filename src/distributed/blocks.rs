@@ -67,13 +67,22 @@ impl Preconditioner for Blocks<'_, '_> {
         if self.multigrids.whole {
             // The multigrid of every component, its cycle over the group's.
             let comps = self.op.components();
-            self.multigrids.of(comps.start).apply_group(comps, r, z);
+            // Every group has the one multigrid (`Hierarchies::whole`); without it, the identity.
+            match self.multigrids.of(comps.start) {
+                Some(m) => m.apply_group(comps, r, z),
+                None => z.copy_from_slice(r),
+            }
             return;
         }
         if self.work.is_empty() {
             // Nothing couples the group's components or ties its rows: each component's own cycle.
+            // A component iterated on has its multigrid (`Hierarchies::build` makes it for every
+            // component with a nonzero right-hand side); without one, the identity.
             for (k, c) in self.op.components().enumerate() {
-                self.multigrids.of(c).apply(block(r, n, k), block_mut(z, n, k));
+                match self.multigrids.of(c) {
+                    Some(m) => m.apply(block(r, n, k), block_mut(z, n, k)),
+                    None => block_mut(z, n, k).copy_from_slice(block(r, n, k)),
+                }
             }
             return;
         }
@@ -81,7 +90,11 @@ impl Preconditioner for Blocks<'_, '_> {
         smooth(op, self.sm, r, z, &mut self.work, &mut self.coefficients, Start::Zero, false);
         op.residual(r, z, &mut self.r, &mut self.s);
         for (k, c) in op.components().enumerate() {
-            self.multigrids.of(c).coarse_correction(block(&self.r, n, k), block_mut(&mut self.e, n, k));
+            let e = block_mut(&mut self.e, n, k);
+            match self.multigrids.of(c) {
+                Some(m) => m.coarse_correction(block(&self.r, n, k), e),
+                None => e.iter_mut().for_each(|e| *e = 0.0),
+            }
         }
         op.project(&mut self.e);
         z.iter_mut().zip(&self.e).for_each(|(z, e)| *z += e);

@@ -1,6 +1,8 @@
-//! The distributed multigrid of each component, built on the first solve from a reference and
-//! kept for every later solve from it: `advance` moves the reference and drops them, and the
-//! next solve builds them again, so a run pays for no hierarchy after its last step.
+//! The distributed multigrid of each component, built on the first solve from a reference that
+//! needs it and kept for every later solve from it: `advance` moves the reference and drops
+//! them, and the next solve builds them again, so a run pays for no hierarchy after its last
+//! step. A component whose system has a zero right-hand side is solved without iterations
+//! (`pcg`), so its multigrid waits for a solve that needs it.
 //!
 //! A solve takes the solver by shared reference (the solution depends on the reference and the
 //! motion alone), so the kept hierarchies sit behind a lock: building or reusing them changes
@@ -16,11 +18,11 @@ use std::sync::{Mutex, MutexGuard, PoisonError};
 /// The hierarchies of one reference: components whose flags agree on every rank share one.
 pub(crate) struct Hierarchies {
     multigrids: Vec<Multigrid>,
-    /// The index in `multigrids` of each component's.
-    of_component: Vec<usize>,
-    /// Unknowns and halo values per level of the first component's.
+    /// The index in `multigrids` of each component's, once built.
+    of_component: Vec<Option<usize>>,
+    /// Unknowns and halo values per level of the first multigrid built.
     pub(crate) sizes: Vec<LevelSize>,
-    /// The first component's coarsest level is gathered onto one rank.
+    /// The first multigrid built has its coarsest level gathered onto one rank.
     pub(crate) gathers: bool,
     /// Per group of components coupled by slip walls or periodic links and small enough to be
     /// gathered: its coupled solve on one rank (`mg::CoupledSolve`), which preconditions it in
@@ -35,32 +37,66 @@ pub(crate) struct Hierarchies {
 }
 
 impl Hierarchies {
-    /// Builds the multigrid of each of the components whose `flags` are given, from the finest
-    /// level `fine(c)` makes and its `lines` across wall layers, with at most `max_levels` levels smoothed by `smoothers`, coarse
-    /// levels agglomerated below `per_rank` unknowns per rank (collective; every rank returns
-    /// the same result).
+    /// No multigrid yet for any of `dim` components.
+    pub(crate) fn none(dim: usize) -> Hierarchies {
+        let of_component = vec![None; dim];
+        Hierarchies {
+            multigrids: Vec::new(),
+            of_component,
+            sizes: Vec::new(),
+            gathers: false,
+            coupled: Vec::new(),
+            whole: false,
+            layered: false,
+        }
+    }
+
+    /// Whether component `c` lacks the multigrid a solve of it needs.
+    pub(crate) fn lacks(&self, c: usize) -> bool {
+        !self.whole && self.of_component.get(c).is_some_and(Option::is_none)
+    }
+
+    /// Builds the multigrid of each component `needed` (the same on every rank) that has none,
+    /// whose `flags` are given, from the finest level `fine(c)` makes and its `lines` across
+    /// wall layers, with at most `max_levels` levels smoothed by `smoothers`, coarse levels
+    /// agglomerated below `per_rank` unknowns per rank (collective; every rank returns the same
+    /// result). A component whose flags equal those of a component with a multigrid on every
+    /// rank shares it: the build depends on the flags and the mesh alone.
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn build(
+        &mut self,
         halo: &HaloLayout,
         flags: &[Vec<u8>],
+        needed: &[bool],
         mut fine: impl FnMut(usize) -> Result<(OwnedRows, Coarsening), DistError>,
         lines: &Lines,
         max_levels: usize,
         smoothers: Smoothers,
         per_rank: u64,
-    ) -> Result<Hierarchies, DistError> {
-        let (mut multigrids, mut of_component) = (Vec::new(), Vec::with_capacity(flags.len()));
+    ) -> Result<(), DistError> {
         for c in 0..flags.len() {
-            // A component whose flags equal the previous one's on every rank shares its
-            // hierarchy; the decision is global, as the build is collective.
-            let share = c > 0 && max_over_ranks(halo.comm(), f64::from(u8::from(flags[c] != flags[c - 1]))) == 0.0;
-            if !share {
-                let (rows, coarsening) = fine(c)?;
-                multigrids.push(Multigrid::build(rows, coarsening, lines.clone(), max_levels, smoothers, per_rank)?);
+            if needed.get(c) != Some(&true) || !self.lacks(c) {
+                continue;
             }
-            of_component.push(multigrids.len() - 1);
+            // The decision is global, as the build is collective.
+            let same = |e: usize| max_over_ranks(halo.comm(), f64::from(u8::from(flags[c] != flags[e]))) == 0.0;
+            let built = |e: usize| self.of_component[e].map(|k| (e, k));
+            let shared = (0..flags.len()).filter_map(built).find(|&(e, _)| same(e)).map(|(_, k)| k);
+            let k = match shared {
+                Some(k) => k,
+                None => {
+                    let (rows, coarsening) = fine(c)?;
+                    let mg = Multigrid::build(rows, coarsening, lines.clone(), max_levels, smoothers, per_rank)?;
+                    if self.multigrids.is_empty() {
+                        (self.sizes, self.gathers) = (mg.sizes(), mg.gathers());
+                    }
+                    self.multigrids.push(mg);
+                    self.multigrids.len() - 1
+                }
+            };
+            self.of_component[c] = Some(k);
         }
-        let (sizes, gathers) = multigrids.first().map(|m| (m.sizes(), m.gathers())).unwrap_or_default();
-        Ok(Hierarchies { multigrids, of_component, sizes, gathers, coupled: Vec::new(), whole: false, layered: false })
+        Ok(())
     }
 
     /// The hierarchies of a mesh of `dim` components with slip walls: the one `multigrid` over
@@ -68,7 +104,7 @@ impl Hierarchies {
     /// own components (collective).
     pub(crate) fn whole(multigrid: Multigrid, dim: usize) -> Hierarchies {
         let (sizes, gathers) = (multigrid.sizes(), multigrid.gathers());
-        let of_component = vec![0; dim];
+        let of_component = vec![Some(0); dim];
         Hierarchies {
             multigrids: vec![multigrid],
             of_component,
@@ -80,9 +116,10 @@ impl Hierarchies {
         }
     }
 
-    /// Component `c`'s multigrid.
-    pub(crate) fn of(&mut self, c: usize) -> &mut Multigrid {
-        &mut self.multigrids[self.of_component[c]]
+    /// Component `c`'s multigrid, once built.
+    pub(crate) fn of(&mut self, c: usize) -> Option<&mut Multigrid> {
+        let k = self.of_component.get(c).copied().flatten()?;
+        self.multigrids.get_mut(k)
     }
 }
 

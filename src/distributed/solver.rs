@@ -105,8 +105,9 @@ pub struct DistSolution {
     pub quality: Quality,
     /// The rank whose owned cells hold the smallest area (volume) ratio (the lowest such rank).
     pub worst_rank: usize,
-    /// Unknowns of each level of the first component's multigrid over all ranks, finest first
-    /// (the finest level's are the vertices not prescribed); empty with one level.
+    /// Unknowns of each level of the first multigrid built over all ranks (the first
+    /// component's whose system has a nonzero right-hand side: a zero one needs none), finest
+    /// first (the finest level's are the vertices not prescribed); empty with one level.
     pub level_rows: Vec<u64>,
     /// Values all ranks send per halo exchange of one vector, on each level.
     pub level_halo_values: Vec<u64>,
@@ -365,9 +366,22 @@ impl DistributedSolver {
         let sm = Smoother::Fourth { degree: smoother_degrees(&self.params, method, dim, false).0 };
         let mut total = vec![0.0; nv * dim];
         let (mut iterations, mut worst, mut failure) = (Vec::with_capacity(dim), 0.0f64, None);
+        // Each group's system, and whether conjugate gradients iterate on it: a zero
+        // right-hand side is solved without (`pcg`), so its components need no multigrid.
+        let groups = self.level.groups();
+        let systems: Vec<_> = groups
+            .iter()
+            .map(|comps| self.group_system(&GroupOp::new(&self.level, comps.clone(), false), &rhs, guess))
+            .collect();
+        let mut needed = vec![false; dim];
+        for (comps, (b, _, _)) in groups.iter().zip(&systems) {
+            if GroupOp::new(&self.level, comps.clone(), false).norm(b) != 0.0 {
+                comps.clone().for_each(|c| needed[c] = true);
+            }
+        }
         let mut kept = self.multigrids.lock();
-        if self.multigrid_pays() && kept.is_none() {
-            let fine = |c| self.fine_rows(c);
+        let lacking = kept.as_ref().is_none_or(|h| (0..dim).any(|c| needed[c] && h.lacks(c)));
+        if self.multigrid_pays() && lacking {
             let lines = self.lines();
             let layered = any_lines(halo.comm(), &lines);
             let (fine_degree, coarse_degree) = smoother_degrees(&self.params, method, dim, layered);
@@ -375,19 +389,17 @@ impl DistributedSolver {
                 fine: Smoother::Fourth { degree: fine_degree },
                 coarse: Smoother::Fourth { degree: coarse_degree },
             };
-            let max_levels = self.params.max_levels;
-            let mut built = match self.slip_hierarchy(lines.clone(), smoothers)? {
-                Some(whole) => whole,
-                None => Hierarchies::build(
-                    halo,
-                    &self.level.flags,
-                    fine,
-                    &lines,
-                    max_levels,
-                    smoothers,
-                    self.params.agglomerate_below,
-                )?,
+            let whole = match kept.is_none() {
+                true => self.slip_hierarchy(lines.clone(), smoothers)?,
+                false => None,
             };
+            let mut built = match whole.or_else(|| kept.take()) {
+                Some(h) => h,
+                None => Hierarchies::none(dim),
+            };
+            let fine = |c| self.fine_rows(c);
+            let (max_levels, per_rank) = (self.params.max_levels, self.params.agglomerate_below);
+            built.build(halo, &self.level.flags, &needed, fine, &lines, max_levels, smoothers, per_rank)?;
             built.layered = layered;
             *kept = Some(built);
         }
@@ -395,9 +407,8 @@ impl DistributedSolver {
             h.coupled =
                 self.level.groups().into_iter().map(|comps| self.coupled_solve(comps)).collect::<Result<_, _>>()?;
         }
-        for (group, comps) in self.level.groups().into_iter().enumerate() {
+        for (group, (comps, (b, dp, mut x))) in groups.into_iter().zip(systems).enumerate() {
             let op = GroupOp::new(&self.level, comps.clone(), false);
-            let (b, dp, mut x) = self.group_system(&op, &rhs, guess);
             let mut one_level;
             let mut blocks;
             let pre: &mut dyn Preconditioner = match kept.as_mut() {

@@ -1,6 +1,6 @@
 //! `mpirun -np N meshmove bench --parts ranks --out DIR` (the `mpi` feature): the distributed
-//! solver on the hexahedral box of the 3D part (the 250k-vertex size; `--quick`: the 33k one) and
-//! the graded sphere of the graded part (tetrahedra, 240k vertices; `--quick`: 30k), with the
+//! solver on the hexahedral box of the 3D part (the 250k-vertex size; `--quick`: the 33k one;
+//! `--cells-3d` sets its smaller size) and the graded sphere of the graded part (tetrahedra, 240k vertices; `--quick`: 30k), with the
 //! Laplacian (conjugate gradients preconditioned by the distributed multigrid's V-cycle) and the
 //! biharmonic (by its W-cycle over K V⁻¹ K assembled across ranks; `--ranks-methods` picks), to
 //! `--tol`. Rank 0 makes
@@ -14,7 +14,7 @@
 //! the results are). Rank 0 appends the rows to `DIR/ranks.csv` and prints them.
 
 use super::cases::{self, Case};
-use super::{Args, RanksMethod};
+use super::{Args, RanksMesh, RanksMethod};
 use crate::distributed::{case, partition::partition, parts, wire};
 use meshmove::distributed::mpi::collective::SystemOperation;
 use meshmove::distributed::mpi::topology::SimpleCommunicator;
@@ -38,13 +38,13 @@ pub fn run(a: &Args) -> Result<(), String> {
     let universe = meshmove::distributed::mpi::initialize().ok_or("MPI is initialised already")?;
     let world = universe.world();
     let lead = world.rank() == 0;
-    let makers: [fn(bool) -> Case; 2] = [
-        |quick| cases::free_surface_box(if quick { cases::BASE_N_3D } else { 2 * cases::BASE_N_3D }, BoxCells::Hexes),
-        |quick| cases::graded_sphere(SPHERE[usize::from(quick)]),
-    ];
+    let make = |mesh: RanksMesh| match mesh {
+        RanksMesh::Box => cases::free_surface_box(if a.quick { a.cells_3d } else { 2 * a.cells_3d }, BoxCells::Hexes),
+        RanksMesh::Sphere => cases::graded_sphere(SPHERE[usize::from(a.quick)]),
+    };
     let mut csv = String::new();
-    for make in makers {
-        let case = lead.then(|| make(a.quick));
+    for &mesh in &a.ranks_meshes {
+        let case = lead.then(|| make(mesh));
         for m in &a.ranks_methods {
             let method = match m {
                 RanksMethod::Laplacian => Method::Laplacian,
