@@ -20,7 +20,7 @@
 //! spread start needs more iterations to find) the iteration continues to the full estimate,
 //! bitwise the one a new level gets, and calibrates the component again.
 
-use super::group::{padded, GroupOp, PowerIteration, POWER_ITERATIONS};
+use super::group::{padded, raised_on_lines, GroupOp, PowerIteration, POWER_ITERATIONS};
 use super::level::Level;
 use rayon::prelude::*;
 use std::sync::Arc;
@@ -123,7 +123,7 @@ pub(crate) fn biharmonic_estimates(level: &Level, own: &[usize], previous: Optio
                 Some(x) if full.is_some() && !lines => (x.into(), level.inv_d[c].as_slice().into()),
                 _ => Default::default(),
             };
-            (padded(full), Component { start, inv_d, scale: 1.0, shape, ratio })
+            (raised_on_lines(&op, padded(full)), Component { start, inv_d, scale: 1.0, shape, ratio })
         })
         .collect();
     let mut cal = vec![Component::default(); level.flags.len()];

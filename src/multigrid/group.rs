@@ -6,6 +6,7 @@
 
 use super::layout::Layout;
 use super::level::Level;
+use super::lanczos::upper_estimate;
 use super::line_smoother::LineBlocks;
 use crate::bc::{SlipFrames, P};
 use crate::operator::{LevelOperator, Method};
@@ -232,17 +233,48 @@ pub(crate) const POWER_ITERATIONS: usize = 15;
 
 /// Largest eigenvalue of D⁻¹ Π A on the group's free subspace by power iteration from a fixed
 /// start (deterministic), padded by 10% and capped at 1, the l1 bound's guarantee (D the point
-/// or line l1 preconditioner, `GroupOp::precondition`).
+/// or line l1 preconditioner, `GroupOp::precondition`); on a group with lines not below the
+/// Lanczos bound (`raised_on_lines`).
 pub(crate) fn estimate_lambda_max(op: &GroupOp) -> f64 {
     let mut power = PowerIteration::new(op);
     power.run(op, POWER_ITERATIONS);
-    padded(power.after(POWER_ITERATIONS))
+    raised_on_lines(op, padded(power.after(POWER_ITERATIONS)))
+}
+
+/// The padded power-iteration estimate `estimate` of `op`'s group, raised where a block is
+/// smoothed along lines to the Lanczos bound (`lanczos::upper_estimate`) when that lies above
+/// it: the power iteration from a spread start finds the lines' local top modes slowly, and
+/// the smoother's high-degree polynomial amplifies a mode above its interval.
+pub(crate) fn raised_on_lines(op: &GroupOp, estimate: f64) -> f64 {
+    if (0..op.len()).any(|k| op.lines(k).is_some()) {
+        estimate.max(upper_estimate(op))
+    } else {
+        estimate
+    }
 }
 
 /// The padded, capped estimate of an unpadded `lambda`; None (the power iteration met a
 /// vanishing iterate) gives the l1 bound 1.
 pub(crate) fn padded(lambda: Option<f64>) -> f64 {
     lambda.map_or(1.0, |l| (1.1 * l).clamp(0.05, 1.0))
+}
+
+/// The fixed, mode-rich start of the λmax estimates of `op`'s group: a cheap hash of the index
+/// (zero at prescribed unknowns), projected.
+pub(crate) fn fixed_start(op: &GroupOp) -> Vec<f64> {
+    let n = op.n();
+    let mut x: Vec<f64> = (0..op.len() * n)
+        .map(|k| {
+            let (b, i) = (k / n, k % n);
+            if op.flags(b)[i] & P != 0 {
+                0.0
+            } else {
+                ((k as u64).wrapping_mul(2654435761) % 1000) as f64 / 1000.0 - 0.5
+            }
+        })
+        .collect();
+    op.project(&mut x);
+    x
 }
 
 /// The power iteration of D⁻¹ Π A from the fixed start, run in stages (`run`): a run to k
@@ -259,20 +291,10 @@ pub(crate) struct PowerIteration {
 }
 
 impl PowerIteration {
-    /// The fixed, mode-rich start of `op`'s group: a cheap hash of the index, projected.
+    /// The power iteration of `op` from its group's fixed start (`fixed_start`).
     pub(crate) fn new(op: &GroupOp) -> Self {
+        let x = fixed_start(op);
         let (n, g) = (op.n(), op.len());
-        let mut x: Vec<f64> = (0..g * n)
-            .map(|k| {
-                let (b, i) = (k / n, k % n);
-                if op.flags(b)[i] & P != 0 {
-                    0.0
-                } else {
-                    ((k as u64).wrapping_mul(2654435761) % 1000) as f64 / 1000.0 - 0.5
-                }
-            })
-            .collect();
-        op.project(&mut x);
         PowerIteration { x, y: vec![0.0; g * n], s: vec![0.0; n], sol: Vec::new(), estimates: Vec::new(), vanished: false }
     }
 

@@ -10,6 +10,7 @@ pub mod cycle;
 pub mod group;
 pub mod hierarchy;
 mod lag;
+mod lanczos;
 pub(crate) mod layout;
 pub mod level;
 #[cfg(feature = "mpi")]
