@@ -245,8 +245,12 @@ pub(crate) fn estimate_lambda_max(op: &GroupOp) -> f64 {
 /// smoothed along lines to the Lanczos bound (`lanczos::upper_estimate`) when that lies above
 /// it: the power iteration from a spread start finds the lines' local top modes slowly, and
 /// the smoother's high-degree polynomial amplifies a mode above its interval.
+///
+/// The decision is every process's (the layout's maximum): across ranks the lines may sit on
+/// some ranks only, and the Lanczos run is collective.
 pub(crate) fn raised_on_lines(op: &GroupOp, estimate: f64) -> f64 {
-    if (0..op.len()).any(|k| op.lines(k).is_some()) {
+    let here = f64::from(u8::from((0..op.len()).any(|k| op.lines(k).is_some())));
+    if op.max_abs(&vec![here; op.n()]) > 0.0 {
         estimate.max(upper_estimate(op))
     } else {
         estimate
