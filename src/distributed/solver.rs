@@ -368,17 +368,20 @@ impl DistributedSolver {
         let (mut iterations, mut worst, mut failure) = (Vec::with_capacity(dim), 0.0f64, None);
         // Each group's system, and whether conjugate gradients iterate on it: a zero
         // right-hand side is solved without (`pcg`), so its components need no multigrid.
-        let groups = self.level.groups();
-        let systems: Vec<_> = groups
-            .iter()
-            .map(|comps| self.group_system(&GroupOp::new(&self.level, comps.clone(), false), &rhs, guess))
-            .collect();
         let mut needed = vec![false; dim];
-        for (comps, (b, _, _)) in groups.iter().zip(&systems) {
-            if GroupOp::new(&self.level, comps.clone(), false).norm(b) != 0.0 {
-                comps.clone().for_each(|c| needed[c] = true);
-            }
-        }
+        let systems: Vec<_> = self
+            .level
+            .groups()
+            .into_iter()
+            .map(|comps| {
+                let op = GroupOp::new(&self.level, comps.clone(), false);
+                let system = self.group_system(&op, &rhs, guess);
+                if op.norm(&system.0) != 0.0 {
+                    comps.clone().for_each(|c| needed[c] = true);
+                }
+                (comps, op, system)
+            })
+            .collect();
         let mut kept = self.multigrids.lock();
         let lacking = kept.as_ref().is_none_or(|h| (0..dim).any(|c| needed[c] && h.lacks(c)));
         if self.multigrid_pays() && lacking {
@@ -407,8 +410,7 @@ impl DistributedSolver {
             h.coupled =
                 self.level.groups().into_iter().map(|comps| self.coupled_solve(comps)).collect::<Result<_, _>>()?;
         }
-        for (group, (comps, (b, dp, mut x))) in groups.into_iter().zip(systems).enumerate() {
-            let op = GroupOp::new(&self.level, comps.clone(), false);
+        for (group, (comps, op, (b, dp, mut x))) in systems.into_iter().enumerate() {
             let mut one_level;
             let mut blocks;
             let pre: &mut dyn Preconditioner = match kept.as_mut() {
