@@ -80,6 +80,47 @@ fn main() {
             let t = Instant::now();
             let Some(a) = analyse_pair(h, &cp, comps.clone(), l, 1e-8, 12) else { continue };
             println!("{}; {:.1} s", a.summary(h), t.elapsed().as_secs_f64());
+            where_energy_lies(h, &a);
         }
+    }
+}
+
+/// The slow mode's energy (before, after the smoother, after the exact coarse correction) summed
+/// over bins of its unknowns' radius and over how many coordinates lie beyond 10 (the box's
+/// corners, where the O-grid's blocks stretch the cells, hold 3).
+fn where_energy_lies(h: &meshmove::multigrid::hierarchy::Hierarchy, a: &meshmove::multigrid::two_level::PairAnalysis) {
+    let level = &h.levels[a.level];
+    let points = level.unknown_points();
+    let edges = [0.0, 0.6, 1.0, 2.0, 5.0, 10.0, 20.0, f64::INFINITY];
+    let mut by_r = vec![[0.0f64; 4]; edges.len() - 1];
+    let mut by_corner = [[0.0f64; 4]; 4];
+    for i in 0..level.n() {
+        let x = &points[3 * i..3 * i + 3];
+        let r = (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt();
+        let b = edges.windows(2).position(|w| r >= w[0] && r < w[1]).unwrap_or(0);
+        let k = x.iter().filter(|v| v.abs() > 10.0).count();
+        for (bin, add) in [(&mut by_r[b], 1.0), (&mut by_corner[k], 1.0)] {
+            bin[0] += add;
+            bin[1] += a.density[i];
+            bin[2] += a.smoothed_density[i];
+            bin[3] += a.corrected_density[i];
+        }
+    }
+    for (b, v) in by_r.iter().enumerate() {
+        println!(
+            "  r in [{}, {}): {} unknowns, energy {:.3}, smoothed {:.3}, coarse-corrected {:.3}",
+            edges[b],
+            edges[b + 1],
+            v[0],
+            v[1],
+            v[2],
+            v[3]
+        );
+    }
+    for (k, v) in by_corner.iter().enumerate() {
+        println!(
+            "  {k} coordinates beyond 10: {} unknowns, energy {:.3}, smoothed {:.3}, coarse-corrected {:.3}",
+            v[0], v[1], v[2], v[3]
+        );
     }
 }
