@@ -5,7 +5,8 @@
 //! `cargo run --release -p meshmove-cases --example sphere_probe -- 25000 [METHODS] [PAIRS] [DEGREE] [COARSE_DEGREE] [COARSEST]`
 //! (METHODS: `b`, `l`, `s` letters, default `bl`; PAIRS: the two-level pairs' finer levels,
 //! comma-separated, none when empty or `-`; the Chebyshev degrees and
-//! the coarsest level's largest size the solver's own unless given).
+//! the coarsest level's largest size the solver's own unless given). Each pair's slow mode's
+//! energy is printed binned by radius and by the coordinates beyond 10 (the box's corners).
 
 use meshmove::multigrid::policy::CycleParams;
 use meshmove::multigrid::two_level::analyse_pair;
