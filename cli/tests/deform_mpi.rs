@@ -38,8 +38,7 @@ fn have_mpirun() -> bool {
 }
 
 /// `meshmove deform MESH --config DIR/case.toml -o DIR/OUT` serially (`ranks` 0) or under
-/// `mpirun -np ranks` (with a time limit, so a rank left waiting fails the test; a waiting rank
-/// yields its core rather than polling on it, as the cores are shared).
+/// `mpirun -np ranks` (with a time limit, so a rank left waiting fails the test).
 fn deform<S: AsRef<std::ffi::OsStr>>(ranks: usize, mesh: &str, dir: &Path, out: &str, extra: &[S]) -> Output {
     let exe = env!("CARGO_BIN_EXE_meshmove");
     let mut cmd = if ranks == 0 {
@@ -48,7 +47,6 @@ fn deform<S: AsRef<std::ffi::OsStr>>(ranks: usize, mesh: &str, dir: &Path, out: 
         let mut c = Command::new("timeout");
         c.args(["300", "mpirun", "--oversubscribe", "-np", &ranks.to_string(), exe]);
         c.env("OMPI_ALLOW_RUN_AS_ROOT", "1").env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1");
-        c.env("OMPI_MCA_mpi_yield_when_idle", "1");
         c
     };
     cmd.arg("deform")
