@@ -7,31 +7,34 @@ levels and halo values that `scripts/bench-ranks.sh` measured.
     scripts/ranks-model.py OUT/ranks.csv [CASE]
 
 CASE (default box-hex-3d) names the rows to read: its 2-rank biharmonic row gives the levels'
-coarsening ratios and the halo values per unknown of a cut face; the rest is read from the code
-(degrees, visits, exchanges per smoothing step, the agglomeration rule) and printed with the
-projection at 1 000 and 10 000 ranks of 50k, 100k and 200k vertices.
+coarsening ratios, the halo values per unknown of a cut face and the iterations of a solve; the
+rest is read from the code (degrees, visits, exchanges per smoothing step, the agglomeration rule)
+and printed with the projection at 1 000 and 10 000 ranks of 50k, 100k and 200k vertices.
 """
 import csv
 import math
 import sys
 
-DEGREE = 8  # the biharmonic's smoothing degree on every level (no lines)
+# The biharmonic's smoothing degrees (finest level, coarse levels): 8 on every level without
+# lines, the serial degrees under wall layers in 3D (the graded sphere's lines).
+DEGREES = {"box-hex-3d": (8, 8), "graded-sphere-3d": (10, 16)}
 VISITS = 2  # W-cycle: two visits of every coarse level but a gathered one
 PER_RANK = 200  # a level with fewer unknowns per rank moves onto halved ranks
 GATHER = 400  # a level of at most this many unknowns is the coarsest, gathered on one rank
 NEIGHBOURS = 26  # partners of a part in a 3D arrangement of parts
 T_VERTEX = 2.0e-6  # s per fine vertex and iteration on one core, all levels (serial bench)
-ITERATIONS = 17  # the measured biharmonic count of the 250k box on 2 and 4 ranks
 
 
 def measured(path, case):
-    """The 2-rank biharmonic row: levels (unknowns) and halo values per exchange."""
+    """The 2-rank biharmonic row: levels (unknowns), halo values per exchange and iterations (of
+    the moving component, the largest of the components' counts)."""
     with open(path) as f:
         for row in csv.DictReader(f):
             if row["case"] == case and row["method"] == "Biharmonic" and row["ranks"] == "2":
                 levels = [int(v) for v in row["level_unknowns"].split(";")]
                 halo = [int(v) for v in row["level_halo_values"].split(";")]
-                return int(row["vertices"]), levels, halo
+                iterations = max(int(v) for v in row["iterations"].split(";"))
+                return int(row["vertices"]), levels, halo, iterations
     sys.exit(f"no 2-rank biharmonic row of {case} in {path}")
 
 
@@ -54,7 +57,7 @@ def hierarchy(n_fine, ratios, ranks):
         k += 1
 
 
-def model(n, ranks, ratios, faces, alpha, beta, v_moved=False):
+def model(n, ranks, ratios, faces, alpha, beta, degrees, v_moved=False):
     """Per level: (unknowns per rank, ranks, cycles, exchanges, compute s, communication s);
     `v_moved`: the levels moved onto fewer ranks visited once (a V-cycle below the W)."""
     sizes, holders = hierarchy(n * ranks, ratios, ranks)
@@ -72,7 +75,7 @@ def model(n, ranks, ratios, faces, alpha, beta, v_moved=False):
         if l == depth - 1:
             exchanges = 0
         else:
-            exchanges = cycles[l] * 2 * DEGREE + (cycles[l] - (cycles[l - 1] if l else 1))
+            exchanges = cycles[l] * 2 * degrees[min(l, 1)] + (cycles[l] - (cycles[l - 1] if l else 1))
         if l == 0:
             exchanges += 2
         if l:
@@ -94,24 +97,25 @@ def model(n, ranks, ratios, faces, alpha, beta, v_moved=False):
 def main():
     path = sys.argv[1]
     case = sys.argv[2] if len(sys.argv) > 2 else "box-hex-3d"
-    vertices, levels, halo = measured(path, case)
+    vertices, levels, halo, iterations = measured(path, case)
+    degrees = DEGREES.get(case, DEGREES["box-hex-3d"])
     ratios = [levels[0] / vertices] + [levels[i + 1] / levels[i] for i in range(len(levels) - 2)]
     # values per unknown of the cut face: both ranks' sends over 2 N_l^(2/3)
     faces = [h / (2 * s ** (2 / 3)) for h, s in zip(halo[:-1], levels[:-1])]
     print(f"{case}: ratios {', '.join(f'{r:.3f}' for r in ratios)}; "
           f"halo values per face unknown {', '.join(f'{f:.2f}' for f in faces)}")
     # the time per unknown-cycle from one rank of the measured size
-    one = model(vertices, 1, ratios, faces, 0.0, 1.0)
+    one = model(vertices, 1, ratios, faces, 0.0, 1.0, degrees)
     t_u = T_VERTEX * vertices / sum(r[4] for r in one)
     print("| ranks | vertices per rank | levels | ranks per level | latency exceeds work from level | "
-          f"compute ms | latency ms | bandwidth ms | ms / iteration | s per solve ({ITERATIONS} iterations) | "
+          f"compute ms | latency ms | bandwidth ms | ms / iteration | s per solve ({iterations} iterations) | "
           "finest level's share |")
     print("|---|---|---|---|---|---|---|---|---|---|---|")
     for ranks in (1, 1000, 10000):
         for n in (50_000, 100_000, 200_000):
             for alpha, beta in ((1.5e-6, 10e9),):
-                rows = model(n, ranks, ratios, faces, alpha, beta)
-                lat = model(n, ranks, ratios, faces, alpha, math.inf)
+                rows = model(n, ranks, ratios, faces, alpha, beta, degrees)
+                lat = model(n, ranks, ratios, faces, alpha, math.inf, degrees)
                 comp = [r[4] * t_u for r in rows]
                 latency = [r[5] for r in lat]
                 comm = [r[5] for r in rows]
@@ -124,13 +128,13 @@ def main():
                 print(f"| {ranks} | {n // 1000}k | {len(rows)} | {', '.join(str(r[1]) for r in rows)} | "
                       f"{'—' if first is None else first} | {1e3 * sum(comp):.1f} | {1e3 * sum(latency):.1f} | "
                       f"{1e3 * (sum(comm) - sum(latency)):.1f} | {1e3 * total:.1f} | "
-                      f"{ITERATIONS * total:.2f} | {100 * (comp[0] + comm[0]) / total:.0f} % |")
+                      f"{iterations * total:.2f} | {100 * (comp[0] + comm[0]) / total:.0f} % |")
     print()
     print("Per level at 10 000 ranks of 100k vertices (alpha 1.5 us, beta 10 GB/s):")
     print("| level | unknowns per rank | ranks | cycles | exchanges | messages per exchange per rank | "
           "compute ms | communication ms |")
     print("|---|---|---|---|---|---|---|---|")
-    rows = model(100_000, 10000, ratios, faces, 1.5e-6, 10e9)
+    rows = model(100_000, 10000, ratios, faces, 1.5e-6, 10e9, degrees)
     for l, r in enumerate(rows):
         print(f"| {l} | {r[0]:.0f} | {r[1]} | {r[2]} | {r[3]} | {min(NEIGHBOURS, r[1] - 1)} | "
               f"{1e3 * r[4] * t_u:.2f} | {1e3 * r[5]:.2f} |")
@@ -139,15 +143,15 @@ def main():
           "alpha 1.5 us, beta 10 GB/s, at the same iterations:")
     for ranks in (1000, 10000):
         for n in (50_000, 100_000, 200_000):
-            rows = model(n, ranks, ratios, faces, 1.5e-6, 10e9, v_moved=True)
+            rows = model(n, ranks, ratios, faces, 1.5e-6, 10e9, degrees, v_moved=True)
             comp = sum(r[4] for r in rows) * t_u
             comm = sum(r[5] for r in rows)
             print(f"| {ranks} | {n // 1000}k | {1e3 * comp:.1f} | {1e3 * comm:.1f} | {1e3 * (comp + comm):.1f} | "
-                  f"{ITERATIONS * (comp + comm):.2f} |")
+                  f"{iterations * (comp + comm):.2f} |")
     print()
     for alpha, beta in ((1e-6, 25e9), (2e-6, 10e9)):
         for ranks in (1000, 10000):
-            rows = model(100_000, ranks, ratios, faces, alpha, beta)
+            rows = model(100_000, ranks, ratios, faces, alpha, beta, degrees)
             total = sum(r[4] * t_u + r[5] for r in rows)
             print(f"alpha {alpha * 1e6:.0f} us, beta {beta / 1e9:.0f} GB/s, {ranks} ranks of 100k: "
                   f"{1e3 * total:.1f} ms / iteration, communication {1e3 * sum(r[5] for r in rows):.1f} ms")
