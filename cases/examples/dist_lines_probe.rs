@@ -7,14 +7,15 @@
 //! largest difference from the serial displacement relative to the motion. Arguments: the mesh
 //! names to run (all without one; `airfoil:N:pitch` or `airfoil:N:plunge` the airfoil of N
 //! points a side so moved), `tol=T` (repeatable; 1e-12 and 1e-14 without one),
-//! `method=biharmonic` or `method=laplacian` (both without one) and `max=N` the most
-//! distributed iterations (2000 without one).
+//! `method=biharmonic` or `method=laplacian` (both without one), `max=N` the most
+//! distributed iterations (2000 without one) and `gather=N` the size of the level gathered
+//! onto one rank (the solver's default without one).
 #[path = "common/against_serial.rs"]
 mod against_serial;
 #[path = "../../tests/slabs/mod.rs"]
 mod slabs;
 
-use against_serial::{compare, methods, most_iterations};
+use against_serial::{compare, methods, solve_params};
 use meshmove::distributed::mpi::traits::*;
 use meshmove_cases::setups::{case, CaseSetup, Scale};
 use meshmove_cases::setups3d::case3d;
@@ -45,7 +46,7 @@ fn main() {
         };
         let owner = slabs::slabs_across_x(&setup.mesh.to_data(), size);
         let given = (&setup.mesh, &setup.bcs, &setup.motion);
-        compare(&world, name, given, &owner, &methods, &tols, most_iterations(&args));
+        compare(&world, name, given, &owner, &methods, &tols, solve_params(&args));
     }
 }
 

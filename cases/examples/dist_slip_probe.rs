@@ -5,13 +5,14 @@
 //! Laplacian to 1e-12 on slabs across x, and prints per solve the distributed iterations beside
 //! the serial cycles, the largest difference from the serial displacement relative to the motion
 //! and the level sizes. Arguments: the case names to run (all without one) and
-//! `method=biharmonic` or `method=laplacian` (both without one).
+//! `method=biharmonic` or `method=laplacian` (both without one); `max=N` and `gather=N` as
+//! `dist_lines_probe`'s.
 #[path = "common/against_serial.rs"]
 mod against_serial;
 #[path = "../../tests/slabs/mod.rs"]
 mod slabs;
 
-use against_serial::{compare, methods, most_iterations};
+use against_serial::{compare, methods, solve_params};
 use meshmove::distributed::mpi::traits::*;
 use meshmove::{BoundaryConditions, Kind, Mesh, MeshData, Motion};
 use meshmove_cases::setups::{case, Scale};
@@ -43,7 +44,7 @@ fn main() {
         // The annulus on the slabs of `tests/distributed.rs`, the cases on those of theirs.
         let d = mesh.to_data();
         let owner = if *name == ANNULUS { slabs::slab_owner(&d, size) } else { slabs::slabs_across_x(&d, size) };
-        compare(&world, name, (&mesh, &bcs, &motion), &owner, &methods(&args), &[1e-12], most_iterations(&args));
+        compare(&world, name, (&mesh, &bcs, &motion), &owner, &methods(&args), &[1e-12], solve_params(&args));
     }
 }
 

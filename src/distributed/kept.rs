@@ -10,7 +10,7 @@
 
 use super::error::DistError;
 use super::halo::HaloLayout;
-use super::mg::{Coarsening, CoupledSolve, LevelSize, Multigrid, OwnedRows, Smoothers};
+use super::mg::{Coarsening, CoupledSolve, LevelSize, Limits, Multigrid, OwnedRows, Smoothers};
 use super::reduce::max_over_ranks;
 use crate::multigrid::lines::Lines;
 use std::sync::{Mutex, MutexGuard, PoisonError};
@@ -58,9 +58,8 @@ impl Hierarchies {
 
     /// Builds the multigrid of each component `needed` (the same on every rank) that has none,
     /// whose `flags` are given, from the finest level `fine(c)` makes and its `lines` across
-    /// wall layers, with at most `max_levels` levels smoothed by `smoothers`, coarse levels
-    /// agglomerated below `per_rank` unknowns per rank (collective; every rank returns the same
-    /// result). A component whose flags equal those of a component with a multigrid on every
+    /// wall layers, as deep as `limits` allow, smoothed by `smoothers` (collective; every rank
+    /// returns the same result). A component whose flags equal those of a component with a multigrid on every
     /// rank shares it: the build depends on the flags and the mesh alone.
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn build(
@@ -70,9 +69,8 @@ impl Hierarchies {
         needed: &[bool],
         mut fine: impl FnMut(usize) -> Result<(OwnedRows, Coarsening), DistError>,
         lines: &Lines,
-        max_levels: usize,
+        limits: Limits,
         smoothers: Smoothers,
-        per_rank: u64,
     ) -> Result<(), DistError> {
         for c in 0..flags.len() {
             if needed.get(c) != Some(&true) || !self.lacks(c) {
@@ -86,7 +84,7 @@ impl Hierarchies {
                 Some(k) => k,
                 None => {
                     let (rows, coarsening) = fine(c)?;
-                    let mg = Multigrid::build(rows, coarsening, lines.clone(), max_levels, smoothers, per_rank)?;
+                    let mg = Multigrid::build(rows, coarsening, lines.clone(), limits, smoothers)?;
                     if self.multigrids.is_empty() {
                         (self.sizes, self.gathers) = (mg.sizes(), mg.gathers());
                     }

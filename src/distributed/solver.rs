@@ -25,8 +25,8 @@ use super::interfaces;
 use super::kept::{Hierarchies, Kept};
 use super::level_layout::Distribution;
 use super::mg::{
-    any_lines, biharmonic_rows, owned_lines, Coarsening, Components, CoupledSolve, Guide, Multigrid, OwnedRows,
-    Positions, Smoothers, ROWS_PER_RANK,
+    any_lines, biharmonic_rows, owned_lines, Coarsening, Components, CoupledSolve, Guide, Limits, Multigrid, OwnedRows,
+    Positions, Smoothers, GATHER_ROWS, ROWS_PER_RANK,
 };
 use super::pcg::{pcg, OneLevel, Preconditioner};
 use super::reduce::{gather, sum_in_rank_order};
@@ -75,11 +75,23 @@ pub struct DistSolveParams {
     /// never). Leave it at its default.
     #[doc(hidden)]
     pub agglomerate_below: u64,
+    /// Internal, for the library's tests: the first level with at most this many unknowns over
+    /// all ranks is the coarsest, gathered onto one rank and solved there (small values make
+    /// deep hierarchies on small meshes). Leave it at its default.
+    #[doc(hidden)]
+    pub gather_at_most: u64,
 }
 
 impl Default for DistSolveParams {
     fn default() -> Self {
-        DistSolveParams { tol: 1e-8, max_iterations: 5000, degree: 0, max_levels: 20, agglomerate_below: ROWS_PER_RANK }
+        DistSolveParams {
+            tol: 1e-8,
+            max_iterations: 5000,
+            degree: 0,
+            max_levels: 20,
+            agglomerate_below: ROWS_PER_RANK,
+            gather_at_most: GATHER_ROWS,
+        }
     }
 }
 
@@ -401,8 +413,7 @@ impl DistributedSolver {
                 None => Hierarchies::none(dim),
             };
             let fine = |c| self.fine_rows(c);
-            let (max_levels, per_rank) = (self.params.max_levels, self.params.agglomerate_below);
-            built.build(halo, &self.level.flags, &needed, fine, &lines, max_levels, smoothers, per_rank)?;
+            built.build(halo, &self.level.flags, &needed, fine, &lines, self.limits(), smoothers)?;
             built.layered = layered;
             *kept = Some(built);
         }
@@ -495,6 +506,12 @@ impl DistributedSolver {
         self.params.max_levels > 1
     }
 
+    /// How deep the multigrid goes and where its levels are held, from the parameters.
+    fn limits(&self) -> Limits {
+        let p = &self.params;
+        Limits { levels: p.max_levels, per_rank: p.agglomerate_below, gather: p.gather_at_most }
+    }
+
     /// The coupled solve gathered on one rank of the group `comps` (`mg::CoupledSolve`): for a
     /// group whose slip walls or periodic links couple what its components' multigrids solve
     /// apart, when it is small enough to gather (collective; None otherwise).
@@ -529,7 +546,7 @@ impl DistributedSolver {
         let flags = flags.iter().map(|f| (0..n).map(|i| if i < owned { f[i] } else { P | Z }).collect()).collect();
         let frames = LevelSlip { frames: slip.frames.clone(), bcs: None, coupled: slip.coupled };
         let components = Components { flags, slip: Some(frames) };
-        let mg = Multigrid::build_group(rows, coarsening, components, lines, self.params.max_levels, smoothers)?;
+        let mg = Multigrid::build_group(rows, coarsening, components, lines, self.limits(), smoothers)?;
         Ok(Some(Hierarchies::whole(mg, self.mesh.dim())))
     }
 

@@ -29,15 +29,23 @@ pub fn methods(args: &[String]) -> Vec<Method> {
     }
 }
 
-/// The most distributed iterations `args` allow (`max=N`; 2000 without one). A count no larger
-/// than the first solve's leaves no iterations for the polish of a tangled result.
-pub fn most_iterations(args: &[String]) -> usize {
-    args.iter().find_map(|a| a.strip_prefix("max=")?.parse().ok()).unwrap_or(2000)
+/// The distributed solve's parameters `args` give besides the tolerance: the most iterations
+/// (`max=N`; 2000 without one; a count no larger than the first solve's leaves no iterations
+/// for the polish of a tangled result) and the size of the level gathered onto one rank
+/// (`gather=N`; the default without one: smaller ones make deeper hierarchies).
+pub fn solve_params(args: &[String]) -> DistSolveParams {
+    let arg = |key: &str| args.iter().find_map(|a| a.strip_prefix(key)?.parse::<u64>().ok());
+    let default = DistSolveParams::default();
+    DistSolveParams {
+        max_iterations: arg("max=").map_or(2000, |m| m as usize),
+        gather_at_most: arg("gather=").unwrap_or(default.gather_at_most),
+        ..default
+    }
 }
 
 /// Solves `name` (`mesh` under `bcs` moved by `motion`) on the ranks' parts of it, each cell on
-/// the rank `owner` gives it, by every one of `methods` to every one of `tols` in at most `most`
-/// iterations, each against the serial solver (`against_serial`; collective).
+/// the rank `owner` gives it, by every one of `methods` to every one of `tols` with the other
+/// parameters of `params`, each against the serial solver (`against_serial`; collective).
 pub fn compare(
     world: &SimpleCommunicator,
     name: &str,
@@ -45,7 +53,7 @@ pub fn compare(
     owner: &[usize],
     methods: &[Method],
     tols: &[f64],
-    most: usize,
+    params: DistSolveParams,
 ) {
     let d = mesh.to_data();
     let dim = d.dim;
@@ -57,16 +65,17 @@ pub fn compare(
     let c = Compared { name, mesh, bcs, motion, dm: &dm, part: &p.global, local: &local };
     for &method in methods {
         for &tol in tols {
-            against_serial(world, &c, method, (tol, most));
+            against_serial(world, &c, method, DistSolveParams { tol, ..params });
         }
     }
 }
 
-/// Solves `c` by `method` to `tol` serially (rank 0) and on the ranks, and prints on rank 0 the
-/// distributed iterations beside the serial cycles, the largest difference from the serial
-/// displacement relative to the motion and the level sizes, or the distributed solve's error
-/// (collective).
-fn against_serial(world: &SimpleCommunicator, c: &Compared, method: Method, (tol, most): (f64, usize)) {
+/// Solves `c` by `method` to `params.tol` serially (rank 0) and on the ranks (with `params`),
+/// and prints on rank 0 the distributed iterations beside the serial cycles, the largest
+/// difference from the serial displacement relative to the motion and the level sizes, or the
+/// distributed solve's error (collective).
+fn against_serial(world: &SimpleCommunicator, c: &Compared, method: Method, params: DistSolveParams) {
+    let tol = params.tol;
     let (rank, size) = (world.rank() as usize, world.size() as usize);
     let (dim, nv) = (c.mesh.dim(), c.mesh.num_vertices());
     let mut reference = vec![0.0; nv * dim];
@@ -85,7 +94,6 @@ fn against_serial(world: &SimpleCommunicator, c: &Compared, method: Method, (tol
     root.broadcast_into(&mut reference[..]);
     root.broadcast_into(&mut cycles[..]);
     let scale = reference.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-    let params = DistSolveParams { tol, max_iterations: most, ..Default::default() };
     let solver = DistributedSolver::new(c.dm, c.bcs, method, params).expect("solver");
     let what = format!("{} ({nv} vertices) {method:?} to {tol:e} on {size} ranks", c.name);
     let sol = match solver.solve(c.local) {

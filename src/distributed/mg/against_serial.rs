@@ -55,8 +55,9 @@ fn one_cycle_against_serial() {
     let ds = DistributedSolver::new(&dm, &BoundaryConditions::new(), Method::Biharmonic, params).expect("dist");
     let (rows, guide) = ds.fine_rows(0).expect("rows");
     let sm = Smoother::Fourth { degree };
-    let mut mg = Multigrid::build(rows, guide, Lines::default(), 2, Smoothers { fine: sm, coarse: sm }, ROWS_PER_RANK)
-        .expect("mg");
+    let limits = Limits { levels: 2, per_rank: ROWS_PER_RANK, gather: GATHER_ROWS };
+    let mut mg =
+        Multigrid::build(rows, guide, Lines::default(), limits, Smoothers { fine: sm, coarse: sm }).expect("mg");
     let df = &mg.levels[0];
     let dgid = df.halo.owned();
     let ndf = df.level.n();

@@ -175,15 +175,16 @@ pub(crate) struct Guide {
 /// when no rank keeps an unknown (collective). With `lines` (the level's lines across wall
 /// layers, given on every rank or on none: the 2D hierarchies with lines) a dropped unknown on
 /// a line interpolates along it, cubic in the distance along the line, where the line gives its
-/// row (`along_lines`).
+/// row (`along_lines`). Couplings of K are strong at `theta` (`select::strong`).
 pub(super) fn coarsen(
     fine: &OwnedRows,
     guide: &Guide,
     galerkin: bool,
     lines: Option<&Lines>,
+    theta: f64,
 ) -> Result<Option<(OwnedRows, CsrMatrix, Guide)>, DistError> {
     let me = guide.k.halo.comm().rank();
-    let rows = interpolation(&guide.k, &guide.at, lines)?;
+    let rows = interpolation(&guide.k, &guide.at, lines, theta)?;
     let Some((k, to_coarse)) = product(&guide.k, &rows)? else {
         return Ok(None);
     };

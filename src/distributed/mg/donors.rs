@@ -76,11 +76,17 @@ impl Positions {
 /// The P rows of `m`'s owned unknowns in global terms (coarse global id, its owner, weight): a
 /// kept unknown (`select`) its own value, the dropped ones by the serial donor rule from the
 /// positions `at` of `m`'s local entries, or with `lines` (the level's, given on every rank or
-/// on none) along them where they can (`along_lines`) (collective).
-pub(super) fn interpolation(m: &OwnedRows, at: &Positions, lines: Option<&Lines>) -> Result<Vec<GlobalRow>, DistError> {
+/// on none) along them where they can (`along_lines`); couplings are strong at `theta`
+/// (`select::strong`) (collective).
+pub(super) fn interpolation(
+    m: &OwnedRows,
+    at: &Positions,
+    lines: Option<&Lines>,
+    theta: f64,
+) -> Result<Vec<GlobalRow>, DistError> {
     let (owned, me) = (m.halo.owned(), m.halo.comm().rank());
     let owners = m.halo.owner_ranks();
-    let strong = strong(m);
+    let strong = strong(m, theta);
     let state = select(m, &strong);
     let direct = weights(m, &strong, &state);
 

@@ -67,7 +67,7 @@ use std::sync::Arc;
 /// A level of this many unknowns over all ranks, or fewer, is gathered onto one rank and solved
 /// there directly: its dense factor is cheap, and below it the smoothed levels would do little
 /// local work per message.
-const GATHER_ROWS: u64 = 400;
+pub(crate) const GATHER_ROWS: u64 = 400;
 
 /// A coarse level with fewer unknowns than this per rank is moved onto fewer ranks
 /// (`agglomerate`): below a few hundred a rank's smoothing of a level costs less than the
@@ -83,6 +83,13 @@ pub(crate) const ROWS_PER_RANK: u64 = 200;
 /// to a CLAMPED wall, more on each level made from K_c, and a deep level's correction overshoots
 /// there (docs/DESIGN.md §5, "The biharmonic's levels").
 const KVK_LEVELS: usize = 2;
+
+/// The strong-coupling threshold (`select::strong`) of the biharmonic's first coarsening in 3D,
+/// above `select::THETA` of every other: fewer couplings are strong, so the first coarse level
+/// keeps more of the finest, as the serial kept levels do. The finest level pair makes the
+/// count, and the gentler first level brings the graded sphere and the bench's box to the serial
+/// count (docs/DESIGN.md §5, "The biharmonic's levels").
+const FIRST_THETA_3D: f64 = 0.75;
 
 /// A coarse level that keeps more than this share of its fine level's unknowns ends the
 /// coarsening: another level would cost nearly as much as the one above it.
@@ -107,6 +114,18 @@ pub(crate) enum Coarsening {
     Galerkin(Positions),
     /// The biharmonic's guide (`biharmonic::coarsen`).
     Guide(Guide),
+}
+
+/// How deep a hierarchy goes and where its levels are held.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Limits {
+    /// Most levels, the gathered one included.
+    pub(crate) levels: usize,
+    /// A coarse level with fewer unknowns than this per rank is moved onto fewer ranks (0 never).
+    pub(crate) per_rank: u64,
+    /// A level of at most this many unknowns over all ranks is the coarsest, gathered onto one
+    /// rank (`GATHER_ROWS`; the tests make deep hierarchies on small meshes with less).
+    pub(crate) gather: u64,
 }
 
 /// The smoothers of the finest level and of every coarser one.
@@ -223,9 +242,10 @@ pub(crate) struct Multigrid {
 }
 
 impl Multigrid {
-    /// Builds the hierarchy of the operator `fine` with at most `max_levels` levels (the gathered
-    /// one included), smoothed by `smoothers`, its coarse levels moved onto fewer ranks below
-    /// `per_rank` unknowns per rank (collective; every rank returns the same result).
+    /// Builds the hierarchy of the operator `fine` as deep as `limits` allow (its levels, the
+    /// gathered one included, and the size gathered), smoothed by `smoothers`, its coarse levels
+    /// moved onto fewer ranks below `limits.per_rank` unknowns per rank (collective; every rank
+    /// returns the same result).
     ///
     /// With `Coarsening::Guide` (the biharmonic's K, V and positions beside its A = K V⁻¹ K) each
     /// coarse level is made from the guide's (`biharmonic::coarsen`; below `KVK_LEVELS`, and under
@@ -238,11 +258,10 @@ impl Multigrid {
         fine: OwnedRows,
         coarsening: Coarsening,
         lines: Lines,
-        max_levels: usize,
+        limits: Limits,
         smoothers: Smoothers,
-        per_rank: u64,
     ) -> Result<Multigrid, DistError> {
-        Self::build_with(fine, coarsening, None, lines, max_levels, smoothers, per_rank)
+        Self::build_with(fine, coarsening, None, lines, limits, smoothers)
     }
 
     /// As `build`, over every component at once: the operator `fine` has the rows free in any
@@ -250,16 +269,18 @@ impl Multigrid {
     /// finest level, which every coarse level inherits from the level above. Each group of
     /// components is then smoothed on every level as one system with its slip projection Π
     /// (`GroupOp`), and its coarsest level gathered and factored coupled (`CoupledSolve`).
-    /// The levels are not agglomerated (their flags and frames stay with their owners).
+    /// The levels are not agglomerated (their flags and frames stay with their owners):
+    /// `limits.per_rank` is not read.
     pub(crate) fn build_group(
         fine: OwnedRows,
         coarsening: Coarsening,
         components: Components,
         lines: Lines,
-        max_levels: usize,
+        limits: Limits,
         smoothers: Smoothers,
     ) -> Result<Multigrid, DistError> {
-        Self::build_with(fine, coarsening, Some(components), lines, max_levels, smoothers, 0)
+        let limits = Limits { per_rank: 0, ..limits };
+        Self::build_with(fine, coarsening, Some(components), lines, limits, smoothers)
     }
 
     fn build_with(
@@ -267,9 +288,8 @@ impl Multigrid {
         coarsening: Coarsening,
         components: Option<Components>,
         lines: Lines,
-        max_levels: usize,
+        limits: Limits,
         smoothers: Smoothers,
-        per_rank: u64,
     ) -> Result<Multigrid, DistError> {
         let comm = fine.halo.shared_comm().clone();
         // The biharmonic's coarse operators K_c V_c⁻¹ K_c are softer than the Galerkin product of
@@ -279,7 +299,7 @@ impl Multigrid {
         let visits = if matches!(coarsening, Coarsening::Guide(_)) { 2 } else { 1 };
         // A failure on the ranks of an agglomerated level reaches the ranks idle below it here,
         // where every rank of the finest level meets again.
-        let built = levels_of(fine, coarsening, components, lines, max_levels, per_rank);
+        let built = levels_of(fine, coarsening, components, lines, limits);
         let (levels, coarsest) = agree(&comm, built)?;
         // Rank 0 holds every level (it receives the rows of every agglomeration).
         let gathers = matches!(coarsest, Some(Coarsest::Gathered(_) | Coarsest::Groups(_)));
@@ -545,8 +565,7 @@ fn levels_of(
     coarsening: Coarsening,
     components: Option<Components>,
     lines: Lines,
-    max_levels: usize,
-    per_rank: u64,
+    limits: Limits,
 ) -> Result<(Vec<DistLevel>, Option<Coarsest>), DistError> {
     let mut levels = Vec::new();
     // The current level's components, for a hierarchy of several.
@@ -570,7 +589,7 @@ fn levels_of(
     let along = layered && guide.as_ref().is_some_and(|g| g.at.dim == 2);
     loop {
         let rows = global_rows(&current);
-        let last = rows <= GATHER_ROWS || levels.len() + 1 >= max_levels.max(1);
+        let last = rows <= limits.gather || levels.len() + 1 >= limits.levels.max(1);
         let coarse = match (&guide, last) {
             (_, true) => None,
             (None, false) => galerkin_level(&current, &mut at)?,
@@ -584,7 +603,8 @@ fn levels_of(
                 let lined = kept && !assembled && any_lines(current.halo.comm(), &lines);
                 // Below the first `KVK_LEVELS` coarse levels, the product on every mesh.
                 let below = assembled_below(kept, lined, assembled) || levels.len() >= KVK_LEVELS;
-                match biharmonic::coarsen(&current, g, below, along.then_some(&segments))? {
+                let theta = if levels.is_empty() && g.at.dim == 3 { FIRST_THETA_3D } else { select::THETA };
+                match biharmonic::coarsen(&current, g, below, along.then_some(&segments), theta)? {
                     Some((next, prolong, next_guide)) => {
                         guide = Some(next_guide);
                         assembled = below;
@@ -595,19 +615,19 @@ fn levels_of(
             }
         };
         let Some((next, prolong)) = coarse else {
-            return coarsest((current, lines, band), comp, rows, levels);
+            return coarsest((current, lines, band), comp, (rows, limits.gather), levels);
         };
         let next_rows = global_rows(&next);
         if next_rows as f64 >= MIN_REDUCTION * rows as f64 {
-            return coarsest((current, lines, band), comp, rows, levels);
+            return coarsest((current, lines, band), comp, (rows, limits.gather), levels);
         }
         let next_segments = lines::kept_segments(&segments, &current.gids, &next);
         let next_lines = lines::smoothed(&next_segments);
         // A level small enough to gather goes onto one rank by its own solve.
         let ranks = next.halo.comm().size();
         // A hierarchy of several components keeps its levels on their ranks (`build_group`).
-        let stay = next_rows <= GATHER_ROWS || comp.is_some();
-        let shift = if stay { 0 } else { halvings(next_rows, ranks, per_rank) };
+        let stay = next_rows <= limits.gather || comp.is_some();
+        let shift = if stay { 0 } else { halvings(next_rows, ranks, limits.per_rank) };
         let digest = transfer_digest(&prolong, &current, &next.gids);
         if shift == 0 {
             let next_comp = comp.as_ref().map(|c| inherited(&current, &next, c));
@@ -665,7 +685,7 @@ fn galerkin_level(m: &OwnedRows, at: &mut Option<Positions>) -> Result<Option<(O
     let Some(here) = at.as_ref() else {
         return Ok(None);
     };
-    let rows = donors::interpolation(m, here, None)?;
+    let rows = donors::interpolation(m, here, None, select::THETA)?;
     let Some((next, prolong)) = galerkin::product(m, &rows)? else {
         return Ok(None);
     };
@@ -673,15 +693,16 @@ fn galerkin_level(m: &OwnedRows, at: &mut Option<Positions>) -> Result<Option<(O
     Ok(Some((next, prolong)))
 }
 
-/// The coarsest level `m` (`rows` unknowns over its ranks, its components `comp` for a
-/// hierarchy of several) after `levels`, and its solve (collective over its ranks).
+/// The coarsest level `m` (`rows` unknowns over its ranks, gathered when at most `gather`; its
+/// components `comp` for a hierarchy of several) after `levels`, and its solve (collective over
+/// its ranks).
 fn coarsest(
     (m, lines, band): (OwnedRows, Lines, usize),
     comp: Option<Components>,
-    rows: u64,
+    (rows, gather): (u64, u64),
     mut levels: Vec<DistLevel>,
 ) -> Result<(Vec<DistLevel>, Option<Coarsest>), DistError> {
-    if rows > GATHER_ROWS {
+    if rows > gather {
         levels.push(dist_level((m, lines, band), comp, None, None));
         return Ok((levels, Some(Coarsest::Smoothed)));
     }

@@ -19,14 +19,15 @@ pub(super) const DROPPED: u8 = 2;
 pub(super) const OUT: u8 = 3;
 
 /// A coupling −a_ij is strong when it is at least this share of the smaller of its two rows'
-/// largest couplings (see `strong`).
-const THETA: f64 = 0.25;
+/// largest couplings (see `strong`), on every level but the biharmonic's first in 3D.
+pub(super) const THETA: f64 = 0.25;
 
 /// The strong neighbours of each owned row (local columns): j ≠ i with −a_ij > 0 and
-/// −a_ij ≥ θ min(sᵢ, sⱼ), sᵢ the largest −a_ik of row i. A symmetric operator makes the relation
+/// −a_ij ≥ θ min(sᵢ, sⱼ) (θ = `theta`; `THETA` but on the biharmonic's first 3D coarsening),
+/// sᵢ the largest −a_ik of row i. A symmetric operator makes the relation
 /// symmetric across ranks (sⱼ of a halo column comes from its owner), which the rounds of
 /// `select` rely on to agree at partition boundaries.
-pub(super) fn strong(m: &OwnedRows) -> Vec<Vec<u32>> {
+pub(super) fn strong(m: &OwnedRows, theta: f64) -> Vec<Vec<u32>> {
     let (n, owned) = (m.halo.len(), m.halo.owned());
     let mut s = vec![0.0f64; n];
     for (i, si) in s.iter_mut().enumerate().take(owned) {
@@ -39,7 +40,7 @@ pub(super) fn strong(m: &OwnedRows) -> Vec<Vec<u32>> {
             let (cols, vals) = m.a.row(i);
             cols.iter()
                 .zip(vals)
-                .filter(|(&j, &v)| j as usize != i && -v > 0.0 && -v >= THETA * s[i].min(s[j as usize]))
+                .filter(|(&j, &v)| j as usize != i && -v > 0.0 && -v >= theta * s[i].min(s[j as usize]))
                 .map(|(&j, _)| j)
                 .collect()
         })
