@@ -32,13 +32,14 @@ fn airfoil_biharmonic_takes_a_bounded_number_of_iterations() {
 /// The wing section (the airfoil extruded between two SLIP end walls, hexahedral layers): its
 /// kept levels keep its lines where their unknowns couple along them, and coarsen on to a
 /// factored coarsest level (docs/DESIGN.md §5); the smallest size's pitch holds a fixed count,
-/// the polish of its trailing edge included when its 1e-8 result inverts cells there.
+/// the iterations its first layer needs beyond the residual's 1e-8 (the stop test under wall
+/// layers) included.
 #[test]
 fn wing_biharmonic_takes_a_bounded_number_of_iterations() {
     let v = wing_3d(&WingParams::new(32, 4)).unwrap();
     let (its, lines) = iterations(&v, BodyMotion::Pitch);
     assert!(lines);
-    assert!(its <= 8, "{its}");
+    assert!(its <= 9, "{its}");
 }
 
 #[test]
@@ -79,5 +80,5 @@ fn spheroid_kept_levels_stay_sparse() {
 fn airfoil_of_25k_vertices_does_not_break_down() {
     let v = airfoil_2d(&AirfoilParams::new(128)).unwrap();
     let (its, _) = iterations(&v, BodyMotion::Pitch);
-    assert!(its <= 8, "{its}");
+    assert!(its <= 9, "{its}");
 }
