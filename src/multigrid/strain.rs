@@ -29,11 +29,13 @@ pub(crate) struct WallEdges<'a> {
 }
 
 impl<'a> WallEdges<'a> {
-    /// The edges of `level` for the group `comps` when its stretches are tested: a level with a
-    /// mesh and lines across wall layers; None elsewhere (no cell is thin enough for the
-    /// tolerance to leave an error comparable to it).
+    /// The edges of `level` for the group `comps` when its stretches are tested: a 3D level with
+    /// a mesh and lines across wall layers; None elsewhere (without lines no cell is thin
+    /// enough for the tolerance to leave an error comparable to it; the 2D hierarchies, which
+    /// keep their lines whole, leave their first layer within the residual's tolerance, and the
+    /// test there would add iterations to the airfoil only).
     pub(crate) fn of_layers(level: &'a Level, comps: Range<usize>) -> Option<Self> {
-        if level.lines.is_empty() || level.mesh.is_none() {
+        if level.lines.is_empty() || level.mesh.is_none() || level.dim() < 3 {
             return None;
         }
         Some(WallEdges { level, points: level.unknown_points().into_owned(), comps })
