@@ -5,7 +5,7 @@
 //! §5, "The tolerance and the thinnest cells"). An edge from a prescribed unknown (a wall) to a
 //! free one measures that thickness: its stretch by a correction d, (dᵢ − dⱼ)·(xᵢ − xⱼ) / |xᵢ −
 //! xⱼ|², is the relative change of the edge's length, and of the first cell's volume along it.
-//! On a level with lines a solve is converged when, besides its criterion, its last correction
+//! On a 3D level with lines a solve is converged when, besides its criterion, its last correction
 //! stretches no such edge by more than `LAYER_STRETCH`.
 
 use super::level::Level;
