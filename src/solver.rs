@@ -661,7 +661,7 @@ impl Solver {
                 units::scale(&mut b, f);
                 units::scale(&mut x, f);
             }
-            let mut rep = solve_until(self.h(), comps.clone(), p, &b, &mut x, scale * f, &stop);
+            let mut rep = solve_until(self.h(), comps.clone(), p, &b, &mut x, scale * f, f, &stop);
             drop(b);
             if self.cancel.take() {
                 return Err(Error::Cancelled(format!(

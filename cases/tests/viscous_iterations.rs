@@ -30,21 +30,22 @@ fn airfoil_biharmonic_takes_a_bounded_number_of_iterations() {
 }
 
 /// The wing section (the airfoil extruded between two SLIP end walls, hexahedral layers): its
-/// kept levels stop at three, the coarsest smoothed rather than factored (docs/DESIGN.md §5);
-/// the smallest size's pitch holds a fixed count, the polish of its trailing edge included
-/// (its 1e-8 result inverts cells there; a decade tighter it is valid).
+/// kept levels keep its lines where their unknowns couple along them, and coarsen on to a
+/// factored coarsest level (docs/DESIGN.md §5); the smallest size's pitch holds a fixed count,
+/// the iterations its first layer needs beyond the residual's 1e-8 (the stop test under wall
+/// layers) included.
 #[test]
 fn wing_biharmonic_takes_a_bounded_number_of_iterations() {
     let v = wing_3d(&WingParams::new(32, 4)).unwrap();
     let (its, lines) = iterations(&v, BodyMotion::Pitch);
     assert!(lines);
-    assert!(its <= 12, "{its}");
+    assert!(its <= 9, "{its}");
 }
 
 #[test]
 fn spheroid_biharmonic_takes_a_bounded_number_of_iterations() {
     let v = spheroid_3d(&SpheroidParams::new(4)).unwrap();
-    for (m, cap) in [(BodyMotion::Pitch, 6), (BodyMotion::Plunge, 6)] {
+    for (m, cap) in [(BodyMotion::Pitch, 7), (BodyMotion::Plunge, 7)] {
         let (its, lines) = iterations(&v, m);
         assert!(lines);
         assert!(its <= cap, "{m:?}: {its}");
@@ -79,5 +80,5 @@ fn spheroid_kept_levels_stay_sparse() {
 fn airfoil_of_25k_vertices_does_not_break_down() {
     let v = airfoil_2d(&AirfoilParams::new(128)).unwrap();
     let (its, _) = iterations(&v, BodyMotion::Pitch);
-    assert!(its <= 8, "{its}");
+    assert!(its <= 9, "{its}");
 }

@@ -26,6 +26,7 @@ pub mod restriction;
 pub mod slip;
 pub mod smoother;
 pub mod solve;
+pub(crate) mod strain;
 #[cfg(feature = "internals")]
 pub mod two_level;
 

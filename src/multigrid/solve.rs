@@ -7,6 +7,7 @@ use super::hierarchy::Hierarchy;
 pub use super::params::{Criterion, Mode, SolveParams};
 use super::policy::CycleParams;
 use super::smoother::Start;
+use super::strain::{WallEdges, LAYER_STRETCH};
 use crate::sparse::{axpy, par_update};
 use std::ops::Range;
 
@@ -90,11 +91,14 @@ impl Report {
 /// displacement (for the max-correction criterion).
 #[cfg(feature = "internals")]
 pub fn solve(h: &Hierarchy, comps: Range<usize>, p: &SolveParams, b: &[f64], x: &mut [f64], scale: f64) -> Report {
-    solve_until(h, comps, p, b, x, scale, &|| false)
+    solve_until(h, comps, p, b, x, scale, 1.0, &|| false)
 }
 
 /// As [`solve`], asking `stop` after every cycle: true ends the solve there, unconverged (the
-/// caller's cancellation).
+/// caller's cancellation); `unit` is the solve's values per unit of the mesh's coordinates
+/// (the displacements scaled to the solve, 1 when they are not), for the stop test under wall
+/// layers (`strain`).
+#[allow(clippy::too_many_arguments)]
 pub fn solve_until(
     h: &Hierarchy,
     comps: Range<usize>,
@@ -102,6 +106,7 @@ pub fn solve_until(
     b: &[f64],
     x: &mut [f64],
     scale: f64,
+    unit: f64,
     stop: &Stop<'_>,
 ) -> Report {
     let t0 = std::time::Instant::now();
@@ -114,7 +119,8 @@ pub fn solve_until(
         return rep;
     }
     let mut ws = Workspace::new(h, comps.len());
-    let run = Run { h, op: lev, comps: comps.clone(), p, b, bnorm, scale, stop };
+    let layers = WallEdges::of_layers(h.fine(), comps.clone());
+    let run = Run { h, op: lev, comps: comps.clone(), p, b, bnorm, scale, unit, layers, stop };
     let mut cp = CycleParams::resolve(h, p);
     let mut boost = 0;
     for restart in 0..=TRUE_RESIDUAL_RESTARTS {
@@ -177,18 +183,25 @@ struct Run<'a> {
     b: &'a [f64],
     bnorm: f64,
     scale: f64,
+    unit: f64,
+    /// The finest level's edges from its walls when it has lines across wall layers: a
+    /// converged iterate's last correction stretches none by more than `LAYER_STRETCH` (PCG
+    /// only; `strain`).
+    layers: Option<WallEdges<'a>>,
     stop: &'a Stop<'a>,
 }
 
 impl Run<'_> {
     /// Records cycle `k` (its largest correction and the residual `r`) in the report; true when
-    /// the iteration should stop (converged, diverged or stopped by the caller).
-    fn record(&self, rep: &mut Report, k: usize, max_corr: f64, r: &[f64]) -> bool {
+    /// the iteration should stop (converged, diverged or stopped by the caller). `held` is
+    /// asked when the criterion is met: whether the correction also meets the stop test under
+    /// wall layers.
+    fn record(&self, rep: &mut Report, k: usize, max_corr: f64, r: &[f64], held: impl FnOnce() -> bool) -> bool {
         let rel = self.op.norm(r) / self.bnorm;
         rep.history.push((max_corr, rel));
         rep.cycles = k;
         rep.max_correction = max_corr;
-        rep.converged = self.p.met(max_corr, rel, self.scale);
+        rep.converged = self.p.met(max_corr, rel, self.scale) && held();
         rep.converged || !rel.is_finite() || rel > DIVERGED || (self.stop)()
     }
 
@@ -201,7 +214,7 @@ impl Run<'_> {
         for k in rep.history.len() + 1..=p.max_cycles {
             let mc = cycle(h, comps.clone(), &cp, b, x, Start::Guess, ws);
             lev.residual(b, x, &mut r, &mut ws.fine().s);
-            if self.record(rep, k, mc, &r) {
+            if self.record(rep, k, mc, &r, || true) {
                 return;
             }
         }
@@ -243,7 +256,8 @@ impl Run<'_> {
             let alpha = rz / pq;
             axpy(alpha, &dir, x);
             axpy(-alpha, &q, &mut r);
-            if self.record(rep, k, alpha.abs() * lev.max_abs(&dir), &r) {
+            let held = || self.layers.as_ref().is_none_or(|e| e.largest(alpha, &dir, self.unit) <= LAYER_STRETCH);
+            if self.record(rep, k, alpha.abs() * lev.max_abs(&dir), &r, held) {
                 return false;
             }
             let hist = &rep.history;

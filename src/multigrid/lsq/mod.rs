@@ -43,18 +43,22 @@ pub(crate) struct LeastSquares {
     /// Whether the level the features were built on has lines across wall layers: its kept
     /// levels interpolate from the fewest donors that fit (`weights::Donors::Fewest`).
     layered: bool,
-    /// Whether the unknowns on lines interpolate along them (`along_lines`), and are kept or
-    /// dropped along them (`on_lines`): the biharmonic's hierarchies in 2D with lines. The
-    /// biharmonic is fourth order, and linear interpolation leaves kinks whose energy is that of
-    /// the smooth error itself. The second-order operators need no more than linear rows (the
-    /// Laplacian lost iterations along the lines), and in 3D the spheroid's larger size and the
-    /// wing lost iterations with them (docs/perf-history.md, "Interpolation along the lines").
+    /// Whether the unknowns on lines interpolate along them (`along_lines`): the biharmonic's
+    /// hierarchies in 2D with lines. The biharmonic is fourth order, and linear interpolation
+    /// leaves kinks whose energy is that of the smooth error itself. The second-order operators
+    /// need no more than linear rows (the Laplacian lost iterations along the lines), and in 3D
+    /// the spheroid's larger size and the wing lost iterations with them (docs/perf-history.md,
+    /// "Interpolation along the lines").
     along_lines: bool,
+    /// Whether the unknowns on lines are kept or dropped along them (`on_lines`): the
+    /// biharmonic's hierarchies with lines, in 2D and 3D. The Laplacian keeps the general rule
+    /// (it lost iterations with it, docs/perf-history.md "Coarse levels that keep their lines").
+    on_lines: bool,
 }
 
 impl LeastSquares {
     pub(crate) fn new(params: CoarsenParams) -> Self {
-        LeastSquares { params, features: Vec::new(), layered: false, along_lines: false }
+        LeastSquares { params, features: Vec::new(), layered: false, along_lines: false, on_lines: false }
     }
 
     /// How the rows of P choose their donors on this hierarchy.
@@ -85,13 +89,14 @@ impl Coarsener for LeastSquares {
             let regions = fine.dof_regions();
             self.features.push(Features::build(mesh, &fine.dofs, &fine.pairs, regions, self.params.corner_angle_deg));
             self.layered = !fine.lines.is_empty();
-            self.along_lines = self.layered && fine.op.method == Method::Biharmonic && fine.dim() == 2;
+            self.on_lines = self.layered && fine.op.method == Method::Biharmonic;
+            self.along_lines = self.on_lines && fine.dim() == 2;
         }
         self.features.truncate(l + 1);
         let points = fine.unknown_points();
-        // Hierarchies that interpolate along the lines keep them: their unknowns are dropped
-        // along their own line (`on_lines`).
-        let on_lines = self.along_lines.then(|| OnLines::new(fine.lines.lines(), &fine.op.k, &self.features[l], &points));
+        // The biharmonic's hierarchies keep their lines: their unknowns are dropped along their
+        // own line (`on_lines`).
+        let on_lines = self.on_lines.then(|| OnLines::new(fine.lines.lines(), &fine.op.k, &self.features[l], &points));
         let mut kept = select(&fine.op.k, &self.features[l], &points, on_lines.as_ref());
         // A layer one cell thick that the general rule cannot coarsen enough (a layer thinner
         // than its cells are wide: few unknowns have a strong neighbour that may interpolate
@@ -161,12 +166,18 @@ fn select(k: &CsrMatrix, f: &Features, points: &[f64], lines: Option<&OnLines>) 
             None => (f.feature_dim(d), pair(d), d),
         }
     });
-    let may_drop_for = |v: usize, u: usize| lines.is_none_or(|o| o.may_drop_for(v, u));
     let mut kept = vec![false; n];
+    let mut near: Vec<u32> = Vec::new();
     for &v in &order {
         let v = v as usize;
         let rel = |u: usize| f.relative(v, u, at(v), at(u));
-        if !strong(k, f, v, rel).any(|u| kept[u as usize] && f.donor_ok(v, u as usize) && may_drop_for(v, u as usize)) {
+        near.clear();
+        near.extend(strong(k, f, v, rel));
+        // An unknown on a line keeps to it (`OnLines::may_drop_for`), in 3D only while it is
+        // coupled strongly along it (`OnLines::keeps_to_line`).
+        let along = lines.filter(|o| o.keeps_to_line(v, &near));
+        let may_drop_for = |u: usize| along.is_none_or(|o| o.may_drop_for(v, u));
+        if !near.iter().any(|&u| kept[u as usize] && f.donor_ok(v, u as usize) && may_drop_for(u as usize)) {
             kept[v] = true;
         }
     }

@@ -1,5 +1,5 @@
 //! Where each unknown lies on the lines across wall layers (`multigrid::lines`), for the
-//! selection of kept unknowns (`lsq::select`) on hierarchies that interpolate along the lines.
+//! selection of kept unknowns (`lsq::select`) on the biharmonic's hierarchies with lines.
 //!
 //! The general rule drops an unknown when any strong neighbour that may interpolate it is kept.
 //! On a geometrically graded layer the wall lies within the strong reach of every unknown of a
@@ -13,6 +13,12 @@
 //! outward, so the first layer's unknown goes for the wall's and each kept unknown drops the
 //! next ones out along its line that it couples strongly (one on the finest level, one or two on
 //! a Galerkin level, whose graph reaches further).
+//!
+//! The rule is the same in 3D. There the general rule also drops a line's unknowns for the
+//! kept unknowns of the lines beside it (a wing's layers, whose cells are long along the span
+//! and shorter along the chord, couple their lines more strongly along the chord than the
+//! reach counts for the span): coarsened along their lines only, the layers keep every line on
+//! every level, as in 2D.
 
 use super::along_lines::end_neighbour;
 use super::Features;
@@ -31,6 +37,9 @@ pub(super) struct OnLines {
     key: Vec<(u32, u32)>,
     /// Whether the unknown ends its line.
     end: Vec<bool>,
+    /// Whether a line's unknowns coupled strongly only off their line take the general rule
+    /// (3D, `keeps_to_line`).
+    across: bool,
 }
 
 impl OnLines {
@@ -41,7 +50,7 @@ impl OnLines {
         let at = |d: usize| &points[d * dim..(d + 1) * dim];
         let rel = |v: usize, u: usize| f.relative(v, u, at(v), at(u));
         let on_boundary = |u: usize| f.feature_dim(u) < dim;
-        let mut out = OnLines { line_of: vec![NONE; n], key: vec![(0, 0); n], end: vec![false; n] };
+        let mut out = OnLines { line_of: vec![NONE; n], key: vec![(0, 0); n], end: vec![false; n], across: dim == 3 };
         for l in 0..lines.len() {
             let line = lines.line(l);
             let last = line.len() - 1;
@@ -66,6 +75,14 @@ impl OnLines {
     /// The visiting key of unknown `d` when it is on a line (`key`).
     pub(super) fn key(&self, d: usize) -> Option<(u32, u32)> {
         (self.line_of[d] != NONE).then_some(self.key[d])
+    }
+
+    /// Whether unknown `v`, whose strong neighbours are `near`, keeps to its line
+    /// (`may_drop_for`): in 2D every unknown on a line; in 3D one with a strong neighbour on its
+    /// own line, and the others take the general rule.
+    pub(super) fn keeps_to_line(&self, v: usize, near: &[u32]) -> bool {
+        let lv = self.line_of[v];
+        lv != NONE && (!self.across || near.iter().any(|&u| self.line_of[u as usize] == lv))
     }
 
     /// Whether unknown `v` may be dropped for the kept unknown `u` (a strong neighbour that may
