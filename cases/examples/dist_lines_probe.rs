@@ -4,9 +4,10 @@
 //! (`wing`, docs/PERFORMANCE.md "The polish of a tangled result across ranks") with the
 //! biharmonic and the Laplacian to 1e-12 and 1e-14 on slabs
 //! across x and prints, per solve, the distributed iterations beside the serial cycles and the
-//! largest difference from the serial displacement relative to the motion. Arguments: the mesh
-//! names to run (all without one; `airfoil:N:pitch` or `airfoil:N:plunge` the airfoil of N
-//! points a side so moved), `tol=T` (repeatable; 1e-12 and 1e-14 without one),
+//! largest difference from the serial displacement relative to the motion, and the distributed
+//! levels beside the serial ones. Arguments: the mesh names to run (those above without one; any
+//! other case of the cases crate by its name; `airfoil:N:pitch` or `airfoil:N:plunge` the
+//! airfoil of N points a side so moved), `tol=T` (repeatable; 1e-12 and 1e-14 without one),
 //! `method=biharmonic` or `method=laplacian` (both without one), `max=N` the most
 //! distributed iterations (2000 without one) and `gather=N` the size of the level gathered
 //! onto one rank (the solver's default without one).
@@ -35,7 +36,8 @@ fn main() {
     let all =
         ["boundary_layer_cylinder", "boundary_layer_cylinder_hybrid", "boundary_layer_cylinder_3d", "airfoil", "wing"];
     let asked = names.iter().filter(|n| n.starts_with("airfoil:")).map(String::as_str);
-    let listed = all.into_iter().filter(|n| names.is_empty() || names.iter().any(|m| m == n));
+    let others = names.iter().map(String::as_str).filter(|n| !n.starts_with("airfoil:"));
+    let listed: Vec<&str> = if names.is_empty() { all.to_vec() } else { others.collect() };
     for name in asked.chain(listed) {
         let setup = match name.split(':').collect::<Vec<_>>()[..] {
             ["wing"] => wing(),

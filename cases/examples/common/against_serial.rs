@@ -1,7 +1,8 @@
 //! Distributed solves against the serial solver, for the distributed probes (included by
 //! path): rank 0 solves the whole mesh serially and sends the displacement and its cycles to
 //! every rank, each rank solves its part, and rank 0 prints the iterations, the largest
-//! difference relative to the motion and the level sizes.
+//! difference relative to the motion and the level sizes (the serial levels' free unknowns per
+//! component beside them).
 
 use meshmove::distributed::mpi::topology::SimpleCommunicator;
 use meshmove::distributed::mpi::traits::*;
@@ -81,11 +82,22 @@ fn against_serial(world: &SimpleCommunicator, c: &Compared, method: Method, para
     let mut reference = vec![0.0; nv * dim];
     // The serial cycles, of them the polish's, the inverted cells and the smallest ratio.
     let mut cycles = [0.0; 4];
+    // The serial levels' free unknowns per component.
+    let mut serial_levels = Vec::new();
     if rank == 0 {
         let mut o = Options { method, threads: 1, ..Default::default() };
         o.solve.tol = tol;
         o.solve.max_cycles = 1000;
-        let s = Solver::new(c.mesh, c.bcs, o).expect("serial").solve(c.motion).expect("solve");
+        let solver = Solver::new(c.mesh, c.bcs, o).expect("serial");
+        let s = solver.solve(c.motion).expect("solve");
+        serial_levels = solver
+            .hierarchy()
+            .levels
+            .iter()
+            .map(|l| {
+                l.flags().iter().map(|f| f.iter().filter(|&&f| f & meshmove::bc::P == 0).count()).collect::<Vec<_>>()
+            })
+            .collect::<Vec<_>>();
         reference = s.displacement;
         let q = &s.quality;
         cycles = [s.report.cycles as f64, s.report.polish_cycles as f64, q.inverted as f64, q.min_area_ratio];
@@ -113,7 +125,7 @@ fn against_serial(world: &SimpleCommunicator, c: &Compared, method: Method, para
         let q = &sol.quality;
         println!(
             "{what}: iterations {:?} ({} of polish), {} inverted, min ratio {:.4} (serial {} cycles, {} of polish, {} inverted, min \
-             ratio {:.4}), apart {:.1e} of the motion, levels {:?}, transfers {:?}",
+             ratio {:.4}), apart {:.1e} of the motion, levels {:?} (serial, free per component {:?}), transfers {:?}",
             sol.iterations,
             sol.polish_iterations,
             q.inverted,
@@ -124,6 +136,7 @@ fn against_serial(world: &SimpleCommunicator, c: &Compared, method: Method, para
             cycles[3],
             worst / scale,
             sol.level_rows,
+            serial_levels,
             sol.level_transfers
         );
     }

@@ -77,17 +77,18 @@ impl Positions {
 /// kept unknown (`select`) its own value, the dropped ones by the serial donor rule from the
 /// positions `at` of `m`'s local entries, or with `lines` (the level's, given on every rank or
 /// on none) along them where they can (`along_lines`); couplings are strong at `theta`
-/// (`select::strong`) (collective).
+/// (`select::strong`), and the entries `first` prescribes are kept first (`select::select`)
+/// (collective).
 pub(super) fn interpolation(
     m: &OwnedRows,
     at: &Positions,
     lines: Option<&Lines>,
-    theta: f64,
+    (theta, first): (f64, Option<&[u8]>),
 ) -> Result<Vec<GlobalRow>, DistError> {
     let (owned, me) = (m.halo.owned(), m.halo.comm().rank());
     let owners = m.halo.owner_ranks();
     let strong = strong(m, theta);
-    let state = select(m, &strong);
+    let state = select(m, &strong, first);
     let direct = weights(m, &strong, &state);
 
     // K's graph in global terms: the owned rows, then the halo's from their owners.

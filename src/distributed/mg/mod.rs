@@ -55,6 +55,7 @@ use crate::multigrid::smoother::{smooth, Coefficients, Smoother, Start};
 use crate::operator::{assembled_below, LevelOperator, Method};
 use crate::sparse::{par_update, CsrMatrix};
 use agglomerate::{halvings, Agglomeration, Landing};
+use biharmonic::Product;
 pub(crate) use biharmonic::{biharmonic_rows, Guide};
 pub(crate) use coupled::CoupledSolve;
 pub(crate) use donors::Positions;
@@ -84,12 +85,12 @@ pub(crate) const ROWS_PER_RANK: u64 = 200;
 /// there (docs/DESIGN.md §5, "The biharmonic's levels").
 const KVK_LEVELS: usize = 2;
 
-/// The strong-coupling threshold (`select::strong`) of the biharmonic's first coarsening in 3D,
-/// above `select::THETA` of every other: fewer couplings are strong, so the first coarse level
-/// keeps more of the finest, as the serial kept levels do. The finest level pair makes the
-/// count, and the gentler first level brings the graded sphere and the bench's box to the serial
-/// count (docs/DESIGN.md §5, "The biharmonic's levels").
-const FIRST_THETA_3D: f64 = 0.75;
+/// The strong-coupling threshold (`select::strong`) of the biharmonic's first coarsening, above
+/// `select::THETA` of every other: fewer couplings are strong, so the first coarse level keeps
+/// more of the finest, as the serial kept levels do. The finest level pair makes the count, and
+/// the gentler first level brings the graded sphere, the bench's box and the cylinder channel to
+/// the serial count or within one of it (docs/DESIGN.md §5, "The biharmonic's levels").
+const FIRST_THETA: f64 = 0.75;
 
 /// A coarse level that keeps more than this share of its fine level's unknowns ends the
 /// coarsening: another level would cost nearly as much as the one above it.
@@ -596,18 +597,23 @@ fn levels_of(
             (Some(g), false) => {
                 // The serial rule on the level's lines over all its ranks (collective over them;
                 // asked only where it decides).
-                // Under wall layers in 2D, whose levels interpolate along the lines, the first
-                // coarse level is assembled too, where the serial hierarchy keeps K_c V_c⁻¹ K_c
-                // (docs/DESIGN.md §5, "Wall layers across ranks").
-                let kept = along || !levels.is_empty();
+                let kept = !levels.is_empty();
                 let lined = kept && !assembled && any_lines(current.halo.comm(), &lines);
                 // Below the first `KVK_LEVELS` coarse levels, the product on every mesh.
                 let below = assembled_below(kept, lined, assembled) || levels.len() >= KVK_LEVELS;
-                let theta = if levels.is_empty() && g.at.dim == 3 { FIRST_THETA_3D } else { select::THETA };
-                match biharmonic::coarsen(&current, g, below, along.then_some(&segments), theta)? {
-                    Some((next, prolong, next_guide)) => {
+                // Under wall layers in 2D, whose levels interpolate along the lines, a first
+                // coarse level that keeps lines is assembled too, where the serial hierarchy keeps
+                // K_c V_c⁻¹ K_c (docs/DESIGN.md §5, "Wall layers across ranks").
+                let product = match (below, along && !kept) {
+                    (true, _) => Product::Galerkin,
+                    (false, true) => Product::GalerkinWhereLinesKept(&segments),
+                    (false, false) => Product::Guided,
+                };
+                let theta = if kept { select::THETA } else { FIRST_THETA };
+                match biharmonic::coarsen(&current, g, product, along.then_some(&segments), theta)? {
+                    Some((next, prolong, next_guide, galerkin)) => {
                         guide = Some(next_guide);
-                        assembled = below;
+                        assembled = galerkin;
                         Some((next, prolong))
                     }
                     None => None,
@@ -685,7 +691,7 @@ fn galerkin_level(m: &OwnedRows, at: &mut Option<Positions>) -> Result<Option<(O
     let Some(here) = at.as_ref() else {
         return Ok(None);
     };
-    let rows = donors::interpolation(m, here, None, select::THETA)?;
+    let rows = donors::interpolation(m, here, None, (select::THETA, None))?;
     let Some((next, prolong)) = galerkin::product(m, &rows)? else {
         return Ok(None);
     };

@@ -6,6 +6,7 @@
 //! operator alone: not on the partition, the rank count or the order messages arrive in.
 
 use super::OwnedRows;
+use crate::bc::P;
 use crate::distributed::reduce::sum_in_rank_order;
 use crate::multigrid::layout::Layout;
 
@@ -48,8 +49,11 @@ pub(super) fn strong(m: &OwnedRows, theta: f64) -> Vec<Vec<u32>> {
 }
 
 /// The role of every local entry (`KEPT`, `DROPPED` or `OUT`; the halo's as its owners decided),
-/// given the strong neighbours of the owned rows (collective).
-pub(super) fn select(m: &OwnedRows, strong: &[Vec<u32>]) -> Vec<u8> {
+/// given the strong neighbours of the owned rows (collective). With `first` (flags of every local
+/// entry) the entries it prescribes (P) beat every other in priority, so a prescribed unknown
+/// with a row (a CLAMPED wall's vertex on the biharmonic's levels) is kept unless a prescribed
+/// strong neighbour is: the serial selection visits the walls before the inside.
+pub(super) fn select(m: &OwnedRows, strong: &[Vec<u32>], first: Option<&[u8]>) -> Vec<u8> {
     let (n, owned) = (m.halo.len(), m.halo.owned());
     let mut state = vec![UNDECIDED; n];
     for (i, st) in state.iter_mut().enumerate().take(owned) {
@@ -58,7 +62,8 @@ pub(super) fn select(m: &OwnedRows, strong: &[Vec<u32>]) -> Vec<u8> {
         }
     }
     m.halo.refresh(&mut state);
-    let priority = |j: usize| (mix(m.gids[j]), m.gids[j]);
+    let prescribed = |j: usize| first.is_some_and(|f| f.get(j).is_some_and(|&f| f & P != 0));
+    let priority = |j: usize| (prescribed(j), mix(m.gids[j]), m.gids[j]);
     loop {
         let undecided = state[..owned].iter().filter(|&&s| s == UNDECIDED).count();
         if sum_in_rank_order(m.halo.comm(), &[undecided as f64])[0] == 0.0 {
