@@ -103,17 +103,26 @@ fn kept_level(fine: &Level, c: CoarseUnknowns, bcs: &BoundaryConditions, t: &mut
     (level, transfer, calibration)
 }
 
+/// The least share of a kept level's unknowns on its lines for the biharmonic's next level to
+/// take the assembled Pᵀ A P (`coarse_operator`). Below wall layers the first kept level keeps
+/// a third or more of its unknowns on lines (a wing, a spheroid, an airfoil); a graded mesh whose
+/// line finder meets a few short lines off its walls (the graded sphere's box corners) keeps a
+/// few percent or less, and there K_c V_c⁻¹ K_c on every level takes fewer iterations
+/// (docs/PERFORMANCE.md, "The graded sphere's coarse rows at the clamped body").
+const LAYERED_SHARE: f64 = 0.1;
+
 /// The operator of a level of kept unknowns below `fine` with the interpolation `prolong`:
 /// Galerkin K_c and V_c, and for the biharmonic below wall layers A_c = Pᵀ A P assembled
 /// (`LevelOperator::galerkin_assembled`) when `fine` is itself a level of kept unknowns with
-/// lines, or already assembled, and every component holds S free at the same unknowns; else
-/// K_c V_c⁻¹ K_c. The first kept level keeps K_c V_c⁻¹ K_c: with linear interpolation the
-/// product of the fourth-order operator is stiffer there than the operator itself on coarse
-/// functions, while below it the product's faithfulness across the coarsened layers wins
-/// (docs/DESIGN.md §5, "Wall layers").
+/// `LAYERED_SHARE` of its unknowns on lines, or already assembled, and every component holds S
+/// free at the same unknowns; else K_c V_c⁻¹ K_c. The first kept level keeps K_c V_c⁻¹ K_c:
+/// with linear interpolation the product of the fourth-order operator is stiffer there than the
+/// operator itself on coarse functions, while below it the product's faithfulness across the
+/// coarsened layers wins (docs/DESIGN.md §5, "Wall layers").
 fn coarse_operator(fine: &Level, prolong: &CsrMatrix) -> LevelOperator {
     let restrict = prolong.transpose();
-    let layered = assembled_below(fine.mesh.is_none(), !fine.lines.is_empty(), fine.op.is_assembled());
+    let on_lines = fine.lines.lines().unknowns.len() as f64;
+    let layered = assembled_below(fine.mesh.is_none(), on_lines >= LAYERED_SHARE * fine.n() as f64, fine.op.is_assembled());
     let z = |f: &Vec<u8>| f.iter().map(|&v| v & Z == 0).collect::<Vec<bool>>();
     let s_free = fine.flags.first().map(z).filter(|s| fine.flags.iter().all(|f| z(f) == *s));
     match s_free {
