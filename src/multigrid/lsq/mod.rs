@@ -97,7 +97,9 @@ impl Coarsener for LeastSquares {
         // The biharmonic's hierarchies keep their lines: their unknowns are dropped along their
         // own line (`on_lines`).
         let on_lines = self.on_lines.then(|| OnLines::new(fine.lines.lines(), &fine.op.k, &self.features[l], &points));
-        let mut kept = select(&fine.op.k, &self.features[l], &points, on_lines.as_ref());
+        // The strong couplings, found once for the selection and the interpolation's rows.
+        let mut graph = strong_graph(&fine.op.k, &self.features[l], &points);
+        let mut kept = select_on(&fine.op.k, &self.features[l], &points, &graph, on_lines.as_ref());
         // A layer one cell thick that the general rule cannot coarsen enough (a layer thinner
         // than its cells are wide: few unknowns have a strong neighbour that may interpolate
         // them) is coarsened within its planes (`Features::in_plane`); every other level keeps
@@ -105,38 +107,40 @@ impl Coarsener for LeastSquares {
         let too_few_dropped = |kept: &[u32]| (n as f64) < self.params.min_ratio * kept.len() as f64;
         if too_few_dropped(&kept) && self.features[l].one_layer() {
             self.features[l].set_in_plane();
-            kept = select(&fine.op.k, &self.features[l], &points, None);
+            graph = strong_graph(&fine.op.k, &self.features[l], &points);
+            kept = select_on(&fine.op.k, &self.features[l], &points, &graph, None);
         }
         let features = &self.features[l];
         let nc = kept.len();
         if nc < self.params.min_vertices || too_few_dropped(&kept) {
             return None;
         }
-        let transfer = transfer(fine, features, &kept, self.donors());
+        let transfer = transfer(fine, features, &kept, self.donors(), Some(&graph));
         let coarse = features.subset(&kept);
         self.features.push(coarse);
         Some(CoarseUnknowns { kept, transfer })
     }
 
     fn transfer(&mut self, l: usize, fine: &Level, coarse: &Level) -> Transfer {
-        transfer(fine, &self.features[l], &coarse.parent_vertex, self.donors())
+        transfer(fine, &self.features[l], &coarse.parent_vertex, self.donors(), None)
     }
 
     fn update(&self, l: usize, t: &mut Transfer, fine: &Level, coarse: &Level) {
-        t.prolong = Arc::new(weights::prolongation(fine, &self.features[l], &coarse.parent_vertex, self.donors(), None));
+        t.prolong = Arc::new(weights::prolongation(fine, &self.features[l], &coarse.parent_vertex, self.donors(), weights::Given::NONE));
         t.restrict = Restriction::new(Arc::clone(&t.prolong));
     }
 
     fn update_rows(&self, l: usize, t: &mut Transfer, fine: &Level, coarse: &Level, redo: &[bool]) {
-        let keep = Some((&*t.prolong, redo));
-        t.prolong = Arc::new(weights::prolongation(fine, &self.features[l], &coarse.parent_vertex, self.donors(), keep));
+        let given = weights::Given { strong: None, keep: Some((&*t.prolong, redo)) };
+        t.prolong = Arc::new(weights::prolongation(fine, &self.features[l], &coarse.parent_vertex, self.donors(), given));
         t.restrict = Restriction::new(Arc::clone(&t.prolong));
     }
 }
 
-/// The transfer from `fine`, whose unknowns have the features `f`, to its unknowns `kept`.
-fn transfer(fine: &Level, f: &Features, kept: &[u32], donors: weights::Donors) -> Transfer {
-    let prolong = Arc::new(weights::prolongation(fine, f, kept, donors, None));
+/// The transfer from `fine`, whose unknowns have the features `f`, to its unknowns `kept`, with
+/// its strong couplings (`strong_graph`) when they are at hand.
+fn transfer(fine: &Level, f: &Features, kept: &[u32], donors: weights::Donors, strong: Option<&CsrMatrix>) -> Transfer {
+    let prolong = Arc::new(weights::prolongation(fine, f, kept, donors, weights::Given { strong, keep: None }));
     let restrict = Restriction::new(Arc::clone(&prolong));
     Transfer { prolong, restrict }
 }
@@ -153,7 +157,13 @@ fn transfer(fine: &Level, f: &Features, kept: &[u32], donors: weights::Donors) -
 /// agree (an extruded 2D mesh): the coarse levels stay slabs of the 2D section's coarse levels.
 /// With `lines` (`OnLines`) a line's unknowns are visited together from the wall outward, and
 /// dropped only for the unknowns `OnLines::may_drop_for` names.
+#[cfg(test)]
 fn select(k: &CsrMatrix, f: &Features, points: &[f64], lines: Option<&OnLines>) -> Vec<u32> {
+    select_on(k, f, points, &strong_graph(k, f, points), lines)
+}
+
+/// `select` given the level's strong couplings `graph` (`strong_graph`).
+fn select_on(k: &CsrMatrix, f: &Features, points: &[f64], graph: &CsrMatrix, lines: Option<&OnLines>) -> Vec<u32> {
     let n = k.nrows;
     let dim = f.dim();
     let at = |d: usize| &points[d * dim..(d + 1) * dim];
@@ -167,15 +177,12 @@ fn select(k: &CsrMatrix, f: &Features, points: &[f64], lines: Option<&OnLines>) 
         }
     });
     let mut kept = vec![false; n];
-    let mut near: Vec<u32> = Vec::new();
     for &v in &order {
         let v = v as usize;
-        let rel = |u: usize| f.relative(v, u, at(v), at(u));
-        near.clear();
-        near.extend(strong(k, f, v, rel));
+        let near = graph.row(v).0;
         // An unknown on a line keeps to it (`OnLines::may_drop_for`), in 3D only while it is
         // coupled strongly along it (`OnLines::keeps_to_line`).
-        let along = lines.filter(|o| o.keeps_to_line(v, &near));
+        let along = lines.filter(|o| o.keeps_to_line(v, near));
         let may_drop_for = |u: usize| along.is_none_or(|o| o.may_drop_for(v, u));
         if !near.iter().any(|&u| kept[u as usize] && f.donor_ok(v, u as usize) && may_drop_for(u as usize)) {
             kept[v] = true;
@@ -205,9 +212,11 @@ fn partner(k: &CsrMatrix, f: &Features, v: usize, rel: impl Fn(usize) -> [f64; 3
 const STRONG_REACH: f64 = 2.0;
 
 /// The neighbours of `v` in K's graph (not `v`) within `STRONG_REACH` times the nearest one's
-/// distance, `rel(u)` giving u's offset from `v`. The stiffness couples neighbours as the
-/// inverse square of their distance, so the near ones are the strong ones; K's own entries are
-/// no guide, as a trilinear hexahedron couples face neighbours by zero.
+/// distance, `rel(u)` giving u's offset from `v`: their columns into `cols` and their squared
+/// distances into `d2s` (both cleared first), in K's order; `scratch` holds the row's distances.
+/// The stiffness couples neighbours as the inverse square of their distance, so the near ones
+/// are the strong ones; K's own entries are no guide, as a trilinear hexahedron couples face
+/// neighbours by zero.
 ///
 /// On a layer one cell thick coarsened within its planes (`Features::in_plane`), an unknown
 /// whose strong neighbours all lie across the thickness, on the other plane, could never be
@@ -215,25 +224,49 @@ const STRONG_REACH: f64 = 2.0;
 /// neighbours that may interpolate it (on its own plane, or its edge) count, the nearest among
 /// them setting the reach, so each plane is coarsened as its 2D section would be; every other
 /// unknown keeps the rule above.
-pub(super) fn strong<'a>(
-    k: &'a CsrMatrix,
+pub(super) fn strong(
+    k: &CsrMatrix,
     f: &Features,
     v: usize,
     rel: impl Fn(usize) -> [f64; 3],
-) -> impl Iterator<Item = u32> + 'a {
-    let cols = k.row(v).0;
-    let within = |counts: &dyn Fn(u32) -> bool| -> Vec<f64> {
-        let d2: Vec<f64> = cols.iter().map(|&u| if counts(u) { norm2(rel(u as usize)) } else { f64::INFINITY }).collect();
-        let nearest = d2.iter().copied().fold(f64::INFINITY, f64::min);
-        let reach = STRONG_REACH * STRONG_REACH * nearest;
-        d2.into_iter().map(|d| if d <= reach { d } else { f64::NAN }).collect()
-    };
-    let mut d2 = within(&|u| u as usize != v);
+    scratch: &mut Vec<f64>,
+    (cols, d2s): (&mut Vec<u32>, &mut Vec<f64>),
+) {
+    let row = k.row(v).0;
+    cols.clear();
+    d2s.clear();
+    scratch.clear();
+    scratch.extend(row.iter().map(|&u| if u as usize != v { norm2(rel(u as usize)) } else { f64::INFINITY }));
+    let reach = |d2: &mut dyn Iterator<Item = f64>| STRONG_REACH * STRONG_REACH * d2.fold(f64::INFINITY, f64::min);
+    let near = reach(&mut scratch.iter().copied());
     let eligible = |u: u32| u as usize != v && f.donor_ok(v, u as usize);
-    if f.in_plane() && !cols.iter().zip(&d2).any(|(&u, d)| !d.is_nan() && eligible(u)) {
-        d2 = within(&eligible).into_iter().map(|d| if d < f64::INFINITY { d } else { f64::NAN }).collect();
+    if f.in_plane() && !row.iter().zip(scratch.iter()).any(|(&u, &d)| d <= near && eligible(u)) {
+        // Only the eligible neighbours, at the distances found above (u ≠ v for each).
+        let of_eligible = |(&u, &d): (&u32, &f64)| if eligible(u) { d } else { f64::INFINITY };
+        let near = reach(&mut row.iter().zip(scratch.iter()).map(of_eligible));
+        for (u, d) in row.iter().zip(scratch.iter()).map(|e| (*e.0, of_eligible(e))) {
+            if d <= near && d < f64::INFINITY {
+                cols.push(u);
+                d2s.push(d);
+            }
+        }
+        return;
     }
-    cols.iter().zip(d2).filter(|&(_, d)| !d.is_nan()).map(|(&u, _)| u)
+    for (&u, &d) in row.iter().zip(scratch.iter()) {
+        if d <= near {
+            cols.push(u);
+            d2s.push(d);
+        }
+    }
+}
+
+/// Every unknown's strong neighbours (`strong`), a row each: columns and squared distances.
+pub(super) fn strong_graph(k: &CsrMatrix, f: &Features, points: &[f64]) -> CsrMatrix {
+    let dim = f.dim();
+    let at = |d: usize| &points[d * dim..(d + 1) * dim];
+    crate::sparse::by_rows(k.nrows, k.ncols, Vec::new, |scratch, v, cols, d2s| {
+        strong(k, f, v, |u| f.relative(v, u, at(v), at(u)), scratch, (cols, d2s));
+    })
 }
 
 fn norm2(r: [f64; 3]) -> f64 {

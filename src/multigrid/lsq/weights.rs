@@ -39,17 +39,26 @@ pub(super) enum Donors {
     AlongLines,
 }
 
+/// What a call of `prolongation` is given beyond the level: the level's strong couplings
+/// (`lsq::strong_graph`) when the selection found them, and with `keep` = (P₀, redo) the rows
+/// to keep, P₀'s rows without `redo`.
+#[derive(Clone, Copy)]
+pub(super) struct Given<'a> {
+    pub(super) strong: Option<&'a CsrMatrix>,
+    pub(super) keep: Option<(&'a CsrMatrix, &'a [bool])>,
+}
+
+impl Given<'_> {
+    /// Nothing given: every row is chosen, its strong couplings found as it is.
+    pub(super) const NONE: Given<'static> = Given { strong: None, keep: None };
+}
+
 /// P: fine unknowns × the coarse unknowns `kept` (fine numbering, ascending), donors and weights
 /// chosen at the current positions (a moved mesh may need other donors: a set that lay in the
-/// plane of its unknown, across a thin layer, no longer does). With `keep` = (P₀, redo), the
-/// rows without `redo` are P₀'s rows as they are, the others chosen anew.
-pub(super) fn prolongation(
-    fine: &Level,
-    f: &Features,
-    kept: &[u32],
-    donors: Donors,
-    keep: Option<(&CsrMatrix, &[bool])>,
-) -> CsrMatrix {
+/// plane of its unknown, across a thin layer, no longer does). With `given.keep` = (P₀, redo),
+/// the rows without `redo` are P₀'s rows as they are, the others chosen anew.
+pub(super) fn prolongation(fine: &Level, f: &Features, kept: &[u32], donors: Donors, given: Given) -> CsrMatrix {
+    let Given { strong, keep } = given;
     let points = fine.unknown_points();
     let dim = f.dim();
     let n = fine.n();
@@ -58,7 +67,7 @@ pub(super) fn prolongation(
         coarse_of[d as usize] = c as u32;
     }
     let kept_nbrs = KeptNeighbours::new(&fine.op.k, &coarse_of);
-    let ctx = Context { k: &fine.op.k, f, points: &points, dim, coarse_of: &coarse_of, kept_nbrs: &kept_nbrs, donors };
+    let ctx = Context { k: &fine.op.k, f, points: &points, dim, coarse_of: &coarse_of, kept_nbrs: &kept_nbrs, donors, strong };
     let along = if donors == Donors::AlongLines {
         super::along_lines::rows(fine.lines.lines(), &fine.op.k, f, &points, &coarse_of)
     } else {
@@ -66,7 +75,7 @@ pub(super) fn prolongation(
     };
     let chunks: Vec<(Vec<u32>, Vec<u32>, Vec<f64>)> = (0..n.div_ceil(CHUNK))
         .into_par_iter()
-        .map_init(|| Rings::new(n), |rings, c| {
+        .map_init(|| (Rings::new(n), Strong::default()), |(rings, near), c| {
             let (mut lens, mut cols, mut vals) = (Vec::new(), Vec::new(), Vec::new());
             let mut row = Vec::new();
             let rows = c * CHUNK..((c + 1) * CHUNK).min(n);
@@ -80,7 +89,7 @@ pub(super) fn prolongation(
                 } else if let Some(r) = along.get(v).and_then(|r| r.as_ref()) {
                     row.extend_from_slice(r);
                 } else {
-                    ctx.row(v, ctx.choose(v, rings), &mut row);
+                    ctx.row(v, ctx.choose(v, rings, near), &mut row);
                 }
                 lens.push(row.len() as u32);
                 for &(c, w) in &row {
@@ -113,6 +122,17 @@ struct Context<'a> {
     coarse_of: &'a [u32],
     kept_nbrs: &'a KeptNeighbours,
     donors: Donors,
+    /// Every unknown's strong neighbours and their squared distances, when given.
+    strong: Option<&'a CsrMatrix>,
+}
+
+/// A row's strong neighbours found where none are given (`lsq::strong`): their columns and
+/// squared distances, and the row's distances as scratch.
+#[derive(Default)]
+struct Strong {
+    cols: Vec<u32>,
+    d2: Vec<f64>,
+    scratch: Vec<f64>,
 }
 
 /// Per fine unknown, its kept neighbours in K's graph (itself among them when it is kept): the
@@ -149,12 +169,20 @@ impl Context<'_> {
     /// no fit exists): its strongly coupled kept neighbours (`strong`) nearest first, then (only
     /// when those do not determine a bounded fit) its other kept neighbours and kept neighbours
     /// of neighbours, nearest first, one at a time (`choose_donors`).
-    fn choose(&self, v: usize, rings: &mut Rings) -> (Vec<u32>, Option<Vec<f64>>) {
+    fn choose(&self, v: usize, rings: &mut Rings, found: &mut Strong) -> (Vec<u32>, Option<Vec<f64>>) {
         let is_donor = |u: u32| self.coarse_of[u as usize] != u32::MAX && self.f.donor_ok(v, u as usize);
         let key = |u: u32| (norm2(self.rel(v, u as usize)), u);
         let row = self.k.row(v).0;
-        let mut near: Vec<(f64, u32)> =
-            super::strong(self.k, self.f, v, |u| self.rel(v, u)).filter(|&u| is_donor(u)).map(key).collect();
+        let (cols, d2) = match self.strong {
+            Some(g) => g.row(v),
+            None => {
+                let Strong { cols, d2, scratch } = found;
+                super::strong(self.k, self.f, v, |u| self.rel(v, u), scratch, (cols, d2));
+                (&cols[..], &d2[..])
+            }
+        };
+        // Each strong neighbour's squared distance is `key`'s.
+        let mut near: Vec<(f64, u32)> = cols.iter().zip(d2).filter(|&(&u, _)| is_donor(u)).map(|(&u, &d)| (d, u)).collect();
         let near = nearest(&mut near, usize::MAX);
         let fewest = self.donors != Donors::Strong;
         let far = |near: &[u32]| {
