@@ -6,7 +6,6 @@
 mod product;
 
 pub use product::{matmul, same_pattern, triple_product, triple_product_values, weighted_gram};
-pub(crate) use product::by_rows;
 use rayon::prelude::*;
 
 /// Rows below this count are processed serially: rayon's overhead dominates on small levels.

@@ -72,13 +72,12 @@ impl RowSum {
     }
 }
 
-/// A matrix whose rows are computed independently (written by `row(state, i, cols, vals)` into
-/// the cleared or the last row's vectors, which it clears first), so it is deterministic and
-/// parallel. Each block of rows is formed once into arrays of its own, which
+/// A matrix whose rows are computed independently (written by `row(state, i, cols, vals)`), so it
+/// is deterministic and parallel. Each block of rows is formed once into arrays of its own, which
 /// are moved into the result one after the other, each freed once moved: about the result's
 /// memory at once, no per-row vectors (they took twice the result's memory) and no counting pass
 /// that would form every row twice.
-pub(crate) fn by_rows<S>(
+fn by_rows<S>(
     nrows: usize,
     ncols: usize,
     init: impl Fn() -> S + Sync + Send,

@@ -98,8 +98,8 @@ impl Coarsener for LeastSquares {
         // own line (`on_lines`).
         let on_lines = self.on_lines.then(|| OnLines::new(fine.lines.lines(), &fine.op.k, &self.features[l], &points));
         // The strong couplings, found once for the selection and the interpolation's rows.
-        let mut graph = strong_graph(&fine.op.k, &self.features[l], &points);
-        let mut kept = select_on(&fine.op.k, &self.features[l], &points, &graph, on_lines.as_ref());
+        let mut strong = strong_couplings(&fine.op.k, &self.features[l], &points);
+        let mut kept = select_on(&fine.op.k, &self.features[l], &points, &strong, on_lines.as_ref());
         // A layer one cell thick that the general rule cannot coarsen enough (a layer thinner
         // than its cells are wide: few unknowns have a strong neighbour that may interpolate
         // them) is coarsened within its planes (`Features::in_plane`); every other level keeps
@@ -107,15 +107,15 @@ impl Coarsener for LeastSquares {
         let too_few_dropped = |kept: &[u32]| (n as f64) < self.params.min_ratio * kept.len() as f64;
         if too_few_dropped(&kept) && self.features[l].one_layer() {
             self.features[l].set_in_plane();
-            graph = strong_graph(&fine.op.k, &self.features[l], &points);
-            kept = select_on(&fine.op.k, &self.features[l], &points, &graph, None);
+            strong = strong_couplings(&fine.op.k, &self.features[l], &points);
+            kept = select_on(&fine.op.k, &self.features[l], &points, &strong, None);
         }
         let features = &self.features[l];
         let nc = kept.len();
         if nc < self.params.min_vertices || too_few_dropped(&kept) {
             return None;
         }
-        let transfer = transfer(fine, features, &kept, self.donors(), Some(&graph));
+        let transfer = transfer(fine, features, &kept, self.donors(), Some(&strong));
         let coarse = features.subset(&kept);
         self.features.push(coarse);
         Some(CoarseUnknowns { kept, transfer })
@@ -138,8 +138,8 @@ impl Coarsener for LeastSquares {
 }
 
 /// The transfer from `fine`, whose unknowns have the features `f`, to its unknowns `kept`, with
-/// its strong couplings (`strong_graph`) when they are at hand.
-fn transfer(fine: &Level, f: &Features, kept: &[u32], donors: weights::Donors, strong: Option<&CsrMatrix>) -> Transfer {
+/// its strong couplings (`strong_couplings`) when they are at hand.
+fn transfer(fine: &Level, f: &Features, kept: &[u32], donors: weights::Donors, strong: Option<&[f64]>) -> Transfer {
     let prolong = Arc::new(weights::prolongation(fine, f, kept, donors, weights::Given { strong, keep: None }));
     let restrict = Restriction::new(Arc::clone(&prolong));
     Transfer { prolong, restrict }
@@ -159,11 +159,11 @@ fn transfer(fine: &Level, f: &Features, kept: &[u32], donors: weights::Donors, s
 /// dropped only for the unknowns `OnLines::may_drop_for` names.
 #[cfg(test)]
 fn select(k: &CsrMatrix, f: &Features, points: &[f64], lines: Option<&OnLines>) -> Vec<u32> {
-    select_on(k, f, points, &strong_graph(k, f, points), lines)
+    select_on(k, f, points, &strong_couplings(k, f, points), lines)
 }
 
-/// `select` given the level's strong couplings `graph` (`strong_graph`).
-fn select_on(k: &CsrMatrix, f: &Features, points: &[f64], graph: &CsrMatrix, lines: Option<&OnLines>) -> Vec<u32> {
+/// `select` given the level's strong couplings (`strong_couplings`).
+fn select_on(k: &CsrMatrix, f: &Features, points: &[f64], strong: &[f64], lines: Option<&OnLines>) -> Vec<u32> {
     let n = k.nrows;
     let dim = f.dim();
     let at = |d: usize| &points[d * dim..(d + 1) * dim];
@@ -177,14 +177,20 @@ fn select_on(k: &CsrMatrix, f: &Features, points: &[f64], graph: &CsrMatrix, lin
         }
     });
     let mut kept = vec![false; n];
+    let mut near: Vec<u32> = Vec::new();
     for &v in &order {
         let v = v as usize;
-        let near = graph.row(v).0;
+        let r = k.row_ptr[v] as usize..k.row_ptr[v + 1] as usize;
+        let mut strongly = k.cols[r.clone()].iter().zip(&strong[r]).filter(|(_, d)| !d.is_nan()).map(|(&u, _)| u);
         // An unknown on a line keeps to it (`OnLines::may_drop_for`), in 3D only while it is
         // coupled strongly along it (`OnLines::keeps_to_line`).
-        let along = lines.filter(|o| o.keeps_to_line(v, near));
+        let along = lines.filter(|o| {
+            near.clear();
+            near.extend(strongly.clone());
+            o.keeps_to_line(v, &near)
+        });
         let may_drop_for = |u: usize| along.is_none_or(|o| o.may_drop_for(v, u));
-        if !near.iter().any(|&u| kept[u as usize] && f.donor_ok(v, u as usize) && may_drop_for(u as usize)) {
+        if !strongly.any(|u| kept[u as usize] && f.donor_ok(v, u as usize) && may_drop_for(u as usize)) {
             kept[v] = true;
         }
     }
@@ -212,10 +218,10 @@ fn partner(k: &CsrMatrix, f: &Features, v: usize, rel: impl Fn(usize) -> [f64; 3
 const STRONG_REACH: f64 = 2.0;
 
 /// The neighbours of `v` in K's graph (not `v`) within `STRONG_REACH` times the nearest one's
-/// distance, `rel(u)` giving u's offset from `v`: their columns into `cols` and their squared
-/// distances into `d2s` (both cleared first), in K's order; `scratch` holds the row's distances.
-/// The stiffness couples neighbours as the inverse square of their distance, so the near ones
-/// are the strong ones; K's own entries are no guide, as a trilinear hexahedron couples face
+/// distance, `rel(u)` giving u's offset from `v`: `out`, one value per entry of K's row `v`,
+/// takes the squared distance of each such neighbour and NaN at every other entry. The
+/// stiffness couples neighbours as the inverse square of their distance, so the near ones are
+/// the strong ones; K's own entries are no guide, as a trilinear hexahedron couples face
 /// neighbours by zero.
 ///
 /// On a layer one cell thick coarsened within its planes (`Features::in_plane`), an unknown
@@ -224,49 +230,65 @@ const STRONG_REACH: f64 = 2.0;
 /// neighbours that may interpolate it (on its own plane, or its edge) count, the nearest among
 /// them setting the reach, so each plane is coarsened as its 2D section would be; every other
 /// unknown keeps the rule above.
-pub(super) fn strong(
-    k: &CsrMatrix,
-    f: &Features,
-    v: usize,
-    rel: impl Fn(usize) -> [f64; 3],
-    scratch: &mut Vec<f64>,
-    (cols, d2s): (&mut Vec<u32>, &mut Vec<f64>),
-) {
+pub(super) fn strong(k: &CsrMatrix, f: &Features, v: usize, rel: impl Fn(usize) -> [f64; 3], out: &mut [f64]) {
     let row = k.row(v).0;
-    cols.clear();
-    d2s.clear();
-    scratch.clear();
-    scratch.extend(row.iter().map(|&u| if u as usize != v { norm2(rel(u as usize)) } else { f64::INFINITY }));
-    let reach = |d2: &mut dyn Iterator<Item = f64>| STRONG_REACH * STRONG_REACH * d2.fold(f64::INFINITY, f64::min);
-    let near = reach(&mut scratch.iter().copied());
+    for (d, &u) in out.iter_mut().zip(row) {
+        *d = if u as usize != v { norm2(rel(u as usize)) } else { f64::INFINITY };
+    }
+    let near = STRONG_REACH * STRONG_REACH * nearest_of(out);
     let eligible = |u: u32| u as usize != v && f.donor_ok(v, u as usize);
-    if f.in_plane() && !row.iter().zip(scratch.iter()).any(|(&u, &d)| d <= near && eligible(u)) {
+    if f.in_plane() && !row.iter().zip(out.iter()).any(|(&u, &d)| d <= near && eligible(u)) {
         // Only the eligible neighbours, at the distances found above (u ≠ v for each).
-        let of_eligible = |(&u, &d): (&u32, &f64)| if eligible(u) { d } else { f64::INFINITY };
-        let near = reach(&mut row.iter().zip(scratch.iter()).map(of_eligible));
-        for (u, d) in row.iter().zip(scratch.iter()).map(|e| (*e.0, of_eligible(e))) {
-            if d <= near && d < f64::INFINITY {
-                cols.push(u);
-                d2s.push(d);
-            }
+        for (d, &u) in out.iter_mut().zip(row) {
+            *d = if eligible(u) { *d } else { f64::INFINITY };
         }
+        let near = STRONG_REACH * STRONG_REACH * nearest_of(out);
+        out.iter_mut().for_each(|d| *d = if *d <= near && *d < f64::INFINITY { *d } else { f64::NAN });
         return;
     }
-    for (&u, &d) in row.iter().zip(scratch.iter()) {
-        if d <= near {
-            cols.push(u);
-            d2s.push(d);
-        }
-    }
+    out.iter_mut().for_each(|d| *d = if *d <= near { *d } else { f64::NAN });
 }
 
-/// Every unknown's strong neighbours (`strong`), a row each: columns and squared distances.
-pub(super) fn strong_graph(k: &CsrMatrix, f: &Features, points: &[f64]) -> CsrMatrix {
+/// The smallest of `d2` (∞ when empty; NaNs ignored), in four running minima: the smallest of
+/// a set is the same whatever order it is taken in.
+fn nearest_of(d2: &[f64]) -> f64 {
+    let mut m = [f64::INFINITY; 4];
+    let chunks = d2.chunks_exact(4);
+    let rest = chunks.remainder().iter().fold(f64::INFINITY, |a, &d| a.min(d));
+    for c in chunks {
+        for i in 0..4 {
+            m[i] = m[i].min(c[i]);
+        }
+    }
+    m[0].min(m[1]).min(m[2].min(m[3])).min(rest)
+}
+
+/// Rows of K per task of `strong_couplings`.
+const STRONG_ROWS: usize = 1024;
+
+/// Every unknown's strong neighbours (`strong`): one value per entry of K, the squared distance
+/// of a strong coupling and NaN elsewhere.
+pub(super) fn strong_couplings(k: &CsrMatrix, f: &Features, points: &[f64]) -> Vec<f64> {
+    use rayon::prelude::*;
     let dim = f.dim();
     let at = |d: usize| &points[d * dim..(d + 1) * dim];
-    crate::sparse::by_rows(k.nrows, k.ncols, Vec::new, |scratch, v, cols, d2s| {
-        strong(k, f, v, |u| f.relative(v, u, at(v), at(u)), scratch, (cols, d2s));
-    })
+    let mut out = vec![0.0; k.nnz()];
+    let mut blocks = Vec::with_capacity(k.nrows.div_ceil(STRONG_ROWS));
+    let mut rest = &mut out[..];
+    for first in (0..k.nrows).step_by(STRONG_ROWS) {
+        let end = (first + STRONG_ROWS).min(k.nrows);
+        let (b, next) = std::mem::take(&mut rest).split_at_mut((k.row_ptr[end] - k.row_ptr[first]) as usize);
+        rest = next;
+        blocks.push((first..end, b));
+    }
+    blocks.into_par_iter().for_each(|(rows, b)| {
+        let base = k.row_ptr[rows.start] as usize;
+        for v in rows {
+            let r = k.row_ptr[v] as usize - base..k.row_ptr[v + 1] as usize - base;
+            strong(k, f, v, |u| f.relative(v, u, at(v), at(u)), &mut b[r]);
+        }
+    });
+    out
 }
 
 fn norm2(r: [f64; 3]) -> f64 {

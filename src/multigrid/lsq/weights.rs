@@ -40,11 +40,11 @@ pub(super) enum Donors {
 }
 
 /// What a call of `prolongation` is given beyond the level: the level's strong couplings
-/// (`lsq::strong_graph`) when the selection found them, and with `keep` = (P₀, redo) the rows
+/// (`lsq::strong_couplings`) when the selection found them, and with `keep` = (P₀, redo) the rows
 /// to keep, P₀'s rows without `redo`.
 #[derive(Clone, Copy)]
 pub(super) struct Given<'a> {
-    pub(super) strong: Option<&'a CsrMatrix>,
+    pub(super) strong: Option<&'a [f64]>,
     pub(super) keep: Option<(&'a CsrMatrix, &'a [bool])>,
 }
 
@@ -75,7 +75,7 @@ pub(super) fn prolongation(fine: &Level, f: &Features, kept: &[u32], donors: Don
     };
     let chunks: Vec<(Vec<u32>, Vec<u32>, Vec<f64>)> = (0..n.div_ceil(CHUNK))
         .into_par_iter()
-        .map_init(|| (Rings::new(n), Strong::default()), |(rings, near), c| {
+        .map_init(|| (Rings::new(n), Vec::new()), |(rings, near), c| {
             let (mut lens, mut cols, mut vals) = (Vec::new(), Vec::new(), Vec::new());
             let mut row = Vec::new();
             let rows = c * CHUNK..((c + 1) * CHUNK).min(n);
@@ -122,17 +122,8 @@ struct Context<'a> {
     coarse_of: &'a [u32],
     kept_nbrs: &'a KeptNeighbours,
     donors: Donors,
-    /// Every unknown's strong neighbours and their squared distances, when given.
-    strong: Option<&'a CsrMatrix>,
-}
-
-/// A row's strong neighbours found where none are given (`lsq::strong`): their columns and
-/// squared distances, and the row's distances as scratch.
-#[derive(Default)]
-struct Strong {
-    cols: Vec<u32>,
-    d2: Vec<f64>,
-    scratch: Vec<f64>,
+    /// The level's strong couplings (`lsq::strong_couplings`), when given.
+    strong: Option<&'a [f64]>,
 }
 
 /// Per fine unknown, its kept neighbours in K's graph (itself among them when it is kept): the
@@ -169,20 +160,21 @@ impl Context<'_> {
     /// no fit exists): its strongly coupled kept neighbours (`strong`) nearest first, then (only
     /// when those do not determine a bounded fit) its other kept neighbours and kept neighbours
     /// of neighbours, nearest first, one at a time (`choose_donors`).
-    fn choose(&self, v: usize, rings: &mut Rings, found: &mut Strong) -> (Vec<u32>, Option<Vec<f64>>) {
+    fn choose(&self, v: usize, rings: &mut Rings, found: &mut Vec<f64>) -> (Vec<u32>, Option<Vec<f64>>) {
         let is_donor = |u: u32| self.coarse_of[u as usize] != u32::MAX && self.f.donor_ok(v, u as usize);
         let key = |u: u32| (norm2(self.rel(v, u as usize)), u);
         let row = self.k.row(v).0;
-        let (cols, d2) = match self.strong {
-            Some(g) => g.row(v),
+        let d2 = match self.strong {
+            Some(s) => &s[self.k.row_ptr[v] as usize..self.k.row_ptr[v + 1] as usize],
             None => {
-                let Strong { cols, d2, scratch } = found;
-                super::strong(self.k, self.f, v, |u| self.rel(v, u), scratch, (cols, d2));
-                (&cols[..], &d2[..])
+                found.resize(row.len(), 0.0);
+                super::strong(self.k, self.f, v, |u| self.rel(v, u), found);
+                &found[..]
             }
         };
         // Each strong neighbour's squared distance is `key`'s.
-        let mut near: Vec<(f64, u32)> = cols.iter().zip(d2).filter(|&(&u, _)| is_donor(u)).map(|(&u, &d)| (d, u)).collect();
+        let mut near: Vec<(f64, u32)> =
+            row.iter().zip(d2).filter(|&(&u, d)| !d.is_nan() && is_donor(u)).map(|(&u, &d)| (d, u)).collect();
         let near = nearest(&mut near, usize::MAX);
         let fewest = self.donors != Donors::Strong;
         let far = |near: &[u32]| {
@@ -376,21 +368,20 @@ pub(crate) fn fit_offsets(rel: &[[f64; 3]], fdim: usize) -> Option<Vec<f64>> {
     let (axes, spread) = principal_axes(rel);
     let k = (0..fdim).filter(|&i| spread[i] > SPREAD * spread[0]).count();
     let q = k + 1;
-    // a[r][j]: row r of A (1, then the offsets along the axes over h).
+    // Row r of A (1, then the offsets along the axes over h) and the donor's ω, formed where
+    // they are used (twice) rather than stored: one small fit per dropped unknown.
     let along = |r: &[f64; 3], ax: &[f64; 3]| (r[0] * ax[0] + r[1] * ax[1] + r[2] * ax[2]) / h;
-    let a: Vec<[f64; 4]> = rel
-        .iter()
-        .map(|r| {
-            let mut c = [1.0, 0.0, 0.0, 0.0];
-            for (i, ax) in axes.iter().enumerate().take(k) {
-                c[i + 1] = along(r, ax);
-            }
-            c
-        })
-        .collect();
-    let omega: Vec<f64> = rel.iter().map(|&r| h2 / norm2(r).max(1e-300 * h2)).collect();
+    let a = |r: &[f64; 3]| {
+        let mut c = [1.0, 0.0, 0.0, 0.0];
+        for (i, ax) in axes.iter().enumerate().take(k) {
+            c[i + 1] = along(r, ax);
+        }
+        c
+    };
+    let omega = |r: [f64; 3]| h2 / norm2(r).max(1e-300 * h2);
     let mut mat = [[0.0; 4]; 4];
-    for (c, &w) in a.iter().zip(&omega) {
+    for r in rel {
+        let (c, w) = (a(r), omega(*r));
         for i in 0..q {
             for j in 0..q {
                 mat[i][j] += w * c[i] * c[j];
@@ -398,7 +389,7 @@ pub(crate) fn fit_offsets(rel: &[[f64; 3]], fdim: usize) -> Option<Vec<f64>> {
         }
     }
     let lambda = solve_spd(mat, q)?;
-    let w: Vec<f64> = a.iter().zip(&omega).map(|(c, &w)| w * (0..q).map(|r| c[r] * lambda[r]).sum::<f64>()).collect();
+    let w: Vec<f64> = rel.iter().map(|r| (a(r), omega(*r))).map(|(c, w)| w * (0..q).map(|r| c[r] * lambda[r]).sum::<f64>()).collect();
     // Constants and linear fields along every axis of the feature hold to rounding, or the
     // donors were too nearly degenerate (or `v` lies off their plane or line).
     let sum_ok = (w.iter().sum::<f64>() - 1.0).abs() <= 1e-10;
