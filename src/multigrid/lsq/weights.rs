@@ -23,6 +23,8 @@ use rayon::prelude::*;
 const CHUNK: usize = 2048;
 /// Most donors of a row with `Donors::Fewest`.
 const FEWEST_MAX: usize = 12;
+/// Most donors whose offsets a fit holds on the stack.
+const FIT_ON_STACK: usize = 32;
 /// Largest Σ|w| accepted while more donors remain.
 const MAX_ABS_SUM: f64 = 2.0;
 
@@ -209,8 +211,18 @@ impl Context<'_> {
     /// The weights of `donors` for `v`, or None when they do not determine a linear field
     /// along `v`'s feature.
     fn fit(&self, v: usize, donors: &[u32]) -> Option<Vec<f64>> {
-        let rel: Vec<[f64; 3]> = donors.iter().map(|&u| self.rel(v, u as usize)).collect();
-        fit_offsets(&rel, self.f.feature_dim(v))
+        // The offsets on the stack for the usual few donors: one fit per dropped unknown.
+        let mut on_stack = [[0.0; 3]; FIT_ON_STACK];
+        let mut on_heap = Vec::new();
+        let rel = match on_stack.get_mut(..donors.len()) {
+            Some(r) => r,
+            None => {
+                on_heap.resize(donors.len(), [0.0; 3]);
+                &mut on_heap[..]
+            }
+        };
+        rel.iter_mut().zip(donors).for_each(|(r, &u)| *r = self.rel(v, u as usize));
+        fit_offsets(rel, self.f.feature_dim(v))
     }
 }
 
