@@ -294,3 +294,23 @@ pub(super) fn strong_couplings(k: &CsrMatrix, f: &Features, points: &[f64]) -> V
 fn norm2(r: [f64; 3]) -> f64 {
     r[0] * r[0] + r[1] * r[1] + r[2] * r[2]
 }
+
+#[cfg(test)]
+mod tests {
+    use super::nearest_of;
+
+    /// The four running minima give the sequential fold's minimum bitwise, with NaNs, infinities
+    /// and ties among the values, for every slice of them (lengths 0 to 11).
+    #[test]
+    fn nearest_is_the_sequential_minimum_bitwise() {
+        let values = [3.5, f64::NAN, 0.25, f64::INFINITY, 7.0, 0.25, 1e-300, f64::NAN, 2.0, 0.0, 5.0];
+        for len in 0..=values.len() {
+            for start in 0..=values.len() - len {
+                let d = &values[start..start + len];
+                let want = d.iter().fold(f64::INFINITY, |a, &b| a.min(b));
+                assert_eq!(nearest_of(d).to_bits(), want.to_bits(), "{d:?}");
+            }
+        }
+        assert_eq!(nearest_of(&values), 0.0);
+    }
+}
