@@ -61,6 +61,10 @@ impl Features {
                 let vs = dofs.vertices_of(d);
                 linked[d] = vs.len() > 1;
                 let mut s: Vec<u32> = vs.iter().flat_map(|&v| vertex_pieces[v as usize].iter().copied()).collect();
+                if s.is_empty() {
+                    // Inside the domain: list 0, without a look-up.
+                    return 0;
+                }
                 s.sort_unstable();
                 s.dedup();
                 *index.entry(s).or_insert_with_key(|s| {

@@ -97,7 +97,9 @@ impl Coarsener for LeastSquares {
         // The biharmonic's hierarchies keep their lines: their unknowns are dropped along their
         // own line (`on_lines`).
         let on_lines = self.on_lines.then(|| OnLines::new(fine.lines.lines(), &fine.op.k, &self.features[l], &points));
-        let mut kept = select(&fine.op.k, &self.features[l], &points, on_lines.as_ref());
+        // The strong couplings, found once for the selection and the interpolation's rows.
+        let mut strong = strong_couplings(&fine.op.k, &self.features[l], &points);
+        let mut kept = select_on(&fine.op.k, &self.features[l], &points, &strong, on_lines.as_ref());
         // A layer one cell thick that the general rule cannot coarsen enough (a layer thinner
         // than its cells are wide: few unknowns have a strong neighbour that may interpolate
         // them) is coarsened within its planes (`Features::in_plane`); every other level keeps
@@ -105,38 +107,40 @@ impl Coarsener for LeastSquares {
         let too_few_dropped = |kept: &[u32]| (n as f64) < self.params.min_ratio * kept.len() as f64;
         if too_few_dropped(&kept) && self.features[l].one_layer() {
             self.features[l].set_in_plane();
-            kept = select(&fine.op.k, &self.features[l], &points, None);
+            strong = strong_couplings(&fine.op.k, &self.features[l], &points);
+            kept = select_on(&fine.op.k, &self.features[l], &points, &strong, None);
         }
         let features = &self.features[l];
         let nc = kept.len();
         if nc < self.params.min_vertices || too_few_dropped(&kept) {
             return None;
         }
-        let transfer = transfer(fine, features, &kept, self.donors());
+        let transfer = transfer(fine, features, &kept, self.donors(), Some(&strong));
         let coarse = features.subset(&kept);
         self.features.push(coarse);
         Some(CoarseUnknowns { kept, transfer })
     }
 
     fn transfer(&mut self, l: usize, fine: &Level, coarse: &Level) -> Transfer {
-        transfer(fine, &self.features[l], &coarse.parent_vertex, self.donors())
+        transfer(fine, &self.features[l], &coarse.parent_vertex, self.donors(), None)
     }
 
     fn update(&self, l: usize, t: &mut Transfer, fine: &Level, coarse: &Level) {
-        t.prolong = Arc::new(weights::prolongation(fine, &self.features[l], &coarse.parent_vertex, self.donors(), None));
+        t.prolong = Arc::new(weights::prolongation(fine, &self.features[l], &coarse.parent_vertex, self.donors(), weights::Given::NONE));
         t.restrict = Restriction::new(Arc::clone(&t.prolong));
     }
 
     fn update_rows(&self, l: usize, t: &mut Transfer, fine: &Level, coarse: &Level, redo: &[bool]) {
-        let keep = Some((&*t.prolong, redo));
-        t.prolong = Arc::new(weights::prolongation(fine, &self.features[l], &coarse.parent_vertex, self.donors(), keep));
+        let given = weights::Given { strong: None, keep: Some((&*t.prolong, redo)) };
+        t.prolong = Arc::new(weights::prolongation(fine, &self.features[l], &coarse.parent_vertex, self.donors(), given));
         t.restrict = Restriction::new(Arc::clone(&t.prolong));
     }
 }
 
-/// The transfer from `fine`, whose unknowns have the features `f`, to its unknowns `kept`.
-fn transfer(fine: &Level, f: &Features, kept: &[u32], donors: weights::Donors) -> Transfer {
-    let prolong = Arc::new(weights::prolongation(fine, f, kept, donors, None));
+/// The transfer from `fine`, whose unknowns have the features `f`, to its unknowns `kept`, with
+/// its strong couplings (`strong_couplings`) when they are at hand.
+fn transfer(fine: &Level, f: &Features, kept: &[u32], donors: weights::Donors, strong: Option<&[f64]>) -> Transfer {
+    let prolong = Arc::new(weights::prolongation(fine, f, kept, donors, weights::Given { strong, keep: None }));
     let restrict = Restriction::new(Arc::clone(&prolong));
     Transfer { prolong, restrict }
 }
@@ -153,7 +157,13 @@ fn transfer(fine: &Level, f: &Features, kept: &[u32], donors: weights::Donors) -
 /// agree (an extruded 2D mesh): the coarse levels stay slabs of the 2D section's coarse levels.
 /// With `lines` (`OnLines`) a line's unknowns are visited together from the wall outward, and
 /// dropped only for the unknowns `OnLines::may_drop_for` names.
+#[cfg(test)]
 fn select(k: &CsrMatrix, f: &Features, points: &[f64], lines: Option<&OnLines>) -> Vec<u32> {
+    select_on(k, f, points, &strong_couplings(k, f, points), lines)
+}
+
+/// `select` given the level's strong couplings (`strong_couplings`).
+fn select_on(k: &CsrMatrix, f: &Features, points: &[f64], strong: &[f64], lines: Option<&OnLines>) -> Vec<u32> {
     let n = k.nrows;
     let dim = f.dim();
     let at = |d: usize| &points[d * dim..(d + 1) * dim];
@@ -170,14 +180,17 @@ fn select(k: &CsrMatrix, f: &Features, points: &[f64], lines: Option<&OnLines>) 
     let mut near: Vec<u32> = Vec::new();
     for &v in &order {
         let v = v as usize;
-        let rel = |u: usize| f.relative(v, u, at(v), at(u));
-        near.clear();
-        near.extend(strong(k, f, v, rel));
+        let r = k.row_ptr[v] as usize..k.row_ptr[v + 1] as usize;
+        let mut strongly = k.cols[r.clone()].iter().zip(&strong[r]).filter(|(_, d)| !d.is_nan()).map(|(&u, _)| u);
         // An unknown on a line keeps to it (`OnLines::may_drop_for`), in 3D only while it is
         // coupled strongly along it (`OnLines::keeps_to_line`).
-        let along = lines.filter(|o| o.keeps_to_line(v, &near));
+        let along = lines.filter(|o| {
+            near.clear();
+            near.extend(strongly.clone());
+            o.keeps_to_line(v, &near)
+        });
         let may_drop_for = |u: usize| along.is_none_or(|o| o.may_drop_for(v, u));
-        if !near.iter().any(|&u| kept[u as usize] && f.donor_ok(v, u as usize) && may_drop_for(u as usize)) {
+        if !strongly.any(|u| kept[u as usize] && f.donor_ok(v, u as usize) && may_drop_for(u as usize)) {
             kept[v] = true;
         }
     }
@@ -205,9 +218,11 @@ fn partner(k: &CsrMatrix, f: &Features, v: usize, rel: impl Fn(usize) -> [f64; 3
 const STRONG_REACH: f64 = 2.0;
 
 /// The neighbours of `v` in K's graph (not `v`) within `STRONG_REACH` times the nearest one's
-/// distance, `rel(u)` giving u's offset from `v`. The stiffness couples neighbours as the
-/// inverse square of their distance, so the near ones are the strong ones; K's own entries are
-/// no guide, as a trilinear hexahedron couples face neighbours by zero.
+/// distance, `rel(u)` giving u's offset from `v`: `out`, one value per entry of K's row `v`,
+/// takes the squared distance of each such neighbour and NaN at every other entry. The
+/// stiffness couples neighbours as the inverse square of their distance, so the near ones are
+/// the strong ones; K's own entries are no guide, as a trilinear hexahedron couples face
+/// neighbours by zero.
 ///
 /// On a layer one cell thick coarsened within its planes (`Features::in_plane`), an unknown
 /// whose strong neighbours all lie across the thickness, on the other plane, could never be
@@ -215,27 +230,87 @@ const STRONG_REACH: f64 = 2.0;
 /// neighbours that may interpolate it (on its own plane, or its edge) count, the nearest among
 /// them setting the reach, so each plane is coarsened as its 2D section would be; every other
 /// unknown keeps the rule above.
-pub(super) fn strong<'a>(
-    k: &'a CsrMatrix,
-    f: &Features,
-    v: usize,
-    rel: impl Fn(usize) -> [f64; 3],
-) -> impl Iterator<Item = u32> + 'a {
-    let cols = k.row(v).0;
-    let within = |counts: &dyn Fn(u32) -> bool| -> Vec<f64> {
-        let d2: Vec<f64> = cols.iter().map(|&u| if counts(u) { norm2(rel(u as usize)) } else { f64::INFINITY }).collect();
-        let nearest = d2.iter().copied().fold(f64::INFINITY, f64::min);
-        let reach = STRONG_REACH * STRONG_REACH * nearest;
-        d2.into_iter().map(|d| if d <= reach { d } else { f64::NAN }).collect()
-    };
-    let mut d2 = within(&|u| u as usize != v);
-    let eligible = |u: u32| u as usize != v && f.donor_ok(v, u as usize);
-    if f.in_plane() && !cols.iter().zip(&d2).any(|(&u, d)| !d.is_nan() && eligible(u)) {
-        d2 = within(&eligible).into_iter().map(|d| if d < f64::INFINITY { d } else { f64::NAN }).collect();
+pub(super) fn strong(k: &CsrMatrix, f: &Features, v: usize, rel: impl Fn(usize) -> [f64; 3], out: &mut [f64]) {
+    let row = k.row(v).0;
+    for (d, &u) in out.iter_mut().zip(row) {
+        *d = if u as usize != v { norm2(rel(u as usize)) } else { f64::INFINITY };
     }
-    cols.iter().zip(d2).filter(|&(_, d)| !d.is_nan()).map(|(&u, _)| u)
+    let near = STRONG_REACH * STRONG_REACH * nearest_of(out);
+    let eligible = |u: u32| u as usize != v && f.donor_ok(v, u as usize);
+    if f.in_plane() && !row.iter().zip(out.iter()).any(|(&u, &d)| d <= near && eligible(u)) {
+        // Only the eligible neighbours, at the distances found above (u ≠ v for each).
+        for (d, &u) in out.iter_mut().zip(row) {
+            *d = if eligible(u) { *d } else { f64::INFINITY };
+        }
+        let near = STRONG_REACH * STRONG_REACH * nearest_of(out);
+        out.iter_mut().for_each(|d| *d = if *d <= near && *d < f64::INFINITY { *d } else { f64::NAN });
+        return;
+    }
+    out.iter_mut().for_each(|d| *d = if *d <= near { *d } else { f64::NAN });
+}
+
+/// The smallest of `d2` (∞ when empty; NaNs ignored), in four running minima: the smallest of
+/// a set is the same whatever order it is taken in.
+fn nearest_of(d2: &[f64]) -> f64 {
+    let mut m = [f64::INFINITY; 4];
+    let chunks = d2.chunks_exact(4);
+    let rest = chunks.remainder().iter().fold(f64::INFINITY, |a, &d| a.min(d));
+    for c in chunks {
+        for i in 0..4 {
+            m[i] = m[i].min(c[i]);
+        }
+    }
+    m[0].min(m[1]).min(m[2].min(m[3])).min(rest)
+}
+
+/// Rows of K per task of `strong_couplings`.
+const STRONG_ROWS: usize = 1024;
+
+/// Every unknown's strong neighbours (`strong`): one value per entry of K, the squared distance
+/// of a strong coupling and NaN elsewhere.
+pub(super) fn strong_couplings(k: &CsrMatrix, f: &Features, points: &[f64]) -> Vec<f64> {
+    use rayon::prelude::*;
+    let dim = f.dim();
+    let at = |d: usize| &points[d * dim..(d + 1) * dim];
+    let mut out = vec![0.0; k.nnz()];
+    let mut blocks = Vec::with_capacity(k.nrows.div_ceil(STRONG_ROWS));
+    let mut rest = &mut out[..];
+    for first in (0..k.nrows).step_by(STRONG_ROWS) {
+        let end = (first + STRONG_ROWS).min(k.nrows);
+        let (b, next) = std::mem::take(&mut rest).split_at_mut((k.row_ptr[end] - k.row_ptr[first]) as usize);
+        rest = next;
+        blocks.push((first..end, b));
+    }
+    blocks.into_par_iter().for_each(|(rows, b)| {
+        let base = k.row_ptr[rows.start] as usize;
+        for v in rows {
+            let r = k.row_ptr[v] as usize - base..k.row_ptr[v + 1] as usize - base;
+            strong(k, f, v, |u| f.relative(v, u, at(v), at(u)), &mut b[r]);
+        }
+    });
+    out
 }
 
 fn norm2(r: [f64; 3]) -> f64 {
     r[0] * r[0] + r[1] * r[1] + r[2] * r[2]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::nearest_of;
+
+    /// The four running minima give the sequential fold's minimum bitwise, with NaNs, infinities
+    /// and ties among the values, for every slice of them (lengths 0 to 11).
+    #[test]
+    fn nearest_is_the_sequential_minimum_bitwise() {
+        let values = [3.5, f64::NAN, 0.25, f64::INFINITY, 7.0, 0.25, 1e-300, f64::NAN, 2.0, 0.0, 5.0];
+        for len in 0..=values.len() {
+            for start in 0..=values.len() - len {
+                let d = &values[start..start + len];
+                let want = d.iter().fold(f64::INFINITY, |a, &b| a.min(b));
+                assert_eq!(nearest_of(d).to_bits(), want.to_bits(), "{d:?}");
+            }
+        }
+        assert_eq!(nearest_of(&values), 0.0);
+    }
 }

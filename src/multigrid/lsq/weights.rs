@@ -23,6 +23,8 @@ use rayon::prelude::*;
 const CHUNK: usize = 2048;
 /// Most donors of a row with `Donors::Fewest`.
 const FEWEST_MAX: usize = 12;
+/// Most donors whose offsets a fit holds on the stack.
+const FIT_ON_STACK: usize = 32;
 /// Largest Σ|w| accepted while more donors remain.
 const MAX_ABS_SUM: f64 = 2.0;
 
@@ -39,17 +41,26 @@ pub(super) enum Donors {
     AlongLines,
 }
 
+/// What a call of `prolongation` is given beyond the level: the level's strong couplings
+/// (`lsq::strong_couplings`) when the selection found them, and with `keep` = (P₀, redo) the rows
+/// to keep, P₀'s rows without `redo`.
+#[derive(Clone, Copy)]
+pub(super) struct Given<'a> {
+    pub(super) strong: Option<&'a [f64]>,
+    pub(super) keep: Option<(&'a CsrMatrix, &'a [bool])>,
+}
+
+impl Given<'_> {
+    /// Nothing given: every row is chosen, its strong couplings found as it is.
+    pub(super) const NONE: Given<'static> = Given { strong: None, keep: None };
+}
+
 /// P: fine unknowns × the coarse unknowns `kept` (fine numbering, ascending), donors and weights
 /// chosen at the current positions (a moved mesh may need other donors: a set that lay in the
-/// plane of its unknown, across a thin layer, no longer does). With `keep` = (P₀, redo), the
-/// rows without `redo` are P₀'s rows as they are, the others chosen anew.
-pub(super) fn prolongation(
-    fine: &Level,
-    f: &Features,
-    kept: &[u32],
-    donors: Donors,
-    keep: Option<(&CsrMatrix, &[bool])>,
-) -> CsrMatrix {
+/// plane of its unknown, across a thin layer, no longer does). With `given.keep` = (P₀, redo),
+/// the rows without `redo` are P₀'s rows as they are, the others chosen anew.
+pub(super) fn prolongation(fine: &Level, f: &Features, kept: &[u32], donors: Donors, given: Given) -> CsrMatrix {
+    let Given { strong, keep } = given;
     let points = fine.unknown_points();
     let dim = f.dim();
     let n = fine.n();
@@ -58,7 +69,7 @@ pub(super) fn prolongation(
         coarse_of[d as usize] = c as u32;
     }
     let kept_nbrs = KeptNeighbours::new(&fine.op.k, &coarse_of);
-    let ctx = Context { k: &fine.op.k, f, points: &points, dim, coarse_of: &coarse_of, kept_nbrs: &kept_nbrs, donors };
+    let ctx = Context { k: &fine.op.k, f, points: &points, dim, coarse_of: &coarse_of, kept_nbrs: &kept_nbrs, donors, strong };
     let along = if donors == Donors::AlongLines {
         super::along_lines::rows(fine.lines.lines(), &fine.op.k, f, &points, &coarse_of)
     } else {
@@ -66,7 +77,7 @@ pub(super) fn prolongation(
     };
     let chunks: Vec<(Vec<u32>, Vec<u32>, Vec<f64>)> = (0..n.div_ceil(CHUNK))
         .into_par_iter()
-        .map_init(|| Rings::new(n), |rings, c| {
+        .map_init(|| (Rings::new(n), Vec::new()), |(rings, near), c| {
             let (mut lens, mut cols, mut vals) = (Vec::new(), Vec::new(), Vec::new());
             let mut row = Vec::new();
             let rows = c * CHUNK..((c + 1) * CHUNK).min(n);
@@ -80,7 +91,7 @@ pub(super) fn prolongation(
                 } else if let Some(r) = along.get(v).and_then(|r| r.as_ref()) {
                     row.extend_from_slice(r);
                 } else {
-                    ctx.row(v, ctx.choose(v, rings), &mut row);
+                    ctx.row(v, ctx.choose(v, rings, near), &mut row);
                 }
                 lens.push(row.len() as u32);
                 for &(c, w) in &row {
@@ -113,6 +124,8 @@ struct Context<'a> {
     coarse_of: &'a [u32],
     kept_nbrs: &'a KeptNeighbours,
     donors: Donors,
+    /// The level's strong couplings (`lsq::strong_couplings`), when given.
+    strong: Option<&'a [f64]>,
 }
 
 /// Per fine unknown, its kept neighbours in K's graph (itself among them when it is kept): the
@@ -149,12 +162,21 @@ impl Context<'_> {
     /// no fit exists): its strongly coupled kept neighbours (`strong`) nearest first, then (only
     /// when those do not determine a bounded fit) its other kept neighbours and kept neighbours
     /// of neighbours, nearest first, one at a time (`choose_donors`).
-    fn choose(&self, v: usize, rings: &mut Rings) -> (Vec<u32>, Option<Vec<f64>>) {
+    fn choose(&self, v: usize, rings: &mut Rings, found: &mut Vec<f64>) -> (Vec<u32>, Option<Vec<f64>>) {
         let is_donor = |u: u32| self.coarse_of[u as usize] != u32::MAX && self.f.donor_ok(v, u as usize);
         let key = |u: u32| (norm2(self.rel(v, u as usize)), u);
         let row = self.k.row(v).0;
+        let d2 = match self.strong {
+            Some(s) => &s[self.k.row_ptr[v] as usize..self.k.row_ptr[v + 1] as usize],
+            None => {
+                found.resize(row.len(), 0.0);
+                super::strong(self.k, self.f, v, |u| self.rel(v, u), found);
+                &found[..]
+            }
+        };
+        // Each strong neighbour's squared distance is `key`'s.
         let mut near: Vec<(f64, u32)> =
-            super::strong(self.k, self.f, v, |u| self.rel(v, u)).filter(|&u| is_donor(u)).map(key).collect();
+            row.iter().zip(d2).filter(|&(&u, d)| !d.is_nan() && is_donor(u)).map(|(&u, &d)| (d, u)).collect();
         let near = nearest(&mut near, usize::MAX);
         let fewest = self.donors != Donors::Strong;
         let far = |near: &[u32]| {
@@ -189,8 +211,18 @@ impl Context<'_> {
     /// The weights of `donors` for `v`, or None when they do not determine a linear field
     /// along `v`'s feature.
     fn fit(&self, v: usize, donors: &[u32]) -> Option<Vec<f64>> {
-        let rel: Vec<[f64; 3]> = donors.iter().map(|&u| self.rel(v, u as usize)).collect();
-        fit_offsets(&rel, self.f.feature_dim(v))
+        // The offsets on the stack for the usual few donors: one fit per dropped unknown.
+        let mut on_stack = [[0.0; 3]; FIT_ON_STACK];
+        let mut on_heap = Vec::new();
+        let rel = match on_stack.get_mut(..donors.len()) {
+            Some(r) => r,
+            None => {
+                on_heap.resize(donors.len(), [0.0; 3]);
+                &mut on_heap[..]
+            }
+        };
+        rel.iter_mut().zip(donors).for_each(|(r, &u)| *r = self.rel(v, u as usize));
+        fit_offsets(rel, self.f.feature_dim(v))
     }
 }
 
@@ -348,21 +380,20 @@ pub(crate) fn fit_offsets(rel: &[[f64; 3]], fdim: usize) -> Option<Vec<f64>> {
     let (axes, spread) = principal_axes(rel);
     let k = (0..fdim).filter(|&i| spread[i] > SPREAD * spread[0]).count();
     let q = k + 1;
-    // a[r][j]: row r of A (1, then the offsets along the axes over h).
+    // Row r of A (1, then the offsets along the axes over h) and the donor's ω, formed where
+    // they are used (twice) rather than stored: one small fit per dropped unknown.
     let along = |r: &[f64; 3], ax: &[f64; 3]| (r[0] * ax[0] + r[1] * ax[1] + r[2] * ax[2]) / h;
-    let a: Vec<[f64; 4]> = rel
-        .iter()
-        .map(|r| {
-            let mut c = [1.0, 0.0, 0.0, 0.0];
-            for (i, ax) in axes.iter().enumerate().take(k) {
-                c[i + 1] = along(r, ax);
-            }
-            c
-        })
-        .collect();
-    let omega: Vec<f64> = rel.iter().map(|&r| h2 / norm2(r).max(1e-300 * h2)).collect();
+    let a = |r: &[f64; 3]| {
+        let mut c = [1.0, 0.0, 0.0, 0.0];
+        for (i, ax) in axes.iter().enumerate().take(k) {
+            c[i + 1] = along(r, ax);
+        }
+        c
+    };
+    let omega = |r: [f64; 3]| h2 / norm2(r).max(1e-300 * h2);
     let mut mat = [[0.0; 4]; 4];
-    for (c, &w) in a.iter().zip(&omega) {
+    for r in rel {
+        let (c, w) = (a(r), omega(*r));
         for i in 0..q {
             for j in 0..q {
                 mat[i][j] += w * c[i] * c[j];
@@ -370,7 +401,7 @@ pub(crate) fn fit_offsets(rel: &[[f64; 3]], fdim: usize) -> Option<Vec<f64>> {
         }
     }
     let lambda = solve_spd(mat, q)?;
-    let w: Vec<f64> = a.iter().zip(&omega).map(|(c, &w)| w * (0..q).map(|r| c[r] * lambda[r]).sum::<f64>()).collect();
+    let w: Vec<f64> = rel.iter().map(|r| (a(r), omega(*r))).map(|(c, w)| w * (0..q).map(|r| c[r] * lambda[r]).sum::<f64>()).collect();
     // Constants and linear fields along every axis of the feature hold to rounding, or the
     // donors were too nearly degenerate (or `v` lies off their plane or line).
     let sum_ok = (w.iter().sum::<f64>() - 1.0).abs() <= 1e-10;
