@@ -291,7 +291,7 @@ mod tests {
     }
 
     /// On a graded hexahedral box whose cells near the graded wall are compressed (the largest
-    /// diagonal drift about 18%, within `DRIFT`), the moved level's estimate is one product
+    /// diagonal drift between 12% and `DRIFT`), the moved level's estimate is one product
     /// from the kept iterate raised by the drift, and it lies above the level's fresh estimate
     /// by less than the raise and the margin.
     #[test]
