@@ -173,9 +173,9 @@ pub(crate) struct Guide {
 /// layers: docs/DESIGN.md §5, "Wall layers across ranks"). Returns A_c, P (`fine`'s local
 /// entries × A_c's; the rows of `fine`'s prescribed entries empty) and the coarse guide; None
 /// when no rank keeps an unknown (collective). With `lines` (the level's lines across wall
-/// layers, given on every rank or on none: the 2D hierarchies with lines) a dropped unknown on
-/// a line interpolates along it, cubic in the distance along the line, where the line gives its
-/// row (`along_lines`). Couplings of K are strong at `theta` (`select::strong`).
+/// layers, given on every rank or on none: the hierarchies that interpolate along them) a
+/// dropped unknown on a line interpolates along it, cubic in the distance along the line, where
+/// the line gives its row (`along_lines`). Couplings of K are strong at `theta` (`select::strong`).
 pub(super) fn coarsen(
     fine: &OwnedRows,
     guide: &Guide,

@@ -583,10 +583,12 @@ fn levels_of(
     let (mut current, mut lines) = (fine, lines);
     // The current level's operator is the assembled Galerkin product of the level above.
     let mut assembled = false;
-    // The biharmonic's hierarchies with lines on their finest level (asked on every rank): in 2D
-    // they interpolate along the lines on every level, as serially (`multigrid::lsq`).
+    // The biharmonic's hierarchies with lines on their finest level (asked on every rank). They
+    // interpolate along the lines on every level in 2D, as serially (`multigrid::lsq`), and in 3D
+    // under thin layers (`lines::thin_layers`), where the serial 3D levels keep the least-squares
+    // rows (docs/DESIGN.md §5, "Wall layers across ranks").
     let layered = guide.is_some() && any_lines(current.halo.comm(), &lines);
-    let along = layered && guide.as_ref().is_some_and(|g| g.at.dim == 2);
+    let along = layered && guide.as_ref().is_some_and(|g| g.at.dim == 2 || lines::thin_layers(&g.k, &g.at));
     loop {
         let rows = global_rows(&current);
         let last = rows <= limits.gather || levels.len() + 1 >= limits.levels.max(1);
@@ -596,7 +598,7 @@ fn levels_of(
             (Some(g), false) => {
                 // The serial rule on the level's lines over all its ranks (collective over them;
                 // asked only where it decides).
-                // Under wall layers in 2D, whose levels interpolate along the lines, the first
+                // Under wall layers whose levels interpolate along the lines, the first
                 // coarse level is assembled too, where the serial hierarchy keeps K_c V_c⁻¹ K_c
                 // (docs/DESIGN.md §5, "Wall layers across ranks").
                 let kept = along || !levels.is_empty();
