@@ -91,7 +91,7 @@ fn main() -> ExitCode {
     let mut ok = true;
     // Per (case, method): the serial cycles and each rank count's iterations.
     let mut table: BTreeMap<(usize, String), (String, Vec<String>)> = BTreeMap::new();
-    // Per airfoil solve: each rank count's levels and digests of their prolongations.
+    // Per airfoil and wing solve: each rank count's levels and digests of their prolongations.
     let mut levels: BTreeMap<String, Vec<String>> = BTreeMap::new();
     for np in 1..=4 {
         let out = slabs::mpirun(np);
