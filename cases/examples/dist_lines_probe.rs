@@ -18,10 +18,11 @@ mod slabs;
 
 use against_serial::{compare, methods, solve_params};
 use meshmove::distributed::mpi::traits::*;
+use meshmove::Kind;
 use meshmove_cases::setups::{case, CaseSetup, Scale};
 use meshmove_cases::setups3d::case3d;
 use meshmove_cases::viscous::{
-    airfoil_2d, boundary_conditions, motion, wing_3d, AirfoilParams, BodyMotion, WingParams,
+    airfoil_2d, boundary_conditions, motion, wing_3d, AirfoilParams, BodyMotion, WingParams, END_WALLS,
 };
 
 fn main() {
@@ -35,12 +36,14 @@ fn main() {
     let methods = methods(&args);
     let all =
         ["boundary_layer_cylinder", "boundary_layer_cylinder_hybrid", "boundary_layer_cylinder_3d", "airfoil", "wing"];
-    let asked = names.iter().filter(|n| n.starts_with("airfoil:")).map(String::as_str);
-    let others = names.iter().map(String::as_str).filter(|n| !n.starts_with("airfoil:"));
+    let named = |n: &&String| n.starts_with("airfoil:") || n.starts_with("wing:");
+    let asked = names.iter().filter(named).map(String::as_str);
+    let others = names.iter().filter(|n| !named(n)).map(String::as_str);
     let listed: Vec<&str> = if names.is_empty() { all.to_vec() } else { others.collect() };
     for name in asked.chain(listed) {
         let setup = match name.split(':').collect::<Vec<_>>()[..] {
-            ["wing"] => wing(),
+            ["wing"] => wing(None),
+            ["wing", ends] => wing(Some(ends)),
             ["airfoil", n, how] => airfoil(n.parse().unwrap_or(64), how),
             _ => {
                 case(name, Scale::Quick).or_else(|| case3d(name, Scale::Quick)).unwrap_or_else(|| airfoil(64, "pitch"))
@@ -68,10 +71,20 @@ fn airfoil(n: usize, how: &str) -> CaseSetup {
 }
 
 /// The small wing of `cases/tests/viscous.rs` (16 × 2, slip end walls) plunged: at 1e-8 the
-/// serial solver polishes its tangled trailing edge.
-fn wing() -> CaseSetup {
+/// serial solver polishes its tangled trailing edge. `ends` (`wing:fixed`, `wing:free`) makes
+/// the end walls FIXED or FREE instead, which tells what the slip walls cost.
+fn wing(ends: Option<&str>) -> CaseSetup {
     let v = wing_3d(&WingParams::new(16, 2)).expect("the wing");
-    let (bcs, motion) = (boundary_conditions(&v), motion(&v, BodyMotion::Plunge));
+    let (mut bcs, motion) = (boundary_conditions(&v), motion(&v, BodyMotion::Plunge));
+    match ends {
+        Some("fixed") => {
+            bcs.set_kinds(END_WALLS, Kind::Fixed);
+        }
+        Some("free") => {
+            bcs.set_kinds(END_WALLS, Kind::Free);
+        }
+        _ => {}
+    }
     CaseSetup {
         name: "wing".into(),
         mesh: v.mesh,

@@ -187,7 +187,7 @@ pub(super) enum Product<'a> {
 /// ranks"). Returns A_c, P (`fine`'s local entries × A_c's; the rows of `fine`'s prescribed
 /// entries empty), the coarse guide and whether A_c is the Galerkin product; None when no rank
 /// keeps an unknown (collective). With `lines` (the level's lines across wall layers, given on
-/// every rank or on none: the 2D hierarchies with lines) a dropped unknown on a line
+/// every rank or on none: the hierarchies that interpolate along them) a dropped unknown on a line
 /// interpolates along it, cubic in the distance along the line, where the line gives its row
 /// (`along_lines`). Couplings of K are strong at `theta` (`select::strong`).
 pub(super) fn coarsen(

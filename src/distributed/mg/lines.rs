@@ -14,9 +14,11 @@
 //! of kept unknowns do: a coarse unknown is the fine unknown of the same global id on the same
 //! rank. A level agglomerated onto fewer ranks receives its senders' lines with their rows.
 
+use super::donors::Positions;
 use super::mover::Mover;
 use super::OwnedRows;
 use crate::bc::P;
+use crate::distributed::reduce::max_over_ranks;
 use crate::multigrid::layout::Layout;
 use crate::multigrid::level::Level;
 use crate::multigrid::line_smoother::LineBlocks;
@@ -38,6 +40,43 @@ pub(crate) fn owned_lines(
     let prescribed = |i: usize| flags.iter().all(|f| f[i] & P != 0);
     let tied = |i: usize| tied.get(i).copied().unwrap_or(false);
     Lines::find(k.nrows, |i| k.row(i).0, points, dim, |i| i >= owned || prescribed(i), tied)
+}
+
+/// The anisotropy from which a 3D hierarchy with lines interpolates along them
+/// (`thin_layers`): cells of aspect ratio about 30. Wall layers of flat cells (an extruded
+/// airfoil's, a cylinder's prisms) lie orders of magnitude above it, graded walls of nearly
+/// isotropic cells (the sphere channel's) an order below.
+const THIN_LAYERS: f64 = 1e3;
+
+/// Whether the wall layers of the level `k` at `at` are thin enough for a 3D hierarchy with lines
+/// to interpolate along them, as the 2D ones do (`along_lines`): its largest anisotropy over all
+/// ranks (`largest_anisotropy`) at least `THIN_LAYERS` (collective; the same on every partition).
+pub(super) fn thin_layers(k: &OwnedRows, at: &Positions) -> bool {
+    largest_anisotropy(k, at) >= THIN_LAYERS
+}
+
+/// The largest anisotropy over all ranks of the unknowns of `k` (a level's operator, its rows
+/// the owned unknowns') at `at`: an unknown's strongest coupling over its weakest, each measured
+/// as the lines measure it (`multigrid::lines`: 1/|xᵢ − xⱼ|² over the operator's graph). An
+/// owned row holds every neighbour of its unknown, so the largest does not depend on the
+/// partition (collective).
+fn largest_anisotropy(k: &OwnedRows, at: &Positions) -> f64 {
+    let d2 = |i: usize, j: usize| (0..3).map(|c| (at.coords[i][c] - at.coords[j][c]).powi(2)).sum::<f64>();
+    let mut largest = 0.0f64;
+    for i in 0..k.halo.owned() {
+        let (cols, _) = k.a.row(i);
+        let (mut near, mut far) = (f64::INFINITY, 0.0f64);
+        for &j in cols.iter().filter(|&&j| j as usize != i) {
+            let d = d2(i, j as usize);
+            if d > 0.0 {
+                (near, far) = (near.min(d), far.max(d));
+            }
+        }
+        if near.is_finite() {
+            largest = largest.max(far / near);
+        }
+    }
+    max_over_ranks(k.halo.comm(), largest)
 }
 
 /// The segments of `coarse`, the level kept from one whose entries have the global ids `gids` and

@@ -584,10 +584,12 @@ fn levels_of(
     let (mut current, mut lines) = (fine, lines);
     // The current level's operator is the assembled Galerkin product of the level above.
     let mut assembled = false;
-    // The biharmonic's hierarchies with lines on their finest level (asked on every rank): in 2D
-    // they interpolate along the lines on every level, as serially (`multigrid::lsq`).
+    // The biharmonic's hierarchies with lines on their finest level (asked on every rank). They
+    // interpolate along the lines on every level in 2D, as serially (`multigrid::lsq`), and in 3D
+    // under thin layers (`lines::thin_layers`), where the serial 3D levels keep the least-squares
+    // rows (docs/DESIGN.md §5, "Wall layers across ranks").
     let layered = guide.is_some() && any_lines(current.halo.comm(), &lines);
-    let along = layered && guide.as_ref().is_some_and(|g| g.at.dim == 2);
+    let along = layered && guide.as_ref().is_some_and(|g| g.at.dim == 2 || lines::thin_layers(&g.k, &g.at));
     loop {
         let rows = global_rows(&current);
         let last = rows <= limits.gather || levels.len() + 1 >= limits.levels.max(1);
@@ -601,7 +603,7 @@ fn levels_of(
                 let lined = kept && !assembled && any_lines(current.halo.comm(), &lines);
                 // Below the first `KVK_LEVELS` coarse levels, the product on every mesh.
                 let below = assembled_below(kept, lined, assembled) || levels.len() >= KVK_LEVELS;
-                // Under wall layers in 2D, whose levels interpolate along the lines, a first
+                // Under wall layers whose levels interpolate along the lines (`along`), a first
                 // coarse level that keeps lines is assembled too, where the serial hierarchy keeps
                 // K_c V_c⁻¹ K_c (docs/DESIGN.md §5, "Wall layers across ranks").
                 let product = match (below, along && !kept) {
