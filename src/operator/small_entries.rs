@@ -12,7 +12,7 @@
 //! pattern is decided once, when the product is made; a moved mesh refills the values into it
 //! (`Dropped::fill`), so the levels below keep their own patterns.
 
-use crate::sparse::CsrMatrix;
+use crate::sparse::{offset, CsrMatrix};
 
 /// An entry is dropped below this fraction of √(a_ii a_jj). Larger bounds lump enough onto the
 /// diagonals to stiffen the smooth modes the coarse levels correct, and the wing's count rises
@@ -48,21 +48,20 @@ impl Dropped {
         let mut row_ptr = Vec::with_capacity(n + 1);
         row_ptr.push(0u32);
         let mut cols = Vec::new();
-        for i in 0..n {
+        for (i, d) in diag.iter_mut().enumerate() {
             let (c, v) = full.row(i);
             for (&j, &x) in c.iter().zip(v) {
-                let j = j as usize;
-                if small(i, j, x) && small(j, i, full.get(j, i)) {
+                if small(i, j as usize, x) && small(j as usize, i, full.get(j as usize, i)) {
                     to.push(LUMPED);
                 } else {
-                    if i == j {
-                        diag[i] = cols.len() as u32;
+                    if i == j as usize {
+                        *d = offset(cols.len());
                     }
-                    to.push(cols.len() as u32);
-                    cols.push(j as u32);
+                    to.push(offset(cols.len()));
+                    cols.push(j);
                 }
             }
-            row_ptr.push(cols.len() as u32);
+            row_ptr.push(offset(cols.len()));
         }
         let nnz = cols.len();
         let mut kept = CsrMatrix { nrows: n, ncols: full.ncols, row_ptr, cols, vals: vec![0.0; nnz] };
