@@ -8,8 +8,11 @@
 //! in volume by orders of magnitude), and the cycle needs more iterations as the mesh grows; Pᵀ A P
 //! is the fine operator's energy on the coarse functions whatever the layers, at the price of a
 //! denser coarse operator (A couples neighbours of neighbours). The hierarchy assembles it on the
-//! kept levels below wall layers only (`multigrid::hierarchy`), where the drift shows.
+//! kept levels below wall layers only (`multigrid::hierarchy`), where the drift shows. Its
+//! entries far below their diagonals are dropped onto them (`small_entries`): each level's
+//! product of the level above would otherwise widen its rows level by level.
 
+use super::small_entries::Dropped;
 use super::LevelOperator;
 use crate::sparse::{matmul, triple_product, triple_product_values, weighted_gram, CsrMatrix};
 
@@ -24,33 +27,54 @@ pub(crate) fn assembled_below(kept: bool, lines: bool, assembled: bool) -> bool 
 /// A coarse level's assembled biharmonic and what remaking it at a new reference needs.
 #[derive(Clone)]
 pub(crate) struct Assembled {
-    /// A_c = Pᵀ A P (coarse unknowns × coarse unknowns; the P rows of the flags are applied when
-    /// it is applied, as for K).
+    /// A_c = Pᵀ A P with its small entries dropped onto the diagonal (`small_entries`), as it is
+    /// applied (coarse unknowns × coarse unknowns; the P rows of the flags are applied when it
+    /// is applied, as for K). The next coarser level's product is made from it.
     pub(crate) a: CsrMatrix,
+    /// When the rows are bounded: the whole product Pᵀ A P, whose values a moved mesh refills
+    /// before `a` is taken again, and which of its entries `a` keeps.
+    bounded: Option<(CsrMatrix, Dropped)>,
     /// Per unknown of the finer level, whether S is free there (no Z flag); used when the finer
     /// level has no assembled A of its own. Empty otherwise.
     pub(crate) s_free: Vec<bool>,
 }
 
 impl Assembled {
+    /// The applied operator of the product `full`, its small entries dropped when `bound`.
+    fn new(full: CsrMatrix, s_free: Vec<bool>, bound: bool) -> Assembled {
+        if !bound {
+            return Assembled { a: full, bounded: None, s_free };
+        }
+        let (dropped, a) = Dropped::new(&full);
+        Assembled { a, bounded: Some((full, dropped)), s_free }
+    }
+
     /// Pᵀ A P for a finer level `fine` without an assembled A, from its K P = `g`:
     /// K_{:,F} V_F⁻¹ K_{F,:} with F the unknowns where `s_free` is set, as Gᵀ W G with W = V⁻¹
     /// where S is free, 0 elsewhere (`weighted_gram`, bitwise the triple product with W as a
     /// diagonal matrix, which `refill` computes).
-    fn from_kp(fine: &LevelOperator, s_free: Vec<bool>, g: &CsrMatrix) -> Assembled {
-        Assembled { a: weighted_gram(&g.transpose(), &free_weights(fine, &s_free), g), s_free }
+    fn from_kp(fine: &LevelOperator, s_free: Vec<bool>, g: &CsrMatrix, bound: bool) -> Assembled {
+        Assembled::new(weighted_gram(&g.transpose(), &free_weights(fine, &s_free), g), s_free, bound)
     }
 
     /// The product's values again into the stored pattern, when P's pattern and the finer level's
-    /// are those it was made with (a moved mesh changes values only): bitwise the product of
-    /// `LevelOperator::galerkin_assembled`, without its symbolic phase.
+    /// are those it was made with (a moved mesh changes values only), and the applied operator
+    /// from them in its kept pattern: bitwise `LevelOperator::galerkin_assembled`, without its
+    /// symbolic phase.
     pub(crate) fn refill(&mut self, fine: &LevelOperator, prolong: &CsrMatrix, restrict: &CsrMatrix) {
+        let product = match &mut self.bounded {
+            Some((full, _)) => full,
+            None => &mut self.a,
+        };
         match &fine.assembled {
-            Some(f) => triple_product_values(restrict, &f.a, prolong, &mut self.a),
+            Some(f) => triple_product_values(restrict, &f.a, prolong, product),
             None => {
                 let (g, w) = kp_and_weights(fine, &self.s_free, prolong);
-                triple_product_values(&g.transpose(), &w, &g, &mut self.a);
+                triple_product_values(&g.transpose(), &w, &g, product);
             }
+        }
+        if let Some((full, dropped)) = &self.bounded {
+            dropped.fill(full, &mut self.a);
         }
     }
 }
@@ -77,18 +101,25 @@ fn free_weights(fine: &LevelOperator, s_free: &[bool]) -> Vec<f64> {
 impl LevelOperator {
     /// `galerkin`'s K_c and V_c, with the biharmonic's A_c = Pᵀ A P assembled and applied
     /// instead of K_c V_c⁻¹ K_c. `s_free`: per unknown of the finer
-    /// level, S free there (the same for every component; the caller checks).
-    pub fn galerkin_assembled(fine: &LevelOperator, s_free: Vec<bool>, prolong: &CsrMatrix, restrict: &CsrMatrix) -> Self {
+    /// level, S free there (the same for every component; the caller checks). With `bound`
+    /// the product's small entries are dropped onto its diagonal (`small_entries`).
+    pub fn galerkin_assembled(
+        fine: &LevelOperator,
+        s_free: Vec<bool>,
+        prolong: &CsrMatrix,
+        restrict: &CsrMatrix,
+        bound: bool,
+    ) -> Self {
         let (mut op, assembled) = match &fine.assembled {
             Some(f) => {
                 let a = triple_product(restrict, &f.a, prolong);
-                (LevelOperator::galerkin(fine, prolong, restrict), Assembled { a, s_free: Vec::new() })
+                (LevelOperator::galerkin(fine, prolong, restrict), Assembled::new(a, Vec::new(), bound))
             }
             None => {
                 // K P serves both products: K_c = R (K P), bitwise `galerkin`'s R K P.
                 let g = matmul(&fine.k, prolong);
                 let op = LevelOperator::galerkin_of(fine, matmul(restrict, &g), restrict);
-                (op, Assembled::from_kp(fine, s_free, &g))
+                (op, Assembled::from_kp(fine, s_free, &g, bound))
             }
         };
         op.assembled = Some(assembled);
@@ -98,10 +129,12 @@ impl LevelOperator {
     }
 
     /// This coarse operator made again from `fine` with a new interpolation (new patterns):
-    /// `galerkin`, or `galerkin_assembled` with the same S flags when it is assembled.
+    /// `galerkin`, or `galerkin_assembled` with the same S flags and bound when it is assembled.
     pub fn galerkin_again(&self, fine: &LevelOperator, prolong: &CsrMatrix, restrict: &CsrMatrix) -> Self {
         match &self.assembled {
-            Some(a) => LevelOperator::galerkin_assembled(fine, a.s_free.clone(), prolong, restrict),
+            Some(a) => {
+                LevelOperator::galerkin_assembled(fine, a.s_free.clone(), prolong, restrict, a.bounded.is_some())
+            }
             None => LevelOperator::galerkin(fine, prolong, restrict),
         }
     }
@@ -154,9 +187,15 @@ mod tests {
         let n = fine.n();
         let flags: Vec<u8> = (0..n).map(|i| if i % 7 == 3 { Z } else { 0 }).collect();
         let p1 = prolong(n);
-        let l1 = LevelOperator::galerkin_assembled(&fine, flags.iter().map(|&f| f & Z == 0).collect(), &p1, &p1.transpose());
+        let l1 = LevelOperator::galerkin_assembled(
+            &fine,
+            flags.iter().map(|&f| f & Z == 0).collect(),
+            &p1,
+            &p1.transpose(),
+            false,
+        );
         let p2 = prolong(l1.n());
-        let l2 = LevelOperator::galerkin_assembled(&l1, Vec::new(), &p2, &p2.transpose());
+        let l2 = LevelOperator::galerkin_assembled(&l1, Vec::new(), &p2, &p2.transpose(), false);
         assert!(l1.is_assembled() && l2.is_assembled() && l2.n() < l1.n());
         let xc: Vec<f64> = (0..l2.n()).map(|i| ((i * 37 % 11) as f64 - 5.0) / 3.0).collect();
         let yc: Vec<f64> = (0..l2.n()).map(|i| ((i * 13 % 7) as f64 - 3.0) / 2.0).collect();
@@ -183,16 +222,18 @@ mod tests {
         let s_free: Vec<bool> = (0..n).map(|i| i % 7 != 3).collect();
         let (p1, p2) = (prolong(n), prolong(n.div_ceil(2)));
         let (r1, r2) = (p1.transpose(), p2.transpose());
-        let mut l1 = LevelOperator::galerkin_assembled(&fine, s_free.clone(), &p1, &r1);
-        let mut l2 = LevelOperator::galerkin_assembled(&l1, Vec::new(), &p2, &r2);
+        let mut l1 = LevelOperator::galerkin_assembled(&fine, s_free.clone(), &p1, &r1, true);
+        let mut l2 = LevelOperator::galerkin_assembled(&l1, Vec::new(), &p2, &r2, true);
         // The mesh moves: K and V take new values in the same pattern.
         fine.k.vals.iter_mut().enumerate().for_each(|(j, v)| *v *= 1.0 + 0.01 * (j % 5) as f64);
         fine.inv_v.iter_mut().enumerate().for_each(|(i, v)| *v *= 1.0 - 0.02 * (i % 3) as f64);
         l1.update_galerkin(&fine, &p1, &r1);
         l2.update_galerkin(&l1, &p2, &r2);
-        let f1 = LevelOperator::galerkin_assembled(&fine, s_free, &p1, &r1);
-        let f2 = LevelOperator::galerkin_assembled(&f1, Vec::new(), &p2, &r2);
-        let bits = |op: &LevelOperator| op.assembled.as_ref().map(|a| a.a.vals.iter().map(|v| v.to_bits()).collect::<Vec<_>>());
+        let f1 = LevelOperator::galerkin_assembled(&fine, s_free, &p1, &r1, true);
+        let f2 = LevelOperator::galerkin_assembled(&f1, Vec::new(), &p2, &r2, true);
+        let bits = |op: &LevelOperator| {
+            op.assembled.as_ref().map(|a| a.a.vals.iter().map(|v| v.to_bits()).collect::<Vec<_>>())
+        };
         assert!(bits(&l1).is_some_and(|b| b.iter().any(|&v| v != 0)));
         assert_eq!(bits(&l1), bits(&f1));
         assert_eq!(bits(&l2), bits(&f2));

@@ -6,6 +6,7 @@ mod general;
 mod galerkin_biharmonic;
 mod level;
 mod scatter;
+mod small_entries;
 mod stiffness;
 
 pub(crate) use galerkin_biharmonic::assembled_below;
