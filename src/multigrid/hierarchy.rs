@@ -118,10 +118,10 @@ const LAYERED_SHARE: f64 = 0.1;
 /// free at the same unknowns; else K_c V_c⁻¹ K_c. The first kept level keeps K_c V_c⁻¹ K_c:
 /// with linear interpolation the product of the fourth-order operator is stiffer there than the
 /// operator itself on coarse functions, while below it the product's faithfulness across the
-/// coarsened layers wins (docs/DESIGN.md §5, "Wall layers"). In 3D the product's entries far below their diagonals
-/// are dropped onto them (`small_entries`), which bounds the deep levels' rows; the 2D
-/// hierarchies, which interpolate along their lines, keep the whole product (the drop cost the
-/// airfoil iterations there).
+/// coarsened layers wins (docs/DESIGN.md §5, "Wall layers"). In 3D the product's entries far
+/// below their diagonals are dropped onto them (`small_entries`), which bounds the deep levels'
+/// rows; the 2D hierarchies, which interpolate along their lines, keep the whole product (the
+/// drop cost the airfoil iterations there).
 fn coarse_operator(fine: &Level, prolong: &CsrMatrix) -> LevelOperator {
     let restrict = prolong.transpose();
     let on_lines = fine.lines.lines().unknowns.len() as f64;
