@@ -202,6 +202,22 @@ pub fn pair_sum<A: Copy, B: Copy>(a: &[A], b: &[B], term: impl Fn(A, B) -> f64) 
     even + odd
 }
 
+/// The entries `vals` of a matrix with rows `row_ptr` cut into blocks of `rows` rows (the last
+/// one shorter): each block's row range and its own entries, disjoint, for filling a matrix's
+/// rows in parallel.
+pub(crate) fn row_blocks<'a, T>(row_ptr: &[u32], vals: &'a mut [T], rows: usize) -> Vec<(std::ops::Range<usize>, &'a mut [T])> {
+    let n = row_ptr.len().saturating_sub(1);
+    let mut blocks = Vec::with_capacity(n.div_ceil(rows.max(1)));
+    let mut rest = vals;
+    for first in (0..n).step_by(rows.max(1)) {
+        let end = (first + rows.max(1)).min(n);
+        let (b, next) = std::mem::take(&mut rest).split_at_mut((row_ptr[end] - row_ptr[first]) as usize);
+        rest = next;
+        blocks.push((first..end, b));
+    }
+    blocks
+}
+
 /// `n` as a row offset: the entry count of a matrix must stay below 2^32.
 pub(crate) fn offset(n: usize) -> u32 {
     u32::try_from(n).unwrap_or_else(|_| panic!("sparse matrix with {n} entries: at most 2^32 - 1 are supported"))

@@ -1,7 +1,7 @@
 //! Sparse products, row by row (each row of the result from one row of the left factor), so
 //! they are deterministic and parallel like every other operation on `CsrMatrix`.
 
-use super::{offset, CsrMatrix};
+use super::{offset, row_blocks, CsrMatrix};
 use rayon::prelude::*;
 
 /// Rows per task when filling a product's arrays.
@@ -245,14 +245,7 @@ pub fn triple_product_values(r: &CsrMatrix, k: &CsrMatrix, p: &CsrMatrix, c: &mu
     let row_ptr = &c.row_ptr;
     let cols = &c.cols;
     // Blocks of rows with their disjoint parts of vals.
-    let mut blocks = Vec::with_capacity(c.nrows.div_ceil(PRODUCT_BLOCK));
-    let mut rest = &mut c.vals[..];
-    for start in (0..c.nrows).step_by(PRODUCT_BLOCK) {
-        let end = (start + PRODUCT_BLOCK).min(c.nrows);
-        let (v, next) = std::mem::take(&mut rest).split_at_mut((row_ptr[end] - row_ptr[start]) as usize);
-        rest = next;
-        blocks.push((start..end, v));
-    }
+    let blocks = row_blocks(row_ptr, &mut c.vals, PRODUCT_BLOCK);
     let init = || KpRows::new(k.nrows, p.ncols);
     blocks.into_par_iter().for_each_init(init, |kp, (rows, out)| {
         let base = row_ptr[rows.start] as usize;

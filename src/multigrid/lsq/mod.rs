@@ -273,15 +273,7 @@ pub(super) fn strong_couplings(k: &CsrMatrix, f: &Features, points: &[f64]) -> V
     let dim = f.dim();
     let at = |d: usize| &points[d * dim..(d + 1) * dim];
     let mut out = vec![0.0; k.nnz()];
-    let mut blocks = Vec::with_capacity(k.nrows.div_ceil(STRONG_ROWS));
-    let mut rest = &mut out[..];
-    for first in (0..k.nrows).step_by(STRONG_ROWS) {
-        let end = (first + STRONG_ROWS).min(k.nrows);
-        let (b, next) = std::mem::take(&mut rest).split_at_mut((k.row_ptr[end] - k.row_ptr[first]) as usize);
-        rest = next;
-        blocks.push((first..end, b));
-    }
-    blocks.into_par_iter().for_each(|(rows, b)| {
+    crate::sparse::row_blocks(&k.row_ptr, &mut out, STRONG_ROWS).into_par_iter().for_each(|(rows, b)| {
         let base = k.row_ptr[rows.start] as usize;
         for v in rows {
             let r = k.row_ptr[v] as usize - base..k.row_ptr[v + 1] as usize - base;
