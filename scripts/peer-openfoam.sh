@@ -46,6 +46,9 @@ wall_s() {
     awk -F': ' '/Elapsed \(wall clock\)/ {
         n = split($2, t, ":"); s = 0; for (i = 1; i <= n; i++) s = s * 60 + t[i]; printf "%.2f", s }' "$1"
 }
+# CPU seconds (user + system) of a GNU time -v log: on a shared machine the wall time counts the
+# other jobs too, the CPU time of a one-thread process does not.
+cpu_s() { awk -F': ' '/User time|System time/ {s += $2} END {printf "%.2f", s}' "$1"; }
 # From a checkMesh log: min volume ratio (min volume × N³, every cell of the box being 1/N³),
 # max non-orthogonality, max skewness.
 quality() {
@@ -79,7 +82,15 @@ ours laplacian case-laplacian.toml
 # Iterations, setup + solve seconds (the deform line) and the solve alone (the step report).
 its() { grep -o '"cycles":[0-9]*' "$1.jsonl" | head -1 | cut -d: -f2; }
 motion_s() { grep -o 'cycles, [0-9.]* s' "$1.log" | awk '{print $2}'; }
-solve_s() { grep -o '"seconds":[0-9.eE+-]*' "$1.jsonl" | head -1 | cut -d: -f2 | awk '{printf "%.3f", $1}'; }
+solve_s() { grep -o '"solve_seconds":[0-9.eE+-]*' "$1.jsonl" | head -1 | cut -d: -f2 | awk '{printf "%.3f", $1}'; }
+# Where our wall seconds go: read + write (the process's wall outside the deform line's seconds),
+# setup (the deform line's seconds outside the step), the step's solve and quality check.
+first_field() { grep -o "\"$2\":[0-9.eE+-]*" "$1.jsonl" | head -1 | cut -d: -f2; }
+phases() {
+    awk -v w="$(wall_s "$1-time.log")" -v m="$(motion_s "$1")" -v st="$(first_field "$1" seconds)" \
+        -v s="$(first_field "$1" solve_seconds)" -v q="$(first_field "$1" quality_seconds)" \
+        'BEGIN {printf "%.2f / %.2f / %.2f / %.2f", w - m, m - st, s, q}'
+}
 
 vertices=$(( (N + 1) * (N + 1) * (N + 1) ))
 q() { echo "$1" | cut -d'|' -f"$2"; }
@@ -91,9 +102,11 @@ ${N}^3 hexahedra, ${vertices} vertices; top moved by 0.1 cos 2πx cos 2πy in z;
 
 | | OpenFOAM moveMesh, displacementLaplacian (GAMG, 1e-8) | meshmove biharmonic (1e-8) | meshmove Laplacian (1e-8) |
 |---|---|---|---|
+| process CPU s (read, move, write) | $(cpu_s foam-time.log) | $(cpu_s biharmonic-time.log) | $(cpu_s laplacian-time.log) |
 | process wall s (read, move, write) | $(wall_s foam-time.log) | $(wall_s biharmonic-time.log) | $(wall_s laplacian-time.log) |
-| motion s (OpenFOAM: ExecutionTime; ours: setup + solve + re-reference) | ${foam_exec} | $(motion_s biharmonic) | $(motion_s laplacian) |
-| linear solve s | ${foam_solve:-n/a} | $(solve_s biharmonic) | $(solve_s laplacian) |
+| motion s (OpenFOAM: ExecutionTime, CPU; ours: setup + step, wall) | ${foam_exec} | $(motion_s biharmonic) | $(motion_s laplacian) |
+| ours, wall s: read + write / setup / solve / quality | | $(phases biharmonic) | $(phases laplacian) |
+| linear solve s (wall) | ${foam_solve:-n/a} | $(solve_s biharmonic) | $(solve_s laplacian) |
 | iterations (z) | ${foam_its} (GAMG V-cycles) | $(its biharmonic) (CG + W-cycle) | $(its laplacian) (CG + W-cycle) |
 | peak resident set MB | $(peak_mb foam-time.log) | $(peak_mb biharmonic-time.log) | $(peak_mb laplacian-time.log) |
 | min volume ratio (checkMesh) | $(q "$foam_q" 1) | $(q "$bq" 1) | $(q "$lq" 1) |
