@@ -9,7 +9,12 @@
 # OpenFOAM's `writeCellVolumes` for both tools' meshes) over the period of each, as a Markdown
 # table. Both tools read the same OpenFOAM case (constant/polyMesh).
 #
-#   scripts/peer-openfoam-steps.sh [tet|hex|block] [H] [WORKDIR]
+#   [REFERENCE=original] scripts/peer-openfoam-steps.sh [tet|hex|block] [H] [WORKDIR]
+#
+# REFERENCE is our case file's `reference`: `incremental` (the default: each step solved on the
+# previous step's mesh, re-referenced after it) or `original` (each step's total displacement
+# solved on the mesh as read; OpenFOAM's displacementLaplacian also solves for the total
+# displacement from the mesh as read, its operator on the current mesh).
 #
 # The mesh: `tet`, Gmsh's tetrahedra of size H (0.032 gives 26k vertices, 0.0146 about 250k);
 # `hex`, the hexahedra of Gmsh's subdivision of each of them into four (0.092 gives 30k, 0.047
@@ -32,6 +37,7 @@ ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 MESHMOVE="${MESHMOVE:-$ROOT/target/release/meshmove}"
 STEPS=20
 AMPLITUDE=0.1
+REFERENCE="${REFERENCE:-incremental}"
 
 for tool in $TOOLS; do
     if ! command -v "$tool" >/dev/null 2>&1; then
@@ -208,6 +214,7 @@ method = "$method"
 tolerance = 1e-8
 threads = 1
 steps = $STEPS
+reference = "$REFERENCE"
 
 [[patch]]
 patch = "sphere"
@@ -261,7 +268,7 @@ ratio() { awk -v a="$1" -v b="$2" 'BEGIN {printf "%.2f", a / b}'; }
 
 cat <<MD
 
-Sphere in the unit cube, $CELLS $H: $vertices vertices, $cells cells; the sphere oscillating along x by $AMPLITUDE, one period in $STEPS steps; one thread each.
+Sphere in the unit cube, $CELLS $H: $vertices vertices, $cells cells; the sphere oscillating along x by $AMPLITUDE, one period in $STEPS steps; one thread each; our reference $REFERENCE.
 
 | | OpenFOAM moveMesh, displacementLaplacian (GAMG, 1e-8) | meshmove biharmonic (1e-8) | meshmove Laplacian (1e-8) |
 |---|---|---|---|
