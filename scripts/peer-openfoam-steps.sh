@@ -38,6 +38,10 @@ MESHMOVE="${MESHMOVE:-$ROOT/target/release/meshmove}"
 STEPS=20
 AMPLITUDE=0.1
 REFERENCE="${REFERENCE:-incremental}"
+case "$REFERENCE" in
+    incremental | original) ;;
+    *) echo "peer-openfoam-steps: REFERENCE must be incremental or original, got $REFERENCE" >&2; exit 2 ;;
+esac
 
 for tool in $TOOLS; do
     if ! command -v "$tool" >/dev/null 2>&1; then
