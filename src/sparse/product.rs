@@ -173,9 +173,8 @@ struct KpRows {
 
 const NOT_FORMED: u32 = u32::MAX;
 
-/// Most entries of K P a task keeps formed (a few megabytes); in the unit tests a few rows'
-/// worth, so their products forget rows and form them again.
-const KP_KEPT: usize = if cfg!(test) { 64 } else { 1 << 18 };
+/// Most entries of K P a task keeps formed (a few megabytes).
+const KP_KEPT: usize = 1 << 18;
 
 impl KpRows {
     fn new(k_rows: usize, p_cols: usize) -> Self {
@@ -218,36 +217,29 @@ impl KpRows {
         self.ptr[f]..self.ptr[f + 1]
     }
 
-    /// Forgets the rows formed first when the rows hold more than `KP_KEPT` entries, keeping
-    /// those formed last (about half of them): the rows of R after the current one use mostly
-    /// the same rows of K P as the last ones did, so these are formed again least. The rows are
-    /// formed the same whenever they are, so when they are forgotten changes no value.
+    /// Forgets the rows formed when they hold more than `KP_KEPT` entries (the rows are formed
+    /// the same whenever they are, so when they are forgotten changes no value).
     fn bound(&mut self) {
-        if self.cols.len() <= KP_KEPT {
-            return;
+        if self.cols.len() > KP_KEPT {
+            self.clear();
         }
-        // The first row kept: the first that starts in the newest half of the entries.
-        let newest = self.cols.len() - KP_KEPT / 2;
-        let first = self.ptr[..self.formed.len()].partition_point(|&p| p < newest);
-        self.formed[..first].iter().for_each(|&i| self.at[i as usize] = NOT_FORMED);
-        let base = self.ptr[first];
-        self.formed.drain(..first);
-        self.ptr.drain(..first);
-        self.ptr.iter_mut().for_each(|p| *p -= base);
-        self.cols.drain(..base);
-        self.vals.drain(..base);
-        for (f, &i) in self.formed.iter().enumerate() {
-            self.at[i as usize] = offset(f);
-        }
+    }
+
+    /// Forgets the rows formed.
+    fn clear(&mut self) {
+        self.formed.iter().for_each(|&i| self.at[i as usize] = NOT_FORMED);
+        self.formed.clear();
+        self.ptr.truncate(1);
+        self.cols.clear();
+        self.vals.clear();
     }
 }
 
 /// The values of R K P into `c`, whose pattern is `triple_product(r, k, p)`'s (the numeric phase
 /// on a stored symbolic one: a moved mesh changes the values of K and P, not their patterns).
 /// Bitwise `triple_product(r, k, p)`: each entry of a row of K P and of C is the sum of the same
-/// products in the same order, from the same zero. The blocks of C's rows a task fills one after
-/// the other share the rows of K P they form (`KpRows`), so a row is formed again only where the
-/// rows using it lie far apart or in blocks of different tasks.
+/// products in the same order, from the same zero. Each block of C's rows forms the rows of
+/// K P it uses once (`KpRows`), so only the rows shared with a neighbouring block are formed twice.
 pub fn triple_product_values(r: &CsrMatrix, k: &CsrMatrix, p: &CsrMatrix, c: &mut CsrMatrix) {
     assert_eq!((c.nrows, c.ncols), (r.nrows, p.ncols), "triple_product_values: C is not R K P's shape");
     let row_ptr = &c.row_ptr;
@@ -275,6 +267,7 @@ pub fn triple_product_values(r: &CsrMatrix, k: &CsrMatrix, p: &CsrMatrix, c: &mu
             }
             kp.bound();
         }
+        kp.clear();
     });
 }
 
