@@ -1,10 +1,10 @@
-//! What a kept re-reference of a 3D box repeats, timed one piece at a time (CPU seconds per run): the
-//! finest level's K and V from the element kernels (`LevelOperator::reassemble`), the first
-//! coarse level's Galerkin refill (`update_galerkin`) and the l1 diagonals; with a hash of
+//! What a kept re-reference of a 3D box repeats, timed one piece at a time in CPU seconds per
+//! run: the finest level's K and V from the element kernels (`LevelOperator::reassemble`), the
+//! first coarse level's Galerkin refill (`update_galerkin`) and the l1 diagonals; with a hash of
 //! their values (bitwise checks of a change):
 //! `cargo run --release -p meshmove-cases --example rereference_probe -- [hex|tet] [N] [REPEATS]`
-//! (the bench's box of N³ cells, default 31: 32 768 vertices; its vertices moved off the grid;
-//! `RAYON_NUM_THREADS=1` for one thread).
+//! (the bench's box of N³ cells, default 31: 32 768 vertices, its bottom fixed and top clamped,
+//! its vertices moved off the grid; `RAYON_NUM_THREADS=1` for one thread).
 
 use meshmove::multigrid::hierarchy::Hierarchy;
 use meshmove::operator::LevelOperator;
