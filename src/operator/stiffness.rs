@@ -8,7 +8,7 @@
 
 use super::scatter::Scatter;
 use crate::bc::Dofs;
-use crate::geometry::{dist2, CellPoints};
+use crate::geometry::{dist2, CellPoints, MAX_CORNERS};
 use crate::sparse::CsrMatrix;
 use crate::Mesh;
 
@@ -79,12 +79,21 @@ const MAX_COUPLINGS: usize = 28;
 /// matrices evaluated in parallel (a cell's stiffness and mass share its quadrature points), then
 /// added into K and V in cell order, as `stiffness` and `lumped_mass` add them: serially on one
 /// or two threads, at the positions `scatter` holds (`Scatter::new(k, mesh, dofs)`), row by row
-/// in parallel on more (`add_by_rows`), with the same sums either way.
+/// in parallel on more (`add_by_rows`), with the same sums either way. On one thread each cell's
+/// matrices are added as soon as they are evaluated, while they are in cache.
 pub(crate) fn stiffness_and_mass(k: &mut CsrMatrix, scatter: &Scatter, mesh: &Mesh, dofs: &Dofs) -> Vec<f64> {
     use rayon::prelude::*;
-    use crate::geometry::MAX_CORNERS;
     k.vals.iter_mut().for_each(|v| *v = 0.0);
     let mut v = vec![0.0; dofs.n];
+    if rayon::current_num_threads() == 1 {
+        let mut at = 0;
+        for c in 0..mesh.num_cells() {
+            add_cell(c, &element(mesh, c), k, &mut v, &mut at, scatter, mesh, dofs);
+        }
+        debug_assert_eq!(at, scatter.len(), "the map holds every coupling");
+        close_diagonal(k);
+        return v;
+    }
     // A row visits every cell around it and picks its couplings out of the cell's: more index
     // work than the serial loop's, which pays back only beyond two threads (profiled).
     let by_rows = (rayon::current_num_threads() > 2).then(|| RowCells::new(mesh, dofs));
@@ -93,47 +102,58 @@ pub(crate) fn stiffness_and_mass(k: &mut CsrMatrix, scatter: &Scatter, mesh: &Me
     let mut at = 0;
     for start in (0..mesh.num_cells()).step_by(ASSEMBLY_CHUNK) {
         let cells = start..(start + ASSEMBLY_CHUNK).min(mesh.num_cells());
-        cells
-            .clone()
-            .into_par_iter()
-            .with_min_len(256)
-            .map(|c| {
-                let (mut kl, mut ml) = ([0.0; MAX_COUPLINGS], [0.0; MAX_CORNERS]);
-                // General cells are evaluated as they are added, below.
-                if !mesh.cell_type(c).is_general() {
-                    cell_points(mesh, c).stiffness_and_mass(&mut kl, &mut ml);
-                }
-                (kl, ml)
-            })
-            .collect_into_vec(&mut elems);
+        cells.clone().into_par_iter().with_min_len(256).map(|c| element(mesh, c)).collect_into_vec(&mut elems);
         if let Some(rc) = &by_rows {
             add_by_rows(rc, cells, &elems, k, &mut v, mesh, dofs);
             continue;
         }
-        for (c, (kl, ml)) in cells.zip(&elems) {
-            if mesh.cell_type(c).is_general() {
-                super::general::add(Some(k), Some(&mut v), mesh, dofs, c);
-                continue;
-            }
-            let d = dofs.cell_dofs(mesh, c);
-            let couplings = mesh.cell_type(c).couplings();
-            for (m, &[i, j]) in couplings.iter().enumerate() {
-                let (di, dj) = (d[i as usize] as usize, d[j as usize] as usize);
-                if di != dj {
-                    let (a, b) = scatter.positions(k, at + m, di, dj);
-                    k.vals[a] += kl[m];
-                    k.vals[b] += kl[m];
-                }
-            }
-            at += couplings.len();
-            for (q, &i) in d.iter().enumerate() {
-                v[i as usize] += ml[q];
-            }
+        for (c, e) in cells.zip(&elems) {
+            add_cell(c, e, k, &mut v, &mut at, scatter, mesh, dofs);
         }
     }
     debug_assert!(by_rows.is_some() || at == scatter.len(), "the map holds every coupling");
     close_diagonal(k);
     v
+}
+
+/// A cell's element matrices: its stiffness per coupling and its lumped mass per corner (zero
+/// for a general cell, evaluated as it is added).
+type Element = ([f64; MAX_COUPLINGS], [f64; MAX_CORNERS]);
+
+/// The element matrices of cell `c` (`Element`).
+#[inline]
+fn element(mesh: &Mesh, c: usize) -> Element {
+    let (mut kl, mut ml) = ([0.0; MAX_COUPLINGS], [0.0; MAX_CORNERS]);
+    if !mesh.cell_type(c).is_general() {
+        cell_points(mesh, c).stiffness_and_mass(&mut kl, &mut ml);
+    }
+    (kl, ml)
+}
+
+/// Adds cell `c`'s element matrices `(kl, ml)` into K and V, its couplings at the positions
+/// `scatter` holds from coupling `at` on (advanced past them); a general cell is evaluated and
+/// added by `general.rs`.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+fn add_cell(c: usize, (kl, ml): &Element, k: &mut CsrMatrix, v: &mut [f64], at: &mut usize, scatter: &Scatter, mesh: &Mesh, dofs: &Dofs) {
+    if mesh.cell_type(c).is_general() {
+        super::general::add(Some(k), Some(v), mesh, dofs, c);
+        return;
+    }
+    let d = dofs.cell_dofs(mesh, c);
+    let couplings = mesh.cell_type(c).couplings();
+    for (m, &[i, j]) in couplings.iter().enumerate() {
+        let (di, dj) = (d[i as usize] as usize, d[j as usize] as usize);
+        if di != dj {
+            let (a, b) = scatter.positions(k, *at + m, di, dj);
+            k.vals[a] += kl[m];
+            k.vals[b] += kl[m];
+        }
+    }
+    *at += couplings.len();
+    for (q, &i) in d.iter().enumerate() {
+        v[i as usize] += ml[q];
+    }
 }
 
 /// The cells around each unknown, ascending (a cell once however many of its corners the
@@ -180,7 +200,7 @@ const ROWS_PER_TASK: usize = 512;
 fn add_by_rows(
     rc: &RowCells,
     chunk: std::ops::Range<usize>,
-    elems: &[([f64; MAX_COUPLINGS], [f64; crate::geometry::MAX_CORNERS])],
+    elems: &[Element],
     k: &mut CsrMatrix,
     v: &mut [f64],
     mesh: &Mesh,
