@@ -80,9 +80,9 @@ const NEAR_SERIAL: [(&str, i64); 9] = [
 const AIRFOIL_ITERATIONS: usize = 27;
 
 /// Most distributed iterations of the wall-layered airfoil's biharmonic to 1e-8, any rank count
-/// (8–9 on 1 and 2 ranks, serially 6; 30 before the first coarsening's threshold and the wall's
-/// vertices kept first, 135–139 without the rows along the lines and with K_c V_c⁻¹ K_c on the
-/// first coarse level).
+/// (6 on 1–4 ranks, serially 6, with the wall's lines kept along themselves and K_c V_c⁻¹ K_c on
+/// the first coarse level; 8–9 with the product there and the lines coarsened as any unknowns,
+/// 30 before the first coarsening's threshold and the wall's vertices kept first).
 const AIRFOIL_BIHARMONIC_ITERATIONS: usize = 10;
 
 fn main() -> ExitCode {
@@ -194,8 +194,10 @@ fn rank_main() -> ExitCode {
 }
 
 /// Most distributed iterations of the small wing's biharmonic to 1e-8, its polish included, any
-/// rank count (31 on 1 and 2 ranks; 186 without the rows along the lines in 3D).
-const WING_ITERATIONS: usize = 34;
+/// rank count (15, 7 of them polish, on 1–4 ranks, serially 10; 31 with the lines coarsened as
+/// any unknowns and the product on the first coarse level, 186 without the rows along the lines
+/// in 3D).
+const WING_ITERATIONS: usize = 16;
 
 /// The small wing of `cases/tests/viscous.rs` (the airfoil's layers extruded, first height 1e-5
 /// chord; SLIP end walls) plunged, by the biharmonic to 1e-8 on slabs: its 3D levels interpolate

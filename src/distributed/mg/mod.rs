@@ -55,6 +55,7 @@ use crate::multigrid::smoother::{smooth, Coefficients, Smoother, Start};
 use crate::operator::{assembled_below, LevelOperator, Method};
 use crate::sparse::{par_update, CsrMatrix};
 use agglomerate::{halvings, Agglomeration, Landing};
+use biharmonic::Product;
 pub(crate) use biharmonic::{biharmonic_rows, Guide};
 pub(crate) use coupled::CoupledSolve;
 pub(crate) use donors::Positions;
@@ -603,9 +604,17 @@ fn levels_of(
                 // every mesh.
                 let kept = !levels.is_empty();
                 let lined = kept && !assembled && any_lines(current.halo.comm(), &lines);
-                let galerkin = assembled_below(kept, lined, assembled) || levels.len() >= KVK_LEVELS;
+                let below = assembled_below(kept, lined, assembled) || levels.len() >= KVK_LEVELS;
+                // Under 2D wall layers a first coarse level that keeps lines is assembled too: the
+                // 2D levels keep their lines as any unknowns (docs/DESIGN.md §5, "Wall layers
+                // across ranks").
+                let product = match (below, along && !kept && g.at.dim == 2) {
+                    (true, _) => Product::Galerkin,
+                    (false, true) => Product::GalerkinWhereLinesKept(&segments),
+                    (false, false) => Product::Guided,
+                };
                 let theta = if kept { select::THETA } else { FIRST_THETA };
-                match biharmonic::coarsen(&current, g, galerkin, along.then_some(&segments), theta)? {
+                match biharmonic::coarsen(&current, g, product, along.then_some(&segments), theta)? {
                     Some((next, prolong, next_guide, galerkin)) => {
                         guide = Some(next_guide);
                         assembled = galerkin;
