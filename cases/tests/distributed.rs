@@ -80,9 +80,9 @@ const NEAR_SERIAL: [(&str, i64); 9] = [
 const AIRFOIL_ITERATIONS: usize = 27;
 
 /// Most distributed iterations of the wall-layered airfoil's biharmonic to 1e-8, any rank count
-/// (6 on 1–4 ranks, serially 6, with the wall's lines kept along themselves and K_c V_c⁻¹ K_c on
-/// the first coarse level; 8–9 with the product there and the lines coarsened as any unknowns,
-/// 30 before the first coarsening's threshold and the wall's vertices kept first).
+/// (8–9 on 1 and 2 ranks, serially 6; 30 before the first coarsening's threshold and the wall's
+/// vertices kept first, 135–139 without the rows along the lines and with K_c V_c⁻¹ K_c on the
+/// first coarse level).
 const AIRFOIL_BIHARMONIC_ITERATIONS: usize = 10;
 
 fn main() -> ExitCode {
