@@ -12,7 +12,9 @@
 //! segment is sent to the rank the label hashes to, which chains them into the whole line,
 //! orients it from its end of lower global id, extends it at its ends by their kept neighbours
 //! beyond them, computes the rows and sends each to the owner of its unknown. A line's rows
-//! thus depend on the whole line alone, not on the ranks that hold its pieces.
+//! thus depend on the whole line alone, not on the ranks that hold its pieces. The same joining
+//! tells the 3D selection where each unknown lies on the whole lines that end at a wall
+//! (`marks`, read by `select::OnLines`).
 
 use super::select::mix;
 use super::OwnedRows;

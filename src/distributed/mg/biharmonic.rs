@@ -206,7 +206,7 @@ pub(super) fn coarsen(
     let marks = lines
         .filter(|_| guide.at.dim == 3)
         .map(|l| along_lines::marks(&guide.k, &guide.at.coords, l, |i| guide.flags[i] & P != 0));
-    let on = marks.as_deref().map(|marks| OnLines { marks, across: true });
+    let on = marks.as_deref().map(|marks| OnLines { marks });
     let rows = interpolation(&guide.k, &guide.at, lines, (theta, first, on))?;
     let Some((k, to_coarse)) = product(&guide.k, &rows)? else {
         return Ok(None);

@@ -50,19 +50,17 @@ pub(super) fn strong(m: &OwnedRows, theta: f64) -> Vec<Vec<u32>> {
 }
 
 /// The lines of a level as its selection reads them (the serial rule `multigrid::lsq::on_lines`,
-/// on the biharmonic's hierarchies with lines): an unknown on a line is dropped only for a kept
-/// unknown on its own line, and at its line's ends also for one off every line (the wall below
-/// the first layer), so the layers are coarsened along their lines and keep them level by level;
-/// the lines are visited from the wall outward, so the first layer's unknown goes for the wall's
-/// and every other unknown of a line stays.
+/// on the biharmonic's 3D hierarchies under thin layers): an unknown on a line is dropped only
+/// for a kept unknown on its own line, and at its line's ends also for one off every line (the
+/// wall below the first layer), while it couples strongly along its line (else the general rule:
+/// on deep levels a wing's lines couple each other along the chord more strongly than along
+/// themselves); the lines are visited from the wall outward, so the first layer's unknown goes
+/// for the wall's and every other unknown of a line stays, and the layers keep their lines level
+/// by level.
 #[derive(Clone, Copy)]
 pub(super) struct OnLines<'a> {
     /// Where each local entry lies on the level's whole lines (`along_lines::marks`).
     pub(super) marks: &'a [Mark],
-    /// Whether a line's unknown without a strong neighbour on its own line takes the general
-    /// rule (3D, as serially: a wing's lines couple each other more strongly along the chord than
-    /// along themselves on the deep levels).
-    pub(super) across: bool,
 }
 
 impl OnLines<'_> {
@@ -70,7 +68,7 @@ impl OnLines<'_> {
     /// strong neighbour `j` (`multigrid::lsq::on_lines`: `keeps_to_line`, `may_drop_for`).
     fn may_drop_for(&self, i: usize, near: &[u32], j: usize) -> bool {
         let (mi, mj) = (self.marks[i], self.marks[j]);
-        let keeps = mi.on() && (!self.across || near.iter().any(|&u| self.marks[u as usize].line == mi.line));
+        let keeps = mi.on() && near.iter().any(|&u| self.marks[u as usize].line == mi.line);
         !keeps || mj.line == mi.line || (mi.end && !mj.on())
     }
 }
