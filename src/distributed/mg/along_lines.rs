@@ -12,7 +12,9 @@
 //! segment is sent to the rank the label hashes to, which chains them into the whole line,
 //! orients it from its end of lower global id, extends it at its ends by their kept neighbours
 //! beyond them, computes the rows and sends each to the owner of its unknown. A line's rows
-//! thus depend on the whole line alone, not on the ranks that hold its pieces.
+//! thus depend on the whole line alone, not on the ranks that hold its pieces. The same joining
+//! tells the 3D selection where each unknown lies on the whole lines that end at a wall
+//! (`marks`, read by `select::OnLines`).
 
 use super::select::mix;
 use super::OwnedRows;
@@ -80,8 +82,118 @@ pub(super) fn rows(
     lines: &Lines,
     kept: impl Fn(usize) -> bool,
 ) -> Vec<Option<GlobalRow>> {
+    let size = m.halo.comm().size();
+    // Each whole line's rows, sent to the owners of the dropped unknowns: (global id, entries,
+    // then (column, owner, weight) per entry).
+    let mut back: Vec<Vec<u64>> = vec![Vec::new(); size];
+    for line in joined(m, at, lines, kept) {
+        let ext: Vec<usize> = (0..line.len()).collect();
+        let rel = |v: usize, u: usize| {
+            let (p, q) = (line[v].at, line[u].at);
+            [q[0] - p[0], q[1] - p[1], q[2] - p[2]]
+        };
+        let coarse = |u: usize| line[u].kept.then_some((line[u].gid, line[u].owner));
+        rows_on_line(
+            &ext,
+            &rel,
+            coarse,
+            |_, _| true,
+            |v, row| {
+                let to = &mut back[line[v].owner];
+                to.extend([line[v].gid, row.len() as u64]);
+                row.iter().for_each(|&((g, o), w)| to.extend([g, o as u64, w.to_bits()]));
+            },
+        );
+    }
+    let mut out: Vec<Option<GlobalRow>> = vec![None; m.halo.owned()];
+    for_owned(m, &back, 3, |i, w| {
+        out[i] = Some(w.chunks_exact(3).map(|e| (e[0], e[1] as usize, f64::from_bits(e[2]))).collect());
+    });
+    out
+}
+
+/// Where a local entry lies on the whole lines of its level (`marks`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) struct Mark {
+    /// The least global id of the entry's whole line (`NONE` off every line).
+    pub(super) line: u64,
+    /// Its place on the line counted from the wall's end.
+    pub(super) place: u64,
+    /// Whether it ends its whole line (a segment's end at a cut does not).
+    pub(super) end: bool,
+}
+
+impl Mark {
+    /// Whether the entry is on a line.
+    pub(super) fn on(&self) -> bool {
+        self.line != NONE
+    }
+}
+
+/// Where each local entry of `m` lies on the whole lines of its level (collective over `m`'s
+/// ranks): the segments `lines` joined across ranks as the rows along them are (`rows`), each
+/// line counted from its end beyond which the wall lies (`wall(i)`: local entry i is a
+/// prescribed unknown, the serial lines' boundary), or from its end of lower global id where the
+/// wall lies beyond both ends or neither; the halo's marks are their owners'.
+pub(super) fn marks(m: &OwnedRows, at: &[[f64; 3]], lines: &Lines, wall: impl Fn(usize) -> bool) -> Vec<Mark> {
+    let size = m.halo.comm().size();
+    let mut back: Vec<Vec<u64>> = vec![Vec::new(); size];
+    // Each whole line extended at its ends by the walls beyond them (`joined`'s kept ends).
+    for ext in joined(m, at, lines, wall) {
+        let (first, last) = (usize::from(ext[0].kept), ext.len() - 1 - usize::from(ext[ext.len() - 1].kept));
+        // Only a wall's layers: a chain of flat cells off the walls (a coarse extrusion's
+        // triangles, thin along the span) meanders, and the partition moves it.
+        if first > last || (first == 0 && last == ext.len() - 1) {
+            continue;
+        }
+        let line = &ext[first..=last];
+        let reversed = ext[ext.len() - 1].kept && !ext[0].kept;
+        let id = line.iter().map(|e| e.gid).min().unwrap_or(NONE);
+        for (p, e) in line.iter().enumerate() {
+            let place = if reversed { line.len() - 1 - p } else { p };
+            let end = p == 0 || p + 1 == line.len();
+            back[e.owner].extend([e.gid, 3, id, place as u64, u64::from(end)]);
+        }
+    }
+    let mut line = vec![NONE; m.halo.len()];
+    let mut place = vec![0u64; m.halo.len()];
+    let mut end = vec![0u8; m.halo.len()];
+    for_owned(m, &back, 1, |i, w| {
+        (line[i], place[i], end[i]) = (w[0], w[1], u8::from(w[2] == 1));
+    });
+    m.halo.refresh(&mut line);
+    m.halo.refresh(&mut place);
+    m.halo.refresh(&mut end);
+    (0..m.halo.len()).map(|i| Mark { line: line[i], place: place[i], end: end[i] == 1 }).collect()
+}
+
+/// Sends each rank's `send` (records of a global id, a length and that many entries of `words`
+/// words each, addressed to the id's owner) and gives `put` each owned entry's received words
+/// (collective).
+fn for_owned(m: &OwnedRows, send: &[Vec<u64>], words: usize, mut put: impl FnMut(usize, &[u64])) {
+    let (comm, owned) = (m.halo.comm(), m.halo.owned());
+    let (me, owners) = (comm.rank(), m.halo.owner_ranks());
+    let local_of: HashMap<u64, usize> = m.gids.iter().zip(0..).map(|(&g, i)| (g, i)).collect();
+    for got in &all_to_all(comm, send) {
+        let mut w = &got[..];
+        while w.len() >= 2 {
+            let (gid, len) = (w[0], w[1] as usize);
+            let take = (words * len).min(w.len() - 2);
+            if let Some(&i) = local_of.get(&gid).filter(|&&i| i < owned && owners[i] == me) {
+                put(i, &w[2..2 + take]);
+            }
+            w = &w[2 + take..];
+        }
+    }
+}
+
+/// The whole lines of `m`'s level whose chaining falls to this rank (collective over `m`'s
+/// ranks): the segments `lines` (over its owned unknowns, at the positions `at` of its local
+/// entries) joined across cuts, each oriented from its end of lower global id and extended at its
+/// ends by the neighbours beyond them that are `kept` (`chain`).
+fn joined(m: &OwnedRows, at: &[[f64; 3]], lines: &Lines, kept: impl Fn(usize) -> bool) -> Vec<Vec<Entry>> {
     let (comm, owned, n) = (m.halo.comm(), m.halo.owned(), m.halo.len());
-    let (me, size) = (comm.rank(), comm.size());
+    let size = comm.size();
     let owners = m.halo.owner_ranks();
     let rel = |v: usize, u: usize| {
         let (p, q) = (at[v], at[u]);
@@ -163,46 +275,7 @@ pub(super) fn rows(
             w = &body[take..];
         }
     }
-
-    // Chain each label's segments into whole lines and compute their rows, sent to the owners of
-    // the dropped unknowns: (global id, entries, then (column, owner, weight) per entry).
-    let mut back: Vec<Vec<u64>> = vec![Vec::new(); size];
-    for segs in by_label.into_values() {
-        for line in chain(segs) {
-            let ext: Vec<usize> = (0..line.len()).collect();
-            let rel = |v: usize, u: usize| {
-                let (p, q) = (line[v].at, line[u].at);
-                [q[0] - p[0], q[1] - p[1], q[2] - p[2]]
-            };
-            let coarse = |u: usize| line[u].kept.then_some((line[u].gid, line[u].owner));
-            rows_on_line(
-                &ext,
-                &rel,
-                coarse,
-                |_, _| true,
-                |v, row| {
-                    let to = &mut back[line[v].owner];
-                    to.extend([line[v].gid, row.len() as u64]);
-                    row.iter().for_each(|&((g, o), w)| to.extend([g, o as u64, w.to_bits()]));
-                },
-            );
-        }
-    }
-    let received = all_to_all(comm, &back);
-    let mut out: Vec<Option<GlobalRow>> = vec![None; owned];
-    for words in &received {
-        let mut w = &words[..];
-        while w.len() >= 2 {
-            let (gid, len) = (w[0], w[1] as usize);
-            let take = (3 * len).min(w.len() - 2);
-            let row = w[2..2 + take].chunks_exact(3).map(|e| (e[0], e[1] as usize, f64::from_bits(e[2]))).collect();
-            if let Some(&i) = local_of.get(&gid).filter(|&&i| i < owned && owners[i] == me) {
-                out[i] = Some(row);
-            }
-            w = &w[2 + take..];
-        }
-    }
-    out
+    by_label.into_values().flat_map(chain).collect()
 }
 
 /// The whole lines of one label's segments: each segment's ends linked to the segments whose end

@@ -11,9 +11,11 @@
 //! vertices: its columns get a halo of their own (owned entries as the mesh's, the others
 //! grouped by owner and ordered by global id), with exchange lists made as the mesh's are.
 
+use super::along_lines;
 use super::donors::{interpolation, Positions};
 use super::galerkin::{halo_rows, product, GlobalRow};
 use super::lines::{kept_segments, smoothed};
+use super::select::OnLines;
 use super::{any_lines, OwnedRows};
 use crate::bc::{P, Z};
 use crate::distributed::agreement::agree;
@@ -178,18 +180,20 @@ pub(super) enum Product<'a> {
 
 /// The next coarser level of the biharmonic, as the serial kept levels are made: kept unknowns
 /// from K's strong couplings and the interpolation P by the serial donor rule (`donors`), both
-/// over the guide's unknowns (those that carry S, prescribed or not; in 2D the prescribed ones
-/// kept first, `select::select`), K_c = Pᵀ K P and V_c = P₊ᵀ V (the positive weights, so V_c
-/// stays positive), and A_c = K_c V_c⁻¹ K_c assembled across ranks over the coarse unknowns
-/// without P, S summed over those without Z (a kept CLAMPED vertex carries it, as serially),
-/// with the columns of P's owned rows in its layout, or by `product` the Galerkin product
-/// A_c = Pᵀ A P of `fine`'s own rows (under wall layers: docs/DESIGN.md §5, "Wall layers across
-/// ranks"). Returns A_c, P (`fine`'s local entries × A_c's; the rows of `fine`'s prescribed
-/// entries empty), the coarse guide and whether A_c is the Galerkin product; None when no rank
-/// keeps an unknown (collective). With `lines` (the level's lines across wall layers, given on
-/// every rank or on none: the hierarchies that interpolate along them) a dropped unknown on a line
-/// interpolates along it, cubic in the distance along the line, where the line gives its row
-/// (`along_lines`). Couplings of K are strong at `theta` (`select::strong`).
+/// over the guide's unknowns (those that carry S, prescribed or not; in 2D and with `lines` the
+/// prescribed ones kept first, `select::select`), K_c = Pᵀ K P and V_c = P₊ᵀ V (the positive
+/// weights, so V_c stays positive), and A_c = K_c V_c⁻¹ K_c assembled across ranks over the
+/// coarse unknowns without P, S summed over those without Z (a kept CLAMPED vertex carries it, as
+/// serially), with the columns of P's owned rows in its layout, or by `product` the Galerkin
+/// product A_c = Pᵀ A P of `fine`'s own rows (under wall layers: docs/DESIGN.md §5, "Wall layers
+/// across ranks"). Returns A_c, P (`fine`'s local entries × A_c's; the rows of `fine`'s
+/// prescribed entries empty), the coarse guide and whether A_c is the Galerkin product; None when
+/// no rank keeps an unknown (collective). With `lines` (the level's lines across wall layers,
+/// given on every rank or on none: the hierarchies that interpolate along them) a dropped unknown
+/// on a line interpolates along it, cubic in the distance along the line, where the line
+/// gives its row (`along_lines`), and in 3D the lines of a wall's layers are coarsened along
+/// themselves (`select::OnLines`, the serial rule). Couplings of K are strong at `theta`
+/// (`select::strong`).
 pub(super) fn coarsen(
     fine: &OwnedRows,
     guide: &Guide,
@@ -198,8 +202,12 @@ pub(super) fn coarsen(
     theta: f64,
 ) -> Result<Option<(OwnedRows, CsrMatrix, Guide, bool)>, DistError> {
     let me = guide.k.halo.comm().rank();
-    let first = (guide.at.dim == 2).then_some(&guide.flags[..]);
-    let rows = interpolation(&guide.k, &guide.at, lines, (theta, first))?;
+    let first = (guide.at.dim == 2 || lines.is_some()).then_some(&guide.flags[..]);
+    let marks = lines
+        .filter(|_| guide.at.dim == 3)
+        .map(|l| along_lines::marks(&guide.k, &guide.at.coords, l, |i| guide.flags[i] & P != 0));
+    let on = marks.as_deref().map(|marks| OnLines { marks });
+    let rows = interpolation(&guide.k, &guide.at, lines, (theta, first, on))?;
     let Some((k, to_coarse)) = product(&guide.k, &rows)? else {
         return Ok(None);
     };

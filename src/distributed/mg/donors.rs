@@ -16,7 +16,7 @@ use super::along_lines;
 use super::galerkin::{halo_rows, GlobalRow};
 use super::interpolate::weights;
 use super::mover::Mover;
-use super::select::{select, strong, DROPPED, KEPT};
+use super::select::{select, strong, OnLines, DROPPED, KEPT};
 use super::OwnedRows;
 use crate::distributed::agreement::agree;
 use crate::distributed::dist_mesh::halo_lists;
@@ -77,18 +77,18 @@ impl Positions {
 /// kept unknown (`select`) its own value, the dropped ones by the serial donor rule from the
 /// positions `at` of `m`'s local entries, or with `lines` (the level's, given on every rank or
 /// on none) along them where they can (`along_lines`); couplings are strong at `theta`
-/// (`select::strong`), and the entries `first` prescribes are kept first (`select::select`)
-/// (collective).
+/// (`select::strong`), the entries `first` prescribes are kept first and the unknowns on
+/// `on_lines` kept along their lines (`select::select`) (collective).
 pub(super) fn interpolation(
     m: &OwnedRows,
     at: &Positions,
     lines: Option<&Lines>,
-    (theta, first): (f64, Option<&[u8]>),
+    (theta, first, on_lines): (f64, Option<&[u8]>, Option<OnLines>),
 ) -> Result<Vec<GlobalRow>, DistError> {
     let (owned, me) = (m.halo.owned(), m.halo.comm().rank());
     let owners = m.halo.owner_ranks();
     let strong = strong(m, theta);
-    let state = select(m, &strong, first);
+    let state = select(m, &strong, first, on_lines);
     let direct = weights(m, &strong, &state);
 
     // K's graph in global terms: the owned rows, then the halo's from their owners.

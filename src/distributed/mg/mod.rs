@@ -587,7 +587,8 @@ fn levels_of(
     // The biharmonic's hierarchies with lines on their finest level (asked on every rank). They
     // interpolate along the lines on every level in 2D, as serially (`multigrid::lsq`), and in 3D
     // under thin layers (`lines::thin_layers`), where the serial 3D levels keep the least-squares
-    // rows (docs/DESIGN.md §5, "Wall layers across ranks").
+    // rows; their selection keeps the walls and the wall's lines, as the serial one
+    // (docs/DESIGN.md §5, "Wall layers across ranks").
     let layered = guide.is_some() && any_lines(current.halo.comm(), &lines);
     let along = layered && guide.as_ref().is_some_and(|g| g.at.dim == 2 || lines::thin_layers(&g.k, &g.at));
     loop {
@@ -598,15 +599,16 @@ fn levels_of(
             (None, false) => galerkin_level(&current, &mut at)?,
             (Some(g), false) => {
                 // The serial rule on the level's lines over all its ranks (collective over them;
-                // asked only where it decides).
+                // asked only where it decides): the first coarse level K_c V_c⁻¹ K_c, the levels
+                // below one that keeps lines the product, as below the first `KVK_LEVELS` on
+                // every mesh.
                 let kept = !levels.is_empty();
                 let lined = kept && !assembled && any_lines(current.halo.comm(), &lines);
-                // Below the first `KVK_LEVELS` coarse levels, the product on every mesh.
                 let below = assembled_below(kept, lined, assembled) || levels.len() >= KVK_LEVELS;
-                // Under wall layers whose levels interpolate along the lines (`along`), a first
-                // coarse level that keeps lines is assembled too, where the serial hierarchy keeps
-                // K_c V_c⁻¹ K_c (docs/DESIGN.md §5, "Wall layers across ranks").
-                let product = match (below, along && !kept) {
+                // Under 2D wall layers a first coarse level that keeps lines is assembled too: the
+                // 2D levels keep their lines as any unknowns (docs/DESIGN.md §5, "Wall layers
+                // across ranks").
+                let product = match (below, along && !kept && g.at.dim == 2) {
                     (true, _) => Product::Galerkin,
                     (false, true) => Product::GalerkinWhereLinesKept(&segments),
                     (false, false) => Product::Guided,
@@ -693,7 +695,7 @@ fn galerkin_level(m: &OwnedRows, at: &mut Option<Positions>) -> Result<Option<(O
     let Some(here) = at.as_ref() else {
         return Ok(None);
     };
-    let rows = donors::interpolation(m, here, None, (select::THETA, None))?;
+    let rows = donors::interpolation(m, here, None, (select::THETA, None, None))?;
     let Some((next, prolong)) = galerkin::product(m, &rows)? else {
         return Ok(None);
     };

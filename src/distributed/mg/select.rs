@@ -5,6 +5,7 @@
 //! Priorities are a hash of the global id with the id breaking ties, so the set depends on the
 //! operator alone: not on the partition, the rank count or the order messages arrive in.
 
+use super::along_lines::Mark;
 use super::OwnedRows;
 use crate::bc::P;
 use crate::distributed::reduce::sum_in_rank_order;
@@ -48,12 +49,38 @@ pub(super) fn strong(m: &OwnedRows, theta: f64) -> Vec<Vec<u32>> {
         .collect()
 }
 
+/// The lines of a level as its selection reads them (the serial rule `multigrid::lsq::on_lines`,
+/// on the biharmonic's 3D hierarchies under thin layers): an unknown on a line is dropped only
+/// for a kept unknown on its own line, and at its line's ends also for one off every line (the
+/// wall below the first layer), while it couples strongly along its line (else the general rule:
+/// on deep levels a wing's lines couple each other along the chord more strongly than along
+/// themselves); the lines are visited from the wall outward, so the first layer's unknown goes
+/// for the wall's and every other unknown of a line stays, and the layers keep their lines level
+/// by level.
+#[derive(Clone, Copy)]
+pub(super) struct OnLines<'a> {
+    /// Where each local entry lies on the level's whole lines (`along_lines::marks`).
+    pub(super) marks: &'a [Mark],
+}
+
+impl OnLines<'_> {
+    /// Whether unknown `i`, whose strong neighbours are `near`, may be dropped for the kept
+    /// strong neighbour `j` (`multigrid::lsq::on_lines`: `keeps_to_line`, `may_drop_for`).
+    fn may_drop_for(&self, i: usize, near: &[u32], j: usize) -> bool {
+        let (mi, mj) = (self.marks[i], self.marks[j]);
+        let keeps = mi.on() && near.iter().any(|&u| self.marks[u as usize].line == mi.line);
+        !keeps || mj.line == mi.line || (mi.end && !mj.on())
+    }
+}
+
 /// The role of every local entry (`KEPT`, `DROPPED` or `OUT`; the halo's as its owners decided),
 /// given the strong neighbours of the owned rows (collective). With `first` (flags of every local
 /// entry) the entries it prescribes (P) beat every other in priority, so a prescribed unknown
 /// with a row (a CLAMPED wall's vertex on the biharmonic's levels) is kept unless a prescribed
-/// strong neighbour is: the serial selection visits the walls before the inside.
-pub(super) fn select(m: &OwnedRows, strong: &[Vec<u32>], first: Option<&[u8]>) -> Vec<u8> {
+/// strong neighbour is: the serial selection visits the walls before the inside. With `lines` an
+/// unknown on a line is dropped only as `OnLines` says, and a line's unknowns rank together, from
+/// the wall outward, as the serial selection visits them.
+pub(super) fn select(m: &OwnedRows, strong: &[Vec<u32>], first: Option<&[u8]>, lines: Option<OnLines>) -> Vec<u8> {
     let (n, owned) = (m.halo.len(), m.halo.owned());
     let mut state = vec![UNDECIDED; n];
     for (i, st) in state.iter_mut().enumerate().take(owned) {
@@ -63,22 +90,36 @@ pub(super) fn select(m: &OwnedRows, strong: &[Vec<u32>], first: Option<&[u8]>) -
     }
     m.halo.refresh(&mut state);
     let prescribed = |j: usize| first.is_some_and(|f| f.get(j).is_some_and(|&f| f & P != 0));
-    let priority = |j: usize| (prescribed(j), mix(m.gids[j]), m.gids[j]);
+    // A line's unknowns by its id, then nearest the wall first; the others by their own id. A
+    // line's id is one of its unknowns' global ids, which no unknown off the lines shares.
+    let rank = |j: usize| match lines.map(|l| l.marks[j]).filter(Mark::on) {
+        Some(mark) => (mix(mark.line), u64::MAX - mark.place),
+        None => (mix(m.gids[j]), m.gids[j]),
+    };
+    let priority = |j: usize| (prescribed(j), rank(j));
+    // The strong neighbours unknown i may be dropped for.
+    let may_drop: Vec<Vec<u32>> = (0..owned)
+        .map(|i| match lines {
+            Some(l) => strong[i].iter().copied().filter(|&j| l.may_drop_for(i, &strong[i], j as usize)).collect(),
+            None => strong[i].clone(),
+        })
+        .collect();
     loop {
         let undecided = state[..owned].iter().filter(|&&s| s == UNDECIDED).count();
         if sum_in_rank_order(m.halo.comm(), &[undecided as f64])[0] == 0.0 {
             return state;
         }
+        // Kept: an unknown that no undecided unknown it may be dropped for outranks.
         let keep: Vec<usize> = (0..owned)
             .filter(|&i| {
                 state[i] == UNDECIDED
-                    && strong[i].iter().all(|&j| state[j as usize] != UNDECIDED || priority(j as usize) < priority(i))
+                    && may_drop[i].iter().all(|&j| state[j as usize] != UNDECIDED || priority(j as usize) < priority(i))
             })
             .collect();
         keep.into_iter().for_each(|i| state[i] = KEPT);
         m.halo.refresh(&mut state);
         for i in 0..owned {
-            if state[i] == UNDECIDED && strong[i].iter().any(|&j| state[j as usize] == KEPT) {
+            if state[i] == UNDECIDED && may_drop[i].iter().any(|&j| state[j as usize] == KEPT) {
                 state[i] = DROPPED;
             }
         }
