@@ -228,24 +228,23 @@ impl Part {
 
 /// The first face (in the host's order) that the host tags on a ghost cell its owner sent, with
 /// a vertex in an owned cell (where the tag sets this rank's conditions), and that no rank that
-/// sent a cell tags alike (another patch, or none): the ranks would hold different conditions at
-/// its vertices. `ghost_key` gives a ghost cell's key (None for an owned cell), `touches_owned`
-/// whether a face has a vertex in an owned cell, `host_face` a face's patch, local vertices and
-/// global ids.
+/// sent a cell tags alike (another patch, or none; `owners_faces`: the fetched faces by patch
+/// and sorted global ids): the ranks would hold different conditions at its vertices.
+/// `ghost_owner` gives the owner of a host cell replaced by its owner's copy (None for the
+/// others), `touches_owned` whether a face has a vertex in an owned cell, `host_face` a face's
+/// patch, local vertices and global ids.
 fn ghost_face_clash(
     me: usize,
     faces_of: &HashMap<usize, Vec<u32>>,
     on_owned: &HashSet<u32>,
-    (fetched_keys, fetched_faces): (&HashMap<Vec<u64>, usize>, &[(i32, Vec<u64>)]),
-    ghost_key: impl Fn(usize) -> Option<Vec<u64>>,
+    owners_faces: &HashSet<(i32, Vec<u64>)>,
+    ghost_owner: impl Fn(usize) -> Option<usize>,
     touches_owned: impl Fn(usize) -> bool,
     host_face: impl Fn(usize) -> (i32, Vec<u32>, Vec<u64>),
 ) -> Option<DistError> {
-    let owners_faces: HashSet<(i32, Vec<u64>)> =
-        fetched_faces.iter().map(|(p, g)| (*p, cell_key(g.iter().copied()))).collect();
     let mut on_fetched: Vec<(u32, usize)> = faces_of
         .iter()
-        .filter_map(|(&c, faces)| ghost_key(c).and_then(|k| fetched_keys.get(&k)).map(|&owner| (faces, owner)))
+        .filter_map(|(&c, faces)| ghost_owner(c).map(|owner| (faces, owner)))
         .flat_map(|(faces, owner)| faces.iter().map(move |&f| (f, owner)))
         .filter(|(f, _)| !on_owned.contains(f) && touches_owned(*f as usize))
         .collect();
@@ -412,17 +411,10 @@ fn merge(
         part.face(p, &v, g);
     }
     if error.is_none() {
-        let ghost_key = |c: usize| (!owned_cell[c]).then(|| host_key(c));
+        let owners_faces = fetched_faces.iter().map(|(p, g)| (*p, cell_key(g.iter().copied()))).collect();
+        let ghost_owner = |c: usize| (!owned_cell[c]).then(|| host_key(c)).and_then(|k| fetched_keys.get(&k).copied());
         let touches_owned = |f: usize| local.face(f).iter().any(|&v| in_owned[v as usize]);
-        error = ghost_face_clash(
-            me,
-            &faces_of,
-            &on_owned,
-            (&fetched_keys, &fetched_faces),
-            ghost_key,
-            touches_owned,
-            host_face,
-        );
+        error = ghost_face_clash(me, &faces_of, &on_owned, &owners_faces, ghost_owner, touches_owned, host_face);
     }
     let Part { mut data, regions, owned, .. } = part;
     if regions.iter().any(|&r| r != 0) || !local.regions.is_empty() {
