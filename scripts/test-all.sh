@@ -5,8 +5,9 @@
 #   examples into build/, cargo test and ctest (examples vs the Rust reference, the C bad-input
 #   test under valgrind, install + C and Fortran consumers by find_package, pkg-config and plain
 #   compiler flags, code_saturne moving its mesh with meshmove); the distributed build (the
-#   `mpi` feature: clippy, its test under mpirun on 1 to 4 ranks, rustdoc; the command line's
-#   `deform` under mpirun against the serial command; code_saturne on 2 and 4 ranks).
+#   `mpi` feature: clippy, its tests and the paper's cases under mpirun on 1 to 4 ranks against
+#   the serial solver, rustdoc; the command line's `deform` under mpirun against the serial
+#   command; the C and Fortran programs on 1 to 4 ranks; code_saturne on 2 and 4 ranks).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -49,12 +50,17 @@ cmake --build build -j "$(nproc)"
 cargo test --release
 (cd build && ctest --output-on-failure -j "$(nproc)")
 # The library alone, as a user builds it, linted with and without the `mpi` feature (the
-# workspace above turns on `internals`); the distributed test, which runs
-# itself under mpirun on 1 to 4 ranks (tests/distributed.rs).
+# workspace above turns on `internals`); the distributed tests, which run themselves under
+# mpirun on 1 to 4 ranks, the library's and the cases':
+# tests/distributed.rs (every method and condition, the steps, the faults),
+# tests/distributed_ghosts.rs (parts with all, some or none of their ghost cells) and
+# cases/tests/distributed.rs (the paper's cases, SLIP walls, periodic links across ranks, split
+# interfaces, the wall-layered airfoil and wing, against the serial solver to 1e-10 of the
+# motion).
 cargo clippy --release -p meshmove -- -D warnings
 cargo clippy --release -p meshmove --features mpi -- -D warnings
 cargo clippy --release -p meshmove --all-targets --features mpi,internals -- -D warnings
-cargo test --release --features mpi --test distributed
+cargo test --release --features mpi -p meshmove -p meshmove-cases --test distributed --test distributed_ghosts
 # The command line under mpirun (its `mpi` feature: METIS's partition, the parts, `deform`
 # against the serial command on 1 to 4 ranks: cli/tests/deform_mpi.rs).
 cargo clippy --release -p meshmove-cli --all-targets --features mpi -- -D warnings

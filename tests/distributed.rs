@@ -162,6 +162,7 @@ fn rank_main() -> ExitCode {
         substeps_agree_with_serial(&world, name, &mesh);
     }
     calls_stop_on_every_rank(&world, &tagged(&grid2d(14, 12)));
+    host_messages_stay_the_hosts(&world, &tagged(&grid2d(14, 12)));
     slip_steps_agree_with_serial(&world, &bent(&grid2d(10, 16)));
     ExitCode::SUCCESS
 }
@@ -352,6 +353,31 @@ fn bad_input_fails_on_every_rank(world: &SimpleCommunicator, d: &MeshData) {
         p.gids.swap(a, b);
     }
     expect("swapped global ids", &p, last, DistErrorKind::Inconsistent);
+    // The faces of y = 0 on the last rank's ghost cells tagged with another patch than their
+    // owner's: each part is valid alone, and the ranks disagree on the conditions there.
+    let t = tagged(d);
+    let on_ghost = |p: &Part, f: usize| {
+        let face = p.data.face(f);
+        (0..p.data.num_cells()).any(|c| p.ghost[c] && face.iter().all(|v| p.data.cell(c).contains(v)))
+    };
+    let mut p = part(&t, &owner, rank, true);
+    if rank == last {
+        let retag: Vec<usize> =
+            (0..p.data.num_faces()).filter(|&f| p.data.face_patch[f] == SIDE && on_ghost(&p, f)).collect();
+        assert!(!retag.is_empty(), "the last rank's ghost cells have faces on y = 0");
+        retag.into_iter().for_each(|f| p.data.face_patch[f] = SIDE + 5);
+    }
+    expect("a face tagged otherwise on a ghost copy than by its owner", &p, last, DistErrorKind::Inconsistent);
+    // The rank before the last gives its part untagged: the last rank's ghost copies of its
+    // cells on y = 0 carry tags their owner does not have (the lowest rank holding such ghost
+    // copies is named: the last one's left neighbour on three ranks and more).
+    let mut p = part(&t, &owner, rank, true);
+    if rank + 1 == last {
+        let untagged = MeshData { face_vertices: Vec::new(), face_offsets: vec![0], face_patch: Vec::new(), ..p.data };
+        p.data = untagged;
+    }
+    let blamed = if size > 2 { last - 2 } else { last };
+    expect("a face tagged on a ghost copy and not by its owner", &p, blamed, DistErrorKind::Inconsistent);
     // Rank 0 without ghost cells: the library fetches rank 1's cells around the vertices it owns.
     let p = part(d, &owner, rank, rank != 0);
     assert!(DistributedMesh::new(world, &p.data, &p.gids, &p.ghost).is_ok(), "a part without ghost cells");
@@ -1016,6 +1042,42 @@ fn calls_stop_on_every_rank(world: &SimpleCommunicator, d: &MeshData) {
     assert_eq!(solver.current_coords(), before, "a refused call changes nothing");
     if rank == 0 {
         println!("{size} ranks, refused options, cancelled steps and tangled positions: every rank returns the error");
+    }
+}
+
+/// The tag of the library's halo exchanges, which the host's own messages use here.
+const LIBRARY_HALO_TAG: i32 = 28;
+
+/// The host's own messages on its communicator, sent to the next rank before the distributed
+/// mesh is made and a biharmonic solve runs, and received after it, with the library's halo
+/// tag: they reach the host unchanged and the solve is bitwise the one made without them (the
+/// library exchanges on its duplicate of the communicator).
+fn host_messages_stay_the_hosts(world: &SimpleCommunicator, d: &MeshData) {
+    let (rank, size) = (world.rank() as usize, world.size() as usize);
+    let p = part(d, &slab_owner(d, size), rank, true);
+    let local: Vec<f64> = p.global.iter().flat_map(|&v| motion(d.point(v))[..2].to_vec()).collect();
+    let m = Motion::from_displacement(local);
+    let params = DistSolveParams { tol: 1e-12, ..Default::default() };
+    let solved = || {
+        let dm = DistributedMesh::new(world, &p.data, &p.gids, &p.ghost).unwrap();
+        let solver = DistributedSolver::new(&dm, &BoundaryConditions::new(), Method::Biharmonic, params).unwrap();
+        solver.solve(&m).unwrap().displacement
+    };
+    let alone = solved();
+    let sent: Vec<f64> = (0..p.data.coords.len()).map(|i| (rank * 100_000 + i) as f64).collect();
+    let (next, prev) = ((rank + 1) % size, (rank + size - 1) % size);
+    let (beside, got) = mpi::request::scope(|scope| {
+        let to_next = world.process_at_rank(next as i32).immediate_send_with_tag(scope, &sent[..], LIBRARY_HALO_TAG);
+        let beside = solved();
+        let (got, _) = world.process_at_rank(prev as i32).receive_vec_with_tag::<f64>(LIBRARY_HALO_TAG);
+        to_next.wait();
+        (beside, got)
+    });
+    assert_eq!(beside, alone, "the host's pending messages change the solve");
+    let expected = (0..got.len()).map(|i| (prev * 100_000 + i) as f64);
+    assert!(!got.is_empty() && got.iter().copied().eq(expected), "the host's message from rank {prev} is altered");
+    if rank == 0 {
+        println!("{size} ranks, the host's messages on its communicator: received intact, the solve unchanged");
     }
 }
 

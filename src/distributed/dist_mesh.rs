@@ -123,8 +123,8 @@ impl DistributedMesh {
         halo.refresh(&mut global_numbers);
         // The completed part in layout order, validated again (the host's cells passed above;
         // the fetched ones passed on their owners).
-        let mesh = Mesh::from_data(&reordered(&part.data, &host_index))
-            .map_err(|e| local_error(me, &e, &part.data, &part.gids));
+        let layout = reordered(&part.data, &host_index);
+        let mesh = Mesh::from_data(&layout).map_err(|e| local_error(me, &e, &layout, &global_ids));
         let mesh = agree(&comm, mesh);
         Ok(DistributedMesh {
             comm,
@@ -305,13 +305,18 @@ fn local_checks(me: usize, local: &MeshData, gids: &[u64], ghost: &[bool]) -> Re
     Ok((0..local.num_cells()).any(|c| mesh.cell(c) != local.cell(c)))
 }
 
-/// The serial validation's error on rank `me`, with the global ids of the vertex or of the
-/// cell's corners it names (`local`'s cells are checked by then for the cell variants named).
+/// The serial validation's error on rank `me`, with the global ids of the vertex, of the
+/// cell's corners or of the face's vertices it names (`local`'s cells are checked by then for
+/// the cell variants named).
 fn local_error(me: usize, e: &MeshError, local: &MeshData, gids: &[u64]) -> DistError {
     let vertex = |v: usize| gids.get(v).map_or(String::new(), |g| format!(" (global id {g})"));
     let cell = |c: usize| {
         let corners: Option<Vec<u64>> = local.cell(c).iter().map(|&v| gids.get(v as usize).copied()).collect();
         corners.map_or(String::new(), |g| format!(" (corners: global ids {g:?})"))
+    };
+    let face = |f: &[u32]| {
+        let ids: Option<Vec<u64>> = f.iter().map(|&v| gids.get(v as usize).copied()).collect();
+        ids.map_or(String::new(), |g| format!(" (face: global ids {g:?})"))
     };
     let item = match e {
         MeshError::NonFiniteCoordinate { vertex: v, .. } | MeshError::UnusedVertex { vertex: v } => vertex(*v),
@@ -319,7 +324,12 @@ fn local_error(me: usize, e: &MeshError, local: &MeshData, gids: &[u64]) -> Dist
         MeshError::DegenerateCell { cell: c, .. }
         | MeshError::InvertedCorner { cell: c, .. }
         | MeshError::MeasureOutOfRange { cell: c, .. }
-        | MeshError::InconsistentOrientation { cell: c, .. } => cell(*c),
+        | MeshError::InconsistentOrientation { cell: c, .. }
+        | MeshError::RepeatedCell { first: c, .. } => cell(*c),
+        MeshError::Overlap { face: f, .. }
+        | MeshError::NonManifoldFace { face: f, .. }
+        | MeshError::TaggedFaceNotAFace { vertices: f, .. }
+        | MeshError::TaggedFaceTwice { vertices: f, .. } => face(f),
         _ => String::new(),
     };
     DistError::new(me, DistErrorKind::LocalMesh, format!("{e}{item}"))

@@ -60,7 +60,7 @@ pub(crate) fn complete(
     let sharers = sharers(comm, gids, &in_owned);
     let outgoing = outgoing(comm.size(), local, gids, owners, owned_cell, &sharers);
     let incoming = all_to_all(comm, &outgoing);
-    merge(comm.rank(), local, gids, owners, owned_cell, &incoming)
+    merge(comm.rank(), local, (gids, owners, &in_owned), owned_cell, &incoming)
 }
 
 /// For each vertex in an owned cell, the other ranks that have it in an owned cell, ascending
@@ -226,6 +226,42 @@ impl Part {
     }
 }
 
+/// The first face (in the host's order) that the host tags on a ghost cell its owner sent, with
+/// a vertex in an owned cell (where the tag sets this rank's conditions), and that no rank that
+/// sent a cell tags alike (another patch, or none; `owners_faces`: the fetched faces by patch
+/// and sorted global ids): the ranks would hold different conditions at its vertices.
+/// `ghost_owner` gives the owner of a host cell replaced by its owner's copy (None for the
+/// others), `touches_owned` whether a face has a vertex in an owned cell, `host_face` a face's
+/// patch, local vertices and global ids.
+fn ghost_face_clash(
+    me: usize,
+    faces_of: &HashMap<usize, Vec<u32>>,
+    on_owned: &HashSet<u32>,
+    owners_faces: &HashSet<(i32, Vec<u64>)>,
+    ghost_owner: impl Fn(usize) -> Option<usize>,
+    touches_owned: impl Fn(usize) -> bool,
+    host_face: impl Fn(usize) -> (i32, Vec<u32>, Vec<u64>),
+) -> Option<DistError> {
+    let mut on_fetched: Vec<(u32, usize)> = faces_of
+        .iter()
+        .filter_map(|(&c, faces)| ghost_owner(c).map(|owner| (faces, owner)))
+        .flat_map(|(faces, owner)| faces.iter().map(move |&f| (f, owner)))
+        .filter(|(f, _)| !on_owned.contains(f) && touches_owned(*f as usize))
+        .collect();
+    on_fetched.sort_unstable();
+    on_fetched.into_iter().find_map(|(f, owner)| {
+        let (patch, _, g) = host_face(f as usize);
+        let key = cell_key(g.iter().copied());
+        (!owners_faces.contains(&(patch, key))).then(|| {
+            let msg = format!(
+                "the face of global ids {g:?} is tagged with patch {patch} on rank {me}, on a ghost cell rank {owner} \
+                 owns, which tags it otherwise or not at all"
+            );
+            DistError::new(me, DistErrorKind::Inconsistent, msg)
+        })
+    })
+}
+
 /// Reads the lists of `msg` from `at`.
 struct Reader<'a> {
     msg: &'a [u64],
@@ -252,8 +288,9 @@ impl Reader<'_> {
     }
 }
 
-/// A fetched cell: its VTK type, region, corners and (polyhedra) faces by global id.
+/// A fetched cell: its owner rank, VTK type, region, corners and (polyhedra) faces by global id.
 struct Fetched {
+    owner: usize,
     ty: CellType,
     region: i32,
     corners: Vec<u64>,
@@ -261,12 +298,13 @@ struct Fetched {
 }
 
 /// The completed part from the host's and the fetched cells (see the module's header for the
-/// order). A fetched cell this rank owns too is an error.
+/// order; per host vertex its global id, owner and whether it lies in an owned cell). A fetched
+/// cell this rank owns too is an error, and so is a face tagged on a ghost cell that no owner
+/// tags alike.
 fn merge(
     me: usize,
     local: &MeshData,
-    gids: &[u64],
-    owners: &[usize],
+    (gids, owners, in_owned): (&[u64], &[usize], &[bool]),
     owned_cell: &[bool],
     incoming: &[Vec<u64>],
 ) -> (Completed, Option<DistError>) {
@@ -275,7 +313,7 @@ fn merge(
     let mut extra: Vec<(u64, usize, Vec<f64>)> = Vec::new();
     let mut fetched: Vec<Fetched> = Vec::new();
     let mut fetched_faces: Vec<(i32, Vec<u64>)> = Vec::new();
-    for msg in incoming {
+    for (owner, msg) in incoming.iter().enumerate() {
         let mut r = Reader { msg, at: 0 };
         let (nv, nc, nf) = (r.one(), r.one(), r.one());
         for _ in 0..nv {
@@ -298,7 +336,7 @@ fn merge(
             let corners = r.list().to_vec();
             let n = r.one();
             let faces = (0..n).map_while(|_| (!r.done()).then(|| r.list().to_vec())).collect();
-            fetched.push(Fetched { ty, region, corners, faces });
+            fetched.push(Fetched { owner, ty, region, corners, faces });
         }
         for _ in 0..nf {
             if r.done() {
@@ -328,14 +366,14 @@ fn merge(
     let spans = local.polyhedron_spans(local.num_vertices()).unwrap_or_default();
     let mut part = Part { data, regions: Vec::new(), owned: Vec::new(), seen: HashSet::new() };
     (0..local.num_cells()).filter(|&c| owned_cell[c]).for_each(|c| part.host_cell(local, &spans, c, true));
-    let mut fetched_keys = HashSet::with_capacity(fetched.len());
+    let mut fetched_keys = HashMap::with_capacity(fetched.len());
     for cell in &fetched {
         let key = cell_key(cell.corners.iter().copied());
         if owned_keys.contains(&key) && error.is_none() {
             let msg = format!("the cell of global ids {key:?} is owned by rank {me} and by another rank");
             error = Some(DistError::new(me, DistErrorKind::Inconsistent, msg));
         }
-        fetched_keys.insert(key);
+        fetched_keys.insert(key, cell.owner);
         let poly: Option<Vec<u32>> = (cell.ty == CellType::Polyhedron).then(|| {
             let mut list = vec![cell.faces.len() as u32];
             for f in &cell.faces {
@@ -348,7 +386,7 @@ fn merge(
         part.cell(cell.ty, &corners, cell.region, false, poly.as_deref());
     }
     (0..local.num_cells())
-        .filter(|&c| !owned_cell[c] && !fetched_keys.contains(&host_key(c)))
+        .filter(|&c| !owned_cell[c] && !fetched_keys.contains_key(&host_key(c)))
         .for_each(|c| part.host_cell(local, &spans, c, false));
 
     // Tagged faces: the host's on its owned cells, the fetched ones, then the host's others,
@@ -371,6 +409,12 @@ fn merge(
     for f in (0..local.num_faces()).filter(|&f| !on_owned.contains(&(f as u32))) {
         let (p, v, g) = host_face(f);
         part.face(p, &v, g);
+    }
+    if error.is_none() {
+        let owners_faces = fetched_faces.iter().map(|(p, g)| (*p, cell_key(g.iter().copied()))).collect();
+        let ghost_owner = |c: usize| (!owned_cell[c]).then(|| host_key(c)).and_then(|k| fetched_keys.get(&k).copied());
+        let touches_owned = |f: usize| local.face(f).iter().any(|&v| in_owned[v as usize]);
+        error = ghost_face_clash(me, &faces_of, &on_owned, &owners_faces, ghost_owner, touches_owned, host_face);
     }
     let Part { mut data, regions, owned, .. } = part;
     if regions.iter().any(|&r| r != 0) || !local.regions.is_empty() {

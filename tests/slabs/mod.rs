@@ -238,7 +238,9 @@ fn polyhedron_faces(d: &MeshData) -> HashMap<usize, Vec<Vec<u32>>> {
 /// root), within a time limit so that a rank left waiting fails the run instead of hanging it.
 /// The limit is far above a run's length on an idle machine, so that a loaded machine (four
 /// oversubscribed ranks sharing its cores with other jobs) never reaches it; only a wait that
-/// never ends does.
+/// never ends does. A rank that waits for a message yields its core (OpenMPI's
+/// `mpi_yield_when_idle`, which it sets itself only when the ranks outnumber the cores), so that
+/// on a busy machine a waiting rank does not hold the core its partner needs to send.
 #[allow(dead_code)] // the distributed example does not launch itself
 pub fn mpirun(np: usize) -> std::process::Output {
     let exe = std::env::current_exe().expect("the test's own path");
@@ -247,6 +249,7 @@ pub fn mpirun(np: usize) -> std::process::Output {
         .arg(&exe)
         .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
         .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+        .env("OMPI_MCA_mpi_yield_when_idle", "1")
         .output()
         .expect("mpirun (openmpi-bin) and timeout on PATH")
 }
