@@ -115,13 +115,13 @@ fn wavy(p: &[f64]) -> [f64; 3] {
 }
 
 /// Solves with the whole boundary (patch 0) prescribed by `field`, `kind` for every component,
-/// coarsening to a few dozen unknowns.
+/// coarsening to a few dozen unknowns or fewer.
 fn run(mesh: &Mesh, method: Method, kind: Kind, field: fn(&[f64]) -> [f64; 3]) -> (Solver, Vec<f64>) {
     let mut bcs = BoundaryConditions::new();
     bcs.set_kinds(0, kind);
     let mut o = Options { method, ..Default::default() };
     o.solve.tol = 1e-13;
-    o.hierarchy.coarsen.coarsest_unknowns = Some(40);
+    o.hierarchy.coarsen.coarsest_unknowns = Some(20);
     let s = Solver::new(mesh, &bcs, o).unwrap();
     let dim = mesh.dim();
     let mut motion = Motion::zero(mesh);

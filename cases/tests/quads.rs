@@ -107,6 +107,8 @@ fn quads_and_mixed_meshes_match_direct_solve() {
             for method in [Method::Biharmonic, Method::Laplacian, Method::Spring] {
                 let mut o = Options { method, ..Default::default() };
                 o.solve.tol = 1e-13;
+                // A coarsest size below 2D's default keeps a coarse level on this small mesh.
+                o.hierarchy.coarsen.coarsest_unknowns = Some(40);
                 let s = Solver::new(&mesh, &bcs, o).unwrap();
                 assert!(s.num_levels() >= 2, "no coarse level");
                 let sol = s.solve(&Motion::from_displacement(field.clone())).unwrap();

@@ -182,7 +182,9 @@ mod tests {
         for p in [2, 4] {
             bcs.set_kind(p, 0, Kind::Clamped).unwrap().set_kind(p, 1, Kind::Free).unwrap();
         }
-        let params = HierarchyParams::default();
+        // A coarsest size below 2D's default keeps three levels on this small mesh.
+        let mut params = HierarchyParams::default();
+        params.coarsen.coarsest_unknowns = Some(40);
         let mut h = Hierarchy::build(&mesh, Vec::new(), &bcs, Method::Biharmonic, &params).unwrap();
         assert!(h.levels.len() >= 3, "{} levels", h.levels.len());
         let built = lambdas(&h);

@@ -9,7 +9,7 @@ use crate::{Error, Result};
 
 /// Above this many free directions the coarsest level is smoothed, not factored (only when
 /// coarsening stopped early on an awkward mesh).
-const DENSE_MAX: usize = 1500;
+pub(crate) const DENSE_MAX: usize = 1500;
 
 /// The Cholesky factor of the dense m×m matrix `a` assembled column by column from operator
 /// products, its rounding symmetrised first so Cholesky sees an exactly symmetric matrix; None

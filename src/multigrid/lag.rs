@@ -87,8 +87,11 @@ mod tests {
         let mesh = rect(24, 24, [0.0, 1.0, 0.0, 1.0]);
         let mut bcs = BoundaryConditions::new();
         bcs.set_kinds(1, Kind::Fixed).set_kinds(3, Kind::Clamped);
+        // A coarsest size below 2D's default keeps three levels on this small mesh.
+        let mut params = HierarchyParams::default();
+        params.coarsen.coarsest_unknowns = Some(40);
         for method in [Method::Biharmonic, Method::Laplacian] {
-            let mut h = Hierarchy::build(&mesh, Vec::new(), &bcs, method, &HierarchyParams::default()).unwrap();
+            let mut h = Hierarchy::build(&mesh, Vec::new(), &bcs, method, &params).unwrap();
             assert!(h.levels.len() >= 3, "{} levels", h.levels.len());
             let built = state(&h);
 

@@ -10,6 +10,7 @@ pub(crate) mod tests;
 mod locate;
 mod triangulate;
 
+use super::coarse_solve::DENSE_MAX;
 use super::coarsener::{CoarseMesh, CoarseUnknowns, Coarsener};
 use super::level::{Level, Transfer};
 use super::restriction::Restriction;
@@ -110,7 +111,8 @@ pub struct CoarsenParams {
     pub min_ratio: f64,
     /// A boundary vertex where the boundary turns by more than this (degrees) is always kept.
     pub corner_angle_deg: f64,
-    /// Coarsening by kept unknowns stops at a level of at most this many unknowns: the
+    /// Coarsening by kept unknowns stops at a level of at most this many unknowns, or at a
+    /// level a little above it whose coarse level would be far below it (`stops_above`): the
     /// coarsest level's dense solve is cheap there, and smaller Galerkin levels are nearly
     /// dense. None: 150 in 2D, 400 in 3D (docs/DESIGN.md §5 "Coarse levels" gives the
     /// measurements behind them).
@@ -122,6 +124,18 @@ impl CoarsenParams {
     /// `coarsest_unknowns`).
     pub fn coarsest_unknowns_for(&self, dim: usize) -> usize {
         self.coarsest_unknowns.unwrap_or(if dim == 2 { 150 } else { 400 })
+    }
+
+    /// Whether a level of `n` unknowns above the coarsest size (`coarsest_unknowns_for`), whose
+    /// coarsening would keep `nc`, is the coarsest level instead: when its dense solve factors
+    /// every group of its `dim` components (dim · n free directions at most, `DENSE_MAX`) and
+    /// the coarse level would lie further below the coarsest size than this level lies above it
+    /// (n · nc ≤ size², on a log scale). The coarsest level is then the one nearer the size
+    /// chosen for it, not a small level below it whose Galerkin operator, nearly dense, is a
+    /// poor coarse space (docs/DESIGN.md §5, "Coarse levels").
+    pub fn stops_above(&self, n: usize, nc: usize, dim: usize) -> bool {
+        let size = self.coarsest_unknowns_for(dim);
+        n.saturating_mul(dim) <= DENSE_MAX && n.saturating_mul(nc) <= size.saturating_mul(size)
     }
 }
 

@@ -115,6 +115,10 @@ impl Coarsener for LeastSquares {
         if nc < self.params.min_vertices || too_few_dropped(&kept) {
             return None;
         }
+        // A level little above the coarsest size is the coarsest rather than one far below it.
+        if self.params.stops_above(n, nc, fine.dim()) {
+            return None;
+        }
         let transfer = transfer(fine, features, &kept, self.donors(), Some(&strong));
         let coarse = features.subset(&kept);
         self.features.push(coarse);
