@@ -405,8 +405,8 @@ mod tests {
         let (mut a, mut b, mut c) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
         par_fill_blocks([&mut a, &mut b, &mut c], m.nnz(), |i| m.row_dots(i, &x3));
         for (k, got) in [a, b, c].iter().enumerate() {
-            for i in 0..n {
-                assert_eq!(got[i].to_bits(), m.row_dot(i, &xs[k]).to_bits(), "vector {k}, row {i}");
+            for (i, g) in got.iter().enumerate() {
+                assert_eq!(g.to_bits(), m.row_dot(i, &xs[k]).to_bits(), "vector {k}, row {i}");
             }
         }
         let mut one = vec![0.0; 5];
