@@ -144,10 +144,10 @@ pub(crate) fn method_degrees(method: Method, dim: usize, kept: bool, lines: bool
 /// Under 3D wall layers the kept levels shrink by about 2 a level while their assembled
 /// Galerkin rows grow to 100–200 entries, so a W-cycle's 2ˡ visits make each deep level cost as
 /// much as the finest one or more, and the coarsest (factored, or smoothed where coarsening
-/// stopped above the factor's size) is visited 2ᴸ times; visited once from the fifth level
-/// on, they cost a fraction of that, and the count is the finest levels' (docs/DESIGN.md §5,
-/// "Wall layers"; from the fourth on the 75k wing's pitch takes one iteration more). The 2D hierarchies, which keep their lines on the coarse levels, lose
-/// iterations without the deep levels' second visit.
+/// stopped above the factor's size) is visited 2ᴸ times. Visited once from the fifth level on,
+/// the deepest levels cost a fraction of that and the counts stay; from a higher level on the
+/// largest wings lose iterations, and so do the 2D hierarchies, which keep their lines on the
+/// coarse levels, without any deep level's second visit (docs/DESIGN.md §5, "Wall layers").
 pub(crate) fn once_from(h: &Hierarchy) -> usize {
     if h.method == Method::Biharmonic && h.fine().dim() >= 3 && h.has_kept_levels() && h.has_lines() {
         ONCE_FROM_UNDER_LAYERS
@@ -190,4 +190,3 @@ pub(crate) fn degrees(h: &Hierarchy, p: &SolveParams) -> (usize, usize) {
     }
     (fine, coarse)
 }
-
