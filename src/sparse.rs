@@ -10,6 +10,9 @@ use rayon::prelude::*;
 
 /// Rows below this count are processed serially: rayon's overhead dominates on small levels.
 const PAR_ROWS: usize = 4096;
+/// Matrix entries a parallel task of `par_fill_blocks` reads, about: `PAR_ROWS / 4` rows of a
+/// fine level's K.
+const TASK_ENTRIES: usize = 24 * 1024;
 /// Block length of deterministic reductions; fixed so the summation order never depends on threads.
 const REDUCE_BLOCK: usize = 4096;
 
@@ -94,6 +97,30 @@ impl CsrMatrix {
     pub fn row_dot_with(&self, i: usize, x: impl Fn(usize) -> f64) -> f64 {
         let (c, v) = self.row(i);
         pair_sum(c, v, |j, a| a * x(j as usize))
+    }
+
+    /// Row i times each of the `G` vectors `xs`, every one summed exactly as `row_dot` sums it
+    /// (`pair_sum`'s order), the row's entries read once for all of them: the blocks of a group
+    /// of components share their level's operator.
+    #[inline(always)]
+    pub fn row_dots<const G: usize>(&self, i: usize, xs: &[&[f64]; G]) -> [f64; G] {
+        let (c, v) = self.row(i);
+        let (c2, v2) = (c.chunks_exact(2), v.chunks_exact(2));
+        let last = c2.remainder().first().zip(v2.remainder().first());
+        let (mut even, mut odd) = ([0.0; G], [0.0; G]);
+        for (c, v) in c2.zip(v2) {
+            let (j0, j1) = (c[0] as usize, c[1] as usize);
+            for k in 0..G {
+                even[k] += v[0] * xs[k][j0];
+                odd[k] += v[1] * xs[k][j1];
+            }
+        }
+        if let Some((&j, &a)) = last {
+            for k in 0..G {
+                even[k] += a * xs[k][j as usize];
+            }
+        }
+        std::array::from_fn(|k| even[k] + odd[k])
     }
 
     /// Position of entry (i, j) in `cols`/`vals`, if it is in the pattern.
@@ -242,6 +269,41 @@ pub fn par_update(y: &mut [f64], f: impl Fn(usize, f64) -> f64 + Sync + Send) {
     }
 }
 
+/// `out[k][i] = f(i)[k]` for all i and each of the `G` vectors `out` (of one length), where
+/// the rows read `entries` matrix entries in all: one call of `f` per row fills that row of
+/// every vector, so a kernel that reads a row once serves a group's blocks. In parallel by the
+/// work, not the rows: tasks of about `TASK_ENTRIES` entries, so the few dense rows of a deep
+/// Galerkin level are spread as a fine level's many sparse ones. Deterministic as `par_fill`.
+pub fn par_fill_blocks<const G: usize>(out: [&mut [f64]; G], entries: usize, f: impl Fn(usize) -> [f64; G] + Sync + Send) {
+    let n = out.first().map_or(0, |o| o.len());
+    assert!(out.iter().all(|o| o.len() == n), "par_fill_blocks: vectors of different lengths");
+    let rows = (TASK_ENTRIES * n).div_ceil(entries.max(1)).clamp(16, 1024);
+    let fill = |first: usize, pieces: &mut [&mut [f64]; G]| {
+        for r in 0..pieces.first().map_or(0, |p| p.len()) {
+            let v = f(first + r);
+            for (p, v) in pieces.iter_mut().zip(v) {
+                p[r] = v;
+            }
+        }
+    };
+    if n < 2 * rows {
+        let mut out = out;
+        fill(0, &mut out);
+        return;
+    }
+    let mut chunks: Vec<Vec<&mut [f64]>> = (0..n.div_ceil(rows)).map(|_| Vec::with_capacity(G)).collect();
+    for o in out {
+        for (c, piece) in o.chunks_mut(rows).enumerate() {
+            chunks[c].push(piece);
+        }
+    }
+    chunks.into_par_iter().enumerate().for_each(|(c, pieces)| {
+        if let Ok(mut pieces) = <[&mut [f64]; G]>::try_from(pieces) {
+            fill(c * rows, &mut pieces);
+        }
+    });
+}
+
 /// `(a[i], b[i]) = f(i, a[i], b[i])` for all i: two vectors updated in one pass, in parallel for
 /// long vectors (elementwise, so deterministic).
 pub fn par_update2(a: &mut [f64], b: &mut [f64], f: impl Fn(usize, f64, f64) -> (f64, f64) + Sync + Send) {
@@ -323,6 +385,33 @@ mod tests {
         let mut y = vec![0.0; 2];
         m.mul_vec(&[1.0, 2.0, 3.0], &mut y);
         assert_eq!(y, vec![0.0, 4.5]);
+    }
+
+    #[test]
+    fn row_dots_are_each_vector_s_row_dot_bitwise() {
+        // Rows of odd and even lengths, values spread over magnitudes so the order shows.
+        let n = PAR_ROWS + 37;
+        let t: Vec<(u32, u32, f64)> = (0..n)
+            .flat_map(|i| {
+                (0..(i % 7) + 1).map(move |k| {
+                    let j = (i * 13 + k * 101) % n;
+                    (i as u32, j as u32, ((i * 31 + k * 17) % 19) as f64 * 10f64.powi((k % 5) as i32 * 4) - 9.0)
+                })
+            })
+            .collect();
+        let m = CsrMatrix::from_triplets(n, n, t);
+        let xs: Vec<Vec<f64>> = (0..3).map(|c| (0..n).map(|j| ((j * 7 + c) % 11) as f64 / 3.0 - 1.5).collect()).collect();
+        let x3 = [&xs[0][..], &xs[1][..], &xs[2][..]];
+        let (mut a, mut b, mut c) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+        par_fill_blocks([&mut a, &mut b, &mut c], m.nnz(), |i| m.row_dots(i, &x3));
+        for (k, got) in [a, b, c].iter().enumerate() {
+            for (i, g) in got.iter().enumerate() {
+                assert_eq!(g.to_bits(), m.row_dot(i, &xs[k]).to_bits(), "vector {k}, row {i}");
+            }
+        }
+        let mut one = vec![0.0; 5];
+        par_fill_blocks([&mut one], m.nnz(), |i| m.row_dots(i, &[&xs[0][..]]));
+        assert_eq!(one, (0..5).map(|i| m.row_dot(i, &xs[0])).collect::<Vec<_>>());
     }
 
     #[test]

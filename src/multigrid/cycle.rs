@@ -133,7 +133,7 @@ pub(crate) fn level_cycle(
     let coarse = GroupOp::new(&h.levels[l + 1], comps.clone(), p.l1_bound);
     coarse.accumulate(&mut bc[..g * nc]);
     coarse.project(&mut bc[..g * nc]);
-    for k in 0..p.gamma {
+    for k in 0..p.gamma_at(l) {
         let cstart = if k == 0 { Start::Zero } else { Start::Guess };
         level_cycle(h, comps.clone(), p, l + 1, &bc[..g * nc], &mut xc[..g * nc], cstart, ws);
     }

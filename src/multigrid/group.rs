@@ -166,10 +166,32 @@ impl<'a> GroupOp<'a> {
     pub(crate) fn residual(&self, b: &[f64], x: &mut [f64], r: &mut [f64], s: &mut [f64]) {
         self.exchange(x);
         let n = self.n();
-        for k in 0..self.len {
-            self.level.op.residual(self.flags(k), block(b, n, k), block(x, n, k), block_mut(r, n, k), s);
+        if self.level.op.one_pass().is_some() && n > 0 {
+            // One pass over A's rows for every block; it needs no S.
+            let mut r: Vec<&mut [f64]> = r.chunks_mut(n).collect();
+            self.residuals(b, x, &mut r, &mut []);
+        } else {
+            for k in 0..self.len {
+                self.level.op.residual(self.flags(k), block(b, n, k), block(x, n, k), block_mut(r, n, k), s);
+            }
         }
         self.project(r);
+    }
+
+    /// r_k = b_k − A x_k into each block's `r[k]` (no projection, no exchange), the rows of the
+    /// level's operator read once for all blocks (`LevelOperator::residuals`); `s` holds each
+    /// block's S, and may be empty for an operator applied in one pass (`one_pass`), which
+    /// needs none.
+    pub(crate) fn residuals(&self, b: &[f64], x: &[f64], r: &mut [&mut [f64]], s: &mut [&mut [f64]]) {
+        let (n, g) = (self.n(), self.len);
+        let flags: Vec<&[u8]> = (0..g).map(|k| self.flags(k)).collect();
+        let (b, x): (Vec<&[f64]>, Vec<&[f64]>) = (0..g).map(|k| (block(b, n, k), block(x, n, k))).unzip();
+        if s.is_empty() {
+            let mut none: Vec<&mut [f64]> = (0..g).map(|_| &mut [][..]).collect();
+            self.level.op.residuals(&flags, &b, &x, r, &mut none);
+        } else {
+            self.level.op.residuals(&flags, &b, &x, r, s);
+        }
     }
 
     /// u ← Π u (nothing for a group without slip frames and tied rows): the slip frames'

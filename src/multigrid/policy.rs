@@ -13,6 +13,9 @@ use crate::operator::Method;
 pub struct CycleParams {
     /// Coarse visits per level: 1 = V-cycle, 2 = W-cycle.
     pub gamma: usize,
+    /// The first level that visits its coarse level once whatever `gamma` is (a V-cycle from
+    /// there down); `usize::MAX` keeps `gamma` on every level.
+    pub once_from: usize,
     /// The smoother of the finest level.
     pub smoother: Smoother,
     /// The smoother of every coarser level.
@@ -36,7 +39,7 @@ impl CycleParams {
             Mode::PaperFaithful => CycleParams::paper(h.method),
             Mode::Default => {
                 let (fine, coarse) = degrees(h, p);
-                CycleParams::chebyshev(fine, coarse, p.cheb_lower_ratio)
+                CycleParams { once_from: once_from(h), ..CycleParams::chebyshev(fine, coarse, p.cheb_lower_ratio) }
             }
         }
     }
@@ -50,6 +53,15 @@ impl CycleParams {
         }
     }
 
+    /// The coarse visits of level `l` (`gamma`, or 1 from `once_from` on).
+    pub fn gamma_at(&self, l: usize) -> usize {
+        if l >= self.once_from {
+            1
+        } else {
+            self.gamma
+        }
+    }
+
     /// The paper's W-cycle: one Jacobi sweep with C = 0.9 before coarsening, none after.
     ///
     /// For the biharmonic the rediscretised coarse operator K_c M_c⁻¹ K_c is about half the
@@ -60,7 +72,16 @@ impl CycleParams {
     pub fn paper(method: Method) -> Self {
         let coarse_weight = if method == Method::Biharmonic { 0.5 } else { 1.0 };
         let smoother = Smoother::Jacobi { weight: 0.9 };
-        CycleParams { gamma: 2, smoother, coarse_smoother: smoother, pre: 1, post: 0, coarse_weight, l1_bound: false }
+        CycleParams {
+            gamma: 2,
+            once_from: usize::MAX,
+            smoother,
+            coarse_smoother: smoother,
+            pre: 1,
+            post: 0,
+            coarse_weight,
+            l1_bound: false,
+        }
     }
 
     /// The preconditioner of the default mode: W-cycle with Chebyshev pre- and post-smoothing,
@@ -72,6 +93,7 @@ impl CycleParams {
         };
         CycleParams {
             gamma: 2,
+            once_from: usize::MAX,
             smoother: smoother(degree),
             coarse_smoother: smoother(coarse_degree),
             pre: 1,
@@ -114,6 +136,29 @@ pub(crate) fn method_degrees(method: Method, dim: usize, kept: bool, lines: bool
         _ => (3, 2),
     }
 }
+
+/// The first level of `h` that visits its coarse level once in the default mode: below thin 3D
+/// wall layers (the biharmonic's 3D hierarchies of kept unknowns with lines) the fifth
+/// (`ONCE_FROM_UNDER_LAYERS`), elsewhere none (the W-cycle on every level).
+///
+/// Under 3D wall layers the kept levels shrink by about 2 a level while their assembled
+/// Galerkin rows grow to 100–200 entries, so a W-cycle's 2ˡ visits make each deep level cost as
+/// much as the finest one or more, and the coarsest (factored, or smoothed where coarsening
+/// stopped above the factor's size) is visited 2ᴸ times. Visited once from the fifth level on,
+/// the deepest levels cost a fraction of that and the counts stay; from a higher level on the
+/// largest wings lose iterations, and so do the 2D hierarchies, which keep their lines on the
+/// coarse levels, without any deep level's second visit (docs/DESIGN.md §5, "Wall layers").
+pub(crate) fn once_from(h: &Hierarchy) -> usize {
+    if h.method == Method::Biharmonic && h.fine().dim() >= 3 && h.has_kept_levels() && h.has_lines() {
+        ONCE_FROM_UNDER_LAYERS
+    } else {
+        usize::MAX
+    }
+}
+
+/// Under 3D wall layers, the first level a cycle visits once: levels 0–3 keep the W-cycle's two
+/// visits of their coarse level.
+const ONCE_FROM_UNDER_LAYERS: usize = 4;
 
 /// The default mode's Chebyshev degrees (finest level, coarse levels) on `h`: the caller's when
 /// set (`cheb_degree`, `cheb_coarse_degree`), else per method:

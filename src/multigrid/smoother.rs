@@ -97,10 +97,16 @@ pub(crate) fn smooth(
     if start == Start::Guess {
         op.exchange(x);
     }
+    // A group smoothed along lines in every block forms its blocks' residuals in one pass.
+    let lined = g > 1 && (0..g).all(|k| op.lines(k).is_some());
+    if lined {
+        line_residuals(op, b, x, w, start);
+    }
     for (k, wk) in w.iter_mut().enumerate() {
         let (bk, xk) = (block(b, n, k), block_mut(x, n, k));
         match op.lines(k) {
             None => first_step(op.problem(k), coeffs[k].0, bk, xk, wk, start),
+            Some(_) if lined => line_update(op, k, (0.0, coeffs[k].0), xk, wk, start),
             Some(_) => line_step(op, k, (0.0, coeffs[k].0), bk, xk, wk, start),
         }
     }
@@ -108,11 +114,15 @@ pub(crate) fn smooth(
     let mut maxc = measured(op, measure, w);
     for j in 0..coeffs[0].1.len() {
         op.exchange(x);
+        if lined {
+            line_residuals(op, b, x, w, Start::Guess);
+        }
         for (k, wk) in w.iter_mut().enumerate() {
             let (c1, c2) = coeffs[k].1[j];
             let (bk, xk) = (block(b, n, k), block_mut(x, n, k));
             match op.lines(k) {
                 None => next_step(op.problem(k), c1, c2, bk, xk, wk),
+                Some(_) if lined => line_update(op, k, (c1, c2), xk, wk, Start::Guess),
                 Some(_) => line_step(op, k, (c1, c2), bk, xk, wk, Start::Guess),
             }
         }
@@ -144,13 +154,34 @@ fn next_step(pb: Problem, c1: f64, c2: f64, b: &[f64], x: &mut [f64], w: &mut Sc
 /// d ← c1 d + c2 D⁻¹ (b − A x), then x ← x + d, with D the line blocks of block `k`
 /// (`GroupOp::precondition`): the residual is formed first, as the line solves need all of it.
 /// From `Start::Zero`, x = 0, d = c2 D⁻¹ b and x = d (c1 and x's content ignored).
-fn line_step(op: &GroupOp, k: usize, (c1, c2): (f64, f64), b: &[f64], x: &mut [f64], w: &mut Scratch, start: Start) {
+fn line_step(op: &GroupOp, k: usize, c: (f64, f64), b: &[f64], x: &mut [f64], w: &mut Scratch, start: Start) {
     let pb = op.problem(k);
     w.r.resize(b.len(), 0.0);
     match start {
         Start::Zero => w.r.copy_from_slice(b),
         Start::Guess => pb.op.residual(pb.flags, b, x, &mut w.r, &mut w.s),
     }
+    line_update(op, k, c, x, w, start);
+}
+
+/// `line_step`'s residual for every block of the group into its scratch's `r`, each row of the
+/// operator read once for all the blocks (`GroupOp::residuals`); bitwise the blocks' own.
+fn line_residuals(op: &GroupOp, b: &[f64], x: &[f64], w: &mut [Scratch], start: Start) {
+    let n = op.n();
+    w.iter_mut().for_each(|wk| wk.r.resize(n, 0.0));
+    match start {
+        Start::Zero => w.iter_mut().enumerate().for_each(|(k, wk)| wk.r.copy_from_slice(block(b, n, k))),
+        Start::Guess => {
+            let (mut r, mut s): (Vec<&mut [f64]>, Vec<&mut [f64]>) =
+                w.iter_mut().map(|wk| (&mut wk.r[..], &mut wk.s[..])).unzip();
+            op.residuals(b, x, &mut r, &mut s);
+        }
+    }
+}
+
+/// The rest of `line_step` from the residual in `w.r`: the line solves and the update of the
+/// step and the iterate.
+fn line_update(op: &GroupOp, k: usize, (c1, c2): (f64, f64), x: &mut [f64], w: &mut Scratch, start: Start) {
     op.precondition(k, &mut w.r, &mut w.sol);
     let z = &w.r;
     match start {

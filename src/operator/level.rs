@@ -11,7 +11,7 @@ use super::galerkin_biharmonic::Assembled;
 use super::scatter::{pattern_and_scatter, Scatter};
 use super::{close_diagonal, lumped_mass, spring_stiffness, stiffness_and_mass, Method};
 use crate::bc::{Dofs, P, Z};
-use crate::sparse::{par_fill, par_update, par_update2, triple_product, triple_product_values, CsrMatrix};
+use crate::sparse::{par_fill, par_fill_blocks, par_update, par_update2, triple_product, triple_product_values, CsrMatrix};
 use crate::Mesh;
 use std::sync::Arc;
 
@@ -171,6 +171,54 @@ impl LevelOperator {
         self.update_with_residual(flags, b, x, s, r, |_, r, _| r);
     }
 
+    /// r_k = b_k − A x_k for the blocks k of a group of components (`flags[k]` each), bitwise as
+    /// `residual` forms each, with every row of A read once for all the blocks: of the assembled
+    /// A, or of K in each of the biharmonic's two passes (`s` holds each block's S). A fused
+    /// plan, or more blocks than three, forms them one by one.
+    pub fn residuals(&self, flags: &[&[u8]], b: &[&[f64]], x: &[&[f64]], r: &mut [&mut [f64]], s: &mut [&mut [f64]]) {
+        match (flags.len(), &self.fuse) {
+            (1, None) => self.residuals_of::<1>(flags, b, x, r, s),
+            (2, None) => self.residuals_of::<2>(flags, b, x, r, s),
+            (3, None) => self.residuals_of::<3>(flags, b, x, r, s),
+            _ => {
+                for (k, (rk, sk)) in r.iter_mut().zip(s.iter_mut()).enumerate() {
+                    self.residual(flags[k], b[k], x[k], rk, sk);
+                }
+            }
+        }
+    }
+
+    /// `residuals` of `G` blocks.
+    fn residuals_of<const G: usize>(
+        &self,
+        flags: &[&[u8]],
+        b: &[&[f64]],
+        x: &[&[f64]],
+        r: &mut [&mut [f64]],
+        s: &mut [&mut [f64]],
+    ) {
+        let (flags, b): ([&[u8]; G], [&[f64]; G]) = (std::array::from_fn(|k| flags[k]), std::array::from_fn(|k| b[k]));
+        let (k, u): (&CsrMatrix, [&[f64]; G]) = match self.one_pass() {
+            Some(a) => (a, std::array::from_fn(|k| x[k])),
+            None => {
+                let x: [&[f64]; G] = std::array::from_fn(|k| x[k]);
+                let inv_v = &self.inv_v;
+                par_fill_blocks(blocks::<G>(s), self.k.nnz(), |j| {
+                    let t = self.k.row_dots(j, &x);
+                    std::array::from_fn(|c| if flags[c][j] & Z != 0 { 0.0 } else { (t[c] - 0.0) * inv_v[j] })
+                });
+                if let Some(exchange) = &self.source_halo {
+                    s.iter_mut().for_each(|s| exchange(s));
+                }
+                (&self.k, std::array::from_fn(|k| &*s[k]))
+            }
+        };
+        par_fill_blocks(blocks::<G>(r), k.nnz(), |i| {
+            let t = k.row_dots(i, &u);
+            std::array::from_fn(|c| if flags[c][i] & P != 0 { b[c][i] } else { b[c][i] - t[c] })
+        });
+    }
+
     /// `out_i ← f(i, r_i, out_i)` for every unknown, with r = b − A x formed row by row and never
     /// stored: one pass over K for the Laplacian and spring, two for the biharmonic (S first).
     /// The smoothers update their direction this way, which saves the residual vector's
@@ -285,6 +333,12 @@ impl LevelOperator {
             })
             .collect()
     }
+}
+
+/// The first `G` of a group's blocks, as the array `par_fill_blocks` fills.
+fn blocks<'a, const G: usize>(v: &'a mut [&mut [f64]]) -> [&'a mut [f64]; G] {
+    let mut it = v.iter_mut().map(|v| &mut **v);
+    std::array::from_fn(|_| it.next().expect("a block per component"))
 }
 
 /// 1/V_c with V_c = P₊ᵀ V: the positive weights only, so a coarse mass stays positive where a
