@@ -126,16 +126,20 @@ impl CoarsenParams {
         self.coarsest_unknowns.unwrap_or(if dim == 2 { 150 } else { 400 })
     }
 
-    /// Whether a level of `n` unknowns above the coarsest size (`coarsest_unknowns_for`), whose
-    /// coarsening would keep `nc`, is the coarsest level instead: when its dense solve factors
-    /// every group of its `dim` components (dim · n free directions at most, `DENSE_MAX`) and
-    /// the coarse level would lie further below the coarsest size than this level lies above it
-    /// (n · nc ≤ size², on a log scale). The coarsest level is then the one nearer the size
-    /// chosen for it, not a small level below it whose Galerkin operator, nearly dense, is a
-    /// poor coarse space (docs/DESIGN.md §5, "Coarse levels").
+    /// Whether a level of `n` unknowns a little above the coarsest size
+    /// (`coarsest_unknowns_for`; at most a quarter above it), whose coarsening would keep `nc`,
+    /// is the coarsest level instead: when its dense solve factors every group of its `dim`
+    /// components (dim · n free directions at most, `DENSE_MAX`) and the coarse level would lie
+    /// further below the coarsest size than this level lies above it (n · nc ≤ size², on a log
+    /// scale). The coarsest level is then the one nearer the size chosen for it, not a small
+    /// level below it whose Galerkin operator, nearly dense, is a poor coarse space; a level
+    /// further above the size keeps its coarsening, whose smoothing costs less than a larger
+    /// dense solve visited on every cycle (docs/DESIGN.md §5, "Coarse levels").
     pub fn stops_above(&self, n: usize, nc: usize, dim: usize) -> bool {
         let size = self.coarsest_unknowns_for(dim);
-        n.saturating_mul(dim) <= DENSE_MAX && n.saturating_mul(nc) <= size.saturating_mul(size)
+        n <= size.saturating_add(size / 4)
+            && n.saturating_mul(dim) <= DENSE_MAX
+            && n.saturating_mul(nc) <= size.saturating_mul(size)
     }
 }
 
