@@ -205,7 +205,7 @@ impl LevelOperator {
                 let inv_v = &self.inv_v;
                 par_fill_blocks(blocks::<G>(s), self.k.nnz(), |j| {
                     let t = self.k.row_dots(j, &x);
-                    std::array::from_fn(|c| if flags[c][j] & Z != 0 { 0.0 } else { (t[c] - 0.0) * inv_v[j] })
+                    std::array::from_fn(|c| if flags[c][j] & Z != 0 { 0.0 } else { t[c] * inv_v[j] })
                 });
                 if let Some(exchange) = &self.source_halo {
                     s.iter_mut().for_each(|s| exchange(s));

@@ -135,7 +135,7 @@ impl CoarsenParams {
     /// level below it whose Galerkin operator, nearly dense, is a poor coarse space; a level
     /// further above the size keeps its coarsening, whose smoothing costs less than a larger
     /// dense solve visited on every cycle (docs/DESIGN.md §5, "Coarse levels").
-    pub fn stops_above(&self, n: usize, nc: usize, dim: usize) -> bool {
+    pub(crate) fn stops_above(&self, n: usize, nc: usize, dim: usize) -> bool {
         let size = self.coarsest_unknowns_for(dim);
         n <= size.saturating_add(size / 4)
             && n.saturating_mul(dim) <= DENSE_MAX
