@@ -1,7 +1,7 @@
 //! The wall-layer meshes on distributed slabs (docs/PERFORMANCE.md, "the paper's cases on 1–4
 //! ranks"): run under `mpirun -np N`, it solves the boundary-layer cylinder (2D, its hybrid
 //! variant, the 3D extrusion), the wall-layered airfoil pitched and the small wing plunged
-//! (`wing`, docs/PERFORMANCE.md "The polish of a tangled result across ranks") with the
+//! (`wing`, docs/perf-history.md "The polish of a tangled result across ranks") with the
 //! biharmonic and the Laplacian to 1e-12 and 1e-14 on slabs
 //! across x and prints, per solve, the distributed iterations beside the serial cycles and the
 //! largest difference from the serial displacement relative to the motion, and the distributed

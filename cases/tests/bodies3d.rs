@@ -220,7 +220,7 @@ fn pitching_spheroid_set_up() {
 
 /// The bench's graded sphere (25 194 vertices, the body CLAMPED and moved 0.1): its few short
 /// lines (0.2 % of the first kept level's unknowns) leave it K_c V_c⁻¹ K_c on every level, 7
-/// biharmonic iterations (11 with the assembled Pᵀ A P below them; docs/PERFORMANCE.md, "The
+/// biharmonic iterations (11 with the assembled Pᵀ A P below them; docs/perf-history.md, "The
 /// graded sphere's coarse rows at the clamped body").
 #[test]
 fn graded_sphere_biharmonic_keeps_its_coarse_products() {

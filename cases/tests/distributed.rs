@@ -60,7 +60,7 @@ const LAYERED_ITERATIONS: i64 = 11;
 /// by the serial donor rule), with the iterations they may take beyond them: the biharmonic one
 /// on the cylinder channel and two on the sphere channel, where no periodic links, split
 /// interfaces or slip walls make its preconditioner a projected one, and on the slip-walled channels what their one hierarchy of every component measures
-/// (docs/PERFORMANCE.md, "One hierarchy of every component"); the Laplacian one on every case
+/// (docs/perf-history.md, "One hierarchy of every component"); the Laplacian one on every case
 /// whose hierarchy coarsens, slip walls and wall layers included.
 const NEAR_SERIAL: [(&str, i64); 9] = [
     ("cylinder_channel | Biharmonic", 1),

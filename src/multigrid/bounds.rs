@@ -17,7 +17,7 @@
 //! e·(1 + d), λmax(D⁻¹A) changing no more than the diagonal does where A's rows change with
 //! it. The smoother loses far more to an estimate below λmax than to one above it, except
 //! where the raise alone lifts the padded estimate to the l1 bound 1: the smoother then runs
-//! on the bound's interval, which costs iterations (docs/PERFORMANCE.md, "The kept step's
+//! on the bound's interval, which costs iterations (docs/perf-history.md, "The kept step's
 //! bounds raised by the drift"), and the component takes the estimate from the fixed start
 //! below. Past that drift, or without a kept iterate, the iteration runs `SHAPE.1` iterations
 //! from the fixed start; when the shape is within `SHAPE_TOLERANCE` of the calibration's, the spectrum's
@@ -33,7 +33,7 @@ use std::sync::Arc;
 
 /// The largest relative change of a free unknown's Jacobi diagonal since the last estimate from
 /// the fixed start under which a component's estimate is one iteration from the kept iterate,
-/// raised by that change (docs/PERFORMANCE.md, "The kept step's bounds raised by the drift").
+/// raised by that change (docs/perf-history.md, "The kept step's bounds raised by the drift").
 const DRIFT: f64 = 0.30;
 
 /// The power iterations of a rescaled estimate.
@@ -46,7 +46,7 @@ const SHAPE: (usize, usize) = (3, 5);
 const SHAPE_TOLERANCE: f64 = 0.005;
 
 /// The cheaper estimates' margin. The smoother loses far more to an estimate below the full one
-/// than to one above it (docs/PERFORMANCE.md, "bounds rescaled").
+/// than to one above it (docs/perf-history.md, "bounds rescaled").
 const MARGIN: f64 = 1.05;
 
 /// What a component's last full estimate leaves for the cheaper ones after it.

@@ -108,7 +108,7 @@ fn kept_level(fine: &Level, c: CoarseUnknowns, bcs: &BoundaryConditions, t: &mut
 /// a third or more of its unknowns on lines (a wing, a spheroid, an airfoil); a graded mesh whose
 /// line finder meets a few short lines off its walls (the graded sphere's box corners) keeps a
 /// few percent or less, and there K_c V_c⁻¹ K_c on every level takes fewer iterations
-/// (docs/PERFORMANCE.md, "The graded sphere's coarse rows at the clamped body").
+/// (docs/perf-history.md, "The graded sphere's coarse rows at the clamped body").
 const LAYERED_SHARE: f64 = 0.1;
 
 /// The operator of a level of kept unknowns below `fine` with the interpolation `prolong`:

@@ -21,7 +21,7 @@ use crate::sparse::det_sum;
 use std::sync::Arc;
 
 /// The largest mean relative change of the fine Jacobi diagonal since the anchor with which a
-/// re-reference keeps the coarse levels (docs/PERFORMANCE.md, "coarse levels kept").
+/// re-reference keeps the coarse levels (docs/perf-history.md, "coarse levels kept").
 pub(crate) const KEEP_COARSE_BELOW: f64 = 0.05;
 
 /// The state of the last full refresh the coarse levels come from.

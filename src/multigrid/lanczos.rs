@@ -1,7 +1,7 @@
 //! The Lanczos estimate of λmax(D⁻¹ Π A) for the levels smoothed along lines.
 //!
 //! On a level with lines the top of D⁻¹A's spectrum is a few modes local to the lines, which a
-//! power iteration from a spread start finds slowly (docs/PERFORMANCE.md, "The graded sphere's
+//! power iteration from a spread start finds slowly (docs/perf-history.md, "The graded sphere's
 //! iterations with size"). Lanczos from the same start, in D's inner product (D⁻¹A is
 //! self-adjoint there, D the line or point l1 preconditioner, symmetric positive definite),
 //! builds the same Krylov space with the same products and finds the top Ritz value θ far

@@ -176,7 +176,7 @@ const ONCE_FROM_UNDER_LAYERS: usize = 4;
 ///   docs/perf-history.md);
 /// - the Laplacian and the spring: 3 and 2 in 2D, 4 and 3 in 3D, where a 3D vertex has more
 ///   neighbours and the higher degrees take an iteration or two fewer on the boxes and the graded
-///   sphere for about the same solve time (docs/PERFORMANCE.md, "The graded sphere's iterations
+///   sphere for about the same solve time (docs/perf-history.md, "The graded sphere's iterations
 ///   with size").
 pub(crate) fn degrees(h: &Hierarchy, p: &SolveParams) -> (usize, usize) {
     let (fine, coarse) = method_degrees(h.method, h.fine().dim(), h.has_kept_levels(), h.has_lines());
