@@ -123,7 +123,7 @@ fn rank_main() -> ExitCode {
     // A quarter annulus large enough for the multigrid to coarsen: the coupled group's cycle
     // (one hierarchy of both components, the slip frames on every level) stays within one
     // iteration of the serial cycles, a bound the components' cycles projected exceeded
-    // (docs/PERFORMANCE.md).
+    // (docs/perf-history.md, "Slip walls across ranks: the counts before one hierarchy").
     for method in [Method::Laplacian, Method::Biharmonic] {
         let annulus = bent(&grid2d(30, 48));
         solver_agrees_with_serial(&world, "2D quarter annulus 31×49", &annulus, method, Case::Slip { surface: false });
@@ -744,7 +744,7 @@ fn clamped_top_within_serial(world: &SimpleCommunicator, name: &str, d: &MeshDat
 /// deep as the bench's box of 250k vertices is with the default. With K_c V_c⁻¹ K_c on every
 /// coarse level (not only the first two) that hierarchy exceeds the bound on one rank: its deep
 /// levels' corrections overshoot next to the CLAMPED wall (docs/DESIGN.md §5, "The biharmonic's
-/// levels"; the counts in docs/PERFORMANCE.md).
+/// levels"; the counts in docs/perf-history.md, "The distributed biharmonic next to a CLAMPED wall").
 const DEEP_GATHER: u64 = 30;
 /// Levels of the CLAMPED-top box's deep hierarchy.
 const DEEP: usize = 5;

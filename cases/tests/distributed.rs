@@ -53,7 +53,7 @@ const METHODS: [Method; 2] = [Method::Biharmonic, Method::Laplacian];
 /// Most distributed iterations of the boundary-layer cylinder's biharmonic (to 1e-14), any rank
 /// count: the serial count and one, with the serial donor rule, the serial degrees under wall
 /// layers, the rows along the lines ending at the kept wall and K_c V_c⁻¹ K_c on the first coarse
-/// level, which keeps no line (docs/PERFORMANCE.md has the counts before and after).
+/// level, which keeps no line (docs/perf-history.md has the counts before and after).
 const LAYERED_ITERATIONS: i64 = 11;
 
 /// The cases whose distributed iterations stay near the serial cycles (their levels interpolate
@@ -230,7 +230,8 @@ fn wing(world: &SimpleCommunicator) {
 /// about its quarter chord, by `method` to `tol` on slabs: at most `most` iterations before any
 /// polish of a tangled result (the Laplacian folds the layers), with the
 /// lines across its layers (the Laplacian) and the assembled Galerkin A below the first coarse
-/// level (the biharmonic). Its agreement with the serial solver is in docs/PERFORMANCE.md.
+/// level (the biharmonic). Its agreement with the serial solver is in docs/perf-history.md, "The
+/// polish of a tangled result across ranks".
 fn airfoil(world: &SimpleCommunicator, method: Method, tol: f64, most: usize) {
     let v = airfoil_2d(&AirfoilParams::new(64)).expect("the airfoil");
     let (bcs, motion) = (boundary_conditions(&v), motion(&v, BodyMotion::Pitch));
