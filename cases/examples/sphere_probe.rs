@@ -2,16 +2,21 @@
 //! and moved 0.1 in x, the box's walls fixed) at a given vertex count: per method its levels,
 //! whether lines were found, iterations and seconds, and optionally the two-level analysis of
 //! the biharmonic's x component:
-//! `cargo run --release -p meshmove-cases --example sphere_probe -- 25000 [METHODS] [PAIRS] [DEGREE] [COARSE_DEGREE] [COARSEST]`
+//! `cargo run --release -p meshmove-cases --example sphere_probe -- 25000 [METHODS] [PAIRS] [DEGREE] [COARSE_DEGREE] [COARSEST] [GROWTH]`
 //! (METHODS: `b`, `l`, `s` letters, default `bl`; PAIRS: the two-level pairs' finer levels,
 //! comma-separated, none when empty or `-`; the Chebyshev degrees and
-//! the coarsest level's largest size the solver's own unless given). Each pair's slow mode's
+//! the coarsest level's largest size the solver's own unless given; GROWTH: the shell's layer
+//! growth rate instead of the bench's 1.2, the wall size chosen again for the vertex count).
+//! Each pair's slow mode's
 //! energy is printed binned by radius and by the coordinates beyond 10 (the box's corners).
+//! The mesh's radial and tangential edge lengths are printed binned by radius: how anisotropic
+//! the cells are between the body and the box.
 
 use meshmove::multigrid::policy::CycleParams;
 use meshmove::multigrid::two_level::analyse_pair;
 use meshmove::{BoundaryConditions, HierarchyParams, Kind, Method, Motion, Options, RigidMotion, SolveParams, Solver};
-use meshmove_cases::ogrid::{self, CellKind};
+use meshmove_cases::ogrid::{self, CellKind, OgridParams};
+use std::collections::HashSet;
 use std::time::Instant;
 
 fn main() {
@@ -26,7 +31,10 @@ fn main() {
     let mut hierarchy = HierarchyParams::default();
     hierarchy.coarsen.coarsest_unknowns = degree(5);
     let t = Instant::now();
-    let mesh = ogrid::sphere_with_vertices(vertices, CellKind::Simplex).expect("the sphere");
+    let mesh = match args.get(6).filter(|s| *s != "-") {
+        Some(g) => sphere_with_growth(vertices, g.parse().expect("a growth rate")),
+        None => ogrid::sphere_with_vertices(vertices, CellKind::Simplex).expect("the sphere"),
+    };
     let s = ogrid::measure(&mesh, ogrid::OG_BODY);
     println!(
         "sphere: {} vertices, {} cells, min angle {:.2}, max edge ratio {:.1}, body edge {:.4}, wall-normal edge {:.4}; {:.1} s",
@@ -38,6 +46,7 @@ fn main() {
         s.wall_normal_edge,
         t.elapsed().as_secs_f64()
     );
+    spacing_by_radius(&mesh);
     let mut bcs = BoundaryConditions::new();
     bcs.set_kinds(ogrid::OG_WALL, Kind::Fixed).set_kinds(ogrid::OG_BODY, Kind::Clamped);
     let r = RigidMotion { translation: [0.1, 0.0, 0.0], rotation: [0.0; 3], center: [0.0; 3] };
@@ -127,4 +136,70 @@ fn where_energy_lies(h: &meshmove::multigrid::hierarchy::Hierarchy, a: &meshmove
             v[0], v[1], v[2], v[3]
         );
     }
+}
+
+/// The medians of the mesh's radial edges (within 18° of the radius at their midpoint) and of
+/// its tangential edges (within 12° of normal to it), binned by the midpoint's radius, and their
+/// ratio: where the O-grid's cells are longer across the shell than along it.
+fn spacing_by_radius(mesh: &meshmove::Mesh) {
+    let edges = [0.5, 1.0, 2.0, 3.0, 5.0, 10.0, 15.0];
+    let mut radial = vec![Vec::new(); edges.len() - 1];
+    let mut tangential = vec![Vec::new(); edges.len() - 1];
+    let mut seen = HashSet::new();
+    for c in 0..mesh.num_cells() {
+        let cell = mesh.cell(c);
+        for (i, &a) in cell.iter().enumerate() {
+            for &b in &cell[i + 1..] {
+                if !seen.insert((a.min(b), a.max(b))) {
+                    continue;
+                }
+                let (pa, pb) = (mesh.point(a as usize), mesh.point(b as usize));
+                let mid: Vec<f64> = (0..3).map(|k| 0.5 * (pa[k] + pb[k])).collect();
+                let d: Vec<f64> = (0..3).map(|k| pb[k] - pa[k]).collect();
+                let r = mid.iter().map(|x| x * x).sum::<f64>().sqrt();
+                let len = d.iter().map(|x| x * x).sum::<f64>().sqrt();
+                let cos = (0..3).map(|k| d[k] * mid[k]).sum::<f64>().abs() / (len * r);
+                let Some(bin) = edges.windows(2).position(|w| r >= w[0] && r < w[1]) else { continue };
+                if cos > 0.95 {
+                    radial[bin].push(len);
+                } else if cos < 0.2 {
+                    tangential[bin].push(len);
+                }
+            }
+        }
+    }
+    let median = |v: &mut Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
+    };
+    for (b, (rad, tan)) in radial.iter_mut().zip(&mut tangential).enumerate() {
+        let (r, t) = (median(rad), median(tan));
+        println!(
+            "  r in [{}, {}): radial edge {r:.3} ({} edges), tangential {t:.3} ({}), ratio {:.2}",
+            edges[b],
+            edges[b + 1],
+            rad.len(),
+            tan.len(),
+            r / t
+        );
+    }
+}
+
+/// The bench's sphere (`ogrid::sphere_with_vertices`: wall cells 1/50 of the far ones) with the
+/// shell's layers growing by `growth`, its wall size the largest whose mesh has at most
+/// `vertices` vertices (bisection).
+fn sphere_with_growth(vertices: usize, growth: f64) -> meshmove::Mesh {
+    let at =
+        |wall: f64| OgridParams { growth, ..OgridParams::sphere([0.0; 3], 0.5, [[-20.0, 20.0]; 3], wall, 50.0 * wall) };
+    let count = |wall: f64| ogrid::plan(&at(wall)).map_or(usize::MAX, |p| p.num_vertices(CellKind::Simplex));
+    let (mut lo, mut hi) = (1e-4f64, 0.125f64);
+    for _ in 0..40 {
+        let mid = (lo * hi).sqrt();
+        if count(mid) > vertices {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    ogrid::ogrid(&at(hi)).expect("the sphere")
 }
