@@ -90,7 +90,7 @@ mod tests {
     use crate::bc::Kind;
     use crate::mesh::fixtures::rect;
     use crate::multigrid::hierarchy::{Hierarchy, HierarchyParams};
-    use crate::{BoundaryConditions, Method};
+    use crate::{BoundaryConditions, Mesh, Method};
 
     /// Every level's K values, inverse diagonals and λmax, as bits.
     fn state(h: &Hierarchy) -> Vec<Vec<u64>> {
@@ -103,6 +103,16 @@ mod tests {
             .collect()
     }
 
+    /// The hierarchy of `method` on `mesh` with one side fixed and the opposite one clamped.
+    fn built(mesh: &Mesh, method: Method) -> Hierarchy {
+        let mut bcs = BoundaryConditions::new();
+        bcs.set_kinds(1, Kind::Fixed).set_kinds(3, Kind::Clamped);
+        // A coarsest size below 2D's default keeps three levels on this small mesh.
+        let mut params = HierarchyParams::default();
+        params.coarsen.coarsest_unknowns = Some(40);
+        Hierarchy::build(mesh, Vec::new(), &bcs, method, &params).unwrap()
+    }
+
     /// A small stretch keeps the coarse levels below the first (bitwise those of the build) and
     /// re-evaluates the fine one and the first coarse one's product; a rigid turn of it keeps
     /// them too; a large squash refreshes them all; a failed
@@ -110,13 +120,8 @@ mod tests {
     #[test]
     fn small_changes_keep_the_coarse_levels_and_large_ones_refresh_them() {
         let mesh = rect(24, 24, [0.0, 1.0, 0.0, 1.0]);
-        let mut bcs = BoundaryConditions::new();
-        bcs.set_kinds(1, Kind::Fixed).set_kinds(3, Kind::Clamped);
-        // A coarsest size below 2D's default keeps three levels on this small mesh.
-        let mut params = HierarchyParams::default();
-        params.coarsen.coarsest_unknowns = Some(40);
         for method in [Method::Biharmonic, Method::Laplacian] {
-            let mut h = Hierarchy::build(&mesh, Vec::new(), &bcs, method, &params).unwrap();
+            let mut h = built(&mesh, method);
             assert!(h.levels.len() >= 3, "{} levels", h.levels.len());
             let built = state(&h);
 
@@ -157,11 +162,7 @@ mod tests {
     #[test]
     fn the_laplacians_first_coarse_product_waits_for_a_large_local_change() {
         let mesh = rect(24, 24, [0.0, 1.0, 0.0, 1.0]);
-        let mut bcs = BoundaryConditions::new();
-        bcs.set_kinds(1, Kind::Fixed).set_kinds(3, Kind::Clamped);
-        let mut params = HierarchyParams::default();
-        params.coarsen.coarsest_unknowns = Some(40);
-        let mut h = Hierarchy::build(&mesh, Vec::new(), &bcs, Method::Laplacian, &params).unwrap();
+        let mut h = built(&mesh, Method::Laplacian);
         let built = state(&h);
         // The last column of cells squeezed to 0.3 of its width: a large change of a few rows'
         // diagonals, a small mean change.
