@@ -75,7 +75,7 @@ pub(crate) struct Calibration(Vec<Component>);
 /// The largest relative change of the Jacobi diagonal from `before` to `now` (inverse
 /// diagonals, as the levels keep them) over the unknowns free at either; infinite where the
 /// free unknowns differ.
-fn largest_drift(before: &[f64], now: &[f64]) -> f64 {
+pub(crate) fn largest_drift(before: &[f64], now: &[f64]) -> f64 {
     if before.len() != now.len() {
         return f64::INFINITY;
     }

@@ -10,7 +10,7 @@ use super::coarse_solve::CoarseSolve;
 use super::coarsen::CoarsenParams;
 use super::coarsener::{CoarseUnknowns, Coarsener};
 use super::bounds::{biharmonic_estimates, Calibration};
-use super::lag::Anchor;
+use super::lag::{refills, waits, Anchor};
 use super::group::GroupOp;
 use super::refit::{donor_offsets, rows_to_redo, updated_offsets};
 use super::layout::Distribution;
@@ -173,6 +173,7 @@ fn refresh_bounds(level: &mut Level, previous: Option<&Calibration>) -> Calibrat
 /// What a re-reference carries from one reference to the next beyond the positions: each
 /// transfer's weights and the donor offsets they were chosen at. A failed call puts them back
 /// (`Hierarchy::restore`), so the hierarchy is bitwise as before it.
+#[derive(Clone)]
 pub(crate) struct Carried {
     prolong: Vec<Option<Arc<CsrMatrix>>>,
     offsets: Vec<Vec<f64>>,
@@ -181,6 +182,9 @@ pub(crate) struct Carried {
     /// The last full refresh, and whether the coarse levels are still its (`multigrid::lag`).
     anchor: Anchor,
     coarse_kept: bool,
+    /// Where the first coarse level's product was last refilled, when not at the positions
+    /// (`Hierarchy::refilled`).
+    refilled: Option<Anchor>,
 }
 
 /// What a re-reference does with the coarse levels.
@@ -190,8 +194,8 @@ enum Coarse {
     Decide,
     /// Refreshes them at the new positions.
     Refresh,
-    /// Keeps them.
-    Keep,
+    /// Keeps them, refilling the first one's product or not.
+    Keep { refill: bool },
 }
 
 /// The donor offsets of level l's transfer when the coarse level below it has kept unknowns
@@ -274,6 +278,11 @@ pub struct Hierarchy {
     /// kept them (`multigrid::lag`).
     anchor: Anchor,
     coarse_kept: bool,
+    /// The fine level's positions and diagonal where the first coarse level's product was last
+    /// refilled, when they are not its positions now: a Laplacian's kept re-reference leaves the
+    /// product while the diagonal changed little since (`lag::refills`). None where the product
+    /// is the current fine operator's.
+    refilled: Option<Anchor>,
     /// Counts the re-references: a failed call restores the hierarchy when it changed.
     generation: u64,
 }
@@ -354,6 +363,7 @@ impl Hierarchy {
             calibration,
             anchor,
             coarse_kept: false,
+            refilled: None,
             generation: 0,
         };
         timed(&mut t.coarse_solve, || h.build_coarse_solve())?;
@@ -420,6 +430,7 @@ impl Hierarchy {
             calibrated_from: self.calibrated_from.clone(),
             anchor: self.anchor.clone(),
             coarse_kept: self.coarse_kept,
+            refilled: self.refilled.clone(),
         }
     }
 
@@ -436,8 +447,8 @@ impl Hierarchy {
 
     /// `move_to`, or with `replay` the weights of an earlier state at these positions instead
     /// of choosing them. A state whose coarse levels were kept from an earlier full refresh is
-    /// made again as it was made: every level at that refresh's positions, then the fine level
-    /// and the first coarse level's product at its own.
+    /// made again as it was made: every level at that refresh's positions, then the first coarse
+    /// level's product where it was last refilled, then the fine level at its own positions.
     fn move_with(&mut self, fine_coords: Vec<f64>, replay: Option<Carried>) -> Result<bool> {
         let Some(r) = replay else {
             return self.move_levels(fine_coords, None, Coarse::Decide);
@@ -451,11 +462,18 @@ impl Hierarchy {
             calibrated_from: r.calibrated_from.clone(),
             anchor: r.anchor.clone(),
             coarse_kept: true,
+            refilled: None,
         };
-        if !self.move_levels(r.anchor.coords.to_vec(), Some(r), Coarse::Refresh)? {
+        let (anchor, refilled) = (Arc::clone(&r.anchor.coords), r.refilled.clone());
+        if !self.move_levels(anchor.to_vec(), Some(r), Coarse::Refresh)? {
             return Ok(false);
         }
-        self.move_levels(fine_coords, Some(fine_only), Coarse::Keep)
+        if let Some(at) = refilled.as_ref().filter(|a| a.coords != anchor) {
+            if !self.move_levels(at.coords.to_vec(), Some(fine_only.clone()), Coarse::Keep { refill: true })? {
+                return Ok(false);
+            }
+        }
+        self.move_levels(fine_coords, Some(fine_only), Coarse::Keep { refill: refilled.is_none() })
     }
 
     /// Moves the fine level to `fine_coords`, and the coarse levels as `coarse` says (see
@@ -464,6 +482,10 @@ impl Hierarchy {
         let mut t = Phases::default();
         let start = std::time::Instant::now();
         let dim = self.fine().dim();
+        // Where the first coarse product was last refilled: here, unless an earlier re-reference
+        // left it (`refilled`). Only a method whose product may wait needs it.
+        let mut here = (waits(self.method) && self.refilled.is_none())
+            .then(|| Anchor::new(self.fine().mesh().coords(), &self.fine().inv_d[0]));
         // Per level: its mesh's vertex positions, or its unknowns' positions without a mesh.
         let mut coords = vec![fine_coords];
         for l in 1..self.levels.len() {
@@ -513,10 +535,20 @@ impl Hierarchy {
                 kept = match coarse {
                     Coarse::Decide => self.anchor.keeps(&self.levels[0].inv_d[0]),
                     Coarse::Refresh => false,
-                    Coarse::Keep => true,
+                    Coarse::Keep { .. } => true,
                 };
                 if kept {
-                    self.refill_first_coarse(&from, &mut t)?;
+                    let last = self.refilled.as_ref().or(here.as_ref());
+                    let refill = match coarse {
+                        Coarse::Keep { refill } => refill,
+                        _ => last.is_none_or(|a| refills(self.method, &a.inv_d, &self.levels[0].inv_d[0])),
+                    };
+                    if refill || last.is_none() {
+                        self.refill_first_coarse(&from, &mut t)?;
+                        self.refilled = None;
+                    } else if self.refilled.is_none() {
+                        self.refilled = here.take();
+                    }
                     break;
                 }
             }
@@ -580,6 +612,7 @@ impl Hierarchy {
             timed(&mut t.coarse_solve, || self.build_coarse_solve())?;
             let fine = &self.levels[0];
             self.anchor = Anchor::new(fine.mesh().coords(), &fine.inv_d[0]);
+            self.refilled = None;
         }
         self.coarse_kept = kept;
         t.coarse_kept = kept;

@@ -8,8 +8,12 @@
 //! the last full refresh, its anchor, while the fine level's Jacobi diagonal stays close to its
 //! value there, and refreshes them all otherwise. Of the kept levels, the first coarse level's
 //! Galerkin product and bounds follow the fine operator through the kept interpolation
-//! (`Hierarchy::refill_first_coarse`): kept as well, they cost iterations that outweigh their
-//! price (docs/perf-history.md).
+//! (`Hierarchy::refill_first_coarse`): kept as well, they cost the biharmonic iterations that
+//! outweigh their price (docs/perf-history.md). The Laplacian's refill, the larger part of its
+//! kept re-reference, waits until some unknown's diagonal has changed by `REFILL_FROM` since the
+//! last one (`refills`): its hexahedral and tetrahedral boxes keep their counts without it
+//! (docs/PERFORMANCE.md, "The Laplacian's first coarse product refilled when the diagonal
+//! moved").
 //!
 //! The measure is data only (no time, no thread count): per free unknown of the first component,
 //! the relative change of its l1 Jacobi diagonal since the anchor, which follows the change of
@@ -17,6 +21,8 @@
 //! V). The anchor keeps its fine positions, so a failed call can restore a state with kept
 //! coarse levels bitwise (`Hierarchy::restore`).
 
+use super::bounds::largest_drift;
+use crate::operator::Method;
 use crate::sparse::det_sum;
 use std::sync::Arc;
 
@@ -24,13 +30,32 @@ use std::sync::Arc;
 /// re-reference keeps the coarse levels (docs/perf-history.md, "coarse levels kept").
 pub(crate) const KEEP_COARSE_BELOW: f64 = 0.05;
 
+/// The largest relative change of a free unknown's fine Jacobi diagonal since the first coarse
+/// level's product was last refilled from which a kept re-reference of the Laplacian refills it
+/// again (docs/PERFORMANCE.md, "The Laplacian's first coarse product refilled when the diagonal
+/// moved").
+pub(crate) const REFILL_FROM: f64 = 0.2;
+
+/// Whether a kept re-reference of `method` refills the first coarse level's product: always,
+/// but for the Laplacian, whose product waits while every free unknown's diagonal (the inverse
+/// `inv_d`) stays within `REFILL_FROM` of its value at the last refill, `last`.
+pub(crate) fn refills(method: Method, last: &[f64], inv_d: &[f64]) -> bool {
+    !waits(method) || largest_drift(last, inv_d) >= REFILL_FROM
+}
+
+/// Whether a kept re-reference of `method` may leave the first coarse level's product as it
+/// was (`refills`).
+pub(crate) fn waits(method: Method) -> bool {
+    method == Method::Laplacian
+}
+
 /// The state of the last full refresh the coarse levels come from.
 #[derive(Clone)]
 pub(crate) struct Anchor {
     /// The fine level's positions there.
     pub(crate) coords: Arc<[f64]>,
     /// The fine level's inverse l1 Jacobi diagonal of its first component there.
-    inv_d: Arc<[f64]>,
+    pub(crate) inv_d: Arc<[f64]>,
 }
 
 impl Anchor {
@@ -65,7 +90,7 @@ mod tests {
     use crate::bc::Kind;
     use crate::mesh::fixtures::rect;
     use crate::multigrid::hierarchy::{Hierarchy, HierarchyParams};
-    use crate::{BoundaryConditions, Method};
+    use crate::{BoundaryConditions, Mesh, Method};
 
     /// Every level's K values, inverse diagonals and λmax, as bits.
     fn state(h: &Hierarchy) -> Vec<Vec<u64>> {
@@ -78,6 +103,16 @@ mod tests {
             .collect()
     }
 
+    /// The hierarchy of `method` on `mesh` with one side fixed and the opposite one clamped.
+    fn built(mesh: &Mesh, method: Method) -> Hierarchy {
+        let mut bcs = BoundaryConditions::new();
+        bcs.set_kinds(1, Kind::Fixed).set_kinds(3, Kind::Clamped);
+        // A coarsest size below 2D's default keeps three levels on this small mesh.
+        let mut params = HierarchyParams::default();
+        params.coarsen.coarsest_unknowns = Some(40);
+        Hierarchy::build(mesh, Vec::new(), &bcs, method, &params).unwrap()
+    }
+
     /// A small stretch keeps the coarse levels below the first (bitwise those of the build) and
     /// re-evaluates the fine one and the first coarse one's product; a rigid turn of it keeps
     /// them too; a large squash refreshes them all; a failed
@@ -85,13 +120,8 @@ mod tests {
     #[test]
     fn small_changes_keep_the_coarse_levels_and_large_ones_refresh_them() {
         let mesh = rect(24, 24, [0.0, 1.0, 0.0, 1.0]);
-        let mut bcs = BoundaryConditions::new();
-        bcs.set_kinds(1, Kind::Fixed).set_kinds(3, Kind::Clamped);
-        // A coarsest size below 2D's default keeps three levels on this small mesh.
-        let mut params = HierarchyParams::default();
-        params.coarsen.coarsest_unknowns = Some(40);
         for method in [Method::Biharmonic, Method::Laplacian] {
-            let mut h = Hierarchy::build(&mesh, Vec::new(), &bcs, method, &params).unwrap();
+            let mut h = built(&mesh, method);
             assert!(h.levels.len() >= 3, "{} levels", h.levels.len());
             let built = state(&h);
 
@@ -100,7 +130,12 @@ mod tests {
             assert!(h.phases().coarse_kept, "{method:?}: a small stretch keeps the coarse levels");
             let kept = state(&h);
             assert_ne!(kept[0], built[0], "{method:?}: the fine level is re-evaluated");
-            assert_ne!(kept[1], built[1], "{method:?}: the first coarse product is refilled");
+            // The biharmonic refills the first coarse product; the Laplacian's waits for a
+            // larger change (`refills`).
+            match method {
+                Method::Laplacian => assert_eq!(kept[1], built[1], "the Laplacian's first coarse product waits"),
+                _ => assert_ne!(kept[1], built[1], "{method:?}: the first coarse product is refilled"),
+            }
             assert_eq!(kept[2..], built[2..], "{method:?}: the levels below it are the build's");
 
             let (c, s) = (0.3f64.cos(), 0.3f64.sin());
@@ -118,6 +153,40 @@ mod tests {
             assert_eq!(state(&h), kept, "{method:?}: a restore gives the kept state bitwise");
             assert!(h.phases().coarse_kept);
         }
+    }
+
+    /// The Laplacian's first coarse product waits while every unknown's diagonal stays within
+    /// `REFILL_FROM` of its value at the last refill and is refilled past it; a failed call's
+    /// restore of a state whose product was refilled on an earlier kept re-reference, and then
+    /// left, is bitwise that state.
+    #[test]
+    fn the_laplacians_first_coarse_product_waits_for_a_large_local_change() {
+        let mesh = rect(24, 24, [0.0, 1.0, 0.0, 1.0]);
+        let mut h = built(&mesh, Method::Laplacian);
+        let built = state(&h);
+        // The last column of cells squeezed to 0.3 of its width: a large change of a few rows'
+        // diagonals, a small mean change.
+        let squeezed: Vec<f64> =
+            mesh.coords().chunks(2).flat_map(|p| [if p[0] > 0.99 { p[0] - 0.7 / 24.0 } else { p[0] }, p[1]]).collect();
+        assert!(h.move_to(squeezed.clone()).unwrap());
+        assert!(h.phases().coarse_kept, "a local squeeze keeps the coarse levels");
+        let refilled = state(&h);
+        assert_ne!(refilled[1], built[1], "a large local change refills the first coarse product");
+        assert_eq!(refilled[2..], built[2..]);
+
+        let nudged: Vec<f64> = squeezed.chunks(2).flat_map(|p| [p[0] * (1.0 + 0.002 * p[0]), p[1]]).collect();
+        assert!(h.move_to(nudged.clone()).unwrap());
+        assert!(h.phases().coarse_kept);
+        let waited = state(&h);
+        assert_ne!(waited[0], refilled[0], "the fine level is re-evaluated");
+        assert_eq!(waited[1..], refilled[1..], "a small change leaves the first coarse product");
+
+        let carried = h.carried();
+        let squashed: Vec<f64> = mesh.coords().chunks(2).flat_map(|p| [p[0], p[1] * (0.3 + 0.7 * p[1])]).collect();
+        assert!(h.move_to(squashed).unwrap());
+        assert!(!h.phases().coarse_kept);
+        assert!(h.restore(nudged, carried).unwrap());
+        assert_eq!(state(&h), waited, "a restore gives the state bitwise");
     }
 
     /// The drift is the mean relative change of the diagonal over the unknowns free at both.
