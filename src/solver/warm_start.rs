@@ -1,5 +1,5 @@
 //! A step's initial guess extrapolated in time from the last accepted steps' increments
-//! (docs/DESIGN.md §4, "Warm start").
+//! (docs/DESIGN.md §5, "The start of a time step").
 //!
 //! On a smooth motion each step's prescribed values are about a multiple c of the last step's,
 //! and its displacement about c times that step's displacement per unit of motion, a response
@@ -19,9 +19,8 @@ use crate::multigrid::level::Level;
 /// against a multiple of a past step's for that step's response to enter the guess.
 const CONSISTENT_WITHIN: f64 = 0.1;
 
-/// How many past increments the guess extrapolates from (linear extrapolation in time; a
-/// quadratic one from three takes a few per cent fewer iterations on the oscillating sphere for
-/// a third displacement kept, docs/perf-history.md).
+/// How many past increments the guess extrapolates from (linear extrapolation in time; the
+/// quadratic one from three, measured against it, is in docs/perf-history.md).
 const KEPT: usize = 2;
 
 /// One accepted step: its prescribed values at the finest level's prescribed unknowns (in the
