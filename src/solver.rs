@@ -33,6 +33,7 @@ mod progress;
 pub(crate) mod slip;
 pub(crate) mod steps;
 mod units;
+mod warm_start;
 
 pub use progress::{Cancel, Progress};
 pub use steps::StepReport;
@@ -171,11 +172,10 @@ pub struct Solver {
     /// Seconds `advance_from` spent making the caller's positions the reference, reported with
     /// the call's first sub-step.
     rebase_seconds: f64,
-    /// The last accepted step's prescribed values and displacement (`dim` per vertex, on the
-    /// mesh it started from): the next step's solve starts from it, scaled, when its prescribed
-    /// values are about a multiple of these (a smooth motion). None after the reference was
-    /// set from outside a step.
-    last_increment: Option<(Vec<f64>, Vec<f64>)>,
+    /// The last accepted steps' prescribed values and displacements, from which the next
+    /// step's initial guess is extrapolated (`warm_start.rs`); empty after the reference was set
+    /// from outside a step.
+    increments: warm_start::Increments,
     /// The last valid mesh the last `advance` or `move_in_steps` call reached (empty before the
     /// first).
     last_valid: Vec<f64>,
@@ -225,7 +225,7 @@ impl Solver {
             total: None,
             steps,
             rebase_seconds: 0.0,
-            last_increment: None,
+            increments: warm_start::Increments::default(),
             last_valid,
             walls,
             built_with,
@@ -326,7 +326,7 @@ impl Solver {
                 self.set_reference(x)?;
             }
             self.drop_total();
-            self.last_increment = None;
+            self.increments.clear();
         }
         self.opts = opts;
         Ok(())
@@ -777,7 +777,7 @@ impl Solver {
     pub fn set_reference(&mut self, coords: Vec<f64>) -> Result<()> {
         self.check_reference(&coords)?;
         self.set_reference_inner(coords);
-        self.last_increment = None;
+        self.increments.clear();
         // In `ReferenceMode::Original` the new reference is the new original mesh.
         self.drop_total();
         Ok(())

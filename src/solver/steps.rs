@@ -8,8 +8,7 @@
 //! where the step does. A call that fails puts the solver back where it was; how far it got is
 //! in the reports and in `last_valid_coords`.
 
-use super::{check_converged, ReferenceMode, Solution, Solver, Undo};
-use crate::bc::P;
+use super::{check_converged, warm_start, ReferenceMode, Solution, Solver, Undo};
 use crate::mesh::quality::Quality;
 use crate::motion::Motion;
 use crate::multigrid::solve::Report;
@@ -151,7 +150,7 @@ fn rebase(s: &mut Solver, x: &[f64]) -> Result<()> {
     s.check_reference(x)?;
     if x != s.mesh().coords() {
         s.set_reference_inner(x.to_vec());
-        s.last_increment = None;
+        s.increments.clear();
     }
     s.drop_total();
     Ok(())
@@ -169,13 +168,13 @@ fn run<T>(
     s.last_valid = s.current_coords().to_vec();
     let mut undo = s.undo();
     let total = s.total.clone();
-    let last_increment = s.last_increment.clone();
+    let increments = s.increments.clone();
     let placed = s.walls.as_ref().map(|w| w.placements().clone());
     let r = f(s, &mut undo);
     if !r.as_ref().is_ok_and(keep) {
         s.restore(undo);
         s.total = total;
-        s.last_increment = last_increment;
+        s.increments = increments;
         if let (Some(w), Some(p)) = (s.walls.as_mut(), placed) {
             w.set_placements(p);
         }
@@ -254,7 +253,8 @@ fn do_step(s: &mut Solver, step: &Step, undo: &mut Undo) -> Result<Option<Qualit
         let part = step.increment.between(halving.done, end);
         let t0 = Instant::now();
         let vals = part.vertex_values(s.mesh()).into_owned();
-        let guess = extrapolated(s, &vals);
+        let prescribed = warm_start::prescribed_values(s.h().fine(), &vals);
+        let guess = s.increments.guess(&prescribed);
         let (sol, rebuilt, quality_s) = solve_part(s, &part, guess.as_deref(), undo)?;
         let mut rep = report(step, substep, end, &sol, rebuilt, t0, quality_s);
         rep.reference_seconds = reference_s;
@@ -264,7 +264,7 @@ fn do_step(s: &mut Solver, step: &Step, undo: &mut Undo) -> Result<Option<Qualit
             let moved: Vec<f64> = crate::solver::moved(s.mesh().coords(), &sol.displacement);
             // The hierarchy follows when the next solve needs it (never, after a call's last step).
             s.set_reference_inner(moved.clone());
-            s.last_increment = Some((vals, sol.displacement));
+            s.increments.push(prescribed, sol.displacement);
             if let Some(w) = s.walls.as_mut() {
                 w.move_walls(&part.rigid);
             }
@@ -370,39 +370,6 @@ fn solve_part(s: &mut Solver, part: &Motion, guess: Option<&[f64]>, undo: &mut U
     s.rebuild(undo)?;
     let (sol, quality_s) = s.solve_timed(part, guess)?;
     Ok((sol, true, quality_s))
-}
-
-/// Largest misfit, relative to the prescribed values' norm, of the prescribed values against a
-/// multiple of the last step's with which that step's displacement, scaled alike, starts the
-/// solve.
-const CONSISTENT_WITHIN: f64 = 0.1;
-
-/// The initial guess of a step whose prescribed values are `vals` (`dim` per vertex): the last
-/// accepted step's displacement times α, the multiple of that step's prescribed values nearest
-/// to these (least squares over the prescribed unknowns), when they are that multiple to within
-/// `CONSISTENT_WITHIN` (a smooth motion: linear extrapolation in time). The solve overwrites
-/// the guess's prescribed values with the step's own.
-fn extrapolated(s: &Solver, vals: &[f64]) -> Option<Vec<f64>> {
-    let (prev, disp) = s.last_increment.as_ref()?;
-    let lev = s.h().fine();
-    let dim = lev.dim();
-    let (mut vv, mut vp, mut pp) = (0.0, 0.0, 0.0);
-    for (c, flags) in lev.flags.iter().enumerate() {
-        for d in (0..flags.len()).filter(|&d| flags[d] & P != 0) {
-            let i = lev.dofs.vertices_of(d)[0] as usize * dim + c;
-            vv += vals[i] * vals[i];
-            vp += vals[i] * prev[i];
-            pp += prev[i] * prev[i];
-        }
-    }
-    if !(pp > 0.0 && vv > 0.0) {
-        return None;
-    }
-    let alpha = vp / pp;
-    // |v − α p|² = |v|² − (v·p)²/|p|².
-    let misfit = (vv - vp * alpha).max(0.0);
-    let guess: Vec<f64> = disp.iter().map(|d| alpha * d).collect();
-    (misfit <= CONSISTENT_WITHIN * CONSISTENT_WITHIN * vv && guess.iter().all(|g| g.is_finite())).then_some(guess)
 }
 
 /// `ReferenceMode::Original`: the total motion so far solved from the original mesh.
