@@ -183,6 +183,14 @@ fn run(setup: &meshmove_cases::setups::CaseSetup, method: Method) -> CaseResult 
     let r = run_case(setup, method, &Options::default()).unwrap();
     assert!(r.failure.is_none(), "{} {method:?}: {:?}", setup.name, r.failure);
     assert!(r.reports.iter().all(|x| x.converged), "{} {method:?}", setup.name);
+    // The result's quality (a one-step run's is its step's own check, not measured again) is
+    // that of the moved mesh against the original, bit for bit.
+    let q = meshmove::mesh::quality(&setup.mesh, &r.coords);
+    let got = (r.inverted, r.negative_volume_cells, r.min_area_ratio, r.min_corner_jacobian_ratio, r.min_angle_deg);
+    assert_eq!(
+        got,
+        (q.inverted, q.non_positive_measure, q.min_area_ratio, q.min_corner_jacobian_ratio, q.min_angle_deg)
+    );
     r
 }
 

@@ -26,7 +26,7 @@ use meshmove::solver::{ReferenceMode, StepReport};
 use meshmove::{
     BoundaryConditions, InterfaceVariant, Kind, Link, Mesh, Method, Motion, Options, Progress, RigidMotion,
 };
-use meshmove_cases::report::{patch_measures, run_series_with};
+use meshmove_cases::report::run_series_with;
 use meshmove_cases::setups::CaseSetup;
 use output::{step_path, PolyMeshSource};
 use serde::Deserialize;
@@ -838,7 +838,8 @@ fn finish(
         println!("slip walls      largest distance of a slipped vertex from its wall {offwall:.2e}");
     }
     if setup.moved_patch != 0 {
-        let pm = patch_measures(&setup.mesh, &r.coords, setup.moved_patch, None);
+        // The run's own measures of the moved patch (a case of `deform` has no upper region).
+        let pm = &r.patch;
         println!(
             "moved patch {}   spacing variation {:.4}, first-cell {} ratio {:.4}..{:.4}",
             setup.moved_patch,

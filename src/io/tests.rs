@@ -314,6 +314,24 @@ fn hand_written_22_reads() {
     assert_eq!(m.mesh.regions(), &[1, 1]);
 }
 
+/// Node tags far above the node count (looked up in the hash map beside the table of small
+/// tags) read the same mesh, and a repeated one is still an error.
+#[test]
+fn sparse_node_tags_read_the_same_mesh() {
+    let sparse = GOOD22
+        .replace("20 1 0 0", "9000000000 1 0 0")
+        .replace("30 1 1 0", "2000 1 1 0")
+        .replace("5 5 10 20", "5 5 10 9000000000")
+        .replace("1 1 10 20 30", "1 1 10 9000000000 2000")
+        .replace("1 1 10 30 40", "1 1 10 2000 40");
+    let (a, b) = (parse_msh(GOOD22.as_bytes()).unwrap(), parse_msh(sparse.as_bytes()).unwrap());
+    assert_eq!(b.node_tags, vec![10, 9000000000, 2000, 40]);
+    assert_eq!(a.data, b.data);
+    let (line, msg) = parse_err(&sparse.replace("2000 1 1 0", "9000000000 1 1 0"));
+    assert_eq!(line, 8, "{msg}");
+    assert!(msg.contains("9000000000 appears twice"), "{msg}");
+}
+
 #[test]
 fn truncated_nodes() {
     let t = GOOD22.replace("40 0 1 0\n", "");

@@ -35,6 +35,8 @@ pub(crate) struct FaceCells {
 /// The cells of a mesh being validated, for their faces.
 #[derive(Clone, Copy)]
 pub(super) struct CellsView<'a> {
+    /// The number of vertices (every index in `cells` is below it).
+    pub(super) num_vertices: usize,
     pub(super) types: &'a [CellType],
     pub(super) cells: &'a Csr,
     pub(super) polyhedra: &'a PolyhedronFaces,
@@ -51,13 +53,44 @@ impl CellsView<'_> {
     }
 
     /// Face `f` of cell `c` with the cell's outward orientation.
-    fn face(&self, c: u32, f: u32) -> Vec<u32> {
+    fn face(&self, c: u32, f: u32) -> FaceVertices<'_> {
         let (c, f) = (c as usize, f as usize);
         let t = self.cells.get(c);
         match self.types[c] {
-            CellType::Polygon => vec![t[f], t[(f + 1) % t.len()]],
-            CellType::Polyhedron => self.polyhedra.of(c).nth(f).map(|v| v.to_vec()).unwrap_or_default(),
-            ty => ty.faces()[f].iter().map(|&k| t[k as usize]).collect(),
+            CellType::Polygon => FaceVertices::inline(&[t[f], t[(f + 1) % t.len()]]),
+            CellType::Polyhedron => FaceVertices::Borrowed(self.polyhedra.of(c).nth(f).unwrap_or_default()),
+            ty => {
+                let local = ty.faces()[f];
+                let mut v = [0u32; 4];
+                v.iter_mut().zip(local).for_each(|(x, &k)| *x = t[k as usize]);
+                FaceVertices::Inline(v, local.len() as u8)
+            }
+        }
+    }
+}
+
+/// The vertices of one face of a cell: held in place for the faces of the fixed cell types and
+/// the edges of polygons (at most 4 vertices), borrowed for a polyhedron's face (its own loop),
+/// so listing the faces of a mesh allocates nothing per face.
+enum FaceVertices<'a> {
+    Inline([u32; 4], u8),
+    Borrowed(&'a [u32]),
+}
+
+impl FaceVertices<'_> {
+    fn inline(v: &[u32]) -> Self {
+        let mut a = [0u32; 4];
+        a[..v.len()].copy_from_slice(v);
+        FaceVertices::Inline(a, v.len() as u8)
+    }
+}
+
+impl std::ops::Deref for FaceVertices<'_> {
+    type Target = [u32];
+    fn deref(&self) -> &[u32] {
+        match self {
+            FaceVertices::Inline(v, n) => &v[..*n as usize],
+            FaceVertices::Borrowed(v) => v,
         }
     }
 }
@@ -74,7 +107,7 @@ pub(super) fn cell_faces(view: CellsView) -> Result<FaceCells, MeshError> {
         for f in 0..view.num_faces(c) {
             let v = view.face(c as u32, f as u32);
             if v.len() > 4 {
-                let mut key = v;
+                let mut key = v.to_vec();
                 key.sort_unstable();
                 large.push((key, c as u32, f as u32));
             } else {
@@ -82,18 +115,41 @@ pub(super) fn cell_faces(view: CellsView) -> Result<FaceCells, MeshError> {
             }
         }
     }
+    let all = by_smallest_vertex(all, view.num_vertices)?;
     let faces = paired(all, view, |k| k.iter().copied().filter(|&v| v != u32::MAX).collect())?;
+    large.sort_unstable();
     let large = paired(large, view, |k| k.clone())?;
     Ok(FaceCells { faces, large })
 }
 
-/// Faces keyed by their vertex set, sorted and paired with the cells beside them.
+/// The faces of up to 4 vertices in the order of a sort of the whole list, made by a counting
+/// sort on the smallest vertex (a key's first entry, below `n`) and a sort of each vertex's few
+/// faces: linear in the number of faces where a comparison sort of them all is not.
+fn by_smallest_vertex(all: Vec<([u32; 4], u32, u32)>, n: usize) -> Result<Vec<([u32; 4], u32, u32)>, MeshError> {
+    let mut start = vec![0usize; n + 1];
+    all.iter().for_each(|f| start[f.0[0] as usize + 1] += 1);
+    for v in 0..n {
+        start[v + 1] += start[v];
+    }
+    let mut out = reserved(all.len(), "the faces of every cell")?;
+    out.resize(all.len(), ([0; 4], 0, 0));
+    let mut next = start.clone();
+    for f in all {
+        let at = &mut next[f.0[0] as usize];
+        out[*at] = f;
+        *at += 1;
+    }
+    start.windows(2).for_each(|w| out[w[0]..w[1]].sort_unstable());
+    Ok(out)
+}
+
+/// Faces keyed by their vertex set, sorted (by key, then cell and face), paired with the cells
+/// beside them.
 fn paired<K: Ord + Clone>(
-    mut all: Vec<(K, u32, u32)>,
+    all: Vec<(K, u32, u32)>,
     view: CellsView,
     listed: impl Fn(&K) -> Vec<u32>,
 ) -> Result<Vec<(K, [CellFace; 2])>, MeshError> {
-    all.sort_unstable();
     let distinct = usize::from(!all.is_empty()) + all.windows(2).filter(|w| w[0].0 != w[1].0).count();
     let mut faces = reserved(distinct, "the faces of the mesh")?;
     let mut i = 0;

@@ -66,7 +66,7 @@ pub(super) fn mesh(d: &MeshData) -> Result<Mesh, MeshError> {
     let mut cells = cells;
     orient(&d.coords, dim, &d.cell_types, &mut cells, &mut polyhedra)?;
     distinct(&cells)?;
-    let view = CellsView { types: &d.cell_types, cells: &cells, polyhedra: &polyhedra };
+    let view = CellsView { num_vertices: n, types: &d.cell_types, cells: &cells, polyhedra: &polyhedra };
     let faces = cell_faces(view)?;
     let tagged = tagged_faces(d, n)?;
     let (pf, patch, interior) = patch_faces(view, &faces, &tagged)?;

@@ -23,7 +23,7 @@ pub(super) struct Parser<'a> {
     /// (dim, entity tag) -> first physical tag (4.1).
     pub(super) entity_phys: HashMap<(i32, i32), i32>,
     /// Gmsh node tag -> index in `nodes`.
-    pub(super) node_index: HashMap<usize, usize>,
+    pub(super) node_index: NodeIndex,
     /// Gmsh tag and (x, y, z) of each node, in file order.
     pub(super) nodes: Vec<(usize, [f64; 3])>,
     /// The elements kept (points excluded), in file order: their type and physical tag, and
@@ -45,7 +45,7 @@ impl<'a> Parser<'a> {
             size_t: 8,
             physical_names: Vec::new(),
             entity_phys: HashMap::new(),
-            node_index: HashMap::new(),
+            node_index: NodeIndex::default(),
             nodes: Vec::new(),
             elements: Vec::new(),
             element_nodes: Vec::new(),
@@ -89,12 +89,18 @@ impl<'a> Parser<'a> {
 
     /// The next token parsed as a number; `what` names it in errors ("node tag in $Nodes").
     pub(super) fn num<T: std::str::FromStr>(&mut self, what: &str) -> Result<T, IoError> {
+        self.num_named(|| what.to_string())
+    }
+
+    /// [`Parser::num`] with the name made only for an error (a name that counts the items: one
+    /// `format!` per node would cost more than the number).
+    pub(super) fn num_named<T: std::str::FromStr>(&mut self, what: impl FnOnce() -> String) -> Result<T, IoError> {
         match self.token() {
-            None => Err(self.err_at(self.b.len(), format!("expected {what}, found end of file"))),
+            None => Err(self.err_at(self.b.len(), format!("expected {}, found end of file", what()))),
             Some((t, at)) if t.starts_with('$') => {
-                Err(self.err_at(at, format!("expected {what}, found `{t}`: the section ends early")))
+                Err(self.err_at(at, format!("expected {}, found `{t}`: the section ends early", what())))
             }
-            Some((t, at)) => t.parse().map_err(|_| self.err_at(at, format!("expected {what}, found `{t}`"))),
+            Some((t, at)) => t.parse().map_err(|_| self.err_at(at, format!("expected {}, found `{t}`", what()))),
         }
     }
 
@@ -187,6 +193,59 @@ impl<'a> Parser<'a> {
             self.bin_f64(what)
         } else {
             self.num(what)
+        }
+    }
+}
+
+/// Gmsh node tags to indices in the parser's `nodes`: a table for the tags below a bound set by
+/// the announced node count (Gmsh numbers nodes densely from 1, so this holds them all), a hash
+/// map for the larger tags of sparsely numbered files. The bound is set once, before the first
+/// node, and never exceeds twice the file's length: a false count cannot make the table large.
+#[derive(Default)]
+pub(super) struct NodeIndex {
+    /// `dense[tag]`: the node's index, `usize::MAX` for a tag not seen; grown to the largest tag
+    /// below `bound` seen.
+    dense: Vec<usize>,
+    bound: usize,
+    sparse: HashMap<usize, usize>,
+}
+
+impl NodeIndex {
+    /// Sets the table's bound for `count` announced nodes in a file of `len` bytes.
+    pub(super) fn size_for(&mut self, count: usize, len: usize) {
+        if self.dense.is_empty() && self.sparse.is_empty() {
+            self.bound = count.min(len).saturating_mul(2).saturating_add(1024);
+        }
+    }
+
+    /// Records `tag` at `index`; false (and nothing changed) when the tag is already there.
+    pub(super) fn insert(&mut self, tag: usize, index: usize) -> bool {
+        if tag >= self.bound {
+            return match self.sparse.entry(tag) {
+                std::collections::hash_map::Entry::Occupied(_) => false,
+                std::collections::hash_map::Entry::Vacant(e) => {
+                    e.insert(index);
+                    true
+                }
+            };
+        }
+        if tag >= self.dense.len() {
+            self.dense.resize(tag + 1, usize::MAX);
+        }
+        if self.dense[tag] != usize::MAX {
+            return false;
+        }
+        self.dense[tag] = index;
+        true
+    }
+
+    /// The index of node `tag`.
+    #[inline]
+    pub(super) fn get(&self, tag: usize) -> Option<usize> {
+        if tag < self.bound {
+            self.dense.get(tag).copied().filter(|&i| i != usize::MAX)
+        } else {
+            self.sparse.get(&tag).copied()
         }
     }
 }

@@ -142,7 +142,7 @@ impl<'a> Parser<'a> {
     }
 
     pub(super) fn add_node(&mut self, tag: usize, xyz: [f64; 3], at: usize) -> Result<(), IoError> {
-        if self.node_index.insert(tag, self.nodes.len()).is_some() {
+        if !self.node_index.insert(tag, self.nodes.len()) {
             let msg = format!("node tag {tag} appears twice in $Nodes");
             return Err(if self.binary { self.err_bin(at, msg) } else { self.err_at(at, msg) });
         }
@@ -158,6 +158,7 @@ impl<'a> Parser<'a> {
         match self.version {
             Version::V22 => {
                 let n: usize = self.num("the number of nodes in $Nodes")?;
+                self.node_index.size_for(n, self.b.len());
                 if self.binary {
                     self.skip_newline();
                 }
@@ -173,8 +174,7 @@ impl<'a> Parser<'a> {
                         let z = self.bin_f64("a node coordinate in $Nodes")?;
                         (tag, [x, y, z])
                     } else {
-                        let what = format!("node {} of {n}: tag in $Nodes", i + 1);
-                        let tag: usize = self.num(&what)?;
+                        let tag: usize = self.num_named(|| format!("node {} of {n}: tag in $Nodes", i + 1))?;
                         let x: f64 = self.num("a node x coordinate in $Nodes")?;
                         let y: f64 = self.num("a node y coordinate in $Nodes")?;
                         let z: f64 = self.num("a node z coordinate in $Nodes")?;
@@ -189,6 +189,7 @@ impl<'a> Parser<'a> {
                 }
                 let blocks = self.size41("the number of entity blocks in $Nodes")?;
                 let total = self.size41("the number of nodes in $Nodes")?;
+                self.node_index.size_for(total, self.b.len());
                 self.size41("the smallest node tag in $Nodes")?;
                 self.size41("the largest node tag in $Nodes")?;
                 let mut read = 0usize;
@@ -227,8 +228,8 @@ impl<'a> Parser<'a> {
     pub(super) fn add_element(&mut self, ty: GmshType, phys: i32, nodes: &[usize], at: usize) -> Result<(), IoError> {
         let start = self.element_nodes.len();
         for &t in nodes {
-            match self.node_index.get(&t) {
-                Some(&i) => self.element_nodes.push(i),
+            match self.node_index.get(t) {
+                Some(i) => self.element_nodes.push(i),
                 None => {
                     let msg = format!("an element of $Elements refers to node {t}, which $Nodes does not define");
                     return Err(if self.binary { self.err_bin(at, msg) } else { self.err_at(at, msg) });
@@ -264,8 +265,7 @@ impl<'a> Parser<'a> {
         for i in 0..n {
             self.skip_ws();
             let at = self.pos;
-            let what = format!("element {} of {n}: tag in $Elements", i + 1);
-            let _id: usize = self.num(&what)?;
+            let _id: usize = self.num_named(|| format!("element {} of {n}: tag in $Elements", i + 1))?;
             let ty: i32 = self.num("an element type in $Elements")?;
             let ntags: usize = self.num("the number of tags in $Elements")?;
             let mut phys = 0;

@@ -54,18 +54,20 @@ pub fn write_vtu_as(
     cell_data: &[(&str, CellField)],
     encoding: VtuEncoding,
 ) -> Result<(), IoError> {
-    let bytes = vtu_bytes(mesh, point_data, cell_data, encoding)?;
-    std::fs::write(path, bytes).map_err(io_err(path))
+    vtu_contents(mesh, &mesh.coords, point_data, cell_data, encoding)?.write_to(path)
 }
 
-/// The contents of the file [`write_vtu_as`] writes.
-fn vtu_bytes(
+/// The contents of the file [`write_vtu_as`] writes, with the points at `points` (the mesh's
+/// coordinates, or the same number of moved ones).
+fn vtu_contents(
     mesh: &MeshData,
+    points: &[f64],
     point_data: &[(&str, PointField)],
     cell_data: &[(&str, CellField)],
     encoding: VtuEncoding,
-) -> Result<Vec<u8>, IoError> {
+) -> Result<Writer, IoError> {
     check_data(mesh, "write_vtu")?;
+    debug_assert_eq!(points.len(), mesh.coords.len());
     let (n, m) = (mesh.num_vertices(), mesh.num_cells());
     let nf = mesh.num_faces();
     for (name, f) in point_data {
@@ -129,7 +131,7 @@ fn vtu_bytes(
         w.array(Some("patch"), 1, Values::I32(&patch));
     }
     w.xml.push_str("</CellData>\n<Points>\n");
-    w.array(None, 3, Values::F64(&tuples(&mesh.coords, mesh.dim)));
+    w.array(None, 3, Values::F64(&tuples(points, mesh.dim)));
     w.xml.push_str("</Points>\n<Cells>\n");
     let conn: Vec<i64> = mesh.cell_vertices.iter().chain(&mesh.face_vertices).map(|&v| i64::from(v)).collect();
     w.array(Some("connectivity"), 1, Values::I64(&conn));
@@ -150,7 +152,7 @@ fn vtu_bytes(
         w.array(Some("faceoffsets"), 1, Values::I64(&ends));
     }
     w.xml.push_str("</Cells>\n</Piece>\n</UnstructuredGrid>\n");
-    Ok(w.finish())
+    Ok(w)
 }
 
 /// Tuples of `comps` values as VTK stores them: pairs as (x, y, 0), other sizes as they are.
@@ -179,18 +181,27 @@ impl Values<'_> {
         }
     }
 
-    /// The values as little-endian bytes.
-    fn bytes(&self) -> Vec<u8> {
-        fn le<const N: usize, T: Copy>(v: &[T], f: impl Fn(T) -> [u8; N]) -> Vec<u8> {
-            let mut out = Vec::with_capacity(N * v.len());
+    /// The number of bytes of the values.
+    fn byte_len(&self) -> usize {
+        match self {
+            Values::F64(v) => 8 * v.len(),
+            Values::I32(v) => 4 * v.len(),
+            Values::I64(v) => 8 * v.len(),
+            Values::U8(v) => v.len(),
+        }
+    }
+
+    /// Appends the values to `out` as little-endian bytes.
+    fn append_le(&self, out: &mut Vec<u8>) {
+        fn le<const N: usize, T: Copy>(out: &mut Vec<u8>, v: &[T], f: impl Fn(T) -> [u8; N]) {
+            out.reserve(N * v.len());
             v.iter().for_each(|&x| out.extend_from_slice(&f(x)));
-            out
         }
         match self {
-            Values::F64(v) => le(v, f64::to_le_bytes),
-            Values::I32(v) => le(v, i32::to_le_bytes),
-            Values::I64(v) => le(v, i64::to_le_bytes),
-            Values::U8(v) => v.to_vec(),
+            Values::F64(v) => le(out, v, f64::to_le_bytes),
+            Values::I32(v) => le(out, v, i32::to_le_bytes),
+            Values::I64(v) => le(out, v, i64::to_le_bytes),
+            Values::U8(v) => out.extend_from_slice(v),
         }
     }
 
@@ -243,13 +254,13 @@ impl Writer {
             return;
         }
         let _ = writeln!(self.xml, " format=\"appended\" offset=\"{}\"/>", self.appended.len());
-        let data = values.bytes();
-        match self.encoding {
-            VtuEncoding::Compressed => self.push_compressed(&data),
-            _ => {
-                self.appended.extend_from_slice(&(data.len() as u64).to_le_bytes());
-                self.appended.extend_from_slice(&data);
-            }
+        if self.encoding == VtuEncoding::Compressed {
+            let mut data = Vec::new();
+            values.append_le(&mut data);
+            self.push_compressed(&data);
+        } else {
+            self.appended.extend_from_slice(&(values.byte_len() as u64).to_le_bytes());
+            values.append_le(&mut self.appended);
         }
     }
 
@@ -273,18 +284,18 @@ impl Writer {
         blocks.iter().for_each(|b| self.appended.extend_from_slice(b));
     }
 
-    /// The whole file: the XML, then the appended data, if any.
-    fn finish(mut self) -> Vec<u8> {
-        if self.encoding == VtuEncoding::Ascii {
+    /// Writes the whole file to `path`: the XML, then the appended data, if any (each written
+    /// from where it is held, not joined into one buffer first).
+    fn write_to(mut self, path: &Path) -> Result<(), IoError> {
+        let parts: [&[u8]; 3] = if self.encoding == VtuEncoding::Ascii {
             self.xml.push_str("</VTKFile>\n");
-            return self.xml.into_bytes();
-        }
-        self.xml.push_str("<AppendedData encoding=\"raw\">\n_");
-        let mut out = self.xml.into_bytes();
-        out.reserve(self.appended.len() + 32);
-        out.extend_from_slice(&self.appended);
-        out.extend_from_slice(b"\n</AppendedData>\n</VTKFile>\n");
-        out
+            [self.xml.as_bytes(), &[], &[]]
+        } else {
+            self.xml.push_str("<AppendedData encoding=\"raw\">\n_");
+            [self.xml.as_bytes(), &self.appended, b"\n</AppendedData>\n</VTKFile>\n"]
+        };
+        let mut file = std::fs::File::create(path).map_err(io_err(path))?;
+        parts.iter().try_for_each(|p| file.write_all(p)).map_err(io_err(path))
     }
 }
 
@@ -330,15 +341,14 @@ pub fn write_deformed_with(
             dim * n
         )));
     }
-    let moved_coords: Vec<f64> = data.coords.iter().zip(displacement).map(|(x, d)| x + d).collect();
-    let moved = MeshData { coords: moved_coords, ..data.clone() };
+    let moved: Vec<f64> = data.coords.iter().zip(displacement).map(|(x, d)| x + d).collect();
     let m = data.num_cells();
     let spans = data.polyhedron_spans(n).map_err(|p| IoError::InvalidArgument(format!("write_deformed: {p}")))?;
-    let cell_points = |d: &MeshData, c: usize| cell_geometry(d, &spans, c);
+    let cell_points = |coords: &[f64], c: usize| cell_geometry(data, coords, &spans, c);
     let (mut ratio, mut inverted, mut min_angle) =
         (Vec::with_capacity(m), Vec::with_capacity(m), Vec::with_capacity(m));
     for c in 0..m {
-        let (p0, p1) = (cell_points(data, c), cell_points(&moved, c));
+        let (p0, p1) = (cell_points(&data.coords, c), cell_points(&moved, c));
         let a1 = p1.signed_measure();
         ratio.push(a1 / p0.signed_measure());
         let bad = p1.inverted_with_measure(a1);
@@ -346,8 +356,8 @@ pub fn write_deformed_with(
         min_angle.push(if bad { 0.0 } else { p1.min_angle_deg() });
     }
     let regions = if data.regions.is_empty() { vec![0; m] } else { data.regions.clone() };
-    write_vtu_as(
-        path,
+    let contents = vtu_contents(
+        data,
         &moved,
         &[&[("displacement", PointField::Vector(displacement, dim))], more_point_data].concat(),
         &[
@@ -357,25 +367,28 @@ pub fn write_deformed_with(
             ("min_angle", CellField::F64(&min_angle)),
         ],
         encoding,
-    )
+    )?;
+    contents.write_to(path)
 }
 
 /// Signed area (2D) or volume (3D) of cell `c` (the geometry module's).
 #[cfg(test)]
 pub(crate) fn signed_measure(d: &MeshData, c: usize) -> f64 {
-    cell_points(d, c).signed_measure()
+    cell_points(d, &d.coords, c).signed_measure()
 }
 
-fn cell_points(d: &MeshData, c: usize) -> CellPoints {
-    CellPoints::gather(d.cell_types[c], d.cell(c), &d.coords, d.dim)
+/// Cell `c` of `d`'s topology at positions `coords`.
+fn cell_points(d: &MeshData, coords: &[f64], c: usize) -> CellPoints {
+    CellPoints::gather(d.cell_types[c], d.cell(c), coords, d.dim)
 }
 
-/// Cell `c` of `d` of any type; `spans` are `d`'s polyhedron spans.
-fn cell_geometry(d: &MeshData, spans: &[Option<std::ops::Range<usize>>], c: usize) -> CellGeometry {
+/// Cell `c` of `d`'s topology, of any type, at positions `coords`; `spans` are `d`'s polyhedron
+/// spans.
+fn cell_geometry(d: &MeshData, coords: &[f64], spans: &[Option<std::ops::Range<usize>>], c: usize) -> CellGeometry {
     if d.cell_types[c].is_general() {
         let list = spans[c].clone().map_or(&[][..], |r| &d.polyhedron_faces[r]);
-        CellGeometry::General(GeneralPoints::gather(d.cell(c), faces_in(list), &d.coords, d.dim))
+        CellGeometry::General(GeneralPoints::gather(d.cell(c), faces_in(list), coords, d.dim))
     } else {
-        CellGeometry::Fixed(cell_points(d, c))
+        CellGeometry::Fixed(cell_points(d, coords, c))
     }
 }
