@@ -564,8 +564,9 @@ impl Solver {
 
     /// The solution and the seconds of its quality checks. A converged result with inverted
     /// cells under wall layers is polished (`polish`): solved on from itself to tighter
-    /// tolerances, a decade at a time while it stays tangled, each stage kept when it still
-    /// meets the caller's criterion; only a result still tangled after that is returned tangled.
+    /// tolerances, a decade at a time while it stays tangled and each stage unfolds cells, each
+    /// stage kept when it still meets the caller's criterion; only a result still tangled after
+    /// that is returned tangled.
     fn solve_inner(&self, motion: &Motion, guess: Option<&[f64]>) -> Result<(Solution, f64)> {
         let lev = self.h().fine();
         let vals = motion.vertex_values(lev.mesh());
@@ -576,9 +577,9 @@ impl Solver {
         let mut quality_s = t.elapsed().as_secs_f64();
         // Only under wall layers (a hierarchy with lines) can the tolerance's error exceed a
         // cell; elsewhere a tangle is the method's and is returned as the solve left it.
-        let mut polish = polish::Polish::after(p, &report).filter(|_| self.h().has_lines());
+        let mut polish = polish::Polish::after(p, &report, quality.inverted).filter(|_| self.h().has_lines());
         while quality.inverted > 0 {
-            let Some(tight) = polish.as_mut().and_then(|s| s.next(&report)) else { break };
+            let Some(tight) = polish.as_mut().and_then(|s| s.next(&report, quality.inverted)) else { break };
             match self.solve_placed(motion, &vals, Some(&displacement), &tight) {
                 Ok((d, r)) if p.met(r.max_correction, r.rel_residual, Self::scale(&vals)) => {
                     let t = Instant::now();

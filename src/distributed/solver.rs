@@ -261,7 +261,8 @@ impl DistributedSolver {
     /// the solution and, then, what went wrong (the same on every rank). A converged result
     /// with inverted cells under wall layers is polished as the serial solver's
     /// (`solver::polish`): solved on from itself to tighter tolerances, a decade at a time while
-    /// it stays tangled, each stage kept when it still meets the caller's tolerance. The
+    /// it stays tangled and each stage unfolds cells, each stage kept when it still meets the
+    /// caller's tolerance. The
     /// inverted count, the residuals and the lines are global, so every rank takes the same
     /// decisions.
     fn solve_report(&self, motion: &Motion) -> Result<(DistSolution, Option<String>), DistError> {
@@ -273,11 +274,11 @@ impl DistributedSolver {
         // Only under wall layers can the tolerance's error exceed a cell (as serially).
         let p = serial_options(self.method(), &self.params).solve;
         let mut polish = match quality.inverted > 0 {
-            true => Polish::after(&p, &report).filter(|_| self.layered()),
+            true => Polish::after(&p, &report, quality.inverted).filter(|_| self.layered()),
             false => None,
         };
         while quality.inverted > 0 {
-            let Some(tight) = polish.as_mut().and_then(|s| s.next(&report)) else { break };
+            let Some(tight) = polish.as_mut().and_then(|s| s.next(&report, quality.inverted)) else { break };
             let budget = Budget { tol: tight.tol, max_iterations: tight.max_cycles };
             match self.solve_placed(motion, &vals, Some(&solved.total), budget) {
                 Ok(stage) if stage.rel_residual <= tol => {
