@@ -23,11 +23,19 @@ const CONSISTENT_WITHIN: f64 = 0.1;
 /// quadratic one from three, measured against it, is in docs/perf-history.md).
 const KEPT: usize = 2;
 
-/// One accepted step: its prescribed values at the finest level's prescribed unknowns (in the
-/// order of `prescribed_values`) and its displacement (`dim` per vertex).
+/// A step's values at the finest level's prescribed unknowns, by the unknown's index in a
+/// per-vertex array (vertex · dim + component), in increasing index. Which unknowns are
+/// prescribed can change from one step to the next (a slip wall's frames follow the moved
+/// mesh), so steps are compared by index, not by position in the list.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub(crate) struct Prescribed {
+    at: Vec<(usize, f64)>,
+}
+
+/// One accepted step: its prescribed values and its displacement (`dim` per vertex).
 #[derive(Clone, Debug)]
 struct Increment {
-    prescribed: Vec<f64>,
+    prescribed: Prescribed,
     displacement: Vec<f64>,
 }
 
@@ -47,17 +55,16 @@ impl Increments {
     /// Keeps an accepted step's values at the prescribed unknowns (`prescribed_values`) and its
     /// `displacement` (`dim` per vertex, on the mesh the step started from), dropping the oldest
     /// beyond `KEPT`.
-    pub(crate) fn push(&mut self, prescribed: Vec<f64>, displacement: Vec<f64>) {
+    pub(crate) fn push(&mut self, prescribed: Prescribed, displacement: Vec<f64>) {
         if self.past.len() >= KEPT {
             self.past.pop_back();
         }
         self.past.push_front(Increment { prescribed, displacement });
     }
 
-    /// The initial guess of a step whose values at the prescribed unknowns are `now` (in the
-    /// order of `prescribed_values`), or None when the last step's values are no multiple of
-    /// these.
-    pub(crate) fn guess(&self, now: &[f64]) -> Option<Vec<f64>> {
+    /// The initial guess of a step whose values at the prescribed unknowns are `now`, or None
+    /// when the last step's values are no multiple of these.
+    pub(crate) fn guess(&self, now: &Prescribed) -> Option<Vec<f64>> {
         // The scaled responses of the past increments that fit, up to the first that does not.
         let fits: Vec<(f64, &[f64])> = self
             .past
@@ -79,27 +86,29 @@ impl Increments {
 /// responses: from one, that response; from two, the straight line through them.
 const EXTRAPOLATION: [&[f64]; KEPT] = [&[1.0], &[2.0, -1.0]];
 
-/// The values of `vals` (`dim` per vertex) at the finest level's prescribed unknowns, component
-/// by component in the level's order.
-pub(crate) fn prescribed_values(lev: &Level, vals: &[f64]) -> Vec<f64> {
+/// The values of `vals` (`dim` per vertex) at the finest level's prescribed unknowns.
+pub(crate) fn prescribed_values(lev: &Level, vals: &[f64]) -> Prescribed {
     let dim = lev.dim();
-    let mut out = Vec::new();
+    let mut at = Vec::new();
     for (c, flags) in lev.flags.iter().enumerate() {
         for d in (0..flags.len()).filter(|&d| flags[d] & P != 0) {
-            out.push(vals[lev.dofs.vertices_of(d)[0] as usize * dim + c]);
+            let i = lev.dofs.vertices_of(d)[0] as usize * dim + c;
+            at.push((i, vals[i]));
         }
     }
-    out
+    at.sort_unstable_by_key(|&(i, _)| i);
+    Prescribed { at }
 }
 
-/// The least-squares multiple α of `past` nearest to `now` (both at the same prescribed
-/// unknowns), when `now` is that multiple to within `CONSISTENT_WITHIN` of its norm.
-fn multiple(now: &[f64], past: &[f64]) -> Option<f64> {
-    if now.len() != past.len() {
-        return None;
-    }
+/// The least-squares multiple α of `past` nearest to `now` over the unknowns prescribed now (a
+/// value not prescribed in the past step counts as zero there), when `now` is that multiple to
+/// within `CONSISTENT_WITHIN` of its norm.
+fn multiple(now: &Prescribed, past: &Prescribed) -> Option<f64> {
     let (mut vv, mut vp, mut pp) = (0.0, 0.0, 0.0);
-    for (v, p) in now.iter().zip(past) {
+    let mut then = past.at.iter().peekable();
+    for &(i, v) in &now.at {
+        while then.next_if(|&&(j, _)| j < i).is_some() {}
+        let p = then.next_if(|&&(j, _)| j == i).map_or(0.0, |&(_, p)| p);
         vv += v * v;
         vp += v * p;
         pp += p * p;
@@ -117,25 +126,42 @@ fn multiple(now: &[f64], past: &[f64]) -> Option<f64> {
 mod tests {
     use super::*;
 
+    /// Values prescribed at the unknowns 0, 1, ….
+    fn at(values: &[f64]) -> Prescribed {
+        Prescribed { at: values.iter().copied().enumerate().collect() }
+    }
+
     /// Responses that drift linearly with the step are extrapolated exactly, each scaled to the
     /// step's prescribed values; an older increment that does not fit is left out.
     #[test]
     fn extrapolates_scaled_responses() {
         let mut inc = Increments::default();
-        assert_eq!(inc.guess(&[1.0, 2.0]), None);
+        assert_eq!(inc.guess(&at(&[1.0, 2.0])), None);
         // Unit responses r(k) = [1 + k, 3 − k] over prescribed values c_k (1, 2): c = 2, then −1.
-        inc.push(vec![2.0, 4.0], vec![2.0 * 1.0, 2.0 * 3.0]);
-        assert_eq!(inc.guess(&[1.0, 2.0]), Some(vec![1.0, 3.0]));
-        inc.push(vec![-1.0, -2.0], vec![-2.0, -2.0]);
+        inc.push(at(&[2.0, 4.0]), vec![2.0 * 1.0, 2.0 * 3.0]);
+        assert_eq!(inc.guess(&at(&[1.0, 2.0])), Some(vec![1.0, 3.0]));
+        inc.push(at(&[-1.0, -2.0]), vec![-2.0, -2.0]);
         // Step 2 at c = 3: 3 (2 r(1) − r(0)) = 3 r(2) = [9, 3].
-        assert_eq!(inc.guess(&[3.0, 6.0]), Some(vec![9.0, 3.0]));
+        assert_eq!(inc.guess(&at(&[3.0, 6.0])), Some(vec![9.0, 3.0]));
         // Values no multiple of the last step's: no guess.
-        assert_eq!(inc.guess(&[1.0, -2.0]), None);
+        assert_eq!(inc.guess(&at(&[1.0, -2.0])), None);
         // An older increment whose values do not fit is left out: the last one's response alone.
-        inc.push(vec![1.0, 2.0], vec![3.0, 1.0]);
-        inc.push(vec![1.0, 0.0], vec![5.0, 7.0]);
-        assert_eq!(inc.guess(&[2.0, 0.0]), Some(vec![10.0, 14.0]));
+        inc.push(at(&[1.0, 2.0]), vec![3.0, 1.0]);
+        inc.push(at(&[1.0, 0.0]), vec![5.0, 7.0]);
+        assert_eq!(inc.guess(&at(&[2.0, 0.0])), Some(vec![10.0, 14.0]));
         inc.clear();
-        assert_eq!(inc.guess(&[2.0, 0.0]), None);
+        assert_eq!(inc.guess(&at(&[2.0, 0.0])), None);
+    }
+
+    /// Steps whose prescribed unknowns differ (a slip wall's frames moved) are compared at the
+    /// unknowns prescribed now, a value not prescribed then counting as zero.
+    #[test]
+    fn compares_steps_by_the_unknowns_prescribed_now() {
+        let mut inc = Increments::default();
+        inc.push(Prescribed { at: vec![(0, 2.0), (3, 4.0), (5, 0.0)] }, vec![4.0, 6.0]);
+        let now = Prescribed { at: vec![(0, 1.0), (2, 0.0), (3, 2.0)] };
+        assert_eq!(inc.guess(&now), Some(vec![2.0, 3.0]));
+        let off = Prescribed { at: vec![(0, 1.0), (2, 1.0), (3, 2.0)] };
+        assert_eq!(inc.guess(&off), None);
     }
 }
