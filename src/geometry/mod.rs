@@ -12,6 +12,7 @@ pub(crate) mod closest;
 mod decomposed;
 mod face;
 mod general;
+mod hex_kernel;
 pub(crate) mod rotation;
 mod simplex;
 mod tensor;
@@ -149,7 +150,7 @@ impl CellPoints {
     /// where the cell has them.
     pub(crate) fn stiffness_and_mass(&self, k: &mut [f64], m: &mut [f64]) {
         match self.ty {
-            CellType::Hexahedron => tensor::hex_stiffness_and_mass(&self.p, k, m),
+            CellType::Hexahedron => hex_kernel::stiffness_and_mass(&self.p, k, m),
             CellType::Wedge | CellType::Pyramid => decomposed::element(self.ty, &self.p, Some(k), Some(m)),
             _ => {
                 self.stiffness(k);

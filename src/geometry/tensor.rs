@@ -71,7 +71,7 @@ pub(super) fn quad_lumped_mass(p: &[[f64; 3]], m: &mut [f64]) {
 }
 
 /// The reference corners of the trilinear hexahedron on [−1, 1]³, in VTK's order.
-const HEX_REF: [[f64; 3]; 8] = [
+pub(super) const HEX_REF: [[f64; 3]; 8] = [
     [-1.0, -1.0, -1.0],
     [1.0, -1.0, -1.0],
     [1.0, 1.0, -1.0],
@@ -127,13 +127,15 @@ fn hex_cofactors(p: &[[f64; 3]], g: &[[f64; 3]; 8]) -> ([[f64; 3]; 3], f64) {
 
 /// K_ij = ∫∇φ_i·∇φ_j of the trilinear hexahedron for its 28 corner pairs, 2×2×2 Gauss.
 pub(super) fn hex_stiffness(p: &[[f64; 3]], k: &mut [f64]) {
-    hex_stiffness_and_mass(p, k, &mut [0.0; 8]);
+    super::hex_kernel::stiffness_and_mass(p, k, &mut [0.0; 8]);
 }
 
-/// `hex_stiffness` and `hex_lumped_mass` from one evaluation of each Gauss point (bitwise both).
+/// `hex_stiffness` and `hex_lumped_mass` point by point, from one evaluation of each Gauss point:
+/// the formulation `hex_kernel` lays out for vector lanes, bitwise, kept as its test's reference.
 /// With ∇φ = J⁻ᵀ ∇_ref φ = C ∇_ref φ / det (C the cofactors), each point adds
 /// (C∇_ref φ_i)·(C∇_ref φ_j) / det to K_ij (weights 1) and φ_i det to the mass.
-pub(super) fn hex_stiffness_and_mass(p: &[[f64; 3]], k: &mut [f64], m: &mut [f64]) {
+#[cfg(test)]
+pub(super) fn hex_stiffness_and_mass_by_points(p: &[[f64; 3]], k: &mut [f64], m: &mut [f64]) {
     let t = hex_gauss();
     let mut kk = [0.0; 28];
     let mut mm = [0.0; 8];
