@@ -4,8 +4,10 @@
 //! every step is the same operation on neighbouring lanes. Each value sees the operations of the
 //! point-by-point formulation in the same order (the Jacobian summed over the corners in order,
 //! each pair's entry over the points in order, no fused multiply-add), so K and V are bitwise
-//! that formulation's. On x86-64 processors with AVX2 the same code runs compiled for four lanes
-//! instead of SSE2's two (chosen at run time): the same operations, the same roundings.
+//! that formulation's. It runs compiled for AVX2's four lanes, chosen at run time on x86-64
+//! processors that have them (the same operations, the same roundings); elsewhere the
+//! point-by-point formulation (`tensor::hex_stiffness_and_mass_by_points`) runs, which SSE2's two
+//! lanes run as fast.
 
 /// The trilinear shape functions at the Gauss points, in the layouts the kernel's lanes read.
 struct Tables {
@@ -29,9 +31,9 @@ fn tables() -> &'static Tables {
                 let f = [1.0 + r[0] * xi[0], 1.0 + r[1] * xi[1], 1.0 + r[2] * xi[2]];
                 t.value[q][k] = 0.125 * f[0] * f[1] * f[2];
                 let grad = [0.125 * r[0] * f[1] * f[2], 0.125 * r[1] * f[0] * f[2], 0.125 * r[2] * f[0] * f[1]];
-                for b in 0..3 {
-                    t.by_corner[k][b][q] = grad[b];
-                    t.by_point[q][b][k] = grad[b];
+                for (b, &x) in grad.iter().enumerate() {
+                    t.by_corner[k][b][q] = x;
+                    t.by_point[q][b][k] = x;
                 }
             }
         }
@@ -46,10 +48,10 @@ type Lanes3 = [[f64; 8]; 3];
 #[inline(always)]
 fn cross(a: &Lanes3, b: &Lanes3) -> Lanes3 {
     let mut c = [[0.0; 8]; 3];
-    for r in 0..3 {
+    for (r, cr) in c.iter_mut().enumerate() {
         let (s, t) = ((r + 1) % 3, (r + 2) % 3);
         for q in 0..8 {
-            c[r][q] = a[s][q] * b[t][q] - a[t][q] * b[s][q];
+            cr[q] = a[s][q] * b[t][q] - a[t][q] * b[s][q];
         }
     }
     c
@@ -65,7 +67,9 @@ pub(super) fn stiffness_and_mass(p: &[[f64; 3]], k: &mut [f64], m: &mut [f64]) {
         unsafe { stiffness_and_mass_avx2(p, k, m) };
         return;
     }
-    lanes(p, k, m);
+    // On SSE2's two lanes and sixteen registers the lanes' shuffles and spills cost what their
+    // vectors save: the point-by-point formulation.
+    super::tensor::hex_stiffness_and_mass_by_points(p, k, m);
 }
 
 /// `lanes` compiled for AVX2 (without FMA: the same roundings as the baseline's).
@@ -78,7 +82,8 @@ unsafe fn stiffness_and_mass_avx2(p: &[[f64; 3]], k: &mut [f64], m: &mut [f64]) 
     lanes(p, k, m);
 }
 
-/// The kernel itself (see the module's comment), inlined into each instruction set's copy.
+/// The kernel itself (see the module's comment), inlined into the AVX2 copy.
+#[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
 #[inline(always)]
 fn lanes(p: &[[f64; 3]], k: &mut [f64], m: &mut [f64]) {
     let t = tables();
@@ -142,9 +147,10 @@ fn lanes(p: &[[f64; 3]], k: &mut [f64], m: &mut [f64]) {
 mod tests {
     use super::super::tensor::hex_stiffness_and_mass_by_points;
 
-    /// Distorted hexahedra (corners of the unit cube moved by up to 0.2, some cells inverted):
-    /// the lanes' K and V are bitwise the point-by-point formulation's, on the portable path and
-    /// (where the processor has it) the AVX2 path.
+    /// Distorted hexahedra (corners of the unit cube moved by up to 0.2 or 0.75 of its side,
+    /// some cells inverted): the lanes' K and V are bitwise the point-by-point formulation's,
+    /// compiled for the baseline and (where the processor has it) for AVX2, and so is the
+    /// dispatching kernel.
     #[test]
     fn the_lanes_are_the_point_by_point_kernel_bitwise() {
         let cube = [[0., 0., 0.], [1., 0., 0.], [1., 1., 0.], [0., 1., 0.], [0., 0., 1.], [1., 0., 1.], [1., 1., 1.], [0., 1., 1.]];

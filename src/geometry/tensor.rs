@@ -131,10 +131,10 @@ pub(super) fn hex_stiffness(p: &[[f64; 3]], k: &mut [f64]) {
 }
 
 /// `hex_stiffness` and `hex_lumped_mass` point by point, from one evaluation of each Gauss point:
-/// the formulation `hex_kernel` lays out for vector lanes, bitwise, kept as its test's reference.
+/// the formulation `hex_kernel` lays out for vector lanes (bitwise), and the kernel where the
+/// processor has no AVX2.
 /// With ∇φ = J⁻ᵀ ∇_ref φ = C ∇_ref φ / det (C the cofactors), each point adds
 /// (C∇_ref φ_i)·(C∇_ref φ_j) / det to K_ij (weights 1) and φ_i det to the mass.
-#[cfg(test)]
 pub(super) fn hex_stiffness_and_mass_by_points(p: &[[f64; 3]], k: &mut [f64], m: &mut [f64]) {
     let t = hex_gauss();
     let mut kk = [0.0; 28];
