@@ -123,11 +123,13 @@ pub fn matmul(a: &CsrMatrix, b: &CsrMatrix) -> CsrMatrix {
 }
 
 /// R K P, bitwise `matmul(r, &matmul(k, p))` but without holding K P (the largest matrix of a
-/// Galerkin hierarchy): its rows are formed where R uses them and kept a while (`KpRows`), so a
-/// row used by several neighbouring rows of R is mostly formed once.
+/// Galerkin hierarchy): its rows are formed where R uses them and kept until the last row of R
+/// that uses them (`KpRows::drop_used`), so a row used by several rows of R in one task is
+/// formed once.
 pub fn triple_product(r: &CsrMatrix, k: &CsrMatrix, p: &CsrMatrix) -> CsrMatrix {
     assert_eq!(r.ncols, k.nrows, "triple_product: R has {} columns, K has {} rows", r.ncols, k.nrows);
     assert_eq!(k.ncols, p.nrows, "triple_product: K has {} columns, P has {} rows", k.ncols, p.nrows);
+    let last = last_users(r);
     let init = || (KpRows::new(k.nrows, p.ncols), RowSum::new(p.ncols));
     by_rows(r.nrows, p.ncols, init, |(kp, outer), j, c, v| {
         let (rc, rv) = r.row(j);
@@ -135,9 +137,18 @@ pub fn triple_product(r: &CsrMatrix, k: &CsrMatrix, p: &CsrMatrix) -> CsrMatrix 
             let e = kp.form(k, p, i as usize);
             outer.add(x, (&kp.cols[e.clone()], &kp.vals[e]));
         }
-        kp.bound();
+        kp.drop_used(j, &last);
         outer.finish(c, v);
     })
+}
+
+/// Per column i of R, the last row of R holding it (0 for a column no row holds).
+fn last_users(r: &CsrMatrix) -> Vec<u32> {
+    let mut last = vec![0u32; r.ncols];
+    for j in 0..r.nrows {
+        r.row(j).0.iter().for_each(|&i| last[i as usize] = offset(j));
+    }
+    last
 }
 
 /// Gᵀ W G for W = diag(`w`), given G and its transpose `gt`: bitwise `triple_product(gt, W, g)`
@@ -169,11 +180,14 @@ struct KpRows {
     slot: Vec<u32>,
     /// Per column of P: its position in the row of the result being filled.
     pos: Vec<u32>,
+    /// The entries past which `drop_used` forgets the rows no longer used.
+    limit: usize,
 }
 
 const NOT_FORMED: u32 = u32::MAX;
 
-/// Most entries of K P a task keeps formed (a few megabytes).
+/// Most entries of K P a task keeps formed (a few megabytes); past them `triple_product` forgets
+/// the rows no later row of R uses, and keeps at least twice what stays.
 const KP_KEPT: usize = 1 << 18;
 
 impl KpRows {
@@ -186,6 +200,7 @@ impl KpRows {
             vals: Vec::new(),
             slot: vec![NOT_FORMED; p_cols],
             pos: vec![0; p_cols],
+            limit: KP_KEPT,
         }
     }
 
@@ -223,6 +238,39 @@ impl KpRows {
         if self.cols.len() > KP_KEPT {
             self.clear();
         }
+    }
+
+    /// Once the rows formed hold more than `limit` entries, forgets those no row of R after
+    /// row `j` uses (`last`: per row of K P, the last row of R that uses it), keeping the others
+    /// in the order they were formed; `limit` grows to twice what stays, so the rows still in
+    /// use are moved a bounded number of times. A task takes the rows of R in ascending order,
+    /// so a row is formed once while its users are in one task (the rows are formed the same
+    /// whenever they are, so which are kept changes no value).
+    fn drop_used(&mut self, j: usize, last: &[u32]) {
+        if self.cols.len() <= self.limit {
+            return;
+        }
+        let (mut kept, mut to) = (0, 0);
+        for f in 0..self.formed.len() {
+            let i = self.formed[f] as usize;
+            let (a, b) = (self.ptr[f], self.ptr[f + 1]);
+            if last[i] as usize > j {
+                self.cols.copy_within(a..b, to);
+                self.vals.copy_within(a..b, to);
+                self.formed[kept] = offset(i);
+                self.at[i] = offset(kept);
+                kept += 1;
+                to += b - a;
+                self.ptr[kept] = to;
+            } else {
+                self.at[i] = NOT_FORMED;
+            }
+        }
+        self.formed.truncate(kept);
+        self.ptr.truncate(kept + 1);
+        self.cols.truncate(to);
+        self.vals.truncate(to);
+        self.limit = KP_KEPT.max(2 * to);
     }
 
     /// Forgets the rows formed.
@@ -294,6 +342,29 @@ mod tests {
         let want = matmul(&r, &matmul(&k, &p));
         assert_eq!(triple_product(&r, &k, &p), want);
         assert!(want.nnz() > 4);
+    }
+
+    /// Rows of K P forgotten once no later row of R uses them, and kept while one does, give
+    /// the two products bitwise where the rows formed exceed `KP_KEPT` (R's rows reach fine
+    /// rows far apart, so rows are kept across many rows of R and some are dropped early).
+    #[test]
+    fn triple_product_past_the_kept_rows_is_two_products_bitwise() {
+        let m = |nrows: usize, ncols: usize, per: u32, stride: u32, seed: u32| {
+            let t = (0..nrows as u32)
+                .flat_map(|i| {
+                    (0..per).map(move |k| (i, (i * stride + k * 977 + seed) % ncols as u32, 1.0 / (i + k + seed) as f64 - 0.01))
+                })
+                .collect();
+            CsrMatrix::from_triplets(nrows, ncols, t)
+        };
+        let (r, k, p) = (m(4000, 30000, 6, 7, 1), m(30000, 30000, 8, 1, 2), m(30000, 4000, 5, 1, 3));
+        let kp = matmul(&k, &p);
+        assert!(kp.nnz() > KP_KEPT, "K P has {} entries", kp.nnz());
+        let want = matmul(&r, &kp);
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
+        let got = pool.install(|| triple_product(&r, &k, &p));
+        assert!(same_pattern(&got, &want) && want.nnz() > 4000);
+        assert!(want.vals.iter().zip(&got.vals).all(|(a, b)| a.to_bits() == b.to_bits()));
     }
 
     /// Gᵀ W G without the rows of W G is the triple product with W diagonal, bitwise, with
