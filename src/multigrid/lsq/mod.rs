@@ -216,14 +216,23 @@ fn partner(k: &CsrMatrix, f: &Features, v: usize, rel: impl Fn(usize) -> [f64; 3
         .map_or(v, |(_, u)| u)
 }
 
-/// How much farther than the nearest neighbour a neighbour may be and still count as strongly
-/// coupled. Within a cell of moderate aspect ratio every neighbour does (a cube's diagonal is
-/// √3 of its edge); across a thin layer only the neighbours through its thickness do.
+/// How much farther than the nearest neighbour in its direction a neighbour may be and still
+/// count as strongly coupled. Within a cell of moderate aspect ratio every neighbour does (a
+/// cube's diagonal is √3 of its edge); across a thin layer only the neighbours through its
+/// thickness do.
 const STRONG_REACH: f64 = 2.0;
 
-/// The neighbours of `v` in K's graph (not `v`) within `STRONG_REACH` times the nearest one's
-/// distance, `rel(u)` giving u's offset from `v`: `out`, one value per entry of K's row `v`,
-/// takes the squared distance of each such neighbour and NaN at every other entry. The
+/// How much farther than the nearest neighbour of all the nearest neighbour in a direction may
+/// be for that direction to count as strongly coupled (`directional`): across cells stretched
+/// more than this, the unknown is coarsened along their short sides only.
+const SHORT_DIRECTION: f64 = 1.3;
+
+/// The squared cosine of the half-angle of a direction's cone in `directional` (30°).
+const CONE_COS2: f64 = 0.75;
+
+/// The neighbours of `v` in K's graph (not `v`) that are strongly coupled to it
+/// (`directional`), `rel(u)` giving u's offset from `v`: `out`, one value per entry of K's row
+/// `v`, takes the squared distance of each such neighbour and NaN at every other entry. The
 /// stiffness couples neighbours as the inverse square of their distance, so the near ones are
 /// the strong ones; K's own entries are no guide, as a trilinear hexahedron couples face
 /// neighbours by zero.
@@ -250,7 +259,43 @@ pub(super) fn strong(k: &CsrMatrix, f: &Features, v: usize, rel: impl Fn(usize) 
         out.iter_mut().for_each(|d| *d = if *d <= near && *d < f64::INFINITY { *d } else { f64::NAN });
         return;
     }
-    out.iter_mut().for_each(|d| *d = if *d <= near { *d } else { f64::NAN });
+    directional(row, v, &rel, out);
+}
+
+/// Marks the strong couplings of `v` among its neighbours `row`, whose squared distances are
+/// `d2` (∞ at `v` itself): a neighbour is strong when its direction is a short one (some
+/// neighbour within `CONE_COS2`'s cone of it, either way along it, lies within
+/// `SHORT_DIRECTION` of the nearest neighbour of all) and it lies within `STRONG_REACH` of the
+/// nearest neighbour in that cone. Every other entry becomes NaN. Across cells longer one way
+/// than the other (a graded shell whose cells are longer across it than along it) the long
+/// direction is weak, whatever the ratio beyond `SHORT_DIRECTION`, so the shell is coarsened
+/// along itself; within cells of moderate aspect ratio every direction is short and the reach
+/// is the nearest neighbour's.
+fn directional(row: &[u32], v: usize, rel: &impl Fn(usize) -> [f64; 3], d2: &mut [f64]) {
+    let nearest = nearest_of(d2);
+    let short = SHORT_DIRECTION * SHORT_DIRECTION * nearest;
+    let reach = STRONG_REACH * STRONG_REACH * short;
+    // The short neighbours (offset, squared distance): only they can set a direction's spacing.
+    let shorts: Vec<([f64; 3], f64)> =
+        row.iter().zip(d2.iter()).filter(|&(&u, &d)| u as usize != v && d <= short).map(|(&u, &d)| (rel(u as usize), d)).collect();
+    for (d, &u) in d2.iter_mut().zip(row) {
+        if u as usize == v || *d > reach {
+            *d = f64::NAN;
+            continue;
+        }
+        let r = rel(u as usize);
+        let spacing = shorts
+            .iter()
+            .filter(|(s, ds)| {
+                let dot = r[0] * s[0] + r[1] * s[1] + r[2] * s[2];
+                dot * dot >= CONE_COS2 * *d * ds
+            })
+            .map(|&(_, ds)| ds)
+            .fold(f64::INFINITY, f64::min);
+        if *d > STRONG_REACH * STRONG_REACH * spacing {
+            *d = f64::NAN;
+        }
+    }
 }
 
 /// The smallest of `d2` (∞ when empty; NaNs ignored), in four running minima: the smallest of
