@@ -292,7 +292,8 @@ fn directional(row: &[u32], v: usize, rel: &impl Fn(usize) -> [f64; 3], d2: &mut
             })
             .map(|&(_, ds)| ds)
             .fold(f64::INFINITY, f64::min);
-        if *d > STRONG_REACH * STRONG_REACH * spacing {
+        // No short neighbour in the cone (spacing ∞): a long direction, weak.
+        if spacing == f64::INFINITY || *d > STRONG_REACH * STRONG_REACH * spacing {
             *d = f64::NAN;
         }
     }
