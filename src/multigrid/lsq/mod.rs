@@ -339,7 +339,30 @@ fn norm2(r: [f64; 3]) -> f64 {
 
 #[cfg(test)]
 mod tests {
-    use super::nearest_of;
+    use super::{directional, nearest_of};
+
+    /// The strong couplings of unknown 0 among neighbours 1.. at `offsets`: true where strong.
+    fn strong_of(offsets: &[[f64; 3]]) -> Vec<bool> {
+        let row: Vec<u32> = (0..=offsets.len() as u32).collect();
+        let rel = |u: usize| offsets[u - 1];
+        let mut d2: Vec<f64> = std::iter::once(f64::INFINITY).chain(offsets.iter().map(|r| r.iter().map(|x| x * x).sum())).collect();
+        directional(&row, 0, &rel, &mut d2);
+        d2[1..].iter().map(|d| !d.is_nan()).collect()
+    }
+
+    /// In a shell whose cells are 1.8 times longer across it (x) than along it (y, z), the
+    /// neighbours across it are weak, though within twice the nearest one's distance, and the
+    /// shell's own neighbours strong; in cells of moderate aspect ratio every neighbour is strong.
+    #[test]
+    fn a_stretched_direction_is_weak() {
+        let shell = [[1.8, 0.0, 0.0], [-1.8, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, 1.0], [0.0, 0.0, -1.1], [0.0, 1.0, 1.0]];
+        assert_eq!(strong_of(&shell), [false, false, true, true, true, true, true]);
+        let moderate = [[1.2, 0.0, 0.0], [-1.25, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, 1.1], [1.0, 1.0, 1.0]];
+        assert_eq!(strong_of(&moderate), [true; 6]);
+        // Beyond the reach of its direction's nearest neighbour a neighbour is weak.
+        let far = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [0.0, 2.1, 0.0]];
+        assert_eq!(strong_of(&far), [true, true, true, false]);
+    }
 
     /// The four running minima give the sequential fold's minimum bitwise, with NaNs, infinities
     /// and ties among the values, for every slice of them (lengths 0 to 11).
