@@ -230,6 +230,10 @@ const SHORT_DIRECTION: f64 = 1.3;
 /// The squared cosine of the half-angle of a direction's cone in `directional` (30°).
 const CONE_COS2: f64 = 0.75;
 
+/// The smallest spread of the short directions' unit vectors along an axis, relative to the
+/// largest, for `directional` to count that axis as spanned by them.
+const SPAN: f64 = 0.1;
+
 /// The neighbours of `v` in K's graph (not `v`) that are strongly coupled to it
 /// (`directional`), `rel(u)` giving u's offset from `v`: `out`, one value per entry of K's row
 /// `v`, takes the squared distance of each such neighbour and NaN at every other entry. The
@@ -266,7 +270,9 @@ pub(super) fn strong(k: &CsrMatrix, f: &Features, v: usize, rel: impl Fn(usize) 
 /// `d2` (∞ at `v` itself): a neighbour is strong when its direction is a short one (some
 /// neighbour within `CONE_COS2`'s cone of it, either way along it, lies within
 /// `SHORT_DIRECTION` of the nearest neighbour of all) and it lies within `STRONG_REACH` of the
-/// nearest neighbour in that cone. Every other entry becomes NaN. Across cells longer one way
+/// nearest neighbour in that cone; a neighbour with no short one in its cone is strong when it
+/// lies within 30° of the short directions' span (a cube's diagonals) and within `STRONG_REACH`
+/// of the nearest neighbour of all. Every other entry becomes NaN. Across cells longer one way
 /// than the other (a graded shell whose cells are longer across it than along it) the long
 /// direction is weak, whatever the ratio beyond `SHORT_DIRECTION`, so the shell is coarsened
 /// along itself; within cells of moderate aspect ratio every direction is short and the reach
@@ -278,6 +284,15 @@ fn directional(row: &[u32], v: usize, rel: &impl Fn(usize) -> [f64; 3], d2: &mut
     // The short neighbours (offset, squared distance): only they can set a direction's spacing.
     let shorts: Vec<([f64; 3], f64)> =
         row.iter().zip(d2.iter()).filter(|&(&u, &d)| u as usize != v && d <= short).map(|(&u, &d)| (rel(u as usize), d)).collect();
+    // The axes the short directions span (those of their unit vectors' spread above a tenth
+    // of the largest): a neighbour within 30° of their span is along the cells' short sides.
+    let units: Vec<[f64; 3]> = shorts.iter().map(|&(s, ds)| s.map(|x| x / ds.sqrt())).collect();
+    let (axes, spread) = weights::principal_axes(&units);
+    let long: Vec<[f64; 3]> = (0..3).filter(|&i| spread[i] < SPAN * spread[0]).map(|i| axes[i]).collect();
+    let in_span = |r: [f64; 3], d: f64| {
+        let off: f64 = long.iter().map(|a| (r[0] * a[0] + r[1] * a[1] + r[2] * a[2]).powi(2)).sum();
+        off <= (1.0 - CONE_COS2) * d
+    };
     for (d, &u) in d2.iter_mut().zip(row) {
         if u as usize == v || *d > reach {
             *d = f64::NAN;
@@ -292,8 +307,15 @@ fn directional(row: &[u32], v: usize, rel: &impl Fn(usize) -> [f64; 3], d2: &mut
             })
             .map(|&(_, ds)| ds)
             .fold(f64::INFINITY, f64::min);
-        // No short neighbour in the cone (spacing ∞): a long direction, weak.
-        if spacing == f64::INFINITY || *d > STRONG_REACH * STRONG_REACH * spacing {
+        // No short neighbour in the cone (spacing ∞): strong within the reach of the nearest
+        // neighbour of all when the direction lies in the short directions' span (a cube's
+        // diagonals), weak across it (a stretched shell's long side).
+        let strong = if spacing == f64::INFINITY {
+            in_span(r, *d) && *d <= STRONG_REACH * STRONG_REACH * nearest
+        } else {
+            *d <= STRONG_REACH * STRONG_REACH * spacing
+        };
+        if !strong {
             *d = f64::NAN;
         }
     }
