@@ -263,7 +263,13 @@ pub(super) fn strong(k: &CsrMatrix, f: &Features, v: usize, rel: impl Fn(usize) 
         out.iter_mut().for_each(|d| *d = if *d <= near && *d < f64::INFINITY { *d } else { f64::NAN });
         return;
     }
-    directional(row, v, &rel, out);
+    if f.dim() == 3 {
+        directional(row, v, &rel, out);
+    } else {
+        // 2D keeps one reach from the nearest neighbour: its slip-wall channel's kept levels
+        // took more iterations with the directions' rule.
+        out.iter_mut().for_each(|d| *d = if *d <= near { *d } else { f64::NAN });
+    }
 }
 
 /// Marks the strong couplings of `v` among its neighbours `row`, whose squared distances are
