@@ -216,14 +216,27 @@ fn partner(k: &CsrMatrix, f: &Features, v: usize, rel: impl Fn(usize) -> [f64; 3
         .map_or(v, |(_, u)| u)
 }
 
-/// How much farther than the nearest neighbour a neighbour may be and still count as strongly
-/// coupled. Within a cell of moderate aspect ratio every neighbour does (a cube's diagonal is
-/// √3 of its edge); across a thin layer only the neighbours through its thickness do.
+/// How much farther than the nearest neighbour in its direction a neighbour may be and still
+/// count as strongly coupled. Within a cell of moderate aspect ratio every neighbour does (a
+/// cube's diagonal is √3 of its edge); across a thin layer only the neighbours through its
+/// thickness do.
 const STRONG_REACH: f64 = 2.0;
 
-/// The neighbours of `v` in K's graph (not `v`) within `STRONG_REACH` times the nearest one's
-/// distance, `rel(u)` giving u's offset from `v`: `out`, one value per entry of K's row `v`,
-/// takes the squared distance of each such neighbour and NaN at every other entry. The
+/// How much farther than the nearest neighbour of all the nearest neighbour in a direction may
+/// be for that direction to count as strongly coupled (`directional`): across cells stretched
+/// more than this, the unknown is coarsened along their short sides only.
+const SHORT_DIRECTION: f64 = 1.3;
+
+/// The squared cosine of the half-angle of a direction's cone in `directional` (30°).
+const CONE_COS2: f64 = 0.75;
+
+/// The smallest spread of the short directions' unit vectors along an axis, relative to the
+/// largest, for `directional` to count that axis as spanned by them.
+const SPAN: f64 = 0.1;
+
+/// The neighbours of `v` in K's graph (not `v`) that are strongly coupled to it
+/// (`directional`), `rel(u)` giving u's offset from `v`: `out`, one value per entry of K's row
+/// `v`, takes the squared distance of each such neighbour and NaN at every other entry. The
 /// stiffness couples neighbours as the inverse square of their distance, so the near ones are
 /// the strong ones; K's own entries are no guide, as a trilinear hexahedron couples face
 /// neighbours by zero.
@@ -250,7 +263,68 @@ pub(super) fn strong(k: &CsrMatrix, f: &Features, v: usize, rel: impl Fn(usize) 
         out.iter_mut().for_each(|d| *d = if *d <= near && *d < f64::INFINITY { *d } else { f64::NAN });
         return;
     }
-    out.iter_mut().for_each(|d| *d = if *d <= near { *d } else { f64::NAN });
+    if f.dim() == 3 {
+        directional(row, v, &rel, out);
+    } else {
+        // 2D keeps one reach from the nearest neighbour: its slip-wall channel's kept levels
+        // took more iterations with the directions' rule.
+        out.iter_mut().for_each(|d| *d = if *d <= near { *d } else { f64::NAN });
+    }
+}
+
+/// Marks the strong couplings of `v` among its neighbours `row`, whose squared distances are
+/// `d2` (∞ at `v` itself): a neighbour is strong when its direction is a short one (some
+/// neighbour within `CONE_COS2`'s cone of it, either way along it, lies within
+/// `SHORT_DIRECTION` of the nearest neighbour of all) and it lies within `STRONG_REACH` of the
+/// nearest neighbour in that cone; a neighbour with no short one in its cone is strong when it
+/// lies within 30° of the short directions' span (a cube's diagonals) and within `STRONG_REACH`
+/// of the nearest neighbour of all. Every other entry becomes NaN. Across cells longer one way
+/// than the other (a graded shell whose cells are longer across it than along it) the long
+/// direction is weak, whatever the ratio beyond `SHORT_DIRECTION`, so the shell is coarsened
+/// along itself; within cells of moderate aspect ratio every direction is short and the reach
+/// is the nearest neighbour's.
+fn directional(row: &[u32], v: usize, rel: &impl Fn(usize) -> [f64; 3], d2: &mut [f64]) {
+    let nearest = nearest_of(d2);
+    let short = SHORT_DIRECTION * SHORT_DIRECTION * nearest;
+    let reach = STRONG_REACH * STRONG_REACH * short;
+    // The short neighbours (offset, squared distance): only they can set a direction's spacing.
+    let shorts: Vec<([f64; 3], f64)> =
+        row.iter().zip(d2.iter()).filter(|&(&u, &d)| u as usize != v && d <= short).map(|(&u, &d)| (rel(u as usize), d)).collect();
+    // The axes the short directions span (those of their unit vectors' spread above a tenth
+    // of the largest): a neighbour within 30° of their span is along the cells' short sides.
+    let units: Vec<[f64; 3]> = shorts.iter().map(|&(s, ds)| s.map(|x| x / ds.sqrt())).collect();
+    let (axes, spread) = weights::principal_axes(&units);
+    let long: Vec<[f64; 3]> = (0..3).filter(|&i| spread[i] < SPAN * spread[0]).map(|i| axes[i]).collect();
+    let in_span = |r: [f64; 3], d: f64| {
+        let off: f64 = long.iter().map(|a| (r[0] * a[0] + r[1] * a[1] + r[2] * a[2]).powi(2)).sum();
+        off <= (1.0 - CONE_COS2) * d
+    };
+    for (d, &u) in d2.iter_mut().zip(row) {
+        if u as usize == v || *d > reach {
+            *d = f64::NAN;
+            continue;
+        }
+        let r = rel(u as usize);
+        let spacing = shorts
+            .iter()
+            .filter(|(s, ds)| {
+                let dot = r[0] * s[0] + r[1] * s[1] + r[2] * s[2];
+                dot * dot >= CONE_COS2 * *d * ds
+            })
+            .map(|&(_, ds)| ds)
+            .fold(f64::INFINITY, f64::min);
+        // No short neighbour in the cone (spacing ∞): strong within the reach of the nearest
+        // neighbour of all when the direction lies in the short directions' span (a cube's
+        // diagonals), weak across it (a stretched shell's long side).
+        let strong = if spacing == f64::INFINITY {
+            in_span(r, *d) && *d <= STRONG_REACH * STRONG_REACH * nearest
+        } else {
+            *d <= STRONG_REACH * STRONG_REACH * spacing
+        };
+        if !strong {
+            *d = f64::NAN;
+        }
+    }
 }
 
 /// The smallest of `d2` (∞ when empty; NaNs ignored), in four running minima: the smallest of
@@ -293,7 +367,30 @@ fn norm2(r: [f64; 3]) -> f64 {
 
 #[cfg(test)]
 mod tests {
-    use super::nearest_of;
+    use super::{directional, nearest_of};
+
+    /// The strong couplings of unknown 0 among neighbours 1.. at `offsets`: true where strong.
+    fn strong_of(offsets: &[[f64; 3]]) -> Vec<bool> {
+        let row: Vec<u32> = (0..=offsets.len() as u32).collect();
+        let rel = |u: usize| offsets[u - 1];
+        let mut d2: Vec<f64> = std::iter::once(f64::INFINITY).chain(offsets.iter().map(|r| r.iter().map(|x| x * x).sum())).collect();
+        directional(&row, 0, &rel, &mut d2);
+        d2[1..].iter().map(|d| !d.is_nan()).collect()
+    }
+
+    /// In a shell whose cells are 1.8 times longer across it (x) than along it (y, z), the
+    /// neighbours across it are weak, though within twice the nearest one's distance, and the
+    /// shell's own neighbours strong; in cells of moderate aspect ratio every neighbour is strong.
+    #[test]
+    fn a_stretched_direction_is_weak() {
+        let shell = [[1.8, 0.0, 0.0], [-1.8, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, 1.0], [0.0, 0.0, -1.1], [0.0, 1.0, 1.0]];
+        assert_eq!(strong_of(&shell), [false, false, true, true, true, true, true]);
+        let moderate = [[1.2, 0.0, 0.0], [-1.25, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, 1.1], [1.0, 1.0, 1.0]];
+        assert_eq!(strong_of(&moderate), [true; 6]);
+        // Beyond the reach of its direction's nearest neighbour a neighbour is weak.
+        let far = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [0.0, 2.1, 0.0]];
+        assert_eq!(strong_of(&far), [true, true, true, false]);
+    }
 
     /// The four running minima give the sequential fold's minimum bitwise, with NaNs, infinities
     /// and ties among the values, for every slice of them (lengths 0 to 11).

@@ -420,7 +420,7 @@ fn norm2(r: [f64; 3]) -> f64 {
 /// The principal axes of the offsets `rel` (unit vectors, by decreasing spread) and their
 /// spreads Σ (r·a)²: on a wall the first two span its tangent plane, on a crease the first is
 /// its line.
-fn principal_axes(rel: &[[f64; 3]]) -> ([[f64; 3]; 3], [f64; 3]) {
+pub(super) fn principal_axes(rel: &[[f64; 3]]) -> ([[f64; 3]; 3], [f64; 3]) {
     let mut c = [[0.0; 3]; 3];
     for r in rel {
         for i in 0..3 {
