@@ -191,6 +191,9 @@ pub struct Args {
     /// The methods of the `viscous` part, comma separated: biharmonic, laplacian, spring.
     #[arg(long, value_delimiter = ',', default_value = "biharmonic,laplacian,spring")]
     pub viscous_methods: Vec<viscous::MethodName>,
+    /// The motions of the `viscous` part, comma separated, in the order they run: pitch, plunge.
+    #[arg(long, value_delimiter = ',', default_value = "pitch,plunge")]
+    pub viscous_motions: Vec<viscous::MotionName>,
     /// The meshes of the `viscous` part, comma separated: airfoil, spheroid, wing.
     #[arg(long, value_delimiter = ',', default_value = "airfoil,spheroid,wing")]
     pub viscous_meshes: Vec<viscous::MeshKind>,
@@ -617,8 +620,8 @@ fn check_args(a: &Args) -> Result<(), String> {
     if !(1..=a.viscous_sizes).contains(&a.viscous_from_size) {
         return Err(format!("--viscous-from-size takes 1 to --viscous-sizes ({})", a.viscous_sizes));
     }
-    if a.viscous_methods.is_empty() {
-        return Err("--viscous-methods needs at least one method".into());
+    if a.viscous_methods.is_empty() || a.viscous_motions.is_empty() {
+        return Err("--viscous-methods and --viscous-motions need at least one each".into());
     }
     if let Some(n) = a.peer_case {
         if !(1..=400).contains(&n) {
@@ -783,7 +786,7 @@ pub fn run(a: &Args) -> Result<(), String> {
             meshes: a.viscous_meshes.clone(),
             sizes: a.viscous_from_size - 1..a.viscous_sizes,
             methods: a.viscous_methods.iter().map(|m| m.method()).collect(),
-            motions: vec![meshmove_cases::viscous::BodyMotion::Pitch, meshmove_cases::viscous::BodyMotion::Plunge],
+            motions: a.viscous_motions.iter().map(|m| m.motion()).collect(),
             steps: if a.quick || a.viscous_steps == 1 { vec![1] } else { vec![1, a.viscous_steps] },
             max_cycles: a.viscous_max_cycles,
             tol: a.tol,

@@ -106,6 +106,25 @@ impl MethodName {
     }
 }
 
+/// A motion of the viscous part.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MotionName {
+    /// The pitch by 10°.
+    Pitch,
+    /// The plunge by 0.2.
+    Plunge,
+}
+
+impl MotionName {
+    /// The cases' motion.
+    pub fn motion(self) -> BodyMotion {
+        match self {
+            MotionName::Pitch => BodyMotion::Pitch,
+            MotionName::Plunge => BodyMotion::Plunge,
+        }
+    }
+}
+
 /// What one run measured.
 struct Run {
     status: String,
