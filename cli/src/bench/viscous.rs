@@ -45,7 +45,7 @@ impl MeshKind {
     /// The size parameter of size `i` (0 to [`SIZES`] − 1): points per side of the airfoil (and
     /// the wing's section, with its span cells), the spheroid's inner-box cells across. Sizes
     /// 0–2 are the three of every run; size 3 (`--viscous-sizes 4`) is the ≥ 1M-vertex mesh of
-    /// each 3D kind (the airfoil's 2D fourth size has about 280k vertices).
+    /// each 3D kind (the airfoil's fourth, 2D, has 300 947).
     fn size(self, i: usize) -> (usize, usize) {
         match self {
             MeshKind::Airfoil => ([64, 128, 256, 512][i], 0),
