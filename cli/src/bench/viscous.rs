@@ -356,14 +356,22 @@ pub fn run_all(out: &Path, plan: &Plan, pool: &rayon::ThreadPool) -> Result<Stri
                         eprintln!("  {line}");
                         table.push_str(&line);
                         table.push('\n');
+                        // Written after every run: a long run's finished rows survive its end.
+                        write_csvs(out, &csv, &steps_csv)?;
                     }
                 }
             }
         }
     }
+    write_csvs(out, &csv, &steps_csv)?;
+    Ok(table)
+}
+
+/// Writes `out/viscous.csv` and `out/viscous_steps.csv`.
+fn write_csvs(out: &Path, csv: &str, steps_csv: &str) -> Result<(), String> {
     for (name, text) in [("viscous.csv", csv), ("viscous_steps.csv", steps_csv)] {
         let path = out.join(name);
         std::fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display()))?;
     }
-    Ok(table)
+    Ok(())
 }
