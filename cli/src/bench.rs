@@ -180,9 +180,20 @@ pub struct Args {
     /// The parts to run, comma separated.
     #[arg(long, value_delimiter = ',', default_value = "2d,meshes,3d,steps,graded")]
     pub parts: Vec<Part>,
-    /// Sizes of each wall-layered mesh of the `viscous` part (1 to 3; `--quick`: 1).
+    /// Sizes of each wall-layered mesh of the `viscous` part (1 to 4; `--quick`: 1): the
+    /// smallest N. The 4th is the ≥ 1M-vertex mesh of each 3D kind, not in the default run.
     #[arg(long, default_value_t = 3)]
     pub viscous_sizes: usize,
+    /// The smallest size the `viscous` part runs (1 to `--viscous-sizes`): with
+    /// `--viscous-sizes 4 --viscous-from-size 4`, the ≥ 1M-vertex meshes alone.
+    #[arg(long, default_value_t = 1)]
+    pub viscous_from_size: usize,
+    /// The methods of the `viscous` part, comma separated: biharmonic, laplacian, spring.
+    #[arg(long, value_delimiter = ',', default_value = "biharmonic,laplacian,spring")]
+    pub viscous_methods: Vec<viscous::MethodName>,
+    /// The motions of the `viscous` part, comma separated, in the order they run: pitch, plunge.
+    #[arg(long, value_delimiter = ',', default_value = "pitch,plunge")]
+    pub viscous_motions: Vec<viscous::MotionName>,
     /// The meshes of the `viscous` part, comma separated: airfoil, spheroid, wing.
     #[arg(long, value_delimiter = ',', default_value = "airfoil,spheroid,wing")]
     pub viscous_meshes: Vec<viscous::MeshKind>,
@@ -600,8 +611,17 @@ fn check_args(a: &Args) -> Result<(), String> {
     if a.jacobi_cap_sweeps == Some(0) || a.paper_cap_cycles == Some(0) {
         return Err("--jacobi-cap-sweeps and --paper-cap-cycles must be at least 1".into());
     }
-    if !(1..=3).contains(&a.viscous_sizes) || a.viscous_steps == 0 || a.viscous_max_cycles == 0 {
-        return Err("--viscous-sizes takes 1 to 3; --viscous-steps and --viscous-max-cycles at least 1".into());
+    if !(1..=viscous::SIZES).contains(&a.viscous_sizes) || a.viscous_steps == 0 || a.viscous_max_cycles == 0 {
+        return Err(format!(
+            "--viscous-sizes takes 1 to {}; --viscous-steps and --viscous-max-cycles at least 1",
+            viscous::SIZES
+        ));
+    }
+    if !(1..=a.viscous_sizes).contains(&a.viscous_from_size) {
+        return Err(format!("--viscous-from-size takes 1 to --viscous-sizes ({})", a.viscous_sizes));
+    }
+    if a.viscous_methods.is_empty() || a.viscous_motions.is_empty() {
+        return Err("--viscous-methods and --viscous-motions need at least one each".into());
     }
     if let Some(n) = a.peer_case {
         if !(1..=400).contains(&n) {
@@ -620,6 +640,7 @@ fn quick(a: &Args) -> Args {
     q.paper_cap_s = a.paper_cap_s.min(QUICK_CAP_S);
     q.parts.retain(|&p| p != Part::Graded);
     q.viscous_sizes = 1;
+    q.viscous_from_size = 1;
     if q.parts.is_empty() {
         q.parts = a.parts.clone();
     }
@@ -763,9 +784,9 @@ pub fn run(a: &Args) -> Result<(), String> {
     let viscous_table = if has(Part::Viscous) {
         let plan = viscous::Plan {
             meshes: a.viscous_meshes.clone(),
-            sizes: a.viscous_sizes,
-            methods: vec![Method::Biharmonic, Method::Laplacian, Method::Spring],
-            motions: vec![meshmove_cases::viscous::BodyMotion::Pitch, meshmove_cases::viscous::BodyMotion::Plunge],
+            sizes: a.viscous_from_size - 1..a.viscous_sizes,
+            methods: a.viscous_methods.iter().map(|m| m.method()).collect(),
+            motions: a.viscous_motions.iter().map(|m| m.motion()).collect(),
             steps: if a.quick || a.viscous_steps == 1 { vec![1] } else { vec![1, a.viscous_steps] },
             max_cycles: a.viscous_max_cycles,
             tol: a.tol,

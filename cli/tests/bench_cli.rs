@@ -241,6 +241,62 @@ fn bench_writes_the_peer_case_that_deform_runs() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// The viscous part on the smallest airfoil with the spring in 1 and 3 steps: a row a run in
+/// viscous.csv and a row a step in viscous_steps.csv, up to the step that ended the run (the
+/// spring's pitch tangles the layers; its plunge, a translation, does not).
+#[test]
+fn bench_viscous_rows_and_steps() {
+    let out = std::env::temp_dir().join(format!("meshmove-bench-viscous-{}", std::process::id()));
+    let args = ["--parts", "viscous", "--viscous-meshes", "airfoil", "--viscous-sizes", "1", "--threads", "1"];
+    bench(&out, &[&args[..], &["--viscous-methods", "spring", "--viscous-steps", "3"]].concat());
+    let runs = std::fs::read_to_string(out.join("viscous.csv")).unwrap();
+    let runs: Vec<Vec<&str>> = runs.lines().skip(1).map(|l| l.split(',').collect()).collect();
+    let steps = std::fs::read_to_string(out.join("viscous_steps.csv")).unwrap();
+    let mut lines = steps.lines();
+    assert_eq!(
+        lines.next(),
+        Some(
+            "mesh,size,vertices,method,motion,steps,step,iterations,converged,inverted,step_min_volume_ratio,\
+first_layer_min,first_layer_max,step_s"
+        )
+    );
+    let steps: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    // Pitch and plunge, 1 and 3 steps, the spring only.
+    let kinds: Vec<(&str, &str)> = runs.iter().map(|r| (r[5], r[6])).collect();
+    assert_eq!(kinds, [("pitch", "1"), ("pitch", "3"), ("plunge", "1"), ("plunge", "3")]);
+    let mut rest = &steps[..];
+    for r in &runs {
+        assert_eq!((r[0], r[1], r[2], r[4]), ("airfoil-2d", "pps64", "8328", "spring"), "{r:?}");
+        // The steps the run took: all it asked for, or up to the step its status names.
+        let n: usize = match r[7] {
+            "ok" => r[6].parse().unwrap(),
+            s => s.strip_prefix("step ").and_then(|s| s.split(':').next()).unwrap().parse().unwrap(),
+        };
+        let (mine, others) = rest.split_at(n);
+        rest = others;
+        for (i, st) in mine.iter().enumerate() {
+            assert_eq!((st[0], st[1], st[2], st[3], st[4], st[5]), (r[0], r[1], r[2], r[4], r[5], r[6]), "{st:?}");
+            assert_eq!((st[6].parse::<usize>().unwrap(), st[8]), (i + 1, "true"), "{st:?}");
+            let it: usize = st[7].parse().unwrap();
+            assert!((1..=10).contains(&it), "{st:?}");
+            let (lo, hi): (f64, f64) = (st[11].parse().unwrap(), st[12].parse().unwrap());
+            assert!(0.0 < lo && lo <= hi, "{st:?}");
+            // Only the step that ended a run tangled.
+            let inverted: usize = st[9].parse().unwrap();
+            assert_eq!(inverted > 0, r[7].contains("inverted") && i + 1 == n, "{st:?} of {r:?}");
+            if r[5] == "plunge" {
+                assert!(0.999 < lo && hi < 1.001, "{st:?}");
+            }
+        }
+        // The run's own first-layer range is its last step's.
+        let last = &mine[n - 1];
+        assert_eq!((r[15], r[16]), (last[11], last[12]), "{r:?}");
+    }
+    assert!(rest.is_empty(), "{rest:?}");
+    assert_eq!(runs.iter().filter(|r| r[7] == "ok").count(), 2, "the plunges: {runs:?}");
+    let _ = std::fs::remove_dir_all(&out);
+}
+
 /// A bad option is refused before anything runs: exit status 1, a message naming the option,
 /// and no output directory created.
 #[test]
@@ -261,6 +317,9 @@ fn bench_refuses_bad_options_before_running() {
         (&["--max-vertices", "16000"], "below the smallest bench mesh"),
         (&["--cells-3d", "1"], "--cells-3d"),
         (&["--peer-case", "0"], "--peer-case"),
+        (&["--viscous-sizes", "5"], "--viscous-sizes"),
+        (&["--viscous-from-size", "4"], "--viscous-from-size"),
+        (&["--viscous-sizes", "2", "--viscous-from-size", "0"], "--viscous-from-size"),
     ];
     for (i, (args, names)) in cases.iter().enumerate() {
         let out = std::env::temp_dir().join(format!("meshmove-bench-bad-{}-{i}", std::process::id()));

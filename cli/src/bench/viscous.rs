@@ -42,13 +42,15 @@ impl MeshKind {
         }
     }
 
-    /// The size parameter of size `i` (0, 1, 2): points per side of the airfoil (and the
-    /// wing's section, with its span cells), the spheroid's inner-box cells across.
+    /// The size parameter of size `i` (0 to [`SIZES`] − 1): points per side of the airfoil (and
+    /// the wing's section, with its span cells), the spheroid's inner-box cells across. Sizes
+    /// 0–2 are the three of every run; size 3 (`--viscous-sizes 4`) is the ≥ 1M-vertex mesh of
+    /// each 3D kind (the airfoil's fourth, 2D, has 300 947).
     fn size(self, i: usize) -> (usize, usize) {
         match self {
-            MeshKind::Airfoil => ([64, 128, 256][i], 0),
-            MeshKind::Spheroid => ([4, 8, 12][i], 0),
-            MeshKind::Wing => [(32, 4), (64, 8), (96, 12)][i],
+            MeshKind::Airfoil => ([64, 128, 256, 512][i], 0),
+            MeshKind::Spheroid => ([4, 8, 12, 30][i], 0),
+            MeshKind::Wing => [(32, 4), (64, 8), (96, 12), (192, 24)][i],
         }
     }
 
@@ -60,6 +62,66 @@ impl MeshKind {
             MeshKind::Spheroid => (viscous::spheroid_3d(&viscous::SpheroidParams::new(n))?, format!("cells{n}")),
             MeshKind::Wing => (viscous::wing_3d(&viscous::WingParams::new(n, z))?, format!("pps{n}x{z}")),
         })
+    }
+}
+
+/// How many sizes [`MeshKind::build`] knows.
+pub const SIZES: usize = 4;
+
+/// The columns of `DIR/viscous_steps.csv`: one line per step of every run.
+pub const STEPS_HEADER: &str = "mesh,size,vertices,method,motion,steps,step,iterations,converged,inverted,\
+step_min_volume_ratio,first_layer_min,first_layer_max,step_s";
+
+/// One step of a run: its iterations, whether it converged, the step's inverted cells and
+/// smallest volume ratio (against the mesh it began on), the first layer's volume range against
+/// the original mesh, and the `advance` call's seconds.
+struct Step {
+    iterations: usize,
+    converged: bool,
+    inverted: usize,
+    min_volume_ratio: f64,
+    first: Option<(f64, f64)>,
+    seconds: f64,
+}
+
+/// A method of the viscous part.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MethodName {
+    /// The biharmonic.
+    Biharmonic,
+    /// The Laplacian.
+    Laplacian,
+    /// The spring analogy.
+    Spring,
+}
+
+impl MethodName {
+    /// The library's method.
+    pub fn method(self) -> Method {
+        match self {
+            MethodName::Biharmonic => Method::Biharmonic,
+            MethodName::Laplacian => Method::Laplacian,
+            MethodName::Spring => Method::Spring,
+        }
+    }
+}
+
+/// A motion of the viscous part.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MotionName {
+    /// The pitch by 10°.
+    Pitch,
+    /// The plunge by 0.2.
+    Plunge,
+}
+
+impl MotionName {
+    /// The cases' motion.
+    pub fn motion(self) -> BodyMotion {
+        match self {
+            MotionName::Pitch => BodyMotion::Pitch,
+            MotionName::Plunge => BodyMotion::Plunge,
+        }
     }
 }
 
@@ -77,6 +139,8 @@ struct Run {
     ten: Option<(f64, f64)>,
     min_volume_ratio: f64,
     inverted: usize,
+    /// Every step that gave a result.
+    steps: Vec<Step>,
 }
 
 impl Run {
@@ -93,6 +157,7 @@ impl Run {
             ten: None,
             min_volume_ratio: f64::NAN,
             inverted: 0,
+            steps: Vec::new(),
         }
     }
 }
@@ -119,7 +184,8 @@ fn run(v: &ViscousMesh, method: Method, m: BodyMotion, steps: usize, max_cycles:
     for i in 0..steps {
         let t = Instant::now();
         let sol = solver.advance(&motion.increment(i, steps));
-        r.step_s += t.elapsed().as_secs_f64();
+        let seconds = t.elapsed().as_secs_f64();
+        r.step_s += seconds;
         r.solve_s += solver.step_reports().iter().map(|s| s.seconds).sum::<f64>();
         match sol {
             Ok(sol) => {
@@ -127,13 +193,25 @@ fn run(v: &ViscousMesh, method: Method, m: BodyMotion, steps: usize, max_cycles:
                 if !sol.report.converged {
                     r.status = format!("step {}: not converged ({:.1e})", i + 1, sol.report.rel_residual);
                 }
-                if sol.quality.inverted > 0 {
+                let inverted = sol.quality.inverted > 0;
+                coords = if inverted {
                     // Not adopted by the solver: measure the result itself.
-                    coords = solver.current_coords().iter().zip(&sol.displacement).map(|(x, d)| x + d).collect();
+                    solver.current_coords().iter().zip(&sol.displacement).map(|(x, d)| x + d).collect()
+                } else {
+                    solver.current_coords().to_vec()
+                };
+                r.steps.push(Step {
+                    iterations: sol.report.cycles,
+                    converged: sol.report.converged,
+                    inverted: sol.quality.inverted,
+                    min_volume_ratio: sol.quality.min_area_ratio,
+                    first: viscous::layer_volume_ratios(v, &coords, 1),
+                    seconds,
+                });
+                if inverted {
                     r.status = format!("step {}: {} cells inverted", i + 1, sol.quality.inverted);
                     break;
                 }
-                coords = solver.current_coords().to_vec();
             }
             Err(e) => {
                 r.status = format!("step {}: {e}", i + 1);
@@ -170,8 +248,8 @@ fn run_caught(v: &ViscousMesh, method: Method, m: BodyMotion, steps: usize, max_
 /// `step_s` adds the re-referencing of every `advance` call.
 pub struct Plan {
     pub meshes: Vec<MeshKind>,
-    /// Sizes 0..sizes of each mesh.
-    pub sizes: usize,
+    /// The sizes of each mesh run (indices into [`MeshKind::build`]'s sizes).
+    pub sizes: std::ops::Range<usize>,
     pub methods: Vec<Method>,
     pub motions: Vec<BodyMotion>,
     /// Step counts of the runs (1 and the re-referenced run's).
@@ -184,16 +262,18 @@ fn range(r: Option<(f64, f64)>) -> (String, String) {
     r.map_or(("".into(), "".into()), |(a, b)| (format!("{a:.6}"), format!("{b:.6}")))
 }
 
-/// Runs `plan` at the pool's thread count (`pool`); writes `out/viscous.csv`, returns the table.
+/// Runs `plan` at the pool's thread count (`pool`); writes `out/viscous.csv` (a row a run) and
+/// `out/viscous_steps.csv` (a row a step), returns the table.
 pub fn run_all(out: &Path, plan: &Plan, pool: &rayon::ThreadPool) -> Result<String, String> {
     let mut csv = format!("{HEADER}\n");
+    let mut steps_csv = format!("{STEPS_HEADER}\n");
     let mut table = String::from(
         "viscous layers: body CLAMPED and moved rigidly, far field FIXED (wing end walls SLIP)\n\
          mesh         size        vertices method      motion steps   it max  mean  setup_s  solve_s   step_s us/v/st   B/vert  \
          1st layer vol       10 layers vol     min vol  inv  max AR  min ang  status\n",
     );
     for &kind in &plan.meshes {
-        for size in 0..plan.sizes {
+        for size in plan.sizes.clone() {
             let (v, label) = match kind.build(size) {
                 Ok(x) => x,
                 Err(e) => {
@@ -222,6 +302,22 @@ pub fn run_all(out: &Path, plan: &Plan, pool: &rayon::ThreadPool) -> Result<Stri
                         let (t0, t1) = range(r.ten);
                         let name = format!("{method:?}").to_lowercase();
                         let status = r.status.replace(',', ";");
+                        for (i, st) in r.steps.iter().enumerate() {
+                            let (f0, f1) = range(st.first);
+                            let _ = writeln!(
+                                steps_csv,
+                                "{},{label},{},{name},{},{steps},{},{},{},{},{:.6},{f0},{f1},{:.4}",
+                                kind.name(),
+                                q.vertices,
+                                m.name(),
+                                i + 1,
+                                st.iterations,
+                                st.converged,
+                                st.inverted,
+                                st.min_volume_ratio,
+                                st.seconds
+                            );
+                        }
                         let _ = writeln!(
                             csv,
                             "{},{label},{},{},{name},{},{steps},{status},{:.4},{:.4},{:.4},{:.3},{:.0},{max},{mean:.1},{f0},{f1},{t0},{t1},{:.6},{},{:.1},{:.3}",
@@ -260,12 +356,22 @@ pub fn run_all(out: &Path, plan: &Plan, pool: &rayon::ThreadPool) -> Result<Stri
                         eprintln!("  {line}");
                         table.push_str(&line);
                         table.push('\n');
+                        // Written after every run: a long run's finished rows survive its end.
+                        write_csvs(out, &csv, &steps_csv)?;
                     }
                 }
             }
         }
     }
-    let path = out.join("viscous.csv");
-    std::fs::write(&path, csv).map_err(|e| format!("{}: {e}", path.display()))?;
+    write_csvs(out, &csv, &steps_csv)?;
     Ok(table)
+}
+
+/// Writes `out/viscous.csv` and `out/viscous_steps.csv`.
+fn write_csvs(out: &Path, csv: &str, steps_csv: &str) -> Result<(), String> {
+    for (name, text) in [("viscous.csv", csv), ("viscous_steps.csv", steps_csv)] {
+        let path = out.join(name);
+        std::fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display()))?;
+    }
+    Ok(())
 }
