@@ -96,15 +96,26 @@ impl Coarsener for LeastSquares {
         let points = fine.unknown_points();
         // The biharmonic's hierarchies keep their lines: their unknowns are dropped along their
         // own line (`on_lines`).
-        let on_lines = self.on_lines.then(|| OnLines::new(fine.lines.lines(), &fine.op.k, &self.features[l], &points));
+        let mut on_lines = self.on_lines.then(|| OnLines::new(fine.lines.lines(), &fine.op.k, &self.features[l], &points));
         // The strong couplings, found once for the selection and the interpolation's rows.
         let mut strong = strong_couplings(&fine.op.k, &self.features[l], &points);
         let mut kept = select_on(&fine.op.k, &self.features[l], &points, &strong, on_lines.as_ref());
+        let too_few_dropped = |kept: &[u32]| (n as f64) < self.params.min_ratio * kept.len() as f64;
+        // A 2D level whose lines no longer couple strongly along themselves (a graded mesh's
+        // rays, coarsened along them until their spacing passes the spacing across them) keeps
+        // nearly every unknown on its lines; there the unknowns with no strong neighbour on
+        // their own line take the general rule, as they do in 3D (`OnLines::across_lines`),
+        // rather than end the hierarchy at a level too large to factor.
+        if too_few_dropped(&kept) {
+            if let Some(o) = on_lines.as_mut().filter(|o| !o.across()) {
+                o.across_lines();
+                kept = select_on(&fine.op.k, &self.features[l], &points, &strong, Some(o));
+            }
+        }
         // A layer one cell thick that the general rule cannot coarsen enough (a layer thinner
         // than its cells are wide: few unknowns have a strong neighbour that may interpolate
         // them) is coarsened within its planes (`Features::in_plane`); every other level keeps
         // the general rule.
-        let too_few_dropped = |kept: &[u32]| (n as f64) < self.params.min_ratio * kept.len() as f64;
         if too_few_dropped(&kept) && self.features[l].one_layer() {
             self.features[l].set_in_plane();
             strong = strong_couplings(&fine.op.k, &self.features[l], &points);

@@ -77,6 +77,17 @@ impl OnLines {
         (self.line_of[d] != NONE).then_some(self.key[d])
     }
 
+    /// Whether a line's unknowns coupled strongly only off their line take the general rule.
+    pub(super) fn across(&self) -> bool {
+        self.across
+    }
+
+    /// Lets a line's unknowns coupled strongly only off their line take the general rule (the
+    /// 3D rule, `keeps_to_line`), for a 2D level whose lines no longer couple along themselves.
+    pub(super) fn across_lines(&mut self) {
+        self.across = true;
+    }
+
     /// Whether unknown `v`, whose strong neighbours are `near`, keeps to its line
     /// (`may_drop_for`): in 2D every unknown on a line; in 3D one with a strong neighbour on its
     /// own line, and the others take the general rule.
