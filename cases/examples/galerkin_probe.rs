@@ -7,6 +7,10 @@ use meshmove::{Method, Options, Solver};
 use meshmove_cases::viscous::*;
 use std::time::Instant;
 
+#[path = "common/solve_line.rs"]
+mod solve_line;
+use solve_line::solve_line;
+
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let kind = args.first().map_or("airfoil", |s| s.as_str());
@@ -58,13 +62,8 @@ fn main() {
             Ok(sol) => {
                 let moved: Vec<f64> = v.mesh.coords().iter().zip(&sol.displacement).map(|(x, d)| x + d).collect();
                 println!(
-                    "step 1: {} iterations (polish {}), residual {:.2e}, converged {}, inverted {}, min volume {:.4}, first layer {:?}, first 10 layers {:?}, solve {:.2} s, step {:.2} s",
-                    sol.report.cycles,
-                    sol.report.polish_cycles,
-                    sol.report.rel_residual,
-                    sol.report.converged,
-                    sol.quality.inverted,
-                    sol.quality.min_area_ratio,
+                    "step 1: {}, first layer {:?}, first 10 layers {:?}, solve {:.2} s, step {:.2} s",
+                    solve_line(&sol),
                     layer_volume_ratios(&v, &moved, 1),
                     layer_volume_ratios(&v, &moved, 10),
                     sol.report.seconds,

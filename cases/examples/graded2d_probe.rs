@@ -7,6 +7,10 @@ use meshmove::{BoundaryConditions, Kind, Motion, Options, RigidMotion, SolvePara
 use meshmove_cases::ogrid::{self, CellKind};
 use std::time::Instant;
 
+#[path = "common/solve_line.rs"]
+mod solve_line;
+use solve_line::solve_line;
+
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let sizes: Vec<usize> = args
@@ -30,12 +34,8 @@ fn main() {
         print!("{}", solver.describe());
         match solver.solve(&motion) {
             Ok(sol) => println!(
-                "iterations {} (polish {}), residual {:.2e}, converged {}, inverted {}, min volume {:.6}, solve {:.2} s",
-                sol.report.cycles,
-                sol.report.polish_cycles,
-                sol.report.rel_residual,
-                sol.report.converged,
-                sol.quality.inverted,
+                "{}, min volume to six digits {:.6}, solve {:.2} s",
+                solve_line(&sol),
                 sol.quality.min_area_ratio,
                 sol.report.seconds
             ),
