@@ -77,7 +77,7 @@ pub(super) fn prolongation(fine: &Level, f: &Features, kept: &[u32], donors: Don
     };
     let chunks: Vec<(Vec<u32>, Vec<u32>, Vec<f64>)> = (0..n.div_ceil(CHUNK))
         .into_par_iter()
-        .map_init(|| (Rings::new(n), Vec::new()), |(rings, near), c| {
+        .map_init(|| (Rings::new(n), Vec::new(), Vec::new()), |(rings, near, shorts), c| {
             let (mut lens, mut cols, mut vals) = (Vec::new(), Vec::new(), Vec::new());
             let mut row = Vec::new();
             let rows = c * CHUNK..((c + 1) * CHUNK).min(n);
@@ -91,7 +91,7 @@ pub(super) fn prolongation(fine: &Level, f: &Features, kept: &[u32], donors: Don
                 } else if let Some(r) = along.get(v).and_then(|r| r.as_ref()) {
                     row.extend_from_slice(r);
                 } else {
-                    ctx.row(v, ctx.choose(v, rings, near), &mut row);
+                    ctx.row(v, ctx.choose(v, rings, near, shorts), &mut row);
                 }
                 lens.push(row.len() as u32);
                 for &(c, w) in &row {
@@ -161,8 +161,9 @@ impl Context<'_> {
     /// The donors of fine unknown `v` (fine numbering), ascending, and their fitted weights (None:
     /// no fit exists): its strongly coupled kept neighbours (`strong`) nearest first, then (only
     /// when those do not determine a bounded fit) its other kept neighbours and kept neighbours
-    /// of neighbours, nearest first, one at a time (`choose_donors`).
-    fn choose(&self, v: usize, rings: &mut Rings, found: &mut Vec<f64>) -> (Vec<u32>, Option<Vec<f64>>) {
+    /// of neighbours, nearest first, one at a time (`choose_donors`). `found` and `shorts` are
+    /// buffers for `strong`, reused from row to row.
+    fn choose(&self, v: usize, rings: &mut Rings, found: &mut Vec<f64>, shorts: &mut super::Shorts) -> (Vec<u32>, Option<Vec<f64>>) {
         let is_donor = |u: u32| self.coarse_of[u as usize] != u32::MAX && self.f.donor_ok(v, u as usize);
         let key = |u: u32| (norm2(self.rel(v, u as usize)), u);
         let row = self.k.row(v).0;
@@ -170,7 +171,7 @@ impl Context<'_> {
             Some(s) => &s[self.k.row_ptr[v] as usize..self.k.row_ptr[v + 1] as usize],
             None => {
                 found.resize(row.len(), 0.0);
-                super::strong(self.k, self.f, v, |u| self.rel(v, u), found);
+                super::strong(self.k, self.f, v, |u| self.rel(v, u), found, shorts);
                 &found[..]
             }
         };
@@ -421,6 +422,11 @@ fn norm2(r: [f64; 3]) -> f64 {
 /// spreads Σ (r·a)²: on a wall the first two span its tangent plane, on a crease the first is
 /// its line.
 pub(super) fn principal_axes(rel: &[[f64; 3]]) -> ([[f64; 3]; 3], [f64; 3]) {
+    principal_axes_of(rel.iter().copied())
+}
+
+/// `principal_axes` of the offsets `rel` yields, summed in its order.
+pub(super) fn principal_axes_of(rel: impl IntoIterator<Item = [f64; 3]>) -> ([[f64; 3]; 3], [f64; 3]) {
     let mut c = [[0.0; 3]; 3];
     for r in rel {
         for i in 0..3 {
