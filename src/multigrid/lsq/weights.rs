@@ -9,10 +9,10 @@
 //! neighbours first, then kept neighbours of neighbours by distance, added one at a time until
 //! the system is well conditioned and the weights are bounded (Σ|w| ≤ 2, no extrapolation far
 //! outside the donors). Under wall layers (`Donors::Fewest`) a row starts from as few of its
-//! nearest strong kept neighbours as its feature needs and holds 12 donors at most, the one with
-//! the smallest Σ|w| when none is bounded: the Galerkin levels' stencils grow with P's rows, and
-//! with every strong neighbour the deep levels under the layers turned dense
-//! (docs/DESIGN.md §5, "Wall layers").
+//! nearest strong kept neighbours as its feature needs, adding the next nearest candidate one
+//! at a time up to 24 donors, the one with the smallest Σ|w| when none is bounded: the Galerkin
+//! levels' stencils grow with P's rows, and with every strong neighbour the deep levels under
+//! the layers turned dense (docs/DESIGN.md §5, "Wall layers").
 
 use super::Features;
 use crate::multigrid::level::Level;
@@ -21,8 +21,11 @@ use rayon::prelude::*;
 
 /// Rows per parallel task.
 const CHUNK: usize = 2048;
-/// Most donors of a row with `Donors::Fewest`.
-const FEWEST_MAX: usize = 12;
+/// Most donors of a row with `Donors::Fewest`. A row takes the shortest bounded prefix of its
+/// candidates, so the cap acts only on the rows that 12 candidates do not fit within the bound:
+/// at the O-grid's block edges and below the layers' outer ends those extrapolate (Σ|w| up to
+/// tens) from 12 and are bounded from more.
+const FEWEST_MAX: usize = 24;
 /// Most donors whose offsets a fit holds on the stack.
 const FIT_ON_STACK: usize = 32;
 /// Largest Σ|w| accepted while more donors remain.
