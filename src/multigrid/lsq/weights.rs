@@ -23,8 +23,8 @@ use rayon::prelude::*;
 const CHUNK: usize = 2048;
 /// Most donors of a row with `Donors::Fewest`. A row takes the shortest bounded prefix of its
 /// candidates, so the cap acts only on the rows that 12 candidates do not fit within the bound:
-/// at the O-grid's block edges and below the layers' outer ends those extrapolate (Σ|w| up to
-/// tens) from 12 and are bounded from more.
+/// at an O-grid's block edges and on the deep levels below wall layers such rows extrapolate
+/// from 12 and are bounded from more.
 const FEWEST_MAX: usize = 24;
 /// Most donors whose offsets a fit holds on the stack.
 const FIT_ON_STACK: usize = 32;
