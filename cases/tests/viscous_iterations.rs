@@ -68,9 +68,10 @@ fn spheroid_biharmonic_takes_a_bounded_number_of_iterations() {
 }
 
 /// Under wall layers the kept levels interpolate from a few donors each, so the Galerkin levels
-/// stay sparse: every row of every transfer has at most 12 entries (all strongly coupled kept
-/// neighbours, the choice elsewhere, reach over 64 on the spheroid's deep levels), and the
-/// levels' applied operators sum to a bounded multiple of the finest level's K.
+/// stay sparse: every row of every transfer has at most 24 entries (12, or in 3D 24 where 12
+/// candidates only extrapolate; all strongly coupled kept neighbours, the choice elsewhere,
+/// reach over 64 on the spheroid's deep levels), and the levels' applied operators sum to a
+/// bounded multiple of the finest level's K.
 #[test]
 fn spheroid_kept_levels_stay_sparse() {
     let v = spheroid_3d(&SpheroidParams::new(4)).unwrap();
@@ -80,7 +81,7 @@ fn spheroid_kept_levels_stay_sparse() {
     for (l, level) in levels.iter().enumerate() {
         if let Some(p) = level.prolong() {
             let widest = (0..p.nrows).map(|i| p.row(i).0.len()).max().unwrap();
-            assert!(widest <= 12, "level {l}: a row of {widest} donors");
+            assert!(widest <= 24, "level {l}: a row of {widest} donors");
         }
     }
     let applied: usize = levels.iter().map(|l| l.op().assembled_nnz().unwrap_or(l.op().k.nnz())).sum();

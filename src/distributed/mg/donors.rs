@@ -186,7 +186,7 @@ pub(super) fn interpolation(
                 let rel: Vec<[f64; 3]> = set.iter().map(|&c| offset(c)).collect();
                 fit_offsets(&rel, at.dim)
             };
-            match choose_donors(near, far, at.dim, false, fit) {
+            match choose_donors(near, far, at.dim, false, false, fit) {
                 (donors, Some(w)) if bounded(&w) => {
                     donors.iter().zip(w).map(|(&(g, k), w)| (g, ring_owners[k as usize], w)).collect()
                 }

@@ -245,6 +245,9 @@ const CONE_COS2: f64 = 0.75;
 /// largest, for `directional` to count that axis as spanned by them.
 const SPAN: f64 = 0.1;
 
+/// A row's short neighbours in `directional`, each its offset and squared distance.
+pub(super) type Shorts = Vec<([f64; 3], f64)>;
+
 /// The neighbours of `v` in K's graph (not `v`) that are strongly coupled to it
 /// (`directional`), `rel(u)` giving u's offset from `v`: `out`, one value per entry of K's row
 /// `v`, takes the squared distance of each such neighbour and NaN at every other entry. The
@@ -257,8 +260,15 @@ const SPAN: f64 = 0.1;
 /// dropped: none of them may interpolate it (`Features::donor_ok`). For such an unknown only the
 /// neighbours that may interpolate it (on its own plane, or its edge) count, the nearest among
 /// them setting the reach, so each plane is coarsened as its 2D section would be; every other
-/// unknown keeps the rule above.
-pub(super) fn strong(k: &CsrMatrix, f: &Features, v: usize, rel: impl Fn(usize) -> [f64; 3], out: &mut [f64]) {
+/// unknown keeps the rule above. `shorts` is `directional`'s buffer, reused from row to row.
+pub(super) fn strong(
+    k: &CsrMatrix,
+    f: &Features,
+    v: usize,
+    rel: impl Fn(usize) -> [f64; 3],
+    out: &mut [f64],
+    shorts: &mut Shorts,
+) {
     let row = k.row(v).0;
     for (d, &u) in out.iter_mut().zip(row) {
         *d = if u as usize != v { norm2(rel(u as usize)) } else { f64::INFINITY };
@@ -275,7 +285,7 @@ pub(super) fn strong(k: &CsrMatrix, f: &Features, v: usize, rel: impl Fn(usize) 
         return;
     }
     if f.dim() == 3 {
-        directional(row, v, &rel, out);
+        directional(row, v, &rel, out, shorts);
     } else {
         // 2D keeps one reach from the nearest neighbour: its slip-wall channel's kept levels
         // took more iterations with the directions' rule.
@@ -293,21 +303,21 @@ pub(super) fn strong(k: &CsrMatrix, f: &Features, v: usize, rel: impl Fn(usize) 
 /// than the other (a graded shell whose cells are longer across it than along it) the long
 /// direction is weak, whatever the ratio beyond `SHORT_DIRECTION`, so the shell is coarsened
 /// along itself; within cells of moderate aspect ratio every direction is short and the reach
-/// is the nearest neighbour's.
-fn directional(row: &[u32], v: usize, rel: &impl Fn(usize) -> [f64; 3], d2: &mut [f64]) {
+/// is the nearest neighbour's. `shorts` is a buffer the caller reuses from row to row.
+fn directional(row: &[u32], v: usize, rel: &impl Fn(usize) -> [f64; 3], d2: &mut [f64], shorts: &mut Shorts) {
     let nearest = nearest_of(d2);
     let short = SHORT_DIRECTION * SHORT_DIRECTION * nearest;
     let reach = STRONG_REACH * STRONG_REACH * short;
     // The short neighbours (offset, squared distance): only they can set a direction's spacing.
-    let shorts: Vec<([f64; 3], f64)> =
-        row.iter().zip(d2.iter()).filter(|&(&u, &d)| u as usize != v && d <= short).map(|(&u, &d)| (rel(u as usize), d)).collect();
+    shorts.clear();
+    shorts.extend(row.iter().zip(d2.iter()).filter(|&(&u, &d)| u as usize != v && d <= short).map(|(&u, &d)| (rel(u as usize), d)));
+    let shorts = &shorts[..];
     // The axes the short directions span (those of their unit vectors' spread above a tenth
     // of the largest): a neighbour within 30° of their span is along the cells' short sides.
-    let units: Vec<[f64; 3]> = shorts.iter().map(|&(s, ds)| s.map(|x| x / ds.sqrt())).collect();
-    let (axes, spread) = weights::principal_axes(&units);
-    let long: Vec<[f64; 3]> = (0..3).filter(|&i| spread[i] < SPAN * spread[0]).map(|i| axes[i]).collect();
+    let (axes, spread) = weights::principal_axes_of(shorts.iter().map(|&(s, ds)| s.map(|x| x / ds.sqrt())));
+    let across = |i: &usize| spread[*i] < SPAN * spread[0];
     let in_span = |r: [f64; 3], d: f64| {
-        let off: f64 = long.iter().map(|a| (r[0] * a[0] + r[1] * a[1] + r[2] * a[2]).powi(2)).sum();
+        let off: f64 = (0..3).filter(across).map(|i| axes[i]).map(|a| (r[0] * a[0] + r[1] * a[1] + r[2] * a[2]).powi(2)).sum();
         off <= (1.0 - CONE_COS2) * d
     };
     for (d, &u) in d2.iter_mut().zip(row) {
@@ -364,9 +374,10 @@ pub(super) fn strong_couplings(k: &CsrMatrix, f: &Features, points: &[f64]) -> V
     let mut out = vec![0.0; k.nnz()];
     crate::sparse::row_blocks(&k.row_ptr, &mut out, STRONG_ROWS).into_par_iter().for_each(|(rows, b)| {
         let base = k.row_ptr[rows.start] as usize;
+        let mut shorts = Shorts::new();
         for v in rows {
             let r = k.row_ptr[v] as usize - base..k.row_ptr[v + 1] as usize - base;
-            strong(k, f, v, |u| f.relative(v, u, at(v), at(u)), &mut b[r]);
+            strong(k, f, v, |u| f.relative(v, u, at(v), at(u)), &mut b[r], &mut shorts);
         }
     });
     out
@@ -385,7 +396,7 @@ mod tests {
         let row: Vec<u32> = (0..=offsets.len() as u32).collect();
         let rel = |u: usize| offsets[u - 1];
         let mut d2: Vec<f64> = std::iter::once(f64::INFINITY).chain(offsets.iter().map(|r| r.iter().map(|x| x * x).sum())).collect();
-        directional(&row, 0, &rel, &mut d2);
+        directional(&row, 0, &rel, &mut d2, &mut Vec::new());
         d2[1..].iter().map(|d| !d.is_nan()).collect()
     }
 

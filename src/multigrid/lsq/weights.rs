@@ -9,10 +9,11 @@
 //! neighbours first, then kept neighbours of neighbours by distance, added one at a time until
 //! the system is well conditioned and the weights are bounded (Σ|w| ≤ 2, no extrapolation far
 //! outside the donors). Under wall layers (`Donors::Fewest`) a row starts from as few of its
-//! nearest strong kept neighbours as its feature needs and holds 12 donors at most, the one with
-//! the smallest Σ|w| when none is bounded: the Galerkin levels' stencils grow with P's rows, and
-//! with every strong neighbour the deep levels under the layers turned dense
-//! (docs/DESIGN.md §5, "Wall layers").
+//! nearest strong kept neighbours as its feature needs, adding the next nearest candidate one
+//! at a time up to 12 donors, the one with the smallest Σ|w| when none is bounded (in 3D up to
+//! 24 when that one extrapolates beyond Σ|w| = 3): the Galerkin
+//! levels' stencils grow with P's rows, and with every strong neighbour the deep levels under
+//! the layers turned dense (docs/DESIGN.md §5, "Wall layers").
 
 use super::Features;
 use crate::multigrid::level::Level;
@@ -21,8 +22,16 @@ use rayon::prelude::*;
 
 /// Rows per parallel task.
 const CHUNK: usize = 2048;
-/// Most donors of a row with `Donors::Fewest`.
+/// Most donors of a row with `Donors::Fewest` whose fit of its nearest candidates is bounded
+/// or extrapolates little (`EXTRAPOLATES`).
 const FEWEST_MAX: usize = 12;
+/// Most donors of a row with `Donors::Fewest` whose `FEWEST_MAX` nearest candidates extrapolate
+/// beyond `EXTRAPOLATES` whatever their prefix: at an O-grid's block edges and on the deep
+/// levels below wall layers such rows are bounded from more candidates.
+const FEWEST_WIDE: usize = 24;
+/// Σ|w| of the least-spread fit of `FEWEST_MAX` candidates above which a row searches up to
+/// `FEWEST_WIDE`.
+const EXTRAPOLATES: f64 = 3.0;
 /// Most donors whose offsets a fit holds on the stack.
 const FIT_ON_STACK: usize = 32;
 /// Largest Σ|w| accepted while more donors remain.
@@ -77,7 +86,7 @@ pub(super) fn prolongation(fine: &Level, f: &Features, kept: &[u32], donors: Don
     };
     let chunks: Vec<(Vec<u32>, Vec<u32>, Vec<f64>)> = (0..n.div_ceil(CHUNK))
         .into_par_iter()
-        .map_init(|| (Rings::new(n), Vec::new()), |(rings, near), c| {
+        .map_init(|| (Rings::new(n), Vec::new(), Vec::new()), |(rings, near, shorts), c| {
             let (mut lens, mut cols, mut vals) = (Vec::new(), Vec::new(), Vec::new());
             let mut row = Vec::new();
             let rows = c * CHUNK..((c + 1) * CHUNK).min(n);
@@ -91,7 +100,7 @@ pub(super) fn prolongation(fine: &Level, f: &Features, kept: &[u32], donors: Don
                 } else if let Some(r) = along.get(v).and_then(|r| r.as_ref()) {
                     row.extend_from_slice(r);
                 } else {
-                    ctx.row(v, ctx.choose(v, rings, near), &mut row);
+                    ctx.row(v, ctx.choose(v, rings, near, shorts), &mut row);
                 }
                 lens.push(row.len() as u32);
                 for &(c, w) in &row {
@@ -161,8 +170,9 @@ impl Context<'_> {
     /// The donors of fine unknown `v` (fine numbering), ascending, and their fitted weights (None:
     /// no fit exists): its strongly coupled kept neighbours (`strong`) nearest first, then (only
     /// when those do not determine a bounded fit) its other kept neighbours and kept neighbours
-    /// of neighbours, nearest first, one at a time (`choose_donors`).
-    fn choose(&self, v: usize, rings: &mut Rings, found: &mut Vec<f64>) -> (Vec<u32>, Option<Vec<f64>>) {
+    /// of neighbours, nearest first, one at a time (`choose_donors`). `found` and `shorts` are
+    /// buffers for `strong`, reused from row to row.
+    fn choose(&self, v: usize, rings: &mut Rings, found: &mut Vec<f64>, shorts: &mut super::Shorts) -> (Vec<u32>, Option<Vec<f64>>) {
         let is_donor = |u: u32| self.coarse_of[u as usize] != u32::MAX && self.f.donor_ok(v, u as usize);
         let key = |u: u32| (norm2(self.rel(v, u as usize)), u);
         let row = self.k.row(v).0;
@@ -170,7 +180,7 @@ impl Context<'_> {
             Some(s) => &s[self.k.row_ptr[v] as usize..self.k.row_ptr[v + 1] as usize],
             None => {
                 found.resize(row.len(), 0.0);
-                super::strong(self.k, self.f, v, |u| self.rel(v, u), found);
+                super::strong(self.k, self.f, v, |u| self.rel(v, u), found, shorts);
                 &found[..]
             }
         };
@@ -187,9 +197,10 @@ impl Context<'_> {
             let kept = rings.once(v, self.kept_nbrs.of(v).iter().copied().chain(ring2));
             let mut far: Vec<(f64, u32)> =
                 kept.iter().copied().filter(|&u| u as usize != v && is_donor(u) && !near.contains(&u)).map(key).collect();
-            nearest(&mut far, if fewest { FEWEST_MAX.saturating_sub(near.len()) } else { usize::MAX })
+            let most = if self.dim == 3 { FEWEST_WIDE } else { FEWEST_MAX };
+            nearest(&mut far, if fewest { most.saturating_sub(near.len()) } else { usize::MAX })
         };
-        choose_donors(near, far, self.f.feature_dim(v), fewest, |set| self.fit(v, set))
+        choose_donors(near, far, self.f.feature_dim(v), fewest, self.dim == 3, |set| self.fit(v, set))
     }
 
     /// Row `v` of P from `donors` (fine numbering, ascending) and their `weights`, or the
@@ -277,7 +288,8 @@ impl Rings {
 /// in distance broken by `T`'s order, and each donor set fitted in ascending order (`fit`: its
 /// weights, or None). `fdim` is the dimension of the unknown's feature. With `fewest` a row
 /// starts from as few donors as the feature needs and holds `FEWEST_MAX` at most, the one of
-/// smallest Σ|w| when none is bounded; without, it starts from all of `near` and, when no
+/// smallest Σ|w| when none is bounded (with `wide`, in 3D, `FEWEST_WIDE` when that one exceeds
+/// `EXTRAPOLATES`: in 2D the boundary-layer cylinder's kept levels lost an iteration with it); without, it starts from all of `near` and, when no
 /// prefix is bounded, takes every candidate's fit (None when there is none). The serial levels
 /// pass their unknowns' indices; the distributed levels the global ids, so that a row does not
 /// depend on how the unknowns are numbered on a rank.
@@ -286,6 +298,7 @@ pub(crate) fn choose_donors<T: Copy + Ord>(
     far: impl FnOnce(&[T]) -> Vec<T>,
     fdim: usize,
     fewest: bool,
+    wide: bool,
     fit: impl Fn(&[T]) -> Option<Vec<f64>>,
 ) -> (Vec<T>, Option<Vec<f64>>) {
     if fewest {
@@ -302,8 +315,16 @@ pub(crate) fn choose_donors<T: Copy + Ord>(
     cands.extend(more);
     let second = (near + 1).max(fdim + 1).min(cands.len());
     if fewest {
-        cands.truncate(FEWEST_MAX);
-        return first_bounded(&cands, second, &fit).unwrap_or_else(|| least_spread(&cands, fdim + 1, &fit));
+        let few = cands.len().min(FEWEST_MAX);
+        if let Some(found) = first_bounded(&cands[..few], second.min(few), &fit) {
+            return found;
+        }
+        let (set, w) = least_spread(&cands[..few], fdim + 1, &fit);
+        if !wide || w.as_ref().is_some_and(|w| w.iter().map(|w| w.abs()).sum::<f64>() <= EXTRAPOLATES) || cands.len() <= few {
+            return (set, w);
+        }
+        cands.truncate(FEWEST_WIDE);
+        return first_bounded(&cands, few + 1, &fit).unwrap_or_else(|| least_spread(&cands, fdim + 1, &fit));
     }
     first_bounded(&cands, second, &fit).unwrap_or_else(|| {
         cands.sort_unstable();
@@ -421,6 +442,11 @@ fn norm2(r: [f64; 3]) -> f64 {
 /// spreads Σ (r·a)²: on a wall the first two span its tangent plane, on a crease the first is
 /// its line.
 pub(super) fn principal_axes(rel: &[[f64; 3]]) -> ([[f64; 3]; 3], [f64; 3]) {
+    principal_axes_of(rel.iter().copied())
+}
+
+/// `principal_axes` of the offsets `rel` yields, summed in its order.
+pub(super) fn principal_axes_of(rel: impl IntoIterator<Item = [f64; 3]>) -> ([[f64; 3]; 3], [f64; 3]) {
     let mut c = [[0.0; 3]; 3];
     for r in rel {
         for i in 0..3 {
