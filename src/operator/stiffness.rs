@@ -8,7 +8,7 @@
 
 use super::scatter::Scatter;
 use crate::bc::Dofs;
-use crate::geometry::{dist2, CellPoints, Lanes, MAX_CORNERS};
+use crate::geometry::{dist2, CellPoints, Corners, Lanes, MAX_CORNERS};
 use crate::sparse::CsrMatrix;
 use crate::Mesh;
 
@@ -93,6 +93,11 @@ pub(crate) fn stiffness_and_mass(k: &mut CsrMatrix, scatter: &Scatter, mesh: &Me
         lanes.run(#[inline(always)]
         || {
             for c in 0..mesh.num_cells() {
+                let next = c + 1;
+                if next < mesh.num_cells() && !mesh.cell_type(next).is_general() {
+                    let ahead = at + if mesh.cell_type(c).is_general() { 0 } else { mesh.cell_type(c).couplings().len() };
+                    scatter.prefetch(k, ahead, &dofs.cell_dofs(mesh, next), mesh.cell_type(next).couplings());
+                }
                 add_cell(c, &element(mesh, c, lanes), k, &mut v, &mut at, scatter, mesh, dofs);
             }
         });
@@ -140,7 +145,7 @@ fn element(mesh: &Mesh, c: usize, lanes: Lanes) -> Element {
 /// `scatter` holds from coupling `at` on (advanced past them); a general cell is evaluated and
 /// added by `general.rs`.
 #[allow(clippy::too_many_arguments)]
-#[inline]
+#[inline(always)]
 fn add_cell(c: usize, (kl, ml): &Element, k: &mut CsrMatrix, v: &mut [f64], at: &mut usize, scatter: &Scatter, mesh: &Mesh, dofs: &Dofs) {
     if mesh.cell_type(c).is_general() {
         super::general::add(Some(k), Some(v), mesh, dofs, c);
@@ -148,6 +153,19 @@ fn add_cell(c: usize, (kl, ml): &Element, k: &mut CsrMatrix, v: &mut [f64], at: 
     }
     let d = dofs.cell_dofs(mesh, c);
     let couplings = mesh.cell_type(c).couplings();
+    if let Some(within) = scatter.within_rows(*at, couplings.len()) {
+        // Every coupling by its map: each corner's row start read once.
+        let rows = Corners::<usize>::from_fn(d.len(), |q| k.row_ptr[d[q] as usize] as usize);
+        for ((&[i, j], o), &x) in couplings.iter().zip(within.chunks_exact(2)).zip(kl) {
+            k.vals[rows[i as usize] + o[0] as usize] += x;
+            k.vals[rows[j as usize] + o[1] as usize] += x;
+        }
+        *at += couplings.len();
+        for (q, &i) in d.iter().enumerate() {
+            v[i as usize] += ml[q];
+        }
+        return;
+    }
     for (m, &[i, j]) in couplings.iter().enumerate() {
         let (di, dj) = (d[i as usize] as usize, d[j as usize] as usize);
         if di != dj {
