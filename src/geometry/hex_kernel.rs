@@ -57,33 +57,66 @@ fn cross(a: &Lanes3, b: &Lanes3) -> Lanes3 {
     c
 }
 
-/// K_ij = ∫∇φ_i·∇φ_j for the 28 corner pairs in `CellType::Hexahedron.couplings()` order and
-/// the lumped mass ∫φ_i of the eight corners. At each point, with the cofactors C of the
-/// Jacobian (det·J⁻ᵀ), K_ij gains (C∇_ref φ_i)·(C∇_ref φ_j) / det and the mass φ_i det.
-pub(super) fn stiffness_and_mass(p: &[[f64; 3]], k: &mut [f64], m: &mut [f64]) {
-    #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") {
-        // SAFETY: the processor has AVX2, detected just above.
-        unsafe { stiffness_and_mass_avx2(p, k, m) };
-        return;
-    }
-    // On SSE2's two lanes and sixteen registers the lanes' shuffles and spills cost what their
-    // vectors save: the point-by-point formulation.
-    super::tensor::hex_stiffness_and_mass_by_points(p, k, m);
+/// Which compiled copy of the element kernels a pass over the cells runs: the processor is asked
+/// once per pass (`Lanes::detect`), not once per cell, and the pass runs inside `Lanes::run`, so
+/// the hexahedron's kernel is inlined into the loop compiled for the lanes it has.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Lanes {
+    /// AVX2's four lanes (x86-64 processors that have them).
+    Avx2,
+    /// The baseline's instructions.
+    Baseline,
 }
 
-/// `lanes` compiled for AVX2 (without FMA: the same roundings as the baseline's).
+impl Lanes {
+    /// The lanes this processor has.
+    pub(crate) fn detect() -> Lanes {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            return Lanes::Avx2;
+        }
+        Lanes::Baseline
+    }
+
+    /// Runs `f` compiled for these lanes (`f`'s values are the same on either: no fused
+    /// multiply-add is enabled).
+    #[inline(always)]
+    pub(crate) fn run<R>(self, f: impl FnOnce() -> R) -> R {
+        match self {
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: `Avx2` comes from `detect`, which found AVX2 on this processor.
+            Lanes::Avx2 => unsafe { in_avx2(f) },
+            _ => f(),
+        }
+    }
+}
+
+/// `f` compiled for AVX2 (without FMA: the same roundings as the baseline's).
 ///
 /// # Safety
 /// The processor must have AVX2.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn stiffness_and_mass_avx2(p: &[[f64; 3]], k: &mut [f64], m: &mut [f64]) {
-    lanes(p, k, m);
+unsafe fn in_avx2<R>(f: impl FnOnce() -> R) -> R {
+    f()
 }
 
-/// The kernel itself (see the module's comment), inlined into the AVX2 copy.
-#[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
+/// K_ij = ∫∇φ_i·∇φ_j for the 28 corner pairs in `CellType::Hexahedron.couplings()` order and
+/// the lumped mass ∫φ_i of the eight corners. At each point, with the cofactors C of the
+/// Jacobian (det·J⁻ᵀ), K_ij gains (C∇_ref φ_i)·(C∇_ref φ_j) / det and the mass φ_i det. With
+/// `Lanes::Avx2`, called inside `Lanes::run`, the lanes' layout runs on AVX2; with
+/// `Lanes::Baseline` the point-by-point formulation, which SSE2's two lanes run as fast as the
+/// lanes' layout (its shuffles and spills cost what its vectors save). Bitwise the same values
+/// either way.
+#[inline(always)]
+pub(super) fn stiffness_and_mass(p: &[[f64; 3]], k: &mut [f64], m: &mut [f64], with: Lanes) {
+    match with {
+        Lanes::Avx2 => lanes(p, k, m),
+        Lanes::Baseline => super::tensor::hex_stiffness_and_mass_by_points(p, k, m),
+    }
+}
+
+/// The kernel itself (see the module's comment), inlined into the caller's loop.
 #[inline(always)]
 fn lanes(p: &[[f64; 3]], k: &mut [f64], m: &mut [f64]) {
     let t = tables();
@@ -146,11 +179,12 @@ fn lanes(p: &[[f64; 3]], k: &mut [f64], m: &mut [f64]) {
 #[cfg(test)]
 mod tests {
     use super::super::tensor::hex_stiffness_and_mass_by_points;
+    use super::Lanes;
 
     /// Distorted hexahedra (corners of the unit cube moved by up to 0.2 or 0.75 of its side,
     /// some cells inverted): the lanes' K and V are bitwise the point-by-point formulation's,
-    /// compiled for the baseline and (where the processor has it) for AVX2, and so is the
-    /// dispatching kernel.
+    /// compiled for the baseline and (where the processor has it, inside `Lanes::run`) for AVX2,
+    /// and so is the kernel with either choice of lanes.
     #[test]
     fn the_lanes_are_the_point_by_point_kernel_bitwise() {
         let cube = [[0., 0., 0.], [1., 0., 0.], [1., 1., 0.], [0., 1., 0.], [0., 0., 1.], [1., 0., 1.], [1., 1., 1.], [0., 1., 1.]];
@@ -169,16 +203,15 @@ mod tests {
             let (mut k1, mut m1) = ([0.0; 28], [0.0; 8]);
             super::lanes(&p, &mut k1, &mut m1);
             assert_eq!(bits(&k1, &m1), bits(&k0, &m0), "cell {cell}");
-            let (mut k2, mut m2) = ([0.0; 28], [0.0; 8]);
-            super::stiffness_and_mass(&p, &mut k2, &mut m2);
-            assert_eq!(bits(&k2, &m2), bits(&k0, &m0), "cell {cell}");
-            #[cfg(target_arch = "x86_64")]
-            if std::arch::is_x86_feature_detected!("avx2") {
-                let (mut k3, mut m3) = ([0.0; 28], [0.0; 8]);
-                // SAFETY: the processor has AVX2, detected just above.
-                unsafe { super::stiffness_and_mass_avx2(&p, &mut k3, &mut m3) };
-                assert_eq!(bits(&k3, &m3), bits(&k0, &m0), "cell {cell}");
+            for with in [Lanes::Baseline, Lanes::Avx2, Lanes::detect()] {
+                let (mut k2, mut m2) = ([0.0; 28], [0.0; 8]);
+                super::stiffness_and_mass(&p, &mut k2, &mut m2, with);
+                assert_eq!(bits(&k2, &m2), bits(&k0, &m0), "cell {cell}, {with:?}");
             }
+            let (mut k3, mut m3) = ([0.0; 28], [0.0; 8]);
+            let with = Lanes::detect();
+            with.run(|| super::stiffness_and_mass(&p, &mut k3, &mut m3, with));
+            assert_eq!(bits(&k3, &m3), bits(&k0, &m0), "cell {cell}, {with:?} run");
             nonzero += k0.iter().filter(|x| **x != 0.0).count();
         }
         assert!(nonzero > 2000 * 20);

@@ -20,6 +20,7 @@ mod tensor;
 pub use cell_type::{CellType, MAX_CORNERS};
 pub(crate) use face::face_area_vector;
 pub(crate) use general::GeneralPoints;
+pub(crate) use hex_kernel::Lanes;
 
 /// Up to `MAX_CORNERS` values, one per corner of a cell.
 #[derive(Clone, Copy, Debug)]
@@ -147,10 +148,12 @@ impl CellPoints {
     }
 
     /// `stiffness` and `lumped_mass` together (bitwise each), sharing the quadrature points
-    /// where the cell has them.
-    pub(crate) fn stiffness_and_mass(&self, k: &mut [f64], m: &mut [f64]) {
+    /// where the cell has them; the hexahedron's on `with`'s lanes (`Lanes`: run inside
+    /// `with.run`, chosen once for a pass over the cells).
+    #[inline(always)]
+    pub(crate) fn stiffness_and_mass(&self, k: &mut [f64], m: &mut [f64], with: Lanes) {
         match self.ty {
-            CellType::Hexahedron => hex_kernel::stiffness_and_mass(&self.p, k, m),
+            CellType::Hexahedron => hex_kernel::stiffness_and_mass(&self.p, k, m, with),
             CellType::Wedge | CellType::Pyramid => decomposed::element(self.ty, &self.p, Some(k), Some(m)),
             _ => {
                 self.stiffness(k);

@@ -127,7 +127,7 @@ fn hex_cofactors(p: &[[f64; 3]], g: &[[f64; 3]; 8]) -> ([[f64; 3]; 3], f64) {
 
 /// K_ij = ∫∇φ_i·∇φ_j of the trilinear hexahedron for its 28 corner pairs, 2×2×2 Gauss.
 pub(super) fn hex_stiffness(p: &[[f64; 3]], k: &mut [f64]) {
-    super::hex_kernel::stiffness_and_mass(p, k, &mut [0.0; 8]);
+    hex_stiffness_and_mass_by_points(p, k, &mut [0.0; 8]);
 }
 
 /// `hex_stiffness` and `hex_lumped_mass` point by point, from one evaluation of each Gauss point:

@@ -67,6 +67,38 @@ impl Scatter {
         (slot(self.within_row[2 * at], i, j), slot(self.within_row[2 * at + 1], j, i))
     }
 
+    /// The positions within their rows of the `n` couplings from `at` on (two bytes each, as
+    /// `positions` reads them) when the map holds every one of them: no row is searched and no
+    /// coupling is of an unknown with itself (the map marks those too). None otherwise.
+    #[inline(always)]
+    pub(crate) fn within_rows(&self, at: usize, n: usize) -> Option<&[u8]> {
+        let b = &self.within_row[2 * at..2 * (at + n)];
+        b.iter().fold(true, |all, &o| all & (o != SEARCH)).then_some(b)
+    }
+
+    /// Asks the processor to bring into cache the entries of K that the `couplings` of a cell
+    /// with unknowns `d` add into, from coupling `at` on: issued a cell ahead, their loads
+    /// overlap that cell's element kernel instead of stalling its adds. Changes no value.
+    #[inline(always)]
+    pub(crate) fn prefetch(&self, k: &CsrMatrix, at: usize, d: &[u32], couplings: &[[u8; 2]]) {
+        #[cfg(target_arch = "x86_64")]
+        if let Some(within) = self.within_row.get(2 * at..2 * (at + couplings.len())) {
+            use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+            for (&[i, j], o) in couplings.iter().zip(within.chunks_exact(2)) {
+                for (r, o) in [(i, o[0]), (j, o[1])] {
+                    let p = k.row_ptr[d[r as usize] as usize] as usize + o as usize;
+                    if o != SEARCH && p < k.vals.len() {
+                        // SAFETY: x86-64 always has SSE; a prefetch reads nothing (and the
+                        // address is within `k.vals`).
+                        unsafe { _mm_prefetch::<_MM_HINT_T0>(k.vals[p..].as_ptr().cast()) };
+                    }
+                }
+            }
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        let _ = (k, at, d, couplings);
+    }
+
     /// The bytes the map holds for coupling `at` (its positions within the two rows), for tests.
     #[cfg(test)]
     pub(crate) fn slots(&self, at: usize) -> [u8; 2] {

@@ -8,7 +8,7 @@
 
 use super::scatter::Scatter;
 use crate::bc::Dofs;
-use crate::geometry::{dist2, CellPoints, MAX_CORNERS};
+use crate::geometry::{dist2, CellPoints, Corners, Lanes, MAX_CORNERS};
 use crate::sparse::CsrMatrix;
 use crate::Mesh;
 
@@ -80,16 +80,27 @@ const MAX_COUPLINGS: usize = 28;
 /// added into K and V in cell order, as `stiffness` and `lumped_mass` add them: serially on one
 /// or two threads, at the positions `scatter` holds (`Scatter::new(k, mesh, dofs)`), row by row
 /// in parallel on more (`add_by_rows`), with the same sums either way. On one thread each cell's
-/// matrices are added as soon as they are evaluated, while they are in cache.
+/// matrices are added as soon as they are evaluated, while they are in cache, the whole loop
+/// compiled for the processor's lanes (`Lanes`, asked once).
 pub(crate) fn stiffness_and_mass(k: &mut CsrMatrix, scatter: &Scatter, mesh: &Mesh, dofs: &Dofs) -> Vec<f64> {
     use rayon::prelude::*;
     k.vals.iter_mut().for_each(|v| *v = 0.0);
     let mut v = vec![0.0; dofs.n];
+    let lanes = Lanes::detect();
     if rayon::current_num_threads() == 1 {
         let mut at = 0;
-        for c in 0..mesh.num_cells() {
-            add_cell(c, &element(mesh, c), k, &mut v, &mut at, scatter, mesh, dofs);
-        }
+        // Inlined into `run`'s copy for the lanes, with the kernel and the adds.
+        lanes.run(#[inline(always)]
+        || {
+            for c in 0..mesh.num_cells() {
+                let next = c + 1;
+                if next < mesh.num_cells() && !mesh.cell_type(next).is_general() {
+                    let ahead = at + if mesh.cell_type(c).is_general() { 0 } else { mesh.cell_type(c).couplings().len() };
+                    scatter.prefetch(k, ahead, &dofs.cell_dofs(mesh, next), mesh.cell_type(next).couplings());
+                }
+                add_cell(c, &element(mesh, c, lanes), k, &mut v, &mut at, scatter, mesh, dofs);
+            }
+        });
         debug_assert_eq!(at, scatter.len(), "the map holds every coupling");
         close_diagonal(k);
         return v;
@@ -102,7 +113,7 @@ pub(crate) fn stiffness_and_mass(k: &mut CsrMatrix, scatter: &Scatter, mesh: &Me
     let mut at = 0;
     for start in (0..mesh.num_cells()).step_by(ASSEMBLY_CHUNK) {
         let cells = start..(start + ASSEMBLY_CHUNK).min(mesh.num_cells());
-        cells.clone().into_par_iter().with_min_len(256).map(|c| element(mesh, c)).collect_into_vec(&mut elems);
+        cells.clone().into_par_iter().with_min_len(256).map(|c| lanes.run(#[inline(always)] || element(mesh, c, lanes))).collect_into_vec(&mut elems);
         if let Some(rc) = &by_rows {
             add_by_rows(rc, cells, &elems, k, &mut v, mesh, dofs);
             continue;
@@ -120,12 +131,12 @@ pub(crate) fn stiffness_and_mass(k: &mut CsrMatrix, scatter: &Scatter, mesh: &Me
 /// for a general cell, evaluated as it is added).
 type Element = ([f64; MAX_COUPLINGS], [f64; MAX_CORNERS]);
 
-/// The element matrices of cell `c` (`Element`).
-#[inline]
-fn element(mesh: &Mesh, c: usize) -> Element {
+/// The element matrices of cell `c` (`Element`), the hexahedron's on `lanes`.
+#[inline(always)]
+fn element(mesh: &Mesh, c: usize, lanes: Lanes) -> Element {
     let (mut kl, mut ml) = ([0.0; MAX_COUPLINGS], [0.0; MAX_CORNERS]);
     if !mesh.cell_type(c).is_general() {
-        cell_points(mesh, c).stiffness_and_mass(&mut kl, &mut ml);
+        cell_points(mesh, c).stiffness_and_mass(&mut kl, &mut ml, lanes);
     }
     (kl, ml)
 }
@@ -134,7 +145,7 @@ fn element(mesh: &Mesh, c: usize) -> Element {
 /// `scatter` holds from coupling `at` on (advanced past them); a general cell is evaluated and
 /// added by `general.rs`.
 #[allow(clippy::too_many_arguments)]
-#[inline]
+#[inline(always)]
 fn add_cell(c: usize, (kl, ml): &Element, k: &mut CsrMatrix, v: &mut [f64], at: &mut usize, scatter: &Scatter, mesh: &Mesh, dofs: &Dofs) {
     if mesh.cell_type(c).is_general() {
         super::general::add(Some(k), Some(v), mesh, dofs, c);
@@ -142,6 +153,19 @@ fn add_cell(c: usize, (kl, ml): &Element, k: &mut CsrMatrix, v: &mut [f64], at: 
     }
     let d = dofs.cell_dofs(mesh, c);
     let couplings = mesh.cell_type(c).couplings();
+    if let Some(within) = scatter.within_rows(*at, couplings.len()) {
+        // Every coupling by its map: each corner's row start read once.
+        let rows = Corners::<usize>::from_fn(d.len(), |q| k.row_ptr[d[q] as usize] as usize);
+        for ((&[i, j], o), &x) in couplings.iter().zip(within.chunks_exact(2)).zip(kl) {
+            k.vals[rows[i as usize] + o[0] as usize] += x;
+            k.vals[rows[j as usize] + o[1] as usize] += x;
+        }
+        *at += couplings.len();
+        for (q, &i) in d.iter().enumerate() {
+            v[i as usize] += ml[q];
+        }
+        return;
+    }
     for (m, &[i, j]) in couplings.iter().enumerate() {
         let (di, dj) = (d[i as usize] as usize, d[j as usize] as usize);
         if di != dj {

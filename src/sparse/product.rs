@@ -213,19 +213,28 @@ impl KpRows {
             self.formed.push(offset(i));
             let start = self.cols.len();
             let (kc, kv) = k.row(i);
+            // Room for every product, so the loop writes into fixed slices (no growth, the
+            // slices' starts kept in registers); cut to the row's columns after it.
+            let most: usize = kc.iter().map(|&l| (p.row_ptr[l as usize + 1] - p.row_ptr[l as usize]) as usize).sum();
+            self.cols.resize(start + most, 0);
+            self.vals.resize(start + most, 0.0);
+            let (cols, vals, slot) = (&mut self.cols[start..], &mut self.vals[start..], &mut self.slot);
+            let mut len = 0;
             for (&l, &y) in kc.iter().zip(kv) {
                 let (pc, pv) = p.row(l as usize);
                 for (&m, &z) in pc.iter().zip(pv) {
-                    let s = &mut self.slot[m as usize];
+                    let s = &mut slot[m as usize];
                     if *s == NOT_FORMED {
-                        *s = offset(self.cols.len() - start);
-                        self.cols.push(m);
-                        self.vals.push(0.0);
+                        *s = offset(len);
+                        cols[len] = m;
+                        len += 1;
                     }
-                    self.vals[start + *s as usize] += y * z;
+                    vals[*s as usize] += y * z;
                 }
             }
-            self.cols[start..].iter().for_each(|&m| self.slot[m as usize] = NOT_FORMED);
+            cols[..len].iter().for_each(|&m| slot[m as usize] = NOT_FORMED);
+            self.cols.truncate(start + len);
+            self.vals.truncate(start + len);
             self.ptr.push(self.cols.len());
         }
         let f = self.at[i] as usize;
