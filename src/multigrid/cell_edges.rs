@@ -66,7 +66,7 @@ impl Graph {
     }
 
     /// The number of unknowns.
-    #[cfg(any(test, feature = "mpi"))]
+    #[cfg(test)]
     pub(crate) fn len(&self) -> usize {
         self.start.len().saturating_sub(1)
     }
