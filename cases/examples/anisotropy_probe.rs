@@ -72,9 +72,16 @@ fn along(mesh: &Mesh, prescribed: &[bool], r: &[(f64, f64)]) {
         }
         nb[i].sort_unstable();
         nb[i].dedup();
-        let mut free: Vec<f64> = nb[i].iter().filter(|&&j| !prescribed[j as usize]).map(|&j| w(i, j as usize)).collect();
+        let mut free: Vec<f64> =
+            nb[i].iter().filter(|&&j| !prescribed[j as usize]).map(|&j| w(i, j as usize)).collect();
         free.sort_by(|a, b| b.total_cmp(a));
-        let all = nb[i].iter().map(|&j| (w(i, j as usize), prescribed[j as usize])).fold((0.0, false), |a, b| if b.0 > a.0 { b } else { a });
+        let all = nb[i].iter().map(|&j| (w(i, j as usize), prescribed[j as usize])).fold((0.0, false), |a, b| {
+            if b.0 > a.0 {
+                b
+            } else {
+                a
+            }
+        });
         if all.1 {
             at_wall += 1;
         }
