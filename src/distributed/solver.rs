@@ -33,6 +33,7 @@ use super::reduce::{gather, sum_in_rank_order};
 use super::ties::{self, Ties};
 use crate::bc::{Dofs, Kind, SlipWalls, COMPONENT, P, Z};
 use crate::mesh::quality::quality_of_cells;
+use crate::multigrid::cell_edges::Graph;
 use crate::multigrid::group::GroupOp;
 use crate::multigrid::layout::Layout;
 use crate::multigrid::level::{Level, LevelSlip};
@@ -581,7 +582,8 @@ impl DistributedSolver {
         self.halo().refresh(&mut tied);
         let tied: Vec<bool> = tied.iter().map(|&t| t != 0).collect();
         let (local, owned) = (self.local(), self.halo().owned());
-        owned_lines(&self.level.op.k, (local.coords(), local.dim()), owned, &self.level.flags, &tied)
+        let edges = Graph::cell_edges(local, &self.level.dofs, &self.level.op.k);
+        owned_lines(&self.level.op.k, &edges, (local.coords(), local.dim()), owned, &self.level.flags, &tied)
     }
 
     fn halo(&self) -> &Arc<HaloLayout> {

@@ -3,6 +3,7 @@
 //! levels (`multigrid::hierarchy`), the coarseners make their transfers, the group operator
 //! (`multigrid::group`) reads them.
 
+use super::cell_edges::Graph;
 use super::layout::Distribution;
 use super::line_smoother::LineBlocks;
 use super::restriction::Restriction;
@@ -164,9 +165,16 @@ impl Level {
         if let Some(s) = self.slip.as_ref().filter(|s| s.coupled) {
             s.frames.dofs.iter().for_each(|&d| apart[d as usize] = true);
         }
-        let (dim, points) = (self.dim(), if self.lines.searched() { Vec::new() } else { self.unknown_points().into_owned() });
+        // The lines start where the cells' edges are stretched; a level without a mesh takes
+        // K's graph for its edges (its lines are its finer level's, so it is searched already).
+        let dim = self.dim();
+        let (points, edges) = match &self.mesh {
+            _ if self.lines.searched() => (Vec::new(), Graph::default()),
+            Some(mesh) => (self.unknown_points().into_owned(), Graph::cell_edges(mesh, &self.dofs, &self.op.k)),
+            None => (self.unknown_points().into_owned(), Graph::of_entries(&self.op.k, |_| true)),
+        };
         let Level { lines, op, flags, dofs, .. } = self;
-        lines.refresh(op, flags, &apart, (&points, dim), |d| dofs.vertices_of(d).len() > 1);
+        lines.refresh(op, flags, &apart, (&points, dim, &edges), |d| dofs.vertices_of(d).len() > 1);
     }
 
     /// The slip frames coupling the group `comps`: the level's frames when its components are

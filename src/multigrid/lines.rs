@@ -8,13 +8,22 @@
 //! (a trilinear hexahedron couples its face neighbours by zero, a Galerkin level's entries mix
 //! several fine ones). An unknown is anisotropic when its strongest coupling is `ANISOTROPY`
 //! times its weakest; a line starts at the most anisotropic unknown not yet on one (the wall's
-//! first layer), and grows at either end by the strongest neighbour not yet on a line while
-//! that coupling is anisotropic and near the end's strongest (`NEAR_STRONGEST`). On an
-//! isotropic mesh no unknown is anisotropic and there are no lines.
+//! first layer) whose cells' edges are stretched too (`ALONG_EDGES`), and grows at either end by
+//! the strongest neighbour not yet on a line while that coupling is anisotropic and near the
+//! end's strongest (`NEAR_STRONGEST`). On an isotropic mesh no unknown is anisotropic and there
+//! are no lines.
 
 /// Strongest over weakest coupling of an unknown for it to be on a line: cells of aspect ratio
 /// about 4 (an isotropic hexahedron's couplings span a ratio of 3, a right triangle's 2).
 const ANISOTROPY: f64 = 16.0;
+
+/// Strongest over weakest coupling over the cells' edges alone (`multigrid::cell_edges`) of an
+/// unknown for a line to start at it: edges of about 2.8:1. K's graph holds a hexahedron's body
+/// diagonals, so over it a structured mesh's hexahedra of aspect ratio 2.7–2.8 at a wall (the
+/// body diagonal 4× the short edge) already pass `ANISOTROPY`, where their edges reach 6.7;
+/// graded hexahedra about a body reach 9 and wall layers far more. On simplices the edges are
+/// K's graph and `ANISOTROPY` decides alone.
+const ALONG_EDGES: f64 = 8.0;
 
 /// A line grows by a neighbour whose coupling is at least this fraction of the end's strongest
 /// (layers growing by 1.2 couple the next one by 1/1.44 of the last; a layer's side couplings
@@ -64,13 +73,16 @@ impl Lines {
     }
 
     /// The lines of the graph whose neighbours of unknown i are `neighbours(i)` (i itself may
-    /// be among them) at `points` (`dim` values per unknown); unknowns with `skip` set are on
-    /// no line (prescribed in every component), and those with `unmeasured` set are on none and
-    /// their couplings are not measured (linked unknowns, whose position is one of several).
-    /// Deterministic: ties go to the lower index.
-    pub(crate) fn find<'a>(
+    /// be among them) at `points` (`dim` values per unknown), started only where the unknown's
+    /// neighbours along the cells' edges, `edges(i)` (a part of `neighbours(i)`), are
+    /// `ALONG_EDGES` apart; unknowns with `skip` set are on no line (prescribed in every
+    /// component), and those with `unmeasured` set are on none and their couplings are not
+    /// measured (linked unknowns, whose position is one of several). Deterministic: ties go to
+    /// the lower index.
+    pub(crate) fn find<'a, 'b>(
         n: usize,
         neighbours: impl Fn(usize) -> &'a [u32] + Sync,
+        edges: impl Fn(usize) -> &'b [u32],
         points: &[f64],
         dim: usize,
         skip: impl Fn(usize) -> bool,
@@ -85,21 +97,26 @@ impl Lines {
                 0.0
             }
         };
-        // The strongest and weakest coupling of each unknown.
-        let bounds: Vec<(f64, f64)> = (0..n)
-            .map(|i| {
-                if unmeasured(i) {
-                    return (0.0, f64::INFINITY);
-                }
-                neighbours(i).iter().filter(|&&j| j as usize != i && !unmeasured(j as usize)).fold((0.0f64, f64::INFINITY), |(hi, lo), &j| {
-                    let w = weight(i, j as usize);
-                    (hi.max(w), lo.min(w))
-                })
+        // The strongest and weakest coupling of unknown i among `of`.
+        let span = |i: usize, of: &[u32]| {
+            if unmeasured(i) {
+                return (0.0, f64::INFINITY);
+            }
+            of.iter().filter(|&&j| j as usize != i && !unmeasured(j as usize)).fold((0.0f64, f64::INFINITY), |(hi, lo), &j| {
+                let w = weight(i, j as usize);
+                (hi.max(w), lo.min(w))
             })
-            .collect();
+        };
+        let bounds: Vec<(f64, f64)> = (0..n).map(|i| span(i, neighbours(i))).collect();
         let anisotropic = |i: usize| bounds[i].0 >= ANISOTROPY * bounds[i].1 && bounds[i].1 > 0.0;
-        let mut seeds: Vec<(f64, u32)> =
-            (0..n).filter(|&i| !skip(i) && anisotropic(i)).map(|i| (bounds[i].0 / bounds[i].1, i as u32)).collect();
+        let stretched = |i: usize| {
+            let (hi, lo) = span(i, edges(i));
+            hi >= ALONG_EDGES * lo && lo > 0.0
+        };
+        let mut seeds: Vec<(f64, u32)> = (0..n)
+            .filter(|&i| !skip(i) && anisotropic(i) && stretched(i))
+            .map(|i| (bounds[i].0 / bounds[i].1, i as u32))
+            .collect();
         seeds.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
         let mut claimed = vec![false; n];
         let mut lines = Lines { start: vec![0], unknowns: Vec::new() };
@@ -196,7 +213,7 @@ mod tests {
         let g = grid_graph(nx, ny);
         let points = grid_points(&xs, &ys);
         // The wall's vertices are prescribed.
-        let lines = Lines::find(g.len(), |i| &g[i], &points, 2, |i| i <= nx, |_| false);
+        let lines = Lines::find(g.len(), |i| &g[i], |i| &g[i], &points, 2, |i| i <= nx, |_| false);
         assert_eq!(lines.len(), nx + 1, "one line per column");
         for k in 0..lines.len() {
             let line = lines.line(k);
@@ -218,7 +235,58 @@ mod tests {
             ys.push(ys[k] + 0.05 * 1.3f64.powi(k as i32));
         }
         let g = grid_graph(10, ys.len() - 1);
-        let lines = Lines::find(g.len(), |i| &g[i], &grid_points(&xs, &ys), 2, |_| false, |_| false);
+        let lines = Lines::find(g.len(), |i| &g[i], |i| &g[i], &grid_points(&xs, &ys), 2, |_| false, |_| false);
         assert!(lines.is_empty());
+    }
+
+    /// Two boxes of `a` × `b` × `b` stacked along x (corners 0–11, the x = 0, a, 2a planes'
+    /// rectangles): K's graph (every pair of a box's corners) and the boxes' edges.
+    fn two_boxes(a: f64, b: f64) -> (Vec<f64>, Vec<Vec<u32>>, Vec<Vec<u32>>) {
+        let mut points = Vec::new();
+        for x in 0..3 {
+            for [y, z] in [[0.0, 0.0], [b, 0.0], [b, b], [0.0, b]] {
+                points.extend([a * x as f64, y, z]);
+            }
+        }
+        let (mut k, mut edges) = (vec![Vec::new(); 12], vec![Vec::new(); 12]);
+        for first in [0u32, 4] {
+            let box_: Vec<u32> = (first..first + 8).collect();
+            for &i in &box_ {
+                for &j in &box_ {
+                    if i == j {
+                        continue;
+                    }
+                    k[i as usize].push(j);
+                    // An edge: along x in the same corner of the square, or a side of a square.
+                    let (ci, cj) = (i % 4, j % 4);
+                    if (ci == cj && i.abs_diff(j) == 4) || (i / 4 == j / 4 && (ci + 2) % 4 != cj) {
+                        edges[i as usize].push(j);
+                    }
+                }
+            }
+        }
+        for row in k.iter_mut().chain(edges.iter_mut()) {
+            row.sort_unstable();
+            row.dedup();
+        }
+        (points, k, edges)
+    }
+
+    #[test]
+    fn a_hexahedron_s_body_diagonal_starts_no_line() {
+        // 1 × 2.75 × 2.75: the body diagonal is 16.1 times the short edge in d², the long
+        // edges 7.6; over K's graph the middle square's corners are anisotropic, over the
+        // edges not.
+        let (points, k, edges) = two_boxes(1.0, 2.75);
+        assert_eq!(edges[4], vec![0, 5, 7, 8]);
+        let lines = Lines::find(12, |i| &k[i], |i| &edges[i], &points, 3, |_| false, |_| false);
+        assert!(lines.is_empty(), "{lines:?}");
+        let over_k = Lines::find(12, |i| &k[i], |i| &k[i], &points, 3, |_| false, |_| false);
+        assert_eq!(over_k.len(), 4, "one line along x through each corner of the squares");
+        // 1 × 3 × 3: the edges 9 apart, a layer.
+        let (points, k, edges) = two_boxes(1.0, 3.0);
+        let lines = Lines::find(12, |i| &k[i], |i| &edges[i], &points, 3, |_| false, |_| false);
+        assert_eq!(lines, over_k);
+        assert_eq!(lines.line(0), &[0, 4, 8]);
     }
 }

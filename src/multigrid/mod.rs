@@ -3,6 +3,7 @@
 //! smoothing, W-cycles, and the solve to tolerance.
 
 mod bounds;
+pub(crate) mod cell_edges;
 pub mod coarse_solve;
 pub mod coarsen;
 pub mod coarsener;

@@ -2,9 +2,9 @@
 //! (docs/DESIGN.md §5, "Wall layers" and "Across ranks"): the serial line smoother on each rank's
 //! owned rows.
 //!
-//! The finest level's lines are found as the serial ones are (`multigrid::lines`), from K's graph
-//! and the positions of the rank's vertices, over its owned vertices only: the halo's couplings
-//! are measured (an owned vertex's strongest and weakest neighbour are those of the whole mesh),
+//! The finest level's lines are found as the serial ones are (`multigrid::lines`), from K's graph,
+//! the cells' edges (`multigrid::cell_edges`) and the positions of the rank's vertices, over its
+//! owned vertices only: the halo's couplings are measured (an owned vertex's strongest and weakest neighbour are those of the whole mesh),
 //! but a halo vertex is on no line, so a line cut by a partition boundary becomes one segment on
 //! each rank. Each segment's banded block is solved on its owner; the couplings across the cut
 //! stay in the l1 diagonal bound with every other coupling off the band, so the smoother is block
@@ -19,6 +19,7 @@ use super::mover::Mover;
 use super::OwnedRows;
 use crate::bc::P;
 use crate::distributed::reduce::max_over_ranks;
+use crate::multigrid::cell_edges::Graph;
 use crate::multigrid::layout::Layout;
 use crate::multigrid::level::Level;
 use crate::multigrid::line_smoother::LineBlocks;
@@ -26,12 +27,15 @@ use crate::multigrid::lines::Lines;
 use crate::sparse::CsrMatrix;
 use std::collections::HashMap;
 
-/// The lines of a rank's part of a mesh: `k`'s graph over its local vertices (owned first, then
-/// the halo) at `points` (`dim` values each), its first `owned` vertices the candidates; the
-/// vertices prescribed in every component of `flags` are on no line, and those `tied` (periodic
-/// links) are on none and their couplings are not measured, as the serial linked unknowns.
+/// The lines of a rank's part of a mesh: `k`'s graph and the cells' `edges` over its local
+/// vertices (owned first, then the halo; `Graph::cell_edges` of its local mesh, whose ghost cells
+/// hold every edge of an owned vertex) at `points` (`dim` values each), its first `owned`
+/// vertices the candidates; the vertices prescribed in every component of `flags` are on no line, and those
+/// `tied` (periodic links) are on none and their couplings are not measured, as the serial
+/// linked unknowns.
 pub(crate) fn owned_lines(
     k: &CsrMatrix,
+    edges: &Graph,
     (points, dim): (&[f64], usize),
     owned: usize,
     flags: &[Vec<u8>],
@@ -39,7 +43,7 @@ pub(crate) fn owned_lines(
 ) -> Lines {
     let prescribed = |i: usize| flags.iter().all(|f| f[i] & P != 0);
     let tied = |i: usize| tied.get(i).copied().unwrap_or(false);
-    Lines::find(k.nrows, |i| k.row(i).0, points, dim, |i| i >= owned || prescribed(i), tied)
+    Lines::find(k.nrows, |i| k.row(i).0, |i| edges.neighbours(i), points, dim, |i| i >= owned || prescribed(i), tied)
 }
 
 /// The anisotropy from which a 3D hierarchy with lines interpolates along them
@@ -183,12 +187,13 @@ mod tests {
             }
         }
         let k = CsrMatrix::from_triplets(12, 12, t);
+        let edges = Graph::of_entries(&k, |_| true);
         let flags = vec![vec![0u8; 12]];
-        let lines = owned_lines(&k, (&points, 2), 4, &flags, &[]);
+        let lines = owned_lines(&k, &edges, (&points, 2), 4, &flags, &[]);
         assert_eq!(lines.len(), 1);
         assert_eq!(lines.line(0), &[0, 1, 2, 3]);
         // All owned: the whole column.
-        let lines = owned_lines(&k, (&points, 2), 12, &flags, &[]);
+        let lines = owned_lines(&k, &edges, (&points, 2), 12, &flags, &[]);
         assert_eq!(lines.line(0), &[0, 1, 2, 3, 4, 5]);
     }
 }
