@@ -5,7 +5,7 @@
 //! §5, "The tolerance and the thinnest cells"). An edge from a prescribed unknown (a wall) to a
 //! free one measures that thickness: its stretch by a correction d, (dᵢ − dⱼ)·(xᵢ − xⱼ) / |xᵢ −
 //! xⱼ|², is the relative change of the edge's length, and of the first cell's volume along it.
-//! On a 3D level with lines a solve is converged when, besides its criterion, its last correction
+//! On a level with lines a solve is converged when, besides its criterion, its last correction
 //! stretches no such edge by more than `LAYER_STRETCH`.
 
 use super::level::Level;
@@ -29,13 +29,11 @@ pub(crate) struct WallEdges<'a> {
 }
 
 impl<'a> WallEdges<'a> {
-    /// The edges of `level` for the group `comps` when its stretches are tested: a 3D level with
-    /// a mesh and lines across wall layers; None elsewhere (without lines no cell is thin
-    /// enough for the tolerance to leave an error comparable to it; the 2D hierarchies, which
-    /// keep their lines whole, leave their first layer within the residual's tolerance, and the
-    /// test there would add iterations to the airfoil only).
+    /// The edges of `level` for the group `comps` when its stretches are tested: a level with a
+    /// mesh and lines across wall layers, in 2D and 3D; None elsewhere (without lines no cell is
+    /// thin enough for the tolerance to leave an error comparable to it).
     pub(crate) fn of_layers(level: &'a Level, comps: Range<usize>) -> Option<Self> {
-        if level.lines.is_empty() || level.mesh.is_none() || level.dim() < 3 {
+        if level.lines.is_empty() || level.mesh.is_none() {
             return None;
         }
         Some(WallEdges { level, points: level.unknown_points().into_owned(), comps })
