@@ -99,7 +99,7 @@ fn airfoil_of_25k_vertices_does_not_break_down() {
 }
 
 /// A cold solve starts the lines hanging off the clamped body at its rigid motion
-/// (docs/DESIGN.md §5, "The start of a time step"), and the stop test on the first layer holds in
+/// (docs/DESIGN.md §5, "The first iterate"), and the stop test under wall layers holds in
 /// 2D too: the largest airfoil's plunge keeps its first layer within 1 % (from a zero start, with
 /// the test in 3D only, it left the first layer 1.1 % off).
 #[test]
