@@ -1,5 +1,5 @@
-//! The biharmonic's first iterate under wall layers (docs/DESIGN.md §5, "The start of a time
-//! step"). A zero start leaves the whole motion of a CLAMPED body as error between the wall and
+//! The biharmonic's first iterate under wall layers (docs/DESIGN.md §5, "The first
+//! iterate"). A zero start leaves the whole motion of a CLAMPED body as error between the wall and
 //! its first layer, a cell 10⁻⁵–10⁻⁴ of the body thick: the iterations that take it out meet the
 //! relative residual long before the first layer follows the wall (the stop test under wall
 //! layers then holds the solve on). The clamped layers move with the body (the rigid flux holds
