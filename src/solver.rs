@@ -27,6 +27,7 @@ use std::ops::Range;
 use std::time::Instant;
 
 mod deferred;
+mod layer_start;
 pub(crate) mod memory;
 pub(crate) mod polish;
 mod progress;
@@ -571,6 +572,10 @@ impl Solver {
         let lev = self.h().fine();
         let vals = motion.vertex_values(lev.mesh());
         let p = &self.opts.solve;
+        // With no guess, a hierarchy with lines across a clamped body's layers starts them at the
+        // body's rigid motion (`layer_start`).
+        let layers = guess.is_none().then(|| layer_start::of_layers(self.h(), &self.bcs, motion)).flatten();
+        let guess = guess.or(layers.as_deref());
         let (mut displacement, mut report) = self.solve_placed(motion, &vals, guess, p)?;
         let t = Instant::now();
         let mut quality = checked_quality(lev.mesh(), &displacement)?;

@@ -25,7 +25,7 @@ fn airfoil_biharmonic_takes_a_bounded_number_of_iterations() {
     for m in [BodyMotion::Pitch, BodyMotion::Plunge] {
         let (its, lines) = iterations(&v, m);
         assert!(lines);
-        assert!(its <= 6, "{m:?}: {its}");
+        assert!(its <= 7, "{m:?}: {its}");
     }
 }
 
@@ -40,7 +40,7 @@ fn wing_biharmonic_takes_a_bounded_number_of_iterations() {
     for m in [BodyMotion::Pitch, BodyMotion::Plunge] {
         let (its, lines) = iterations(&v, m);
         assert!(lines);
-        assert!(its <= 9, "{m:?}: {its}");
+        assert!(its <= 5, "{m:?}: {its}");
     }
 }
 
@@ -60,7 +60,7 @@ fn deep_levels_under_3d_layers_are_visited_once() {
 #[test]
 fn spheroid_biharmonic_takes_a_bounded_number_of_iterations() {
     let v = spheroid_3d(&SpheroidParams::new(4)).unwrap();
-    for (m, cap) in [(BodyMotion::Pitch, 7), (BodyMotion::Plunge, 7)] {
+    for (m, cap) in [(BodyMotion::Pitch, 4), (BodyMotion::Plunge, 4)] {
         let (its, lines) = iterations(&v, m);
         assert!(lines);
         assert!(its <= cap, "{m:?}: {its}");
@@ -97,4 +97,43 @@ fn airfoil_of_25k_vertices_does_not_break_down() {
     let v = airfoil_2d(&AirfoilParams::new(128)).unwrap();
     let (its, _) = iterations(&v, BodyMotion::Pitch);
     assert!(its <= 9, "{its}");
+}
+
+/// A cold solve starts the lines hanging off the clamped body at its rigid motion
+/// (docs/DESIGN.md §5, "The first iterate"), and the stop test under wall layers holds in
+/// 2D too: the largest airfoil's plunge keeps its first layer within 1 % (from a zero start, with
+/// the test in 3D only, it left the first layer 1.1 % off).
+#[test]
+fn largest_airfoil_plunge_keeps_its_first_layer() {
+    let v = airfoil_2d(&AirfoilParams::new(256)).unwrap();
+    let solver = biharmonic(&v);
+    let sol = solver.solve(&motion(&v, BodyMotion::Plunge)).unwrap();
+    assert!(sol.report.converged && sol.quality.inverted == 0, "{:?}", sol.report);
+    assert!(sol.report.cycles <= 11, "{}", sol.report.cycles);
+    let moved: Vec<f64> = v.mesh.coords().iter().zip(&sol.displacement).map(|(x, d)| x + d).collect();
+    let (lo, hi) = layer_volume_ratios(&v, &moved, 1).unwrap();
+    assert!(lo > 0.99 && hi < 1.01, "first layer {lo}..{hi}");
+}
+
+/// The start along the lines leaves its error at the lines' outer ends, where the rows are tiny
+/// against the wall's and a relative residual of 1e-8 does not see it: the smallest airfoil's
+/// pitch met 1e-8 in two iterations with its smallest volume ratio 0.970 against the converged
+/// 0.981. The stop test on every edge's stretch (docs/DESIGN.md §5, "The tolerance and the
+/// thinnest cells") holds the solve on until the mesh is the tight solve's within the
+/// tolerance's meaning.
+#[test]
+fn start_along_the_lines_stops_at_the_tight_solves_mesh() {
+    let v = airfoil_2d(&AirfoilParams::new(64)).unwrap();
+    let m = motion(&v, BodyMotion::Pitch);
+    let sol = biharmonic(&v).solve(&m).unwrap();
+    assert!(sol.report.converged && sol.quality.inverted == 0, "{:?}", sol.report);
+    let opts = Options {
+        method: Method::Biharmonic,
+        solve: meshmove::SolveParams { tol: 1e-11, ..Default::default() },
+        ..Default::default()
+    };
+    let tight = Solver::new(&v.mesh, &boundary_conditions(&v), opts).unwrap().solve(&m).unwrap();
+    assert!(tight.report.converged, "{:?}", tight.report);
+    let (got, want) = (sol.quality.min_area_ratio, tight.quality.min_area_ratio);
+    assert!((got - want).abs() < 2e-3, "min volume ratio {got} against the tight solve's {want}");
 }

@@ -7,7 +7,7 @@ use super::hierarchy::Hierarchy;
 pub use super::params::{Criterion, Mode, SolveParams};
 use super::policy::CycleParams;
 use super::smoother::Start;
-use super::strain::{WallEdges, LAYER_STRETCH};
+use super::strain::{LevelEdges, EDGE_STRETCH};
 use crate::sparse::{axpy, par_update};
 use std::ops::Range;
 
@@ -119,7 +119,7 @@ pub fn solve_until(
         return rep;
     }
     let mut ws = Workspace::new(h, comps.len());
-    let layers = WallEdges::of_layers(h.fine(), comps.clone());
+    let layers = LevelEdges::of_layers(h.fine(), comps.clone());
     let run = Run { h, op: lev, comps: comps.clone(), p, b, bnorm, scale, unit, layers, stop };
     let mut cp = CycleParams::resolve(h, p);
     let mut boost = 0;
@@ -184,10 +184,9 @@ struct Run<'a> {
     bnorm: f64,
     scale: f64,
     unit: f64,
-    /// The finest level's edges from its walls when it has lines across wall layers: a
-    /// converged iterate's last correction stretches none by more than `LAYER_STRETCH` (PCG
-    /// only; `strain`).
-    layers: Option<WallEdges<'a>>,
+    /// The finest level's edges when it has lines across wall layers: a converged iterate's
+    /// last correction stretches none by more than `EDGE_STRETCH` (PCG only; `strain`).
+    layers: Option<LevelEdges<'a>>,
     stop: &'a Stop<'a>,
 }
 
@@ -261,7 +260,7 @@ impl Run<'_> {
             let alpha = rz / pq;
             axpy(alpha, &dir, x);
             axpy(-alpha, &q, &mut r);
-            let held = || self.layers.as_ref().is_none_or(|e| e.largest(alpha, &dir, self.unit) <= LAYER_STRETCH);
+            let held = || self.layers.as_ref().is_none_or(|e| e.largest(alpha, &dir, self.unit) <= EDGE_STRETCH);
             if self.record(rep, k, alpha.abs() * lev.max_abs(&dir), &r, held) {
                 return false;
             }

@@ -1,26 +1,26 @@
-//! The stop test under wall layers: the stretch of the first layer's edges by a correction. A
-//! relative residual weighs every row of the finest level alike, and in the first cells of a
-//! wall layer, many times thinner than the cells that make up the residual's norm, an error the
-//! norm no longer sees can still be a sizeable fraction of a cell's thickness (docs/DESIGN.md
-//! §5, "The tolerance and the thinnest cells"). An edge from a prescribed unknown (a wall) to a
-//! free one measures that thickness: its stretch by a correction d, (dᵢ − dⱼ)·(xᵢ − xⱼ) / |xᵢ −
-//! xⱼ|², is the relative change of the edge's length, and of the first cell's volume along it.
-//! On a 3D level with lines a solve is converged when, besides its criterion, its last correction
-//! stretches no such edge by more than `LAYER_STRETCH`.
+//! The stop test under wall layers: the stretch of the finest level's edges by a correction. A
+//! relative residual weighs every row of the finest level alike, and where a wall layer's cells
+//! are many times thinner than the cells that make up the residual's norm, or where rows are tiny
+//! against the wall's (the isotropic cells at the lines' outer ends), an error the norm no longer
+//! sees can still be a sizeable fraction of a cell's size (docs/DESIGN.md §5, "The tolerance and
+//! the thinnest cells"). An edge's stretch by a correction d, (dᵢ − dⱼ)·(xᵢ − xⱼ) / |xᵢ − xⱼ|²,
+//! is the relative change of its length, and of the cells' volume along it; an edge from a wall
+//! measures the first cell's thickness. On a level with lines a solve is converged when, besides
+//! its criterion, its last correction stretches no edge (a coupling of K) by more than
+//! `EDGE_STRETCH`.
 
 use super::level::Level;
-use crate::bc::P;
 use rayon::prelude::*;
 use std::ops::Range;
 
-/// The largest stretch the last correction of a converged solve may make on an edge from a wall:
-/// the error left after it is a small fraction of it (the last iterations' rate), within a
-/// percent of the first layer's volume with a wide margin.
-pub(crate) const LAYER_STRETCH: f64 = 1e-2;
+/// The largest stretch the last correction of a converged solve may make on an edge: the error
+/// left after it is a fraction of it (the last iterations' rate), so no cell's volume is left
+/// more than about a percent from the converged solution's, the first layer's nor that of a
+/// cell where the rows are tiny against the wall's.
+pub(crate) const EDGE_STRETCH: f64 = 1e-2;
 
-/// The edges of a finest level from its prescribed unknowns (the couplings of K), for a group of
-/// components.
-pub(crate) struct WallEdges<'a> {
+/// The edges of a finest level (the couplings of K), for a group of components.
+pub(crate) struct LevelEdges<'a> {
     level: &'a Level,
     /// The positions of the level's unknowns (`dim` values each).
     points: Vec<f64>,
@@ -28,29 +28,26 @@ pub(crate) struct WallEdges<'a> {
     comps: Range<usize>,
 }
 
-impl<'a> WallEdges<'a> {
-    /// The edges of `level` for the group `comps` when its stretches are tested: a 3D level with
-    /// a mesh and lines across wall layers; None elsewhere (without lines no cell is thin
-    /// enough for the tolerance to leave an error comparable to it; the 2D hierarchies, which
-    /// keep their lines whole, leave their first layer within the residual's tolerance, and the
-    /// test there would add iterations to the airfoil only).
+impl<'a> LevelEdges<'a> {
+    /// The edges of `level` for the group `comps` when its stretches are tested: a level with a
+    /// mesh and lines across wall layers, in 2D and 3D; None elsewhere (without lines no cell is
+    /// thin enough for the tolerance to leave an error comparable to it).
     pub(crate) fn of_layers(level: &'a Level, comps: Range<usize>) -> Option<Self> {
-        if level.lines.is_empty() || level.mesh.is_none() || level.dim() < 3 {
+        if level.lines.is_empty() || level.mesh.is_none() {
             return None;
         }
-        Some(WallEdges { level, points: level.unknown_points().into_owned(), comps })
+        Some(LevelEdges { level, points: level.unknown_points().into_owned(), comps })
     }
 
-    /// The largest stretch of an edge from a prescribed unknown to a free one by the correction
-    /// `step · d`, `d` holding one block of n values per component of the group: the group's
-    /// share of the edge's stretch (all of it when the group holds every component). `unit` is
-    /// the solve's values per unit of the mesh's coordinates (see `solver::units`).
+    /// The largest stretch of an edge by the correction `step · d`, `d` holding one block of n
+    /// values per component of the group (zero at prescribed unknowns): the group's share of the
+    /// edge's stretch (all of it when the group holds every component). `unit` is the solve's
+    /// values per unit of the mesh's coordinates (see `solver::units`).
     pub(crate) fn largest(&self, step: f64, d: &[f64], unit: f64) -> f64 {
         let (k, lev) = (&self.level.op.k, self.level);
         let (n, dim, p) = (lev.n(), lev.dim(), &self.points);
         let at = |i: usize| &p[i * dim..(i + 1) * dim];
         let comps = self.comps.clone();
-        let flags = &lev.flags[comps.clone()];
         let most = (0..n)
             .into_par_iter()
             .with_min_len(1024)
@@ -65,7 +62,6 @@ impl<'a> WallEdges<'a> {
                     let stretch: f64 = comps
                         .clone()
                         .enumerate()
-                        .filter(|&(b, _)| flags[b][j] & P != 0 && flags[b][i] & P == 0)
                         .map(|(b, c)| (d[b * n + i] - d[b * n + j]) * (at(i)[c] - at(j)[c]))
                         .sum();
                     most = most.max(stretch.abs() / len2);

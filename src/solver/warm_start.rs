@@ -27,7 +27,7 @@ const KEPT: usize = 2;
 /// per-vertex array (vertex · dim + component), in increasing index. Which unknowns are
 /// prescribed can change from one step to the next (a slip wall's frames follow the moved
 /// mesh), so steps are compared by index, not by position in the list.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug)]
 pub(crate) struct Prescribed {
     at: Vec<(usize, f64)>,
 }
