@@ -26,9 +26,8 @@
 //! spread start needs more iterations to find) the iteration continues to the full estimate,
 //! bitwise the one a new level gets, and calibrates the component again.
 
-use super::group::{padded, raised_on_lines, GroupOp, PowerIteration, POWER_ITERATIONS};
+use super::group::{padded, raised_on_lines, run_side_by_side, GroupOp, PowerIteration, POWER_ITERATIONS};
 use super::level::Level;
-use rayon::prelude::*;
 use std::sync::Arc;
 
 /// The largest relative change of a free unknown's Jacobi diagonal since the last estimate from
@@ -101,53 +100,76 @@ fn raised(e: f64, drift: f64) -> Option<f64> {
 /// Components smoothed along lines always get the full estimate, as the smoother there is the
 /// most sensitive to its interval (docs/perf-history.md, "bounds by Lanczos").
 pub(crate) fn biharmonic_estimates(level: &Level, own: &[usize], previous: Option<&Calibration>) -> (Vec<f64>, Calibration) {
-    let estimates: Vec<(f64, Component)> = own
-        .par_iter()
-        .map(|&c| {
-            let op = GroupOp::new(level, c..c + 1, false);
-            let lines = op.lines(0).is_some();
-            let previous = previous.and_then(|p| p.0.get(c)).filter(|_| !lines);
-            let warm = previous
-                .filter(|k| k.start.len() == level.n())
-                .map(|k| (k, largest_drift(&k.inv_d, &level.inv_d[c])))
-                .filter(|&(_, drift)| drift <= DRIFT);
-            if let Some((k, drift)) = warm {
-                let mut power = PowerIteration::from_start(&op, k.start.to_vec());
-                power.run(&op, 1);
-                if let Some(e) = power.after(1).and_then(|e| raised(e * k.scale * MARGIN, drift)) {
-                    return (e, k.clone());
-                }
-            }
-            let mut power = PowerIteration::new(&op);
-            power.run(&op, SHAPE.1);
-            let shape = match (power.after(SHAPE.0), power.after(SHAPE.1)) {
-                (Some(a), Some(b)) if a > 0.0 => b / a,
-                _ => 0.0,
-            };
-            let kept = previous.filter(|k| k.ratio > 0.0 && (shape - k.shape).abs() <= SHAPE_TOLERANCE * k.shape);
-            power.run(&op, FEW);
-            if let (Some(k), Some(e), Some(x)) = (kept, power.after(FEW), power.last_start()) {
-                let warm = Component { start: x.into(), inv_d: level.inv_d[c].as_slice().into(), scale: k.ratio, ..k.clone() };
-                return (padded(Some(e * k.ratio * MARGIN)), warm);
-            }
-            power.run(&op, POWER_ITERATIONS);
-            let full = power.after(POWER_ITERATIONS);
-            let ratio = match (full, power.after(FEW)) {
-                (Some(f), Some(e)) if e > 0.0 && shape > 0.0 => f / e,
-                _ => 0.0,
-            };
-            let (start, inv_d) = match power.last_start() {
-                Some(x) if full.is_some() && !lines => (x.into(), level.inv_d[c].as_slice().into()),
-                _ => Default::default(),
-            };
-            (raised_on_lines(&op, padded(full)), Component { start, inv_d, scale: 1.0, shape, ratio })
+    let ops: Vec<GroupOp> = own.iter().map(|&c| GroupOp::new(level, c..c + 1, false)).collect();
+    let lines: Vec<bool> = ops.iter().map(|op| op.lines(0).is_some()).collect();
+    let kept: Vec<Option<&Component>> =
+        own.iter().zip(&lines).map(|(&c, &lines)| previous.and_then(|p| p.0.get(c)).filter(|_| !lines)).collect();
+    let mut estimates: Vec<Option<(f64, Component)>> = vec![None; own.len()];
+    // One iteration from each kept iterate whose diagonal drifted little.
+    let mut warm: Vec<(usize, f64, PowerIteration)> = (0..own.len())
+        .filter_map(|i| {
+            let k = kept[i].filter(|k| k.start.len() == level.n())?;
+            let drift = largest_drift(&k.inv_d, &level.inv_d[own[i]]);
+            (drift <= DRIFT).then(|| (i, drift, PowerIteration::from_start(&ops[i], k.start.to_vec())))
         })
         .collect();
-    let mut cal = vec![Component::default(); level.flags.len()];
-    for (&c, (_, k)) in own.iter().zip(&estimates) {
-        cal[c] = k.clone();
+    let mut runs: Vec<(GroupOp, &mut PowerIteration)> = warm.iter_mut().map(|(i, _, p)| (ops[*i], p)).collect();
+    run_side_by_side(level, &mut runs, 1);
+    for (i, drift, power) in &warm {
+        let k = kept[*i].expect("a warm start is a kept one");
+        if let Some(e) = power.after(1).and_then(|e| raised(e * k.scale * MARGIN, *drift)) {
+            estimates[*i] = Some((e, k.clone()));
+        }
     }
-    (estimates.into_iter().map(|(e, _)| e).collect(), Calibration(cal))
+    // The others from the fixed start: the shape after `SHAPE.1` iterations, the rescaled
+    // estimate after `FEW` where the calibration holds, else the full one.
+    let mut cold: Vec<(usize, PowerIteration)> =
+        (0..own.len()).filter(|&i| estimates[i].is_none()).map(|i| (i, PowerIteration::new(&ops[i]))).collect();
+    let mut runs: Vec<(GroupOp, &mut PowerIteration)> = cold.iter_mut().map(|(i, p)| (ops[*i], p)).collect();
+    run_side_by_side(level, &mut runs, SHAPE.1);
+    let shapes: Vec<f64> = runs
+        .iter()
+        .map(|(_, power)| match (power.after(SHAPE.0), power.after(SHAPE.1)) {
+            (Some(a), Some(b)) if a > 0.0 => b / a,
+            _ => 0.0,
+        })
+        .collect();
+    run_side_by_side(level, &mut runs, FEW);
+    drop(runs);
+    for ((i, power), &shape) in cold.iter().zip(&shapes) {
+        let calibrated = kept[*i].filter(|k| k.ratio > 0.0 && (shape - k.shape).abs() <= SHAPE_TOLERANCE * k.shape);
+        if let (Some(k), Some(e), Some(x)) = (calibrated, power.after(FEW), power.last_start()) {
+            let warm = Component { start: x.into(), inv_d: level.inv_d[own[*i]].as_slice().into(), scale: k.ratio, ..k.clone() };
+            estimates[*i] = Some((padded(Some(e * k.ratio * MARGIN)), warm));
+        }
+    }
+    let mut runs: Vec<(GroupOp, &mut PowerIteration)> =
+        cold.iter_mut().filter(|(i, _)| estimates[*i].is_none()).map(|(i, p)| (ops[*i], p)).collect();
+    run_side_by_side(level, &mut runs, POWER_ITERATIONS);
+    drop(runs);
+    for ((i, power), &shape) in cold.iter().zip(&shapes) {
+        if estimates[*i].is_some() {
+            continue;
+        }
+        let full = power.after(POWER_ITERATIONS);
+        let ratio = match (full, power.after(FEW)) {
+            (Some(f), Some(e)) if e > 0.0 && shape > 0.0 => f / e,
+            _ => 0.0,
+        };
+        let (start, inv_d) = match power.last_start() {
+            Some(x) if full.is_some() && !lines[*i] => (x.into(), level.inv_d[own[*i]].as_slice().into()),
+            _ => Default::default(),
+        };
+        estimates[*i] = Some((raised_on_lines(&ops[*i], padded(full)), Component { start, inv_d, scale: 1.0, shape, ratio }));
+    }
+    let mut cal = vec![Component::default(); level.flags.len()];
+    let mut out = Vec::with_capacity(own.len());
+    for (&c, e) in own.iter().zip(estimates) {
+        let (e, k) = e.expect("every component estimated");
+        cal[c] = k;
+        out.push(e);
+    }
+    (out, Calibration(cal))
 }
 
 #[cfg(test)]
