@@ -368,4 +368,74 @@ mod tests {
         assert_eq!(e[0].to_bits(), estimate_lambda_max(&op).to_bits());
         assert_eq!(cal.0[0].ratio.to_bits(), k.ratio.to_bits(), "calibrated again");
     }
+
+    /// The components' power iterations side by side give each component's own run bitwise, on
+    /// every level and at one and three threads: the full estimates and the kept iterates of a
+    /// new level, and a rescaled component (a calibration whose shape holds) beside a full one;
+    /// `LevelOperator::applies` is each block's `apply` bitwise, on the biharmonic's two passes
+    /// and a one-pass operator.
+    #[test]
+    fn side_by_side_is_each_component_alone_bitwise() {
+        let mesh = rect(20, 20, [0.0, 1.0, 0.0, 1.0]);
+        let mut bcs = BoundaryConditions::new();
+        bcs.set_kinds(1, Kind::Fixed).set_kinds(3, Kind::Clamped);
+        for p in [2, 4] {
+            bcs.set_kind(p, 0, Kind::Clamped).unwrap().set_kind(p, 1, Kind::Free).unwrap();
+        }
+        let mut params = HierarchyParams::default();
+        params.coarsen.coarsest_unknowns = Some(40);
+        for threads in [1, 3] {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            pool.install(|| {
+                let h = Hierarchy::build(&mesh, Vec::new(), &bcs, Method::Biharmonic, &params).unwrap();
+                assert!(h.levels.len() >= 3, "{} levels", h.levels.len());
+                for level in &h.levels {
+                    let (e, cal) = biharmonic_estimates(level, &[0, 1], None);
+                    for c in 0..2 {
+                        let op = GroupOp::new(level, c..c + 1, false);
+                        assert_eq!(e[c].to_bits(), estimate_lambda_max(&op).to_bits(), "component {c}");
+                        let mut power = PowerIteration::new(&op);
+                        power.run(&op, POWER_ITERATIONS);
+                        let own: Vec<u64> = power.last_start().unwrap().iter().map(|x| x.to_bits()).collect();
+                        let kept: Vec<u64> = cal.0[c].start.iter().map(|x| x.to_bits()).collect();
+                        assert_eq!(own, kept, "component {c}'s kept iterate");
+                    }
+                    // Component 0 rescaled after `FEW` iterations, component 1 run to the full count.
+                    let mixed = Calibration(vec![
+                        Component { shape: cal.0[0].shape, ratio: 0.25, ..Default::default() },
+                        Component::default(),
+                    ]);
+                    let (m, _) = biharmonic_estimates(level, &[0, 1], Some(&mixed));
+                    let op = GroupOp::new(level, 0..1, false);
+                    let mut power = PowerIteration::new(&op);
+                    power.run(&op, FEW);
+                    assert_eq!(m[0].to_bits(), padded(Some(power.after(FEW).unwrap() * 0.25 * MARGIN)).to_bits());
+                    assert_eq!(m[1].to_bits(), e[1].to_bits());
+                }
+                // `applies` against `apply`, three blocks, both kinds of operator.
+                let lap = Hierarchy::build(&mesh, Vec::new(), &bcs, Method::Laplacian, &params).unwrap();
+                for level in [&h.levels[0], &h.levels[1], &lap.levels[0]] {
+                    let n = level.n();
+                    assert!(level.flags[0] != level.flags[1], "the components have their own flags");
+                    let flags = [&level.flags[0][..], &level.flags[1][..], &level.flags[0][..]];
+                    let xs: Vec<Vec<f64>> =
+                        (0..3).map(|b| (0..n).map(|i| ((i * 7919 + b * 31) % 1009) as f64 / 1009.0 - 0.5).collect()).collect();
+                    let x: Vec<&[f64]> = xs.iter().map(|x| x.as_slice()).collect();
+                    let (mut ys, mut ss) = (vec![vec![0.0; n]; 3], vec![vec![0.0; n]; 3]);
+                    {
+                        let mut y: Vec<&mut [f64]> = ys.iter_mut().map(|y| y.as_mut_slice()).collect();
+                        let mut s: Vec<&mut [f64]> = ss.iter_mut().map(|s| s.as_mut_slice()).collect();
+                        level.op.applies(&flags, &x, &mut y, &mut s);
+                    }
+                    for b in 0..3 {
+                        let (mut y, mut s) = (vec![0.0; n], vec![0.0; n]);
+                        level.op.apply(flags[b], x[b], &mut y, &mut s);
+                        let same = y.iter().zip(&ys[b]).all(|(a, c)| a.to_bits() == c.to_bits());
+                        assert!(same, "block {b} of {n} rows");
+                        assert!(y.iter().any(|&v| v != 0.0));
+                    }
+                }
+            });
+        }
+    }
 }
