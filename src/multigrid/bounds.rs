@@ -192,21 +192,28 @@ mod tests {
         v.iter().map(|l| l.iter().map(|x| x.to_bits()).collect()).collect()
     }
 
+    /// The unit square of `n`×`n` cells as a free surface (bottom fixed, top clamped, the sides
+    /// clamping x only, so the components have their own flags), with a coarsest size below
+    /// 2D's default that keeps three levels on a small mesh.
+    fn free_surface(n: usize) -> (Mesh, BoundaryConditions, HierarchyParams) {
+        let mesh = rect(n, n, [0.0, 1.0, 0.0, 1.0]);
+        let mut bcs = BoundaryConditions::new();
+        bcs.set_kinds(1, Kind::Fixed).set_kinds(3, Kind::Clamped);
+        for p in [2, 4] {
+            bcs.set_kind(p, 0, Kind::Clamped).unwrap().set_kind(p, 1, Kind::Free).unwrap();
+        }
+        let mut params = HierarchyParams::default();
+        params.coarsen.coarsest_unknowns = Some(40);
+        (mesh, bcs, params)
+    }
+
     /// A turned and shifted level keeps its diagonal and is estimated from one iteration of its
     /// kept iterate (the margin over the full estimate, which the motion leaves alone); a
     /// squashed finest level is estimated from the fixed start, not below a new hierarchy's; a restore
     /// estimates bitwise as before the failed move.
     #[test]
     fn warm_only_where_the_diagonal_stayed() {
-        let mesh = rect(24, 24, [0.0, 1.0, 0.0, 1.0]);
-        let mut bcs = BoundaryConditions::new();
-        bcs.set_kinds(1, Kind::Fixed).set_kinds(3, Kind::Clamped);
-        for p in [2, 4] {
-            bcs.set_kind(p, 0, Kind::Clamped).unwrap().set_kind(p, 1, Kind::Free).unwrap();
-        }
-        // A coarsest size below 2D's default keeps three levels on this small mesh.
-        let mut params = HierarchyParams::default();
-        params.coarsen.coarsest_unknowns = Some(40);
+        let (mesh, bcs, params) = free_surface(24);
         let mut h = Hierarchy::build(&mesh, Vec::new(), &bcs, Method::Biharmonic, &params).unwrap();
         assert!(h.levels.len() >= 3, "{} levels", h.levels.len());
         let built = lambdas(&h);
@@ -376,14 +383,7 @@ mod tests {
     /// and a one-pass operator.
     #[test]
     fn side_by_side_is_each_component_alone_bitwise() {
-        let mesh = rect(20, 20, [0.0, 1.0, 0.0, 1.0]);
-        let mut bcs = BoundaryConditions::new();
-        bcs.set_kinds(1, Kind::Fixed).set_kinds(3, Kind::Clamped);
-        for p in [2, 4] {
-            bcs.set_kind(p, 0, Kind::Clamped).unwrap().set_kind(p, 1, Kind::Free).unwrap();
-        }
-        let mut params = HierarchyParams::default();
-        params.coarsen.coarsest_unknowns = Some(40);
+        let (mesh, bcs, params) = free_surface(20);
         for threads in [1, 3] {
             let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
             pool.install(|| {
