@@ -26,9 +26,8 @@
 //! spread start needs more iterations to find) the iteration continues to the full estimate,
 //! bitwise the one a new level gets, and calibrates the component again.
 
-use super::group::{padded, raised_on_lines, GroupOp, PowerIteration, POWER_ITERATIONS};
+use super::group::{padded, raised_on_lines, run_side_by_side, GroupOp, PowerIteration, POWER_ITERATIONS};
 use super::level::Level;
-use rayon::prelude::*;
 use std::sync::Arc;
 
 /// The largest relative change of a free unknown's Jacobi diagonal since the last estimate from
@@ -101,53 +100,76 @@ fn raised(e: f64, drift: f64) -> Option<f64> {
 /// Components smoothed along lines always get the full estimate, as the smoother there is the
 /// most sensitive to its interval (docs/perf-history.md, "bounds by Lanczos").
 pub(crate) fn biharmonic_estimates(level: &Level, own: &[usize], previous: Option<&Calibration>) -> (Vec<f64>, Calibration) {
-    let estimates: Vec<(f64, Component)> = own
-        .par_iter()
-        .map(|&c| {
-            let op = GroupOp::new(level, c..c + 1, false);
-            let lines = op.lines(0).is_some();
-            let previous = previous.and_then(|p| p.0.get(c)).filter(|_| !lines);
-            let warm = previous
-                .filter(|k| k.start.len() == level.n())
-                .map(|k| (k, largest_drift(&k.inv_d, &level.inv_d[c])))
-                .filter(|&(_, drift)| drift <= DRIFT);
-            if let Some((k, drift)) = warm {
-                let mut power = PowerIteration::from_start(&op, k.start.to_vec());
-                power.run(&op, 1);
-                if let Some(e) = power.after(1).and_then(|e| raised(e * k.scale * MARGIN, drift)) {
-                    return (e, k.clone());
-                }
-            }
-            let mut power = PowerIteration::new(&op);
-            power.run(&op, SHAPE.1);
-            let shape = match (power.after(SHAPE.0), power.after(SHAPE.1)) {
-                (Some(a), Some(b)) if a > 0.0 => b / a,
-                _ => 0.0,
-            };
-            let kept = previous.filter(|k| k.ratio > 0.0 && (shape - k.shape).abs() <= SHAPE_TOLERANCE * k.shape);
-            power.run(&op, FEW);
-            if let (Some(k), Some(e), Some(x)) = (kept, power.after(FEW), power.last_start()) {
-                let warm = Component { start: x.into(), inv_d: level.inv_d[c].as_slice().into(), scale: k.ratio, ..k.clone() };
-                return (padded(Some(e * k.ratio * MARGIN)), warm);
-            }
-            power.run(&op, POWER_ITERATIONS);
-            let full = power.after(POWER_ITERATIONS);
-            let ratio = match (full, power.after(FEW)) {
-                (Some(f), Some(e)) if e > 0.0 && shape > 0.0 => f / e,
-                _ => 0.0,
-            };
-            let (start, inv_d) = match power.last_start() {
-                Some(x) if full.is_some() && !lines => (x.into(), level.inv_d[c].as_slice().into()),
-                _ => Default::default(),
-            };
-            (raised_on_lines(&op, padded(full)), Component { start, inv_d, scale: 1.0, shape, ratio })
+    let ops: Vec<GroupOp> = own.iter().map(|&c| GroupOp::new(level, c..c + 1, false)).collect();
+    let lines: Vec<bool> = ops.iter().map(|op| op.lines(0).is_some()).collect();
+    let kept: Vec<Option<&Component>> =
+        own.iter().zip(&lines).map(|(&c, &lines)| previous.and_then(|p| p.0.get(c)).filter(|_| !lines)).collect();
+    let mut estimates: Vec<Option<(f64, Component)>> = vec![None; own.len()];
+    // One iteration from each kept iterate whose diagonal drifted little.
+    let mut warm: Vec<(usize, f64, PowerIteration)> = (0..own.len())
+        .filter_map(|i| {
+            let k = kept[i].filter(|k| k.start.len() == level.n())?;
+            let drift = largest_drift(&k.inv_d, &level.inv_d[own[i]]);
+            (drift <= DRIFT).then(|| (i, drift, PowerIteration::from_start(&ops[i], k.start.to_vec())))
         })
         .collect();
-    let mut cal = vec![Component::default(); level.flags.len()];
-    for (&c, (_, k)) in own.iter().zip(&estimates) {
-        cal[c] = k.clone();
+    let mut runs: Vec<(GroupOp, &mut PowerIteration)> = warm.iter_mut().map(|(i, _, p)| (ops[*i], p)).collect();
+    run_side_by_side(level, &mut runs, 1);
+    for (i, drift, power) in &warm {
+        let k = kept[*i].expect("a warm start is a kept one");
+        if let Some(e) = power.after(1).and_then(|e| raised(e * k.scale * MARGIN, *drift)) {
+            estimates[*i] = Some((e, k.clone()));
+        }
     }
-    (estimates.into_iter().map(|(e, _)| e).collect(), Calibration(cal))
+    // The others from the fixed start: the shape after `SHAPE.1` iterations, the rescaled
+    // estimate after `FEW` where the calibration holds, else the full one.
+    let mut cold: Vec<(usize, PowerIteration)> =
+        (0..own.len()).filter(|&i| estimates[i].is_none()).map(|i| (i, PowerIteration::new(&ops[i]))).collect();
+    let mut runs: Vec<(GroupOp, &mut PowerIteration)> = cold.iter_mut().map(|(i, p)| (ops[*i], p)).collect();
+    run_side_by_side(level, &mut runs, SHAPE.1);
+    let shapes: Vec<f64> = runs
+        .iter()
+        .map(|(_, power)| match (power.after(SHAPE.0), power.after(SHAPE.1)) {
+            (Some(a), Some(b)) if a > 0.0 => b / a,
+            _ => 0.0,
+        })
+        .collect();
+    run_side_by_side(level, &mut runs, FEW);
+    drop(runs);
+    for ((i, power), &shape) in cold.iter().zip(&shapes) {
+        let calibrated = kept[*i].filter(|k| k.ratio > 0.0 && (shape - k.shape).abs() <= SHAPE_TOLERANCE * k.shape);
+        if let (Some(k), Some(e), Some(x)) = (calibrated, power.after(FEW), power.last_start()) {
+            let warm = Component { start: x.into(), inv_d: level.inv_d[own[*i]].as_slice().into(), scale: k.ratio, ..k.clone() };
+            estimates[*i] = Some((padded(Some(e * k.ratio * MARGIN)), warm));
+        }
+    }
+    let mut runs: Vec<(GroupOp, &mut PowerIteration)> =
+        cold.iter_mut().filter(|(i, _)| estimates[*i].is_none()).map(|(i, p)| (ops[*i], p)).collect();
+    run_side_by_side(level, &mut runs, POWER_ITERATIONS);
+    drop(runs);
+    for ((i, power), &shape) in cold.iter().zip(&shapes) {
+        if estimates[*i].is_some() {
+            continue;
+        }
+        let full = power.after(POWER_ITERATIONS);
+        let ratio = match (full, power.after(FEW)) {
+            (Some(f), Some(e)) if e > 0.0 && shape > 0.0 => f / e,
+            _ => 0.0,
+        };
+        let (start, inv_d) = match power.last_start() {
+            Some(x) if full.is_some() && !lines[*i] => (x.into(), level.inv_d[own[*i]].as_slice().into()),
+            _ => Default::default(),
+        };
+        estimates[*i] = Some((raised_on_lines(&ops[*i], padded(full)), Component { start, inv_d, scale: 1.0, shape, ratio }));
+    }
+    let mut cal = vec![Component::default(); level.flags.len()];
+    let mut out = Vec::with_capacity(own.len());
+    for (&c, e) in own.iter().zip(estimates) {
+        let (e, k) = e.expect("every component estimated");
+        cal[c] = k;
+        out.push(e);
+    }
+    (out, Calibration(cal))
 }
 
 #[cfg(test)]
@@ -170,21 +192,28 @@ mod tests {
         v.iter().map(|l| l.iter().map(|x| x.to_bits()).collect()).collect()
     }
 
+    /// The unit square of `n`×`n` cells as a free surface (bottom fixed, top clamped, the sides
+    /// clamping x only, so the components have their own flags), with a coarsest size below
+    /// 2D's default that keeps three levels on a small mesh.
+    fn free_surface(n: usize) -> (Mesh, BoundaryConditions, HierarchyParams) {
+        let mesh = rect(n, n, [0.0, 1.0, 0.0, 1.0]);
+        let mut bcs = BoundaryConditions::new();
+        bcs.set_kinds(1, Kind::Fixed).set_kinds(3, Kind::Clamped);
+        for p in [2, 4] {
+            bcs.set_kind(p, 0, Kind::Clamped).unwrap().set_kind(p, 1, Kind::Free).unwrap();
+        }
+        let mut params = HierarchyParams::default();
+        params.coarsen.coarsest_unknowns = Some(40);
+        (mesh, bcs, params)
+    }
+
     /// A turned and shifted level keeps its diagonal and is estimated from one iteration of its
     /// kept iterate (the margin over the full estimate, which the motion leaves alone); a
     /// squashed finest level is estimated from the fixed start, not below a new hierarchy's; a restore
     /// estimates bitwise as before the failed move.
     #[test]
     fn warm_only_where_the_diagonal_stayed() {
-        let mesh = rect(24, 24, [0.0, 1.0, 0.0, 1.0]);
-        let mut bcs = BoundaryConditions::new();
-        bcs.set_kinds(1, Kind::Fixed).set_kinds(3, Kind::Clamped);
-        for p in [2, 4] {
-            bcs.set_kind(p, 0, Kind::Clamped).unwrap().set_kind(p, 1, Kind::Free).unwrap();
-        }
-        // A coarsest size below 2D's default keeps three levels on this small mesh.
-        let mut params = HierarchyParams::default();
-        params.coarsen.coarsest_unknowns = Some(40);
+        let (mesh, bcs, params) = free_surface(24);
         let mut h = Hierarchy::build(&mesh, Vec::new(), &bcs, Method::Biharmonic, &params).unwrap();
         assert!(h.levels.len() >= 3, "{} levels", h.levels.len());
         let built = lambdas(&h);
@@ -345,5 +374,68 @@ mod tests {
         let (e, cal) = biharmonic_estimates(level, &[0], Some(&left));
         assert_eq!(e[0].to_bits(), estimate_lambda_max(&op).to_bits());
         assert_eq!(cal.0[0].ratio.to_bits(), k.ratio.to_bits(), "calibrated again");
+    }
+
+    /// The components' power iterations side by side give each component's own run bitwise, on
+    /// every level and at one and three threads: the full estimates and the kept iterates of a
+    /// new level, and a rescaled component (a calibration whose shape holds) beside a full one;
+    /// `LevelOperator::applies` is each block's `apply` bitwise, on the biharmonic's two passes
+    /// and a one-pass operator.
+    #[test]
+    fn side_by_side_is_each_component_alone_bitwise() {
+        let (mesh, bcs, params) = free_surface(20);
+        for threads in [1, 3] {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            pool.install(|| {
+                let h = Hierarchy::build(&mesh, Vec::new(), &bcs, Method::Biharmonic, &params).unwrap();
+                assert!(h.levels.len() >= 3, "{} levels", h.levels.len());
+                for level in &h.levels {
+                    let (e, cal) = biharmonic_estimates(level, &[0, 1], None);
+                    for (c, ec) in e.iter().enumerate() {
+                        let op = GroupOp::new(level, c..c + 1, false);
+                        assert_eq!(ec.to_bits(), estimate_lambda_max(&op).to_bits(), "component {c}");
+                        let mut power = PowerIteration::new(&op);
+                        power.run(&op, POWER_ITERATIONS);
+                        let own: Vec<u64> = power.last_start().unwrap().iter().map(|x| x.to_bits()).collect();
+                        let kept: Vec<u64> = cal.0[c].start.iter().map(|x| x.to_bits()).collect();
+                        assert_eq!(own, kept, "component {c}'s kept iterate");
+                    }
+                    // Component 0 rescaled after `FEW` iterations, component 1 run to the full count.
+                    let mixed = Calibration(vec![
+                        Component { shape: cal.0[0].shape, ratio: 0.25, ..Default::default() },
+                        Component::default(),
+                    ]);
+                    let (m, _) = biharmonic_estimates(level, &[0, 1], Some(&mixed));
+                    let op = GroupOp::new(level, 0..1, false);
+                    let mut power = PowerIteration::new(&op);
+                    power.run(&op, FEW);
+                    assert_eq!(m[0].to_bits(), padded(Some(power.after(FEW).unwrap() * 0.25 * MARGIN)).to_bits());
+                    assert_eq!(m[1].to_bits(), e[1].to_bits());
+                }
+                // `applies` against `apply`, three blocks, both kinds of operator.
+                let lap = Hierarchy::build(&mesh, Vec::new(), &bcs, Method::Laplacian, &params).unwrap();
+                for level in [&h.levels[0], &h.levels[1], &lap.levels[0]] {
+                    let n = level.n();
+                    assert!(level.flags[0] != level.flags[1], "the components have their own flags");
+                    let flags = [&level.flags[0][..], &level.flags[1][..], &level.flags[0][..]];
+                    let xs: Vec<Vec<f64>> =
+                        (0..3).map(|b| (0..n).map(|i| ((i * 7919 + b * 31) % 1009) as f64 / 1009.0 - 0.5).collect()).collect();
+                    let x: Vec<&[f64]> = xs.iter().map(|x| x.as_slice()).collect();
+                    let (mut ys, mut ss) = (vec![vec![0.0; n]; 3], vec![vec![0.0; n]; 3]);
+                    {
+                        let mut y: Vec<&mut [f64]> = ys.iter_mut().map(|y| y.as_mut_slice()).collect();
+                        let mut s: Vec<&mut [f64]> = ss.iter_mut().map(|s| s.as_mut_slice()).collect();
+                        level.op.applies(&flags, &x, &mut y, &mut s);
+                    }
+                    for b in 0..3 {
+                        let (mut y, mut s) = (vec![0.0; n], vec![0.0; n]);
+                        level.op.apply(flags[b], x[b], &mut y, &mut s);
+                        let same = y.iter().zip(&ys[b]).all(|(a, c)| a.to_bits() == c.to_bits());
+                        assert!(same, "block {b} of {n} rows");
+                        assert!(y.iter().any(|&v| v != 0.0));
+                    }
+                }
+            });
+        }
     }
 }

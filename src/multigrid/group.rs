@@ -363,3 +363,51 @@ impl PowerIteration {
         k.checked_sub(1).and_then(|i| self.estimates.get(i)).copied()
     }
 }
+
+/// Continues each power iteration of `runs` (one component's group on `level` each) to
+/// `iterations` iterations in all, side by side: each round's products read the rows of the
+/// level's operator once for all the runs still going (`LevelOperator::applies`), where a run
+/// of its own reads them once per component. Every vector operation is the run's own, so the
+/// estimates and iterates are bitwise those of `PowerIteration::run` on each, whatever the
+/// thread count.
+pub(crate) fn run_side_by_side(level: &Level, runs: &mut [(GroupOp, &mut PowerIteration)], iterations: usize) {
+    debug_assert!(runs.iter().all(|(op, _)| op.len() == 1 && std::ptr::eq(op.level(), level)), "groups of one component on the level");
+    loop {
+        let mut going: Vec<(GroupOp, &mut PowerIteration)> = Vec::with_capacity(runs.len());
+        for (op, power) in runs.iter_mut() {
+            if power.estimates.len() >= iterations || power.vanished {
+                continue;
+            }
+            let nx = op.norm(&power.x);
+            if nx == 0.0 {
+                power.vanished = true;
+                continue;
+            }
+            power.x.iter_mut().for_each(|v| *v /= nx);
+            op.exchange(&mut power.x);
+            going.push((*op, &mut **power));
+        }
+        if going.is_empty() {
+            return;
+        }
+        {
+            let flags: Vec<&[u8]> = going.iter().map(|(op, _)| op.flags(0)).collect();
+            let mut xs: Vec<&[f64]> = Vec::with_capacity(going.len());
+            let mut ys: Vec<&mut [f64]> = Vec::with_capacity(going.len());
+            let mut ss: Vec<&mut [f64]> = Vec::with_capacity(going.len());
+            for (_, power) in going.iter_mut() {
+                let PowerIteration { x, y, s, .. } = &mut **power;
+                xs.push(x);
+                ys.push(y);
+                ss.push(s);
+            }
+            level.op.applies(&flags, &xs, &mut ys, &mut ss);
+        }
+        for (op, power) in going {
+            op.precondition(0, &mut power.y, &mut power.sol);
+            op.project(&mut power.y);
+            power.estimates.push(op.norm(&power.y));
+            std::mem::swap(&mut power.x, &mut power.y);
+        }
+    }
+}

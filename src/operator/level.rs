@@ -198,7 +198,49 @@ impl LevelOperator {
         s: &mut [&mut [f64]],
     ) {
         let (flags, b): ([&[u8]; G], [&[f64]; G]) = (std::array::from_fn(|k| flags[k]), std::array::from_fn(|k| b[k]));
-        let (k, u): (&CsrMatrix, [&[f64]; G]) = match self.one_pass() {
+        let (k, u) = self.first_pass::<G>(flags, x, s);
+        par_fill_blocks(blocks::<G>(r), k.nnz(), |i| {
+            let t = k.row_dots(i, &u);
+            std::array::from_fn(|c| if flags[c][i] & P != 0 { b[c][i] } else { b[c][i] - t[c] })
+        });
+    }
+
+    /// y_k = A x_k for the blocks k of a group of components (`flags[k]` each), bitwise as
+    /// `apply` forms each, with every row of A read once for all the blocks, as in `residuals`
+    /// (`s` holds each block's S). A fused plan, or more blocks than three, forms them one by one.
+    pub fn applies(&self, flags: &[&[u8]], x: &[&[f64]], y: &mut [&mut [f64]], s: &mut [&mut [f64]]) {
+        match (flags.len(), &self.fuse) {
+            (1, None) => self.applies_of::<1>(flags, x, y, s),
+            (2, None) => self.applies_of::<2>(flags, x, y, s),
+            (3, None) => self.applies_of::<3>(flags, x, y, s),
+            _ => {
+                for (k, (yk, sk)) in y.iter_mut().zip(s.iter_mut()).enumerate() {
+                    self.apply(flags[k], x[k], yk, sk);
+                }
+            }
+        }
+    }
+
+    /// `applies` of `G` blocks.
+    fn applies_of<const G: usize>(&self, flags: &[&[u8]], x: &[&[f64]], y: &mut [&mut [f64]], s: &mut [&mut [f64]]) {
+        let flags: [&[u8]; G] = std::array::from_fn(|k| flags[k]);
+        let (k, u) = self.first_pass::<G>(flags, x, s);
+        par_fill_blocks(blocks::<G>(y), k.nnz(), |i| {
+            let t = k.row_dots(i, &u);
+            std::array::from_fn(|c| if flags[c][i] & P != 0 { 0.0 } else { t[c] })
+        });
+    }
+
+    /// The matrix the last pass of `G` blocks reads and the vectors it multiplies: the one-pass
+    /// matrix and `x`, or for the biharmonic K and each block's S = M⁻¹ K x (`source`, zero on
+    /// unknowns with Z), formed into `s` with every row of K read once for all the blocks.
+    fn first_pass<'a, const G: usize>(
+        &'a self,
+        flags: [&[u8]; G],
+        x: &[&'a [f64]],
+        s: &'a mut [&mut [f64]],
+    ) -> (&'a CsrMatrix, [&'a [f64]; G]) {
+        match self.one_pass() {
             Some(a) => (a, std::array::from_fn(|k| x[k])),
             None => {
                 let x: [&[f64]; G] = std::array::from_fn(|k| x[k]);
@@ -212,11 +254,7 @@ impl LevelOperator {
                 }
                 (&self.k, std::array::from_fn(|k| &*s[k]))
             }
-        };
-        par_fill_blocks(blocks::<G>(r), k.nnz(), |i| {
-            let t = k.row_dots(i, &u);
-            std::array::from_fn(|c| if flags[c][i] & P != 0 { b[c][i] } else { b[c][i] - t[c] })
-        });
+        }
     }
 
     /// `out_i ← f(i, r_i, out_i)` for every unknown, with r = b − A x formed row by row and never
