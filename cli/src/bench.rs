@@ -47,7 +47,8 @@ pub enum Part {
     /// The per-step cost of a 10-step motion, 2D and 3D.
     #[value(name = "steps")]
     Steps,
-    /// Graded meshes (2D cylinder, 3D sphere; none yet).
+    /// Graded meshes: the 2D cylinder and the 3D sphere, wall cells 1/50 of the far cells (not in
+    /// `--quick`).
     #[value(name = "graded")]
     Graded,
     /// Wall-layered meshes (airfoil, spheroid, wing) pitched and plunged, every method
