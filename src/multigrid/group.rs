@@ -340,22 +340,37 @@ impl PowerIteration {
 
     /// Continues to `iterations` iterations in all (fewer when an iterate vanishes).
     pub(crate) fn run(&mut self, op: &GroupOp, iterations: usize) {
-        let (n, g) = (op.n(), op.len());
-        while self.estimates.len() < iterations && !self.vanished {
-            let nx = op.norm(&self.x);
-            if nx == 0.0 {
-                self.vanished = true;
-                break;
-            }
-            self.x.iter_mut().for_each(|v| *v /= nx);
+        while self.begin(op, iterations) {
             op.apply_blocks(&mut self.x, &mut self.y, &mut self.s);
-            for k in 0..g {
-                op.precondition(k, block_mut(&mut self.y, n, k), &mut self.sol);
-            }
-            op.project(&mut self.y);
-            self.estimates.push(op.norm(&self.y));
-            std::mem::swap(&mut self.x, &mut self.y);
+            self.finish(op);
         }
+    }
+
+    /// Starts the next iteration of a run to `iterations`: normalises the iterate x. False when
+    /// the run is done or x vanished (then no iteration follows).
+    fn begin(&mut self, op: &GroupOp, iterations: usize) -> bool {
+        if self.estimates.len() >= iterations || self.vanished {
+            return false;
+        }
+        let nx = op.norm(&self.x);
+        if nx == 0.0 {
+            self.vanished = true;
+            return false;
+        }
+        self.x.iter_mut().for_each(|v| *v /= nx);
+        true
+    }
+
+    /// Ends an iteration whose product A x is in y: y ← Π D⁻¹ y block by block, its norm the
+    /// iteration's estimate, and y the next iterate.
+    fn finish(&mut self, op: &GroupOp) {
+        let n = op.n();
+        for k in 0..op.len() {
+            op.precondition(k, block_mut(&mut self.y, n, k), &mut self.sol);
+        }
+        op.project(&mut self.y);
+        self.estimates.push(op.norm(&self.y));
+        std::mem::swap(&mut self.x, &mut self.y);
     }
 
     /// The unpadded estimate after `k` ≥ 1 iterations; None when the iteration stopped before.
@@ -375,15 +390,9 @@ pub(crate) fn run_side_by_side(level: &Level, runs: &mut [(GroupOp, &mut PowerIt
     loop {
         let mut going: Vec<(GroupOp, &mut PowerIteration)> = Vec::with_capacity(runs.len());
         for (op, power) in runs.iter_mut() {
-            if power.estimates.len() >= iterations || power.vanished {
+            if !power.begin(op, iterations) {
                 continue;
             }
-            let nx = op.norm(&power.x);
-            if nx == 0.0 {
-                power.vanished = true;
-                continue;
-            }
-            power.x.iter_mut().for_each(|v| *v /= nx);
             op.exchange(&mut power.x);
             going.push((*op, &mut **power));
         }
@@ -404,10 +413,7 @@ pub(crate) fn run_side_by_side(level: &Level, runs: &mut [(GroupOp, &mut PowerIt
             level.op.applies(&flags, &xs, &mut ys, &mut ss);
         }
         for (op, power) in going {
-            op.precondition(0, &mut power.y, &mut power.sol);
-            op.project(&mut power.y);
-            power.estimates.push(op.norm(&power.y));
-            std::mem::swap(&mut power.x, &mut power.y);
+            power.finish(&op);
         }
     }
 }
