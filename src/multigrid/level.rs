@@ -12,6 +12,7 @@ use crate::operator::LevelOperator;
 use crate::sparse::CsrMatrix;
 use crate::Mesh;
 use std::borrow::Cow;
+use std::cell::OnceCell;
 use std::ops::Range;
 use std::sync::Arc;
 
@@ -167,14 +168,22 @@ impl Level {
         }
         // The lines start where the cells' edges are stretched; a level without a mesh takes
         // K's graph for its edges (its lines are its finer level's, so it is searched already).
+        // The edges are built at the finder's first look at them: it reads them only at unknowns
+        // anisotropic over K's graph, which an isotropic level lacks.
         let dim = self.dim();
-        let (points, edges) = match &self.mesh {
-            _ if self.lines.searched() => (Vec::new(), Graph::default()),
-            Some(mesh) => (self.unknown_points().into_owned(), Graph::cell_edges(mesh, &self.dofs, &self.op.k)),
-            None => (self.unknown_points().into_owned(), Graph::of_entries(&self.op.k, |_| true)),
+        let points = if self.lines.searched() { Vec::new() } else { self.unknown_points().into_owned() };
+        let edges = OnceCell::new();
+        let Level { lines, op, flags, dofs, mesh, .. } = self;
+        let (op, dofs, mesh) = (&*op, &*dofs, mesh.as_ref());
+        let edges_of = |i: usize| {
+            edges
+                .get_or_init(|| match mesh {
+                    Some(mesh) => Graph::cell_edges(mesh, dofs, &op.k),
+                    None => Graph::of_entries(&op.k, |_| true),
+                })
+                .neighbours(i)
         };
-        let Level { lines, op, flags, dofs, .. } = self;
-        lines.refresh(op, flags, &apart, (&points, dim, &edges), |d| dofs.vertices_of(d).len() > 1);
+        lines.refresh(op, flags, &apart, (&points, dim, edges_of), |d| dofs.vertices_of(d).len() > 1);
     }
 
     /// The slip frames coupling the group `comps`: the level's frames when its components are

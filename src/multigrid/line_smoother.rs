@@ -15,7 +15,6 @@
 //! walls the slip unknowns leave the blocks too and keep their equalised point diagonal, so D
 //! commutes with the projection Π as the point diagonal does (`multigrid::slip`).
 
-use super::cell_edges::Graph;
 use super::lines::Lines;
 use crate::bc::{P, Z};
 use crate::operator::{LevelOperator, Method};
@@ -113,18 +112,19 @@ impl LineBlocks {
     }
 
     /// Finds the lines once (they follow the level's topology, which a moved mesh keeps), from
-    /// the unknowns' `points` (`dim` values each), K's graph and the cells' `edges` over the
-    /// unknowns (`multigrid::cell_edges`, where a line may start; both read only on the first
-    /// call), and factors their blocks for `op`'s current values and the components' `flags`;
+    /// the unknowns' `points` (`dim` values each), K's graph and the neighbours along the cells'
+    /// edges of each unknown, `edges(i)` (`multigrid::cell_edges`, where a line may start; both
+    /// read only on the first call, `edges` only at unknowns anisotropic over K's graph), and
+    /// factors their blocks for `op`'s current values and the components' `flags`;
     /// `apart` as in `new`.
     /// `linked` marks the unknowns that stand for several vertices (on no line, their couplings
     /// not measured).
-    pub(crate) fn refresh(
+    pub(crate) fn refresh<'e>(
         &mut self,
         op: &LevelOperator,
         flags: &[Vec<u8>],
         apart: &[bool],
-        (points, dim, edges): (&[f64], usize, &Graph),
+        (points, dim, edges): (&[f64], usize, impl Fn(usize) -> &'e [u32]),
         linked: impl Fn(usize) -> bool,
     ) {
         if self.searched {
@@ -132,7 +132,7 @@ impl LineBlocks {
             return;
         }
         let prescribed = |i: usize| flags.iter().all(|f| f[i] & P != 0);
-        let lines = Lines::find(op.n(), |i| op.k.row(i).0, |i| edges.neighbours(i), points, dim, prescribed, linked);
+        let lines = Lines::find(op.n(), |i| op.k.row(i).0, edges, points, dim, prescribed, linked);
         *self = LineBlocks::new(lines, op, flags, apart);
     }
 

@@ -245,8 +245,14 @@ const CONE_COS2: f64 = 0.75;
 /// largest, for `directional` to count that axis as spanned by them.
 const SPAN: f64 = 0.1;
 
-/// A row's short neighbours in `directional`, each its offset and squared distance.
-pub(super) type Shorts = Vec<([f64; 3], f64)>;
+/// Buffers of `strong`, reused from row to row: the row's offsets and its short neighbours.
+#[derive(Default)]
+pub(super) struct Shorts {
+    /// The offset of each entry of the row from its unknown (zero at the unknown itself).
+    rel: Vec<[f64; 3]>,
+    /// `directional`'s short neighbours, each its offset and squared distance.
+    short: Vec<([f64; 3], f64)>,
+}
 
 /// The neighbours of `v` in K's graph (not `v`) that are strongly coupled to it
 /// (`directional`), `rel(u)` giving u's offset from `v`: `out`, one value per entry of K's row
@@ -260,18 +266,21 @@ pub(super) type Shorts = Vec<([f64; 3], f64)>;
 /// dropped: none of them may interpolate it (`Features::donor_ok`). For such an unknown only the
 /// neighbours that may interpolate it (on its own plane, or its edge) count, the nearest among
 /// them setting the reach, so each plane is coarsened as its 2D section would be; every other
-/// unknown keeps the rule above. `shorts` is `directional`'s buffer, reused from row to row.
+/// unknown keeps the rule above. `buf` holds the row's offsets (each found once) and
+/// `directional`'s short neighbours.
 pub(super) fn strong(
     k: &CsrMatrix,
     f: &Features,
     v: usize,
     rel: impl Fn(usize) -> [f64; 3],
     out: &mut [f64],
-    shorts: &mut Shorts,
+    buf: &mut Shorts,
 ) {
     let row = k.row(v).0;
-    for (d, &u) in out.iter_mut().zip(row) {
-        *d = if u as usize != v { norm2(rel(u as usize)) } else { f64::INFINITY };
+    buf.rel.clear();
+    buf.rel.extend(row.iter().map(|&u| if u as usize != v { rel(u as usize) } else { [0.0; 3] }));
+    for ((d, &u), r) in out.iter_mut().zip(row).zip(&buf.rel) {
+        *d = if u as usize != v { norm2(*r) } else { f64::INFINITY };
     }
     let near = STRONG_REACH * STRONG_REACH * nearest_of(out);
     let eligible = |u: u32| u as usize != v && f.donor_ok(v, u as usize);
@@ -285,7 +294,7 @@ pub(super) fn strong(
         return;
     }
     if f.dim() == 3 {
-        directional(row, v, &rel, out, shorts);
+        directional(row, v, &buf.rel, out, &mut buf.short);
     } else {
         // 2D keeps one reach from the nearest neighbour: its slip-wall channel's kept levels
         // took more iterations with the directions' rule.
@@ -293,8 +302,8 @@ pub(super) fn strong(
     }
 }
 
-/// Marks the strong couplings of `v` among its neighbours `row`, whose squared distances are
-/// `d2` (∞ at `v` itself): a neighbour is strong when its direction is a short one (some
+/// Marks the strong couplings of `v` among its neighbours `row`, at offsets `rel` and squared
+/// distances `d2` (∞ at `v` itself): a neighbour is strong when its direction is a short one (some
 /// neighbour within `CONE_COS2`'s cone of it, either way along it, lies within
 /// `SHORT_DIRECTION` of the nearest neighbour of all) and it lies within `STRONG_REACH` of the
 /// nearest neighbour in that cone; a neighbour with no short one in its cone is strong when it
@@ -304,13 +313,14 @@ pub(super) fn strong(
 /// direction is weak, whatever the ratio beyond `SHORT_DIRECTION`, so the shell is coarsened
 /// along itself; within cells of moderate aspect ratio every direction is short and the reach
 /// is the nearest neighbour's. `shorts` is a buffer the caller reuses from row to row.
-fn directional(row: &[u32], v: usize, rel: &impl Fn(usize) -> [f64; 3], d2: &mut [f64], shorts: &mut Shorts) {
+fn directional(row: &[u32], v: usize, rel: &[[f64; 3]], d2: &mut [f64], shorts: &mut Vec<([f64; 3], f64)>) {
     let nearest = nearest_of(d2);
     let short = SHORT_DIRECTION * SHORT_DIRECTION * nearest;
     let reach = STRONG_REACH * STRONG_REACH * short;
+    let within_nearest = STRONG_REACH * STRONG_REACH * nearest;
     // The short neighbours (offset, squared distance): only they can set a direction's spacing.
     shorts.clear();
-    shorts.extend(row.iter().zip(d2.iter()).filter(|&(&u, &d)| u as usize != v && d <= short).map(|(&u, &d)| (rel(u as usize), d)));
+    shorts.extend(row.iter().zip(d2.iter()).zip(rel).filter(|&((&u, &d), _)| u as usize != v && d <= short).map(|((_, &d), &r)| (r, d)));
     let shorts = &shorts[..];
     // The axes the short directions span (those of their unit vectors' spread above a tenth
     // of the largest): a neighbour within 30° of their span is along the cells' short sides.
@@ -320,27 +330,26 @@ fn directional(row: &[u32], v: usize, rel: &impl Fn(usize) -> [f64; 3], d2: &mut
         let off: f64 = (0..3).filter(across).map(|i| axes[i]).map(|a| (r[0] * a[0] + r[1] * a[1] + r[2] * a[2]).powi(2)).sum();
         off <= (1.0 - CONE_COS2) * d
     };
-    for (d, &u) in d2.iter_mut().zip(row) {
+    for ((d, &u), &r) in d2.iter_mut().zip(row).zip(rel) {
         if u as usize == v || *d > reach {
             *d = f64::NAN;
             continue;
         }
-        let r = rel(u as usize);
-        let spacing = shorts
-            .iter()
-            .filter(|(s, ds)| {
-                let dot = r[0] * s[0] + r[1] * s[1] + r[2] * s[2];
-                dot * dot >= CONE_COS2 * *d * ds
-            })
-            .map(|&(_, ds)| ds)
-            .fold(f64::INFINITY, f64::min);
-        // No short neighbour in the cone (spacing ∞): strong within the reach of the nearest
-        // neighbour of all when the direction lies in the short directions' span (a cube's
-        // diagonals), weak across it (a stretched shell's long side).
-        let strong = if spacing == f64::INFINITY {
-            in_span(r, *d) && *d <= STRONG_REACH * STRONG_REACH * nearest
+        let in_cone = |&&(s, ds): &&([f64; 3], f64)| {
+            let dot = r[0] * s[0] + r[1] * s[1] + r[2] * s[2];
+            dot * dot >= CONE_COS2 * *d * ds
+        };
+        // Within the reach of the nearest neighbour of all a neighbour is within that of its
+        // cone's nearest too (no short neighbour is nearer than the nearest), so there it is
+        // strong when any short neighbour lies in its cone, or else when its direction lies in
+        // the short directions' span (a cube's diagonals). Beyond it, it is strong within the
+        // reach of its cone's nearest short neighbour, and weak with none in its cone (a
+        // stretched shell's long side).
+        let strong = if *d <= within_nearest {
+            shorts.iter().any(|s| in_cone(&s)) || in_span(r, *d)
         } else {
-            *d <= STRONG_REACH * STRONG_REACH * spacing
+            let spacing = shorts.iter().filter(in_cone).map(|&(_, ds)| ds).fold(f64::INFINITY, f64::min);
+            spacing < f64::INFINITY && *d <= STRONG_REACH * STRONG_REACH * spacing
         };
         if !strong {
             *d = f64::NAN;
@@ -374,7 +383,7 @@ pub(super) fn strong_couplings(k: &CsrMatrix, f: &Features, points: &[f64]) -> V
     let mut out = vec![0.0; k.nnz()];
     crate::sparse::row_blocks(&k.row_ptr, &mut out, STRONG_ROWS).into_par_iter().for_each(|(rows, b)| {
         let base = k.row_ptr[rows.start] as usize;
-        let mut shorts = Shorts::new();
+        let mut shorts = Shorts::default();
         for v in rows {
             let r = k.row_ptr[v] as usize - base..k.row_ptr[v + 1] as usize - base;
             strong(k, f, v, |u| f.relative(v, u, at(v), at(u)), &mut b[r], &mut shorts);
@@ -394,7 +403,7 @@ mod tests {
     /// The strong couplings of unknown 0 among neighbours 1.. at `offsets`: true where strong.
     fn strong_of(offsets: &[[f64; 3]]) -> Vec<bool> {
         let row: Vec<u32> = (0..=offsets.len() as u32).collect();
-        let rel = |u: usize| offsets[u - 1];
+        let rel: Vec<[f64; 3]> = std::iter::once([0.0; 3]).chain(offsets.iter().copied()).collect();
         let mut d2: Vec<f64> = std::iter::once(f64::INFINITY).chain(offsets.iter().map(|r| r.iter().map(|x| x * x).sum())).collect();
         directional(&row, 0, &rel, &mut d2, &mut Vec::new());
         d2[1..].iter().map(|d| !d.is_nan()).collect()
@@ -412,6 +421,10 @@ mod tests {
         // Beyond the reach of its direction's nearest neighbour a neighbour is weak.
         let far = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [0.0, 2.1, 0.0]];
         assert_eq!(strong_of(&far), [true, true, true, false]);
+        // Beyond the nearest neighbour's reach, with no short neighbour in its cone, a
+        // neighbour is weak, whether or not it lies in the short directions' span.
+        let off_cone = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.5, 1.5, 1.0], [1.2, 1.2, 1.2]];
+        assert_eq!(strong_of(&off_cone), [true, true, true, false, true]);
     }
 
     /// The four running minima give the sequential fold's minimum bitwise, with NaNs, infinities

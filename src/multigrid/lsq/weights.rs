@@ -86,7 +86,7 @@ pub(super) fn prolongation(fine: &Level, f: &Features, kept: &[u32], donors: Don
     };
     let chunks: Vec<(Vec<u32>, Vec<u32>, Vec<f64>)> = (0..n.div_ceil(CHUNK))
         .into_par_iter()
-        .map_init(|| (Rings::new(n), Vec::new(), Vec::new()), |(rings, near, shorts), c| {
+        .map_init(|| (Rings::new(n), Vec::new(), super::Shorts::default()), |(rings, near, shorts), c| {
             let (mut lens, mut cols, mut vals) = (Vec::new(), Vec::new(), Vec::new());
             let mut row = Vec::new();
             let rows = c * CHUNK..((c + 1) * CHUNK).min(n);
