@@ -423,7 +423,7 @@ mod tests {
         assert_eq!(strong_of(&far), [true, true, true, false]);
         // Beyond the nearest neighbour's reach, with no short neighbour in its cone, a
         // neighbour is weak, whether or not it lies in the short directions' span.
-        let off_cone = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.5, 1.5, 1.0], [1.2, 1.2, 1.2]];
+        let off_cone = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.5, 1.5, 1.0], [0.9, 0.9, 0.9]];
         assert_eq!(strong_of(&off_cone), [true, true, true, false, true]);
     }
 
