@@ -325,9 +325,15 @@ fn directional(row: &[u32], v: usize, rel: &[[f64; 3]], d2: &mut [f64], shorts: 
     // The axes the short directions span (those of their unit vectors' spread above a tenth
     // of the largest): a neighbour within 30° of their span is along the cells' short sides.
     let (axes, spread) = weights::principal_axes_of(shorts.iter().map(|&(s, ds)| s.map(|x| x / ds.sqrt())));
-    let across = |i: &usize| spread[*i] < SPAN * spread[0];
+    let mut across = [[0.0; 3]; 3];
+    let mut n_across = 0;
+    for i in (0..3).filter(|&i| spread[i] < SPAN * spread[0]) {
+        across[n_across] = axes[i];
+        n_across += 1;
+    }
+    let across = &across[..n_across];
     let in_span = |r: [f64; 3], d: f64| {
-        let off: f64 = (0..3).filter(across).map(|i| axes[i]).map(|a| (r[0] * a[0] + r[1] * a[1] + r[2] * a[2]).powi(2)).sum();
+        let off: f64 = across.iter().map(|a| (r[0] * a[0] + r[1] * a[1] + r[2] * a[2]).powi(2)).sum();
         off <= (1.0 - CONE_COS2) * d
     };
     for ((d, &u), &r) in d2.iter_mut().zip(row).zip(rel) {
@@ -341,12 +347,12 @@ fn directional(row: &[u32], v: usize, rel: &[[f64; 3]], d2: &mut [f64], shorts: 
         };
         // Within the reach of the nearest neighbour of all a neighbour is within that of its
         // cone's nearest too (no short neighbour is nearer than the nearest), so there it is
-        // strong when any short neighbour lies in its cone, or else when its direction lies in
-        // the short directions' span (a cube's diagonals). Beyond it, it is strong within the
+        // strong when its direction lies in the short directions' span (every direction, when
+        // they span all three axes) or any short neighbour lies in its cone. Beyond it, it is strong within the
         // reach of its cone's nearest short neighbour, and weak with none in its cone (a
         // stretched shell's long side).
         let strong = if *d <= within_nearest {
-            shorts.iter().any(|s| in_cone(&s)) || in_span(r, *d)
+            in_span(r, *d) || shorts.iter().any(|s| in_cone(&s))
         } else {
             let spacing = shorts.iter().filter(in_cone).map(|&(_, ds)| ds).fold(f64::INFINITY, f64::min);
             spacing < f64::INFINITY && *d <= STRONG_REACH * STRONG_REACH * spacing
