@@ -125,7 +125,8 @@ const LAYERED_SHARE: f64 = 0.1;
 fn coarse_operator(fine: &Level, prolong: &CsrMatrix) -> LevelOperator {
     let restrict = prolong.transpose();
     let on_lines = fine.lines.lines().unknowns.len() as f64;
-    let layered = assembled_below(fine.mesh.is_none(), on_lines >= LAYERED_SHARE * fine.n() as f64, fine.op.is_assembled());
+    let thin = fine.lines.lines().thin() && on_lines >= LAYERED_SHARE * fine.n() as f64;
+    let layered = assembled_below(fine.mesh.is_none(), thin, fine.op.is_assembled());
     let z = |f: &Vec<u8>| f.iter().map(|&v| v & Z == 0).collect::<Vec<bool>>();
     let s_free = fine.flags.first().map(z).filter(|s| fine.flags.iter().all(|f| z(f) == *s));
     match s_free {
