@@ -326,7 +326,9 @@ mod tests {
         // 1 × 3 × 3: the edges 9 apart, a layer.
         let (points, k, edges) = two_boxes(1.0, 3.0);
         let lines = Lines::find(12, |i| &k[i], |i| &edges[i], &points, 3, |_| false, |_| false);
-        assert_eq!(lines, over_k);
+        assert_eq!((&lines.start, &lines.unknowns), (&over_k.start, &over_k.unknowns));
         assert_eq!(lines.line(0), &[0, 4, 8]);
+        // The body diagonal over the short edge, 1 + 2 · 3² in d².
+        assert_eq!(lines.anisotropy, 19.0);
     }
 }
