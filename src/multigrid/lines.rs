@@ -214,16 +214,22 @@ mod tests {
         ys.iter().flat_map(|&y| xs.iter().flat_map(move |&x| [x, y])).collect()
     }
 
+    /// Rows from the wall y = 0: `layers` rows of first height `first`, each `growth` times the last.
+    fn graded_rows(first: f64, growth: f64, layers: usize) -> Vec<f64> {
+        let mut ys = vec![0.0];
+        for k in 0..layers {
+            ys.push(ys[k] + first * growth.powi(k as i32));
+        }
+        ys
+    }
+
     #[test]
     fn a_graded_layer_gives_lines_normal_to_the_wall() {
         // 8 columns of width 0.1; rows from the wall y = 0: 10 layers of first height 1e-5
         // growing by 1.2, then rows of height 0.1.
         let nx = 8;
         let xs: Vec<f64> = (0..=nx).map(|i| 0.1 * i as f64).collect();
-        let mut ys = vec![0.0];
-        for k in 0..10 {
-            ys.push(ys[k] + 1e-5 * 1.2f64.powi(k as i32));
-        }
+        let mut ys = graded_rows(1e-5, 1.2, 10);
         for _ in 0..4 {
             ys.push(ys.last().unwrap() + 0.1);
         }
@@ -254,10 +260,7 @@ mod tests {
         // ratio up to 10 at the wall, 100 in 1/d².
         let nx = 8;
         let xs: Vec<f64> = (0..=nx).map(|i| 0.1 * i as f64).collect();
-        let mut ys = vec![0.0];
-        for k in 0..10 {
-            ys.push(ys[k] + 0.01 * 1.3f64.powi(k as i32));
-        }
+        let ys = graded_rows(0.01, 1.3, 10);
         let g = grid_graph(nx, ys.len() - 1);
         let lines = Lines::find(g.len(), |i| &g[i], |i| &g[i], &grid_points(&xs, &ys), 2, |i| i <= nx, |_| false);
         assert_eq!(lines.len(), nx + 1, "one line per column");
