@@ -114,7 +114,8 @@ const LAYERED_SHARE: f64 = 0.1;
 /// The operator of a level of kept unknowns below `fine` with the interpolation `prolong`:
 /// Galerkin K_c and V_c, and for the biharmonic below wall layers A_c = Pᵀ A P assembled
 /// (`LevelOperator::galerkin_assembled`) when `fine` is itself a level of kept unknowns with
-/// `LAYERED_SHARE` of its unknowns on lines, or already assembled, and every component holds S
+/// `LAYERED_SHARE` of its unknowns on lines across thin layers (`Lines::thin`: a graded mesh's
+/// rays keep K_c V_c⁻¹ K_c), or already assembled, and every component holds S
 /// free at the same unknowns; else K_c V_c⁻¹ K_c. The first kept level keeps K_c V_c⁻¹ K_c:
 /// with linear interpolation the product of the fourth-order operator is stiffer there than the
 /// operator itself on coarse functions, while below it the product's faithfulness across the
