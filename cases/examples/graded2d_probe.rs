@@ -1,7 +1,8 @@
 //! The graded 2D cylinder's biharmonic iterations per size, with the hierarchy's levels:
-//! `cargo run --release -p meshmove-cases --example graded2d_probe -- [VERTICES,…] [TOL]`
+//! `cargo run --release -p meshmove-cases --example graded2d_probe -- [VERTICES,…] [TOL] [DEGREE] [COARSE_DEGREE]`
 //! (default 30000,120000: the bench's `graded` sizes; the O-grid of `cases::ogrid`, triangles,
-//! walls fixed, the body clamped and moved 0.1 in x as in `meshmove bench --parts graded`).
+//! walls fixed, the body clamped and moved 0.1 in x as in `meshmove bench --parts graded`; the
+//! Chebyshev degrees the solver's own unless given).
 
 use meshmove::{BoundaryConditions, Kind, Motion, Options, RigidMotion, SolveParams, Solver};
 use meshmove_cases::ogrid::{self, CellKind};
@@ -17,6 +18,8 @@ fn main() {
         .first()
         .map_or(vec![30_000, 120_000], |s| s.split(',').map(|x| x.parse().expect("a vertex count")).collect());
     let tol: f64 = args.get(1).map_or(1e-8, |s| s.parse().expect("a tolerance"));
+    let degree = |i: usize| args.get(i).map(|s| s.parse::<usize>().expect("a degree"));
+    let (cheb_degree, cheb_coarse_degree) = (degree(2), degree(3));
     for n in sizes {
         let mesh = ogrid::cylinder_with_vertices(n, CellKind::Simplex).expect("an O-grid");
         let mut bcs = BoundaryConditions::new();
@@ -27,7 +30,10 @@ fn main() {
         let solver = Solver::new(
             &mesh,
             &bcs,
-            Options { solve: SolveParams { tol, ..Default::default() }, ..Default::default() },
+            Options {
+                solve: SolveParams { tol, cheb_degree, cheb_coarse_degree, ..Default::default() },
+                ..Default::default()
+            },
         )
         .expect("a solver");
         println!("cylinder {} vertices, setup {:.2} s", mesh.num_vertices(), t.elapsed().as_secs_f64());

@@ -114,7 +114,8 @@ const LAYERED_SHARE: f64 = 0.1;
 /// The operator of a level of kept unknowns below `fine` with the interpolation `prolong`:
 /// Galerkin K_c and V_c, and for the biharmonic below wall layers A_c = Pᵀ A P assembled
 /// (`LevelOperator::galerkin_assembled`) when `fine` is itself a level of kept unknowns with
-/// `LAYERED_SHARE` of its unknowns on lines, or already assembled, and every component holds S
+/// `LAYERED_SHARE` of its unknowns on lines across thin layers (`Lines::thin`: a graded mesh's
+/// rays keep K_c V_c⁻¹ K_c), or already assembled, and every component holds S
 /// free at the same unknowns; else K_c V_c⁻¹ K_c. The first kept level keeps K_c V_c⁻¹ K_c:
 /// with linear interpolation the product of the fourth-order operator is stiffer there than the
 /// operator itself on coarse functions, while below it the product's faithfulness across the
@@ -125,7 +126,8 @@ const LAYERED_SHARE: f64 = 0.1;
 fn coarse_operator(fine: &Level, prolong: &CsrMatrix) -> LevelOperator {
     let restrict = prolong.transpose();
     let on_lines = fine.lines.lines().unknowns.len() as f64;
-    let layered = assembled_below(fine.mesh.is_none(), on_lines >= LAYERED_SHARE * fine.n() as f64, fine.op.is_assembled());
+    let thin = fine.lines.lines().thin() && on_lines >= LAYERED_SHARE * fine.n() as f64;
+    let layered = assembled_below(fine.mesh.is_none(), thin, fine.op.is_assembled());
     let z = |f: &Vec<u8>| f.iter().map(|&v| v & Z == 0).collect::<Vec<bool>>();
     let s_free = fine.flags.first().map(z).filter(|s| fine.flags.iter().all(|f| z(f) == *s));
     match s_free {

@@ -30,12 +30,22 @@ const ALONG_EDGES: f64 = 8.0;
 /// are weaker by its aspect ratio squared, so the line does not turn along the wall).
 const NEAR_STRONGEST: f64 = 0.4;
 
+/// Strongest over weakest coupling of the most anisotropic unknown on a mesh's lines from which
+/// its lines lie across thin wall layers (`Lines::thin`): cells of aspect ratio about 100. Wall
+/// layers of turbulent-flow meshes reach aspect ratios of hundreds to tens of thousands; a mesh
+/// graded to a wall (cells at the wall 1/50 of the far ones) stretches its cells a few to a few
+/// tens of times between its rays, and its rays are lines only for the smoother.
+const THIN_LAYERS: f64 = 1e4;
+
 /// Lines of unknowns, each in order along itself; every unknown on at most one line.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub(crate) struct Lines {
     /// Line k holds `unknowns[start[k]..start[k + 1]]`.
     pub(crate) start: Vec<u32>,
     pub(crate) unknowns: Vec<u32>,
+    /// The largest strongest-over-weakest coupling of an unknown on a line of the level the lines
+    /// were found on (0 without lines); a coarser level's lines keep their finer level's.
+    pub(crate) anisotropy: f64,
 }
 
 impl Lines {
@@ -49,6 +59,13 @@ impl Lines {
         self.len() == 0
     }
 
+    /// Whether the lines lie across thin wall layers (`THIN_LAYERS`), whose unknowns a coarse
+    /// level keeps along their lines (`multigrid::lsq::on_lines`) and whose levels below the
+    /// first kept one take the assembled Galerkin product (docs/DESIGN.md §5, "Wall layers").
+    pub(crate) fn thin(&self) -> bool {
+        !self.is_empty() && self.anisotropy >= THIN_LAYERS
+    }
+
     /// The unknowns of line `k`, in order.
     pub(crate) fn line(&self, k: usize) -> &[u32] {
         &self.unknowns[self.start[k] as usize..self.start[k + 1] as usize]
@@ -59,7 +76,7 @@ impl Lines {
     /// mesh to look for lines in, and its Galerkin operator couples unknowns several spacings
     /// apart, which would look anisotropic on an isotropic mesh; its lines are its finer level's.
     pub(crate) fn restricted(&self, coarse_of: impl Fn(u32) -> Option<u32>) -> Lines {
-        let mut out = Lines { start: vec![0], unknowns: Vec::new() };
+        let mut out = Lines { start: vec![0], unknowns: Vec::new(), anisotropy: self.anisotropy };
         for k in 0..self.len() {
             let before = out.unknowns.len();
             out.unknowns.extend(self.line(k).iter().filter_map(|&v| coarse_of(v)));
@@ -119,7 +136,7 @@ impl Lines {
             .collect();
         seeds.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
         let mut claimed = vec![false; n];
-        let mut lines = Lines { start: vec![0], unknowns: Vec::new() };
+        let mut lines = Lines { start: vec![0], unknowns: Vec::new(), anisotropy: 0.0 };
         // The next unknown after `e`: its strongest unclaimed neighbour, if that coupling is
         // anisotropic at `e` and near `e`'s strongest.
         let next = |e: usize, claimed: &[bool]| -> Option<usize> {
@@ -164,6 +181,7 @@ impl Lines {
                 line.reverse();
             }
             lines.unknowns.extend(line.iter().map(|&v| v as u32));
+            lines.anisotropy = line.iter().map(|&v| bounds[v].0 / bounds[v].1).fold(lines.anisotropy, f64::max);
             lines.start.push(lines.unknowns.len() as u32);
         }
         lines
@@ -196,16 +214,22 @@ mod tests {
         ys.iter().flat_map(|&y| xs.iter().flat_map(move |&x| [x, y])).collect()
     }
 
+    /// Rows from the wall y = 0: `layers` rows of first height `first`, each `growth` times the last.
+    fn graded_rows(first: f64, growth: f64, layers: usize) -> Vec<f64> {
+        let mut ys = vec![0.0];
+        for k in 0..layers {
+            ys.push(ys[k] + first * growth.powi(k as i32));
+        }
+        ys
+    }
+
     #[test]
     fn a_graded_layer_gives_lines_normal_to_the_wall() {
         // 8 columns of width 0.1; rows from the wall y = 0: 10 layers of first height 1e-5
         // growing by 1.2, then rows of height 0.1.
         let nx = 8;
         let xs: Vec<f64> = (0..=nx).map(|i| 0.1 * i as f64).collect();
-        let mut ys = vec![0.0];
-        for k in 0..10 {
-            ys.push(ys[k] + 1e-5 * 1.2f64.powi(k as i32));
-        }
+        let mut ys = graded_rows(1e-5, 1.2, 10);
         for _ in 0..4 {
             ys.push(ys.last().unwrap() + 0.1);
         }
@@ -224,6 +248,25 @@ mod tests {
             assert!(line.iter().all(|&v| v as usize % (nx + 1) == column), "line {k} leaves its column");
             assert_eq!(rows, (1..=10).collect::<Vec<_>>(), "line {k}");
         }
+        // The first layer's cells are 1e4 times as wide as high: thin layers.
+        assert!(lines.anisotropy > 1e8, "{}", lines.anisotropy);
+        assert!(lines.thin());
+        assert!(lines.restricted(Some).thin(), "a coarse level's lines keep their anisotropy");
+    }
+
+    #[test]
+    fn a_graded_mesh_s_rays_are_lines_but_not_thin_layers() {
+        // Columns of width 0.1, rows from 0.01 growing by 1.3 to above 0.1: cells of aspect
+        // ratio up to 10 at the wall, 100 in 1/d².
+        let nx = 8;
+        let xs: Vec<f64> = (0..=nx).map(|i| 0.1 * i as f64).collect();
+        let ys = graded_rows(0.01, 1.3, 10);
+        let g = grid_graph(nx, ys.len() - 1);
+        let lines = Lines::find(g.len(), |i| &g[i], |i| &g[i], &grid_points(&xs, &ys), 2, |i| i <= nx, |_| false);
+        assert_eq!(lines.len(), nx + 1, "one line per column");
+        assert!(lines.anisotropy > 16.0 && lines.anisotropy < 1e4, "{}", lines.anisotropy);
+        assert!(!lines.thin());
+        assert!(!Lines::default().thin());
     }
 
     #[test]
@@ -286,7 +329,9 @@ mod tests {
         // 1 × 3 × 3: the edges 9 apart, a layer.
         let (points, k, edges) = two_boxes(1.0, 3.0);
         let lines = Lines::find(12, |i| &k[i], |i| &edges[i], &points, 3, |_| false, |_| false);
-        assert_eq!(lines, over_k);
+        assert_eq!((&lines.start, &lines.unknowns), (&over_k.start, &over_k.unknowns));
         assert_eq!(lines.line(0), &[0, 4, 8]);
+        // The body diagonal over the short edge, 1 + 2 · 3² in d².
+        assert_eq!(lines.anisotropy, 19.0);
     }
 }

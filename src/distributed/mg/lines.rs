@@ -94,7 +94,7 @@ pub(super) fn kept_segments(segments: &Lines, gids: &[u64], coarse: &OwnedRows) 
     }
     let owned = &coarse.gids[..coarse.halo.owned()];
     let index: HashMap<u64, u32> = owned.iter().zip(0u32..).map(|(&g, i)| (g, i)).collect();
-    let mut out = Lines { start: vec![0], unknowns: Vec::new() };
+    let mut out = Lines { start: vec![0], unknowns: Vec::new(), anisotropy: segments.anisotropy };
     for k in 0..segments.len() {
         let before = out.unknowns.len();
         out.unknowns.extend(segments.line(k).iter().filter_map(|&v| index.get(&gids[v as usize]).copied()));
@@ -108,7 +108,7 @@ pub(super) fn kept_segments(segments: &Lines, gids: &[u64], coarse: &OwnedRows) 
 /// The lines the smoother solves along: the segments of two or more unknowns, in order (a line
 /// keeps on a coarse level the unknowns it keeps, at least two, as the serial levels do).
 pub(super) fn smoothed(segments: &Lines) -> Lines {
-    let mut out = Lines { start: vec![0], unknowns: Vec::new() };
+    let mut out = Lines { start: vec![0], unknowns: Vec::new(), anisotropy: segments.anisotropy };
     for k in (0..segments.len()).filter(|&k| segments.line(k).len() >= 2) {
         out.unknowns.extend_from_slice(segments.line(k));
         out.start.push(out.unknowns.len() as u32);
@@ -138,7 +138,7 @@ pub(super) fn moved_lines(lines: &Lines, mover: &Mover, rank: usize) -> Lines {
     let mut on: Vec<(f64, f64, u32)> =
         (0..n).filter(|&i| moved_key[i] >= 0.0).map(|i| (moved_key[i], moved_place[i], i as u32)).collect();
     on.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
-    let mut out = Lines { start: vec![0], unknowns: Vec::with_capacity(on.len()) };
+    let mut out = Lines { start: vec![0], unknowns: Vec::with_capacity(on.len()), anisotropy: lines.anisotropy };
     for (e, &(k, _, i)) in on.iter().enumerate() {
         if e > 0 && on[e - 1].0 != k {
             out.start.push(out.unknowns.len() as u32);

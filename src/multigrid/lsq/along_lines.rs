@@ -190,7 +190,7 @@ mod tests {
             g.row_ptr.push(g.cols.len() as u32);
         }
         let left: Vec<u32> = (1..ny).map(|j| 2 * j as u32).collect();
-        let lines = Lines { start: vec![0, left.len() as u32], unknowns: left };
+        let lines = Lines { start: vec![0, left.len() as u32], unknowns: left, anisotropy: 0.0 };
         let mut coarse_of = vec![u32::MAX; n];
         for (c, j) in (0..=ny).step_by(2).enumerate() {
             coarse_of[2 * j] = c as u32;

@@ -51,8 +51,11 @@ pub(crate) struct LeastSquares {
     /// "Interpolation along the lines").
     along_lines: bool,
     /// Whether the unknowns on lines are kept or dropped along them (`on_lines`): the
-    /// biharmonic's hierarchies with lines, in 2D and 3D. The Laplacian keeps the general rule
-    /// (it lost iterations with it, docs/perf-history.md "Coarse levels that keep their lines").
+    /// biharmonic's hierarchies with lines across thin wall layers (`Lines::thin`), in 2D and
+    /// 3D. The Laplacian keeps the general rule (it lost iterations with it, docs/perf-history.md
+    /// "Coarse levels that keep their lines"), and so do the rays of a mesh graded to a wall,
+    /// whose Galerkin levels kept along them converge worse as the mesh grows than the general
+    /// rule's (docs/PERFORMANCE.md, "The graded cylinder's rays are not wall layers").
     on_lines: bool,
 }
 
@@ -89,8 +92,9 @@ impl Coarsener for LeastSquares {
             let regions = fine.dof_regions();
             self.features.push(Features::build(mesh, &fine.dofs, &fine.pairs, regions, self.params.corner_angle_deg));
             self.layered = !fine.lines.is_empty();
-            self.on_lines = self.layered && fine.op.method == Method::Biharmonic;
-            self.along_lines = self.on_lines && fine.dim() == 2;
+            let biharmonic = self.layered && fine.op.method == Method::Biharmonic;
+            self.on_lines = biharmonic && fine.lines.lines().thin();
+            self.along_lines = biharmonic && fine.dim() == 2;
         }
         self.features.truncate(l + 1);
         let points = fine.unknown_points();

@@ -153,6 +153,7 @@ mod tests {
         let lines = Lines {
             start: (0..=columns.len()).map(|c| (c * (ny - 1)) as u32).collect(),
             unknowns: columns.concat(),
+            anisotropy: 0.0,
         };
         let general = select(&k, &f, &d.coords, None);
         assert!(lines.unknowns.iter().all(|u| !general.contains(u)), "{general:?}");
