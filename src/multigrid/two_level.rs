@@ -95,12 +95,7 @@ pub fn analyse_pair(
     let mut ws = Workspace::new(h, g);
     let scratch = (0..g).map(|_| Scratch::new(n, h.method)).collect();
     let mut tl = TwoLevel { h, cp, comps: comps.clone(), level, op, scratch, cache: Coefficients::default(), galerkin: false };
-    let free = |seed: usize| -> Vec<f64> {
-        let mut x: Vec<f64> =
-            (0..g * n).map(|k| if op.flags(k / n)[k % n] & P != 0 { 0.0 } else { hashed(k + seed) }).collect();
-        op.project(&mut x);
-        x
-    };
+    let free = |seed: usize| free_values(&op, seed);
 
     let b = free(0);
     let multilevel =
@@ -167,6 +162,37 @@ pub fn analyse_pair(
         smoothed_density,
         corrected_density,
     })
+}
+
+/// PCG's iterations and relative residual on level `level`'s system for the group `comps`,
+/// preconditioned by the cycle `cp` from that level, from zero on a fixed pseudo-random
+/// right-hand side, to the relative residual `tol` within `max` iterations: the multilevel count
+/// of [`analyse_pair`] without its two-level solves, to compare cycles on one hierarchy and a
+/// level's count across sizes. None for a level the hierarchy does not have.
+pub fn multilevel_iterations(
+    h: &Hierarchy,
+    cp: &CycleParams,
+    comps: Range<usize>,
+    level: usize,
+    tol: f64,
+    max: usize,
+) -> Option<(usize, f64)> {
+    let lev = h.levels.get(level)?;
+    let op = GroupOp::new(lev, comps.clone(), cp.l1_bound);
+    let mut ws = Workspace::new(h, op.len());
+    let b = free_values(&op, 0);
+    let mut x = vec![0.0; b.len()];
+    Some(pcg(&op, None, &b, &mut x, tol, max, &mut |r, z| level_cycle(h, comps.clone(), cp, level, r, z, Start::Zero, &mut ws)))
+}
+
+/// Fixed pseudo-random values (seeded by `seed`) on `op`'s free unknowns, zero on the
+/// prescribed ones, projected onto the slip walls' constraints.
+fn free_values(op: &GroupOp, seed: usize) -> Vec<f64> {
+    let n = op.n();
+    let mut x: Vec<f64> =
+        (0..op.len() * n).map(|k| if op.flags(k / n)[k % n] & P != 0 { 0.0 } else { hashed(k + seed) }).collect();
+    op.project(&mut x);
+    x
 }
 
 /// Per unknown, Σ over the blocks of xᵢ (A x)ᵢ, given `ax` = A x.
