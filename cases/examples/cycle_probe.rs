@@ -2,7 +2,8 @@
 //! `cargo run --release -p meshmove-cases --example cycle_probe -- spheroid 12 [LEVELS,…] [ONCE_FROM,…] [TOL]`
 //! (kinds and sizes as in `galerkin_probe`; LEVELS the levels whose systems are solved, 0 when
 //! empty; ONCE_FROM the first levels visited once to compare, the solver's own when empty,
-//! `w` for the W-cycle on every level). On one hierarchy, per level l and cycle: PCG on level
+//! `w` for the W-cycle on every level, `l1` for the solver's own with λmax = 1, the l1 bound,
+//! instead of each level's estimate). On one hierarchy, per level l and cycle: PCG on level
 //! l's system from a fixed pseudo-random right-hand side to TOL (1e-8), preconditioned by the
 //! cycle from l, so a level's count says what the levels below it cost, and the same level
 //! across sizes where the growth with size comes in.
@@ -40,7 +41,13 @@ fn main() {
             given
                 .iter()
                 .map(|x| {
-                    let once_from = if x == "w" { usize::MAX } else { x.parse().expect("a level or w") };
+                    if x == "l1" {
+                        return (
+                            format!("once from {}, λmax = 1 (the l1 bound)", own.once_from),
+                            CycleParams { l1_bound: true, ..own },
+                        );
+                    }
+                    let once_from = if x == "w" { usize::MAX } else { x.parse().expect("a level, w or l1") };
                     (format!("once from {x}"), CycleParams { once_from, ..own })
                 })
                 .collect()

@@ -362,3 +362,32 @@ pub fn finest_unknowns(h: &Hierarchy, level: usize) -> Option<Vec<u32>> {
     }
     Some(map)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bc::Kind;
+    use crate::mesh::fixtures::rect;
+    use crate::multigrid::hierarchy::HierarchyParams;
+    use crate::{BoundaryConditions, Method, SolveParams};
+
+    /// The cycle from the finest level converges its system in a few iterations, the factored
+    /// coarsest level's exact solve in one; a level the hierarchy lacks has no count.
+    #[test]
+    fn multilevel_iterations_per_level() {
+        let mesh = rect(24, 24, [0.0, 1.0, 0.0, 1.0]);
+        let mut bcs = BoundaryConditions::new();
+        bcs.set_kinds(1, Kind::Fixed).set_kinds(3, Kind::Clamped);
+        let mut params = HierarchyParams::default();
+        params.coarsen.coarsest_unknowns = Some(40);
+        let h = Hierarchy::build(&mesh, Vec::new(), &bcs, Method::Biharmonic, &params).unwrap();
+        let levels = h.levels.len();
+        assert!(levels >= 3, "{levels} levels");
+        let cp = CycleParams::resolve(&h, &SolveParams::default());
+        let (its, rel) = multilevel_iterations(&h, &cp, 0..1, 0, 1e-8, 100).unwrap();
+        assert!((2..=15).contains(&its) && rel <= 1e-8, "finest level: {its} iterations, residual {rel:e}");
+        let (its, rel) = multilevel_iterations(&h, &cp, 0..1, levels - 1, 1e-8, 100).unwrap();
+        assert!(its == 1 && rel <= 1e-8, "coarsest level: {its} iterations, residual {rel:e}");
+        assert!(multilevel_iterations(&h, &cp, 0..1, levels, 1e-8, 100).is_none());
+    }
+}
