@@ -95,12 +95,7 @@ pub fn analyse_pair(
     let mut ws = Workspace::new(h, g);
     let scratch = (0..g).map(|_| Scratch::new(n, h.method)).collect();
     let mut tl = TwoLevel { h, cp, comps: comps.clone(), level, op, scratch, cache: Coefficients::default(), galerkin: false };
-    let free = |seed: usize| -> Vec<f64> {
-        let mut x: Vec<f64> =
-            (0..g * n).map(|k| if op.flags(k / n)[k % n] & P != 0 { 0.0 } else { hashed(k + seed) }).collect();
-        op.project(&mut x);
-        x
-    };
+    let free = |seed: usize| free_values(&op, seed);
 
     let b = free(0);
     let multilevel =
@@ -167,6 +162,37 @@ pub fn analyse_pair(
         smoothed_density,
         corrected_density,
     })
+}
+
+/// PCG's iterations and relative residual on level `level`'s system for the group `comps`,
+/// preconditioned by the cycle `cp` from that level, from zero on a fixed pseudo-random
+/// right-hand side, to the relative residual `tol` within `max` iterations: the multilevel count
+/// of [`analyse_pair`] without its two-level solves, to compare cycles on one hierarchy and a
+/// level's count across sizes. None for a level the hierarchy does not have.
+pub fn multilevel_iterations(
+    h: &Hierarchy,
+    cp: &CycleParams,
+    comps: Range<usize>,
+    level: usize,
+    tol: f64,
+    max: usize,
+) -> Option<(usize, f64)> {
+    let lev = h.levels.get(level)?;
+    let op = GroupOp::new(lev, comps.clone(), cp.l1_bound);
+    let mut ws = Workspace::new(h, op.len());
+    let b = free_values(&op, 0);
+    let mut x = vec![0.0; b.len()];
+    Some(pcg(&op, None, &b, &mut x, tol, max, &mut |r, z| level_cycle(h, comps.clone(), cp, level, r, z, Start::Zero, &mut ws)))
+}
+
+/// Fixed pseudo-random values (seeded by `seed`) on `op`'s free unknowns, zero on the
+/// prescribed ones, projected onto the slip walls' constraints.
+fn free_values(op: &GroupOp, seed: usize) -> Vec<f64> {
+    let n = op.n();
+    let mut x: Vec<f64> =
+        (0..op.len() * n).map(|k| if op.flags(k / n)[k % n] & P != 0 { 0.0 } else { hashed(k + seed) }).collect();
+    op.project(&mut x);
+    x
 }
 
 /// Per unknown, Σ over the blocks of xᵢ (A x)ᵢ, given `ax` = A x.
@@ -335,4 +361,33 @@ pub fn finest_unknowns(h: &Hierarchy, level: usize) -> Option<Vec<u32>> {
         map.iter_mut().for_each(|u| *u = parent[*u as usize]);
     }
     Some(map)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bc::Kind;
+    use crate::mesh::fixtures::rect;
+    use crate::multigrid::hierarchy::HierarchyParams;
+    use crate::{BoundaryConditions, Method, SolveParams};
+
+    /// The cycle from the finest level converges its system in a few iterations, the factored
+    /// coarsest level's exact solve in one; a level the hierarchy lacks has no count.
+    #[test]
+    fn multilevel_iterations_per_level() {
+        let mesh = rect(24, 24, [0.0, 1.0, 0.0, 1.0]);
+        let mut bcs = BoundaryConditions::new();
+        bcs.set_kinds(1, Kind::Fixed).set_kinds(3, Kind::Clamped);
+        let mut params = HierarchyParams::default();
+        params.coarsen.coarsest_unknowns = Some(40);
+        let h = Hierarchy::build(&mesh, Vec::new(), &bcs, Method::Biharmonic, &params).unwrap();
+        let levels = h.levels.len();
+        assert!(levels >= 3, "{levels} levels");
+        let cp = CycleParams::resolve(&h, &SolveParams::default());
+        let (its, rel) = multilevel_iterations(&h, &cp, 0..1, 0, 1e-8, 100).unwrap();
+        assert!((2..=15).contains(&its) && rel <= 1e-8, "finest level: {its} iterations, residual {rel:e}");
+        let (its, rel) = multilevel_iterations(&h, &cp, 0..1, levels - 1, 1e-8, 100).unwrap();
+        assert!(its == 1 && rel <= 1e-8, "coarsest level: {its} iterations, residual {rel:e}");
+        assert!(multilevel_iterations(&h, &cp, 0..1, levels, 1e-8, 100).is_none());
+    }
 }
