@@ -20,7 +20,7 @@ use crate::operator::Method;
 /// The first iterate of a biharmonic solve with no guess (`dim` values per vertex) when its
 /// finest level has lines hanging off a CLAMPED patch that `motion` moves rigidly: each such
 /// line's vertices (and the patch's) at the patch's rigid displacement; every other vertex at
-/// the rigid displacement of the patch nearest it, weighted by d_fixed / (d_body + d_fixed), its
+/// the rigid displacement of the patch nearest it, weighted by (d_fixed / (d_body + d_fixed))², its
 /// distances through K's graph to those lines and to the unknowns prescribed in every component
 /// (at zero where no such unknown exists). None when no line hangs off such a patch (the solve
 /// starts from zero).
@@ -79,9 +79,11 @@ pub(crate) fn of_layers(h: &Hierarchy, bcs: &BoundaryConditions, motion: &Motion
         }
     });
     // Beyond the lines' outer ends the start falls off from the rigid motion to the fixed
-    // boundary's zero as the distances to both blend, d_fixed / (d_body + d_fixed): the start's
-    // error is then smooth there, not a jump of the whole motion across one cell at each line's
-    // end (a jump whose stretch grows as the cells there shrink with the mesh's size).
+    // boundary's zero as the square of the distances' blend, (d_fixed / (d_body + d_fixed))²:
+    // the start's error is then smooth there, not a jump of the whole motion across one cell at
+    // each line's end (a jump whose stretch grows as the cells there shrink with the mesh's
+    // size). The square falls off faster than the blend itself away from the body, as the
+    // biharmonic's solution does, and leaves less error far from it (docs/PERFORMANCE.md).
     let fixed: Vec<bool> = (0..n).map(|d| moved[d].is_none() && lev.flags.iter().all(|f| f[d] & P != 0)).collect();
     if fixed.iter().any(|&f| f) {
         let source: Vec<bool> = moved.iter().map(Option::is_some).collect();
@@ -91,7 +93,7 @@ pub(crate) fn of_layers(h: &Hierarchy, bcs: &BoundaryConditions, motion: &Motion
             if moved[d].is_some() || fixed[d] || !to_body[d].is_finite() {
                 continue;
             }
-            let w = if to_fixed[d].is_finite() { to_fixed[d] / (to_body[d] + to_fixed[d]) } else { 1.0 };
+            let w = if to_fixed[d].is_finite() { (to_fixed[d] / (to_body[d] + to_fixed[d])).powi(2) } else { 1.0 };
             if let Some(r) = from[d].and_then(|f| moved[f]) {
                 put(d, r, w);
             }

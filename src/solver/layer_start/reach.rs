@@ -55,3 +55,22 @@ pub(super) fn nearest(k: &CsrMatrix, points: &[f64], dim: usize, source: &[bool]
     }
     (dist, from)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A path of four unknowns on the x axis at 0, 1, 3 and 6: the distances along it to the
+    /// sources, and which source each unknown reaches first.
+    #[test]
+    fn distances_along_a_path() {
+        let pairs = vec![(0, 0), (0, 1), (1, 0), (1, 1), (1, 2), (2, 1), (2, 2), (2, 3), (3, 2), (3, 3)];
+        let k = CsrMatrix::from_pattern(4, 4, pairs);
+        let points = [0.0, 1.0, 3.0, 6.0];
+        let (dist, from) = nearest(&k, &points, 1, &[true, false, false, true]);
+        assert_eq!(dist, vec![0.0, 1.0, 3.0, 0.0]);
+        assert_eq!(from, vec![Some(0), Some(0), Some(3), Some(3)]);
+        let (dist, from) = nearest(&k, &points, 1, &[false; 4]);
+        assert!(dist.iter().all(|d| d.is_infinite()) && from.iter().all(Option::is_none));
+    }
+}
