@@ -65,17 +65,21 @@ pub(crate) fn of_layers(h: &Hierarchy, bcs: &BoundaryConditions, motion: &Motion
     let points = lev.unknown_points();
     let n = lev.n();
     let mut start = vec![0.0; mesh.coords().len()];
-    let mut put = |d: usize, r: usize, w: f64| {
+    // The components the blend below carries: `put` sets only those it is given.
+    let put = |start: &mut [f64], d: usize, r: usize, w: f64, comps: &[bool]| {
         let m = &motion.rigid[r].1;
         for &v in lev.dofs.vertices_of(d) {
             let v = v as usize;
             let l = m.displacement(mesh.point(v));
-            start[v * dim..(v + 1) * dim].iter_mut().zip(&l[..dim]).for_each(|(s, l)| *s = w * l);
+            for c in (0..dim).filter(|&c| comps[c]) {
+                start[v * dim + c] = w * l[c];
+            }
         }
     };
+    let every = vec![true; dim];
     (0..n).for_each(|d| {
         if let Some(r) = moved[d] {
-            put(d, r, 1.0)
+            put(&mut start, d, r, 1.0, &every)
         }
     });
     // Beyond the lines' outer ends the start falls off from the rigid motion to the fixed
@@ -84,6 +88,14 @@ pub(crate) fn of_layers(h: &Hierarchy, bcs: &BoundaryConditions, motion: &Motion
     // each line's end (a jump whose stretch grows as the cells there shrink with the mesh's
     // size). The square falls off faster than the blend itself away from the body, as the
     // biharmonic's solution does, and leaves less error far from it (docs/PERFORMANCE.md).
+    // A component the body moves by rounding alone (a rotation about a coordinate axis leaves
+    // that axis's component at the rounding of cos θ + (1 − cos θ)) has a right-hand side of
+    // rounding, against which the blend's values would be a residual to take out: it starts at
+    // zero beyond the lines.
+    let most: Vec<f64> =
+        (0..dim).map(|c| start.iter().skip(c).step_by(dim).fold(0.0f64, |a, s| a.max(s.abs()))).collect();
+    let largest = most.iter().copied().fold(0.0f64, f64::max);
+    let blended: Vec<bool> = most.iter().map(|&m| m > ROUNDING * largest).collect();
     let fixed: Vec<bool> = (0..n).map(|d| moved[d].is_none() && lev.flags.iter().all(|f| f[d] & P != 0)).collect();
     if fixed.iter().any(|&f| f) {
         let source: Vec<bool> = moved.iter().map(Option::is_some).collect();
@@ -95,9 +107,12 @@ pub(crate) fn of_layers(h: &Hierarchy, bcs: &BoundaryConditions, motion: &Motion
             }
             let w = if to_fixed[d].is_finite() { (to_fixed[d] / (to_body[d] + to_fixed[d])).powi(2) } else { 1.0 };
             if let Some(r) = from[d].and_then(|f| moved[f]) {
-                put(d, r, w);
+                put(&mut start, d, r, w, &blended);
             }
         }
     }
     Some(start)
 }
+
+/// A component of the start at most this fraction of its largest component is rounding.
+const ROUNDING: f64 = 1e-12;
