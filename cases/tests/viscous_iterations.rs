@@ -9,6 +9,19 @@ fn biharmonic(v: &ViscousMesh) -> Solver {
     Solver::new(&v.mesh, &boundary_conditions(v), Options { method: Method::Biharmonic, ..Default::default() }).unwrap()
 }
 
+/// The smallest volume ratio of the biharmonic's solve of `m` on `v` to a relative residual of
+/// 1e-11.
+fn tight_min_volume_ratio(v: &ViscousMesh, m: &meshmove::Motion) -> f64 {
+    let opts = Options {
+        method: Method::Biharmonic,
+        solve: meshmove::SolveParams { tol: 1e-11, ..Default::default() },
+        ..Default::default()
+    };
+    let tight = Solver::new(&v.mesh, &boundary_conditions(v), opts).unwrap().solve(m).unwrap();
+    assert!(tight.report.converged, "{:?}", tight.report);
+    tight.quality.min_area_ratio
+}
+
 /// The iterations of one step of `m` by the biharmonic on `v`, and whether the hierarchy found
 /// lines across the layers.
 fn iterations(v: &ViscousMesh, m: BodyMotion) -> (usize, bool) {
@@ -99,17 +112,19 @@ fn airfoil_of_25k_vertices_does_not_break_down() {
     assert!(its <= 9, "{its}");
 }
 
-/// A cold solve starts the lines hanging off the clamped body at its rigid motion
-/// (docs/DESIGN.md §5, "The first iterate"), and the stop test under wall layers holds in
-/// 2D too: the largest airfoil's plunge keeps its first layer within 1 % (from a zero start, with
-/// the test in 3D only, it left the first layer 1.1 % off).
+/// A cold solve starts the lines hanging off the clamped body at its rigid motion and the rest
+/// of the mesh falling off from it to the far field (docs/DESIGN.md §5, "The first iterate"),
+/// and the stop test under wall layers holds in 2D too: the largest airfoil's plunge keeps its
+/// first layer within 1 % (from a zero start, with the test in 3D only, it left the first layer
+/// 1.1 % off) and takes a few iterations (11 when the start was zero beyond the lines' outer
+/// ends, whose jump the stop test on every edge's stretch sees the more the finer the mesh).
 #[test]
 fn largest_airfoil_plunge_keeps_its_first_layer() {
     let v = airfoil_2d(&AirfoilParams::new(256)).unwrap();
     let solver = biharmonic(&v);
     let sol = solver.solve(&motion(&v, BodyMotion::Plunge)).unwrap();
     assert!(sol.report.converged && sol.quality.inverted == 0, "{:?}", sol.report);
-    assert!(sol.report.cycles <= 11, "{}", sol.report.cycles);
+    assert!(sol.report.cycles <= 4, "{}", sol.report.cycles);
     let moved: Vec<f64> = v.mesh.coords().iter().zip(&sol.displacement).map(|(x, d)| x + d).collect();
     let (lo, hi) = layer_volume_ratios(&v, &moved, 1).unwrap();
     assert!(lo > 0.99 && hi < 1.01, "first layer {lo}..{hi}");
@@ -127,13 +142,22 @@ fn start_along_the_lines_stops_at_the_tight_solves_mesh() {
     let m = motion(&v, BodyMotion::Pitch);
     let sol = biharmonic(&v).solve(&m).unwrap();
     assert!(sol.report.converged && sol.quality.inverted == 0, "{:?}", sol.report);
-    let opts = Options {
-        method: Method::Biharmonic,
-        solve: meshmove::SolveParams { tol: 1e-11, ..Default::default() },
-        ..Default::default()
-    };
-    let tight = Solver::new(&v.mesh, &boundary_conditions(&v), opts).unwrap().solve(&m).unwrap();
-    assert!(tight.report.converged, "{:?}", tight.report);
-    let (got, want) = (sol.quality.min_area_ratio, tight.quality.min_area_ratio);
+    let (got, want) = (sol.quality.min_area_ratio, tight_min_volume_ratio(&v, &m));
     assert!((got - want).abs() < 2e-3, "min volume ratio {got} against the tight solve's {want}");
+}
+
+/// The start falling off beyond the lines' outer ends leaves the largest airfoil's plunge no
+/// more iterations than the smallest's, and the mesh it stops at is the tight solve's: its
+/// smallest volume ratio within 1e-3 of the same system solved to 1e-11.
+#[test]
+fn largest_airfoil_plunge_takes_the_smallest_ones_count() {
+    let small = airfoil_2d(&AirfoilParams::new(64)).unwrap();
+    let (few, _) = iterations(&small, BodyMotion::Plunge);
+    let v = airfoil_2d(&AirfoilParams::new(256)).unwrap();
+    let m = motion(&v, BodyMotion::Plunge);
+    let sol = biharmonic(&v).solve(&m).unwrap();
+    assert!(sol.report.converged && sol.quality.inverted == 0, "{:?}", sol.report);
+    assert!(sol.report.cycles <= few, "{} against the smallest airfoil's {few}", sol.report.cycles);
+    let (got, want) = (sol.quality.min_area_ratio, tight_min_volume_ratio(&v, &m));
+    assert!((got - want).abs() < 1e-3, "min volume ratio {got} against the tight solve's {want}");
 }
