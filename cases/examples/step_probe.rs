@@ -7,22 +7,10 @@
 //! `cargo run --release -p meshmove-cases --example step_probe -- [hex|tet] [N] [laplacian|biharmonic] [STEPS]`
 //! (default `hex 31 laplacian 10`: 32 768 vertices; `hex 62` is the bench's 250k box).
 
-use meshmove::{BoundaryConditions, Kind, Method, Motion, Options, Solver};
-use meshmove_cases::boxes::{structured_box, BoxCells, BOX_BOTTOM, BOX_SIDES, BOX_TOP};
-use std::f64::consts::TAU;
+use meshmove::{Method, Options, Solver};
+use meshmove_cases::boxes::{free_surface_conditions, structured_box, BoxCells};
+use meshmove_cases::report::thread_cpu_seconds;
 use std::hash::{Hash, Hasher};
-
-/// The CPU seconds of every thread of the process so far (Linux: the first field of each
-/// thread's schedstat, in nanoseconds; 0 where it does not tell).
-fn cpu_seconds() -> f64 {
-    let Ok(tasks) = std::fs::read_dir("/proc/self/task") else { return 0.0 };
-    let ns: u64 = tasks
-        .flatten()
-        .filter_map(|t| std::fs::read_to_string(t.path().join("schedstat")).ok())
-        .filter_map(|s| s.split_whitespace().next().and_then(|v| v.parse::<u64>().ok()))
-        .sum();
-    ns as f64 * 1e-9
-}
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -34,30 +22,19 @@ fn main() {
     };
     let steps: usize = args.get(3).map_or(10, |s| s.parse().expect("steps"));
     let mesh = structured_box(n, cells);
-    let mut bcs = BoundaryConditions::new();
-    bcs.set_kinds(BOX_BOTTOM, Kind::Fixed).set_kinds(BOX_TOP, Kind::Clamped);
-    for (p, normal) in BOX_SIDES {
-        for c in 0..3 {
-            bcs.set_kind(p, c, if c == normal { Kind::Fixed } else { Kind::Free }).expect("3 components");
-        }
-    }
-    let mut motion = Motion::zero(&mesh);
-    for v in mesh.patch_vertices(BOX_TOP) {
-        let p = mesh.point(v as usize);
-        motion.displacement[3 * v as usize + 2] = 0.1 * (TAU * p[0]).cos() * (TAU * p[1]).cos();
-    }
+    let (bcs, motion) = free_surface_conditions(&mesh);
     let original = mesh.coords().to_vec();
     let opts = Options { method, threads: 1, ..Default::default() };
-    let c0 = cpu_seconds();
+    let c0 = thread_cpu_seconds();
     let mut solver = Solver::new(&mesh, &bcs, opts).expect("a solver");
-    println!("{} vertices, {method:?}: setup {:.3} CPU s", mesh.num_vertices(), cpu_seconds() - c0);
+    println!("{} vertices, {method:?}: setup {:.3} CPU s", mesh.num_vertices(), thread_cpu_seconds() - c0);
     let (mut outside, mut solves) = (Vec::new(), Vec::new());
     for i in 0..steps {
         let inc = motion.increment(i, steps);
-        let c = cpu_seconds();
+        let c = thread_cpu_seconds();
         let t = std::time::Instant::now();
         let sol = solver.advance(&inc).expect("a step");
-        let (cpu, wall) = (cpu_seconds() - c, t.elapsed().as_secs_f64());
+        let (cpu, wall) = (thread_cpu_seconds() - c, t.elapsed().as_secs_f64());
         let reps = solver.step_reports();
         let solve: f64 = reps.iter().map(|r| r.seconds).sum();
         let reference: f64 = reps.iter().map(|r| r.reference_seconds).sum();
