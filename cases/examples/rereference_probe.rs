@@ -10,26 +10,14 @@ use meshmove::multigrid::hierarchy::Hierarchy;
 use meshmove::operator::LevelOperator;
 use meshmove::{BoundaryConditions, Kind, Method, Options, Solver};
 use meshmove_cases::boxes::{structured_box, BoxCells, BOX_BOTTOM, BOX_TOP};
+use meshmove_cases::report::thread_cpu_seconds;
 use std::hash::{Hash, Hasher};
-
-/// The CPU seconds of every thread of the process so far (Linux: the first field of each
-/// thread's schedstat, in nanoseconds; 0 where it does not tell). A loaded machine stretches
-/// wall seconds, not these.
-fn cpu_seconds() -> f64 {
-    let Ok(tasks) = std::fs::read_dir("/proc/self/task") else { return 0.0 };
-    let ns: u64 = tasks
-        .flatten()
-        .filter_map(|t| std::fs::read_to_string(t.path().join("schedstat")).ok())
-        .filter_map(|s| s.split_whitespace().next().and_then(|v| v.parse::<u64>().ok()))
-        .sum();
-    ns as f64 * 1e-9
-}
 
 /// The mean CPU seconds of `repeats` runs of `f`.
 fn cpu_per_run(repeats: usize, mut f: impl FnMut()) -> f64 {
-    let start = cpu_seconds();
+    let start = thread_cpu_seconds();
     (0..repeats).for_each(|_| f());
-    (cpu_seconds() - start) / repeats as f64
+    (thread_cpu_seconds() - start) / repeats as f64
 }
 
 /// A hash of the bits of `values`.

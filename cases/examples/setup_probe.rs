@@ -5,8 +5,8 @@
 //! each setup's wall seconds and the process's CPU seconds (Linux, to 1/100 s: a loaded machine
 //! stretches them less than the wall time).
 
-use meshmove::{BoundaryConditions, Kind, Method, Motion, Options, Solver};
-use meshmove_cases::boxes::{structured_box, BoxCells, BOX_BOTTOM, BOX_SIDES, BOX_TOP};
+use meshmove::{Method, Options, Solver};
+use meshmove_cases::boxes::{free_surface_conditions, structured_box, BoxCells};
 use std::hash::{Hash, Hasher};
 use std::time::Instant;
 
@@ -29,19 +29,7 @@ fn main() {
     let repeats: usize = args.get(3).map_or(3, |s| s.parse().expect("repeats"));
     let mesh = structured_box(n, cells);
     // The bench's box: bottom fixed, top clamped and moved in z, each side fixed along its normal.
-    let mut bcs = BoundaryConditions::new();
-    bcs.set_kinds(BOX_BOTTOM, Kind::Fixed).set_kinds(BOX_TOP, Kind::Clamped);
-    for (p, normal) in BOX_SIDES {
-        for c in 0..3 {
-            bcs.set_kind(p, c, if c == normal { Kind::Fixed } else { Kind::Free }).expect("3 components");
-        }
-    }
-    let mut motion = Motion::zero(&mesh);
-    for v in mesh.patch_vertices(BOX_TOP) {
-        let p = mesh.point(v as usize);
-        motion.displacement[3 * v as usize + 2] =
-            0.1 * (std::f64::consts::TAU * p[0]).cos() * (std::f64::consts::TAU * p[1]).cos();
-    }
+    let (bcs, motion) = free_surface_conditions(&mesh);
     let opts = Options { method, threads: 1, ..Default::default() };
     let mut setups = Vec::new();
     let mut cpu = Vec::new();

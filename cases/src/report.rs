@@ -438,3 +438,16 @@ pub fn run_case_reference(setup: &CaseSetup, method: Method, tol: f64) -> Result
     }
     Ok((current.coords().to_vec(), None))
 }
+
+/// The CPU seconds of every thread of the process so far (Linux: the first field of each
+/// thread's schedstat, in nanoseconds; 0 where it does not tell). A loaded machine stretches
+/// wall seconds, not these.
+pub fn thread_cpu_seconds() -> f64 {
+    let Ok(tasks) = std::fs::read_dir("/proc/self/task") else { return 0.0 };
+    let ns: u64 = tasks
+        .flatten()
+        .filter_map(|t| std::fs::read_to_string(t.path().join("schedstat")).ok())
+        .filter_map(|s| s.split_whitespace().next().and_then(|v| v.parse::<u64>().ok()))
+        .sum();
+    ns as f64 * 1e-9
+}

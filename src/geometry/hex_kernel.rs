@@ -142,27 +142,36 @@ fn lanes(p: &[[f64; 3]], k: &mut [f64], m: &mut [f64]) {
         det[q] = j0[0][q] * c[0][0][q] + j0[1][q] * c[0][1][q] + j0[2][q] * c[0][2][q];
         w[q] = 1.0 / det[q];
     }
-    // Per cyclic distance d = 1, 2, 3, 4 the pairs (i, i + d mod 8) (d = 4: the first four lanes
-    // count).
-    let mut pairs = [[0.0f64; 8]; 4];
-    let mut mass = [0.0f64; 8];
-    for q in 0..8 {
+    // s_k = C ∇_ref φ_k at each point, the eight corners side by side, twice over so that the
+    // corners d further on are a contiguous slice. All eight points' are formed before any pair
+    // reads them: a window d further on spans two of the stores, which the processor cannot
+    // forward to the load while they are still in flight.
+    let mut s = [[[0.0f64; 16]; 3]; 8];
+    for (q, sq) in s.iter_mut().enumerate() {
         let g = &t.by_point[q];
-        // s_k = C ∇_ref φ_k, the eight corners side by side, twice over so that the corners d
-        // further on are a contiguous slice.
-        let mut s = [[0.0f64; 16]; 3];
         for a in 0..3 {
             let (c0, c1, c2) = (c[0][a][q], c[1][a][q], c[2][a][q]);
             for kk in 0..8 {
-                s[a][kk] = c0 * g[0][kk] + c1 * g[1][kk] + c2 * g[2][kk];
-                s[a][kk + 8] = s[a][kk];
+                sq[a][kk] = c0 * g[0][kk] + c1 * g[1][kk] + c2 * g[2][kk];
+                sq[a][kk + 8] = sq[a][kk];
             }
         }
+    }
+    // Per cyclic distance d = 1, 2, 3 the pairs (i, i + d mod 8), and for d = 4 the pairs
+    // (i, i + 4) of the first four lanes (the other four are the same pairs).
+    let mut pairs = [[0.0f64; 8]; 3];
+    let mut opposite = [0.0f64; 4];
+    let mut mass = [0.0f64; 8];
+    for (q, s) in s.iter().enumerate() {
         for (d, row) in pairs.iter_mut().enumerate() {
             for i in 0..8 {
                 let r = i + d + 1;
                 row[i] += (s[0][i] * s[0][r] + s[1][i] * s[1][r] + s[2][i] * s[2][r]) * w[q];
             }
+        }
+        for (i, o) in opposite.iter_mut().enumerate() {
+            let r = i + 4;
+            *o += (s[0][i] * s[0][r] + s[1][i] * s[1][r] + s[2][i] * s[2][r]) * w[q];
         }
         for (mc, n) in mass.iter_mut().zip(&t.value[q]) {
             *mc += n * det[q];
@@ -171,7 +180,11 @@ fn lanes(p: &[[f64; 3]], k: &mut [f64], m: &mut [f64]) {
     for (kk, &[i, j]) in k[..28].iter_mut().zip(super::CellType::Hexahedron.couplings()) {
         let (i, j) = (i as usize, j as usize);
         // The pair's lane: from the lower corner where j − i ≤ 4, else from j round to i.
-        *kk = if j - i <= 4 { pairs[j - i - 1][i] } else { pairs[i + 8 - j - 1][j] };
+        *kk = match j - i {
+            4 => opposite[i],
+            d if d < 4 => pairs[d - 1][i],
+            d => pairs[8 - d - 1][j],
+        };
     }
     m[..8].copy_from_slice(&mass);
 }

@@ -62,9 +62,15 @@ impl CellPoints {
     #[inline]
     pub fn gather(ty: CellType, verts: &[u32], coords: &[f64], dim: usize) -> CellPoints {
         let mut p = [[0.0; 3]; MAX_CORNERS];
+        // Each point's values by name where the dimension is 3 or 2: a copy of a length known
+        // only at run time is a call to `memcpy` per corner.
         for (k, &v) in verts.iter().enumerate() {
             let x = &coords[v as usize * dim..v as usize * dim + dim];
-            p[k][..dim].copy_from_slice(x);
+            match *x {
+                [a, b, c] => p[k] = [a, b, c],
+                [a, b] => p[k] = [a, b, 0.0],
+                _ => p[k][..dim].copy_from_slice(x),
+            }
         }
         CellPoints { ty, p }
     }

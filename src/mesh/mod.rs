@@ -333,7 +333,19 @@ impl Mesh {
     /// The same topology at new vertex positions (a deformed mesh). Positions must be finite.
     pub fn with_coords(&self, coords: Vec<f64>) -> Mesh {
         assert_eq!(coords.len(), self.coords.len(), "with_coords: vertex count changed");
-        Mesh { coords, ..self.clone() }
+        // The topology cloned field by field: cloning the whole mesh would copy the old
+        // positions too, only to drop them.
+        Mesh {
+            dim: self.dim,
+            coords,
+            types: self.types.clone(),
+            cells: self.cells.clone(),
+            regions: self.regions.clone(),
+            faces: self.faces.clone(),
+            face_patch: self.face_patch.clone(),
+            face_interior: self.face_interior.clone(),
+            polyhedra: self.polyhedra.clone(),
+        }
     }
 
     /// Sorted, deduplicated patch ids present in the mesh.

@@ -178,7 +178,7 @@ fn refresh_bounds(level: &mut Level, previous: Option<&Calibration>) -> Calibrat
 #[derive(Clone)]
 pub(crate) struct Carried {
     prolong: Vec<Option<Arc<CsrMatrix>>>,
-    offsets: Vec<Vec<f64>>,
+    offsets: Vec<Arc<Vec<f64>>>,
     /// The calibrations the bounds were estimated from (`Hierarchy::calibrated_from`).
     calibrated_from: Vec<Calibration>,
     /// The last full refresh, and whether the coarse levels are still its (`multigrid::lag`).
@@ -270,8 +270,9 @@ pub struct Hierarchy {
     /// Seconds per phase of the last build or re-reference.
     phases: Phases,
     /// Per level with a transfer of kept unknowns below it: the donor offsets its weights were
-    /// chosen at (`refit`; empty for other levels).
-    offsets: Vec<Vec<f64>>,
+    /// chosen at (`refit`; empty for other levels). Shared with the `Carried` a call keeps to
+    /// restore (replaced, never changed in place), so keeping them copies nothing.
+    offsets: Vec<Arc<Vec<f64>>>,
     /// Per level: the calibration of its last λmax estimates (`multigrid::bounds`), and the one
     /// those estimates were made from (what a restore estimates from again).
     calibration: Vec<Calibration>,
@@ -350,7 +351,7 @@ impl Hierarchy {
             levels.push(level);
             calibration.push(cal);
         }
-        let offsets = (0..levels.len()).map(|l| transfer_offsets(&levels, l)).collect();
+        let offsets = (0..levels.len()).map(|l| Arc::new(transfer_offsets(&levels, l))).collect();
         let anchor = Anchor::new(levels[0].mesh().coords(), &levels[0].inv_d[0]);
         let mut h = Hierarchy {
             levels,
@@ -578,17 +579,17 @@ impl Hierarchy {
                         let p = r.prolong[l - 1].as_ref().expect("a level with a transfer");
                         down.prolong = Arc::clone(p);
                         down.restrict = Restriction::new(Arc::clone(p));
-                        offsets.clone_from(&r.offsets[l - 1]);
+                        *offsets = Arc::clone(&r.offsets[l - 1]);
                     }
                     // Kept unknowns keep the weights of the rows whose donors moved little;
                     // barycentric weights on coarse meshes are all chosen again (a point may
                     // have left its triangle).
                     None if coarse.mesh.is_none() => {
                         let (points, kept) = (fine.unknown_points(), &coarse.parent_vertex);
-                        let redo = rows_to_redo(&down.prolong, kept, offsets, &points, dim);
+                        let redo = rows_to_redo(&down.prolong, kept, &offsets[..], &points, dim);
                         if redo.iter().any(|&r| r) {
                             self.coarsener.update_rows(l - 1, &mut down, fine, coarse, &redo);
-                            *offsets = updated_offsets(&before, offsets, &down.prolong, &redo, kept, &points, dim);
+                            *offsets = Arc::new(updated_offsets(&before, &offsets[..], &down.prolong, &redo, kept, &points, dim));
                         }
                     }
                     None => self.coarsener.update(l - 1, &mut down, fine, coarse),

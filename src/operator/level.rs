@@ -29,6 +29,9 @@ pub struct LevelOperator {
     /// Where the cells' element matrices add into `k` (`scatter.rs`), for `reassemble`; empty
     /// on an operator not assembled from a mesh's cells.
     pub(super) scatter: Scatter,
+    /// Per row of `k`, Σ_j |K_ij| as `reassemble` left it (summed while closing the diagonal,
+    /// for `inv_l1_diags`); empty where it is not known (an operator not assembled from cells).
+    pub(super) row_abs: Vec<f64>,
     /// The biharmonic's two passes fused on a large level (`fused.rs`); None keeps them apart.
     pub(super) fuse: Option<FusePlan>,
     /// The biharmonic's A of a coarse level assembled as the Galerkin product of the finer
@@ -45,7 +48,7 @@ impl LevelOperator {
         // The spring's weights are set edge by edge (`spring_stiffness`), not added by the map.
         let (k, scatter) = pattern_and_scatter(mesh, dofs, method != Method::Spring);
         let fuse = fuse_plan(method, &k);
-        let mut op = LevelOperator { method, k, inv_v: Vec::new(), scatter, fuse, assembled: None, source_halo: None };
+        let mut op = LevelOperator { method, k, inv_v: Vec::new(), row_abs: Vec::new(), scatter, fuse, assembled: None, source_halo: None };
         op.reassemble(mesh, dofs);
         op
     }
@@ -56,9 +59,14 @@ impl LevelOperator {
         let mass = match self.method {
             Method::Spring => {
                 spring_stiffness(&mut self.k, mesh, dofs);
+                self.row_abs = Vec::new();
                 lumped_mass(mesh, dofs)
             }
-            _ => stiffness_and_mass(&mut self.k, &self.scatter, mesh, dofs),
+            _ => {
+                let mass;
+                (mass, self.row_abs) = stiffness_and_mass(&mut self.k, &self.scatter, mesh, dofs);
+                mass
+            }
         };
         self.inv_v = mass.iter().map(|&v| 1.0 / v).collect();
     }
@@ -81,7 +89,7 @@ impl LevelOperator {
         close_diagonal(&mut k);
         let inv_v = galerkin_inv_mass(fine, restrict);
         let fuse = fuse_plan(fine.method, &k);
-        LevelOperator { method: fine.method, k, inv_v, scatter: Scatter::default(), fuse, assembled: None, source_halo: None }
+        LevelOperator { method: fine.method, k, inv_v, row_abs: Vec::new(), scatter: Scatter::default(), fuse, assembled: None, source_halo: None }
     }
 
     /// A second-order operator given as its matrix K (applied in one pass, unit mass): a
@@ -90,7 +98,7 @@ impl LevelOperator {
     pub(crate) fn from_matrix(method: Method, k: CsrMatrix) -> Self {
         debug_assert!(method != Method::Biharmonic, "a matrix is applied in one pass");
         let inv_v = vec![1.0; k.nrows];
-        LevelOperator { method, k, inv_v, scatter: Scatter::default(), fuse: None, assembled: None, source_halo: None }
+        LevelOperator { method, k, inv_v, row_abs: Vec::new(), scatter: Scatter::default(), fuse: None, assembled: None, source_halo: None }
     }
 
     /// `galerkin`'s values refilled in place when K's pattern and P's are those this operator
@@ -98,6 +106,7 @@ impl LevelOperator {
     pub fn update_galerkin(&mut self, fine: &LevelOperator, prolong: &CsrMatrix, restrict: &CsrMatrix) {
         triple_product_values(restrict, &fine.k, prolong, &mut self.k);
         close_diagonal(&mut self.k);
+        self.row_abs = Vec::new();
         self.inv_v = galerkin_inv_mass(fine, restrict);
         if let Some(a) = &mut self.assembled {
             a.refill(fine, prolong, restrict);
@@ -339,9 +348,14 @@ impl LevelOperator {
     pub fn inv_l1_diags(&self, flags: &[&[u8]]) -> Vec<Vec<f64>> {
         use rayon::prelude::*;
         let k = self.one_pass().unwrap_or(&self.k);
-        let mut rowabs = vec![0.0; self.n()];
-        par_fill(&mut rowabs, |i| k.row(i).1.iter().map(|a| a.abs()).sum());
-        let rowabs = &rowabs;
+        // K's row sums from its assembly where A's rows are K's (the same sums).
+        let known = self.assembled.is_none() && self.row_abs.len() == self.n();
+        let mut formed = Vec::new();
+        if !known {
+            formed = vec![0.0; self.n()];
+            par_fill(&mut formed, |i| k.row(i).1.iter().map(|a| a.abs()).sum());
+        }
+        let rowabs = if known { &self.row_abs } else { &formed };
         flags
             .par_iter()
             .map(|flags| {

@@ -76,29 +76,6 @@ impl Scatter {
         b.iter().fold(true, |all, &o| all & (o != SEARCH)).then_some(b)
     }
 
-    /// Asks the processor to bring into cache the entries of K that the `couplings` of a cell
-    /// with unknowns `d` add into, from coupling `at` on: issued a cell ahead, their loads
-    /// overlap that cell's element kernel instead of stalling its adds. Changes no value.
-    #[inline(always)]
-    pub(crate) fn prefetch(&self, k: &CsrMatrix, at: usize, d: &[u32], couplings: &[[u8; 2]]) {
-        #[cfg(target_arch = "x86_64")]
-        if let Some(within) = self.within_row.get(2 * at..2 * (at + couplings.len())) {
-            use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
-            for (&[i, j], o) in couplings.iter().zip(within.chunks_exact(2)) {
-                for (r, o) in [(i, o[0]), (j, o[1])] {
-                    let p = k.row_ptr[d[r as usize] as usize] as usize + o as usize;
-                    if o != SEARCH && p < k.vals.len() {
-                        // SAFETY: x86-64 always has SSE; a prefetch reads nothing (and the
-                        // address is within `k.vals`).
-                        unsafe { _mm_prefetch::<_MM_HINT_T0>(k.vals[p..].as_ptr().cast()) };
-                    }
-                }
-            }
-        }
-        #[cfg(not(target_arch = "x86_64"))]
-        let _ = (k, at, d, couplings);
-    }
-
     /// The bytes the map holds for coupling `at` (its positions within the two rows), for tests.
     #[cfg(test)]
     pub(crate) fn slots(&self, at: usize) -> [u8; 2] {
@@ -109,6 +86,28 @@ impl Scatter {
     pub(crate) fn len(&self) -> usize {
         self.within_row.len() / 2
     }
+}
+
+/// Asks the processor to bring into cache the rows of K of the unknowns `d` (a cell's corners),
+/// a 64-byte line at a time: issued a cell ahead, their loads overlap that cell's element kernel
+/// instead of stalling its adds. The rows' bounds are all it reads (not the map's bytes per
+/// coupling), so it costs a few instructions a corner. Changes no value.
+#[inline(always)]
+pub(crate) fn prefetch_rows(k: &CsrMatrix, d: &[u32]) {
+    #[cfg(target_arch = "x86_64")]
+    for &i in d {
+        use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+        let (Some(&a), Some(&b)) = (k.row_ptr.get(i as usize), k.row_ptr.get(i as usize + 1)) else { continue };
+        let (a, b) = (a as usize, (b as usize).min(k.vals.len()));
+        // Eight values a line; the row's last value's line too, where the row starts within one.
+        for p in (a..b).step_by(8).chain((a < b).then(|| b - 1)) {
+            // SAFETY: x86-64 always has SSE; a prefetch reads nothing (and `p` is within
+            // `k.vals`).
+            unsafe { _mm_prefetch::<_MM_HINT_T0>(k.vals[p..].as_ptr().cast()) };
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = (k, d);
 }
 
 /// An entry of K that fills no slot of the map (the diagonal, a general cell's coupling, a

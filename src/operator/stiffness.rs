@@ -6,7 +6,7 @@
 //! Every entry sums its cells' contributions in cell order (serially on one or two threads, row
 //! by row beyond), so sums never depend on thread count.
 
-use super::scatter::Scatter;
+use super::scatter::{prefetch_rows, Scatter};
 use crate::bc::Dofs;
 use crate::geometry::{dist2, CellPoints, Corners, Lanes, MAX_CORNERS};
 use crate::sparse::CsrMatrix;
@@ -27,18 +27,37 @@ pub(crate) fn stiffness_pattern(mesh: &Mesh, dofs: &Dofs) -> CsrMatrix {
 /// Sets K_ii = −Σ_{j≠i} K_ij, so constants are exactly in the null space of every row.
 pub(crate) fn close_diagonal(k: &mut CsrMatrix) {
     for i in 0..k.nrows {
-        let r = k.row_ptr[i] as usize..k.row_ptr[i + 1] as usize;
-        let mut s = 0.0;
-        let mut diag = usize::MAX;
-        for p in r {
-            if k.cols[p] as usize == i {
-                diag = p;
-            } else {
-                s += k.vals[p];
-            }
-        }
-        k.vals[diag] = -s;
+        close_row(k, i);
     }
+}
+
+/// `close_diagonal` of row `i`; returns the position of its diagonal.
+#[inline(always)]
+fn close_row(k: &mut CsrMatrix, i: usize) -> std::ops::Range<usize> {
+    let r = k.row_ptr[i] as usize..k.row_ptr[i + 1] as usize;
+    let mut s = 0.0;
+    let mut diag = usize::MAX;
+    for p in r.clone() {
+        if k.cols[p] as usize == i {
+            diag = p;
+        } else {
+            s += k.vals[p];
+        }
+    }
+    k.vals[diag] = -s;
+    r
+}
+
+/// `close_diagonal`, returning each closed row's sum of absolute values (Σ_j |K_ij| in the row's
+/// order, as `LevelOperator::inv_l1_diags` forms it): summed while the row is in cache, so the
+/// l1 diagonals need no other pass over K.
+pub(crate) fn close_diagonal_and_row_abs(k: &mut CsrMatrix) -> Vec<f64> {
+    (0..k.nrows)
+        .map(|i| {
+            let r = close_row(k, i);
+            k.vals[r].iter().map(|a| a.abs()).sum()
+        })
+        .collect()
 }
 
 #[cfg(test)]
@@ -81,8 +100,9 @@ const MAX_COUPLINGS: usize = 28;
 /// or two threads, at the positions `scatter` holds (`Scatter::new(k, mesh, dofs)`), row by row
 /// in parallel on more (`add_by_rows`), with the same sums either way. On one thread each cell's
 /// matrices are added as soon as they are evaluated, while they are in cache, the whole loop
-/// compiled for the processor's lanes (`Lanes`, asked once).
-pub(crate) fn stiffness_and_mass(k: &mut CsrMatrix, scatter: &Scatter, mesh: &Mesh, dofs: &Dofs) -> Vec<f64> {
+/// compiled for the processor's lanes (`Lanes`, asked once). Returns V and the closed rows' sums
+/// of absolute values (`close_diagonal_and_row_abs`).
+pub(crate) fn stiffness_and_mass(k: &mut CsrMatrix, scatter: &Scatter, mesh: &Mesh, dofs: &Dofs) -> (Vec<f64>, Vec<f64>) {
     use rayon::prelude::*;
     k.vals.iter_mut().for_each(|v| *v = 0.0);
     let mut v = vec![0.0; dofs.n];
@@ -95,15 +115,13 @@ pub(crate) fn stiffness_and_mass(k: &mut CsrMatrix, scatter: &Scatter, mesh: &Me
             for c in 0..mesh.num_cells() {
                 let next = c + 1;
                 if next < mesh.num_cells() && !mesh.cell_type(next).is_general() {
-                    let ahead = at + if mesh.cell_type(c).is_general() { 0 } else { mesh.cell_type(c).couplings().len() };
-                    scatter.prefetch(k, ahead, &dofs.cell_dofs(mesh, next), mesh.cell_type(next).couplings());
+                    prefetch_rows(k, &dofs.cell_dofs(mesh, next));
                 }
                 add_cell(c, &element(mesh, c, lanes), k, &mut v, &mut at, scatter, mesh, dofs);
             }
         });
         debug_assert_eq!(at, scatter.len(), "the map holds every coupling");
-        close_diagonal(k);
-        return v;
+        return (v, close_diagonal_and_row_abs(k));
     }
     // A row visits every cell around it and picks its couplings out of the cell's: more index
     // work than the serial loop's, which pays back only beyond two threads (profiled).
@@ -123,8 +141,7 @@ pub(crate) fn stiffness_and_mass(k: &mut CsrMatrix, scatter: &Scatter, mesh: &Me
         }
     }
     debug_assert!(by_rows.is_some() || at == scatter.len(), "the map holds every coupling");
-    close_diagonal(k);
-    v
+    (v, close_diagonal_and_row_abs(k))
 }
 
 /// A cell's element matrices: its stiffness per coupling and its lumped mass per corner (zero
@@ -417,7 +434,7 @@ mod tests {
             let mut k = stiffness_pattern(&mesh, &dofs);
             let scatter = Scatter::new(&k, &mesh, &dofs);
             let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
-            let v = pool.install(|| stiffness_and_mass(&mut k, &scatter, &mesh, &dofs));
+            let (v, _) = pool.install(|| stiffness_and_mass(&mut k, &scatter, &mesh, &dofs));
             (k.vals, v)
         };
         let ((k1, v1), (k3, v3)) = (run(1), run(3));
@@ -438,8 +455,8 @@ mod tests {
         stiffness(&mut k0, &mesh, &dofs);
         let v0 = lumped_mass(&mesh, &dofs);
         let on = |threads: usize| rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
-        let v1 = on(1).install(|| stiffness_and_mass(&mut k1, &scatter, &mesh, &dofs));
-        let v3 = on(3).install(|| stiffness_and_mass(&mut k3, &scatter, &mesh, &dofs));
+        let (v1, _) = on(1).install(|| stiffness_and_mass(&mut k1, &scatter, &mesh, &dofs));
+        let (v3, _) = on(3).install(|| stiffness_and_mass(&mut k3, &scatter, &mesh, &dofs));
         let same = |a: &[f64], b: &[f64]| a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits());
         assert!(same(&k0.vals, &k1.vals) && same(&v0, &v1));
         assert!(same(&k0.vals, &k3.vals) && same(&v0, &v3));
@@ -496,7 +513,7 @@ mod tests {
             let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
             let add = |s: &Scatter| {
                 let mut k = k.clone();
-                let v = one.install(|| stiffness_and_mass(&mut k, s, &mesh, &dofs));
+                let (v, _) = one.install(|| stiffness_and_mass(&mut k, s, &mesh, &dofs));
                 (k.vals, v)
             };
             let (mapped, searched) = (add(&scatter), add(&Scatter::searching(couplings)));
