@@ -27,6 +27,9 @@ pub struct Dofs {
     split_corners: Vec<(u32, i32, u32)>,
     /// (unknown, region) of every split unknown, ascending.
     split_regions: Vec<(u32, i32)>,
+    /// Where each connected part of the cells' graph over the unknowns starts (ascending, the
+    /// first 0): the numbering gives each part one run. Empty on a level without a mesh.
+    part_starts: Vec<u32>,
 }
 
 fn find(parent: &mut [u32], mut v: u32) -> u32 {
@@ -110,7 +113,7 @@ impl Dofs {
             by_vertex.push(&corners);
         }
         // Renumber for locality of the operators' gathers (see `numbering`).
-        let order = reverse_cuthill_mckee(n, &by_vertex);
+        let (order, part_starts) = reverse_cuthill_mckee(n, &by_vertex);
         let mut new_of = vec![0u32; n];
         for (new, &old) in order.iter().enumerate() {
             new_of[old as usize] = new as u32;
@@ -159,7 +162,7 @@ impl Dofs {
         let mut split_regions: Vec<(u32, i32)> =
             split_keys.iter().map(|&(r, reg)| (new_of[key_index(r, reg) as usize], reg)).collect();
         split_regions.sort_unstable();
-        Dofs { n, vertex_dof, dof_vertex, shared_dofs, shared_ptr, shared_vertices, split_corners, split_regions }
+        Dofs { n, vertex_dof, dof_vertex, shared_dofs, shared_ptr, shared_vertices, split_corners, split_regions, part_starts }
     }
 
     /// The unknowns of a level without a mesh: unknown i is its own vertex i.
@@ -174,7 +177,14 @@ impl Dofs {
             shared_vertices: Vec::new(),
             split_corners: Vec::new(),
             split_regions: Vec::new(),
+            part_starts: Vec::new(),
         }
+    }
+
+    /// The unknowns of each connected part of the cells' graph (K's graph) as runs: where each
+    /// starts, ascending from 0. None on a level without a mesh (`identity`).
+    pub(crate) fn part_starts(&self) -> Option<&[u32]> {
+        (!self.part_starts.is_empty()).then_some(&self.part_starts[..])
     }
 
     /// Every vertex of unknown `d` (several when linked), to gather flags from all.

@@ -12,9 +12,10 @@
 use crate::mesh::{Csr, VertexCells};
 use crate::sparse::offset;
 
-/// New-to-old order of `n` unknowns connected by the edges of `cells`. Deterministic: ties break
-/// by index.
-pub(crate) fn reverse_cuthill_mckee(n: usize, cells: &Csr) -> Vec<u32> {
+/// New-to-old order of `n` unknowns connected by the edges of `cells`, and where each connected
+/// part of them starts in that order (ascending, the first 0; each part is numbered in one run).
+/// Deterministic: ties break by index.
+pub(crate) fn reverse_cuthill_mckee(n: usize, cells: &Csr) -> (Vec<u32>, Vec<u32>) {
     let (ptr, adj) = adjacency(n, cells);
     let degree = |v: u32| ptr[v as usize + 1] - ptr[v as usize];
     let neighbours = |v: u32| &adj[ptr[v as usize] as usize..ptr[v as usize + 1] as usize];
@@ -24,6 +25,8 @@ pub(crate) fn reverse_cuthill_mckee(n: usize, cells: &Csr) -> Vec<u32> {
     let mut stamp = vec![u32::MAX; n];
     let mut queue: Vec<u32> = Vec::new();
     let mut next: Vec<u32> = Vec::new();
+    // Where each part ends in `order` before it is reversed.
+    let mut ends: Vec<usize> = Vec::new();
     for first in 0..n as u32 {
         if seen[first as usize] {
             continue;
@@ -65,9 +68,11 @@ pub(crate) fn reverse_cuthill_mckee(n: usize, cells: &Csr) -> Vec<u32> {
                 order.push(w);
             }
         }
+        ends.push(order.len());
     }
     order.reverse();
-    order
+    let starts = ends.iter().rev().map(|&e| offset(n - e)).collect();
+    (order, starts)
 }
 
 /// The graph of the cells' edges as CSR without the diagonal: each unknown's neighbours are the
@@ -126,7 +131,8 @@ mod tests {
                 .unwrap()
         };
         assert!(bw(&|v| v as i64) > 100);
-        let order = reverse_cuthill_mckee(n, &csr(&cells));
+        let (order, parts) = reverse_cuthill_mckee(n, &csr(&cells));
+        assert_eq!(parts, [0]);
         let mut new_of = vec![u32::MAX; n];
         for (k, &v) in order.iter().enumerate() {
             assert_eq!(new_of[v as usize], u32::MAX, "vertex {v} twice");
@@ -138,7 +144,11 @@ mod tests {
     /// Two disconnected triangles and an isolated index: every index appears once.
     #[test]
     fn disconnected_parts_and_isolated_unknowns() {
-        let order = reverse_cuthill_mckee(7, &csr(&[[0, 1, 2], [4, 5, 6]]));
+        let (order, parts) = reverse_cuthill_mckee(7, &csr(&[[0, 1, 2], [4, 5, 6]]));
+        // Three parts, each a run of the order: {4, 5, 6}, the isolated 3, {0, 1, 2}.
+        assert_eq!(parts, [0, 3, 4]);
+        let part_of = |v: u32| parts.partition_point(|&s| s as usize <= order.iter().position(|&o| o == v).unwrap());
+        assert!(part_of(0) == part_of(2) && part_of(4) == part_of(6) && part_of(0) != part_of(4) && part_of(3) != part_of(0));
         let mut sorted = order.clone();
         sorted.sort_unstable();
         assert_eq!(sorted, (0..7).collect::<Vec<u32>>());

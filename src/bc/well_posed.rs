@@ -1,7 +1,7 @@
 //! A component is determined only if every connected part of the mesh has a prescribed unknown.
 
 use super::{Dofs, SlipFrames, P};
-use crate::sparse::CsrMatrix;
+use crate::sparse::{offset, CsrMatrix};
 use crate::{Error, Result};
 
 /// Names of the components in messages.
@@ -18,6 +18,15 @@ pub(crate) fn check_well_posed(k: &CsrMatrix, flags: &[Vec<u8>], dofs: &Dofs, sl
     // The smallest vertex of each part: messages name vertices in the caller's numbering,
     // independent of how the solver orders its unknowns.
     let mut parts: Vec<u32> = Vec::new();
+    // The numbering's runs are the parts of the cells' graph, which is K's (every cell couples
+    // all its corners): no search over K's rows.
+    let starts = dofs.part_starts().unwrap_or(&[]);
+    for (p, &a) in starts.iter().enumerate() {
+        let b = starts.get(p + 1).map_or(n, |&b| b as usize);
+        let id = offset(p);
+        comp[a as usize..b].iter_mut().for_each(|c| *c = id);
+        parts.push(dofs.dof_vertex[a as usize..b].iter().copied().min().unwrap_or(u32::MAX));
+    }
     for s in 0..n {
         if comp[s] != u32::MAX {
             continue;

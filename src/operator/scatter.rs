@@ -10,6 +10,7 @@
 
 use crate::bc::Dofs;
 use crate::sparse::{offset, CsrMatrix};
+use crate::geometry::CellType;
 use crate::Mesh;
 
 /// A position the map leaves to the row's binary search.
@@ -110,89 +111,117 @@ pub(crate) fn prefetch_rows(k: &CsrMatrix, d: &[u32]) {
     let _ = (k, d);
 }
 
-/// An entry of K that fills no slot of the map (the diagonal, a general cell's coupling, a
-/// coupling of an unknown with itself).
-const NO_SLOT: u32 = u32::MAX;
+/// Per corner of a fixed cell type, the couplings that hold it: (coupling, other corner, which
+/// of the coupling's two bytes is the corner's row), the type's coupling order.
+type CornerCouplings = Vec<Vec<(usize, usize, usize)>>;
+
+/// `CornerCouplings` of cell type `ty`.
+fn corner_couplings(ty: CellType) -> CornerCouplings {
+    let mut at = vec![Vec::new(); ty.num_corners()];
+    for (m, &[q, r]) in ty.couplings().iter().enumerate() {
+        at[q as usize].push((m, r as usize, 0));
+        at[r as usize].push((m, q as usize, 1));
+    }
+    at
+}
 
 /// K's pattern on the unknowns (with the diagonal, values zero: the couplings of every cell)
-/// and, with `map`, the scatter map into it, from one pass over the cells' couplings: each entry
-/// carries the slot of the map it fills (`2 × coupling + direction`), so its position within its
-/// row is known where the row is sorted and its duplicates merged, and no row is searched. The
-/// pattern is that of sorting the couplings' pairs row by row, the map that of searching the rows
-/// for them (`Scatter::new`), bitwise. Past 2^31 couplings the slots do not fit: the map comes
-/// from the search.
+/// and, with `map`, the scatter map into it, row by row from the cells around each unknown:
+/// every cell couples all its corners (a fixed type's couplings are all its pairs of corners,
+/// a general cell's too), so a row's columns are its cells' corners, collected by a mark and
+/// sorted; then each coupling of those cells at the row's unknown takes its column's position.
+/// Only the cells' corners are bucketed by unknown (one entry a corner, not the couplings' two
+/// entries each). The pattern is that of sorting the couplings' pairs row by row, the map that
+/// of searching the rows for them (`Scatter::new`), bitwise. Past 2^31 couplings the slots do
+/// not fit: the map comes from the search.
 pub(crate) fn pattern_and_scatter(mesh: &Mesh, dofs: &Dofs, map: bool) -> (CsrMatrix, Scatter) {
     let n = dofs.n;
-    let couplings: usize = (0..mesh.num_cells()).filter(|&c| !mesh.cell_type(c).is_general()).map(|c| mesh.cell_type(c).couplings().len()).sum();
-    let slots = map && u32::try_from(2 * couplings).is_ok_and(|s| s < NO_SLOT);
-    let mut general = Vec::new();
-    // Calls `f(row, column, slot)` for every entry of the pattern, duplicates included.
-    let mut each = |f: &mut dyn FnMut(u32, u32, u32)| {
-        (0..n as u32).for_each(|i| f(i, i, NO_SLOT));
-        let mut at = 0u32;
-        for c in 0..mesh.num_cells() {
-            let ty = mesh.cell_type(c);
-            if ty.is_general() {
-                general.clear();
-                super::general::pattern(mesh, dofs, c, &mut general);
-                general.iter().for_each(|&(a, b)| f(a, b, NO_SLOT));
-                continue;
-            }
-            let d = dofs.cell_dofs(mesh, c);
-            for &[i, j] in ty.couplings() {
-                let (a, b) = (d[i as usize], d[j as usize]);
-                let (ab, ba) = if slots && a != b { (2 * at, 2 * at + 1) } else { (NO_SLOT, NO_SLOT) };
-                f(a, b, ab);
-                f(b, a, ba);
-                at = at.wrapping_add(1);
-            }
+    let cells = mesh.num_cells();
+    // The fixed types, and the couplings at each corner of each (`CornerCouplings`).
+    const TYPES: [CellType; 6] =
+        [CellType::Triangle, CellType::Quad, CellType::Tetra, CellType::Hexahedron, CellType::Wedge, CellType::Pyramid];
+    let tables: Vec<CornerCouplings> = TYPES.iter().map(|&ty| corner_couplings(ty)).collect();
+    // Each cell's unknowns (CSR), its type's position in `TYPES` (`GENERAL` for a general cell)
+    // and the index of its first coupling in the map.
+    const GENERAL: u8 = u8::MAX;
+    let (mut corner_start, mut corners) = (Vec::with_capacity(cells + 1), Vec::new());
+    let (mut first_coupling, mut kind) = (Vec::with_capacity(cells), Vec::with_capacity(cells));
+    corner_start.push(0usize);
+    let mut couplings = 0usize;
+    for c in 0..cells {
+        let ty = mesh.cell_type(c);
+        first_coupling.push(couplings);
+        kind.push(TYPES.iter().position(|&t| t == ty).map_or(GENERAL, |t| t as u8));
+        if ty.is_general() {
+            corners.extend(dofs.general_cell_dofs(mesh, c));
+        } else {
+            corners.extend_from_slice(&dofs.cell_dofs(mesh, c));
+            couplings += ty.couplings().len();
         }
-    };
-    // The entries bucketed by row, each its column and slot in one key.
+        corner_start.push(corners.len());
+    }
+    let slots = map && u32::try_from(2 * couplings).is_ok_and(|s| s < u32::MAX);
+    let corners_of = |c: usize| &corners[corner_start[c]..corner_start[c + 1]];
+    // Each corner of the cells around each unknown, ascending (a cell once per corner the
+    // unknown holds: linked vertices), as the cell and the corner's index in it, bucketed by a
+    // count.
     let mut start = vec![0usize; n + 1];
-    each(&mut |i, _, _| start[i as usize + 1] += 1);
+    corners.iter().for_each(|&i| start[i as usize + 1] += 1);
     for i in 0..n {
         start[i + 1] += start[i];
     }
-    offset(start[n]);
-    let mut keys = vec![0u64; start[n]];
+    let mut around = vec![(0u32, 0u32); start[n]];
     let mut next = start.clone();
-    each(&mut |i, j, slot| {
-        keys[next[i as usize]] = (u64::from(j) << 32) | u64::from(slot);
-        next[i as usize] += 1;
-    });
+    for c in 0..cells {
+        for (q, &i) in corners_of(c).iter().enumerate() {
+            around[next[i as usize]] = (offset(c), offset(q));
+            next[i as usize] += 1;
+        }
+    }
     drop(next);
     let mut within_row = vec![SEARCH; if slots { 2 * couplings } else { 0 }];
     let mut row_ptr = vec![0u32; n + 1];
     let mut cols: Vec<u32> = Vec::new();
-    // Per column: the row that last met it (`u32::MAX` none yet), then its position in that
-    // row. A row's distinct columns are collected by the mark and sorted (a row of a hexahedral
-    // mesh has 27 of its 57 entries), then each entry's slot takes its column's position.
+    // Per column: the row that last met it (`u32::MAX` none yet), then its position in that row.
     let mut seen = vec![u32::MAX; n];
     let mut pos = vec![0u32; n];
     for i in 0..n {
-        let row = &keys[start[i]..start[i + 1]];
+        let row = i as u32;
+        let here = &around[start[i]..start[i + 1]];
         let first = cols.len();
-        for &key in row {
-            let j = (key >> 32) as u32;
-            if seen[j as usize] != i as u32 {
-                seen[j as usize] = i as u32;
-                cols.push(j);
+        seen[i] = row;
+        cols.push(row);
+        for &(c, _) in here {
+            for &j in corners_of(c as usize) {
+                if seen[j as usize] != row {
+                    seen[j as usize] = row;
+                    cols.push(j);
+                }
             }
         }
         cols[first..].sort_unstable();
         for (p, &j) in cols[first..].iter().enumerate() {
             pos[j as usize] = offset(p);
         }
-        for &key in row {
-            let (j, slot) = ((key >> 32) as u32, key as u32);
-            if slot != NO_SLOT {
-                within_row[slot as usize] = u8::try_from(pos[j as usize]).unwrap_or(SEARCH);
+        row_ptr[i + 1] = offset(cols.len());
+        if !slots {
+            continue;
+        }
+        for &(c, q) in here {
+            let c = c as usize;
+            if kind[c] == GENERAL {
+                continue;
+            }
+            let d = corners_of(c);
+            for &(m, r, side) in &tables[kind[c] as usize][q as usize] {
+                let b = d[r];
+                if b != row {
+                    within_row[2 * (first_coupling[c] + m) + side] = u8::try_from(pos[b as usize]).unwrap_or(SEARCH);
+                }
             }
         }
-        row_ptr[i + 1] = offset(cols.len());
     }
-    drop(keys);
+    drop((around, corners));
     cols.shrink_to_fit();
     let vals = vec![0.0; cols.len()];
     let k = CsrMatrix { nrows: n, ncols: n, row_ptr, cols, vals };
