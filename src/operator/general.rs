@@ -10,6 +10,7 @@ use crate::Mesh;
 /// The couplings of general cell `c`, both ways: every pair of its corners (the pattern of
 /// `scatter::pattern_and_scatter` takes a general cell's corners as its rows' columns; the tests
 /// compare it with these pairs).
+#[cfg(test)]
 pub(super) fn pattern(mesh: &Mesh, dofs: &Dofs, c: usize, pairs: &mut Vec<(u32, u32)>) {
     let d = dofs.general_cell_dofs(mesh, c);
     for (i, &a) in d.iter().enumerate() {
