@@ -308,7 +308,10 @@ pub(crate) fn choose_donors<T: Copy + Ord>(
     }
     let near = cands.len();
     let start = if fewest { (fdim + 1).min(near) } else { near };
-    if let Some(found) = first_bounded(&cands, start.max(1), &fit) {
+    // The candidates only grow at their end or are cut after every prefix tried, so a prefix
+    // tried again is the same set with the same fit.
+    let mut tried = Tried::default();
+    if let Some(found) = first_bounded(&mut tried, &cands, start.max(1), &fit) {
         return found;
     }
     let more = far(&cands[..near]);
@@ -316,62 +319,110 @@ pub(crate) fn choose_donors<T: Copy + Ord>(
     let second = (near + 1).max(fdim + 1).min(cands.len());
     if fewest {
         let few = cands.len().min(FEWEST_MAX);
-        if let Some(found) = first_bounded(&cands[..few], second.min(few), &fit) {
+        if let Some(found) = first_bounded(&mut tried, &cands[..few], second.min(few), &fit) {
             return found;
         }
-        let (set, w) = least_spread(&cands[..few], fdim + 1, &fit);
+        let (set, w) = least_spread(&mut tried, &cands[..few], fdim + 1, &fit);
         if !wide || w.as_ref().is_some_and(|w| w.iter().map(|w| w.abs()).sum::<f64>() <= EXTRAPOLATES) || cands.len() <= few {
             return (set, w);
         }
         cands.truncate(FEWEST_WIDE);
-        return first_bounded(&cands, few + 1, &fit).unwrap_or_else(|| least_spread(&cands, fdim + 1, &fit));
+        return first_bounded(&mut tried, &cands, few + 1, &fit)
+            .unwrap_or_else(|| least_spread(&mut tried, &cands, fdim + 1, &fit));
     }
-    first_bounded(&cands, second, &fit).unwrap_or_else(|| {
-        cands.sort_unstable();
-        let w = fit(&cands);
-        (cands, w)
+    first_bounded(&mut tried, &cands, second, &fit).unwrap_or_else(|| match cands.len() {
+        0 => (cands, fit(&[])),
+        m => {
+            tried.prefix(&cands, m, &fit);
+            tried.take(m)
+        }
     })
+}
+
+/// The prefixes of a row's candidates that `choose_donors` has fitted: per prefix length, its
+/// donors ascending and their fit. Its searches try some prefixes again (`least_spread` every
+/// one the searches before it tried), and each is fitted once.
+struct Tried<T> {
+    fits: Vec<Option<(Vec<T>, Option<Vec<f64>>)>>,
+}
+
+impl<T> Default for Tried<T> {
+    fn default() -> Self {
+        Tried { fits: Vec::new() }
+    }
+}
+
+impl<T: Copy + Ord> Tried<T> {
+    /// The first `m` ≥ 1 of `cands`, ascending, and their fit: fitted at the first call for
+    /// `m`, the set built from the prefix one shorter by an insertion where that one is at hand.
+    fn prefix(&mut self, cands: &[T], m: usize, fit: &impl Fn(&[T]) -> Option<Vec<f64>>) -> &(Vec<T>, Option<Vec<f64>>) {
+        if self.fits.len() <= m {
+            self.fits.resize_with(m + 1, || None);
+        }
+        if self.fits[m].is_none() {
+            let set = match &self.fits[m - 1] {
+                Some((shorter, _)) => {
+                    let mut set = Vec::with_capacity(m);
+                    let u = cands[m - 1];
+                    let at = shorter.partition_point(|&x| x <= u);
+                    set.extend_from_slice(&shorter[..at]);
+                    set.push(u);
+                    set.extend_from_slice(&shorter[at..]);
+                    set
+                }
+                None => {
+                    let mut set = cands[..m].to_vec();
+                    set.sort_unstable();
+                    set
+                }
+            };
+            let w = fit(&set);
+            self.fits[m] = Some((set, w));
+        }
+        self.fits[m].as_ref().expect("fitted above")
+    }
+
+    /// The prefix of `m` tried before, taken out (a later call for `m` fits it again).
+    fn take(&mut self, m: usize) -> (Vec<T>, Option<Vec<f64>>) {
+        self.fits[m].take().expect("a prefix tried before")
+    }
 }
 
 /// Of the prefixes of `cands` at least `start` long, the one whose fit has the smallest Σ|w|:
 /// its donors ascending and their weights; without any fit, `cands` with none (the nearest of
-/// them then interpolates alone).
+/// them then interpolates alone). `tried` holds the prefixes fitted before.
 fn least_spread<T: Copy + Ord>(
+    tried: &mut Tried<T>,
     cands: &[T],
     start: usize,
-    fit: impl Fn(&[T]) -> Option<Vec<f64>>,
+    fit: &impl Fn(&[T]) -> Option<Vec<f64>>,
 ) -> (Vec<T>, Option<Vec<f64>>) {
-    let mut best: Option<(f64, Vec<T>, Vec<f64>)> = None;
+    let mut best: Option<(f64, usize)> = None;
     for m in start.max(1)..=cands.len() {
-        let mut set = cands[..m].to_vec();
-        set.sort_unstable();
-        if let Some(w) = fit(&set) {
+        if let Some(w) = &tried.prefix(cands, m, fit).1 {
             let spread: f64 = w.iter().map(|w| w.abs()).sum();
-            if best.as_ref().is_none_or(|b| spread < b.0) {
-                best = Some((spread, set, w));
+            if best.is_none_or(|b| spread < b.0) {
+                best = Some((spread, m));
             }
         }
     }
     match best {
-        Some((_, set, w)) => (set, Some(w)),
+        Some((_, m)) => tried.take(m),
         None => (cands.to_vec(), None),
     }
 }
 
 /// The shortest prefix of `cands`, at least `start` long, whose fit exists with Σ|w| bounded:
-/// its donors ascending and their weights.
+/// its donors ascending and their weights. `tried` holds the prefixes fitted before.
 fn first_bounded<T: Copy + Ord>(
+    tried: &mut Tried<T>,
     cands: &[T],
     start: usize,
-    fit: impl Fn(&[T]) -> Option<Vec<f64>>,
+    fit: &impl Fn(&[T]) -> Option<Vec<f64>>,
 ) -> Option<(Vec<T>, Option<Vec<f64>>)> {
     for m in start.max(1)..=cands.len() {
-        let mut set = cands[..m].to_vec();
-        set.sort_unstable();
-        if let Some(w) = fit(&set) {
-            if bounded(&w) {
-                return Some((set, Some(w)));
-            }
+        if tried.prefix(cands, m, fit).1.as_deref().is_some_and(bounded) {
+            return Some(tried.take(m));
         }
     }
     None
@@ -442,11 +493,11 @@ fn norm2(r: [f64; 3]) -> f64 {
 /// spreads Σ (r·a)²: on a wall the first two span its tangent plane, on a crease the first is
 /// its line.
 pub(super) fn principal_axes(rel: &[[f64; 3]]) -> ([[f64; 3]; 3], [f64; 3]) {
-    principal_axes_of(rel.iter().copied())
+    principal_axes_of_moments(moments(rel.iter().copied()))
 }
 
-/// `principal_axes` of the offsets `rel` yields, summed in its order.
-pub(super) fn principal_axes_of(rel: impl IntoIterator<Item = [f64; 3]>) -> ([[f64; 3]; 3], [f64; 3]) {
+/// The offset moments Σ r rᵀ of the offsets `rel` yields, summed in its order.
+pub(super) fn moments(rel: impl IntoIterator<Item = [f64; 3]>) -> [[f64; 3]; 3] {
     let mut c = [[0.0; 3]; 3];
     for r in rel {
         for i in 0..3 {
@@ -455,6 +506,27 @@ pub(super) fn principal_axes_of(rel: impl IntoIterator<Item = [f64; 3]>) -> ([[f
             }
         }
     }
+    c
+}
+
+/// How far above `ratio` the bound of `spans_every_axis` must lie: far more than the rounding of
+/// the determinant and of the eigenvalues `principal_axes_of_moments` finds, so that a yes here
+/// is a yes there.
+const SPAN_MARGIN: f64 = 1.01;
+
+/// Whether the smallest spread (eigenvalue) of the offset moments `c` (symmetric, positive
+/// semi-definite) is surely at least `ratio` of the largest, without solving the eigenproblem:
+/// λ_min = det / (λ_mid λ_max) ≥ det / (tr / 2)² and λ_max ≤ tr. A no says nothing (the caller
+/// then solves it); every spread of moderately shaped cells' neighbours passes.
+pub(super) fn spans_every_axis(c: &[[f64; 3]; 3], ratio: f64) -> bool {
+    let tr = c[0][0] + c[1][1] + c[2][2];
+    let det = c[0][0] * (c[1][1] * c[2][2] - c[1][2] * c[2][1]) - c[0][1] * (c[1][0] * c[2][2] - c[1][2] * c[2][0])
+        + c[0][2] * (c[1][0] * c[2][1] - c[1][1] * c[2][0]);
+    tr > 0.0 && det * 4.0 >= SPAN_MARGIN * ratio * tr * tr * tr
+}
+
+/// `principal_axes` of the offset moments `c` (`moments`).
+pub(super) fn principal_axes_of_moments(c: [[f64; 3]; 3]) -> ([[f64; 3]; 3], [f64; 3]) {
     let (vals, vecs) = symmetric_eigen3(c);
     let mut idx = [0usize, 1, 2];
     idx.sort_by(|&a, &b| vals[b].total_cmp(&vals[a]));
