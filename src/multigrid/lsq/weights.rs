@@ -600,3 +600,62 @@ fn solve_spd(m: [[f64; 4]; 4], q: usize) -> Option<[f64; 4]> {
     }
     Some(x)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::{choose_donors, moments, principal_axes_of_moments, spans_every_axis, FEWEST_MAX};
+    use std::cell::RefCell;
+
+    /// Where `spans_every_axis` says yes, the eigenproblem's smallest spread is at least the
+    /// ratio of its largest; the six face neighbours of a cube pass, a stretched or flat set
+    /// does not.
+    #[test]
+    fn spanning_every_axis_agrees_with_the_eigenproblem() {
+        let ratio = 0.1;
+        let cube = [[1.0, 0.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, 1.0], [0.0, 0.0, -1.0]];
+        assert!(spans_every_axis(&moments(cube), ratio));
+        let flat = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.7, 0.7, 0.0]];
+        assert!(!spans_every_axis(&moments(flat), ratio));
+        assert!(!spans_every_axis(&[[0.0; 3]; 3], ratio));
+        // The cube squeezed along z by 1 to 1/20 and turned about y: every yes is a yes of the
+        // eigenproblem, the round one is a yes and the flattest a no.
+        let mut yes = 0;
+        for squeeze in 1..=20 {
+            let s = 1.0 / squeeze as f64;
+            let (c, d) = ((0.3 * squeeze as f64).cos(), (0.3 * squeeze as f64).sin());
+            let turned: Vec<[f64; 3]> = cube.iter().map(|r| [c * r[0] - d * r[2] * s, r[1], d * r[0] + c * r[2] * s]).collect();
+            let m = moments(turned.iter().copied());
+            let (_, spread) = principal_axes_of_moments(m);
+            if spans_every_axis(&m, ratio) {
+                yes += 1;
+                assert!(spread[2] >= ratio * spread[0], "squeeze {squeeze}: {spread:?}");
+            }
+        }
+        assert!((1..20).contains(&yes), "{yes}");
+    }
+
+    /// A row that tries every prefix and finds none bounded fits each prefix once, and chooses
+    /// what fitting each again gives: the prefix of the smallest Σ|w|, ascending.
+    #[test]
+    fn each_prefix_is_fitted_once() {
+        let calls = RefCell::new(Vec::new());
+        // Weights whose Σ|w| is least for the five donors ending in 14 (never bounded).
+        let fit = |set: &[u32]| {
+            calls.borrow_mut().push(set.to_vec());
+            let spread = if set.contains(&14) && set.len() == 5 { 2.5 } else { 3.0 + set.len() as f64 };
+            Some(vec![spread / set.len() as f64; set.len()])
+        };
+        let near = vec![20u32, 3, 9];
+        let (set, w) = choose_donors(near, |_| vec![14, 1, 30, 7, 11, 2, 5, 8, 6], 3, true, false, fit);
+        assert_eq!(set, [1, 3, 9, 14, 20]);
+        assert_eq!(w, Some(vec![0.5; 5]));
+        let calls = calls.into_inner();
+        let mut distinct = calls.clone();
+        distinct.sort();
+        distinct.dedup();
+        assert_eq!(distinct.len(), calls.len(), "{calls:?}");
+        // The prefixes of 3 to `FEWEST_MAX` candidates, each ascending.
+        assert_eq!(calls.len(), FEWEST_MAX - 2);
+        assert!(calls.iter().all(|s| s.windows(2).all(|p| p[0] < p[1])));
+    }
+}
