@@ -308,10 +308,7 @@ pub(crate) fn choose_donors<T: Copy + Ord>(
     }
     let near = cands.len();
     let start = if fewest { (fdim + 1).min(near) } else { near };
-    // The candidates only grow at their end or are cut after every prefix tried, so a prefix
-    // tried again is the same set with the same fit.
-    let mut tried = Tried::default();
-    if let Some(found) = first_bounded(&mut tried, &cands, start.max(1), &fit) {
+    if let Some(found) = first_bounded(&cands, start.max(1), &fit) {
         return found;
     }
     let more = far(&cands[..near]);
@@ -319,113 +316,80 @@ pub(crate) fn choose_donors<T: Copy + Ord>(
     let second = (near + 1).max(fdim + 1).min(cands.len());
     if fewest {
         let few = cands.len().min(FEWEST_MAX);
-        if let Some(found) = first_bounded(&mut tried, &cands[..few], second.min(few), &fit) {
+        if let Some(found) = first_bounded(&cands[..few], second.min(few), &fit) {
             return found;
         }
-        let (set, w) = least_spread(&mut tried, &cands[..few], fdim + 1, &fit);
+        let (set, w) = least_spread(&cands[..few], fdim + 1, &fit);
         if !wide || w.as_ref().is_some_and(|w| w.iter().map(|w| w.abs()).sum::<f64>() <= EXTRAPOLATES) || cands.len() <= few {
             return (set, w);
         }
         cands.truncate(FEWEST_WIDE);
-        return first_bounded(&mut tried, &cands, few + 1, &fit)
-            .unwrap_or_else(|| least_spread(&mut tried, &cands, fdim + 1, &fit));
+        return first_bounded(&cands, few + 1, &fit).unwrap_or_else(|| least_spread(&cands, fdim + 1, &fit));
     }
-    first_bounded(&mut tried, &cands, second, &fit).unwrap_or_else(|| match cands.len() {
-        0 => (cands, fit(&[])),
-        m => {
-            tried.prefix(&cands, m, &fit);
-            tried.take(m)
-        }
+    first_bounded(&cands, second, &fit).unwrap_or_else(|| {
+        cands.sort_unstable();
+        let w = fit(&cands);
+        (cands, w)
     })
-}
-
-/// The prefixes of a row's candidates that `choose_donors` has fitted: per prefix length, its
-/// donors ascending and their fit. Its searches try some prefixes again (`least_spread` every
-/// one the searches before it tried), and each is fitted once.
-struct Tried<T> {
-    fits: Vec<Option<(Vec<T>, Option<Vec<f64>>)>>,
-}
-
-impl<T> Default for Tried<T> {
-    fn default() -> Self {
-        Tried { fits: Vec::new() }
-    }
-}
-
-impl<T: Copy + Ord> Tried<T> {
-    /// The first `m` ≥ 1 of `cands`, ascending, and their fit: fitted at the first call for
-    /// `m`, the set built from the prefix one shorter by an insertion where that one is at hand.
-    fn prefix(&mut self, cands: &[T], m: usize, fit: &impl Fn(&[T]) -> Option<Vec<f64>>) -> &(Vec<T>, Option<Vec<f64>>) {
-        if self.fits.len() <= m {
-            self.fits.resize_with(m + 1, || None);
-        }
-        if self.fits[m].is_none() {
-            let set = match &self.fits[m - 1] {
-                Some((shorter, _)) => {
-                    let mut set = Vec::with_capacity(m);
-                    let u = cands[m - 1];
-                    let at = shorter.partition_point(|&x| x <= u);
-                    set.extend_from_slice(&shorter[..at]);
-                    set.push(u);
-                    set.extend_from_slice(&shorter[at..]);
-                    set
-                }
-                None => {
-                    let mut set = cands[..m].to_vec();
-                    set.sort_unstable();
-                    set
-                }
-            };
-            let w = fit(&set);
-            self.fits[m] = Some((set, w));
-        }
-        self.fits[m].as_ref().expect("fitted above")
-    }
-
-    /// The prefix of `m` tried before, taken out (a later call for `m` fits it again).
-    fn take(&mut self, m: usize) -> (Vec<T>, Option<Vec<f64>>) {
-        self.fits[m].take().expect("a prefix tried before")
-    }
 }
 
 /// Of the prefixes of `cands` at least `start` long, the one whose fit has the smallest Σ|w|:
 /// its donors ascending and their weights; without any fit, `cands` with none (the nearest of
-/// them then interpolates alone). `tried` holds the prefixes fitted before.
+/// them then interpolates alone).
 fn least_spread<T: Copy + Ord>(
-    tried: &mut Tried<T>,
     cands: &[T],
     start: usize,
-    fit: &impl Fn(&[T]) -> Option<Vec<f64>>,
+    fit: impl Fn(&[T]) -> Option<Vec<f64>>,
 ) -> (Vec<T>, Option<Vec<f64>>) {
-    let mut best: Option<(f64, usize)> = None;
+    let mut best: Option<(f64, Vec<T>, Vec<f64>)> = None;
+    let mut set = Vec::with_capacity(cands.len());
     for m in start.max(1)..=cands.len() {
-        if let Some(w) = &tried.prefix(cands, m, fit).1 {
+        grow_sorted(&mut set, cands, m);
+        if let Some(w) = fit(&set) {
             let spread: f64 = w.iter().map(|w| w.abs()).sum();
-            if best.is_none_or(|b| spread < b.0) {
-                best = Some((spread, m));
+            if best.as_ref().is_none_or(|b| spread < b.0) {
+                best = Some((spread, set.clone(), w));
             }
         }
     }
     match best {
-        Some((_, m)) => tried.take(m),
+        Some((_, set, w)) => (set, Some(w)),
         None => (cands.to_vec(), None),
     }
 }
 
 /// The shortest prefix of `cands`, at least `start` long, whose fit exists with Σ|w| bounded:
-/// its donors ascending and their weights. `tried` holds the prefixes fitted before.
+/// its donors ascending and their weights.
 fn first_bounded<T: Copy + Ord>(
-    tried: &mut Tried<T>,
     cands: &[T],
     start: usize,
-    fit: &impl Fn(&[T]) -> Option<Vec<f64>>,
+    fit: impl Fn(&[T]) -> Option<Vec<f64>>,
 ) -> Option<(Vec<T>, Option<Vec<f64>>)> {
+    let mut set = Vec::with_capacity(cands.len());
     for m in start.max(1)..=cands.len() {
-        if tried.prefix(cands, m, fit).1.as_deref().is_some_and(bounded) {
-            return Some(tried.take(m));
+        grow_sorted(&mut set, cands, m);
+        if let Some(w) = fit(&set) {
+            if bounded(&w) {
+                return Some((set, Some(w)));
+            }
         }
     }
     None
+}
+
+/// Makes `set`, which holds the first `set.len()` of `cands` ascending (none, or `m` − 1 of
+/// them), hold the first `m` ascending: the prefixes a row tries one after the other, each
+/// from the one before by an insertion rather than a copy and a sort.
+fn grow_sorted<T: Copy + Ord>(set: &mut Vec<T>, cands: &[T], m: usize) {
+    if set.len() + 1 != m {
+        set.clear();
+        set.extend_from_slice(&cands[..m]);
+        set.sort_unstable();
+        return;
+    }
+    let u = cands[m - 1];
+    let at = set.partition_point(|&x| x <= u);
+    set.insert(at, u);
 }
 
 /// Whether weights are bounded (Σ|w| ≤ `MAX_ABS_SUM`): no extrapolation far outside the donors.
@@ -603,8 +567,7 @@ fn solve_spd(m: [[f64; 4]; 4], q: usize) -> Option<[f64; 4]> {
 
 #[cfg(test)]
 mod tests {
-    use super::{choose_donors, moments, principal_axes_of_moments, spans_every_axis, FEWEST_MAX};
-    use std::cell::RefCell;
+    use super::{grow_sorted, moments, principal_axes_of_moments, spans_every_axis};
 
     /// Where `spans_every_axis` says yes, the eigenproblem's smallest spread is at least the
     /// ratio of its largest; the six face neighbours of a cube pass, a stretched or flat set
@@ -634,28 +597,19 @@ mod tests {
         assert!((1..20).contains(&yes), "{yes}");
     }
 
-    /// A row that tries every prefix and finds none bounded fits each prefix once, and chooses
-    /// what fitting each again gives: the prefix of the smallest Σ|w|, ascending.
+    /// Each prefix grown from the one before is the prefix sorted, duplicates and all, and a
+    /// set not one shorter is rebuilt.
     #[test]
-    fn each_prefix_is_fitted_once() {
-        let calls = RefCell::new(Vec::new());
-        // Weights whose Σ|w| is least for the five donors ending in 14 (never bounded).
-        let fit = |set: &[u32]| {
-            calls.borrow_mut().push(set.to_vec());
-            let spread = if set.contains(&14) && set.len() == 5 { 2.5 } else { 3.0 + set.len() as f64 };
-            Some(vec![spread / set.len() as f64; set.len()])
-        };
-        let near = vec![20u32, 3, 9];
-        let (set, w) = choose_donors(near, |_| vec![14, 1, 30, 7, 11, 2, 5, 8, 6], 3, true, false, fit);
-        assert_eq!(set, [1, 3, 9, 14, 20]);
-        assert_eq!(w, Some(vec![0.5; 5]));
-        let calls = calls.into_inner();
-        let mut distinct = calls.clone();
-        distinct.sort();
-        distinct.dedup();
-        assert_eq!(distinct.len(), calls.len(), "{calls:?}");
-        // The prefixes of 3 to `FEWEST_MAX` candidates, each ascending.
-        assert_eq!(calls.len(), FEWEST_MAX - 2);
-        assert!(calls.iter().all(|s| s.windows(2).all(|p| p[0] < p[1])));
+    fn a_grown_prefix_is_the_prefix_sorted() {
+        let cands = [20u32, 3, 9, 14, 1, 30, 9, 0];
+        let mut set = Vec::new();
+        for m in 1..=cands.len() {
+            grow_sorted(&mut set, &cands, m);
+            let mut want = cands[..m].to_vec();
+            want.sort_unstable();
+            assert_eq!(set, want);
+        }
+        grow_sorted(&mut set, &cands, 3);
+        assert_eq!(set, [3, 9, 20]);
     }
 }
