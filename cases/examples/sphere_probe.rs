@@ -17,6 +17,7 @@ use meshmove::multigrid::two_level::analyse_pair;
 use meshmove::{BoundaryConditions, HierarchyParams, Kind, Method, Motion, Options, RigidMotion, SolveParams, Solver};
 use meshmove_cases::ogrid::{self, CellKind, OgridParams};
 use std::collections::HashSet;
+use std::hash::{Hash, Hasher};
 use std::time::Instant;
 
 fn main() {
@@ -75,13 +76,18 @@ fn main() {
         // The stop test under lines (`strain`) may run past the residual's tolerance: the
         // iteration where the residual alone met it.
         let by_residual = sol.report.history.iter().position(|h| h.1 <= 1e-8).map_or(0, |k| k + 1);
+        // A hash of the displacement's bits: a setup change that keeps the hierarchy bitwise
+        // keeps it too.
+        let mut hash = std::collections::hash_map::DefaultHasher::new();
+        sol.displacement.iter().for_each(|d| d.to_bits().hash(&mut hash));
         println!(
-            "{method:?}: {} iterations, {by_residual} to the residual's 1e-8 (converged {}, residual {:.2e}), min volume ratio {:.4}, solve {:.2} s",
+            "{method:?}: {} iterations, {by_residual} to the residual's 1e-8 (converged {}, residual {:.2e}), min volume ratio {:.4}, solve {:.2} s, hash {:016x}",
             sol.report.cycles,
             sol.report.converged,
             sol.report.rel_residual,
             sol.quality.min_area_ratio,
-            t.elapsed().as_secs_f64()
+            t.elapsed().as_secs_f64(),
+            hash.finish()
         );
         if method != Method::Biharmonic || pairs.is_empty() {
             continue;

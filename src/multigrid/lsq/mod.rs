@@ -328,12 +328,17 @@ fn directional(row: &[u32], v: usize, rel: &[[f64; 3]], d2: &mut [f64], shorts: 
     let shorts = &shorts[..];
     // The axes the short directions span (those of their unit vectors' spread above a tenth
     // of the largest): a neighbour within 30° of their span is along the cells' short sides.
-    let (axes, spread) = weights::principal_axes_of(shorts.iter().map(|&(s, ds)| s.map(|x| x / ds.sqrt())));
+    // Where the moments' determinant shows every spread above `SPAN` of the largest (cells of
+    // moderate aspect ratio), no axis is across the span and the eigenproblem is not solved.
+    let moments = weights::moments(shorts.iter().map(|&(s, ds)| s.map(|x| x / ds.sqrt())));
     let mut across = [[0.0; 3]; 3];
     let mut n_across = 0;
-    for i in (0..3).filter(|&i| spread[i] < SPAN * spread[0]) {
-        across[n_across] = axes[i];
-        n_across += 1;
+    if !weights::spans_every_axis(&moments, SPAN) {
+        let (axes, spread) = weights::principal_axes_of_moments(moments);
+        for i in (0..3).filter(|&i| spread[i] < SPAN * spread[0]) {
+            across[n_across] = axes[i];
+            n_across += 1;
+        }
     }
     let across = &across[..n_across];
     let in_span = |r: [f64; 3], d: f64| {

@@ -342,13 +342,13 @@ fn least_spread<T: Copy + Ord>(
     fit: impl Fn(&[T]) -> Option<Vec<f64>>,
 ) -> (Vec<T>, Option<Vec<f64>>) {
     let mut best: Option<(f64, Vec<T>, Vec<f64>)> = None;
+    let mut set = Vec::with_capacity(cands.len());
     for m in start.max(1)..=cands.len() {
-        let mut set = cands[..m].to_vec();
-        set.sort_unstable();
+        grow_sorted(&mut set, cands, m);
         if let Some(w) = fit(&set) {
             let spread: f64 = w.iter().map(|w| w.abs()).sum();
             if best.as_ref().is_none_or(|b| spread < b.0) {
-                best = Some((spread, set, w));
+                best = Some((spread, set.clone(), w));
             }
         }
     }
@@ -365,9 +365,9 @@ fn first_bounded<T: Copy + Ord>(
     start: usize,
     fit: impl Fn(&[T]) -> Option<Vec<f64>>,
 ) -> Option<(Vec<T>, Option<Vec<f64>>)> {
+    let mut set = Vec::with_capacity(cands.len());
     for m in start.max(1)..=cands.len() {
-        let mut set = cands[..m].to_vec();
-        set.sort_unstable();
+        grow_sorted(&mut set, cands, m);
         if let Some(w) = fit(&set) {
             if bounded(&w) {
                 return Some((set, Some(w)));
@@ -375,6 +375,21 @@ fn first_bounded<T: Copy + Ord>(
         }
     }
     None
+}
+
+/// Makes `set`, which holds the first `set.len()` of `cands` ascending (none, or `m` − 1 of
+/// them), hold the first `m` ascending: the prefixes a row tries one after the other, each
+/// from the one before by an insertion rather than a copy and a sort.
+fn grow_sorted<T: Copy + Ord>(set: &mut Vec<T>, cands: &[T], m: usize) {
+    if set.len() + 1 != m {
+        set.clear();
+        set.extend_from_slice(&cands[..m]);
+        set.sort_unstable();
+        return;
+    }
+    let u = cands[m - 1];
+    let at = set.partition_point(|&x| x <= u);
+    set.insert(at, u);
 }
 
 /// Whether weights are bounded (Σ|w| ≤ `MAX_ABS_SUM`): no extrapolation far outside the donors.
@@ -442,11 +457,11 @@ fn norm2(r: [f64; 3]) -> f64 {
 /// spreads Σ (r·a)²: on a wall the first two span its tangent plane, on a crease the first is
 /// its line.
 pub(super) fn principal_axes(rel: &[[f64; 3]]) -> ([[f64; 3]; 3], [f64; 3]) {
-    principal_axes_of(rel.iter().copied())
+    principal_axes_of_moments(moments(rel.iter().copied()))
 }
 
-/// `principal_axes` of the offsets `rel` yields, summed in its order.
-pub(super) fn principal_axes_of(rel: impl IntoIterator<Item = [f64; 3]>) -> ([[f64; 3]; 3], [f64; 3]) {
+/// The offset moments Σ r rᵀ of the offsets `rel` yields, summed in its order.
+pub(super) fn moments(rel: impl IntoIterator<Item = [f64; 3]>) -> [[f64; 3]; 3] {
     let mut c = [[0.0; 3]; 3];
     for r in rel {
         for i in 0..3 {
@@ -455,6 +470,27 @@ pub(super) fn principal_axes_of(rel: impl IntoIterator<Item = [f64; 3]>) -> ([[f
             }
         }
     }
+    c
+}
+
+/// How far above `ratio` the bound of `spans_every_axis` must lie: far more than the rounding of
+/// the determinant and of the eigenvalues `principal_axes_of_moments` finds, so that a yes here
+/// is a yes there.
+const SPAN_MARGIN: f64 = 1.01;
+
+/// Whether the smallest spread (eigenvalue) of the offset moments `c` (symmetric, positive
+/// semi-definite) is surely at least `ratio` of the largest, without solving the eigenproblem:
+/// λ_min = det / (λ_mid λ_max) ≥ det / (tr / 2)² and λ_max ≤ tr. A no says nothing (the caller
+/// then solves it); every spread of moderately shaped cells' neighbours passes.
+pub(super) fn spans_every_axis(c: &[[f64; 3]; 3], ratio: f64) -> bool {
+    let tr = c[0][0] + c[1][1] + c[2][2];
+    let det = c[0][0] * (c[1][1] * c[2][2] - c[1][2] * c[2][1]) - c[0][1] * (c[1][0] * c[2][2] - c[1][2] * c[2][0])
+        + c[0][2] * (c[1][0] * c[2][1] - c[1][1] * c[2][0]);
+    tr > 0.0 && det * 4.0 >= SPAN_MARGIN * ratio * tr * tr * tr
+}
+
+/// `principal_axes` of the offset moments `c` (`moments`).
+pub(super) fn principal_axes_of_moments(c: [[f64; 3]; 3]) -> ([[f64; 3]; 3], [f64; 3]) {
     let (vals, vecs) = symmetric_eigen3(c);
     let mut idx = [0usize, 1, 2];
     idx.sort_by(|&a, &b| vals[b].total_cmp(&vals[a]));
@@ -527,4 +563,53 @@ fn solve_spd(m: [[f64; 4]; 4], q: usize) -> Option<[f64; 4]> {
         x[i] = (y[i] - (i + 1..q).map(|k| l[k][i] * x[k]).sum::<f64>()) / l[i][i];
     }
     Some(x)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{grow_sorted, moments, principal_axes_of_moments, spans_every_axis};
+
+    /// Where `spans_every_axis` says yes, the eigenproblem's smallest spread is at least the
+    /// ratio of its largest; the six face neighbours of a cube pass, a stretched or flat set
+    /// does not.
+    #[test]
+    fn spanning_every_axis_agrees_with_the_eigenproblem() {
+        let ratio = 0.1;
+        let cube = [[1.0, 0.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, 1.0], [0.0, 0.0, -1.0]];
+        assert!(spans_every_axis(&moments(cube), ratio));
+        let flat = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.7, 0.7, 0.0]];
+        assert!(!spans_every_axis(&moments(flat), ratio));
+        assert!(!spans_every_axis(&[[0.0; 3]; 3], ratio));
+        // The cube squeezed along z by 1 to 1/20 and turned about y: every yes is a yes of the
+        // eigenproblem, the round one is a yes and the flattest a no.
+        let mut yes = 0;
+        for squeeze in 1..=20 {
+            let s = 1.0 / squeeze as f64;
+            let (c, d) = ((0.3 * squeeze as f64).cos(), (0.3 * squeeze as f64).sin());
+            let turned: Vec<[f64; 3]> = cube.iter().map(|r| [c * r[0] - d * r[2] * s, r[1], d * r[0] + c * r[2] * s]).collect();
+            let m = moments(turned.iter().copied());
+            let (_, spread) = principal_axes_of_moments(m);
+            if spans_every_axis(&m, ratio) {
+                yes += 1;
+                assert!(spread[2] >= ratio * spread[0], "squeeze {squeeze}: {spread:?}");
+            }
+        }
+        assert!((1..20).contains(&yes), "{yes}");
+    }
+
+    /// Each prefix grown from the one before is the prefix sorted, duplicates and all, and a
+    /// set not one shorter is rebuilt.
+    #[test]
+    fn a_grown_prefix_is_the_prefix_sorted() {
+        let cands = [20u32, 3, 9, 14, 1, 30, 9, 0];
+        let mut set = Vec::new();
+        for m in 1..=cands.len() {
+            grow_sorted(&mut set, &cands, m);
+            let mut want = cands[..m].to_vec();
+            want.sort_unstable();
+            assert_eq!(set, want);
+        }
+        grow_sorted(&mut set, &cands, 3);
+        assert_eq!(set, [3, 9, 20]);
+    }
 }
