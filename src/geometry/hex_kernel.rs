@@ -24,38 +24,15 @@
 /// where η = 1, bit 2 where ζ = 1); the map is its own inverse.
 const BINARY: [usize; 8] = [0, 1, 3, 2, 4, 5, 7, 6];
 
-/// One product of the modes' stiffness: Km[m][n] gains `coef` times the moment of M's entry
-/// `entry` (00, 11, 22, 01, 02, 12) for the monomial `moment`.
-#[derive(Clone, Copy)]
-struct Term {
-    m: u8,
-    n: u8,
-    entry: u8,
-    moment: u8,
-    coef: f64,
-}
-
-/// The modes' terms (`Term`), the sign table of the points and the moments' scales, worked out
-/// once.
+/// The sign table of the points and the modes' scales, worked out once.
 struct Tables {
-    /// The 84 products, ordered by (m, n), m ≤ n, m and n ≥ 1.
-    terms: [Term; 84],
     /// sign[r][q]: the monomial r at point q over g^|r| (±1).
     sign: [[f64; 8]; 8],
     /// g^|m| / 8 per mode m: a position mode's weight in the Jacobian, and the mass's scale.
     scale: [f64; 8],
-}
-
-/// M's entry index for the reference directions (b, c).
-fn entry(b: usize, c: usize) -> u8 {
-    match (b.min(c), b.max(c)) {
-        (0, 0) => 0,
-        (1, 1) => 1,
-        (2, 2) => 2,
-        (0, 1) => 3,
-        (0, 2) => 4,
-        _ => 5,
-    }
+    /// g^|m| / 64 per monomial m: the value of M's moment Σ_q M_q m(q) over its transform,
+    /// with K's 1/64.
+    moment: [f64; 8],
 }
 
 /// The kernel's `Tables`.
@@ -64,46 +41,38 @@ fn tables() -> &'static Tables {
     TABLES.get_or_init(|| {
         let g = 1.0 / 3f64.sqrt();
         let pow_g = |bits: u32| (0..bits).fold(1.0, |x, _| x * g);
-        let zero = Term { m: 0, n: 0, entry: 0, moment: 0, coef: 0.0 };
-        let mut t = Tables { terms: [zero; 84], sign: [[0.0; 8]; 8], scale: [0.0; 8] };
+        let mut t = Tables { sign: [[0.0; 8]; 8], scale: [0.0; 8], moment: [0.0; 8] };
         for r in 0..8usize {
             t.scale[r] = pow_g(r.count_ones()) / 8.0;
+            t.moment[r] = pow_g(r.count_ones()) / 64.0;
             for q in 0..8usize {
                 // (−1) for every variable of r whose sign is negative at q.
                 t.sign[r][q] = if (r & !q).count_ones() % 2 == 0 { 1.0 } else { -1.0 };
             }
         }
-        let mut at = 0;
-        for m in 1..8usize {
-            for n in m..8usize {
-                for b in (0..3).filter(|b| m >> b & 1 == 1) {
-                    for c in (0..3).filter(|c| n >> c & 1 == 1) {
-                        // ∂_b m ∂_c n = (m \ b)(n \ c): shared variables square to 1/3 at the
-                        // points, the others leave the monomial e, g^|e| times its sign.
-                        let (mb, nc) = (m & !(1 << b), n & !(1 << c));
-                        let e = mb ^ nc;
-                        let shared = (mb & nc).count_ones();
-                        let coef = pow_g(e.count_ones()) / 3f64.powi(shared as i32) / 64.0;
-                        t.terms[at] = Term { m: m as u8, n: n as u8, entry: entry(b, c), moment: e as u8, coef };
-                        at += 1;
-                    }
-                }
-            }
-        }
-        assert_eq!(at, 84, "the modes' products");
         t
     })
+}
+
+/// One butterfly stage of the ±1 transforms across the lanes, on the pairs (i, i + h):
+/// forward (lo + hi, hi − lo), transposed (lo − hi, lo + hi). Written lane by lane (each lane
+/// adds or subtracts its partner), so it runs as shuffles and whole-vector adds, never as
+/// single lanes stored and read back as vectors.
+#[inline(always)]
+fn butterfly(v: &mut [f64; 8], h: usize, forward: bool) {
+    let mut out = [0.0f64; 8];
+    for (i, o) in out.iter_mut().enumerate() {
+        let partner = v[i ^ h];
+        *o = if (i & h == 0) == forward { v[i] + partner } else { v[i] - partner };
+    }
+    *v = out;
 }
 
 /// The ±1 transform v[m] ← Σ_k H[m][k] v[k] (binary order), in place.
 #[inline(always)]
 fn forward(v: &mut [f64; 8]) {
     for h in [1, 2, 4] {
-        for i in (0..8).filter(|i| i & h == 0) {
-            let (lo, hi) = (v[i], v[i | h]);
-            v[i] = lo + hi;
-            v[i | h] = hi - lo;
-        }
+        butterfly(v, h, true);
     }
 }
 
@@ -111,11 +80,7 @@ fn forward(v: &mut [f64; 8]) {
 #[inline(always)]
 fn transposed(v: &mut [f64; 8]) {
     for h in [1, 2, 4] {
-        for i in (0..8).filter(|i| i & h == 0) {
-            let (lo, hi) = (v[i], v[i | h]);
-            v[i] = lo - hi;
-            v[i | h] = lo + hi;
-        }
+        butterfly(v, h, false);
     }
 }
 
@@ -131,6 +96,56 @@ fn transposed_rows(v: &mut [[f64; 8]; 8]) {
             }
         }
     }
+}
+
+/// A shared variable's square at the Gauss points.
+const THIRD: f64 = 1.0 / 3.0;
+/// Two shared variables' squares at the Gauss points.
+const NINTH: f64 = 1.0 / 9.0;
+
+/// The modes' stiffness Km_mn = Σ_q ∇m(q)ᵀ M_q ∇n(q) (over 64) from M's moments `mo[entry][e]`
+/// (entries 00, 11, 22, 01, 02, 12; e the monomial, with g^|e| / 64): for b in m and c in n,
+/// ∂_b m ∂_c n is the monomial (m \ b) xor (n \ c) times 1/3 per variable the two share, so
+/// each entry is a short sum of moments, written out term by term (84 in all). Symmetric; mode
+/// 0's row and column are zero.
+#[inline(always)]
+fn modes_stiffness(mo: &[[f64; 8]; 6]) -> [[f64; 8]; 8] {
+    let mut km = [[0.0f64; 8]; 8];
+    km[1][1] = mo[0][0];
+    km[1][2] = mo[3][0];
+    km[1][3] = mo[0][2] + mo[3][1];
+    km[1][4] = mo[4][0];
+    km[1][5] = mo[0][4] + mo[4][1];
+    km[1][6] = mo[3][4] + mo[4][2];
+    km[1][7] = mo[0][6] + mo[3][5] + mo[4][3];
+    km[2][2] = mo[1][0];
+    km[2][3] = mo[3][2] + mo[1][1];
+    km[2][4] = mo[5][0];
+    km[2][5] = mo[3][4] + mo[5][1];
+    km[2][6] = mo[1][4] + mo[5][2];
+    km[2][7] = mo[3][6] + mo[1][5] + mo[5][3];
+    km[3][3] = 2.0 * mo[3][3] + (mo[0][0] + mo[1][0]) * THIRD;
+    km[3][4] = mo[4][2] + mo[5][1];
+    km[3][5] = mo[0][6] + mo[4][3] + mo[3][5] + mo[5][0] * THIRD;
+    km[3][6] = mo[3][6] + mo[1][5] + mo[5][3] + mo[4][0] * THIRD;
+    km[3][7] = 2.0 * mo[3][7] + (mo[0][4] + mo[4][1] + mo[1][4] + mo[5][2]) * THIRD;
+    km[4][4] = mo[2][0];
+    km[4][5] = mo[4][4] + mo[2][1];
+    km[4][6] = mo[5][4] + mo[2][2];
+    km[4][7] = mo[4][6] + mo[5][5] + mo[2][3];
+    km[5][5] = 2.0 * mo[4][5] + (mo[0][0] + mo[2][0]) * THIRD;
+    km[5][6] = mo[4][6] + mo[5][5] + mo[2][3] + mo[3][0] * THIRD;
+    km[5][7] = 2.0 * mo[4][7] + (mo[0][2] + mo[3][1] + mo[5][4] + mo[2][2]) * THIRD;
+    km[6][6] = 2.0 * mo[5][6] + (mo[1][0] + mo[2][0]) * THIRD;
+    km[6][7] = 2.0 * mo[5][7] + (mo[3][2] + mo[1][1] + mo[4][4] + mo[2][1]) * THIRD;
+    km[7][7] = (2.0 * mo[3][3] + 2.0 * mo[4][5] + 2.0 * mo[5][6]) * THIRD + (mo[0][0] + mo[1][0] + mo[2][0]) * NINTH;
+
+    for m in 1..8 {
+        for n in m + 1..8 {
+            km[n][m] = km[m][n];
+        }
+    }
+    km
 }
 
 /// Which compiled copy of the element kernels a pass over the cells runs: the processor is asked
@@ -260,21 +275,22 @@ pub(super) fn stiffness_and_mass(p: &[[f64; 3]], k: &mut [f64], m: &mut [f64]) {
             moments[e][q] = (c[b][0][q] * c[cc][0][q] + c[b][1][q] * c[cc][1][q] + c[b][2][q] * c[cc][2][q]) * w[q];
         }
     }
-    moments.iter_mut().for_each(forward);
-    // The modes' stiffness (over 64), symmetric; mode 0's row and column are zero.
-    let mut km = [[0.0f64; 8]; 8];
-    for term in &t.terms {
-        let (mm, n) = (term.m as usize, term.n as usize);
-        km[mm][n] += term.coef * moments[term.entry as usize][term.moment as usize];
-    }
-    for mm in 1..8 {
-        for n in mm + 1..8 {
-            km[n][mm] = km[mm][n];
+    for mo in moments.iter_mut() {
+        forward(mo);
+        for (x, sc) in mo.iter_mut().zip(&t.moment) {
+            *x *= sc;
         }
     }
-    // K = Hᵀ Km H: the transform down Km's columns, then along the rows.
+    let mut km = modes_stiffness(&moments);
+    // Kᵀ = Hᵀ (Hᵀ Km)ᵀ: the transform down Km's columns, a transpose, the transform down
+    // again (whole rows at a time, on the lanes); K is symmetric, so its pairs are read from it.
     transposed_rows(&mut km);
-    km.iter_mut().for_each(transposed);
+    for i in 0..8 {
+        for jj in i + 1..8 {
+            (km[i][jj], km[jj][i]) = (km[jj][i], km[i][jj]);
+        }
+    }
+    transposed_rows(&mut km);
     for (kk, &[i, jj]) in k[..28].iter_mut().zip(super::CellType::Hexahedron.couplings()) {
         *kk = km[BINARY[i as usize]][BINARY[jj as usize]];
     }
