@@ -89,10 +89,9 @@ fn transposed(v: &mut [f64; 8]) {
 fn transposed_rows(v: &mut [[f64; 8]; 8]) {
     for h in [1, 2, 4] {
         for i in (0..8).filter(|i| i & h == 0) {
-            for l in 0..8 {
-                let (lo, hi) = (v[i][l], v[i | h][l]);
-                v[i][l] = lo - hi;
-                v[i | h][l] = lo + hi;
+            let (upper, lower) = v.split_at_mut(i | h);
+            for (lo, hi) in upper[i].iter_mut().zip(lower[0].iter_mut()) {
+                (*lo, *hi) = (*lo - *hi, *lo + *hi);
             }
         }
     }
@@ -140,12 +139,23 @@ fn modes_stiffness(mo: &[[f64; 8]; 6]) -> [[f64; 8]; 8] {
     km[6][7] = 2.0 * mo[5][7] + (mo[3][2] + mo[1][1] + mo[4][4] + mo[2][1]) * THIRD;
     km[7][7] = (2.0 * mo[3][3] + 2.0 * mo[4][5] + 2.0 * mo[5][6]) * THIRD + (mo[0][0] + mo[1][0] + mo[2][0]) * NINTH;
 
-    for m in 1..8 {
-        for n in m + 1..8 {
-            km[n][m] = km[m][n];
+    mirror(&mut km, false);
+    km
+}
+
+/// Copies the upper triangle of `km` onto the lower one, or (`swap`) swaps the two: a transpose.
+#[allow(clippy::needless_range_loop)] // (i, j) and (j, i) of one matrix
+#[inline(always)]
+fn mirror(km: &mut [[f64; 8]; 8], swap: bool) {
+    for i in 0..8 {
+        for j in i + 1..8 {
+            let upper = km[i][j];
+            if swap {
+                km[i][j] = km[j][i];
+            }
+            km[j][i] = upper;
         }
     }
-    km
 }
 
 /// Which compiled copy of the element kernels a pass over the cells runs: the processor is asked
@@ -215,8 +225,8 @@ fn cofactors(p: &[[f64; 3]], t: &Tables) -> ([[[f64; 8]; 3]; 3], [f64; 8]) {
         };
         for (jba, ac) in jb.iter_mut().zip(&a) {
             let u = others.map(|r| ac[r | bit] * t.scale[r]);
-            for q in 0..8 {
-                jba[q] = u[0] + u[1] * t.sign[others[1]][q] + u[2] * t.sign[others[2]][q] + u[3] * t.sign[others[3]][q];
+            for (q, x) in jba.iter_mut().enumerate() {
+                *x = u[0] + u[1] * t.sign[others[1]][q] + u[2] * t.sign[others[2]][q] + u[3] * t.sign[others[3]][q];
             }
         }
     }
@@ -285,11 +295,7 @@ pub(super) fn stiffness_and_mass(p: &[[f64; 3]], k: &mut [f64], m: &mut [f64]) {
     // Kᵀ = Hᵀ (Hᵀ Km)ᵀ: the transform down Km's columns, a transpose, the transform down
     // again (whole rows at a time, on the lanes); K is symmetric, so its pairs are read from it.
     transposed_rows(&mut km);
-    for i in 0..8 {
-        for jj in i + 1..8 {
-            (km[i][jj], km[jj][i]) = (km[jj][i], km[i][jj]);
-        }
-    }
+    mirror(&mut km, true);
     transposed_rows(&mut km);
     for (kk, &[i, jj]) in k[..28].iter_mut().zip(super::CellType::Hexahedron.couplings()) {
         *kk = km[BINARY[i as usize]][BINARY[jj as usize]];
