@@ -3,18 +3,19 @@
 //! bits: bit 0 ξ, bit 1 η, bit 2 ζ). A corner's shape function is φ_k = Σ_m H[m][k] m / 8, where
 //! H[m][k] = m at corner k (±1), and the Gauss points sit at the same signs scaled by g = 1/√3,
 //! so every change between corners, points and modes is one ±1 Walsh–Hadamard transform of
-//! eight values (three butterfly stages of four additions):
+//! eight values (three butterfly stages over four pairs):
 //! - the positions' modes A_m = Σ_k H[m][k] x_k give the Jacobian's column b at each point as
 //!   the four modes that hold b, each scaled by its other variables' values there;
 //! - at each point, with the cofactors C (det·J⁻ᵀ, columns c_b), M = CᵀC / det is symmetric,
 //!   and the modes' stiffness Km_mn = Σ_q ∇m(q)ᵀ M_q ∇n(q) needs only M's six entries'
 //!   moments over the points (their transforms), as every ∂_b m is a monomial and a square is
 //!   1/3 at the points: 84 products in all;
-//! - K = Hᵀ Km H / 64 by the transposed transform on Km's columns and then on its rows, and the
-//!   mass ∫φ_k = Σ_q φ_k(q) det_q by the forward transform of det and the transposed one back.
+//! - K = Hᵀ Km H / 64 by the transposed transform down Km's columns, a transpose and the
+//!   transform down again (whole rows on the lanes), and the mass ∫φ_k = Σ_q φ_k(q) det_q by the forward transform of det and the transposed one back.
 //!
-//! About a third of the point-by-point formulation's operations (which forms the 24 transformed
-//! gradients at each point and their 28 dot products). The values differ from that
+//! About a third of the operations of the point-by-point formulation
+//! (`tensor::hex_stiffness_and_mass_by_points`, the tests' reference, which forms the 24
+//! transformed gradients at each point and their 28 dot products). The values differ from that
 //! formulation's in the last bits only; they are the same on every processor: plain additions
 //! and products in a fixed order, no fused multiply-add, compiled for AVX2's lanes where the
 //! processor has them (chosen at run time, the same operations and roundings) and for the
