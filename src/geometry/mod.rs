@@ -148,18 +148,18 @@ impl CellPoints {
             CellType::Triangle => simplex::triangle_stiffness(&self.p, k),
             CellType::Quad => tensor::quad_stiffness(&self.p, k),
             CellType::Tetra => simplex::tet_stiffness(&self.p, k),
-            CellType::Hexahedron => tensor::hex_stiffness(&self.p, k),
+            CellType::Hexahedron => hex_kernel::stiffness_and_mass(&self.p, k, &mut [0.0; 8]),
             t => decomposed::element(t, &self.p, Some(k), None),
         }
     }
 
     /// `stiffness` and `lumped_mass` together (bitwise each), sharing the quadrature points
-    /// where the cell has them; the hexahedron's on `with`'s lanes (`Lanes`: run inside
-    /// `with.run`, chosen once for a pass over the cells).
+    /// where the cell has them; inlined, so a pass run inside `Lanes::run` runs the hexahedron's
+    /// kernel on those lanes (the same values on any).
     #[inline(always)]
-    pub(crate) fn stiffness_and_mass(&self, k: &mut [f64], m: &mut [f64], with: Lanes) {
+    pub(crate) fn stiffness_and_mass(&self, k: &mut [f64], m: &mut [f64]) {
         match self.ty {
-            CellType::Hexahedron => hex_kernel::stiffness_and_mass(&self.p, k, m, with),
+            CellType::Hexahedron => hex_kernel::stiffness_and_mass(&self.p, k, m),
             CellType::Wedge | CellType::Pyramid => decomposed::element(self.ty, &self.p, Some(k), Some(m)),
             _ => {
                 self.stiffness(k);
@@ -174,7 +174,7 @@ impl CellPoints {
             CellType::Triangle => simplex::triangle_lumped_mass(&self.p, m),
             CellType::Quad => tensor::quad_lumped_mass(&self.p, m),
             CellType::Tetra => simplex::tet_lumped_mass(&self.p, m),
-            CellType::Hexahedron => tensor::hex_lumped_mass(&self.p, m),
+            CellType::Hexahedron => hex_kernel::lumped_mass(&self.p, m),
             t => decomposed::element(t, &self.p, None, Some(m)),
         }
     }

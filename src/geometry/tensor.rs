@@ -71,6 +71,7 @@ pub(super) fn quad_lumped_mass(p: &[[f64; 3]], m: &mut [f64]) {
 }
 
 /// The reference corners of the trilinear hexahedron on [−1, 1]³, in VTK's order.
+#[cfg(test)]
 pub(super) const HEX_REF: [[f64; 3]; 8] = [
     [-1.0, -1.0, -1.0],
     [1.0, -1.0, -1.0],
@@ -84,12 +85,14 @@ pub(super) const HEX_REF: [[f64; 3]; 8] = [
 
 /// The trilinear shape functions at the 2×2×2 Gauss points: per point, each corner's value
 /// and reference gradient, worked out once (they do not depend on the cell).
+#[cfg(test)]
 struct HexGauss {
     value: [[f64; 8]; 8],
     gradient: [[[f64; 3]; 8]; 8],
 }
 
 /// The shape functions at the Gauss points (`HexGauss`).
+#[cfg(test)]
 fn hex_gauss() -> &'static HexGauss {
     static TABLE: std::sync::OnceLock<HexGauss> = std::sync::OnceLock::new();
     TABLE.get_or_init(|| {
@@ -109,6 +112,7 @@ fn hex_gauss() -> &'static HexGauss {
 
 /// At Gauss point `q` of the cell `p` with reference gradients `g`: the cofactor columns
 /// c_b (det·J⁻ᵀ = [c0 c1 c2]) and det J.
+#[cfg(test)]
 #[inline(always)]
 fn hex_cofactors(p: &[[f64; 3]], g: &[[f64; 3]; 8]) -> ([[f64; 3]; 3], f64) {
     let mut j = [[0.0; 3]; 3];
@@ -126,15 +130,16 @@ fn hex_cofactors(p: &[[f64; 3]], g: &[[f64; 3]; 8]) -> ([[f64; 3]; 3], f64) {
 }
 
 /// K_ij = ∫∇φ_i·∇φ_j of the trilinear hexahedron for its 28 corner pairs, 2×2×2 Gauss.
+#[cfg(test)]
 pub(super) fn hex_stiffness(p: &[[f64; 3]], k: &mut [f64]) {
     hex_stiffness_and_mass_by_points(p, k, &mut [0.0; 8]);
 }
 
 /// `hex_stiffness` and `hex_lumped_mass` point by point, from one evaluation of each Gauss point:
-/// the formulation `hex_kernel` lays out for vector lanes (bitwise), and the kernel where the
-/// processor has no AVX2.
+/// the formulation the modal kernel (`hex_kernel`) is tested against.
 /// With ∇φ = J⁻ᵀ ∇_ref φ = C ∇_ref φ / det (C the cofactors), each point adds
 /// (C∇_ref φ_i)·(C∇_ref φ_j) / det to K_ij (weights 1) and φ_i det to the mass.
+#[cfg(test)]
 pub(super) fn hex_stiffness_and_mass_by_points(p: &[[f64; 3]], k: &mut [f64], m: &mut [f64]) {
     let t = hex_gauss();
     let mut kk = [0.0; 28];
@@ -164,6 +169,7 @@ pub(super) fn hex_stiffness_and_mass_by_points(p: &[[f64; 3]], k: &mut [f64], m:
 }
 
 /// ∫φ_i at each corner of the trilinear hexahedron, 2×2×2 Gauss.
+#[cfg(test)]
 pub(super) fn hex_lumped_mass(p: &[[f64; 3]], m: &mut [f64]) {
     let t = hex_gauss();
     let mut mm = [0.0; 8];

@@ -117,7 +117,7 @@ pub(crate) fn stiffness_and_mass(k: &mut CsrMatrix, scatter: &Scatter, mesh: &Me
                 if next < mesh.num_cells() && !mesh.cell_type(next).is_general() {
                     prefetch_rows(k, &dofs.cell_dofs(mesh, next));
                 }
-                add_cell(c, &element(mesh, c, lanes), k, &mut v, &mut at, scatter, mesh, dofs);
+                add_cell(c, &element(mesh, c), k, &mut v, &mut at, scatter, mesh, dofs);
             }
         });
         debug_assert_eq!(at, scatter.len(), "the map holds every coupling");
@@ -131,7 +131,7 @@ pub(crate) fn stiffness_and_mass(k: &mut CsrMatrix, scatter: &Scatter, mesh: &Me
     let mut at = 0;
     for start in (0..mesh.num_cells()).step_by(ASSEMBLY_CHUNK) {
         let cells = start..(start + ASSEMBLY_CHUNK).min(mesh.num_cells());
-        cells.clone().into_par_iter().with_min_len(256).map(|c| lanes.run(#[inline(always)] || element(mesh, c, lanes))).collect_into_vec(&mut elems);
+        cells.clone().into_par_iter().with_min_len(256).map(|c| lanes.run(#[inline(always)] || element(mesh, c))).collect_into_vec(&mut elems);
         if let Some(rc) = &by_rows {
             add_by_rows(rc, cells, &elems, k, &mut v, mesh, dofs);
             continue;
@@ -148,12 +148,12 @@ pub(crate) fn stiffness_and_mass(k: &mut CsrMatrix, scatter: &Scatter, mesh: &Me
 /// for a general cell, evaluated as it is added).
 type Element = ([f64; MAX_COUPLINGS], [f64; MAX_CORNERS]);
 
-/// The element matrices of cell `c` (`Element`), the hexahedron's on `lanes`.
+/// The element matrices of cell `c` (`Element`), inlined into the pass's `Lanes::run`.
 #[inline(always)]
-fn element(mesh: &Mesh, c: usize, lanes: Lanes) -> Element {
+fn element(mesh: &Mesh, c: usize) -> Element {
     let (mut kl, mut ml) = ([0.0; MAX_COUPLINGS], [0.0; MAX_CORNERS]);
     if !mesh.cell_type(c).is_general() {
-        cell_points(mesh, c).stiffness_and_mass(&mut kl, &mut ml, lanes);
+        cell_points(mesh, c).stiffness_and_mass(&mut kl, &mut ml);
     }
     (kl, ml)
 }
