@@ -18,8 +18,9 @@ mod slabs;
 use meshmove::distributed::mpi::topology::SimpleCommunicator;
 use meshmove::distributed::mpi::traits::*;
 use meshmove::distributed::{DistSolveParams, DistributedMesh, DistributedSolver};
-use meshmove::{BoundaryConditions, Kind, Link, Mesh, Method, Motion, Options, Solver};
+use meshmove::{BoundaryConditions, Kind, Link, Mesh, Method, Motion, Options, RigidMotion, Solver};
 use meshmove_cases::meshes::{FS_BOTTOM, FS_LEFT, FS_RIGHT, FS_TOP};
+use meshmove_cases::ogrid::{self, CellKind};
 use meshmove_cases::setups::{case, CaseSetup, Scale};
 use meshmove_cases::viscous::{
     airfoil_2d, boundary_conditions, motion, wing_3d, AirfoilParams, BodyMotion, WingParams, WALL,
@@ -190,7 +191,52 @@ fn rank_main() -> ExitCode {
     airfoil(&world, Method::Biharmonic, 1e-8, AIRFOIL_BIHARMONIC_ITERATIONS);
     polished(&world);
     wing(&world);
+    graded(&world);
     ExitCode::SUCCESS
+}
+
+/// The distributed biharmonic's coarse levels made from their guide (K_c V_c⁻¹ K_c) before its
+/// levels below them take the Galerkin product on every mesh (`distributed::mg`'s `KVK_LEVELS`).
+const GUIDED_LEVELS: usize = 2;
+
+/// The graded 2D cylinder (`cases::ogrid`, 14 568 vertices) translated by the biharmonic on
+/// slabs: its rays are lines for the smoother, but its cells are not thin wall layers
+/// (`Lines::thin`), so its serial levels all take K_c V_c⁻¹ K_c (`cases/tests/graded2d.rs`), and
+/// the distributed hierarchy decides as the serial one: its first coarse levels are made from
+/// their guide, not assembled as under thin layers.
+fn graded(world: &SimpleCommunicator) {
+    let mesh = ogrid::cylinder_with_vertices(15_000, CellKind::Simplex).expect("the graded cylinder");
+    let mut bcs = BoundaryConditions::new();
+    bcs.set_kinds(ogrid::OG_WALL, Kind::Fixed).set_kinds(ogrid::OG_BODY, Kind::Clamped);
+    let r = RigidMotion { translation: [0.1, 0.0, 0.0], rotation: [0.0; 3], center: [0.0; 3] };
+    let motion = Motion::zero(&mesh).with_rigid(ogrid::OG_BODY, r);
+    let serial = Solver::new(&mesh, &bcs, Options::default()).expect("the serial solver");
+    let h = serial.hierarchy();
+    assert!(h.has_lines(), "the graded cylinder has lines\n{}", serial.describe());
+    let serial_galerkin: Vec<bool> = h.levels.iter().map(|l| l.op().is_assembled()).collect();
+    let (rank, size) = (world.rank() as usize, world.size() as usize);
+    let d = mesh.to_data();
+    let p = slabs::part(&d, &slabs::slabs_across_x(&d, size), rank, true);
+    let dm = DistributedMesh::new(world, &p.data, &p.gids, &p.ghost).expect("the distributed mesh");
+    let local: Vec<f64> = p.global.iter().flat_map(|&i| motion.displacement[i * 2..i * 2 + 2].to_vec()).collect();
+    let local = Motion { displacement: local, rigid: motion.rigid.clone() };
+    let params = DistSolveParams { tol: 1e-8, ..Default::default() };
+    let solver = DistributedSolver::new(&dm, &bcs, Method::Biharmonic, params).expect("the solver");
+    let sol = solver.solve(&local).unwrap_or_else(|e| panic!("the graded cylinder on {size} ranks: {e}"));
+    assert_eq!(sol.quality.inverted, 0, "the graded cylinder on {size} ranks: {sol:?}");
+    let guided = GUIDED_LEVELS + 1;
+    assert!(sol.level_galerkin.len() > guided, "{:?}", sol.level_rows);
+    assert_eq!(
+        sol.level_galerkin[..guided],
+        serial_galerkin[..guided],
+        "the graded cylinder on {size} ranks: the distributed levels' products against the serial ones"
+    );
+    if rank == 0 {
+        println!(
+            "graded: the graded cylinder on {size} ranks: iterations {:?}, levels {:?}, Galerkin {:?} (serially {:?})",
+            sol.iterations, sol.level_rows, sol.level_galerkin, serial_galerkin
+        );
+    }
 }
 
 /// Most distributed iterations of the small wing's biharmonic to 1e-8, its polish included, any

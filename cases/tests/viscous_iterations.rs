@@ -80,6 +80,21 @@ fn spheroid_biharmonic_takes_a_bounded_number_of_iterations() {
     }
 }
 
+/// The smallest spheroid's pitch and plunge stop at the tight solve's mesh: their smallest volume
+/// ratios within 5e-4 of the same systems solved to 1e-11 (with the stop test's stretch at 1 %
+/// its 61 798-vertex pitch stopped 2.5e-3 from it, its 1.17M-vertex plunge 8e-3).
+#[test]
+fn spheroid_stops_at_the_tight_solves_mesh() {
+    let v = spheroid_3d(&SpheroidParams::new(4)).unwrap();
+    for m in [BodyMotion::Pitch, BodyMotion::Plunge] {
+        let m = motion(&v, m);
+        let sol = biharmonic(&v).solve(&m).unwrap();
+        assert!(sol.report.converged && sol.quality.inverted == 0, "{:?}", sol.report);
+        let (got, want) = (sol.quality.min_area_ratio, tight_min_volume_ratio(&v, &m));
+        assert!((got - want).abs() < 5e-4, "min volume ratio {got} against the tight solve's {want}");
+    }
+}
+
 /// Under wall layers the kept levels interpolate from a few donors each, so the Galerkin levels
 /// stay sparse: every row of every transfer has at most 24 entries (12, or in 3D 24 where 12
 /// candidates only extrapolate; all strongly coupled kept neighbours, the choice elsewhere,
@@ -116,7 +131,7 @@ fn airfoil_of_25k_vertices_does_not_break_down() {
 /// of the mesh falling off from it to the far field (docs/DESIGN.md §5, "The first iterate"),
 /// and the stop test under wall layers holds in 2D too: the largest airfoil's plunge keeps its
 /// first layer within 1 % (from a zero start, with the test in 3D only, it left the first layer
-/// 1.1 % off) and takes a few iterations (11 when the start was zero beyond the lines' outer
+/// 1.1 % off) and takes a few iterations (6; 11 when the start was zero beyond the lines' outer
 /// ends, whose jump the stop test on every edge's stretch sees the more the finer the mesh).
 #[test]
 fn largest_airfoil_plunge_keeps_its_first_layer() {
@@ -124,7 +139,7 @@ fn largest_airfoil_plunge_keeps_its_first_layer() {
     let solver = biharmonic(&v);
     let sol = solver.solve(&motion(&v, BodyMotion::Plunge)).unwrap();
     assert!(sol.report.converged && sol.quality.inverted == 0, "{:?}", sol.report);
-    assert!(sol.report.cycles <= 4, "{}", sol.report.cycles);
+    assert!(sol.report.cycles <= 7, "{}", sol.report.cycles);
     let moved: Vec<f64> = v.mesh.coords().iter().zip(&sol.displacement).map(|(x, d)| x + d).collect();
     let (lo, hi) = layer_volume_ratios(&v, &moved, 1).unwrap();
     assert!(lo > 0.99 && hi < 1.01, "first layer {lo}..{hi}");
@@ -143,21 +158,23 @@ fn start_along_the_lines_stops_at_the_tight_solves_mesh() {
     let sol = biharmonic(&v).solve(&m).unwrap();
     assert!(sol.report.converged && sol.quality.inverted == 0, "{:?}", sol.report);
     let (got, want) = (sol.quality.min_area_ratio, tight_min_volume_ratio(&v, &m));
-    assert!((got - want).abs() < 2e-3, "min volume ratio {got} against the tight solve's {want}");
+    assert!((got - want).abs() < 5e-4, "min volume ratio {got} against the tight solve's {want}");
 }
 
-/// The start falling off beyond the lines' outer ends leaves the largest airfoil's plunge no
-/// more iterations than the smallest's, and the mesh it stops at is the tight solve's: its
-/// smallest volume ratio within 1e-3 of the same system solved to 1e-11.
+/// The start falling off beyond the lines' outer ends leaves the largest airfoil's plunge at
+/// most two iterations more than the smallest's (6 against 4: the stop test's stretch falls
+/// more slowly on the finer mesh; 11 against 7 with the start zero beyond the lines), and the
+/// mesh it stops at is the tight solve's: its smallest volume ratio within 5e-4 of the same
+/// system solved to 1e-11.
 #[test]
-fn largest_airfoil_plunge_takes_the_smallest_ones_count() {
+fn largest_airfoil_plunge_takes_about_the_smallest_ones_count() {
     let small = airfoil_2d(&AirfoilParams::new(64)).unwrap();
     let (few, _) = iterations(&small, BodyMotion::Plunge);
     let v = airfoil_2d(&AirfoilParams::new(256)).unwrap();
     let m = motion(&v, BodyMotion::Plunge);
     let sol = biharmonic(&v).solve(&m).unwrap();
     assert!(sol.report.converged && sol.quality.inverted == 0, "{:?}", sol.report);
-    assert!(sol.report.cycles <= few, "{} against the smallest airfoil's {few}", sol.report.cycles);
+    assert!(sol.report.cycles <= few + 2, "{} against the smallest airfoil's {few}", sol.report.cycles);
     let (got, want) = (sol.quality.min_area_ratio, tight_min_volume_ratio(&v, &m));
-    assert!((got - want).abs() < 1e-3, "min volume ratio {got} against the tight solve's {want}");
+    assert!((got - want).abs() < 5e-4, "min volume ratio {got} against the tight solve's {want}");
 }

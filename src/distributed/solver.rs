@@ -135,6 +135,11 @@ pub struct DistSolution {
     /// (its rows in global ids, weights to 2⁻³⁰), equal on every partition when P is.
     #[doc(hidden)]
     pub level_transfers: Vec<u64>,
+    /// Internal, for the library's tests: whether each level of the biharmonic's multigrid is
+    /// the assembled Galerkin product of the level above (not made from its guide's
+    /// K_c V_c⁻¹ K_c), finest first (false on the finest).
+    #[doc(hidden)]
+    pub level_galerkin: Vec<bool>,
 }
 
 /// A mesh mover for one distributed mesh, one method and one set of boundary conditions: each
@@ -308,6 +313,7 @@ impl DistributedSolver {
             level_ranks: sizes.iter().map(|s| s.ranks).collect(),
             coarsest_gathered,
             level_transfers: sizes.iter().map(|s| s.transfer).collect(),
+            level_galerkin: sizes.iter().map(|s| s.galerkin).collect(),
         };
         Ok((sol, solved.failure))
     }

@@ -111,6 +111,14 @@ fn kept_level(fine: &Level, c: CoarseUnknowns, bcs: &BoundaryConditions, t: &mut
 /// (docs/perf-history.md, "The graded sphere's coarse rows at the clamped body").
 const LAYERED_SHARE: f64 = 0.1;
 
+/// Whether a level's lines make the biharmonic's levels below it layered (the assembled
+/// Galerkin product): lines across thin layers (`Lines::thin`) holding at least `LAYERED_SHARE`
+/// of the level's `unknowns` (`on_lines` of them). The serial hierarchy and the distributed one
+/// decide by it.
+pub(crate) fn layered_lines(thin: bool, on_lines: f64, unknowns: f64) -> bool {
+    thin && on_lines >= LAYERED_SHARE * unknowns
+}
+
 /// The operator of a level of kept unknowns below `fine` with the interpolation `prolong`:
 /// Galerkin K_c and V_c, and for the biharmonic below wall layers A_c = Pᵀ A P assembled
 /// (`LevelOperator::galerkin_assembled`) when `fine` is itself a level of kept unknowns with
@@ -126,7 +134,7 @@ const LAYERED_SHARE: f64 = 0.1;
 fn coarse_operator(fine: &Level, prolong: &CsrMatrix) -> LevelOperator {
     let restrict = prolong.transpose();
     let on_lines = fine.lines.lines().unknowns.len() as f64;
-    let thin = fine.lines.lines().thin() && on_lines >= LAYERED_SHARE * fine.n() as f64;
+    let thin = layered_lines(fine.lines.lines().thin(), on_lines, fine.n() as f64);
     let layered = assembled_below(fine.mesh.is_none(), thin, fine.op.is_assembled());
     let z = |f: &Vec<u8>| f.iter().map(|&v| v & Z == 0).collect::<Vec<bool>>();
     let s_free = fine.flags.first().map(z).filter(|s| fine.flags.iter().all(|f| z(f) == *s));

@@ -13,11 +13,14 @@ use super::level::Level;
 use rayon::prelude::*;
 use std::ops::Range;
 
-/// The largest stretch the last correction of a converged solve may make on an edge: the error
-/// left after it is a fraction of it (the last iterations' rate), so no cell's volume is left
-/// more than about a percent from the converged solution's, the first layer's nor that of a
-/// cell where the rows are tiny against the wall's.
-pub(crate) const EDGE_STRETCH: f64 = 1e-2;
+/// The largest stretch the last correction of a converged solve may make on an edge. The error
+/// left after it is the rest of a series falling at the last iterations' rate: a fraction of it
+/// where a correction's stretch falls fast from one iteration to the next, about as much again
+/// where it falls slowly (the largest meshes), so no cell's volume is left more than about a
+/// tenth of a percent from the converged solution's, the first layer's nor that of a cell where
+/// the rows are tiny against the wall's (docs/DESIGN.md §5, "The tolerance and the thinnest
+/// cells").
+pub(crate) const EDGE_STRETCH: f64 = 2e-3;
 
 /// The edges of a finest level (the couplings of K), for a group of components.
 pub(crate) struct LevelEdges<'a> {

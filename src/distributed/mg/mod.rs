@@ -45,6 +45,7 @@ use super::pcg::Preconditioner;
 use super::reduce::{gather, max_over_ranks, sum_in_rank_order};
 use crate::bc::{inherit_slip_frames, Dofs, SlipFrames, P, Z};
 use crate::multigrid::group::{block, block_mut, estimate_lambda_max, GroupOp, Scratch};
+use crate::multigrid::hierarchy::layered_lines;
 use crate::multigrid::layout::Layout;
 use crate::multigrid::level::{Level, LevelSlip, Transfer};
 use crate::multigrid::line_smoother::band_of;
@@ -160,6 +161,9 @@ struct DistLevel {
     /// When the next coarser level is agglomerated onto fewer ranks: the layout the
     /// prolongation's columns refer to on this level's ranks, and the move onto those ranks.
     landing: Option<Arc<Landing>>,
+    /// The biharmonic's level is the assembled Galerkin product of the level above, not made
+    /// from its guide (`assembled_below`, `KVK_LEVELS`).
+    galerkin: bool,
 }
 
 /// How the coarsest level is solved.
@@ -214,6 +218,9 @@ pub(crate) struct LevelSize {
     /// A digest of the prolongation from the next coarser level over all ranks
     /// (`transfer_digest`): the same on every partition and rank count when P is.
     pub(crate) transfer: u64,
+    /// The biharmonic's level is the assembled Galerkin product of the level above (the same
+    /// on every rank that holds it).
+    pub(crate) galerkin: bool,
 }
 
 /// The distributed multigrid preconditioner: its levels, its coarsest solve, its smoother and
@@ -312,15 +319,16 @@ impl Multigrid {
         Ok(Multigrid { levels, coarsest, depth, gathered, comm, smoothers, visits, comps, work, entry })
     }
 
-    /// Unknowns, halo values and ranks per level, finest first (collective).
+    /// Unknowns, halo values, ranks and products per level, finest first (collective).
     pub(crate) fn sizes(&self) -> Vec<LevelSize> {
-        let mut mine = vec![0.0; 4 * self.depth];
-        for (d, m) in self.levels.iter().zip(mine.chunks_exact_mut(4)) {
+        let mut mine = vec![0.0; 5 * self.depth];
+        for (d, m) in self.levels.iter().zip(mine.chunks_exact_mut(5)) {
             m.copy_from_slice(&[
                 unknowns(&d.level.op.k, d.halo.owned()) as f64,
                 d.halo.sent_per_exchange() as f64,
                 d.halo.send_lists().len() as f64,
                 1.0,
+                f64::from(u8::from(d.galerkin)),
             ]);
         }
         let all = sum_in_rank_order(&self.comm, &mine);
@@ -330,7 +338,7 @@ impl Multigrid {
         for rank in gather(&self.comm, &digests).chunks_exact(self.depth.max(1)) {
             transfer.iter_mut().zip(rank).for_each(|(t, &d)| *t = t.wrapping_add(d));
         }
-        all.chunks_exact(4)
+        all.chunks_exact(5)
             .zip(transfer)
             .map(|(a, transfer)| LevelSize {
                 rows: a[0] as u64,
@@ -338,6 +346,7 @@ impl Multigrid {
                 messages: a[2] as u64,
                 ranks: a[3] as u64,
                 transfer,
+                galerkin: a[4] > 0.0,
             })
             .collect()
     }
@@ -591,7 +600,12 @@ fn levels_of(
     // (docs/DESIGN.md §5, "Wall layers across ranks").
     let layered = guide.is_some() && any_lines(current.halo.comm(), &lines);
     let along = layered && guide.as_ref().is_some_and(|g| g.at.dim == 2 || lines::thin_layers(&g.k, &g.at));
+    // Lines across thin layers make the levels below them layered (the assembled Galerkin
+    // product), as serially: a graded mesh's rays are lines for the smoother alone.
+    let thin = layered && layered_over_ranks(current.halo.comm(), &lines, global_rows(&current));
     loop {
+        // The current level is the assembled Galerkin product of the level above.
+        let galerkin = assembled;
         let rows = global_rows(&current);
         let last = rows <= limits.gather || levels.len() + 1 >= limits.levels.max(1);
         let coarse = match (&guide, last) {
@@ -603,12 +617,12 @@ fn levels_of(
                 // below one that keeps lines the product, as below the first `KVK_LEVELS` on
                 // every mesh.
                 let kept = !levels.is_empty();
-                let lined = kept && !assembled && any_lines(current.halo.comm(), &lines);
+                let lined = kept && !assembled && layered_over_ranks(current.halo.comm(), &lines, rows);
                 let below = assembled_below(kept, lined, assembled) || levels.len() >= KVK_LEVELS;
-                // Under 2D wall layers a first coarse level that keeps lines is assembled too: the
-                // 2D levels keep their lines as any unknowns (docs/DESIGN.md §5, "Wall layers
-                // across ranks").
-                let product = match (below, along && !kept && g.at.dim == 2) {
+                // Under thin 2D wall layers a first coarse level that keeps lines is assembled
+                // too: the 2D levels keep their lines as any unknowns (docs/DESIGN.md §5, "Wall
+                // layers across ranks").
+                let product = match (below, along && thin && !kept && g.at.dim == 2) {
                     (true, _) => Product::Galerkin,
                     (false, true) => Product::GalerkinWhereLinesKept(&segments),
                     (false, false) => Product::Guided,
@@ -625,11 +639,11 @@ fn levels_of(
             }
         };
         let Some((next, prolong)) = coarse else {
-            return coarsest((current, lines, band), comp, (rows, limits.gather), levels);
+            return coarsest((current, lines, band, galerkin), comp, (rows, limits.gather), levels);
         };
         let next_rows = global_rows(&next);
         if next_rows as f64 >= MIN_REDUCTION * rows as f64 {
-            return coarsest((current, lines, band), comp, (rows, limits.gather), levels);
+            return coarsest((current, lines, band, galerkin), comp, (rows, limits.gather), levels);
         }
         let next_segments = lines::kept_segments(&segments, &current.gids, &next);
         let next_lines = lines::smoothed(&next_segments);
@@ -641,7 +655,7 @@ fn levels_of(
         let digest = transfer_digest(&prolong, &current, &next.gids);
         if shift == 0 {
             let next_comp = comp.as_ref().map(|c| inherited(&current, &next, c));
-            levels.push(dist_level((current, lines, band), comp, Some((prolong, digest)), None));
+            levels.push(dist_level((current, lines, band, galerkin), comp, Some((prolong, digest)), None));
             comp = next_comp;
             (current, lines, segments) = (next, next_lines, next_segments);
             continue;
@@ -662,7 +676,8 @@ fn levels_of(
         let moved_at = at.take().map(|a| a.moved(&landing.mover));
         let moved_segments = lines::moved_lines(&next_segments, &landing.mover, next.halo.comm().rank());
         let moved_lines = lines::smoothed(&moved_segments);
-        levels.push(dist_level((current, lines, band), None, Some((prolong, digest)), Some(Arc::new(landing))));
+        let landing = Some(Arc::new(landing));
+        levels.push(dist_level((current, lines, band, galerkin), None, Some((prolong, digest)), landing));
         let Some(moved) = agglomeration.assemble(&sent)? else {
             return Ok((levels, None));
         };
@@ -707,21 +722,21 @@ fn galerkin_level(m: &OwnedRows, at: &mut Option<Positions>) -> Result<Option<(O
 /// components `comp` for a hierarchy of several) after `levels`, and its solve (collective over
 /// its ranks).
 fn coarsest(
-    (m, lines, band): (OwnedRows, Lines, usize),
+    (m, lines, band, galerkin): (OwnedRows, Lines, usize, bool),
     comp: Option<Components>,
     (rows, gather): (u64, u64),
     mut levels: Vec<DistLevel>,
 ) -> Result<(Vec<DistLevel>, Option<Coarsest>), DistError> {
     if rows > gather {
-        levels.push(dist_level((m, lines, band), comp, None, None));
+        levels.push(dist_level((m, lines, band, galerkin), comp, None, None));
         return Ok((levels, Some(Coarsest::Smoothed)));
     }
     if comp.is_none() {
         let coarsest = Coarsest::Gathered(Gathered::new(&m)?);
-        levels.push(dist_level((m, lines, band), None, None, None));
+        levels.push(dist_level((m, lines, band, galerkin), None, None, None));
         return Ok((levels, Some(coarsest)));
     }
-    let d = dist_level((m, lines, band), comp, None, None);
+    let d = dist_level((m, lines, band, galerkin), comp, None, None);
     // The groups the solver forms: every component as one where the walls couple them, else
     // each component alone.
     let dim = d.level.dim();
@@ -789,6 +804,15 @@ impl Preconditioner for Multigrid {
     }
 }
 
+/// Whether a level's `lines` over all ranks of `comm` make the biharmonic's levels below it
+/// layered, as the serial hierarchy decides (`hierarchy::layered_lines`): across thin layers on
+/// some rank and holding their share of the level's `rows` unknowns (collective).
+fn layered_over_ranks(comm: &Comm, lines: &Lines, rows: u64) -> bool {
+    let thin = max_over_ranks(comm, f64::from(u8::from(lines.thin()))) > 0.0;
+    let on_lines = sum_in_rank_order(comm, &[lines.unknowns.len() as f64])[0];
+    layered_lines(thin, on_lines, rows as f64)
+}
+
 /// Whether some rank of `comm` has `lines` on it (collective).
 pub(crate) fn any_lines(comm: &Comm, lines: &Lines) -> bool {
     max_over_ranks(comm, f64::from(u8::from(!lines.is_empty()))) > 0.0
@@ -826,7 +850,7 @@ fn transfer_digest(p: &CsrMatrix, fine: &OwnedRows, coarse: &[u64]) -> u64 {
 /// `comp`) with its `lines` (blocks of `band`) and the transfer `prolong` to the next coarser
 /// level with its digest (collective: the smoother's bound is estimated over every rank's rows).
 fn dist_level(
-    (m, lines, band): (OwnedRows, Lines, usize),
+    (m, lines, band, galerkin): (OwnedRows, Lines, usize, bool),
     comp: Option<Components>,
     prolong: Option<(CsrMatrix, u64)>,
     landing: Option<Arc<Landing>>,
@@ -868,7 +892,7 @@ fn dist_level(
         Some(_) => vec![estimate_lambda_max(&GroupOp::new(&level, 0..dim, false)); dim],
         None => (0..dim).map(|c| estimate_lambda_max(&GroupOp::new(&level, c..c + 1, false))).collect(),
     };
-    DistLevel { level, gids, halo, digest, landing }
+    DistLevel { level, gids, halo, digest, landing, galerkin }
 }
 
 /// The vectors of a visit to `d` (`finest`: its b and x are the caller's).

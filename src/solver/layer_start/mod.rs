@@ -100,7 +100,7 @@ pub(crate) fn of_layers(h: &Hierarchy, bcs: &BoundaryConditions, motion: &Motion
     if fixed.iter().any(|&f| f) {
         let source: Vec<bool> = moved.iter().map(Option::is_some).collect();
         let (to_body, from) = reach::nearest(k, &points, dim, &source);
-        let (to_fixed, _) = reach::nearest(k, &points, dim, &fixed);
+        let to_fixed = reach::distances(k, &points, dim, &fixed);
         for d in 0..n {
             if moved[d].is_some() || fixed[d] || !to_body[d].is_finite() {
                 continue;

@@ -28,14 +28,35 @@ impl Ord for Reached {
 /// along its couplings to an unknown with `source` set and which source that is; infinite (and
 /// None) where none is reached.
 pub(super) fn nearest(k: &CsrMatrix, points: &[f64], dim: usize, source: &[bool]) -> (Vec<f64>, Vec<Option<usize>>) {
+    let mut from = vec![None; source.len()];
+    let dist = search(k, points, dim, source, Some(&mut from));
+    (dist, from)
+}
+
+/// Per unknown, the shortest distance along `k`'s couplings to an unknown with `source` set, as
+/// [`nearest`] without which source it is.
+pub(super) fn distances(k: &CsrMatrix, points: &[f64], dim: usize, source: &[bool]) -> Vec<f64> {
+    search(k, points, dim, source, None)
+}
+
+/// A multi-source Dijkstra from the unknowns with `source` set: the distances, and in `from`
+/// (when asked for) the source each unknown is reached from.
+fn search(
+    k: &CsrMatrix,
+    points: &[f64],
+    dim: usize,
+    source: &[bool],
+    mut from: Option<&mut Vec<Option<usize>>>,
+) -> Vec<f64> {
     let n = source.len();
     let at = |i: usize| &points[i * dim..(i + 1) * dim];
     let mut dist = vec![f64::INFINITY; n];
-    let mut from = vec![None; n];
     let mut heap = BinaryHeap::new();
     for (i, _) in source.iter().enumerate().filter(|(_, &s)| s) {
         dist[i] = 0.0;
-        from[i] = Some(i);
+        if let Some(f) = from.as_deref_mut() {
+            f[i] = Some(i);
+        }
         heap.push(Reverse(Reached(0.0, i)));
     }
     while let Some(Reverse(Reached(d, i))) = heap.pop() {
@@ -48,12 +69,14 @@ pub(super) fn nearest(k: &CsrMatrix, points: &[f64], dim: usize, source: &[bool]
             let dj = d + len;
             if dj < dist[j] {
                 dist[j] = dj;
-                from[j] = from[i];
+                if let Some(f) = from.as_deref_mut() {
+                    f[j] = f[i];
+                }
                 heap.push(Reverse(Reached(dj, j)));
             }
         }
     }
-    (dist, from)
+    dist
 }
 
 #[cfg(test)]
@@ -70,6 +93,7 @@ mod tests {
         let (dist, from) = nearest(&k, &points, 1, &[true, false, false, true]);
         assert_eq!(dist, vec![0.0, 1.0, 3.0, 0.0]);
         assert_eq!(from, vec![Some(0), Some(0), Some(3), Some(3)]);
+        assert_eq!(distances(&k, &points, 1, &[true, false, false, true]), dist);
         let (dist, from) = nearest(&k, &points, 1, &[false; 4]);
         assert!(dist.iter().all(|d| d.is_infinite()) && from.iter().all(Option::is_none));
     }
