@@ -66,16 +66,23 @@ pub(crate) fn of_layers(h: &Hierarchy, bcs: &BoundaryConditions, motion: &Motion
     let points = lev.unknown_points();
     let n = lev.n();
     let mut start = vec![0.0; mesh.coords().len()];
-    // The lines' and the patch's unknowns at the rigid motion of their own vertices.
-    for d in 0..n {
-        let Some(r) = moved[d] else { continue };
+    // The components the blend below carries: `put` sets only those it is given.
+    let put = |start: &mut [f64], d: usize, r: usize, w: f64, comps: &[bool]| {
         let m = &motion.rigid[r].1;
         for &v in lev.dofs.vertices_of(d) {
             let v = v as usize;
             let l = m.displacement(mesh.point(v));
-            start[v * dim..(v + 1) * dim].copy_from_slice(&l[..dim]);
+            for c in (0..dim).filter(|&c| comps[c]) {
+                start[v * dim + c] = w * l[c];
+            }
         }
-    }
+    };
+    let every = vec![true; dim];
+    (0..n).for_each(|d| {
+        if let Some(r) = moved[d] {
+            put(&mut start, d, r, 1.0, &every)
+        }
+    });
     // Beyond the lines' outer ends the start falls off from the rigid motion to the fixed
     // boundary's zero as the square of the distances' blend, (d_fixed / (d_body + d_fixed))²:
     // the start's error is then smooth there, not a jump of the whole motion across one cell at
@@ -100,17 +107,8 @@ pub(crate) fn of_layers(h: &Hierarchy, bcs: &BoundaryConditions, motion: &Motion
                 continue;
             }
             let w = if to_fixed[d].is_finite() { (to_fixed[d] / (to_body[d] + to_fixed[d])).powi(2) } else { 1.0 };
-            // The rigid motion at the nearest moved unknown, not at the unknown's own
-            // position: a rotation's displacement grows with the distance from its centre, and
-            // carried out as far as the blend reaches it would start the far cells at many
-            // times the body's largest displacement.
-            let Some(f) = from[d].filter(|&f| moved[f].is_some()) else { continue };
-            let l = motion.rigid[moved[f].expect("a moved source")].1.displacement(&points[f * dim..(f + 1) * dim]);
-            for &v in lev.dofs.vertices_of(d) {
-                let v = v as usize;
-                for c in (0..dim).filter(|&c| blended[c]) {
-                    start[v * dim + c] = w * l[c];
-                }
+            if let Some(r) = from[d].and_then(|f| moved[f]) {
+                put(&mut start, d, r, w, &blended);
             }
         }
     }
