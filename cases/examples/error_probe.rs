@@ -1,5 +1,5 @@
 //! Where a viscous mesh's one-step biharmonic error sits after a few iterations: `cargo run
-//! --release -p meshmove-cases --example pitch_error -- spheroid 8 pitch|plunge ITS,ITS,...`.
+//! --release -p meshmove-cases --example error_probe -- spheroid 8 pitch|plunge ITS,ITS,...`.
 //! The error against the solve to 1e-11, binned by the vertex's wall layer and its position
 //! along the body's long axis (x).
 

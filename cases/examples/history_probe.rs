@@ -1,5 +1,5 @@
 //! A viscous mesh's one-step biharmonic solve with each PCG iteration's largest correction and
-//! relative residual: `cargo run --release -p meshmove-cases --example pitch_probe -- spheroid 8
+//! relative residual: `cargo run --release -p meshmove-cases --example history_probe -- spheroid 8
 //! pitch|plunge [layers|zero] [TOL]` (kinds and sizes as in `viscous_sizes`). `zero` starts from
 //! a zero guess instead of the start along the lines.
 
