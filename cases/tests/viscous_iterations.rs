@@ -80,6 +80,28 @@ fn spheroid_biharmonic_takes_a_bounded_number_of_iterations() {
     }
 }
 
+/// The pitch turns the spheroid about z, which moves z by rounding alone: every method solves
+/// that component as zero (its interior exactly 0, the wall's values as given) instead of to the
+/// tolerance against a right-hand side of rounding, and the pitch takes the plunge's count.
+#[test]
+fn spheroid_pitch_solves_its_axis_component_of_rounding_as_zero() {
+    let v = spheroid_3d(&SpheroidParams::new(4)).unwrap();
+    let m = motion(&v, BodyMotion::Pitch);
+    let vals = m.vertex_values(&v.mesh).into_owned();
+    let on_wall: std::collections::HashSet<u32> = v.mesh.patch_vertices(WALL).iter().copied().collect();
+    for method in [Method::Biharmonic, Method::Laplacian, Method::Spring] {
+        let solver = Solver::new(&v.mesh, &boundary_conditions(&v), Options { method, ..Default::default() }).unwrap();
+        let sol = solver.solve(&m).unwrap();
+        for p in 0..v.mesh.num_vertices() {
+            let want = if on_wall.contains(&(p as u32)) { vals[p * 3 + 2] } else { 0.0 };
+            assert_eq!(sol.displacement[p * 3 + 2], want, "{method:?}: vertex {p}");
+        }
+        if method == Method::Biharmonic {
+            assert!(sol.report.cycles <= 3, "{}", sol.report.cycles);
+        }
+    }
+}
+
 /// Under wall layers the kept levels interpolate from a few donors each, so the Galerkin levels
 /// stay sparse: every row of every transfer has at most 24 entries (12, or in 3D 24 where 12
 /// candidates only extrapolate; all strongly coupled kept neighbours, the choice elsewhere,
