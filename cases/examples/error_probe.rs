@@ -6,14 +6,13 @@
 use meshmove::{Options, Solver};
 use meshmove_cases::viscous::*;
 
+#[path = "common/viscous_args.rs"]
+mod viscous_args;
+use viscous_args::kind_size_motion;
+
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let kind = args.first().map_or("spheroid", |s| s.as_str());
-    let size = args.get(1).map_or("8", |s| s.as_str());
-    let m = match args.get(2).map(|s| s.as_str()) {
-        Some("plunge") => BodyMotion::Plunge,
-        _ => BodyMotion::Pitch,
-    };
+    let (kind, size, m) = kind_size_motion(&args);
     let its: Vec<usize> = args.get(3).map_or("1,3", |s| s.as_str()).split(',').map(|s| s.parse().unwrap()).collect();
     let v = by_name(kind, size).expect("a mesh");
     let bcs = boundary_conditions(&v);

@@ -6,14 +6,13 @@
 use meshmove::{Options, Solver};
 use meshmove_cases::viscous::*;
 
+#[path = "common/viscous_args.rs"]
+mod viscous_args;
+use viscous_args::kind_size_motion;
+
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let kind = args.first().map_or("spheroid", |s| s.as_str());
-    let size = args.get(1).map_or("8", |s| s.as_str());
-    let m = match args.get(2).map(|s| s.as_str()) {
-        Some("plunge") => BodyMotion::Plunge,
-        _ => BodyMotion::Pitch,
-    };
+    let (kind, size, m) = kind_size_motion(&args);
     let zero = args.get(3).is_some_and(|s| s == "zero");
     let tol: f64 = args.get(4).map_or(1e-8, |s| s.parse().expect("a tolerance"));
     let v = by_name(kind, size).expect("a mesh");
