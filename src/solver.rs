@@ -26,6 +26,24 @@ use deferred::Deferred;
 use std::ops::Range;
 use std::time::Instant;
 
+/// A component's displacement at most this fraction of the largest component's is rounding.
+const ROUNDING: f64 = 1e-12;
+
+/// The largest magnitude of the components `comps` in `vals` (`dim` values per vertex).
+pub(crate) fn largest_of(vals: &[f64], dim: usize, comps: Range<usize>) -> f64 {
+    comps.map(|c| vals.iter().skip(c).step_by(dim).fold(0.0f64, |m, d| m.max(d.abs()))).fold(0.0, f64::max)
+}
+
+/// Whether a group of components whose prescribed displacements are at most `most` is moved by
+/// rounding alone: at most `ROUNDING` of `scale`, the largest of any component (nonzero). Such a
+/// group's right-hand side is rounding (a rotation about a coordinate axis moves that axis's
+/// component by the rounding of cos θ + (1 − cos θ)), and a relative residual against it would
+/// have the solve take that noise out to the tolerance, as many iterations as a random
+/// right-hand side takes: the solvers solve it as zero.
+pub(crate) fn is_rounding(most: f64, scale: f64) -> bool {
+    scale > 0.0 && most <= ROUNDING * scale
+}
+
 mod deferred;
 mod layer_start;
 pub(crate) mod memory;
@@ -663,6 +681,11 @@ impl Solver {
             let name = group_name(comps.clone());
             // One group at a time: only its right-hand side and iterate are alive (memory).
             let (mut b, mut x) = self.group_system(motion, vals, comps.clone(), guess)?;
+            if is_rounding(largest_of(vals, lev.dim(), comps.clone()), scale) {
+                // Moved by rounding alone: its interior is zero, its prescribed values stay as
+                // given (`is_rounding`).
+                b.fill(0.0);
+            }
             if f != 1.0 {
                 units::scale(&mut b, f);
                 units::scale(&mut x, f);

@@ -46,6 +46,7 @@ use crate::multigrid::solve::Report;
 use crate::operator::{LevelOperator, Method};
 use crate::solver::polish::{self, Polish};
 use crate::solver::slip::normal_parts;
+use crate::solver::{is_rounding, largest_of};
 use crate::sparse::CsrMatrix;
 use crate::{BoundaryConditions, Mesh, Motion, Quality};
 use std::sync::Arc;
@@ -389,13 +390,23 @@ impl DistributedSolver {
         // Each group's system, and whether conjugate gradients iterate on it: a zero
         // right-hand side is solved without (`pcg`), so its components need no multigrid.
         let mut needed = vec![false; dim];
+        // Each component's largest prescribed displacement over the ranks: a group moved by
+        // rounding alone is solved as zero, as serially (`solver::is_rounding`).
+        let local: Vec<f64> = (0..dim).map(|c| largest_of(vals, dim, c..c + 1)).collect();
+        let most = gather(halo.comm(), &local)
+            .chunks_exact(dim)
+            .fold(vec![0.0f64; dim], |m, r| m.iter().zip(r).map(|(a, b)| a.max(*b)).collect());
+        let scale = most.iter().copied().fold(0.0, f64::max);
         let systems: Vec<_> = self
             .level
             .groups()
             .into_iter()
             .map(|comps| {
                 let op = GroupOp::new(&self.level, comps.clone(), false);
-                let system = self.group_system(&op, &rhs, guess);
+                let mut system = self.group_system(&op, &rhs, guess);
+                if is_rounding(most[comps.clone()].iter().copied().fold(0.0, f64::max), scale) {
+                    system.0.fill(0.0);
+                }
                 if op.norm(&system.0) != 0.0 {
                     comps.clone().for_each(|c| needed[c] = true);
                 }

@@ -12,6 +12,7 @@
 
 mod reach;
 
+use super::ROUNDING;
 use crate::bc::{BoundaryConditions, Kind, P};
 use crate::motion::Motion;
 use crate::multigrid::hierarchy::Hierarchy;
@@ -113,6 +114,3 @@ pub(crate) fn of_layers(h: &Hierarchy, bcs: &BoundaryConditions, motion: &Motion
     }
     Some(start)
 }
-
-/// A component of the start at most this fraction of its largest component is rounding.
-const ROUNDING: f64 = 1e-12;
