@@ -111,7 +111,7 @@ fn spheroid_pitch_solves_its_axis_component_of_rounding_as_zero() {
             assert_eq!(sol.displacement[p * 3 + 2], want, "{method:?}: vertex {p}");
         }
         if method == Method::Biharmonic {
-            assert!(sol.report.cycles <= 3, "{}", sol.report.cycles);
+            assert!(sol.report.cycles <= 4, "{}", sol.report.cycles);
         }
     }
 }
