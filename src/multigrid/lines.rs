@@ -106,23 +106,41 @@ impl Lines {
         unmeasured: impl Fn(usize) -> bool,
     ) -> Lines {
         let skip = |i: usize| skip(i) || unmeasured(i);
+        let dist2 = |i: usize, j: usize| -> f64 { (0..dim).map(|c| (points[i * dim + c] - points[j * dim + c]).powi(2)).sum() };
         let weight = |i: usize, j: usize| {
-            let d2: f64 = (0..dim).map(|c| (points[i * dim + c] - points[j * dim + c]).powi(2)).sum();
+            let d2 = dist2(i, j);
             if d2 > 0.0 {
                 1.0 / d2
             } else {
                 0.0
             }
         };
-        // The strongest and weakest coupling of unknown i among `of`.
+        // The strongest and weakest coupling of unknown i among `of` (`weight`'s largest and
+        // smallest, 0 and ∞ when there is none): from the nearest and farthest of the
+        // neighbours at a positive distance, a reciprocal each. A correctly rounded reciprocal
+        // is monotone, so the reciprocal of the smallest squared distance is the largest of
+        // the neighbours' reciprocals, bitwise; a neighbour at distance 0 weighs 0.
         let span = |i: usize, of: &[u32]| {
             if unmeasured(i) {
                 return (0.0, f64::INFINITY);
             }
-            of.iter().filter(|&&j| j as usize != i && !unmeasured(j as usize)).fold((0.0f64, f64::INFINITY), |(hi, lo), &j| {
-                let w = weight(i, j as usize);
-                (hi.max(w), lo.min(w))
-            })
+            let (mut near, mut far, mut coincident) = (f64::INFINITY, 0.0f64, false);
+            for &j in of.iter().filter(|&&j| j as usize != i && !unmeasured(j as usize)) {
+                let d2 = dist2(i, j as usize);
+                if d2 > 0.0 {
+                    (near, far) = (near.min(d2), far.max(d2));
+                } else {
+                    coincident = true;
+                }
+            }
+            let lo = if coincident {
+                0.0
+            } else if far > 0.0 {
+                1.0 / far
+            } else {
+                f64::INFINITY
+            };
+            (1.0 / near, lo)
         };
         let bounds: Vec<(f64, f64)> = (0..n).map(|i| span(i, neighbours(i))).collect();
         let anisotropic = |i: usize| bounds[i].0 >= ANISOTROPY * bounds[i].1 && bounds[i].1 > 0.0;
