@@ -5,8 +5,7 @@ use super::group::{GroupOp, Scratch};
 use super::smoother::{smooth, Coefficients, Smoother, Start};
 use crate::bc::P;
 use crate::dense::Cholesky;
-use crate::operator::LevelOperator;
-use crate::sparse::CsrMatrix;
+use crate::operator::Columns;
 use crate::{Error, Result};
 
 /// Above this many free directions the coarsest level is smoothed, not factored (only when
@@ -62,39 +61,11 @@ fn free_basis(op: &GroupOp) -> Vec<(u32, [f64; 3])> {
     basis
 }
 
-/// The columns of an operator applied in one pass (`LevelOperator::one_pass`), read from the
-/// rows of its matrix's transpose instead of formed by a product with each unit vector: A e_j
-/// at a free row i is `pair_sum` over row i of A_ik (e_j)_k, whose terms are zeros but A_ij, so
-/// it is A_ij where that is not zero and +0 elsewhere (sums from +0 of zeros of either sign
-/// are +0); a prescribed row is 0. Bitwise the product's column, at one pass over A in all.
-struct Columns {
-    /// Aᵀ: row j holds column j of A.
-    at: CsrMatrix,
-}
-
-impl Columns {
-    fn of(op: &LevelOperator) -> Option<Columns> {
-        op.one_pass().map(|a| Columns { at: a.transpose() })
-    }
-
-    /// y = A e_j with the rows flagged P zero. `y` is zero but at the rows `written` lists (the
-    /// last column's), which it then lists for this column.
-    fn column(&self, j: usize, flags: &[u8], y: &mut [f64], written: &mut Vec<u32>) {
-        written.iter().for_each(|&i| y[i as usize] = 0.0);
-        written.clear();
-        let (rows, vals) = self.at.row(j);
-        for (&i, &v) in rows.iter().zip(vals) {
-            let free = flags[i as usize] & P == 0;
-            y[i as usize] = if free && v != 0.0 { v } else { 0.0 };
-            written.push(i);
-        }
-    }
-}
-
 /// Π A Π on `basis` (grouped by unknown), dense m×m, column by column: A_c e_j for each
-/// unknown j and block c, read from `columns` where the operator is applied in one pass and
-/// formed by a product otherwise, then the basis vectors at j combine them.
-fn assemble(op: &GroupOp, basis: &[(u32, [f64; 3])], columns: Option<Columns>) -> Vec<f64> {
+/// unknown j and block c, formed at its nonzero rows by `columns` where it can (bitwise the
+/// product's) and by a product of the whole level otherwise, then the basis vectors at j
+/// combine them.
+fn assemble(op: &GroupOp, basis: &[(u32, [f64; 3])], mut columns: Option<Columns>) -> Vec<f64> {
     let (n, g, m) = (op.n(), op.len(), basis.len());
     let mut a = vec![0.0; m * m];
     let (mut e, mut s) = (vec![0.0; n], vec![0.0; n]);
@@ -109,7 +80,7 @@ fn assemble(op: &GroupOp, basis: &[(u32, [f64; 3])], columns: Option<Columns>) -
                 yc.iter_mut().for_each(|v| *v = 0.0);
                 continue;
             }
-            match &columns {
+            match &mut columns {
                 Some(t) => t.column(j as usize, op.flags(c), yc, &mut written[c]),
                 None => {
                     e[j as usize] = 1.0;
@@ -141,7 +112,7 @@ impl CoarseSolve {
         if m > DENSE_MAX {
             return Ok(CoarseSolve::Smoothed);
         }
-        let a = assemble(op, &basis, Columns::of(&op.level().op));
+        let a = assemble(op, &basis, Columns::new(&op.level().op));
         // Every connected part has a prescribed vertex (checked on the fine level first), so a
         // coarsest operator that is not positive definite comes from the geometry of the levels.
         let chol = symmetric_cholesky(m, a).ok_or_else(|| {
@@ -205,13 +176,14 @@ mod tests {
     use crate::multigrid::hierarchy::{Hierarchy, HierarchyParams};
     use crate::{BoundaryConditions, Method};
 
-    /// The columns read from the transpose give the products' dense matrix bitwise, on every
-    /// level of a Laplacian's hierarchy (the finest one's K, the Galerkin levels' products),
-    /// for scalar groups with prescribed rows and for a group coupled by slip walls.
+    /// The columns formed at their nonzero rows give the products' dense matrix bitwise, on
+    /// every level of a hierarchy (the finest one's K, the Galerkin levels' products), for the
+    /// Laplacian's one pass and the biharmonic's two (rows with Z among them), scalar groups
+    /// with prescribed rows and a group coupled by slip walls.
     #[test]
-    fn columns_read_are_the_products_bitwise() {
+    fn columns_at_their_rows_are_the_products_bitwise() {
         let mesh = rect(12, 10, [0.0, 1.3, 0.0, 1.0]);
-        for sides in [Kind::Slip, Kind::Free] {
+        for (method, sides) in [Method::Laplacian, Method::Biharmonic].into_iter().flat_map(|m| [(m, Kind::Slip), (m, Kind::Free)]) {
             let mut bcs = BoundaryConditions::new();
             bcs.set_kinds(1, Kind::Fixed).set_kinds(3, Kind::Clamped);
             for p in [2, 4] {
@@ -226,17 +198,17 @@ mod tests {
             }
             let mut params = HierarchyParams::default();
             params.coarsen.coarsest_unknowns = Some(30);
-            let h = Hierarchy::build(&mesh, Vec::new(), &bcs, Method::Laplacian, &params).unwrap();
+            let h = Hierarchy::build(&mesh, Vec::new(), &bcs, method, &params).unwrap();
             assert!(h.levels.len() >= 2, "{} levels", h.levels.len());
             let mut nonzero = 0;
             for level in &h.levels {
                 for g in h.groups() {
                     let op = GroupOp::new(level, g, false);
                     let basis = free_basis(&op);
-                    let columns = Columns::of(&level.op).expect("the Laplacian is applied in one pass");
+                    let columns = Columns::new(&level.op).expect("formed row by row");
                     let (read, formed) = (assemble(&op, &basis, Some(columns)), assemble(&op, &basis, None));
                     assert!(basis.len() < op.n() * op.len(), "some direction is prescribed");
-                    assert!(read.iter().zip(&formed).all(|(a, b)| a.to_bits() == b.to_bits()));
+                    assert!(read.iter().zip(&formed).all(|(a, b)| a.to_bits() == b.to_bits()), "{method:?} {sides:?}");
                     nonzero += read.iter().filter(|v| **v != 0.0).count();
                 }
             }

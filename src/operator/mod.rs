@@ -1,6 +1,7 @@
 //! The discrete operators of docs/DESIGN.md §3: stiffness K (cotangent or spring weights), lumped mass
 //! V, and per method the operator A, its right-hand side and its l1 Jacobi bound.
 
+mod columns;
 mod fused;
 mod general;
 mod galerkin_biharmonic;
@@ -9,6 +10,7 @@ mod scatter;
 mod small_entries;
 mod stiffness;
 
+pub(crate) use columns::Columns;
 pub(crate) use galerkin_biharmonic::assembled_below;
 pub use level::LevelOperator;
 pub(crate) use stiffness::close_diagonal;
