@@ -13,12 +13,11 @@ struct RowSum {
     slot: Vec<usize>,
     cols: Vec<u32>,
     vals: Vec<f64>,
-    order: Vec<usize>,
 }
 
 impl RowSum {
     fn new(ncols: usize) -> Self {
-        RowSum { slot: vec![usize::MAX; ncols], cols: Vec::new(), vals: Vec::new(), order: Vec::new() }
+        RowSum { slot: vec![usize::MAX; ncols], cols: Vec::new(), vals: Vec::new() }
     }
 
     /// Adds x times the row (cols, vals).
@@ -47,22 +46,20 @@ impl RowSum {
         }
     }
 
-    /// Writes the sum, columns ascending, and starts a new one.
+    /// Appends the sum to `cols` and `vals`, columns ascending, and starts a new one: the
+    /// columns (each once) sorted as they are, each value then read through its column's slot.
     fn finish(&mut self, cols: &mut Vec<u32>, vals: &mut Vec<f64>) {
-        let RowSum { slot, cols: c, vals: v, order } = self;
-        order.clear();
-        order.extend(0..c.len());
-        order.sort_unstable_by_key(|&p| c[p]);
-        cols.clear();
-        vals.clear();
-        cols.extend(order.iter().map(|&p| c[p]));
-        vals.extend(order.iter().map(|&p| v[p]));
+        let RowSum { slot, cols: c, vals: v } = self;
+        let start = cols.len();
+        cols.extend_from_slice(c);
+        cols[start..].sort_unstable();
+        vals.extend(cols[start..].iter().map(|&j| v[slot[j as usize]]));
         c.iter().for_each(|&j| slot[j as usize] = usize::MAX);
         c.clear();
         v.clear();
     }
 
-    /// Row i of A B.
+    /// Appends row i of A B to `cols` and `vals`.
     fn product_row(&mut self, a: &CsrMatrix, b: &CsrMatrix, i: usize, cols: &mut Vec<u32>, vals: &mut Vec<f64>) {
         let (ac, av) = a.row(i);
         for (&k, &x) in ac.iter().zip(av) {
@@ -72,28 +69,26 @@ impl RowSum {
     }
 }
 
-/// A matrix whose rows are computed independently (written by `row(state, i, cols, vals)`), so it
-/// is deterministic and parallel. Each block of rows is formed once into arrays of its own, which
-/// are moved into the result one after the other, each freed once moved: about the result's
-/// memory at once, no per-row vectors (they took twice the result's memory) and no counting pass
-/// that would form every row twice.
+/// A matrix whose rows are computed independently (appended by `row(state, i, cols, vals)` to
+/// its block's arrays), so it is deterministic and parallel. Each block of rows is formed once
+/// into arrays of its own, which are moved into the result one after the other, each freed once
+/// moved: about the result's memory at once, no per-row vectors (they took twice the result's
+/// memory) and no counting pass that would form every row twice.
 fn by_rows<S>(
     nrows: usize,
     ncols: usize,
     init: impl Fn() -> S + Sync + Send,
     row: impl Fn(&mut S, usize, &mut Vec<u32>, &mut Vec<f64>) + Sync + Send,
 ) -> CsrMatrix {
-    let init = || (init(), Vec::new(), Vec::new());
     let blocks: Vec<(Vec<u32>, Vec<u32>, Vec<f64>)> = (0..nrows.div_ceil(PRODUCT_BLOCK))
         .into_par_iter()
-        .map_init(init, |(s, c, v), b| {
+        .map_init(init, |s, b| {
             let rows = b * PRODUCT_BLOCK..((b + 1) * PRODUCT_BLOCK).min(nrows);
             let (mut lens, mut out_c, mut out_v) = (Vec::with_capacity(rows.len()), Vec::new(), Vec::new());
             for i in rows {
-                row(s, i, c, v);
-                lens.push(offset(c.len()));
-                out_c.extend_from_slice(c);
-                out_v.extend_from_slice(v);
+                let before = out_c.len();
+                row(s, i, &mut out_c, &mut out_v);
+                lens.push(offset(out_c.len() - before));
             }
             (lens, out_c, out_v)
         })
