@@ -126,8 +126,9 @@ impl CoarsenParams {
         self.coarsest_unknowns.unwrap_or(if dim == 2 { 150 } else { 400 })
     }
 
-    /// Whether a level of `n` unknowns a little above the coarsest size
-    /// (`coarsest_unknowns_for`; at most a quarter above it), whose coarsening would keep `nc`,
+    /// Whether a level of `n` unknowns a little above the coarsest size `size`
+    /// (`coarsest_unknowns_for`, or a coarsener's own; at most a quarter above it), whose
+    /// coarsening would keep `nc`,
     /// is the coarsest level instead: when its dense solve factors every group of its `dim`
     /// components (dim · n free directions at most, `DENSE_MAX`) and the coarse level would lie
     /// further below the coarsest size than this level lies above it (n · nc ≤ size², on a log
@@ -135,8 +136,7 @@ impl CoarsenParams {
     /// level below it whose Galerkin operator, nearly dense, is a poor coarse space; a level
     /// further above the size keeps its coarsening, whose smoothing costs less than a larger
     /// dense solve visited on every cycle (docs/DESIGN.md §5, "Coarse levels").
-    pub(crate) fn stops_above(&self, n: usize, nc: usize, dim: usize) -> bool {
-        let size = self.coarsest_unknowns_for(dim);
+    pub(crate) fn stops_above(n: usize, nc: usize, dim: usize, size: usize) -> bool {
         n <= size.saturating_add(size / 4)
             && n.saturating_mul(dim) <= DENSE_MAX
             && n.saturating_mul(nc) <= size.saturating_mul(size)

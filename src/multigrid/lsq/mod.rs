@@ -23,6 +23,7 @@ pub(crate) use along_lines::{end_neighbour, rows_on_line};
 #[cfg(feature = "mpi")]
 pub(crate) use weights::{bounded, choose_donors, fit_offsets};
 
+use super::coarse_solve::DENSE_MAX;
 use super::coarsen::CoarsenParams;
 use super::coarsener::{CoarseMesh, CoarseUnknowns, Coarsener};
 use super::level::{Level, Transfer};
@@ -59,9 +60,37 @@ pub(crate) struct LeastSquares {
     on_lines: bool,
 }
 
+/// The coarsest level's largest size on the 2D biharmonic's hierarchies that interpolate along
+/// their lines (`LeastSquares::along_lines`). Below the lines their levels are Galerkin products
+/// of isotropic cells, whose two-level pairs each leave part of the slow error; every level more
+/// multiplies what a W-cycle leaves, and the largest airfoils coarsen several such levels down
+/// to the general 150. Stopping at a level of a few hundred unknowns, factored densely, keeps the
+/// count as the mesh grows (docs/DESIGN.md §5, "Coarse levels").
+const COARSEST_ALONG_LINES: usize = 800;
+
 impl LeastSquares {
     pub(crate) fn new(params: CoarsenParams) -> Self {
         LeastSquares { params, features: Vec::new(), layered: false, along_lines: false, on_lines: false }
+    }
+
+    /// The coarsest level's largest size on this hierarchy: the caller's, else
+    /// `COARSEST_ALONG_LINES` where the unknowns on lines interpolate along them (the 2D
+    /// biharmonic under wall layers), else `CoarsenParams::coarsest_unknowns_for`.
+    fn coarsest_size(&self, dim: usize) -> usize {
+        match self.params.coarsest_unknowns {
+            None if self.along_lines => COARSEST_ALONG_LINES,
+            _ => self.params.coarsest_unknowns_for(dim),
+        }
+    }
+
+    /// Whether `fine` is the coarsest level by its size: at most `coarsest_size`, where its
+    /// dense solve factors every group (`DENSE_MAX` free directions; the components of a group
+    /// coupled by slip walls count together).
+    fn coarsest(&self, fine: &Level) -> bool {
+        let n = fine.n();
+        let width = if fine.slip.is_some() { fine.dim() } else { 1 };
+        let size = self.coarsest_size(fine.dim());
+        n <= size && (size <= self.params.coarsest_unknowns_for(fine.dim()) || n.saturating_mul(width) <= DENSE_MAX)
     }
 
     /// How the rows of P choose their donors on this hierarchy.
@@ -81,20 +110,22 @@ impl Coarsener for LeastSquares {
 
     fn coarsen_unknowns(&mut self, l: usize, fine: &Level) -> Option<CoarseUnknowns> {
         let n = fine.n();
-        if n <= self.params.coarsest_unknowns_for(fine.dim()).max(self.params.min_vertices) {
-            return None;
-        }
-        if self.features.len() < l {
+        if n <= self.params.min_vertices || self.features.len() < l {
             return None;
         }
         if self.features.len() == l {
             let mesh = fine.mesh.as_ref()?;
-            let regions = fine.dof_regions();
-            self.features.push(Features::build(mesh, &fine.dofs, &fine.pairs, regions, self.params.corner_angle_deg));
             self.layered = !fine.lines.is_empty();
             let biharmonic = self.layered && fine.op.method == Method::Biharmonic;
             self.on_lines = biharmonic && fine.lines.lines().thin();
             self.along_lines = biharmonic && fine.dim() == 2;
+            if self.coarsest(fine) {
+                return None;
+            }
+            let regions = fine.dof_regions();
+            self.features.push(Features::build(mesh, &fine.dofs, &fine.pairs, regions, self.params.corner_angle_deg));
+        } else if self.coarsest(fine) {
+            return None;
         }
         self.features.truncate(l + 1);
         let points = fine.unknown_points();
@@ -131,7 +162,7 @@ impl Coarsener for LeastSquares {
             return None;
         }
         // A level little above the coarsest size is the coarsest rather than one far below it.
-        if self.params.stops_above(n, nc, fine.dim()) {
+        if CoarsenParams::stops_above(n, nc, fine.dim(), self.coarsest_size(fine.dim())) {
             return None;
         }
         let transfer = transfer(fine, features, &kept, self.donors(), Some(&strong));
