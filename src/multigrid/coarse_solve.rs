@@ -11,6 +11,14 @@ use crate::{Error, Result};
 /// coarsening stopped early on an awkward mesh).
 pub(crate) const DENSE_MAX: usize = 1500;
 
+/// The coarsest level's solve where it is smoothed: one Chebyshev polynomial of the smoother.
+/// Such a level is a deep Galerkin level of dense rows (where a wing's wall layers stop the
+/// Laplacian's and the spring's coarsening), each application a sizeable part of a fine-level
+/// sweep; applying the polynomial more than once leaves the conjugate gradients' counts as they
+/// are on the viscous meshes and multiplies the cycle's cost (docs/PERFORMANCE.md, "The wing's
+/// Laplacian and spring a vertex").
+const SMOOTHED: Smoother = Smoother::Chebyshev { degree: 25, lower_ratio: 200.0 };
+
 /// The Cholesky factor of the dense m×m matrix `a` assembled column by column from operator
 /// products, its rounding symmetrised first so Cholesky sees an exactly symmetric matrix; None
 /// when it is not positive definite.
@@ -29,8 +37,8 @@ pub(crate) fn symmetric_cholesky(m: usize, mut a: Vec<f64>) -> Option<Cholesky> 
 pub enum CoarseSolve {
     /// The basis vectors (unknown, coefficient per block of the group) and the factor.
     Dense { basis: Vec<(u32, [f64; 3])>, chol: Cholesky },
-    /// Too many free directions: a fixed Chebyshev polynomial of the smoother, linear in b, so
-    /// still a valid preconditioner.
+    /// Too many free directions: a fixed Chebyshev polynomial of the smoother (`SMOOTHED`),
+    /// linear in b, so still a valid preconditioner.
     Smoothed,
     /// Nothing free: the correction is zero.
     Empty,
@@ -127,11 +135,8 @@ impl CoarseSolve {
         match self {
             CoarseSolve::Empty => {}
             CoarseSolve::Smoothed => {
-                let sm = Smoother::Chebyshev { degree: 25, lower_ratio: 200.0 };
                 let mut cache = Coefficients::default();
-                for _ in 0..4 {
-                    smooth(op, sm, b, x, w, &mut cache, Start::Guess, false);
-                }
+                smooth(op, SMOOTHED, b, x, w, &mut cache, Start::Guess, false);
             }
             CoarseSolve::Dense { basis, chol } => {
                 let r: &[f64] = match start {
