@@ -111,3 +111,71 @@ impl WallTree {
         best
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::closest::closest_on_segment;
+    use std::cell::Cell;
+
+    /// A wall graded as a wall layer's edge is: 2 000 segments along y = 0 whose lengths grow
+    /// geometrically from 1e-7 to 1 away from x = 0. The tree finds the brute force's closest
+    /// point, and a query evaluates a few dozen segments, not the thousands a uniform grid's
+    /// cell next to x = 0 holds.
+    #[test]
+    fn a_graded_wall_is_searched_in_few_evaluations() {
+        let n = 2000;
+        let ratio = (1e7f64).powf(1.0 / n as f64);
+        let mut xs = vec![0.0];
+        let mut h = 1e-7;
+        for _ in 0..n {
+            xs.push(xs.last().unwrap() + h);
+            h *= ratio;
+        }
+        let segs: Vec<[[f64; 3]; 2]> = (0..n).map(|k| [[xs[k], 0.0, 0.0], [xs[k + 1], 0.0, 0.0]]).collect();
+        let boxes: Vec<([f64; 3], [f64; 3])> = segs.iter().map(|s| (s[0], s[1])).collect();
+        let tree = WallTree::new(&boxes);
+        let d2 = |q: &[f64; 3], p: &[f64; 3]| (0..3).map(|c| (q[c] - p[c]).powi(2)).sum::<f64>();
+        let mut most = 0;
+        for k in (0..=n).step_by(7) {
+            for dy in [0.0, 1e-9, 3e-3] {
+                let p = [xs[k] * 0.999 + 1e-8, dy, 0.0];
+                let calls = Cell::new(0usize);
+                let got = tree.closest(&p, |s| {
+                    calls.set(calls.get() + 1);
+                    closest_on_segment(&segs[s][0], &segs[s][1], &p)
+                });
+                let want = segs
+                    .iter()
+                    .map(|s| closest_on_segment(&s[0], &s[1], &p))
+                    .min_by(|a, b| d2(a, &p).total_cmp(&d2(b, &p)))
+                    .unwrap();
+                assert_eq!(d2(&got, &p), d2(&want, &p), "{p:?}: {got:?} vs {want:?}");
+                most = most.max(calls.get());
+            }
+        }
+        assert!(most <= 64, "a query evaluated {most} segments");
+    }
+
+    /// Of simplices equally near, the lowest index wins, though its box is visited last; an
+    /// empty tree returns the point.
+    #[test]
+    fn ties_go_to_the_lowest_index() {
+        let mut boxes = vec![([0.0, 0.0, 0.0], [1.0, 0.0, 0.0]); 9];
+        boxes[0] = ([10.0, 0.0, 0.0], [11.0, 0.0, 0.0]);
+        let tree = WallTree::new(&boxes);
+        let order = std::cell::RefCell::new(Vec::new());
+        // Every simplex's point is 10 from p; simplex 0's box is the farthest.
+        let got = tree.closest(&[0.5, 1.0, 0.0], |s| {
+            order.borrow_mut().push(s);
+            if s == 0 {
+                [0.5, 11.0, 0.0]
+            } else {
+                [0.5, -9.0, 0.0]
+            }
+        });
+        assert_eq!(order.borrow().last(), Some(&0));
+        assert_eq!(got, [0.5, 11.0, 0.0]);
+        assert_eq!(WallTree::new(&[]).closest(&[1.0, 2.0, 3.0], |_| unreachable!()), [1.0, 2.0, 3.0]);
+    }
+}
