@@ -5,19 +5,28 @@ use super::group::{GroupOp, Scratch};
 use super::smoother::{smooth, Coefficients, Smoother, Start};
 use crate::bc::P;
 use crate::dense::Cholesky;
+use crate::operator::Method;
 use crate::{Error, Result};
 
 /// Above this many free directions the coarsest level is smoothed, not factored (only when
 /// coarsening stopped early on an awkward mesh).
 pub(crate) const DENSE_MAX: usize = 1500;
 
-/// The coarsest level's solve where it is smoothed: one Chebyshev polynomial of the smoother.
-/// Such a level is a deep Galerkin level of dense rows (where a wing's wall layers stop the
-/// Laplacian's and the spring's coarsening), each application a sizeable part of a fine-level
-/// sweep; applying the polynomial more than once leaves the conjugate gradients' counts as they
-/// are on the viscous meshes and multiplies the cycle's cost (docs/PERFORMANCE.md, "The wing's
-/// Laplacian and spring a vertex").
+/// The coarsest level's solve where it is smoothed: Chebyshev polynomials of the smoother.
 const SMOOTHED: Smoother = Smoother::Chebyshev { degree: 25, lower_ratio: 200.0 };
+
+/// How many `SMOOTHED` polynomials a smoothed coarsest level of `method` applies. Such a level
+/// is a deep Galerkin level of dense rows (where a wing's wall layers stop the coarsening), each
+/// application a sizeable part of a fine-level sweep. The second-order operators take one: more
+/// leave the conjugate gradients' counts as they are on the viscous meshes and multiply the
+/// cycle's cost (docs/PERFORMANCE.md, "The wing's Laplacian and spring a vertex"). The
+/// biharmonic's coarsest operator has the square of their condition number and keeps four.
+fn polynomials(method: Method) -> usize {
+    match method {
+        Method::Biharmonic => 4,
+        Method::Laplacian | Method::Spring => 1,
+    }
+}
 
 /// The Cholesky factor of the dense m×m matrix `a` assembled column by column from operator
 /// products, its rounding symmetrised first so Cholesky sees an exactly symmetric matrix; None
@@ -37,9 +46,9 @@ pub(crate) fn symmetric_cholesky(m: usize, mut a: Vec<f64>) -> Option<Cholesky> 
 pub enum CoarseSolve {
     /// The basis vectors (unknown, coefficient per block of the group) and the factor.
     Dense { basis: Vec<(u32, [f64; 3])>, chol: Cholesky },
-    /// Too many free directions: a fixed Chebyshev polynomial of the smoother (`SMOOTHED`),
-    /// linear in b, so still a valid preconditioner.
-    Smoothed,
+    /// Too many free directions: fixed Chebyshev polynomials of the smoother (`SMOOTHED`, this
+    /// many), linear in b, so still a valid preconditioner.
+    Smoothed(usize),
     /// Nothing free: the correction is zero.
     Empty,
 }
@@ -79,7 +88,7 @@ impl CoarseSolve {
             return Ok(CoarseSolve::Empty);
         }
         if m > DENSE_MAX {
-            return Ok(CoarseSolve::Smoothed);
+            return Ok(CoarseSolve::Smoothed(polynomials(op.level().op.method)));
         }
         // Column by column: A_c e_j for each unknown j and block c, then the basis vectors at j
         // combine them; basis vectors are grouped by unknown.
@@ -134,9 +143,11 @@ impl CoarseSolve {
         let (n, g) = (op.n(), op.len());
         match self {
             CoarseSolve::Empty => {}
-            CoarseSolve::Smoothed => {
+            CoarseSolve::Smoothed(polynomials) => {
                 let mut cache = Coefficients::default();
-                smooth(op, SMOOTHED, b, x, w, &mut cache, Start::Guess, false);
+                for _ in 0..*polynomials {
+                    smooth(op, SMOOTHED, b, x, w, &mut cache, Start::Guess, false);
+                }
             }
             CoarseSolve::Dense { basis, chol } => {
                 let r: &[f64] = match start {
