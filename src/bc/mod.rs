@@ -8,6 +8,7 @@ mod links;
 mod numbering;
 mod slip;
 mod slip_walls;
+mod wall_tree;
 mod well_posed;
 
 pub use dofs::Dofs;

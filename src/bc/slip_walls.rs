@@ -1,10 +1,11 @@
 //! The shapes of SLIP walls, to put slipped vertices back on them after a solve (docs/DESIGN.md
 //! §4, "Curved walls"): the solve moves a slip vertex in its wall's tangent plane, which leaves a
 //! curved wall by a second-order distance; the vertex is then moved to the closest point of the
-//! wall. The wall is the patch's original faces (piecewise linear, found through a uniform grid)
+//! wall. The wall is the patch's original faces (piecewise linear, found through a bounding-box tree)
 //! or an analytic shape the caller gives as a closest-point function, both where the wall was in
 //! the mesh the solver was made with; a wall that moves rigidly carries its shape along.
 
+use super::wall_tree::WallTree;
 use super::BoundaryConditions;
 use crate::geometry::closest::{closest_on_simplex, face_simplices, simplex_side};
 use crate::geometry::{cross, dot3, padded, sub};
@@ -123,123 +124,42 @@ impl PartialEq for SlipSurface {
 type Simplex = ([[f64; 3]; 3], u8);
 
 /// A piecewise-linear wall: its faces as simplices (segments in 2D, triangles in 3D: a quad is
-/// cut along its first diagonal) and a uniform grid of their bounding boxes.
+/// cut along its first diagonal) and a bounding-box tree of them (`wall_tree`).
 #[derive(Clone, Debug)]
 struct PlWall {
     dim: usize,
     simplices: Vec<Simplex>,
-    lo: [f64; 3],
-    h: f64,
-    cells: [usize; 3],
-    /// Simplices of each grid cell, as CSR.
-    ptr: Vec<u32>,
-    items: Vec<u32>,
-    /// Some simplex has an open side.
-    open: bool,
+    tree: WallTree,
 }
 
 impl PlWall {
     fn new(dim: usize, simplices: Vec<Simplex>) -> PlWall {
-        let corners = |s: &[[f64; 3]; 3]| s[..dim].to_vec();
-        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-        let mut diam = 0.0;
-        for (s, _) in &simplices {
-            for p in corners(s) {
-                for c in 0..3 {
-                    lo[c] = lo[c].min(p[c]);
-                    hi[c] = hi[c].max(p[c]);
+        let edge = |s: &[[f64; 3]; 3], a: usize, b: usize| dot3(&sub(&s[b], &s[a]), &sub(&s[b], &s[a])).sqrt();
+        let mean = simplices.iter().map(|(s, _)| edge(s, 0, 1)).sum::<f64>() / simplices.len().max(1) as f64;
+        let boxes: Vec<([f64; 3], [f64; 3])> = simplices
+            .iter()
+            .map(|(s, open)| {
+                let (mut lo, mut hi) = ([0.0; 3], [0.0; 3]);
+                for c in 0..dim {
+                    lo[c] = s[..dim].iter().map(|p| p[c]).fold(f64::INFINITY, f64::min);
+                    hi[c] = s[..dim].iter().map(|p| p[c]).fold(f64::NEG_INFINITY, f64::max);
                 }
-            }
-            diam += dot3(&sub(&s[1], &s[0]), &sub(&s[1], &s[0])).sqrt();
-        }
-        let nf = simplices.len().max(1) as f64;
-        let ext: Vec<f64> = (0..dim).map(|c| (hi[c] - lo[c]).max(0.0)).collect();
-        // Cells about a face wide, but no more than 8 per face in all.
-        let vol: f64 = ext.iter().map(|e| e.max(diam / nf)).product();
-        let h = (diam / nf).max((vol / (8.0 * nf)).powf(1.0 / dim as f64)).max(1e-300);
-        let mut cells = [1usize; 3];
-        (0..dim).for_each(|c| cells[c] = (ext[c] / h) as usize + 1);
-        let mut pairs: Vec<(u32, u32)> = Vec::new();
-        let open = simplices.iter().any(|s| s.1 != 0);
-        let mut wall = PlWall { dim, simplices, lo, h, cells, ptr: Vec::new(), items: Vec::new(), open };
-        for (k, (s, _)) in wall.simplices.iter().enumerate() {
-            let (mut a, mut b) = ([usize::MAX; 3], [0usize; 3]);
-            for p in corners(s) {
-                let i = wall.cell_of(&p);
-                for c in 0..3 {
-                    a[c] = a[c].min(i[c]);
-                    b[c] = b[c].max(i[c]);
+                // An open side's extension is found within a face's size of it (the larger of
+                // this face's longest side and the wall's mean side): its box reaches that far.
+                if *open != 0 {
+                    let longest = (0..dim).flat_map(|a| (a + 1..dim).map(move |b| (a, b))).map(|(a, b)| edge(s, a, b));
+                    let reach = longest.fold(mean, f64::max);
+                    (0..dim).for_each(|c| (lo[c], hi[c]) = (lo[c] - reach, hi[c] + reach));
                 }
-            }
-            for i in a[0]..=b[0] {
-                for j in a[1]..=b[1] {
-                    for l in a[2]..=b[2] {
-                        pairs.push((wall.index([i, j, l]) as u32, k as u32));
-                    }
-                }
-            }
-        }
-        let (ptr, items) = crate::sparse::bucket_by_key(cells.iter().product(), &pairs);
-        wall.ptr = ptr;
-        wall.items = items;
-        wall
+                (lo, hi)
+            })
+            .collect();
+        PlWall { dim, tree: WallTree::new(&boxes), simplices }
     }
 
-    fn cell_of(&self, p: &[f64; 3]) -> [usize; 3] {
-        let mut i = [0usize; 3];
-        for c in 0..self.dim {
-            let t = ((p[c] - self.lo[c]) / self.h).floor();
-            i[c] = (t.max(0.0) as usize).min(self.cells[c] - 1);
-        }
-        i
-    }
-
-    fn index(&self, i: [usize; 3]) -> usize {
-        (i[2] * self.cells[1] + i[1]) * self.cells[0] + i[0]
-    }
-
-    /// The closest point of the wall to `p`: rings of grid cells around p's cell, until the best
-    /// point found is nearer than any cell not yet searched.
+    /// The closest point of the wall to `p`: the tree's nearest simplex.
     fn closest(&self, p: &[f64; 3]) -> [f64; 3] {
-        let c0 = self.cell_of(p);
-        let (mut best, mut best_d2) = (*p, f64::INFINITY);
-        let rmax = *self.cells.iter().max().expect("three");
-        for r in 0..=rmax {
-            let lo = |c: usize| if c < self.dim { c0[c].saturating_sub(r) } else { 0 };
-            let hi = |c: usize| if c < self.dim { (c0[c] + r).min(self.cells[c] - 1) } else { 0 };
-            for i in lo(0)..=hi(0) {
-                for j in lo(1)..=hi(1) {
-                    for l in lo(2)..=hi(2) {
-                        let ring = [i.abs_diff(c0[0]), j.abs_diff(c0[1]), l.abs_diff(c0[2])];
-                        if ring.iter().max() != Some(&r) {
-                            continue;
-                        }
-                        let k = self.index([i, j, l]);
-                        for &s in &self.items[self.ptr[k] as usize..self.ptr[k + 1] as usize] {
-                            let q = self.closest_on(s as usize, p);
-                            let d = sub(&q, p);
-                            let d2 = dot3(&d, &d);
-                            if d2 < best_d2 {
-                                (best, best_d2) = (q, d2);
-                            }
-                        }
-                    }
-                }
-            }
-            // A point on the wall exactly (a slipped vertex on a flat wall after a solve) is
-            // its own closest point: no simplex can be strictly nearer, so the rings further
-            // out cannot change the answer.
-            if best_d2 == 0.0 {
-                break;
-            }
-            // With open sides, one ring more than strictly needed: an open side's extension may
-            // reach out of its simplex's cells.
-            let reach = (r as f64 - f64::from(u8::from(self.open))) * self.h;
-            if reach > 0.0 && best_d2 <= reach * reach {
-                break;
-            }
-        }
-        best
+        self.tree.closest(p, |s| self.closest_on(s, p))
     }
 
     fn closest_on(&self, s: usize, p: &[f64; 3]) -> [f64; 3] {
@@ -460,7 +380,7 @@ mod tests {
     }
 
     #[test]
-    fn grid_search_finds_the_nearest_segment_of_a_polygon() {
+    fn tree_search_finds_the_nearest_segment_of_a_polygon() {
         let n = 200;
         let pt = |k: usize| {
             let t = std::f64::consts::TAU * k as f64 / n as f64;

@@ -6,11 +6,28 @@ use super::smoother::{smooth, Coefficients, Smoother, Start};
 use crate::bc::P;
 use crate::dense::Cholesky;
 use crate::operator::Columns;
+use crate::operator::Method;
 use crate::{Error, Result};
 
 /// Above this many free directions the coarsest level is smoothed, not factored (only when
 /// coarsening stopped early on an awkward mesh).
 pub(crate) const DENSE_MAX: usize = 1500;
+
+/// The coarsest level's solve where it is smoothed: Chebyshev polynomials of the smoother.
+const SMOOTHED: Smoother = Smoother::Chebyshev { degree: 25, lower_ratio: 200.0 };
+
+/// How many `SMOOTHED` polynomials a smoothed coarsest level of `method` applies. Such a level
+/// is a deep Galerkin level of dense rows (where a wing's wall layers stop the coarsening), each
+/// application a sizeable part of a fine-level sweep. The second-order operators take one: more
+/// leave the conjugate gradients' counts as they are on the viscous meshes and multiply the
+/// cycle's cost (docs/PERFORMANCE.md, "The wing's Laplacian and spring a vertex"). The
+/// biharmonic's coarsest operator has the square of their condition number and keeps four.
+fn polynomials(method: Method) -> usize {
+    match method {
+        Method::Biharmonic => 4,
+        Method::Laplacian | Method::Spring => 1,
+    }
+}
 
 /// The Cholesky factor of the dense m×m matrix `a` assembled column by column from operator
 /// products, its rounding symmetrised first so Cholesky sees an exactly symmetric matrix; None
@@ -30,9 +47,9 @@ pub(crate) fn symmetric_cholesky(m: usize, mut a: Vec<f64>) -> Option<Cholesky> 
 pub enum CoarseSolve {
     /// The basis vectors (unknown, coefficient per block of the group) and the factor.
     Dense { basis: Vec<(u32, [f64; 3])>, chol: Cholesky },
-    /// Too many free directions: a fixed Chebyshev polynomial of the smoother, linear in b, so
-    /// still a valid preconditioner.
-    Smoothed,
+    /// Too many free directions: fixed Chebyshev polynomials of the smoother (`SMOOTHED`, this
+    /// many), linear in b, so still a valid preconditioner.
+    Smoothed(usize),
     /// Nothing free: the correction is zero.
     Empty,
 }
@@ -110,7 +127,7 @@ impl CoarseSolve {
             return Ok(CoarseSolve::Empty);
         }
         if m > DENSE_MAX {
-            return Ok(CoarseSolve::Smoothed);
+            return Ok(CoarseSolve::Smoothed(polynomials(op.level().op.method)));
         }
         let a = assemble(op, &basis, Columns::new(&op.level().op));
         // Every connected part has a prescribed vertex (checked on the fine level first), so a
@@ -140,11 +157,10 @@ impl CoarseSolve {
         let (n, g) = (op.n(), op.len());
         match self {
             CoarseSolve::Empty => {}
-            CoarseSolve::Smoothed => {
-                let sm = Smoother::Chebyshev { degree: 25, lower_ratio: 200.0 };
+            CoarseSolve::Smoothed(polynomials) => {
                 let mut cache = Coefficients::default();
-                for _ in 0..4 {
-                    smooth(op, sm, b, x, w, &mut cache, Start::Guess, false);
+                for _ in 0..*polynomials {
+                    smooth(op, SMOOTHED, b, x, w, &mut cache, Start::Guess, false);
                 }
             }
             CoarseSolve::Dense { basis, chol } => {
