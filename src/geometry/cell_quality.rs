@@ -1,7 +1,7 @@
-//! The hexahedron's quality measures (signed volume, corner Jacobians, smallest dihedral angle)
-//! with its faces, corners and edges as constants: the general functions of `tensor` take the
-//! cell type's tables at run time (the dihedral angle's by a lookup per cell), so their loops
-//! are neither unrolled nor vectorised. Each value here is formed by the same operations in the
+//! The quality measures of the hexahedron (signed volume, corner Jacobians, smallest dihedral
+//! angle) and the tetrahedron (smallest dihedral angle) with their faces, corners and edges as
+//! constants: the general functions of `tensor` take the cell type's tables at run time (the
+//! dihedral angle's by a lookup per cell), so their loops are neither unrolled nor vectorised. Each value here is formed by the same operations in the
 //! same order as `tensor`'s (each lane of a loop over the edges or corners is one of their
 //! iterations, and the sums and minima run in their order), so the results are bitwise theirs
 //! (unit test `the_same_bits_as_the_general_functions`). Inlined, so a pass run inside
@@ -56,6 +56,10 @@ const EDGES: [[usize; 4]; 12] = [
     [3, 7, 6, 0],
 ];
 
+/// Each edge of `CellType::Tetra.edges()` with the corners its two faces are measured by, as
+/// `EDGES`.
+const TET_EDGES: [[usize; 4]; 6] = [[0, 1, 3, 2], [1, 2, 3, 0], [2, 0, 3, 1], [0, 3, 1, 2], [1, 3, 0, 2], [2, 3, 1, 0]];
+
 /// The signed volume by the divergence theorem over the faces (`tensor::volume_by_faces`).
 #[inline(always)]
 pub(super) fn volume(p: &[[f64; 3]]) -> f64 {
@@ -83,14 +87,26 @@ pub(super) fn min_corner_jacobian(p: &[[f64; 3]]) -> f64 {
     j.into_iter().fold(f64::INFINITY, f64::min)
 }
 
-/// The smallest interior dihedral angle, degrees (`tensor::min_dihedral_deg`, whose comment
-/// gives the measure): every edge's (|u × v|², u · v) and cosine side by side, then the edges
-/// compared in their order.
+/// The hexahedron's smallest interior dihedral angle, degrees (`tensor::min_dihedral_deg`).
 #[inline(always)]
 pub(super) fn min_dihedral_deg(p: &[[f64; 3]]) -> f64 {
-    let p = &p[..8];
-    let (mut ss, mut cos, mut c) = ([0.0f64; 12], [0.0f64; 12], [0.0f64; 12]);
-    for (i, &[a, b, o0, o1]) in EDGES.iter().enumerate() {
+    min_dihedral_over(&p[..8], &EDGES)
+}
+
+/// The tetrahedron's smallest interior dihedral angle, degrees (`tensor::min_dihedral_deg`).
+#[inline(always)]
+pub(super) fn tet_min_dihedral_deg(p: &[[f64; 3]]) -> f64 {
+    min_dihedral_over(&p[..4], &TET_EDGES)
+}
+
+/// The smallest dihedral angle over the edges `edges` (each edge's corners, then the corners its
+/// faces are measured by), degrees, as `tensor::min_dihedral_deg` (whose comment gives the
+/// measure) forms it: every edge's (|u × v|², u · v) and cosine side by side, then the edges
+/// compared in their order.
+#[inline(always)]
+fn min_dihedral_over<const E: usize>(p: &[[f64; 3]], edges: &[[usize; 4]; E]) -> f64 {
+    let (mut ss, mut cos, mut c) = ([0.0f64; E], [0.0f64; E], [0.0f64; E]);
+    for (i, &[a, b, o0, o1]) in edges.iter().enumerate() {
         let (pa, pb) = (&p[a], &p[b]);
         let e = sub(pb, pa);
         let ee = dot3(&e, &e);
@@ -112,7 +128,7 @@ pub(super) fn min_dihedral_deg(p: &[[f64; 3]]) -> f64 {
         };
     }
     let mut best: Option<usize> = None;
-    for i in 0..12 {
+    for i in 0..E {
         if ss[i].is_nan() || cos[i].is_nan() {
             continue;
         }
@@ -141,15 +157,18 @@ mod tests {
         for (c, f) in tensor::corner_frames(hex).iter().enumerate() {
             assert_eq!(super::FRAMES[c], [c, f[0].into(), f[1].into(), f[2].into()], "corner {c}");
         }
-        let offs = tensor::edge_face_corners(hex);
-        for (k, e) in hex.edges().iter().enumerate() {
-            let want = [e[0], e[1], offs[k][0], offs[k][1]].map(usize::from);
-            assert_eq!(super::EDGES[k], want, "edge {k}");
+        for (ty, table) in [(hex, &super::EDGES[..]), (CellType::Tetra, &super::TET_EDGES[..])] {
+            let offs = tensor::edge_face_corners(ty);
+            assert_eq!(table.len(), ty.edges().len(), "{ty}");
+            for (k, e) in ty.edges().iter().enumerate() {
+                let want = [e[0], e[1], offs[k][0], offs[k][1]].map(usize::from);
+                assert_eq!(table[k], want, "{ty} edge {k}");
+            }
         }
     }
 
     /// Distorted, inverted, flat and collapsed hexahedra far from the origin, and cells with NaN
-    /// corners: every measure bitwise the general function's, compiled for the baseline and
+    /// corners, and tetrahedra of their corners: every measure bitwise the general function's, compiled for the baseline and
     /// (where the processor has it, inside `Lanes::run`) for AVX2.
     #[test]
     fn the_same_bits_as_the_general_functions() {
@@ -184,6 +203,10 @@ mod tests {
                 for (g, w) in got.iter().zip(&want) {
                     assert_eq!(g.to_bits(), w.to_bits(), "cell {cell} {lanes:?}: {got:?} against {want:?}");
                 }
+                // The tetrahedron of the cell's corners 0, 1, 3, 4 (a corner tetrahedron).
+                let tet = [p[0], p[1], p[3], p[4]];
+                let (g, w) = (lanes.run(|| super::tet_min_dihedral_deg(&tet)), tensor::min_dihedral_deg(CellType::Tetra, &tet));
+                assert_eq!(g.to_bits(), w.to_bits(), "cell {cell} {lanes:?}: tetrahedron {g} against {w}");
             }
         }
         // The cells span the cases: many inverted, some degenerate.
