@@ -196,7 +196,7 @@ mod tests {
                 tensor::min_corner_jacobian(hex, &p),
                 tensor::min_dihedral_deg(hex, &p),
             ];
-            inverted += usize::from(!(want[1] > 0.0));
+            inverted += usize::from(want[1].partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater));
             degenerate += usize::from(want[2] == 0.0 || want[2] == 180.0);
             for lanes in [Lanes::Baseline, Lanes::detect()] {
                 let got = lanes.run(|| [super::volume(&p), super::min_corner_jacobian(&p), super::min_dihedral_deg(&p)]);
