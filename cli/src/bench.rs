@@ -804,6 +804,10 @@ pub fn run(a: &Args) -> Result<(), String> {
     }
     let path = a.out.join("bench.csv");
     std::fs::write(&path, csv).map_err(|e| format!("{}: {e}", path.display()))?;
+    if !stepped.is_empty() {
+        let steps_path = a.out.join("steps.csv");
+        std::fs::write(&steps_path, steps::csv(&stepped)).map_err(|e| format!("{}: {e}", steps_path.display()))?;
+    }
     print!("{}", table::table(&rows, a.tol));
     print!("{}", steps::table(&stepped));
     for f in &failed {

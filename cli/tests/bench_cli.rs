@@ -183,6 +183,29 @@ fn bench_3d_and_steps_rows() {
     }
     assert!(stdout.contains("time stepping: the motion in 10 steps"), "{stdout}");
     assert!(stdout.contains("  median re-reference (s): unknowns "), "{stdout}");
+    // steps.csv: every step of every run, its phases apart and within the call's seconds.
+    let steps = std::fs::read_to_string(out.join("steps.csv")).expect("steps.csv written");
+    let mut lines = steps.lines();
+    assert_eq!(
+        lines.next(),
+        Some(
+            "case,method,vertices,threads,step,iterations,advance_s,solve_s,reference_s,quality_s,rest_s,substeps,\
+             rebuilt,rel_residual"
+        )
+    );
+    let steps: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    assert_eq!(steps.len(), 3 * 2 * 10, "{steps:?}");
+    for r in &steps {
+        let v: Vec<f64> = r[2..].iter().map(|v| v.parse().expect("a number")).collect();
+        let (advance, solve, reference, quality, rest) = (v[4], v[5], v[6], v[7], v[8]);
+        assert!(v[3] >= 1.0 && solve > 0.0 && reference >= 0.0 && quality > 0.0, "{r:?}");
+        // The four phases are disjoint parts of the call (printed to a microsecond).
+        assert!(rest >= -2e-6 && (solve + reference + quality + rest - advance).abs() <= 5e-6, "{r:?}");
+    }
+    // Step 1 has no re-reference (the solver starts at the mesh); every later step has one.
+    for r in &steps {
+        assert_eq!(r[8] == "0.000000", r[4] == "1", "{r:?}");
+    }
     let _ = std::fs::remove_dir_all(&out);
 }
 

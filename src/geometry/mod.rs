@@ -13,6 +13,7 @@ mod decomposed;
 mod face;
 mod general;
 mod hex_kernel;
+mod cell_quality;
 pub(crate) mod rotation;
 mod simplex;
 mod tensor;
@@ -81,6 +82,7 @@ impl CellPoints {
             CellType::Triangle => simplex::triangle_area(&self.p),
             CellType::Quad => tensor::quad_area(&self.p),
             CellType::Tetra => simplex::tet_volume(&self.p),
+            CellType::Hexahedron => cell_quality::volume(&self.p),
             _ => tensor::volume_by_faces(self.ty, &self.p),
         }
     }
@@ -91,6 +93,7 @@ impl CellPoints {
         match self.ty {
             CellType::Triangle => 2.0 * simplex::triangle_area(&self.p),
             CellType::Tetra => 6.0 * simplex::tet_volume(&self.p),
+            CellType::Hexahedron => cell_quality::min_corner_jacobian(&self.p),
             _ => tensor::min_corner_jacobian(self.ty, &self.p),
         }
     }
@@ -137,6 +140,8 @@ impl CellPoints {
         match self.ty {
             CellType::Triangle => simplex::triangle_min_angle_deg(&self.p),
             CellType::Quad => tensor::min_corner_angle_deg(self.ty, &self.p),
+            CellType::Hexahedron => cell_quality::min_dihedral_deg(&self.p),
+            CellType::Tetra => cell_quality::tet_min_dihedral_deg(&self.p),
             _ => tensor::min_dihedral_deg(self.ty, &self.p),
         }
     }

@@ -184,7 +184,7 @@ pub(super) fn hex_lumped_mass(p: &[[f64; 3]], m: &mut [f64]) {
 
 /// The corners adjacent to each corner, in the order that makes the corner's edge frame
 /// positively oriented (2D: next, previous; 3D: three edges).
-fn corner_frames(ty: CellType) -> &'static [&'static [u8]] {
+pub(super) fn corner_frames(ty: CellType) -> &'static [&'static [u8]] {
     match ty {
         CellType::Quad => &[&[1, 3], &[2, 0], &[3, 1], &[0, 2]],
         CellType::Hexahedron => {
@@ -271,7 +271,7 @@ pub(super) fn min_dihedral_deg(ty: CellType, p: &[[f64; 3]]) -> f64 {
 /// Per edge of `ty` (in `edges` order), the corners of its two faces after it: the faces'
 /// corners off the edge, beside it, which `min_dihedral_deg` measures the faces by. Worked out
 /// once per cell type (the search over the faces cost more than the angles).
-fn edge_face_corners(ty: CellType) -> &'static [[u8; 2]] {
+pub(super) fn edge_face_corners(ty: CellType) -> &'static [[u8; 2]] {
     static TABLES: std::sync::OnceLock<Vec<Vec<[u8; 2]>>> = std::sync::OnceLock::new();
     let tables = TABLES.get_or_init(|| CellType::ALL.iter().map(|&t| search_edge_face_corners(t)).collect());
     let at = CellType::ALL.iter().position(|&t| t == ty).unwrap_or(0);

@@ -11,6 +11,7 @@
 //! guess's prescribed values with the step's own.
 
 use std::collections::VecDeque;
+use std::sync::Arc;
 
 use crate::bc::P;
 use crate::multigrid::level::Level;
@@ -32,11 +33,12 @@ pub(crate) struct Prescribed {
     at: Vec<(usize, f64)>,
 }
 
-/// One accepted step: its prescribed values and its displacement (`dim` per vertex).
+/// One accepted step: its prescribed values and its displacement (`dim` per vertex), shared,
+/// so the copy a call keeps to restore on failure copies neither.
 #[derive(Clone, Debug)]
 struct Increment {
-    prescribed: Prescribed,
-    displacement: Vec<f64>,
+    prescribed: Arc<Prescribed>,
+    displacement: Arc<Vec<f64>>,
 }
 
 /// The last accepted steps' increments, the most recent first; empty after the reference was
@@ -59,7 +61,7 @@ impl Increments {
         if self.past.len() >= KEPT {
             self.past.pop_back();
         }
-        self.past.push_front(Increment { prescribed, displacement });
+        self.past.push_front(Increment { prescribed: Arc::new(prescribed), displacement: Arc::new(displacement) });
     }
 
     /// The initial guess of a step whose values at the prescribed unknowns are `now`, or None

@@ -4,6 +4,12 @@
 //! host makes every time step on the mesh of the previous step (each call re-evaluates K and V
 //! on the moved mesh, keeping the coarse topology, then solves for the increment). The rows are
 //! step 1, the median step and the worst step by the call's wall time.
+//!
+//! A step's wall time is split into the phases its reports give apart: the solve
+//! (`StepReport::solve_seconds`, the PCG with its cycle), the re-reference (`reference_seconds`),
+//! the quality check of the result (`quality_seconds`), and the rest of the `advance` call (the
+//! copies, the undo state, the warm start: what is outside the three). The step's cost against
+//! its solve is (advance − quality check) / solve; the quality check / solve is shown beside it.
 
 use super::cases::Case;
 use super::{alloc, op_seconds, report, Row, RowBase};
@@ -23,13 +29,34 @@ pub struct Step {
     pub rel_residual: f64,
     /// Wall time of the `advance` call.
     pub total_s: f64,
-    /// Of which the solve (`StepReport::seconds`, summed over sub-steps).
+    /// Of which the solve (`StepReport::solve_seconds`, summed over sub-steps).
     pub solve_s: f64,
+    /// Of which the re-reference (`StepReport::reference_seconds`, summed over sub-steps).
+    pub reference_s: f64,
+    /// Of which the quality check of the results (`StepReport::quality_seconds`, summed).
+    pub quality_s: f64,
     /// Sub-steps (1 unless the step was split) and hierarchy rebuilds.
     pub substeps: usize,
     pub rebuilt: bool,
     /// The hierarchy's phases of the step's last re-reference.
     pub phases: Phases,
+}
+
+impl Step {
+    /// The rest of the `advance` call: outside its solve, re-reference and quality check.
+    pub fn rest_s(&self) -> f64 {
+        self.total_s - self.solve_s - self.reference_s - self.quality_s
+    }
+
+    /// What the step costs beyond its solve except the quality check: re-reference and rest.
+    pub fn beyond_solve(&self) -> f64 {
+        self.total_s - self.quality_s - self.solve_s
+    }
+
+    /// The goal's ratio: (advance − quality check) / solve.
+    pub fn step_per_solve(&self) -> f64 {
+        (self.total_s - self.quality_s) / self.solve_s
+    }
 }
 
 /// One time-stepping run.
@@ -78,8 +105,8 @@ pub fn run_methods(
 }
 
 /// Builds the solver of `method` at the pool's thread count, advances it [`STEPS`] times, and
-/// pushes the three rows: `setup_s` the part of the call outside the solve (re-referencing,
-/// quality), `solve_s` the solve, `iterations` its CG iterations; the step's cost is their sum.
+/// pushes the three rows: `solve_s` the solve, `setup_s` what the call costs beyond it except
+/// the quality check (re-reference and rest), `iterations` its CG iterations.
 pub fn run(
     a: &super::Args,
     case: &Case,
@@ -115,7 +142,9 @@ pub fn run(
                 iterations: sol.report.cycles,
                 rel_residual: sol.report.rel_residual,
                 total_s,
-                solve_s: reps.iter().map(|r| r.seconds).sum(),
+                solve_s: reps.iter().map(|r| r.solve_seconds).sum(),
+                reference_s: reps.iter().map(|r| r.reference_seconds).sum(),
+                quality_s: reps.iter().map(|r| r.quality_seconds).sum(),
                 substeps: reps.len(),
                 rebuilt: reps.iter().any(|r| r.rebuilt),
                 phases: solver.phases(),
@@ -137,14 +166,15 @@ pub fn run(
         let rb = RowBase { case: case.name, vertices: nv, threads: *threads, levels, op_s };
         for (i, name) in stepped.picks() {
             let s = &stepped.steps[i];
-            rows.push(rb.row(name, s.solve_s, s.iterations, s.rel_residual, bytes_per_vertex, s.total_s - s.solve_s));
+            rows.push(rb.row(name, s.solve_s, s.iterations, s.rel_residual, bytes_per_vertex, s.beyond_solve()));
             report(rows.last().expect("row"));
         }
         Ok(stepped)
     })
 }
 
-/// The steps of every run: setup once, then per step its iterations and seconds.
+/// The steps of every run: setup once, then per step its iterations and seconds, the median
+/// step's phases apart.
 pub fn table(runs: &[Stepped]) -> String {
     let mut s = String::new();
     if runs.is_empty() {
@@ -153,17 +183,19 @@ pub fn table(runs: &[Stepped]) -> String {
     let _ = writeln!(
         s,
         "\ntime stepping: the motion in {STEPS} steps by Solver::advance (re-referenced each step)\n\
-         {:<16} {:<10} {:>8} {:>3} {:>8} {:>22} {:>22} {:>22} {:>11} {:>10} {:>6} {:>9}  iterations per step",
+         {:<16} {:<10} {:>8} {:>3} {:>8} {:>14} {:>14} {:>14} {:>30} {:>11} {:>10} {:>9} {:>6} {:>9}  iterations per step",
         "case",
         "method",
         "vertices",
         "thr",
         "setup_s",
-        "step 1: it / s (reref)",
-        "median: it / s (reref)",
-        "worst: it / s (reref)",
+        "step 1: it / s",
+        "median: it / s",
+        "worst: it / s",
+        "median: solve reref qual rest",
         "setup/solve",
         "step/solve",
+        "qual/solve",
         "B/vert",
         "min vol"
     );
@@ -171,8 +203,11 @@ pub fn table(runs: &[Stepped]) -> String {
         let picks = r.picks();
         let cell = |i: usize| {
             let st = &r.steps[i];
-            format!("{} / {:.3} ({:.3})", st.iterations, st.total_s, st.total_s - st.solve_s)
+            format!("{} / {:.3}", st.iterations, st.total_s)
         };
+        let median = &r.steps[picks[1].0];
+        let phases =
+            format!("{:.3} {:.3} {:.3} {:.3}", median.solve_s, median.reference_s, median.quality_s, median.rest_s());
         let its: Vec<String> = r
             .steps
             .iter()
@@ -183,7 +218,7 @@ pub fn table(runs: &[Stepped]) -> String {
             .collect();
         let _ = writeln!(
             s,
-            "{:<16} {:<10} {:>8} {:>3} {:>8.3} {:>22} {:>22} {:>22} {:>11.2} {:>10.2} {:>6.0} {:>9.4}  {}",
+            "{:<16} {:<10} {:>8} {:>3} {:>8.3} {:>14} {:>14} {:>14} {:>30} {:>11.2} {:>10.2} {:>9.2} {:>6.0} {:>9.4}  {}",
             r.case,
             format!("{:?}", r.method).to_lowercase(),
             r.vertices,
@@ -192,25 +227,61 @@ pub fn table(runs: &[Stepped]) -> String {
             cell(picks[0].0),
             cell(picks[1].0),
             cell(picks[2].0),
+            phases,
             r.setup_s / median_of(r.steps.iter().map(|st| st.solve_s)),
-            median_of(r.steps.iter().map(|st| st.total_s / st.solve_s)),
+            median_of(r.steps.iter().map(Step::step_per_solve)),
+            median_of(r.steps.iter().map(|st| st.quality_s / st.solve_s)),
             r.bytes_per_vertex,
             r.min_volume_ratio,
             its.join(" ")
         );
-        let median = &r.steps[picks[1].0];
         let _ = writeln!(s, "  setup phases (s):        {}", phase_list(&r.setup_phases));
         let _ = writeln!(s, "  median re-reference (s): {}", phase_list(&median.phases));
     }
     let _ = writeln!(
         s,
-        "(s: the advance call; reref: of which outside the solve, K and V re-evaluated on the moved mesh; \
-         setup/solve: Solver::new against the median step's solve; step/solve: the median of each step's \
-         advance call against its solve; * a step split or its hierarchy rebuilt; min vol: final mesh against the \
+        "(s: the advance call; its median step's phases: solve the PCG with its cycle, reref K and V re-evaluated \
+         on the moved mesh, qual the quality check of the result, rest the rest of the call (copies, undo state, \
+         warm start); setup/solve: Solver::new against the median step's solve; step/solve: the median of each \
+         step's (advance call − quality check) against its solve; qual/solve: the median of each step's quality \
+         check against its solve; * a step split or its hierarchy rebuilt; min vol: final mesh against the \
          original; phases: the hierarchy's seconds per phase of the setup and of the median step's re-reference)"
     );
     s
 }
+
+/// Every step of every run, a row each: `STEPS_HEADER`'s columns.
+pub fn csv(runs: &[Stepped]) -> String {
+    let mut s = String::from(STEPS_HEADER);
+    s.push('\n');
+    for r in runs {
+        let method = format!("{:?}", r.method).to_lowercase();
+        for (i, st) in r.steps.iter().enumerate() {
+            let _ = writeln!(
+                s,
+                "{},{method},{},{},{},{},{:.6},{:.6},{:.6},{:.6},{:.6},{},{},{:.3e}",
+                r.case,
+                r.vertices,
+                r.threads,
+                i + 1,
+                st.iterations,
+                st.total_s,
+                st.solve_s,
+                st.reference_s,
+                st.quality_s,
+                st.rest_s(),
+                st.substeps,
+                u8::from(st.rebuilt),
+                st.rel_residual
+            );
+        }
+    }
+    s
+}
+
+/// The columns of `DIR/steps.csv`.
+pub const STEPS_HEADER: &str =
+    "case,method,vertices,threads,step,iterations,advance_s,solve_s,reference_s,quality_s,rest_s,substeps,rebuilt,rel_residual";
 
 /// "name seconds" per phase, and their sum.
 fn phase_list(p: &Phases) -> String {
