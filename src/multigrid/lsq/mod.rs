@@ -61,7 +61,8 @@ pub(crate) struct LeastSquares {
 }
 
 /// The coarsest level's largest size on the 2D biharmonic's hierarchies that interpolate along
-/// their lines (`LeastSquares::along_lines`). Below the lines their levels are Galerkin products
+/// lines across thin wall layers (`LeastSquares::along_lines` and `on_lines`; a graded mesh's
+/// rays keep the general size). Below the lines their levels are Galerkin products
 /// of isotropic cells, whose two-level pairs each leave part of the slow error; every level more
 /// multiplies what a W-cycle leaves, and the largest airfoils coarsen several such levels down
 /// to the general 150. Stopping at a level of a few hundred unknowns, factored densely, keeps the
@@ -74,11 +75,12 @@ impl LeastSquares {
     }
 
     /// The coarsest level's largest size on this hierarchy: the caller's, else
-    /// `COARSEST_ALONG_LINES` where the unknowns on lines interpolate along them (the 2D
-    /// biharmonic under wall layers), else `CoarsenParams::coarsest_unknowns_for`.
+    /// `COARSEST_ALONG_LINES` where the unknowns on lines across thin wall layers interpolate
+    /// along them (the 2D biharmonic under wall layers), else
+    /// `CoarsenParams::coarsest_unknowns_for`.
     fn coarsest_size(&self, dim: usize) -> usize {
         match self.params.coarsest_unknowns {
-            None if self.along_lines => COARSEST_ALONG_LINES,
+            None if self.along_lines && self.on_lines => COARSEST_ALONG_LINES,
             _ => self.params.coarsest_unknowns_for(dim),
         }
     }
